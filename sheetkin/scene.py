@@ -1,0 +1,437 @@
+"""Scene files: parse and validate a TOML scene (the contract: shared/spec/scene.md).
+
+A scene is one planar linkage: frame points, the driving crank, the Assur groups (dyads)
+attached one after another, and points fixed on links. This module turns the file into
+frozen dataclasses and a *plan*: the order in which the solver may place each joint and
+point. Every mistake raises SceneError with one line: file, line, key, what was expected.
+"""
+from __future__ import annotations
+
+import math
+import re
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+
+GROUP_TYPES = ("RRR", "RRP", "RPR")
+NAME_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
+
+
+class SceneError(ValueError):
+    """A scene file that cannot be used; str() is one line naming file, line and key."""
+
+
+@dataclass(frozen=True)
+class Crank:
+    pivot: str
+    joint: str
+    length: float
+    phi0_deg: float
+    step_deg: float
+    positions: int
+    omega: float
+    epsilon: float
+
+
+@dataclass(frozen=True)
+class Group:
+    """One Assur group (dyad). `index` counts groups from 1 in file order."""
+    index: int
+    type: str
+    links: tuple[int, int]
+    joints: tuple[str, ...]           # RRR: (J1, N, J2); RRP: (J1, N); RPR: (J1, J2)
+    lengths: tuple[float, ...]        # RRR: (|J1 N|, |N J2|); RRP: (|J1 N|,); RPR: ()
+    branch: int = 1
+    guide_point: tuple[float, float] | None = None   # RRP: the guide's `through` point
+    guide_angle_deg: float = 0.0
+    offset: float = 0.0               # RPR: slot line's distance from J2
+
+    @property
+    def new_joint(self) -> str | None:
+        return self.joints[1] if self.type in ("RRR", "RRP") else None
+
+    @property
+    def slider(self) -> str | None:
+        """Name of the point whose slide `s_*` this group defines (RRR defines none)."""
+        return {"RRP": self.joints[1], "RPR": self.joints[0]}.get(self.type)
+
+    @property
+    def label(self) -> str:
+        return f"group {self.index} ({self.type} {'-'.join(self.joints)})"
+
+
+@dataclass(frozen=True)
+class Point:
+    name: str
+    link: int
+    origin: str      # the scene key `from`: a joint (or earlier point) of that link
+    along: float
+    across: float
+
+
+@dataclass(frozen=True)
+class Scene:
+    title: str
+    author: str
+    frame: dict[str, tuple[float, float]]
+    crank: Crank
+    groups: tuple[Group, ...]
+    points: tuple[Point, ...]
+    plan: tuple[tuple[str, object], ...]   # ("crank", Crank) | ("group", Group) | ("point", Point)
+    source: str = "<scene>"
+
+    @property
+    def links(self) -> list[int]:
+        """Moving links after the crank, in number order (2, 3, ...)."""
+        return [k for g in self.groups for k in g.links]
+
+    @property
+    def moving_joints(self) -> list[str]:
+        return [self.crank.joint] + [g.new_joint for g in self.groups if g.new_joint]
+
+    @property
+    def sliders(self) -> list[str]:
+        return [g.slider for g in self.groups if g.slider]
+
+    def crank_angles_deg(self) -> list[float]:
+        c = self.crank
+        return [c.phi0_deg + i * c.step_deg for i in range(c.positions)]
+
+
+# --------------------------------------------------------------------------- locating keys
+class _Locator:
+    """Finds the line of a key in the TOML text (tomllib keeps no positions)."""
+
+    def __init__(self, text: str):
+        self.lines = text.splitlines()
+        self.tables: dict[tuple[str, int], int] = {}   # (table, occurrence) -> header line
+        counts: dict[str, int] = {}
+        for no, line in enumerate(self.lines, 1):
+            m = re.match(r"^\s*(\[\[?)\s*([A-Za-z0-9_.\"]+)\s*\]\]?", line)
+            if m:
+                name = m.group(2)
+                i = counts.get(name, 0)
+                counts[name] = i + 1
+                self.tables[(name, i)] = no
+
+    def line(self, table: str | None, index: int = 0, key: str | None = None) -> int | None:
+        start = self.tables.get((table, index), 0) if table else 0
+        if table and not start:
+            return None
+        if key is None:
+            return start or None
+        head = key.split(".")[0]
+        pat = re.compile(rf"^\s*{re.escape(head)}\s*=")
+        for no in range(start + 1, len(self.lines) + 1):
+            text = self.lines[no - 1]
+            if no > start + 1 and re.match(r"^\s*\[", text):
+                break
+            if pat.match(text):
+                return no
+        return start or None
+
+
+class _Ctx:
+    """Where we are in the file, to build one-line errors."""
+
+    def __init__(self, source: str, loc: _Locator):
+        self.source, self.loc = source, loc
+
+    def fail(self, where: str, table: str | None, index: int, key: str | None, msg: str):
+        no = self.loc.line(table, index, key)
+        pos = f"{self.source}:{no}" if no else self.source
+        what = f"{where} key '{key}'" if key else where
+        raise SceneError(f"{pos}: {what}: {msg}")
+
+
+def _type_name(v) -> str:
+    return {bool: "a boolean", int: "an integer", float: "a number", str: "a string",
+            list: "an array", dict: "a table"}.get(type(v), type(v).__name__)
+
+
+class _Table:
+    """One TOML table with typed getters that raise SceneError naming the key."""
+
+    def __init__(self, ctx: _Ctx, data, where: str, table: str | None, index: int = 0):
+        self.ctx, self.where, self.table, self.index = ctx, where, table, index
+        if not isinstance(data, dict):
+            self.fail(None, f"expected a table, got {_type_name(data)}")
+        self.data = data
+
+    def fail(self, key, msg):
+        self.ctx.fail(self.where, self.table, self.index, key, msg)
+
+    def check_keys(self, allowed):
+        for k in self.data:
+            if k not in allowed:
+                self.fail(k, f"unknown key; expected one of: {', '.join(allowed)}")
+
+    def get(self, key, kind, default=...):
+        if key not in self.data:
+            if default is ...:
+                self.fail(key, f"missing; expected {kind}")
+            return default
+        v = self.data[key]
+        check = {
+            "a number": lambda x: isinstance(x, (int, float)) and not isinstance(x, bool)
+            and math.isfinite(x),
+            "an integer": lambda x: isinstance(x, int) and not isinstance(x, bool),
+            "a string": lambda x: isinstance(x, str),
+        }[kind]
+        if not check(v):
+            self.fail(key, f"expected {kind}, got {_type_name(v)} {v!r}")
+        return float(v) if kind == "a number" else v
+
+    def positive(self, key):
+        v = self.get(key, "a number")
+        if v <= 0:
+            self.fail(key, f"expected a positive length in metres, got {v:g}")
+        return v
+
+    def name(self, key):
+        v = self.get(key, "a string")
+        if not NAME_RE.match(v):
+            self.fail(key, f"expected a name of letters, digits and _ starting with a letter, got {v!r}")
+        return v
+
+    def array(self, key, n, kind):
+        v = self.data.get(key, ...)
+        if v is ...:
+            self.fail(key, f"missing; expected an array of {n} {kind}s")
+        if not isinstance(v, list) or len(v) != n:
+            self.fail(key, f"expected an array of {n} {kind}s, got {v!r}")
+        ok = {"number": lambda x: isinstance(x, (int, float)) and not isinstance(x, bool)
+              and math.isfinite(x),
+              "name": lambda x: isinstance(x, str) and bool(NAME_RE.match(x)),
+              "integer": lambda x: isinstance(x, int) and not isinstance(x, bool)}[kind]
+        if not all(ok(x) for x in v):
+            self.fail(key, f"expected an array of {n} {kind}s, got {v!r}")
+        return tuple(float(x) for x in v) if kind == "number" else tuple(v)
+
+
+# --------------------------------------------------------------------------- parsing
+def load_scene(path: str | Path) -> Scene:
+    """Read and validate a scene file; raises SceneError (one line) on any mistake."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise SceneError(f"{path}: no such file") from None
+    except IsADirectoryError:
+        raise SceneError(f"{path}: is a directory, expected a scene .toml file") from None
+    except UnicodeDecodeError:
+        raise SceneError(f"{path}: not a UTF-8 text file, expected a scene .toml file") from None
+    except OSError as e:
+        raise SceneError(f"{path}: cannot read: {e.strerror}") from None
+    return parse_scene(text, str(path))
+
+
+def parse_scene(text: str, source: str = "<scene>") -> Scene:
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        m = re.search(r"\(at line (\d+), column (\d+)\)", str(e))
+        msg = re.sub(r"\s*\(at line \d+, column \d+\)", "", str(e))
+        where = f"{source}:{m.group(1)}" if m else source
+        raise SceneError(f"{where}: not valid TOML: {msg}") from None
+    ctx = _Ctx(source, _Locator(text))
+    top = _Table(ctx, data, "scene", None)
+    top.check_keys(["title", "author", "frame", "crank", "group", "point"])
+    title = top.get("title", "a string", Path(source).stem)
+    author = top.get("author", "a string", "")
+
+    known: dict[str, str] = {}     # name -> what defined it (for "defined twice")
+
+    def define(tbl: _Table, key: str, name: str, what: str):
+        if name in known:
+            tbl.fail(key, f"name '{name}' is defined twice (already {known[name]})")
+        known[name] = what
+
+    frame = _parse_frame(ctx, data, define)
+    crank = _parse_crank(ctx, data, frame, define)
+    groups = _parse_groups(ctx, data, frame, define)
+    points = _parse_points(ctx, data, define)
+    plan = _make_plan(ctx, frame, crank, groups, points)
+    return Scene(title, author, frame, crank, tuple(groups), tuple(points), plan, source)
+
+
+def _parse_frame(ctx, data, define):
+    if "frame" not in data:
+        ctx.fail("scene", None, 0, "frame", "missing; expected a [frame] table of fixed points")
+    tbl = _Table(ctx, data["frame"], "[frame]", "frame")
+    frame = {}
+    for name in tbl.data:
+        if not NAME_RE.match(name):
+            tbl.fail(name, "expected a point name of letters, digits and _ starting with a letter")
+        frame[name] = tbl.array(name, 2, "number")
+        define(tbl, name, name, "a frame point")
+    if not frame:
+        tbl.fail(None, "expected at least one fixed point, e.g. O = [0.0, 0.0]")
+    return frame
+
+
+def _parse_crank(ctx, data, frame, define):
+    if "crank" not in data:
+        ctx.fail("scene", None, 0, "crank", "missing; expected a [crank] table")
+    tbl = _Table(ctx, data["crank"], "[crank]", "crank")
+    tbl.check_keys(["pivot", "joint", "length", "phi0_deg", "step_deg", "positions",
+                    "omega", "epsilon"])
+    pivot = tbl.name("pivot")
+    if pivot not in frame:
+        tbl.fail("pivot", f"expected a frame point ({', '.join(frame)}), got '{pivot}'")
+    joint = tbl.name("joint")
+    define(tbl, "joint", joint, "the crank's joint")
+    positions = tbl.get("positions", "an integer", 13)
+    if positions < 1:
+        tbl.fail("positions", f"expected an integer >= 1, got {positions}")
+    return Crank(pivot, joint, tbl.positive("length"), tbl.get("phi0_deg", "a number", 0.0),
+                 tbl.get("step_deg", "a number", 30.0), positions, tbl.get("omega", "a number"),
+                 tbl.get("epsilon", "a number", 0.0))
+
+
+GROUP_KEYS = {
+    "RRR": ["type", "links", "joints", "lengths", "branch"],
+    "RRP": ["type", "links", "joints", "length", "guide", "branch"],
+    "RPR": ["type", "links", "joints", "offset"],
+}
+
+
+def _parse_groups(ctx, data, frame, define):
+    raw = data.get("group", [])
+    if not isinstance(raw, list):
+        ctx.fail("scene", None, 0, "group", "expected [[group]] tables")
+    groups, next_link = [], 2
+    for i, g in enumerate(raw):
+        tbl = _Table(ctx, g, f"[[group]] #{i + 1}", "group", i)
+        kind = tbl.get("type", "a string")
+        if kind not in GROUP_TYPES:
+            tbl.fail("type", f"unknown group type '{kind}'; expected one of {', '.join(GROUP_TYPES)}")
+        tbl.check_keys(GROUP_KEYS[kind])
+        links = tbl.array("links", 2, "integer")
+        if links != (next_link, next_link + 1):
+            tbl.fail("links", f"expected [{next_link}, {next_link + 1}] (links are numbered 0 frame, "
+                              f"1 crank, then each group's links in file order), got {list(links)}")
+        next_link += 2
+        njoints = 3 if kind == "RRR" else 2
+        joints = tbl.array("joints", njoints, "name")
+        kw = {}
+        if kind in ("RRR", "RRP"):
+            define(tbl, "joints", joints[1], f"the new joint of group {i + 1}")
+            branch = tbl.get("branch", "an integer")
+            if branch not in (1, -1):
+                tbl.fail("branch", f"expected +1 or -1, got {branch}")
+            kw["branch"] = branch
+        if kind == "RRR":
+            lengths = tbl.array("lengths", 2, "number")
+            if min(lengths) <= 0:
+                tbl.fail("lengths", f"expected positive lengths in metres, got {list(lengths)}")
+        elif kind == "RRP":
+            lengths = (tbl.positive("length"),)
+            kw.update(_parse_guide(ctx, tbl, frame))
+        else:
+            lengths = ()
+            kw["offset"] = tbl.get("offset", "a number", 0.0)
+            if joints[0] == joints[1]:
+                tbl.fail("joints", f"expected two different points, got {list(joints)}")
+        groups.append(Group(i + 1, kind, links, joints, lengths, **kw))
+    return groups
+
+
+def _parse_guide(ctx, tbl, frame):
+    if "guide" not in tbl.data:
+        tbl.fail("guide", "missing; expected guide = {through = POINT or [x, y], angle_deg = ...}")
+    guide = _Table(ctx, tbl.data["guide"], tbl.where + " guide", tbl.table, tbl.index)
+    guide.fail = lambda key, msg: tbl.fail(f"guide.{key}" if key else "guide", msg)
+    guide.check_keys(["through", "angle_deg"])
+    through = guide.data.get("through", ...)
+    if isinstance(through, str):
+        if through not in frame:
+            guide.fail("through", f"expected a frame point ({', '.join(frame)}) or [x, y], got '{through}'")
+        point = frame[through]
+    else:
+        point = guide.array("through", 2, "number")
+    return {"guide_point": tuple(point), "guide_angle_deg": guide.get("angle_deg", "a number", 0.0)}
+
+
+def _parse_points(ctx, data, define):
+    raw = data.get("point", [])
+    if not isinstance(raw, list):
+        ctx.fail("scene", None, 0, "point", "expected [[point]] tables")
+    points = []
+    for i, p in enumerate(raw):
+        tbl = _Table(ctx, p, f"[[point]] #{i + 1}", "point", i)
+        tbl.check_keys(["name", "link", "from", "along", "across"])
+        name = tbl.name("name")
+        define(tbl, "name", name, f"point #{i + 1}")
+        points.append(Point(name, tbl.get("link", "an integer"), tbl.name("from"),
+                            tbl.get("along", "a number", 0.0), tbl.get("across", "a number", 0.0)))
+    return points
+
+
+def link_joints(crank: Crank, groups) -> dict[int, list[str]]:
+    """The joints each moving link carries (where a point on it may be measured from)."""
+    out = {1: [crank.pivot, crank.joint]}
+    for g in groups:
+        a, b = g.links
+        if g.type == "RRR":
+            out[a], out[b] = [g.joints[0], g.joints[1]], [g.joints[2], g.joints[1]]
+        elif g.type == "RRP":
+            out[a], out[b] = [g.joints[0], g.joints[1]], [g.joints[1]]
+        else:   # RPR: the block carries J1, the kulisa turns about J2
+            out[a], out[b] = [g.joints[0]], [g.joints[1]]
+    return out
+
+
+def _make_plan(ctx, frame, crank, groups, points):
+    """Order of placement: crank, then each group; a point as soon as its link is placed.
+
+    TOML keeps no order between [[group]] and [[point]] arrays, and a group may need a
+    point on an earlier link (seed 001: C on the slotted lever drives the coupler), so
+    points are placed by dependency, not by file order.
+    """
+    on_link = link_joints(crank, groups)
+    n_links = 1 + 2 * len(groups)
+    for i, p in enumerate(points):
+        if not 1 <= p.link <= n_links:
+            ctx.fail(f"[[point]] #{i + 1}", "point", i, "link",
+                     f"expected a moving link 1..{n_links}, got {p.link}")
+    known = set(frame) | {crank.joint}
+    placed_links = {1}
+    plan: list[tuple[str, object]] = [("crank", crank)]
+    pending = list(enumerate(points))
+
+    def place_points():
+        progress = True
+        while progress:
+            progress = False
+            for item in list(pending):
+                i, p = item
+                if p.link in placed_links and p.origin in on_link[p.link]:
+                    plan.append(("point", p))
+                    known.add(p.name)
+                    on_link[p.link].append(p.name)
+                    pending.remove(item)
+                    progress = True
+
+    place_points()
+    for g in groups:
+        inputs = [g.joints[0], g.joints[-1]] if g.type == "RRR" else (
+            [g.joints[0]] if g.type == "RRP" else list(g.joints))
+        for name in inputs:
+            if name not in known:
+                later = name in {q.new_joint for q in groups} or name in {p.name for p in points}
+                why = ("is placed only later; a group may use frame points, the crank's joint, "
+                       "joints of earlier groups and points on earlier links") if later else (
+                       "is not defined anywhere (no frame point, joint or [[point]] of that name)")
+                ctx.fail(f"[[group]] #{g.index}", "group", g.index - 1, "joints",
+                         f"'{name}' {why}")
+        plan.append(("group", g))
+        if g.new_joint:
+            known.add(g.new_joint)
+        placed_links.update(g.links)
+        place_points()
+    for i, p in pending:
+        allowed = ", ".join(on_link[p.link])
+        ctx.fail(f"[[point]] #{i + 1}", "point", i, "from",
+                 f"expected a joint or point of link {p.link} ({allowed}), got '{p.origin}'")
+    return tuple(plan)
