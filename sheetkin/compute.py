@@ -25,7 +25,7 @@ TOGGLE_THRESHOLD = 1e-2
 _SCAN_STEP_DEG = 0.005      # grid of the revolution scanned for non-assembly intervals
 # Positions per chunk: small enough that a chunk's temporaries stay in the CPU cache
 # (fresh 8 MB temporaries at 1e6 positions cost more in page faults than the arithmetic).
-CHUNK = 8192
+CHUNK = 4096
 
 
 class AssemblyError(ValueError):
@@ -89,21 +89,30 @@ def solution_columns(scene: Scene, sol: Solution, out: dict | None = None) -> di
         r, dst = sol.links[k], out[f"phi_{k}"]
         np.arctan2(r.s, r.c, out=dst, casting="unsafe")
         np.multiply(dst, 180.0 / np.pi, out=dst)
-        np.mod(dst, 360.0, out=dst)
+        # (-180, 180] -> [0, 360); a masked add costs a tenth of np.mod; +0.0 turns -0.0 into 0
+        np.add(dst, 360.0, out=dst, where=dst < 0.0)
+        dst += 0.0
         put(f"omega_{k}", r.omega)
         put(f"eps_{k}", r.eps)
     for name in scene.moving_joints + [p.name for p in scene.points]:
         m = sol.points[name]
         for q, value in (("x", m.x), ("y", m.y), ("vx", m.vx), ("vy", m.vy), ("ax", m.ax), ("ay", m.ay)):
             put(f"{q}_{name}", value)
-        np.hypot(m.vx, m.vy, out=out[f"v_{name}"])
-        np.hypot(m.ax, m.ay, out=out[f"a_{name}"])
+        _norm(m.vx, m.vy, out[f"v_{name}"])
+        _norm(m.ax, m.ay, out[f"a_{name}"])
     for name in scene.sliders:
         sl = sol.slides[name]
         put(f"s_{name}", sl.s)
         put(f"vs_{name}", sl.vs)
         put(f"as_{name}", sl.as_)
     return out
+
+
+def _norm(x, y, out):
+    """|(x, y)| into out; kinematic magnitudes never approach overflow, so no hypot."""
+    np.multiply(x, x, out=out)
+    out += y * y
+    np.sqrt(out, out=out)
 
 
 def failed_positions(sol: Solution) -> np.ndarray:
@@ -166,38 +175,57 @@ def _bisect(scene: Scene, ok, bad, iterations: int = 40):
     return 0.5 * (ok + bad)
 
 
-def solve_table(scene: Scene, phi_deg, *, omega: float | None = None,
-                epsilon: float | None = None, threads: int | None = None):
+ANALOG_HEADS = ("omega", "eps", "vx", "vy", "v", "ax", "ay", "a", "vs", "as")
+
+
+def table_names(scene: Scene, analogs: bool = False) -> list[str]:
+    """Rows of solve_table: the contract's columns, [their analogs], then det_g<i>."""
+    names = column_names(scene)
+    if analogs:
+        names += [analog_name(n) for n in names if n.split("_", 1)[0] in ANALOG_HEADS]
+    return names + [f"det_g{g.index}" for g in scene.groups]
+
+
+def solve_table(scene: Scene, phi_deg, *, analogs: bool = False, threads: int | None = None):
     """Solve in cache-sized chunks (on `threads` threads) into one preallocated table.
 
-    Returns (names, table, failed): table[j] is the column names[j] (the contract's
-    columns, then det_g<i>); failed[i - 1] marks where group i cannot assemble.
+    Returns (names, table, failed): table[j] is the column names[j] (see table_names);
+    failed[i - 1] marks where group i cannot assemble. The analogs are the same solve
+    with omega = 1, epsilon = 0 (d/dphi and d2/dphi2).
     """
     phi = np.asarray(phi_deg, dtype=float).reshape(-1)
     n = phi.size
-    names = column_names(scene) + [f"det_g{g.index}" for g in scene.groups]
+    names = table_names(scene, analogs)
     table = np.empty((len(names), n))
     failed = np.zeros((len(scene.groups), n), dtype=bool)
+    row_of = {name: j for j, name in enumerate(names)}
+    contract = column_names(scene)
+    analog_of = {analog_name(c): c for c in contract if c.split("_", 1)[0] in ANALOG_HEADS}
 
-    def run(start: int):
-        stop = min(start + CHUNK, n)
-        sol = solve(scene, phi[start:stop], omega, epsilon)
-        rows = {name: table[j, start:stop] for j, name in enumerate(names)}
-        solution_columns(scene, sol, rows)
-        for g in scene.groups:
-            np.copyto(rows[f"det_g{g.index}"], sol.det[g.index])
-        for i, f in sol.failed.items():
-            failed[i - 1, start:stop] = f
+    def run(start: int, stop: int):
+        for a in range(start, stop, CHUNK):
+            b = min(a + CHUNK, stop)
+            sol = solve(scene, phi[a:b])
+            solution_columns(scene, sol, {c: table[row_of[c], a:b] for c in contract})
+            for g in scene.groups:
+                np.copyto(table[row_of[f"det_g{g.index}"], a:b], sol.det[g.index])
+            for i, f in sol.failed.items():
+                failed[i - 1, a:b] = f
+            if analogs:
+                q = solution_columns(scene, solve(scene, phi[a:b], omega=1.0, epsilon=0.0))
+                for name, base in analog_of.items():
+                    np.copyto(table[row_of[name], a:b], q[base])
 
-    starts = range(0, n, CHUNK)
     threads = threads or min(2, os.cpu_count() or 1)
-    if threads > 1 and n > CHUNK:
-        # numpy releases the GIL inside ufuncs, so chunks run truly in parallel
+    if threads > 1 and n > 4 * CHUNK:
+        # one contiguous share per thread; numpy releases the GIL inside ufuncs, so the
+        # shares run in parallel
+        bounds = np.linspace(0, n // CHUNK, threads + 1).astype(int) * CHUNK
+        bounds[-1] = n
         with ThreadPoolExecutor(threads) as pool:
-            list(pool.map(run, starts))
+            list(pool.map(run, bounds[:-1], bounds[1:]))
     else:
-        for start in starts:
-            run(start)
+        run(0, n)
     return names, table, failed
 
 
@@ -208,31 +236,23 @@ def compute(scene: Scene | str | Path, at=None, *, analogs: bool = False, allow_
     `scene` is a Scene or a path to a scene file; `at` (degrees) replaces the scene's crank
     positions. Raises AssemblyError naming the crank-angle intervals where a group cannot
     assemble, unless allow_gaps, which keeps those rows (NaN, `assembled` False).
+    Columns: the contract's, [analogs], [assembled], det_g<i>..., near_toggle.
     """
     if not isinstance(scene, Scene):
         scene = load_scene(scene)
     phi = np.asarray(scene.crank_angles_deg() if at is None else at, dtype=float).reshape(-1)
-    names, table, failed = solve_table(scene, phi)
+    names, table, failed = solve_table(scene, phi, analogs=analogs)
     fail = failed.any(axis=0)
     if fail.any() and not allow_gaps:
         gaps = assembly_gaps(scene, phi)
         raise AssemblyError("; ".join(map(str, gaps)) +
                             f" ({int(fail.sum())} of {fail.size} positions; use --allow-gaps to keep the rest)")
-    # the table's rows become the frame's columns without a copy
+    # the table's rows become the frame's columns without a copy (one float block)
     df = pd.DataFrame(table.T, columns=names, copy=False)
-    det_names = names[len(names) - len(scene.groups):]
-    dets = df[det_names]
-    df = df.drop(columns=det_names)
-    if analogs:
-        q_names, q_table, _ = solve_table(scene, phi, omega=1.0, epsilon=0.0)
-        heads = ("omega", "eps", "vx", "vy", "v", "ax", "ay", "a", "vs", "as")
-        keep = [j for j, name in enumerate(q_names) if name.split("_", 1)[0] in heads]
-        df = pd.concat([df, pd.DataFrame(q_table[keep].T, columns=[analog_name(q_names[j]) for j in keep],
-                                         copy=False)], axis=1)
+    n_det = len(scene.groups)
     if fail.any():
-        df["assembled"] = ~fail
-    df = pd.concat([df, dets], axis=1)
-    df["near_toggle"] = _near_toggle(dets.to_numpy(), fail, toggle_threshold)
+        df.insert(len(names) - n_det, "assembled", ~fail)
+    df["near_toggle"] = _near_toggle(table[len(names) - n_det:].T, fail, toggle_threshold)
     df.attrs["title"] = scene.title
     return df
 

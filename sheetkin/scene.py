@@ -115,20 +115,33 @@ class _Locator:
                 self.tables[(name, i)] = no
 
     def line(self, table: str | None, index: int = 0, key: str | None = None) -> int | None:
+        """Line of `key` inside the index-th `table` ([table] or [[table]]); for a dotted
+        key a.b: the line `a = {...}`, `a.b = ...`, or `b = ...` under a [table.a] header.
+        With table None, a top-level key: `key = ...` or a [key] / [[key]] header."""
         start = self.tables.get((table, index), 0) if table else 0
         if table and not start:
             return None
         if key is None:
             return start or None
-        head = key.split(".")[0]
-        pat = re.compile(rf"^\s*{re.escape(head)}\s*=")
+        head, _, rest = key.partition(".")
+        found = self._key_line(start, head) or (rest and self._key_line(start, key))
+        if not found and rest and table:
+            sub = next((no for (name, i), no in sorted(self.tables.items(), key=lambda t: t[1])
+                        if name == f"{table}.{head}" and no > start), None)
+            found = sub and (self._key_line(sub, rest) or sub)
+        if not found and not table:
+            found = self.tables.get((key, 0))
+        return found or start or None
+
+    def _key_line(self, start: int, key: str) -> int | None:
+        pat = re.compile(rf"^\s*{re.escape(key)}\s*=")
         for no in range(start + 1, len(self.lines) + 1):
             text = self.lines[no - 1]
             if no > start + 1 and re.match(r"^\s*\[", text):
-                break
+                return None    # the table (or the top level, before any header) ended
             if pat.match(text):
                 return no
-        return start or None
+        return None
 
 
 class _Ctx:
@@ -155,7 +168,8 @@ class _Table:
     def __init__(self, ctx: _Ctx, data, where: str, table: str | None, index: int = 0):
         self.ctx, self.where, self.table, self.index = ctx, where, table, index
         if not isinstance(data, dict):
-            self.fail(None, f"expected a table, got {_type_name(data)}")
+            # e.g. `frame = 5`: point at that line (there is no [frame] header to find)
+            ctx.fail("scene", None, 0, table, f"expected a [{table}] table, got {_type_name(data)}")
         self.data = data
 
     def fail(self, key, msg):
@@ -179,6 +193,8 @@ class _Table:
             "a string": lambda x: isinstance(x, str),
         }[kind]
         if not check(v):
+            if isinstance(v, float) and not math.isfinite(v):
+                self.fail(key, f"expected a finite number, got {v!r}")
             self.fail(key, f"expected {kind}, got {_type_name(v)} {v!r}")
         return float(v) if kind == "a number" else v
 
@@ -214,7 +230,7 @@ def load_scene(path: str | Path) -> Scene:
     """Read and validate a scene file; raises SceneError (one line) on any mistake."""
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = path.read_text(encoding="utf-8-sig")   # tolerate Notepad's byte-order mark
     except FileNotFoundError:
         raise SceneError(f"{path}: no such file") from None
     except IsADirectoryError:
@@ -233,6 +249,12 @@ def parse_scene(text: str, source: str = "<scene>") -> Scene:
         m = re.search(r"\(at line (\d+), column (\d+)\)", str(e))
         msg = re.sub(r"\s*\(at line \d+, column \d+\)", "", str(e))
         where = f"{source}:{m.group(1)}" if m else source
+        if m and "overwrite" in msg.lower():
+            # tomllib says "Cannot overwrite a value": name the key written twice
+            line = text.splitlines()[int(m.group(1)) - 1]
+            k = re.match(r"^\s*\[*\s*([A-Za-z0-9_.\"-]+)", line)
+            if k:
+                raise SceneError(f"{where}: key '{k.group(1)}' is defined twice (not valid TOML)") from None
         raise SceneError(f"{where}: not valid TOML: {msg}") from None
     ctx = _Ctx(source, _Locator(text))
     top = _Table(ctx, data, "scene", None)
@@ -298,11 +320,13 @@ GROUP_KEYS = {
 
 def _parse_groups(ctx, data, frame, define):
     raw = data.get("group", [])
-    if not isinstance(raw, list):
-        ctx.fail("scene", None, 0, "group", "expected [[group]] tables")
+    if not isinstance(raw, list) or not all(isinstance(x, dict) for x in raw):
+        ctx.fail("scene", None, 0, "group", "expected [[group]] tables (double brackets: one per group)")
     groups, next_link = [], 2
     for i, g in enumerate(raw):
         tbl = _Table(ctx, g, f"[[group]] #{i + 1}", "group", i)
+        if "type" not in tbl.data:
+            tbl.fail("type", f"missing; expected one of {', '.join(GROUP_TYPES)}")
         kind = tbl.get("type", "a string")
         if kind not in GROUP_TYPES:
             tbl.fail("type", f"unknown group type '{kind}'; expected one of {', '.join(GROUP_TYPES)}")
@@ -316,6 +340,9 @@ def _parse_groups(ctx, data, frame, define):
         joints = tbl.array("joints", njoints, "name")
         kw = {}
         if kind in ("RRR", "RRP"):
+            if joints[1] in (joints[0], joints[2] if kind == "RRR" else joints[0]):
+                tbl.fail("joints", f"the new joint '{joints[1]}' (second name) must differ from the "
+                                   f"known joint(s) it is attached to, got {list(joints)}")
             define(tbl, "joints", joints[1], f"the new joint of group {i + 1}")
             branch = tbl.get("branch", "an integer")
             if branch not in (1, -1):
@@ -338,12 +365,17 @@ def _parse_groups(ctx, data, frame, define):
 
 
 def _parse_guide(ctx, tbl, frame):
+    expected = "guide = {through = FRAME_POINT or [x, y], angle_deg = ...}"
     if "guide" not in tbl.data:
-        tbl.fail("guide", "missing; expected guide = {through = POINT or [x, y], angle_deg = ...}")
-    guide = _Table(ctx, tbl.data["guide"], tbl.where + " guide", tbl.table, tbl.index)
+        tbl.fail("guide", f"missing; expected {expected}")
+    if not isinstance(tbl.data["guide"], dict):
+        tbl.fail("guide", f"expected {expected}, got {_type_name(tbl.data['guide'])}")
+    guide = _Table(ctx, tbl.data["guide"], tbl.where, tbl.table, tbl.index)
     guide.fail = lambda key, msg: tbl.fail(f"guide.{key}" if key else "guide", msg)
     guide.check_keys(["through", "angle_deg"])
     through = guide.data.get("through", ...)
+    if through is ...:
+        guide.fail("through", "missing; expected a frame point's name or [x, y]")
     if isinstance(through, str):
         if through not in frame:
             guide.fail("through", f"expected a frame point ({', '.join(frame)}) or [x, y], got '{through}'")
@@ -355,8 +387,8 @@ def _parse_guide(ctx, tbl, frame):
 
 def _parse_points(ctx, data, define):
     raw = data.get("point", [])
-    if not isinstance(raw, list):
-        ctx.fail("scene", None, 0, "point", "expected [[point]] tables")
+    if not isinstance(raw, list) or not all(isinstance(x, dict) for x in raw):
+        ctx.fail("scene", None, 0, "point", "expected [[point]] tables (double brackets: one per point)")
     points = []
     for i, p in enumerate(raw):
         tbl = _Table(ctx, p, f"[[point]] #{i + 1}", "point", i)
@@ -395,6 +427,14 @@ def _make_plan(ctx, frame, crank, groups, points):
         if not 1 <= p.link <= n_links:
             ctx.fail(f"[[point]] #{i + 1}", "point", i, "link",
                      f"expected a moving link 1..{n_links}, got {p.link}")
+        # checked before placement, so a bad `from` is blamed on the point, not on a
+        # group that needs the point
+        allowed = on_link[p.link] + [q.name for q in points if q.link == p.link and q is not p]
+        # (a point that its own link's group uses as a joint is circular: the group's
+        # `joints` is the mistake, reported during placement below)
+        if p.origin not in allowed and p.name not in on_link[p.link]:
+            ctx.fail(f"[[point]] #{i + 1}", "point", i, "from",
+                     f"expected a joint or point of link {p.link} ({', '.join(allowed)}), got '{p.origin}'")
     known = set(frame) | {crank.joint}
     placed_links = {1}
     plan: list[tuple[str, object]] = [("crank", crank)]
@@ -430,8 +470,7 @@ def _make_plan(ctx, frame, crank, groups, points):
             known.add(g.new_joint)
         placed_links.update(g.links)
         place_points()
-    for i, p in pending:
-        allowed = ", ".join(on_link[p.link])
+    for i, p in pending:   # only points measured from each other in a circle remain
         ctx.fail(f"[[point]] #{i + 1}", "point", i, "from",
-                 f"expected a joint or point of link {p.link} ({allowed}), got '{p.origin}'")
+                 f"'{p.origin}' is measured, directly or through other points, from '{p.name}' itself")
     return tuple(plan)

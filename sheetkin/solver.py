@@ -55,10 +55,18 @@ class Solution:
     failed: dict[int, np.ndarray] = field(default_factory=dict)   # group index -> cannot assemble
 
 
-def cramer(m11, m12, m21, m22, b1, b2):
-    """Solve [[m11, m12], [m21, m22]] @ [x, y] = [b1, b2] by determinants (lecture slide 20)."""
+def cramer(m11, m12, m21, m22, b1, b2, inv_det):
+    """Solve [[m11, m12], [m21, m22]] @ [x, y] = [b1, b2] by determinants (lecture slide 20).
+
+    x = det_x / det, y = det_y / det; the caller passes 1/det, shared by the velocity and
+    the acceleration systems (same matrix).
+    """
+    return (b1 * m22 - b2 * m12) * inv_det, (m11 * b2 - m21 * b1) * inv_det
+
+
+def inverse_det(m11, m12, m21, m22):
     det = m11 * m22 - m12 * m21
-    return (b1 * m22 - b2 * m12) / det, (m11 * b2 - m21 * b1) / det, det
+    return det, 1.0 / det
 
 
 def crank_motion(crank: Crank, pivot, phi, omega, eps) -> tuple[Motion, Rotation]:
@@ -66,9 +74,9 @@ def crank_motion(crank: Crank, pivot, phi, omega, eps) -> tuple[Motion, Rotation
     c, s = np.cos(phi), np.sin(phi)
     rx, ry = crank.length * c, crank.length * s
     vx, vy = -omega * ry, omega * rx
-    ones = np.ones_like(phi)
+    # omega and eps stay scalars: the crank's rates are given, the same at every position
     return (Motion(pivot[0] + rx, pivot[1] + ry, vx, vy, -eps * ry - omega * vy, eps * rx + omega * vx),
-            Rotation(c, s, omega * ones, eps * ones))
+            Rotation(c, s, omega, eps))
 
 
 def carried_point(base: Motion, rot: Rotation, along: float, across: float) -> Motion:
@@ -77,8 +85,10 @@ def carried_point(base: Motion, rot: Rotation, along: float, across: float) -> M
     Euler form of the coupler's motion (lecture slide 7): v = v_P + omega x r,
     a = a_P + eps x r - omega^2 r.
     """
-    rx = along * rot.c - across * rot.s
-    ry = along * rot.s + across * rot.c
+    if across:
+        rx, ry = along * rot.c - across * rot.s, along * rot.s + across * rot.c
+    else:   # the common case (a point on the line of the link's joints): 4 fewer operations
+        rx, ry = along * rot.c, along * rot.s
     w, e = rot.omega, rot.eps
     w2 = w * w
     return Motion(base.x + rx, base.y + ry,
@@ -118,11 +128,12 @@ def solve_rrr(j1: Motion, j2: Motion, l2: float, l3: float, branch: int):
     c3, s3 = (l2 * c2 - p) / l3, (l2 * s2 - q) / l3
     # velocities, system (b): -L2 sin psi psi_t + L3 sin xi xi_t = vx_J2 - vx_J1, ...
     m11, m12, m21, m22 = -l2 * s2, l3 * s3, l2 * c2, -l3 * c3
-    w2, w3, det = cramer(m11, m12, m21, m22, j2.vx - j1.vx, j2.vy - j1.vy)
+    det, inv = inverse_det(m11, m12, m21, m22)
+    w2, w3 = cramer(m11, m12, m21, m22, j2.vx - j1.vx, j2.vy - j1.vy, inv)
     # accelerations: same matrix; right side gains the centripetal terms (lecture f1, f2)
     b1 = j2.ax - j1.ax + l2 * w2 * w2 * c2 - l3 * w3 * w3 * c3
     b2 = j2.ay - j1.ay + l2 * w2 * w2 * s2 - l3 * w3 * w3 * s3
-    e2, e3, _ = cramer(m11, m12, m21, m22, b1, b2)
+    e2, e3 = cramer(m11, m12, m21, m22, b1, b2, inv)
     rot2, rot3 = Rotation(c2, s2, w2, e2), Rotation(c3, s3, w3, e3)
     return carried_point(j1, rot2, l2, 0.0), rot2, rot3, disc, det / (l2 * l3)
 
@@ -147,9 +158,10 @@ def solve_rrp(j1: Motion, length: float, through, angle_deg: float, branch: int)
     c2, s2 = (ahead * ux + h * uy) / length, (ahead * uy - h * ux) / length
     # velocities: L omega e_perp(phi) - vs u = -v_J1
     m11, m12, m21, m22 = -length * s2, -ux, length * c2, -uy
-    w2, vs, det = cramer(m11, m12, m21, m22, -j1.vx, -j1.vy)
-    e2, as_, _ = cramer(m11, m12, m21, m22, -j1.ax + length * w2 * w2 * c2,
-                        -j1.ay + length * w2 * w2 * s2)
+    det, inv = inverse_det(m11, m12, m21, m22)
+    w2, vs = cramer(m11, m12, m21, m22, -j1.vx, -j1.vy, inv)
+    e2, as_ = cramer(m11, m12, m21, m22, -j1.ax + length * w2 * w2 * c2,
+                     -j1.ay + length * w2 * w2 * s2, inv)
     rot2 = Rotation(c2, s2, w2, e2)
     joint = Motion(through[0] + s * ux, through[1] + s * uy, vs * ux, vs * uy, as_ * ux, as_ * uy)
     zero = np.zeros_like(s)
@@ -172,11 +184,12 @@ def solve_rpr(j1: Motion, j2: Motion, offset: float, scale: float):
     s = _sqrt_or_nan(disc)
     c, sn = (s * dx + e * dy) / r2, (s * dy - e * dx) / r2
     col1x, col1y = -s * sn - e * c, s * c - e * sn      # d/dtheta of (s u + e n)
-    w, vs, det = cramer(col1x, c, col1y, sn, j1.vx - j2.vx, j1.vy - j2.vy)
+    det, inv = inverse_det(col1x, c, col1y, sn)
+    w, vs = cramer(col1x, c, col1y, sn, j1.vx - j2.vx, j1.vy - j2.vy, inv)
     # bias: 2 s_t theta_t n - s theta_t^2 u - e theta_t^2 n
     bn, bu = 2.0 * vs * w - e * w * w, -s * w * w
     bx, by = bu * c - bn * sn, bu * sn + bn * c
-    eps, as_, _ = cramer(col1x, c, col1y, sn, j1.ax - j2.ax - bx, j1.ay - j2.ay - by)
+    eps, as_ = cramer(col1x, c, col1y, sn, j1.ax - j2.ax - bx, j1.ay - j2.ay - by, inv)
     rot = Rotation(c, sn, w, eps)
     return rot, Slide(s, vs, as_), disc, -det / scale
 
