@@ -17,45 +17,7 @@ from sheetkin import Scene, SceneError, load_scene, parse_scene
 
 WORKBOOKS = Path(__file__).resolve().parents[1] / "workbooks"
 
-# The spec's crank-rocker four-bar (shared/spec/scene.md), headers tagged with unique comments.
-FOURBAR = """\
-title  = "Crank-rocker four-bar"
-author = "Student, group"
-
-[frame]                 # fixed points
-O  = [0.0, 0.0]
-O1 = [0.0, -0.53]
-
-[crank]                 # link 1
-pivot    = "O"
-joint    = "A"
-length   = 0.14
-phi0_deg = 0.0
-step_deg = 30.0
-positions = 13
-omega    = 20.0
-epsilon  = 0.0
-
-[[group]]               # g1
-type    = "RRR"
-links   = [2, 3]
-joints  = ["A", "B", "O1"]
-lengths = [0.5, 0.34]
-branch  = -1
-
-[[point]]               # pS2
-name   = "S2"
-link   = 2
-from   = "A"
-along  = 0.39035
-across = 0.0
-
-[[point]]               # pS3
-name  = "S3"
-link  = 3
-from  = "O1"
-along = 0.2129
-"""
+from scenes import FOURBAR  # noqa: E402  (tests/ is on sys.path under pytest)
 
 # A shaper: group 1 (RPR) turns the slotted lever, point C sits on that lever (link 3),
 # group 2 (RRP) hangs on C. C must be placed after group 1 and before group 2.
@@ -556,3 +518,27 @@ def test_guide_through_a_frame_point(tmp_path):
     g2 = load_scene(write(tmp_path, text)).groups[1]
     assert g2.guide_point == (0.0, 0.0) and g2.guide_angle_deg == 90.0
     assert g2.slider == "D" and g2.new_joint == "D"
+
+
+# ---- messages made clearer after review (each names the key and what is expected)
+@pytest.mark.parametrize("old, new, line_key, expects", [
+    ('type    = "RRR"\n', "", "links", [r"missing", r"RRR, RRP, RPR"]),
+    ("omega    = 20.0", "omega    = inf", "omega", [r"finite number", r"inf"]),
+    ("epsilon  = 0.0", "epsilon  = nan", "epsilon", [r"finite number", r"nan"]),
+    ('joints  = ["A", "B", "O1"]', 'joints  = ["A", "A", "O1"]', "joints", [r"must differ", r"'A'"]),
+], ids=["missing type", "omega inf", "epsilon nan", "new joint equals J1"])
+def test_clearer_messages(tmp_path, old, new, line_key, expects):
+    text = mutate(FOURBAR, old, new)
+    msg = scene_error(write(tmp_path, text))
+    assert_one_line(msg)
+    key = "type" if line_key == "links" else line_key
+    assert f"'{key}'" in msg, msg
+    for pattern in expects:
+        assert re.search(pattern, msg), f"{pattern!r} not in {msg!r}"
+
+
+def test_byte_order_mark_is_accepted(tmp_path):
+    """Windows Notepad saves UTF-8 with a BOM; the scene is still valid TOML after it."""
+    path = tmp_path / "bom.toml"
+    path.write_bytes(b"\xef\xbb\xbf" + FOURBAR.encode("utf-8"))
+    assert load_scene(path).crank.length == 0.14
