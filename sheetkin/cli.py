@@ -1,7 +1,8 @@
-"""Command line: `sheetkin compute SCENE.toml [--format table|csv|json] [--at DEG ...]`.
+"""Command line: `sheetkin compute SCENE.toml ...`, `sheetkin workbook SCENE.toml ...`.
 
-Exit codes: 0 done, 2 unusable input (a scene mistake, a bad option), 3 the mechanism
-cannot be assembled at some requested position (the message gives the intervals).
+Exit codes: 0 done, 1 `workbook --check` found a stale or missing workbook, 2 unusable
+input (a scene mistake, a bad option), 3 the mechanism cannot be assembled at some
+requested position (the message gives the intervals).
 Every error is one line on stderr; no traceback reaches the user.
 """
 from __future__ import annotations
@@ -11,12 +12,13 @@ import json
 import math
 import shutil
 import sys
+from pathlib import Path
 
 import numpy as np
 
 from . import __version__
 from .compute import TOGGLE_THRESHOLD, AssemblyError, assembly_gaps, compute, unit
-from .scene import SceneError, load_scene
+from .scene import SceneError, load_scene, override_crank
 
 EXIT_INPUT, EXIT_ASSEMBLY = 2, 3
 
@@ -28,6 +30,16 @@ def _finite_float(text: str) -> float:
         raise argparse.ArgumentTypeError(f"expected a number of degrees, got {text!r}") from None
     if not math.isfinite(v):
         raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
+    return v
+
+
+def _positive_int(text: str) -> int:
+    try:
+        v = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if v < 1:
+        raise argparse.ArgumentTypeError(f"expected a number >= 1, got {text!r}")
     return v
 
 
@@ -74,6 +86,30 @@ def build_parser() -> argparse.ArgumentParser:
                    metavar="X", help="flag positions whose normalised group determinant "
                    f"(sine of the transmission angle for RRR) is below X (default {TOGGLE_THRESHOLD})")
     p.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of stdout")
+
+    w = sub.add_parser(
+        "workbook", help="the lecture's Excel workbook with live formulas",
+        description="Write the lecture's row-structured workbook (seed 003, steps 7-10) for "
+                    "each scene: title rows, input block, crank block, a kinematic-constraint "
+                    "block per group (intermediate variables, every branch, checks, accepted "
+                    "values), driven points, check rows with a summary, and charts. Every "
+                    "computed cell is a formula; the scene is embedded in a hidden sheet. "
+                    "Without -o, SCENE.toml is written to SCENE.xlsx beside it "
+                    "(SCENE-exercise.xlsx with --exercise).")
+    w.add_argument("scenes", metavar="SCENE.toml", nargs="+", help="scene file(s)")
+    w.add_argument("-o", "--output", metavar="FILE.xlsx", help="where to write (one scene only)")
+    w.add_argument("--lang", choices=["ru", "en"], default="ru",
+                   help="language of the descriptions in column C (default ru, as the course)")
+    w.add_argument("--exercise", action="store_true",
+                   help="leave the computed rows empty for students to fill (inputs, names, "
+                        "units and check rows kept)")
+    w.add_argument("--positions", type=_positive_int, metavar="N",
+                   help="number of crank positions (columns), instead of the scene's")
+    w.add_argument("--step-deg", type=_finite_float, metavar="DEG", help="crank angle step, instead of the scene's")
+    w.add_argument("--phi0-deg", type=_finite_float, metavar="DEG", help="first crank angle, instead of the scene's")
+    w.add_argument("--check", action="store_true",
+                   help="write nothing: exit 1 if an existing workbook differs from what would be "
+                        "written (stale) or is missing")
     return parser
 
 
@@ -163,15 +199,49 @@ def cmd_compute(args) -> int:
     return 0
 
 
+def cmd_workbook(args) -> int:
+    from .workbook import build_workbook, fingerprint   # openpyxl is needed only here
+
+    if args.output and len(args.scenes) > 1:
+        raise SceneError(f"-o names one file, but {len(args.scenes)} scenes were given")
+    overrides = {k: v for k, v in (("positions", args.positions), ("step_deg", args.step_deg),
+                                   ("phi0_deg", args.phi0_deg)) if v is not None}
+    stale = 0
+    for path in args.scenes:
+        scene = load_scene(path)        # validates, with the file's own line numbers
+        text = Path(path).read_text(encoding="utf-8-sig")
+        if overrides:
+            text, scene = override_crank(text, path, **overrides)
+        out = Path(args.output) if args.output else Path(path).with_name(
+            Path(path).stem + ("-exercise" if args.exercise else "") + ".xlsx")
+        wb = build_workbook(scene, lang=args.lang, exercise=args.exercise, scene_text=text)
+        if args.check:
+            if not out.exists():
+                print(f"sheetkin: {out}: missing (regenerate: sheetkin workbook {path})")
+                stale += 1
+            elif fingerprint(out) != fingerprint(wb):
+                print(f"sheetkin: {out}: stale, differs from {path} (regenerate: sheetkin workbook {path})")
+                stale += 1
+            else:
+                print(f"{out}: up to date")
+            continue
+        if out.suffix.lower() != ".xlsx":
+            raise SceneError(f"{out}: expected a file name ending in .xlsx")
+        wb.save(out)
+        print(f"{out}: {scene.crank.positions} positions, {len(scene.groups)} group(s), "
+              f"{len(scene.points)} point(s)", file=sys.stderr)
+    return 1 if stale else 0
+
+
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     try:
-        return {"compute": cmd_compute}[args.command](args)
+        return {"compute": cmd_compute, "workbook": cmd_workbook}[args.command](args)
     except SceneError as e:
         print(f"sheetkin: error: {e}", file=sys.stderr)
         return EXIT_INPUT
     except AssemblyError as e:
-        print(f"sheetkin: error: {args.scene}: {e}", file=sys.stderr)
+        print(f"sheetkin: error: {getattr(args, 'scene', '')}: {e}", file=sys.stderr)
         return EXIT_ASSEMBLY
     except OSError as e:
         print(f"sheetkin: error: {e.filename or ''}: {e.strerror}", file=sys.stderr)

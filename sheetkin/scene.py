@@ -474,3 +474,25 @@ def _make_plan(ctx, frame, crank, groups, points):
         ctx.fail(f"[[point]] #{i + 1}", "point", i, "from",
                  f"'{p.origin}' is measured, directly or through other points, from '{p.name}' itself")
     return tuple(plan)
+
+
+def override_crank(text: str, source: str = "<scene>", **values) -> tuple[str, Scene]:
+    """The scene text with some [crank] keys replaced (positions, step_deg, phi0_deg ...),
+    and the scene it parses to. The text is patched, not regenerated, so comments stay and
+    a workbook can embed exactly the scene it was made from."""
+    lines = text.splitlines()
+    loc = _Locator(text)
+    header = loc.line("crank")
+    if header is None:
+        raise SceneError(f"{source}: no [crank] table to change")
+    for key, value in values.items():
+        literal = repr(value) if isinstance(value, (int, float)) else f'"{value}"'
+        no = loc._key_line(header, key)
+        if no:
+            lines[no - 1] = re.sub(rf"^(\s*{key}\s*=\s*)[^#]*?(\s*(#.*)?)$",
+                                   lambda m: f"{m.group(1)}{literal}{m.group(2) or ''}", lines[no - 1])
+        else:
+            lines.insert(header, f"{key} = {literal}")
+            loc = _Locator("\n".join(lines))
+    new = "\n".join(lines) + "\n"
+    return new, parse_scene(new, source)
