@@ -27,6 +27,7 @@ from pathlib import Path
 
 from openpyxl import Workbook, load_workbook
 from openpyxl.chart import Reference, ScatterChart, Series
+from openpyxl.chart.data_source import NumFmt
 from openpyxl.formatting.rule import FormulaRule
 from openpyxl.styles import Alignment, Font, PatternFill
 from openpyxl.utils import get_column_letter
@@ -190,6 +191,8 @@ def _crank_rows(b: _Builder):
     b.add("Fi_tt", "rad/s^2", "угловое ускорение кривошипа", "the crank's angular acceleration", "calc", "{Fi_tt0}")
     b.add("cos_1", "", "cos угла кривошипа", "cos of the crank angle", "calc", "COS({Fi})")
     b.add("sin_1", "", "sin угла кривошипа", "sin of the crank angle", "calc", "SIN({Fi})")
+    b.add("chk_Fi", "rad", "проверка: Fi - (Fi0 + i Delta_Fi) в радианах", "check: Fi - (Fi0 + i Delta_Fi) in radians", "check",
+          "{Fi}-(RADIANS({Fi0})+{i}*{Delta_Fi_rad})")
     b.rot[1] = ("cos_1", "sin_1", "Fi_t", "Fi_tt")
     b.section(f"hinge_{A}", f"Шарнир {A} кривошипа (слайд 6: x = Alfa cos dFi - Betta sin dFi)",
               f"Hinge {A} of the crank (slide 6: x = Alfa cos dFi - Betta sin dFi)")
@@ -250,27 +253,27 @@ def _rrr_rows(b: _Builder, g: Group):
     _cos_sin_rows(b, la, "", "")
     _cos_sin_rows(b, lb, "", "")
     ca, sa, cb, sb = f"{{cos_{la}}}", f"{{sin_{la}}}", f"{{cos_{lb}}}", f"{{sin_{lb}}}"
+    b.add(f"chk_acc_g{i}", "m", "проверка принятых значений: невязка системы (a)", "check of the accepted values: residual of system (a)",
+          "check", f"ABS({b.p('x', J1)}+{L2}*{ca}-{L3}*{cb}-{b.p('x', J2)})+ABS({b.p('y', J1)}+{L2}*{sa}-{L3}*{sb}-{b.p('y', J2)})")
     # system (b) (slide 19): -L2 sin psi psi_t + L3 sin xi xi_t = vx_J2 - vx_J1; L2 cos psi psi_t - L3 cos xi xi_t = vy_J2 - vy_J1
     det = f"Delta_g{i}"
-    b.add(det, "m^2", "определитель системы (b): L2 L3 sin(psi - xi)", "determinant of system (b): L2 L3 sin(psi - xi)", "calc",
-          f"(-{L2}*{sa})*(-{L3}*{cb})-({L3}*{sb})*({L2}*{ca})")
+    m = (f"(-{L2}*{sa})", f"({L3}*{sb})", f"({L2}*{ca})", f"(-{L3}*{cb})")
+    _det_row(b, det, m, "m^2", "определитель системы (b): L2 L3 sin(psi - xi)", "determinant of system (b): L2 L3 sin(psi - xi)")
     b.add(f"det_g{i}", "", "sin угла передачи (около 0: мёртвое положение)", "sine of the transmission angle (near 0: toggle)",
           "calc", f"{{{det}}}/({L2}*{L3})")
     b1, b2 = f"({b.p('vx', J2)}-{b.p('vx', J1)})", f"({b.p('vy', J2)}-{b.p('vy', J1)})"
-    b.add(f"omega_{la}", "rad/s", f"угловая скорость звена {la} (Крамер)", f"angular velocity of link {la} (Cramer)", "accepted",
-          f"({b1}*(-{L3}*{cb})-{b2}*({L3}*{sb}))/{{{det}}}")
-    b.add(f"omega_{lb}", "rad/s", f"угловая скорость звена {lb} (Крамер)", f"angular velocity of link {lb} (Cramer)", "accepted",
-          f"((-{L2}*{sa})*{b2}-({L2}*{ca})*{b1})/{{{det}}}")
+    _cramer_rows(b, m, det, ((f"omega_{la}", "rad/s", f"угловая скорость звена {la} (Крамер)", f"angular velocity of link {la} (Cramer)"),
+                             (f"omega_{lb}", "rad/s", f"угловая скорость звена {lb} (Крамер)", f"angular velocity of link {lb} (Cramer)")),
+                 (b1, b2), (f"chk_vsys_g{i}", "невязка системы (b) для скоростей", "residual of the velocity system (b)"))
     f1, f2 = f"f1_g{i}", f"f2_g{i}"
     wa, wb = f"{{omega_{la}}}", f"{{omega_{lb}}}"
     b.add(f1, "m/s^2", "правая часть для ускорений f1 (слайд 21)", "right side of the acceleration system f1 (slide 21)", "calc",
           f"{b.p('ax', J2)}-{b.p('ax', J1)}+{L2}*{wa}^2*{ca}-{L3}*{wb}^2*{cb}")
     b.add(f2, "m/s^2", "правая часть для ускорений f2 (слайд 21)", "right side of the acceleration system f2 (slide 21)", "calc",
           f"{b.p('ay', J2)}-{b.p('ay', J1)}+{L2}*{wa}^2*{sa}-{L3}*{wb}^2*{sb}")
-    b.add(f"eps_{la}", "rad/s^2", f"угловое ускорение звена {la}", f"angular acceleration of link {la}", "accepted",
-          f"({{{f1}}}*(-{L3}*{cb})-{{{f2}}}*({L3}*{sb}))/{{{det}}}")
-    b.add(f"eps_{lb}", "rad/s^2", f"угловое ускорение звена {lb}", f"angular acceleration of link {lb}", "accepted",
-          f"((-{L2}*{sa})*{{{f2}}}-({L2}*{ca})*{{{f1}}})/{{{det}}}")
+    _cramer_rows(b, m, det, ((f"eps_{la}", "rad/s^2", f"угловое ускорение звена {la}", f"angular acceleration of link {la}"),
+                             (f"eps_{lb}", "rad/s^2", f"угловое ускорение звена {lb}", f"angular acceleration of link {lb}")),
+                 (f"{{{f1}}}", f"{{{f2}}}"), (f"chk_asys_g{i}", "невязка системы для ускорений", "residual of the acceleration system"))
     b.rot[la] = (f"cos_{la}", f"sin_{la}", f"omega_{la}", f"eps_{la}")
     b.rot[lb] = (f"cos_{lb}", f"sin_{lb}", f"omega_{lb}", f"eps_{lb}")
     b.guard_of_link[la] = b.guard_of_link[lb] = b.guard
@@ -278,7 +281,43 @@ def _rrr_rows(b: _Builder, g: Group):
     _distance_check(b, f"chk_{J1}{N}", J1, N, L2, f"проверка: |{J1}{N}| - L{la}", f"check: |{J1}{N}| - L{la}")
     _distance_check(b, f"chk_{N}{J2}", N, J2, L3, f"проверка: |{N}{J2}| - L{lb}", f"check: |{N}{J2}| - L{lb}")
     _relative_velocity_check(b, N, J2)
+    _via_link_checks(b, N, J2, lb, f"omega_{lb}, eps_{lb}")
     _fd_checks(b, N)
+
+
+def _via_link_checks(b: _Builder, n: str, j: str, k: int, label: str):
+    """Velocity and acceleration of joint n computed once more through link k about j
+    (Euler form): |v_n - (v_j + omega_k x r)| and the same for accelerations. A wrong
+    angular velocity or acceleration of link k shows here, at any step."""
+    c, s, w, e = (f"{{{r}}}" for r in b.rot[k])
+    X, Y = f"({b.p('x', n)}-{b.p('x', j)})", f"({b.p('y', n)}-{b.p('y', j)})"
+    b.add(f"chk_v_{n}_{k}", "m/s", f"проверка: скорость {n} через звено {k} ({label})", f"check: velocity of {n} through link {k} ({label})",
+          "check", f"ABS({b.p('vx', n)}-({b.p('vx', j)}-{w}*{Y}))+ABS({b.p('vy', n)}-({b.p('vy', j)}+{w}*{X}))")
+    b.add(f"chk_a_{n}_{k}", "m/s^2", f"проверка: ускорение {n} через звено {k} ({label})", f"check: acceleration of {n} through link {k} ({label})",
+          "check", f"ABS({b.p('ax', n)}-({b.p('ax', j)}-{e}*{Y}-{w}^2*{X}))+ABS({b.p('ay', n)}-({b.p('ay', j)}+{e}*{X}-{w}^2*{Y}))")
+
+
+def _system_check(b: _Builder, name: str, what: tuple[str, str], m, x: str, y: str, rhs: tuple[str, str]):
+    """Put the solved unknowns back into their 2x2 system: |m11 x + m12 y - b1| + |m21 x + m22 y - b2|."""
+    m11, m12, m21, m22 = m
+    b.add(name, "", f"проверка: {what[0]}", f"check: {what[1]}", "check",
+          f"ABS({m11}*{x}+{m12}*{y}-{rhs[0]})+ABS({m21}*{x}+{m22}*{y}-{rhs[1]})")
+
+
+def _cramer_rows(b: _Builder, m, det: str, unknowns, rhs: tuple[str, str], check: tuple[str, str, str]):
+    """Two unknowns of [[m11, m12], [m21, m22]] (x, y) = (b1, b2) by Cramer's rule (slide 20):
+    x = (b1 m22 - b2 m12) / det, y = (m11 b2 - m21 b1) / det; then the check that puts
+    them back into the system. `unknowns` = ((name, unit, ru, en), (name, unit, ru, en))."""
+    m11, m12, m21, m22 = m
+    (n1, *d1), (n2, *d2) = unknowns
+    b.add(n1, *d1, "accepted", f"({rhs[0]}*{m22}-{rhs[1]}*{m12})/{{{det}}}")
+    b.add(n2, *d2, "accepted", f"({m11}*{rhs[1]}-{m21}*{rhs[0]})/{{{det}}}")
+    _system_check(b, check[0], check[1:], m, f"{{{n1}}}", f"{{{n2}}}", rhs)
+
+
+def _det_row(b: _Builder, det: str, m, unit: str, ru: str, en: str):
+    m11, m12, m21, m22 = m
+    b.add(det, unit, ru, en, "calc", f"{m11}*{m22}-{m12}*{m21}")
 
 
 def _relative_velocity_check(b: _Builder, n: str, j: str):
@@ -329,28 +368,29 @@ def _rrp_rows(b: _Builder, g: Group):
     _cos_sin_rows(b, la, "", "")
     _cos_sin_rows(b, lb, "", "")
     ca, sa, ux, uy = f"{{cos_{la}}}", f"{{sin_{la}}}", f"{{cos_{lb}}}", f"{{sin_{lb}}}"
+    b.add(f"chk_acc_g{i}", "m", f"проверка принятых значений: {J1} + L e(phi) - ({gx}, {gy}) - s u".replace("{", "").replace("}", ""),
+          "check of the accepted values: J1 + L e(phi) - G - s u", "check",
+          f"ABS({b.p('x', J1)}+{L}*{ca}-{gx}-{{{sN}}}*{ux})+ABS({b.p('y', J1)}+{L}*{sa}-{gy}-{{{sN}}}*{uy})")
+    b.add(f"omega_{lb}", "rad/s", f"угловая скорость ползуна {lb}", f"angular velocity of slider {lb}", "accepted", "0")
+    b.add(f"eps_{lb}", "rad/s^2", f"угловое ускорение ползуна {lb}", f"angular acceleration of slider {lb}", "accepted", "0")
     # L omega e_perp(phi) - vs u = -v_J1: Cramer with m11 = -L sin, m12 = -ux, m21 = L cos, m22 = -uy
     det = f"Delta_g{i}"
-    b.add(det, "m", "определитель: L cos(phi - gamma)", "determinant: L cos(phi - gamma)", "calc",
-          f"(-{L}*{sa})*(-{uy})-(-{ux})*({L}*{ca})")
+    m = (f"(-{L}*{sa})", f"(-{ux})", f"({L}*{ca})", f"(-{uy})")
+    _det_row(b, det, m, "m", "определитель: L cos(phi - gamma)", "determinant: L cos(phi - gamma)")
     b.add(f"det_g{i}", "", "cos(phi - gamma) (около 0: мёртвое положение)", "cos(phi - gamma) (near 0: toggle)", "calc", f"{{{det}}}/{L}")
     b1, b2 = f"(-{b.p('vx', J1)})", f"(-{b.p('vy', J1)})"
-    b.add(f"omega_{la}", "rad/s", f"угловая скорость шатуна {la} (Крамер)", f"angular velocity of coupler {la} (Cramer)", "accepted",
-          f"({b1}*(-{uy})-{b2}*(-{ux}))/{{{det}}}")
-    b.add(f"vs_{N}", "m/s", f"скорость ползуна {N} вдоль направляющей", f"velocity of slider {N} along the guide", "accepted",
-          f"((-{L}*{sa})*{b2}-({L}*{ca})*{b1})/{{{det}}}")
+    _cramer_rows(b, m, det, ((f"omega_{la}", "rad/s", f"угловая скорость шатуна {la} (Крамер)", f"angular velocity of coupler {la} (Cramer)"),
+                             (f"vs_{N}", "m/s", f"скорость ползуна {N} вдоль направляющей", f"velocity of slider {N} along the guide")),
+                 (b1, b2), (f"chk_vsys_g{i}", "невязка системы для скоростей", "residual of the velocity system"))
     f1, f2 = f"f1_g{i}", f"f2_g{i}"
     wa = f"{{omega_{la}}}"
     b.add(f1, "m/s^2", "правая часть для ускорений f1", "right side of the acceleration system f1", "calc",
           f"-{b.p('ax', J1)}+{L}*{wa}^2*{ca}")
     b.add(f2, "m/s^2", "правая часть для ускорений f2", "right side of the acceleration system f2", "calc",
           f"-{b.p('ay', J1)}+{L}*{wa}^2*{sa}")
-    b.add(f"eps_{la}", "rad/s^2", f"угловое ускорение шатуна {la}", f"angular acceleration of coupler {la}", "accepted",
-          f"({{{f1}}}*(-{uy})-{{{f2}}}*(-{ux}))/{{{det}}}")
-    b.add(f"as_{N}", "m/s^2", f"ускорение ползуна {N} вдоль направляющей", f"acceleration of slider {N} along the guide", "accepted",
-          f"((-{L}*{sa})*{{{f2}}}-({L}*{ca})*{{{f1}}})/{{{det}}}")
-    b.add(f"omega_{lb}", "rad/s", f"угловая скорость ползуна {lb}", f"angular velocity of slider {lb}", "accepted", "0")
-    b.add(f"eps_{lb}", "rad/s^2", f"угловое ускорение ползуна {lb}", f"angular acceleration of slider {lb}", "accepted", "0")
+    _cramer_rows(b, m, det, ((f"eps_{la}", "rad/s^2", f"угловое ускорение шатуна {la}", f"angular acceleration of coupler {la}"),
+                             (f"as_{N}", "m/s^2", f"ускорение ползуна {N} вдоль направляющей", f"acceleration of slider {N} along the guide")),
+                 (f"{{{f1}}}", f"{{{f2}}}"), (f"chk_asys_g{i}", "невязка системы для ускорений", "residual of the acceleration system"))
     b.rot[la] = (f"cos_{la}", f"sin_{la}", f"omega_{la}", f"eps_{la}")
     b.rot[lb] = (f"cos_{lb}", f"sin_{lb}", f"omega_{lb}", f"eps_{lb}")
     b.guard_of_link[la] = b.guard_of_link[lb] = b.guard
@@ -360,6 +400,7 @@ def _rrp_rows(b: _Builder, g: Group):
                  f"{vs}*{ux}", f"{vs}*{uy}", f"{as_}*{ux}", f"{as_}*{uy}")
     _distance_check(b, f"chk_{J1}{N}", J1, N, L, f"проверка: |{J1}{N}| - L{la}", f"check: |{J1}{N}| - L{la}")
     _relative_velocity_check(b, N, J1)
+    _via_link_checks(b, N, J1, la, f"omega_{la}, eps_{la}")
     _fd_checks(b, N)
 
 
@@ -386,22 +427,22 @@ def _rpr_rows(b: _Builder, g: Group):
           f"({{{sJ}}}*{{{dx}}}+{e}*{{{dy}}})/{{{r2}}}")
     b.add(su, "", "sin угла кулисы: (s dy - e dx) / L_TEK^2", "sin of the slot's angle: (s dy - e dx) / L_TEK^2", "calc",
           f"({{{sJ}}}*{{{dy}}}-{e}*{{{dx}}})/{{{r2}}}")
+    b.add(f"chk_e_g{i}", "m", f"проверка: расстояние {J1} от оси кулисы - e", f"check: distance of {J1} from the slot line - e", "check",
+          f"-{{{dx}}}*{{{su}}}+{{{dy}}}*{{{cu}}}-{e}")
     b.add(f"phi_{lb}", "deg", f"угол кулисы {lb}", f"angle of the slotted lever {lb}", "accepted",
           f"MOD(DEGREES(ATAN2({{{cu}}},{{{su}}})),360)")
     b.add(f"phi_{la}", "deg", f"угол камня {la} (= углу кулисы)", f"angle of the block {la} (= the lever's)", "accepted", f"{{phi_{lb}}}")
-    b.add(f"chk_e_g{i}", "m", f"проверка: расстояние {J1} от оси кулисы - e", f"check: distance of {J1} from the slot line - e", "check",
-          f"-{{{dx}}}*{{{su}}}+{{{dy}}}*{{{cu}}}-{e}")
     c, s = f"{{{cu}}}", f"{{{su}}}"
     det = f"Delta_g{i}"
     # unknowns theta_t, s_t: columns (-s sin - e cos, s cos - e sin) and (cos, sin); determinant -s
     m11, m21 = f"(-{{{sJ}}}*{s}-{e}*{c})", f"({{{sJ}}}*{c}-{e}*{s})"
-    b.add(det, "m", "определитель: -s", "determinant: -s", "calc", f"{m11}*{s}-{c}*{m21}")
+    m = (m11, c, m21, s)
+    _det_row(b, det, m, "m", "определитель: -s", "determinant: -s")
     b.add(f"det_g{i}", "", "s / L1 (около 0: кулиса не определена)", "s / L1 (near 0: the slot is undefined)", "calc", f"-{{{det}}}/{{L1}}")
     b1, b2 = f"({b.p('vx', J1)}-{b.p('vx', J2)})", f"({b.p('vy', J1)}-{b.p('vy', J2)})"
-    b.add(f"omega_{lb}", "rad/s", f"угловая скорость кулисы {lb} (Крамер)", f"angular velocity of the lever {lb} (Cramer)", "accepted",
-          f"({b1}*{s}-{b2}*{c})/{{{det}}}")
-    b.add(f"vs_{J1}", "m/s", f"относительная скорость камня {J1} вдоль кулисы", f"velocity of block {J1} along the slot", "accepted",
-          f"({m11}*{b2}-{m21}*{b1})/{{{det}}}")
+    _cramer_rows(b, m, det, ((f"omega_{lb}", "rad/s", f"угловая скорость кулисы {lb} (Крамер)", f"angular velocity of the lever {lb} (Cramer)"),
+                             (f"vs_{J1}", "m/s", f"относительная скорость камня {J1} вдоль кулисы", f"velocity of block {J1} along the slot")),
+                 (b1, b2), (f"chk_vsys_g{i}", "невязка системы для скоростей", "residual of the velocity system"))
     w, vs = f"{{omega_{lb}}}", f"{{vs_{J1}}}"
     bx, by = f"bx_g{i}", f"by_g{i}"
     # bias of the acceleration system: 2 s_t theta_t n (Coriolis) - s theta_t^2 u - e theta_t^2 n
@@ -410,10 +451,9 @@ def _rpr_rows(b: _Builder, g: Group):
     b.add(by, "m/s^2", "кориолисово и центростремительное: проекция на y", "Coriolis and centripetal terms, y", "calc",
           f"-{{{sJ}}}*{w}^2*{s}+(2*{vs}*{w}-{e}*{w}^2)*{c}")
     f1, f2 = f"({b.p('ax', J1)}-{b.p('ax', J2)}-{{{bx}}})", f"({b.p('ay', J1)}-{b.p('ay', J2)}-{{{by}}})"
-    b.add(f"eps_{lb}", "rad/s^2", f"угловое ускорение кулисы {lb}", f"angular acceleration of the lever {lb}", "accepted",
-          f"({f1}*{s}-{f2}*{c})/{{{det}}}")
-    b.add(f"as_{J1}", "m/s^2", f"относительное ускорение камня {J1} вдоль кулисы", f"acceleration of block {J1} along the slot", "accepted",
-          f"({m11}*{f2}-{m21}*{f1})/{{{det}}}")
+    _cramer_rows(b, m, det, ((f"eps_{lb}", "rad/s^2", f"угловое ускорение кулисы {lb}", f"angular acceleration of the lever {lb}"),
+                             (f"as_{J1}", "m/s^2", f"относительное ускорение камня {J1} вдоль кулисы", f"acceleration of block {J1} along the slot")),
+                 (f1, f2), (f"chk_asys_g{i}", "невязка системы для ускорений", "residual of the acceleration system"))
     b.add(f"omega_{la}", "rad/s", f"угловая скорость камня {la}", f"angular velocity of the block {la}", "accepted", f"{{omega_{lb}}}")
     b.add(f"eps_{la}", "rad/s^2", f"угловое ускорение камня {la}", f"angular acceleration of the block {la}", "accepted", f"{{eps_{lb}}}")
     b.add(f"cos_{lb}", "", f"cos угла кулисы {lb}", f"cos of lever {lb}'s angle", "calc", c)
@@ -421,8 +461,15 @@ def _rpr_rows(b: _Builder, g: Group):
     b.rot[la] = b.rot[lb] = (f"cos_{lb}", f"sin_{lb}", f"omega_{lb}", f"eps_{lb}")
     b.guard_of_link[la] = b.guard_of_link[lb] = b.guard
     # the block's velocity seen on the lever: v_J1 = v_J2 + omega x (J1 - J2) + vs u
-    b.add(f"chk_v_g{i}", "m/s", f"проверка: vx{J1} = vx{J2} - omega (y{J1} - y{J2}) + vs cos", f"check: vx{J1} = vx{J2} - omega (y{J1} - y{J2}) + vs cos",
-          "check", f"{b.p('vx', J1)}-({b.p('vx', J2)}-{w}*{{{dy}}}+{vs}*{c})")
+    # the block's motion seen on the lever: v_J1 = v_J2 + omega x r + vs u,
+    # a_J1 = a_J2 + eps x r - omega^2 r + as u + 2 omega vs n (Coriolis)
+    ep, as_ = f"{{eps_{lb}}}", f"{{as_{J1}}}"
+    b.add(f"chk_v_g{i}", "m/s", f"проверка: v{J1} = v{J2} + omega x r + vs u", f"check: v{J1} = v{J2} + omega x r + vs u",
+          "check", f"ABS({b.p('vx', J1)}-({b.p('vx', J2)}-{w}*{{{dy}}}+{vs}*{c}))+ABS({b.p('vy', J1)}-({b.p('vy', J2)}+{w}*{{{dx}}}+{vs}*{s}))")
+    b.add(f"chk_a_g{i}", "m/s^2", f"проверка: a{J1} = a{J2} + eps x r - omega^2 r + as u + 2 omega vs n",
+          f"check: a{J1} = a{J2} + eps x r - omega^2 r + as u + 2 omega vs n", "check",
+          f"ABS({b.p('ax', J1)}-({b.p('ax', J2)}-{ep}*{{{dy}}}-{w}^2*{{{dx}}}+{as_}*{c}-2*{w}*{vs}*{s}))"
+          f"+ABS({b.p('ay', J1)}-({b.p('ay', J2)}+{ep}*{{{dx}}}-{w}^2*{{{dy}}}+{as_}*{s}+2*{w}*{vs}*{c}))")
 
 
 def _point_rows(b: _Builder, p: Point):
@@ -502,7 +549,7 @@ def build_workbook(scene: Scene, *, lang: str = "ru", exercise: bool = False,
         ws[f"{col}4"] = text[key]
         ws[f"{col}4"].font = SECTION_FONT
     for k, c in enumerate(cols):
-        ws[f"{c}4"] = f"{text['pos']} {k + 1}"
+        ws[f"{c}4"] = k + 1                 # the position's number
         ws[f"{c}4"].font = SECTION_FONT
 
     status_cells, fd_range = [], f"{cols[0]}{{r}}:{cols[-1]}{{r}}"
@@ -535,13 +582,14 @@ def build_workbook(scene: Scene, *, lang: str = "ru", exercise: bool = False,
                    f'"{text["na"]}",{tpl[1:]})')
         if row.guard:
             tpl = f'=IF({{c}}{where[row.guard]},{tpl[1:]},"{marker}")'
+        fmt = {"check": "0.0E+00", "fdcheck": "0.0E+00", "guard": "General"}.get(row.kind, "0.000000")
         for k, c in enumerate(cols):
             if fd and (k == 0 or k == n - 1):
                 ws.cell(r, FIRST_COL + k, text["na"])
                 continue
             p = cols[k - 1] if k else c
             nx = cols[k + 1] if k + 1 < n else c
-            ws.cell(r, FIRST_COL + k, tpl.format(c=c, p=p, n=nx))
+            ws.cell(r, FIRST_COL + k, tpl.format(c=c, p=p, n=nx)).number_format = fmt
         if row.kind == "accepted":
             ws.cell(r, 1).fill = ACCEPTED_FILL
         if row.kind in ("check", "fdcheck"):
@@ -574,6 +622,11 @@ def build_workbook(scene: Scene, *, lang: str = "ru", exercise: bool = False,
     for c in cols:
         ws.column_dimensions[c].width = 12
     ws.freeze_panes = f"{cols[0]}5"
+    # printing (and LibreOffice's PDF): landscape, the sheet's width on one page
+    ws.page_setup.orientation = "landscape"
+    ws.page_setup.paperSize = ws.PAPERSIZE_A4
+    ws.sheet_properties.pageSetUpPr.fitToPage = True
+    ws.page_setup.fitToWidth, ws.page_setup.fitToHeight = 1, 0
     _add_charts(wb, ws, scene, where, cols, lang)
     _embed_scene(wb, scene, scene_text)
     return wb
@@ -583,6 +636,8 @@ def _add_charts(wb, ws, scene: Scene, where, cols, lang):
     """Trajectories (y against x), speeds and accelerations against the crank angle,
     angular velocities of the links."""
     cs = wb.create_sheet(SHEET_TITLES[lang][1])
+    cs.page_setup.orientation = "landscape"
+    cs.sheet_properties.pageSetUpPr.fitToPage = True
     first, last = FIRST_COL, FIRST_COL + len(cols) - 1
     row_ref = lambda name: Reference(ws, min_col=first, max_col=last, min_row=where[name], max_row=where[name])
     points = scene.moving_joints + [p.name for p in scene.points]
@@ -599,8 +654,12 @@ def _add_charts(wb, ws, scene: Scene, where, cols, lang):
     ]
     for k, (title, xt, yt, series) in enumerate(specs):
         ch = ScatterChart()
-        ch.title, ch.style, ch.height, ch.width = title, 13, 9, 16
+        ch.title, ch.style, ch.height, ch.width = title, 2, 9, 16
         ch.x_axis.title, ch.y_axis.title = xt, yt
+        for axis in (ch.x_axis, ch.y_axis):
+            axis.delete = False             # openpyxl >= 3.1 hides axes unless told
+            axis.crosses = "min"            # axes at the bottom and the left, not through 0
+            axis.numFmt = NumFmt(formatCode="General", sourceLinked=False)   # not the cells' 0.000000
         for x, y, label in series:
             s = Series(row_ref(y), row_ref(x), title=label)
             s.marker.symbol = "circle"
@@ -658,5 +717,5 @@ def fingerprint(source) -> dict:
         source.seek(0)
     with zipfile.ZipFile(source) as z:
         charts = sorted(n for n in z.namelist() if n.startswith("xl/charts/chart"))
-        out["charts"] = [re.findall(r"<c:f>([^<]*)</c:f>", z.read(n).decode("utf-8")) for n in charts]
+        out["charts"] = [re.findall(r"<(?:c:)?f>([^<]*)</(?:c:)?f>", z.read(n).decode("utf-8")) for n in charts]
     return out

@@ -1,0 +1,30 @@
+"""Shared fixtures: external programs the tests need (installed by tests/setup.sh)."""
+from __future__ import annotations
+
+import os
+import shutil
+
+import pytest
+
+from libreoffice import SETUP_HINT, soffice_path
+
+
+def _require(path: str | None, hint: str) -> str:
+    """`path`, or skip with `hint`; under CI (env CI set) a missing program fails instead."""
+    if path is None:
+        if os.environ.get("CI", "").lower() not in ("", "0", "false", "no"):
+            pytest.fail(f"{hint} (CI is set: missing programs fail instead of skipping)", pytrace=False)
+        pytest.skip(hint)
+    return path
+
+
+@pytest.fixture(scope="session")
+def soffice() -> str:
+    """Path of LibreOffice's soffice."""
+    return _require(soffice_path(), SETUP_HINT)
+
+
+@pytest.fixture(scope="session")
+def pdftoppm() -> str:
+    """Path of poppler's pdftoppm (renders README pictures)."""
+    return _require(shutil.which("pdftoppm"), "pdftoppm not found: run `bash tests/setup.sh` (poppler-utils)")

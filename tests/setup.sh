@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Installs what the tests need besides Python packages, from Debian packages:
+#   LibreOffice Calc headless (soffice): recalculates the workbooks sheetkin writes;
+#   poppler-utils (pdftoppm): renders the README pictures.
+# Idempotent and a quick no-op when both are on PATH. Needs root and apt-get (Debian/Ubuntu).
+# Usage: bash tests/setup.sh
+set -euo pipefail
+
+me="tests/setup.sh"
+pkgs=()
+command -v soffice >/dev/null 2>&1 || pkgs+=(libreoffice-calc-nogui)
+command -v pdftoppm >/dev/null 2>&1 || pkgs+=(poppler-utils)
+
+if [ "${#pkgs[@]}" -eq 0 ]; then
+    echo "$me: nothing to do, soffice ($(command -v soffice)) and pdftoppm ($(command -v pdftoppm)) are installed"
+    exit 0
+fi
+if ! command -v apt-get >/dev/null 2>&1; then
+    echo "$me: ERROR: need ${pkgs[*]} but apt-get is not available;" \
+         "install LibreOffice Calc (soffice on PATH) and poppler-utils (pdftoppm) yourself" >&2
+    exit 1
+fi
+if [ "$(id -u)" -ne 0 ]; then
+    echo "$me: ERROR: need root to apt-get install ${pkgs[*]}; run: sudo bash $me" >&2
+    exit 1
+fi
+
+log="$(mktemp)"
+trap 'rm -f "$log"' EXIT
+export DEBIAN_FRONTEND=noninteractive
+if ! { apt-get update -qq && apt-get install -y -qq --no-install-recommends "${pkgs[@]}"; } >"$log" 2>&1; then
+    cat "$log" >&2
+    echo "$me: ERROR: apt-get install ${pkgs[*]} failed (output above)" >&2
+    exit 1
+fi
+for exe in soffice pdftoppm; do
+    if ! command -v "$exe" >/dev/null 2>&1; then
+        echo "$me: ERROR: installed ${pkgs[*]} but $exe is still not on PATH ($PATH)" >&2
+        exit 1
+    fi
+done
+echo "$me: installed ${pkgs[*]} with apt-get ($(soffice --version 2>/dev/null | head -n 1))"
