@@ -107,6 +107,28 @@ def build_parser() -> argparse.ArgumentParser:
                    help="number of crank positions (columns), instead of the scene's")
     w.add_argument("--step-deg", type=_finite_float, metavar="DEG", help="crank angle step, instead of the scene's")
     w.add_argument("--phi0-deg", type=_finite_float, metavar="DEG", help="first crank angle, instead of the scene's")
+    e = sub.add_parser(
+        "evaluate", help="compute a workbook's formulas without a spreadsheet program",
+        description="Evaluate every formula of an .xlsx workbook headlessly (numpy) and print "
+                    "its named rows (column A) against its position columns (E onwards).")
+    e.add_argument("book", metavar="BOOK.xlsx")
+    e.add_argument("--format", choices=["table", "csv", "json"], default="table")
+    e.add_argument("--sheet", help="the sheet to print (default: the first)")
+    e.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of stdout")
+
+    v = sub.add_parser(
+        "validate", help="check students' workbooks against the reference solver",
+        description="Validate filled workbooks (made by `sheetkin workbook`): each student's "
+                    "input block is their variant; every named row is compared with the "
+                    "reference, and the report names the wrong rows, the likely cause (the first "
+                    "wrong row in dependency order) and the rows wrong only because of it. "
+                    "Exit 0 all correct, 1 mistakes found, 2 unusable input.")
+    v.add_argument("paths", metavar="FILE|FOLDER", nargs="+",
+                   help=".xlsx files, or folders searched for them (recursively)")
+    v.add_argument("--json", action="store_true", help="print the reports as JSON")
+    v.add_argument("--html", metavar="REPORT.html", help="also write a readable HTML page")
+    v.add_argument("--progress", choices=["auto", "always", "never"], default="auto",
+                   help="progress bar on stderr for several files (auto: when stderr is a terminal)")
     w.add_argument("--check", action="store_true",
                    help="write nothing: exit 1 if an existing workbook differs from what would be "
                         "written (stale) or is missing")
@@ -233,10 +255,83 @@ def cmd_workbook(args) -> int:
     return 1 if stale else 0
 
 
+def cmd_evaluate(args) -> int:
+    from .evaluator import evaluate, rows_frame
+    book = evaluate(args.book)
+    if args.sheet and args.sheet not in book.sheets:
+        raise SceneError(f"{args.book}: no sheet {args.sheet!r}; sheets: {', '.join(book.order)}")
+    df = rows_frame(book, args.sheet)
+    if args.format == "csv":
+        text = df.to_csv(lineterminator="\n")
+    elif args.format == "json":
+        text = json.dumps({"file": args.book, "sheet": args.sheet or book.order[0],
+                           "rows": {n: list(r) for n, r in zip(df.index, df.itertuples(index=False))}},
+                          indent=1, ensure_ascii=False) + "\n"
+    else:
+        text = "\n".join(f"{n:<16}" + "".join(f"{_fmt(v):>13}" for v in row)
+                         for n, row in zip(df.index, df.itertuples(index=False))) + "\n"
+    _write(args.output, text)
+    return 0
+
+
+def _write(path, text):
+    if path:
+        with open(path, "w", encoding="utf-8", newline="") as f:
+            f.write(text)
+    else:
+        sys.stdout.write(text)
+
+
+SPREADSHEET_SUFFIXES = (".xlsx", ".xlsm", ".xltx", ".xltm", ".xls", ".ods")
+
+
+def _validation_files(paths: list[str]) -> list[Path]:
+    out = []
+    for p in map(Path, paths):
+        if p.is_dir():
+            found = sorted(f for f in p.rglob("*") if f.suffix.lower() in SPREADSHEET_SUFFIXES
+                           and not f.name.startswith("~$") and f.is_file())
+            if not found:
+                raise SceneError(f"{p}: no spreadsheet files (.xlsx) in this folder")
+            out += found
+        else:
+            out.append(p)
+    return out
+
+
+def cmd_validate(args) -> int:
+    from .report import html_report, json_report, summary_table, text_report
+    from .validator import validate
+    files = _validation_files(args.paths)
+    show = args.progress == "always" or (args.progress == "auto" and sys.stderr.isatty() and len(files) > 1)
+    reports = []
+    for i, f in enumerate(files, 1):
+        if show:
+            done = int(30 * (i - 1) / len(files))
+            sys.stderr.write(f"\r[{'#' * done}{'.' * (30 - done)}] {i - 1}/{len(files)} {f.name[:40]:<40}")
+            sys.stderr.flush()
+        reports.append(validate(f))
+        if not args.json:
+            sys.stdout.write(text_report(reports[-1]))
+    if show:
+        sys.stderr.write(f"\r[{'#' * 30}] {len(files)}/{len(files)} {'':<40}\n")
+    if args.json:
+        sys.stdout.write(json_report(reports))
+    elif len(reports) > 1:
+        sys.stdout.write("\n" + summary_table(reports))
+    if args.html:
+        with open(args.html, "w", encoding="utf-8") as fh:
+            fh.write(html_report(reports))
+    if any(r.error for r in reports):
+        return EXIT_INPUT
+    return 0 if all(r.ok for r in reports) else 1
+
+
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     try:
-        return {"compute": cmd_compute, "workbook": cmd_workbook}[args.command](args)
+        return {"compute": cmd_compute, "workbook": cmd_workbook, "evaluate": cmd_evaluate,
+                "validate": cmd_validate}[args.command](args)
     except SceneError as e:
         print(f"sheetkin: error: {e}", file=sys.stderr)
         return EXIT_INPUT
@@ -246,6 +341,12 @@ def main(argv=None) -> int:
     except OSError as e:
         print(f"sheetkin: error: {e.filename or ''}: {e.strerror}", file=sys.stderr)
         return EXIT_INPUT
+    except ValueError as e:
+        # UnusableWorkbook, EvaluationError and the like: their message is the one line
+        if type(e).__module__.startswith("sheetkin."):
+            print(f"sheetkin: error: {e}", file=sys.stderr)
+            return EXIT_INPUT
+        raise
     except KeyboardInterrupt:
         print("sheetkin: interrupted", file=sys.stderr)
         return 130

@@ -1,0 +1,1002 @@
+"""Headless evaluation of a workbook's formulas (numpy), without a spreadsheet program.
+
+How: the sheet XML is read directly (an .xlsx is a zip of XML parts). Formula cells are
+grouped into *runs*: consecutive cells of a row whose formulas are the same formula with
+relative references shifted (recognised by rendering the run's first formula as a template
+for the next column and comparing the text, so most cells are never tokenized). Each run
+is tokenized once (openpyxl's formula tokenizer), parsed into an expression tree whose
+relative references are column offsets, and evaluated for all its cells at once as numpy
+arrays. Runs are evaluated in dependency order; a run that refers to itself, or sits in a
+cycle of runs, is split into single cells (the irregular fallback); a cycle of single cells
+is a circular reference, reported with its cells.
+
+Values follow Excel: numbers, text, booleans, empty cells and the errors #NULL! #DIV/0!
+#VALUE! #REF! #NAME? #NUM! #N/A, which propagate per cell. Every value is an array of
+shape (cells, rows, cols): (k, 1, 1) for one value per cell of a run, (k, R, C) for a range.
+"""
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from openpyxl.formula.tokenizer import Token, Tokenizer
+from openpyxl.utils import column_index_from_string, get_column_letter
+
+from .xlsxsafe import Limits, UnusableWorkbook, open_package, sheet_parts
+
+NUM, BOOL, TEXT, EMPTY = 0, 1, 2, 3
+ERRORS = {"#NULL!": 10, "#DIV/0!": 11, "#VALUE!": 12, "#REF!": 13, "#NAME?": 14, "#NUM!": 15, "#N/A": 16}
+ERROR_TEXT = {v: k for k, v in ERRORS.items()}
+NULL, DIV0, VALUE, REF, NAME, NUMERR, NA = (ERRORS[k] for k in ERRORS)
+
+
+class EvaluationError(ValueError):
+    """A workbook that cannot be evaluated as a whole (circular reference, unsupported
+    function with strict=True); str() names the file and the cells."""
+
+
+# --------------------------------------------------------------------------- values
+@dataclass
+class Val:
+    num: np.ndarray                  # float64, shape (k, R, C)
+    tag: np.ndarray                  # int8: NUM BOOL TEXT EMPTY or an error code
+    txt: np.ndarray | None = None    # object array of str where tag == TEXT
+
+    @property
+    def shape(self):
+        return self.num.shape
+
+
+def _const(value, k=1) -> Val:
+    if isinstance(value, bool):
+        return Val(np.full((k, 1, 1), float(value)), np.full((k, 1, 1), BOOL, np.int8))
+    if isinstance(value, (int, float)):
+        return Val(np.full((k, 1, 1), float(value)), np.zeros((k, 1, 1), np.int8))
+    if isinstance(value, str) and value in ERRORS:
+        return Val(np.zeros((k, 1, 1)), np.full((k, 1, 1), ERRORS[value], np.int8))
+    txt = np.empty((k, 1, 1), dtype=object)
+    txt[...] = value
+    return Val(np.zeros((k, 1, 1)), np.full((k, 1, 1), TEXT, np.int8), txt)
+
+
+def _error_of(*tags) -> np.ndarray:
+    """The first error among the operands (Excel reports the leftmost), else 0."""
+    out = np.zeros(np.broadcast_shapes(*(t.shape for t in tags)), np.int8)
+    for t in reversed(tags):
+        out = np.where(t >= 10, t, out)
+    return out
+
+
+def _texts(v: Val) -> np.ndarray:
+    return v.txt if v.txt is not None else np.full(v.shape, None, dtype=object)
+
+
+def _to_number(v: Val):
+    """Arithmetic coercion: numbers, booleans; empty is 0; numeric text converts;
+    other text is #VALUE!. Returns (num, error tags)."""
+    num, err = v.num, np.where(v.tag >= 10, v.tag, 0).astype(np.int8)
+    text = v.tag == TEXT
+    if text.any():
+        num = num.copy()
+        for idx in zip(*np.nonzero(text)):
+            try:
+                num[idx] = float(str(v.txt[idx]).strip())
+            except ValueError:
+                err[idx] = VALUE
+    return num, err
+
+
+def _result(num, err) -> Val:
+    """A numeric result; NaN or infinity where no error is set yet becomes #NUM!."""
+    bad = (err == 0) & ~np.isfinite(num)
+    tag = np.where(bad, NUMERR, err).astype(np.int8)
+    return Val(np.where(tag == 0, num, 0.0), tag)
+
+
+def _to_bool(v: Val):
+    """Logical coercion (IF, AND...): numbers non-zero, booleans, empty FALSE; text #VALUE!."""
+    err = np.where(v.tag >= 10, v.tag, np.where(v.tag == TEXT, VALUE, 0)).astype(np.int8)
+    return v.num != 0, err
+
+
+def _number_text(x: float) -> str:
+    """A number as Excel's general format shows it in text (=2&"" is "2")."""
+    if x == int(x) and abs(x) < 1e15:
+        return str(int(x))
+    s = f"{x:.15g}"
+    if "e" in s:
+        mant, exp = s.split("e")
+        s = f"{mant}E{int(exp):+03d}".replace("E+", "E+")
+    return s
+
+
+def _to_text(v: Val) -> tuple[np.ndarray, np.ndarray]:
+    out = np.empty(v.shape, dtype=object)
+    for idx in np.ndindex(v.shape):
+        t = v.tag[idx]
+        out[idx] = (v.txt[idx] if t == TEXT else "" if t == EMPTY else
+                    ("TRUE" if v.num[idx] else "FALSE") if t == BOOL else _number_text(v.num[idx]))
+    return out, np.where(v.tag >= 10, v.tag, 0).astype(np.int8)
+
+
+# --------------------------------------------------------------------------- operators
+def _arith(op: str, a: Val, b: Val) -> Val:
+    an, ae = _to_number(a)
+    bn, be = _to_number(b)
+    err = _error_of(ae, be)
+    with np.errstate(all="ignore"):
+        if op == "+":
+            r = an + bn
+        elif op == "-":
+            r = an - bn
+        elif op == "*":
+            r = an * bn
+        elif op == "/":
+            r = an / bn
+            err = np.where((err == 0) & (bn == 0), DIV0, err).astype(np.int8)
+        else:   # "^"
+            r = np.power(an, bn)
+            err = np.where((err == 0) & (an == 0) & (bn < 0), DIV0, err).astype(np.int8)
+    return _result(r, err)
+
+
+def _rank(tag):
+    """Excel's order of types in comparisons: numbers < text < booleans."""
+    return np.where(tag == TEXT, 1, np.where(tag == BOOL, 2, 0))
+
+
+def _compare(op: str, a: Val, b: Val) -> Val:
+    shape = np.broadcast_shapes(a.shape, b.shape)
+    at, bt = np.broadcast_to(a.tag, shape), np.broadcast_to(b.tag, shape)
+    # an empty cell takes the other side's type (0, "" or FALSE)
+    at_eff = np.where(at == EMPTY, np.where(bt == EMPTY, NUM, bt), at)
+    bt_eff = np.where(bt == EMPTY, at_eff, bt)
+    an, bn = np.broadcast_to(a.num, shape), np.broadcast_to(b.num, shape)
+    ra, rb = _rank(at_eff), _rank(bt_eff)
+    diff = np.where(ra != rb, np.sign(ra - rb).astype(float), np.sign(an - bn))
+    text = (at_eff == TEXT) & (bt_eff == TEXT)
+    if text.any():
+        ta, tb = np.broadcast_to(_texts(a), shape), np.broadcast_to(_texts(b), shape)
+        diff = diff.copy()
+        for idx in zip(*np.nonzero(text)):
+            x = "" if at[idx] == EMPTY else str(ta[idx]).casefold()
+            y = "" if bt[idx] == EMPTY else str(tb[idx]).casefold()
+            diff[idx] = (x > y) - (x < y)
+    res = {"=": diff == 0, "<>": diff != 0, "<": diff < 0, ">": diff > 0,
+           "<=": diff <= 0, ">=": diff >= 0}[op]
+    err = _error_of(at, bt)
+    return Val(np.where(err == 0, res.astype(float), 0.0), np.where(err == 0, BOOL, err).astype(np.int8))
+
+
+def _concat(a: Val, b: Val) -> Val:
+    ta, ea = _to_text(a)
+    tb, eb = _to_text(b)
+    shape = np.broadcast_shapes(ta.shape, tb.shape)
+    ta, tb = np.broadcast_to(ta, shape), np.broadcast_to(tb, shape)
+    out = np.empty(shape, dtype=object)
+    for idx in np.ndindex(shape):
+        out[idx] = ta[idx] + tb[idx]
+    err = _error_of(ea, eb)
+    return Val(np.zeros(shape), np.where(err == 0, TEXT, err).astype(np.int8), out)
+
+
+def _select(cond: np.ndarray, a: Val, b: Val) -> Val:
+    shape = np.broadcast_shapes(cond.shape, a.shape, b.shape)
+    txt = None
+    if a.txt is not None or b.txt is not None:
+        txt = np.where(cond, np.broadcast_to(_texts(a), shape), np.broadcast_to(_texts(b), shape))
+    return Val(np.where(cond, a.num, b.num), np.where(cond, a.tag, b.tag).astype(np.int8), txt)
+
+
+def _with_error(v: Val, err: np.ndarray) -> Val:
+    if not err.any():
+        return v
+    shape = np.broadcast_shapes(v.shape, err.shape)
+    return Val(np.where(err != 0, 0.0, v.num), np.where(err != 0, err, v.tag).astype(np.int8),
+               None if v.txt is None else np.broadcast_to(v.txt, shape))
+
+
+# --------------------------------------------------------------------------- functions
+def _unary(fn, domain=None):
+    def f(x: Val) -> Val:
+        n, err = _to_number(x)
+        with np.errstate(all="ignore"):
+            r = fn(n)
+            if domain is not None:
+                err = np.where((err == 0) & ~domain(n), NUMERR, err).astype(np.int8)
+        return _result(r, err)
+    return f
+
+
+def _binary(fn, check=None):
+    def f(a: Val, b: Val) -> Val:
+        an, ae = _to_number(a)
+        bn, be = _to_number(b)
+        err = _error_of(ae, be)
+        with np.errstate(all="ignore"):
+            r = fn(an, bn)
+            if check is not None:
+                err = np.where(err == 0, check(an, bn), err).astype(np.int8)
+        return _result(r, err)
+    return f
+
+
+def _round(x, n):
+    f = 10.0 ** n
+    return np.sign(x) * np.floor(np.abs(x) * f + 0.5) / f       # Excel rounds half away from 0
+
+
+SCALAR_FUNCS = {
+    "SIN": _unary(np.sin), "COS": _unary(np.cos), "TAN": _unary(np.tan),
+    "ASIN": _unary(np.arcsin, lambda x: np.abs(x) <= 1), "ACOS": _unary(np.arccos, lambda x: np.abs(x) <= 1),
+    "ATAN": _unary(np.arctan), "SQRT": _unary(np.sqrt, lambda x: x >= 0),
+    "RADIANS": _unary(np.radians), "DEGREES": _unary(np.degrees), "ABS": _unary(np.abs),
+    "SIGN": _unary(np.sign), "EXP": _unary(np.exp), "LN": _unary(np.log, lambda x: x > 0),
+    "LOG10": _unary(np.log10, lambda x: x > 0),
+    # Excel's ATAN2 takes (x, y); ATAN2(0, 0) is #DIV/0!
+    "ATAN2": _binary(lambda x, y: np.arctan2(y, x), lambda x, y: np.where((x == 0) & (y == 0), DIV0, 0)),
+    "MOD": _binary(lambda a, b: a - b * np.floor(a / b), lambda a, b: np.where(b == 0, DIV0, 0)),
+    "POWER": _binary(np.power, lambda a, b: np.where((a == 0) & (b < 0), DIV0, 0)),
+    "ROUND": _binary(lambda x, n: _round(x, np.trunc(n))),
+}
+
+
+def _values_of(args: list[Val], ranges: list[bool], *, numbers_only_in_ranges=True):
+    """The numbers an aggregate sees: in ranges only numbers (text, booleans, empty
+    cells skipped); direct arguments coerced. Returns (num, use mask, first error), each
+    with the per-cell axis first, concatenated over the other axes."""
+    nums, uses, errs = [], [], []
+    for v, is_range in zip(args, ranges):
+        k = v.shape[0]
+        if is_range:
+            use = v.tag == NUM if numbers_only_in_ranges else (v.tag == NUM) | (v.tag == BOOL)
+            err = np.where(v.tag >= 10, v.tag, 0)
+            n = v.num
+        else:
+            n, err = _to_number(v)
+            use = v.tag != EMPTY
+        nums.append(n.reshape(k, -1))
+        uses.append(use.reshape(k, -1))
+        errs.append(err.reshape(k, -1))
+    k = max(x.shape[0] for x in nums)
+    nums = np.concatenate([np.broadcast_to(x, (k, x.shape[1])) for x in nums], axis=1)
+    uses = np.concatenate([np.broadcast_to(x, (k, x.shape[1])) for x in uses], axis=1)
+    errs = np.concatenate([np.broadcast_to(x, (k, x.shape[1])) for x in errs], axis=1)
+    return nums, uses, _first_error(errs)
+
+
+def _first_error(errs: np.ndarray) -> np.ndarray:
+    """Per row of a (k, n) array of error tags: the first non-zero one (Excel reports the
+    first error it meets), else 0."""
+    if errs.shape[1] == 0:
+        return np.zeros(errs.shape[0], np.int8)
+    idx = np.argmax(errs != 0, axis=1)
+    return errs[np.arange(errs.shape[0]), idx].astype(np.int8)
+
+
+def _scalar(num, err) -> Val:
+    return _result(num.reshape(-1, 1, 1), err.reshape(-1, 1, 1))
+
+
+def _agg_sum(args, ranges):
+    n, use, err = _values_of(args, ranges)
+    return _scalar(np.where(use, n, 0.0).sum(axis=1), err)
+
+
+def _agg_average(args, ranges):
+    n, use, err = _values_of(args, ranges)
+    cnt = use.sum(axis=1)
+    with np.errstate(all="ignore"):
+        r = np.where(use, n, 0.0).sum(axis=1) / cnt
+    return _scalar(r, np.where((err == 0) & (cnt == 0), DIV0, err))
+
+
+def _agg_minmax(fn, empty):
+    def f(args, ranges):
+        n, use, err = _values_of(args, ranges)
+        r = np.where(use, n, empty).__getattribute__(fn)(axis=1)
+        r = np.where(use.any(axis=1), r, 0.0)
+        return _scalar(r, err)
+    return f
+
+
+def _agg_count(args, ranges):
+    counts = None
+    for v, is_range in zip(args, ranges):
+        c = (v.tag == NUM).reshape(v.shape[0], -1).sum(axis=1)
+        counts = c if counts is None else counts + c
+    return Val(counts.astype(float).reshape(-1, 1, 1), np.zeros((counts.size, 1, 1), np.int8))
+
+
+def _agg_sumproduct(args, ranges):
+    prod, err = None, None
+    for v in args:
+        n = np.where(v.tag == NUM, v.num, np.where(v.tag == BOOL, 0.0, 0.0))
+        e = np.where(v.tag >= 10, v.tag, 0).astype(np.int8)
+        prod = n if prod is None else prod * n
+        err = e if err is None else _error_of(err, e)
+    k = prod.shape[0]
+    return _scalar(prod.reshape(k, -1).sum(axis=1), _first_error(err.reshape(k, -1)))
+
+
+def _agg_logical(all_: bool):
+    def f(args, ranges):
+        acc, seen, err = None, None, None
+        for v, is_range in zip(args, ranges):
+            k = v.shape[0]
+            if is_range:
+                use = (v.tag == NUM) | (v.tag == BOOL)
+                e = np.where(v.tag >= 10, v.tag, 0).astype(np.int8)
+                b = v.num != 0
+            else:
+                b, e = _to_bool(v)
+                use = v.tag != EMPTY
+            b, use, e = b.reshape(k, -1), use.reshape(k, -1), e.reshape(k, -1)
+            part = np.where(use, b, all_).all(axis=1) if all_ else np.where(use, b, False).any(axis=1)
+            acc = part if acc is None else (acc & part if all_ else acc | part)
+            s = use.any(axis=1)
+            seen = s if seen is None else seen | s
+            first = _first_error(e)
+            err = first if err is None else _error_of(err, first)
+        err = np.where((err == 0) & ~seen, VALUE, err).astype(np.int8)
+        return Val(np.where(err == 0, acc.astype(float), 0.0).reshape(-1, 1, 1),
+                   np.where(err == 0, BOOL, err).astype(np.int8).reshape(-1, 1, 1))
+    return f
+
+
+AGGREGATES = {
+    "SUM": _agg_sum, "AVERAGE": _agg_average, "MIN": _agg_minmax("min", np.inf),
+    "MAX": _agg_minmax("max", -np.inf), "COUNT": _agg_count, "SUMPRODUCT": _agg_sumproduct,
+    "AND": _agg_logical(True), "OR": _agg_logical(False),
+}
+SPECIAL = {"IF", "IFERROR", "NOT", "PI", "ISNUMBER", "ISERROR", "ISTEXT"}
+SUPPORTED = sorted(set(SCALAR_FUNCS) | set(AGGREGATES) | SPECIAL)
+
+
+# --------------------------------------------------------------------------- parsing
+_CELL = re.compile(r"^(\$?)([A-Za-z]{1,3})(\$?)(\d+)$")
+
+
+@dataclass(frozen=True)
+class Ref:
+    """A cell or range reference; relative parts are offsets from the host cell."""
+    sheet: str | None
+    r1: int
+    c1: int
+    r2: int
+    c2: int
+    r1_abs: bool
+    c1_abs: bool
+    r2_abs: bool
+    c2_abs: bool
+
+    @property
+    def is_range(self):
+        return (self.r1, self.c1, self.r1_abs, self.c1_abs) != (self.r2, self.c2, self.r2_abs, self.c2_abs)
+
+
+class ParseError(ValueError):
+    pass
+
+
+def _split_sheet(text: str) -> tuple[str | None, str]:
+    if "!" not in text:
+        return None, text
+    sheet, ref = text.rsplit("!", 1)
+    if sheet.startswith("'") and sheet.endswith("'"):
+        sheet = sheet[1:-1].replace("''", "'")
+    if sheet.startswith("["):
+        raise ParseError(f"a reference to another file ({text})")
+    return sheet, ref
+
+
+def _cell(text: str, host_r: int, host_c: int):
+    m = _CELL.match(text)
+    if not m:
+        return None
+    cabs, col, rabs, row = m.groups()
+    r, c = int(row), column_index_from_string(col.upper())
+    return (r if rabs else r - host_r, c if cabs else c - host_c, bool(rabs), bool(cabs))
+
+
+def _operand_ref(text: str, host_r: int, host_c: int, names: dict):
+    sheet, ref = _split_sheet(text)
+    parts = ref.split(":")
+    if len(parts) > 2:
+        raise ParseError(f"unsupported reference {text}")
+    ends = [_cell(p, host_r, host_c) for p in parts]
+    if all(e is not None for e in ends):
+        a, b = ends[0], ends[-1]
+        return Ref(sheet, a[0], a[1], b[0], b[1], a[2], a[3], b[2], b[3])
+    if sheet is None and len(parts) == 1 and ref in names:
+        return ("name", ref)
+    if len(parts) == 2 or re.match(r"^\$?[A-Za-z]{1,3}$|^\$?\d+$", parts[0]):
+        raise ParseError(f"whole-row or whole-column references are not supported ({text})")
+    return ("name", ref)
+
+
+_PREC = {"=": 1, "<>": 1, "<": 1, ">": 1, "<=": 1, ">=": 1, "&": 2, "+": 3, "-": 3, "*": 4, "/": 4, "^": 5}
+
+
+def parse_formula(formula: str, host_r: int, host_c: int, names: dict):
+    """Expression tree of a formula (openpyxl's tokenizer, then precedence climbing)."""
+    tokens = [t for t in Tokenizer(formula).items if t.type != Token.WSPACE]
+    pos = 0
+
+    def peek():
+        return tokens[pos] if pos < len(tokens) else None
+
+    def take():
+        nonlocal pos
+        pos += 1
+        return tokens[pos - 1]
+
+    def primary():
+        t = take() if peek() else None
+        if t is None:
+            raise ParseError("the formula ends too early")
+        if t.type == Token.OP_PRE:
+            node = ("neg", unary_operand()) if t.value == "-" else unary_operand()
+            return postfix(node)
+        if t.type == Token.OPERAND:
+            if t.subtype == Token.NUMBER:
+                node = ("const", float(t.value))
+            elif t.subtype == Token.TEXT:
+                node = ("const", t.value[1:-1].replace('""', '"'))
+            elif t.subtype == Token.LOGICAL:
+                node = ("const", t.value.upper() == "TRUE")
+            elif t.subtype == Token.ERROR:
+                node = ("const", t.value.upper())
+            else:
+                node = _operand_ref(t.value, host_r, host_c, names)
+                if isinstance(node, Ref):
+                    node = ("ref", node)
+            return postfix(node)
+        if t.type == Token.PAREN and t.subtype == Token.OPEN:
+            node = expression(0)
+            close = take() if peek() else None
+            if close is None or close.type != Token.PAREN:
+                raise ParseError("unbalanced parentheses")
+            return postfix(node)
+        if t.type == Token.FUNC and t.subtype == Token.OPEN:
+            name = t.value[:-1].upper().removeprefix("_XLFN.")
+            args = []
+            if peek() and peek().type == Token.FUNC and peek().subtype == Token.CLOSE:
+                take()
+                return postfix(("fn", name, args))
+            while True:
+                if peek() and peek().type == Token.SEP:
+                    args.append(("missing",))
+                else:
+                    args.append(expression(0))
+                sep = take() if peek() else None
+                if sep is None:
+                    raise ParseError(f"{name}( is not closed")
+                if sep.type == Token.FUNC and sep.subtype == Token.CLOSE:
+                    return postfix(("fn", name, args))
+                if not (sep.type == Token.SEP and sep.subtype == Token.ARG):
+                    raise ParseError(f"unexpected {sep.value!r} in {name}(...)")
+        raise ParseError(f"unexpected {t.value!r}")
+
+    def unary_operand():
+        # unary minus binds tighter than ^ in Excel: -2^2 = 4
+        return primary()
+
+    def postfix(node):
+        while peek() and peek().type == Token.OP_POST:
+            take()
+            node = ("pct", node)
+        return node
+
+    def expression(min_prec):
+        left = primary()
+        while peek() and peek().type == Token.OP_IN and _PREC.get(peek().value, 0) > min_prec:
+            op = take().value
+            right = expression(_PREC[op])
+            left = ("bin", op, left, right)
+        return left
+
+    tree = expression(0)
+    if pos != len(tokens):
+        raise ParseError(f"unexpected {tokens[pos].value!r}")
+    return tree
+
+
+def functions_of(tree) -> set[str]:
+    if tree[0] == "fn":
+        out = {tree[1]}
+        for a in tree[2]:
+            out |= functions_of(a)
+        return out
+    if tree[0] in ("neg", "pct"):
+        return functions_of(tree[1])
+    if tree[0] == "bin":
+        return functions_of(tree[2]) | functions_of(tree[3])
+    return set()
+
+
+def refs_of(tree) -> list[Ref]:
+    if tree[0] == "ref":
+        return [tree[1]]
+    if tree[0] == "fn":
+        return [r for a in tree[2] for r in refs_of(a)]
+    if tree[0] in ("neg", "pct"):
+        return refs_of(tree[1])
+    if tree[0] == "bin":
+        return refs_of(tree[2]) + refs_of(tree[3])
+    return []
+
+
+# --------------------------------------------------------------------------- reading
+@dataclass
+class Run:
+    """Formula cells host_r, cols[...] of one sheet sharing one formula (shifted)."""
+    sheet: str
+    row: int
+    cols: np.ndarray
+    formula: str                      # the first cell's formula (without "=")
+    tree: object = None
+    error: str | None = None          # parse problem or unsupported function
+
+    def cells(self) -> list[str]:
+        return [f"{get_column_letter(c)}{self.row}" for c in self.cols]
+
+    def where(self) -> str:
+        a = f"{get_column_letter(int(self.cols[0]))}{self.row}"
+        if len(self.cols) == 1:
+            return f"{self.sheet}!{a}"
+        return f"{self.sheet}!{a}:{get_column_letter(int(self.cols[-1]))}{self.row}"
+
+
+@dataclass
+class Sheet:
+    name: str
+    state: str
+    consts: dict = field(default_factory=dict)    # (r, c) -> value (number, str, bool, error text)
+    formulas: dict = field(default_factory=dict)  # (r, c) -> formula text (without "=")
+    cached: dict = field(default_factory=dict)    # (r, c) -> cached value of a formula cell
+    max_row: int = 0
+    max_col: int = 0
+
+
+_TEMPLATE_REF = re.compile(
+    r'(?P<str>"(?:[^"]|"")*")'
+    r"|(?<![\w.$!'])(?P<sheet>(?:'(?:[^']|'')+'|[^\W\d][\w.]*)!)?(?P<cabs>\$?)(?P<col>[A-Z]{1,3})"
+    r"(?P<rabs>\$?)(?P<row>\d+)(?![\w(])")
+
+
+_LETTERS = [""] + [get_column_letter(c) for c in range(1, 16385)]   # Excel's last column is XFD
+
+
+class _Template:
+    """A formula as text with its relative columns left open: rendering it for the next
+    column and comparing strings tells whether that cell holds the same formula shifted."""
+
+    def __init__(self, formula: str, host_c: int):
+        offsets: list[int] = []
+        parts, last = [], 0
+        for m in _TEMPLATE_REF.finditer(formula):
+            if m.group("str") is not None:
+                continue
+            parts.append(formula[last:m.start()].replace("{", "{{").replace("}", "}}"))
+            if m.group("cabs"):
+                parts.append(m.group(0).replace("{", "{{").replace("}", "}}"))
+            else:
+                offsets.append(column_index_from_string(m.group("col")) - host_c)
+                sheet = (m.group("sheet") or "").replace("{", "{{").replace("}", "}}")
+                parts.append(f"{sheet}{{{len(offsets) - 1}}}{m.group('rabs')}{m.group('row')}")
+            last = m.end()
+        parts.append(formula[last:].replace("{", "{{").replace("}", "}}"))
+        self.text, self.offsets = "".join(parts), offsets
+        self.low = -min(offsets, default=0)
+
+    def render(self, col: int) -> str | None:
+        if col <= self.low:           # a reference left of column A
+            return None
+        return self.text.format(*[_LETTERS[col + o] for o in self.offsets])
+
+
+def _read_sheet(pkg, name: str, part: str, state: str, shared: list[str], limits: Limits) -> Sheet:
+    sh = Sheet(name, state)
+    root = pkg.xml(part)
+    ns = root.tag[:root.tag.index("}") + 1] if root.tag.startswith("{") else ""
+    shared_f: dict[str, tuple[str, int, int]] = {}
+    for c in root.iter(f"{ns}c"):
+        ref = c.get("r")
+        m = re.match(r"([A-Z]+)(\d+)$", ref or "")
+        if not m:
+            raise UnusableWorkbook(pkg.path, f"a cell without a valid reference ({ref!r})", part=part)
+        col, row = column_index_from_string(m.group(1)), int(m.group(2))
+        if row > limits.max_rows or col > limits.max_cols:
+            raise UnusableWorkbook(pkg.path, f"sheet '{name}' has a cell at {ref}, beyond the limits "
+                                   f"({limits.max_rows} rows, {limits.max_cols} columns)")
+        sh.max_row, sh.max_col = max(sh.max_row, row), max(sh.max_col, col)
+        t = c.get("t", "n")
+        f = c.find(f"{ns}f")
+        v = c.find(f"{ns}v")
+        vtext = v.text if v is not None else None
+        if t == "s" and vtext is not None:
+            value = shared[int(vtext)]
+        elif t == "inlineStr":
+            value = "".join(x.text or "" for x in c.iter(f"{ns}t"))
+        elif t == "b" and vtext is not None:
+            value = vtext.strip() == "1"
+        elif t in ("e", "str") and vtext is not None:
+            value = vtext
+        elif vtext is not None:
+            value = float(vtext)
+        else:
+            value = None
+        if f is not None:
+            text = f.text
+            if f.get("t") == "shared":
+                si = f.get("si")
+                if text:
+                    shared_f[si] = (text, row, col)
+                else:
+                    master, mr, mc = shared_f[si]
+                    text = _shift_formula(master, row - mr, col - mc)
+            elif f.get("t") == "array" and text is None:
+                text = None
+            if text:
+                sh.formulas[(row, col)] = text
+                if value is not None:
+                    sh.cached[(row, col)] = value
+                continue
+        if value is not None:
+            sh.consts[(row, col)] = value
+    return sh
+
+
+def _shift_formula(formula: str, dr: int, dc: int) -> str:
+    from openpyxl.formula.translate import Translator
+    return Translator("=" + formula, origin="A1").translate_formula(
+        f"{get_column_letter(1 + dc)}{1 + dr}")[1:] if (dr >= 0 and dc >= 0) else formula
+
+
+def _shared_strings(pkg) -> list[str]:
+    if "xl/sharedStrings.xml" not in pkg.names:
+        return []
+    root = pkg.xml("xl/sharedStrings.xml")
+    ns = root.tag[:root.tag.index("}") + 1] if root.tag.startswith("{") else ""
+    return ["".join(t.text or "" for t in si.iter(f"{ns}t")) for si in root.iter(f"{ns}si")]
+
+
+def _defined_names(pkg) -> dict[str, str]:
+    root = pkg.xml("xl/workbook.xml")
+    ns = root.tag[:root.tag.index("}") + 1] if root.tag.startswith("{") else ""
+    return {d.get("name"): (d.text or "") for d in root.iter(f"{ns}definedName")
+            if d.get("localSheetId") is None}
+
+
+# --------------------------------------------------------------------------- evaluation
+@dataclass
+class Book:
+    """A workbook's cells after evaluation."""
+    path: str
+    sheets: dict[str, Sheet]
+    order: list[str]
+    num: dict[str, np.ndarray]
+    tag: dict[str, np.ndarray]
+    txt: dict[str, np.ndarray]
+    problems: list[str]               # unsupported functions, parse errors (cells set to #NAME?)
+    runs: int = 0
+    cells: int = 0
+
+    def value(self, sheet: str, r: int, c: int):
+        """The Python value of a cell: float, str, bool, None (empty) or an error text."""
+        n, t = self.num[sheet], self.tag[sheet]
+        if r >= n.shape[0] or c >= n.shape[1]:
+            return None
+        tg = t[r, c]
+        if tg == NUM:
+            return float(n[r, c])
+        if tg == BOOL:
+            return bool(n[r, c])
+        if tg == TEXT:
+            return self.txt[sheet][r, c]
+        if tg == EMPTY:
+            return None
+        return ERROR_TEXT[int(tg)]
+
+
+def _group_runs(sheet: Sheet) -> list[Run]:
+    runs: list[Run] = []
+    by_row: dict[int, list[int]] = {}
+    for (r, c) in sheet.formulas:
+        by_row.setdefault(r, []).append(c)
+    for r, cols in by_row.items():
+        cols.sort()
+        start, tpl = 0, None
+        for i, c in enumerate(cols):
+            text = sheet.formulas[(r, c)]
+            if tpl is not None and c == cols[i - 1] + 1 and tpl.render(c) == text:
+                continue
+            if i > start:
+                runs.append(Run(sheet.name, r, np.array(cols[start:i]), sheet.formulas[(r, cols[start])]))
+            start, tpl = i, _Template(text, c)
+        runs.append(Run(sheet.name, r, np.array(cols[start:]), sheet.formulas[(r, cols[start])]))
+    return runs
+
+
+def _split(run: Run) -> list[Run]:
+    return [Run(run.sheet, run.row, np.array([c]), run.formula, run.tree, run.error) for c in run.cols]
+
+
+def _target_block(run: Run, ref: Ref):
+    """Rows and columns (per cell of the run) a reference touches."""
+    r1 = ref.r1 if ref.r1_abs else run.row + ref.r1
+    r2 = ref.r2 if ref.r2_abs else run.row + ref.r2
+    c1 = np.full(run.cols.shape, ref.c1) if ref.c1_abs else run.cols + ref.c1
+    c2 = np.full(run.cols.shape, ref.c2) if ref.c2_abs else run.cols + ref.c2
+    return min(r1, r2), max(r1, r2), np.minimum(c1, c2), np.maximum(c1, c2)
+
+
+@dataclass
+class RawBook:
+    """A workbook as read: constants, formulas and cached values of every sheet."""
+    path: str
+    sheets: dict[str, Sheet]
+    order: list[str]
+    names: dict[str, str]
+
+
+def read_book(path: str | Path, limits: Limits = Limits()) -> RawBook:
+    """Read an .xlsx safely (xlsxsafe): never modified, never trusted."""
+    pkg = open_package(path, limits)
+    shared = _shared_strings(pkg)
+    names = _defined_names(pkg)
+    sheets, order = {}, []
+    for info in sheet_parts(pkg):
+        sheets[info.name] = _read_sheet(pkg, info.name, info.part, info.state, shared, limits)
+        order.append(info.name)
+    return RawBook(str(path), sheets, order, names)
+
+
+def evaluate(path: str | Path, *, strict: bool = True, limits: Limits = Limits()) -> Book:
+    """Evaluate every formula of an .xlsx workbook. With strict, an unsupported function
+    or an unparsable formula raises EvaluationError naming the cells; otherwise those
+    cells become #NAME? and the problem is listed in Book.problems."""
+    raw = read_book(path, limits)
+    return evaluate_sheets(raw.path, raw.sheets, raw.order, raw.names, strict=strict)
+
+
+def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names: dict, *,
+                    strict: bool = True) -> Book:
+    problems: list[str] = []
+    runs: list[Run] = []
+    for sh in sheets.values():
+        runs.extend(_group_runs(sh))
+    # parse each run once (its first cell)
+    name_refs = {}
+    for n, text in names.items():
+        try:
+            tree = parse_formula("=" + text, 1, 1, {})
+        except ParseError:
+            tree = ("const", "#NAME?")
+        name_refs[n] = tree
+    for run in runs:
+        try:
+            run.tree = parse_formula("=" + run.formula, run.row, int(run.cols[0]), name_refs)
+            bad = sorted(f for f in functions_of(run.tree) if f not in SUPPORTED)
+            if bad:
+                run.error = f"unsupported function{'s' if len(bad) > 1 else ''} {', '.join(bad)}"
+        except ParseError as e:
+            run.error = f"cannot read the formula ={run.formula}: {e}"
+        except Exception as e:      # the tokenizer's own errors
+            run.error = f"cannot read the formula ={run.formula}: {e}"
+        if run.error:
+            problems.append(f"{run.where()}: {run.error}")
+    if problems and strict:
+        raise EvaluationError(f"{path}: " + "; ".join(problems[:10]) +
+                              (f" (and {len(problems) - 10} more)" if len(problems) > 10 else ""))
+    # value stores, big enough for every cell and every reference
+    dims = {n: [sh.max_row + 1, sh.max_col + 1] for n, sh in sheets.items()}
+    for run in runs:
+        for ref in (refs_of(run.tree) if run.tree is not None else []):
+            target = ref.sheet or run.sheet
+            if target not in dims:
+                continue
+            r1, r2, c1, c2 = _target_block(run, ref)
+            dims[target][0] = max(dims[target][0], r2 + 1)
+            dims[target][1] = max(dims[target][1], int(c2.max()) + 1)
+    num = {n: np.zeros(d) for n, d in dims.items()}
+    tag = {n: np.full(d, EMPTY, np.int8) for n, d in dims.items()}
+    txt = {n: np.empty(d, dtype=object) for n, d in dims.items()}
+    for n, sh in sheets.items():
+        for (r, c), v in sh.consts.items():
+            _store(num[n], tag[n], txt[n], r, c, v)
+    order_runs = _schedule(path, runs, dims, sheets)
+    ctx = _Context(num, tag, txt, name_refs)
+    cells = 0
+    for run in order_runs:
+        cells += len(run.cols)
+        if run.error:
+            v = _const("#NAME?", len(run.cols))
+        else:
+            v = ctx.eval(run.tree, run)
+            v = _as_cells(v, len(run.cols))
+        n = run.sheet
+        num[n][run.row, run.cols] = v.num[:, 0, 0]
+        tag[n][run.row, run.cols] = v.tag[:, 0, 0]
+        if v.txt is not None:
+            txt[n][run.row, run.cols] = v.txt[:, 0, 0]
+    return Book(path, sheets, order, num, tag, txt, problems, len(order_runs), cells)
+
+
+def _store(num, tag, txt, r, c, v):
+    if isinstance(v, bool):
+        num[r, c], tag[r, c] = float(v), BOOL
+    elif isinstance(v, (int, float)):
+        num[r, c], tag[r, c] = float(v), NUM
+    elif isinstance(v, str) and v in ERRORS:
+        tag[r, c] = ERRORS[v]
+    elif isinstance(v, str):
+        tag[r, c], txt[r, c] = TEXT, v
+
+
+def _as_cells(v: Val, k: int) -> Val:
+    """A cell holds one value: an array result that is not a single value is #VALUE!."""
+    if v.shape[1:] != (1, 1):
+        return _const("#VALUE!", k)
+    if v.shape[0] != k:
+        v = Val(np.broadcast_to(v.num, (k, 1, 1)), np.broadcast_to(v.tag, (k, 1, 1)),
+                None if v.txt is None else np.broadcast_to(v.txt, (k, 1, 1)))
+    return v
+
+
+def _schedule(path, runs: list[Run], dims, sheets) -> list[Run]:
+    """Runs in dependency order; runs on a cycle (or referring to themselves) are split
+    into single cells and ordered again; a cycle of single cells is circular."""
+    while True:
+        owner = {n: np.full(d, -1, np.int64) for n, d in dims.items()}
+        for i, run in enumerate(runs):
+            owner[run.sheet][run.row, run.cols] = i
+        deps: list[set[int]] = []
+        split = set()
+        for i, run in enumerate(runs):
+            d = set()
+            for ref in (refs_of(run.tree) if run.tree is not None else []):
+                target = ref.sheet or run.sheet
+                if target not in owner:
+                    continue
+                r1, r2, c1, c2 = _target_block(run, ref)
+                if r1 < 1 or int(c1.min()) < 1:
+                    continue
+                block = owner[target][r1:r2 + 1, int(c1.min()):int(c2.max()) + 1]
+                ids = set(np.unique(block[block >= 0]).tolist())
+                if i in ids and len(run.cols) > 1:
+                    split.add(i)
+                d |= ids
+            deps.append(d)
+        if split:
+            runs = [r for i, run in enumerate(runs) for r in (_split(run) if i in split else [run])]
+            continue
+        order, indeg = [], [len(d - {i}) for i, d in enumerate(deps)]
+        users: list[list[int]] = [[] for _ in runs]
+        for i, d in enumerate(deps):
+            for j in d - {i}:
+                users[j].append(i)
+        ready = [i for i, n in enumerate(indeg) if n == 0]
+        self_loops = [i for i, d in enumerate(deps) if i in d]
+        while ready:
+            i = ready.pop()
+            order.append(i)
+            for u in users[i]:
+                indeg[u] -= 1
+                if indeg[u] == 0:
+                    ready.append(u)
+        stuck = [i for i in range(len(runs)) if indeg[i] > 0] + self_loops
+        if not stuck:
+            return [runs[i] for i in order]
+        multi = [i for i in stuck if len(runs[i].cols) > 1]
+        if multi:
+            keep = set(multi)
+            runs = [r for i, run in enumerate(runs) for r in (_split(run) if i in keep else [run])]
+            continue
+        cells = sorted({runs[i].where() for i in stuck})
+        raise EvaluationError(f"{path}: circular reference among {', '.join(cells[:12])}"
+                              + (f" and {len(cells) - 12} more cells" if len(cells) > 12 else ""))
+
+
+class _Context:
+    def __init__(self, num, tag, txt, names):
+        self.num, self.tag, self.txt, self.names = num, tag, txt, names
+
+    def ref(self, ref: Ref, run: Run) -> Val:
+        sheet = ref.sheet or run.sheet
+        if sheet not in self.num:
+            return _const("#REF!", len(run.cols))
+        r1, r2, c1, c2 = _target_block(run, ref)
+        if r1 < 1 or int(c1.min()) < 1:
+            return _const("#REF!", len(run.cols))
+        absolute = ref.c1_abs and ref.c2_abs
+        width = int(c2[0] - c1[0]) + 1
+        cols = (c1[:1] if absolute else c1)[:, None] + np.arange(width)[None, :]   # (k, C)
+        rows = np.arange(r1, r2 + 1)
+        num = self.num[sheet][rows[:, None, None], cols[None, :, :]].transpose(1, 0, 2)
+        tag = self.tag[sheet][rows[:, None, None], cols[None, :, :]].transpose(1, 0, 2)
+        txt = None
+        if (tag == TEXT).any():
+            txt = self.txt[sheet][rows[:, None, None], cols[None, :, :]].transpose(1, 0, 2)
+        return Val(num, tag, txt)
+
+    def eval(self, node, run: Run) -> Val:
+        kind = node[0]
+        if kind == "const":
+            return _const(node[1])
+        if kind == "ref":
+            return self.ref(node[1], run)
+        if kind == "name":
+            tree = self.names.get(node[1])
+            if tree is None:
+                return _const("#NAME?")
+            return self.eval(tree, run)
+        if kind == "neg":
+            return _arith("-", _const(0.0), self.eval(node[1], run))
+        if kind == "pct":
+            return _arith("/", self.eval(node[1], run), _const(100.0))
+        if kind == "bin":
+            op, a, b = node[1], self.eval(node[2], run), self.eval(node[3], run)
+            if op in ("+", "-", "*", "/", "^"):
+                return _arith(op, a, b)
+            if op == "&":
+                return _concat(a, b)
+            return _compare(op, a, b)
+        if kind == "missing":
+            return _const(0.0)
+        if kind == "fn":
+            return self.call(node[1], node[2], run)
+        raise EvaluationError(f"cannot evaluate {node!r}")
+
+    def call(self, name: str, args, run: Run) -> Val:
+        if name == "PI":
+            return _const(math.pi)
+        if name == "IF":
+            cond, err = _to_bool(self.eval(args[0], run))
+            a = self.eval(args[1], run) if len(args) > 1 and args[1][0] != "missing" else _const(0.0)
+            b = self.eval(args[2], run) if len(args) > 2 else _const(False)
+            return _with_error(_select(cond, a, b), err)
+        if name == "IFERROR":
+            a, b = self.eval(args[0], run), self.eval(args[1], run)
+            return _select(a.tag >= 10, b, a)
+        if name == "NOT":
+            b, err = _to_bool(self.eval(args[0], run))
+            return Val(np.where(err == 0, (~b).astype(float), 0.0), np.where(err == 0, BOOL, err).astype(np.int8))
+        if name in ("ISNUMBER", "ISERROR", "ISTEXT"):
+            v = self.eval(args[0], run)
+            test = {"ISNUMBER": v.tag == NUM, "ISERROR": v.tag >= 10, "ISTEXT": v.tag == TEXT}[name]
+            return Val(test.astype(float), np.full(v.shape, BOOL, np.int8))
+        if name in SCALAR_FUNCS:
+            return SCALAR_FUNCS[name](*(self.eval(a, run) for a in args))
+        if name in AGGREGATES:
+            vals = [self.eval(a, run) for a in args]
+            ranges = [a[0] == "ref" and a[1].is_range for a in args]
+            return AGGREGATES[name](vals, ranges)
+        return _const("#NAME?", len(run.cols))
+
+
+# --------------------------------------------------------------------------- results as tables
+def rows_frame(book: Book, sheet: str | None = None, first_col: int = 5) -> pd.DataFrame:
+    """One sheet as a table: rows named by column A, columns = positions (column E on).
+    Rows without a name in column A are left out; values are floats, text, booleans or
+    error texts such as '#NUM!'."""
+    sheet = sheet or book.order[0]
+    sh = book.sheets[sheet]
+    last = max([c for (_, c) in sh.formulas] + [c for (_, c) in sh.consts] + [first_col])
+    names, data = [], []
+    for r in range(1, sh.max_row + 1):
+        label = book.value(sheet, r, 1)
+        if not isinstance(label, str) or not label or r <= 4:
+            continue
+        if not any((r, c) in sh.formulas or (r, c) in sh.consts for c in range(first_col, last + 1)):
+            continue
+        names.append(label)
+        data.append([book.value(sheet, r, c) for c in range(first_col, last + 1)])
+    df = pd.DataFrame(data, index=names, columns=list(range(1, last - first_col + 2)), dtype=object)
+    df.index.name = "name"
+    return df

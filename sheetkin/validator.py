@@ -1,0 +1,322 @@
+"""The validator of student workbooks: which rows are right, which are wrong, and why.
+
+For one workbook:
+1. open it safely (xlsxsafe) and read the scene embedded in its hidden sheet;
+2. take the student's input block (column D of the input rows) as their variant: the
+   scene with those lengths, coordinates, branches, Fi0, Fi_t, Fi_tt, Delta_Fi, and as many
+   positions as the sheet has columns;
+3. the reference for every named row: the workbook sheetkin generates for that variant,
+   evaluated by the evaluator (its accepted values equal the solver, tested); so the
+   intermediate rows (P, Q, F, ...) have references too;
+4. the student's values: their formulas evaluated by the evaluator; where a cell has no
+   formula, the number typed (checked to the precision it was typed with); where a formula
+   cannot be evaluated, the value the spreadsheet cached;
+5. row by row: correct / wrong (largest error, first wrong column) / missing / empty; the
+   wrong rows none of whose ancestors (in the lecture's dependency order) are wrong are the
+   likely causes; the others are wrong because they depend on a cause. Cells whose formula
+   disagrees with the value the spreadsheet cached are listed too.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .evaluator import Book, EvaluationError, Sheet, evaluate_sheets, read_book
+from .scene import Scene, SceneError, parse_scene
+from .workbook import FIRST_COL, SCENE_SHEET, _rows, build_workbook
+from .xlsxsafe import Limits, UnusableWorkbook
+
+RTOL = 1e-9            # formulas: the same numbers up to rounding
+ATOL = 1e-9
+
+
+class UnusableInput(ValueError):
+    """A workbook that cannot be validated at all; str() is one line naming the file."""
+
+
+@dataclass
+class RowReport:
+    name: str
+    row: int | None                  # the student's row number
+    status: str                      # correct | wrong | missing | empty
+    max_error: float = 0.0
+    first_wrong: int | None = None   # position number (1-based) of the first wrong cell
+    wrong_cells: list[int] = field(default_factory=list)   # position numbers
+    expected: object = None          # at the first wrong cell
+    got: object = None
+    cause: bool = False              # wrong, and no ancestor is wrong
+    because_of: list[str] = field(default_factory=list)    # the causes it depends on
+    kind: str = ""                   # accepted | calc | guard (the reference's kind of row)
+    source: str = "formula"          # formula | typed | cached
+
+
+@dataclass
+class Report:
+    path: str
+    author: str = ""
+    title: str = ""
+    rows: list[RowReport] = field(default_factory=list)
+    cache_mismatch: list[str] = field(default_factory=list)   # cells: formula != cached value
+    failing_checks: list[str] = field(default_factory=list)   # the student's check rows that fail
+    problems: list[str] = field(default_factory=list)         # unsupported functions ...
+    positions: int = 0
+    error: str | None = None         # unusable input: the one-line reason
+
+    @property
+    def wrong(self) -> list[RowReport]:
+        return [r for r in self.rows if r.status == "wrong"]
+
+    @property
+    def missing(self) -> list[RowReport]:
+        return [r for r in self.rows if r.status in ("missing", "empty")]
+
+    @property
+    def causes(self) -> list[RowReport]:
+        return [r for r in self.rows if r.cause]
+
+    @property
+    def ok(self) -> bool:
+        return self.error is None and not self.wrong and not self.missing
+
+    def to_dict(self) -> dict:
+        d = dataclasses.asdict(self)
+        d["ok"] = self.ok
+        d["summary"] = {"correct": sum(r.status == "correct" for r in self.rows),
+                        "wrong": len(self.wrong), "missing": len(self.missing),
+                        "causes": [r.name for r in self.causes]}
+        return d
+
+
+# --------------------------------------------------------------------------- the variant
+def _inputs(book: Book, sheet: str, names: dict[str, int]) -> dict[str, object]:
+    return {n: book.value(sheet, r, 4) for n, r in names.items()}
+
+
+def variant_scene(scene: Scene, inputs: dict[str, object], positions: int, where: dict[str, str]) -> Scene:
+    """The scene with the student's input block: raises UnusableInput on a non-number."""
+    def num(name, default):
+        if name not in inputs:
+            return default
+        v = inputs[name]
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            raise UnusableInput(f"input {name} ({where.get(name, '?')}): expected a number, got {v!r}")
+        return float(v)
+
+    c = scene.crank
+    crank = dataclasses.replace(c, length=num("L1", c.length), phi0_deg=num("Fi0", c.phi0_deg),
+                                step_deg=num("Delta_Fi", c.step_deg), positions=positions,
+                                omega=num("Fi_t0", c.omega), epsilon=num("Fi_tt0", c.epsilon))
+    frame = {p: (num(f"x_{p}", x), num(f"y_{p}", y)) for p, (x, y) in scene.frame.items()}
+    groups = []
+    for g in scene.groups:
+        la, lb = g.links
+        kw = {}
+        if g.type == "RRR":
+            kw["lengths"] = (num(f"L{la}", g.lengths[0]), num(f"L{lb}", g.lengths[1]))
+        elif g.type == "RRP":
+            kw["lengths"] = (num(f"L{la}", g.lengths[0]),)
+            kw["guide_point"] = (num(f"gx_g{g.index}", g.guide_point[0]), num(f"gy_g{g.index}", g.guide_point[1]))
+            kw["guide_angle_deg"] = num(f"gamma_g{g.index}", g.guide_angle_deg)
+        else:
+            kw["offset"] = num(f"e_g{g.index}", g.offset)
+        if g.type in ("RRR", "RRP"):
+            b = num(f"branch_g{g.index}", g.branch)
+            if b not in (1.0, -1.0):
+                raise UnusableInput(f"input branch_g{g.index} ({where.get(f'branch_g{g.index}', '?')}): "
+                                    f"expected +1 or -1, got {b:g}")
+            kw["branch"] = int(b)
+        groups.append(dataclasses.replace(g, **kw))
+    points = tuple(dataclasses.replace(p, along=num(f"along_{p.name}", p.along),
+                                       across=num(f"across_{p.name}", p.across)) for p in scene.points)
+    by_index, by_name = {g.index: g for g in groups}, {p.name: p for p in points}
+    plan = tuple((k, crank if k == "crank" else by_index[it.index] if k == "group" else by_name[it.name])
+                 for k, it in scene.plan)
+    return dataclasses.replace(scene, frame=frame, crank=crank, groups=tuple(groups), points=points, plan=plan)
+
+
+# --------------------------------------------------------------------------- dependencies
+def row_ancestors(scene: Scene) -> dict[str, set[str]]:
+    """For every row of the lecture's workbook, all rows it depends on (transitively)."""
+    rows = _rows(scene).rows
+    ref = re.compile(r"\{(?:scale:)?([^{}@:]+)(?:@(?:prev|next))?\}")
+    direct = {r.name: set(ref.findall(r.formula)) | ({r.guard} if r.guard else set()) for r in rows}
+    out: dict[str, set[str]] = {}
+    for r in rows:                                   # rows come after what they use
+        acc = set()
+        for d in direct[r.name]:
+            acc |= {d} | out.get(d, set())
+        out[r.name] = acc - {r.name}
+    return out
+
+
+def _typed_tolerance(x: float) -> float:
+    """A number typed by hand is right to half a unit of its last typed digit."""
+    text = repr(float(x))
+    if "e" in text or "E" in text:
+        mant, exp = text.lower().split("e")
+        decimals = len(mant.split(".")[1]) if "." in mant else 0
+        return 0.5 * 10.0 ** (int(exp) - decimals)
+    decimals = len(text.split(".")[1]) if "." in text else 0
+    return 0.5 * 10.0 ** -decimals if text.split(".")[1] != "0" else 0.5
+
+
+def _close(got, exp, name: str, typed: bool):
+    """(ok, error) of one cell against its reference."""
+    if isinstance(exp, bool) or isinstance(got, bool):
+        return (isinstance(got, bool) and isinstance(exp, bool) and got == exp), (0.0 if got == exp else 1.0)
+    if not isinstance(exp, float):
+        # the reference is a marker ("cannot assemble", "n/a") or an error: any non-number is fine
+        return (not isinstance(got, float)), (0.0 if not isinstance(got, float) else math.inf)
+    if not isinstance(got, float):
+        return False, math.inf
+    d = abs(got - exp)
+    if name.startswith("phi_"):
+        d = min(d, abs(360.0 - d))
+    tol = max(ATOL, RTOL * abs(exp))
+    if typed:
+        tol = max(tol, _typed_tolerance(got))
+    return d <= tol, d
+
+
+# --------------------------------------------------------------------------- validation
+def validate(path: str | Path, limits: Limits = Limits()) -> Report:
+    """Validate one workbook; unusable input comes back as Report.error, not an exception."""
+    path = str(path)
+    try:
+        return _validate(path, limits)
+    except (UnusableWorkbook, UnusableInput, SceneError, EvaluationError) as e:
+        msg = str(e)
+        return Report(path, error=msg if msg.startswith(path) else f"{path}: {msg}")
+
+
+def _validate(path: str, limits: Limits) -> Report:
+    book = read_book(path, limits)
+    if SCENE_SHEET not in book.sheets:
+        raise UnusableInput(f"{path}: no embedded scene (hidden sheet '{SCENE_SHEET}'); "
+                            "expected a workbook made by `sheetkin workbook`")
+    lines = [book.sheets[SCENE_SHEET].consts.get((r, 1), "") for r in range(1, book.sheets[SCENE_SHEET].max_row + 1)]
+    scene = parse_scene("\n".join(str(x) for x in lines) + "\n", f"{path} (embedded scene)")
+    main = book.order[0]
+    sh = book.sheets[main]
+    evaluated = _evaluate_student(book)
+    names: dict[str, int] = {}
+    for r in range(5, sh.max_row + 1):
+        v = sh.consts.get((r, 1))
+        if isinstance(v, str) and v and v not in names:
+            names[v] = r
+    # the variant: the student's input block and columns
+    ref_rows = _rows(scene).rows
+    input_names = {r.name for r in ref_rows if r.kind == "input"}
+    where = {n: f"{main}!D{r}" for n, r in names.items()}
+    inputs = _inputs(evaluated, main, {n: r for n, r in names.items() if n in input_names})
+    positions = max([c for (rr, c) in list(sh.formulas) + list(sh.consts) if rr >= 5 and c >= FIRST_COL] or [FIRST_COL]) - FIRST_COL + 1
+    student_scene = variant_scene(scene, inputs, positions, where)
+    ref_book = _reference(student_scene)
+    ref_sheet = ref_book.order[0]
+    ref_names = {ref_book.sheets[ref_sheet].consts.get((r, 1)): r for r in range(5, ref_book.sheets[ref_sheet].max_row + 1)}
+    report = Report(path, author=str(sh.consts.get((2, 1), "") or ""), title=str(sh.consts.get((1, 1), "") or ""),
+                    positions=positions, problems=list(evaluated.problems))
+    ancestors = row_ancestors(student_scene)
+    kinds = {r.name: r.kind for r in ref_rows}
+    for row in ref_rows:
+        if row.kind not in ("calc", "accepted", "guard") or row.name in ("i",):
+            continue
+        rep = RowReport(row.name, names.get(row.name), "correct", kind=row.kind)
+        report.rows.append(rep)
+        if rep.row is None:
+            rep.status = "missing"
+            continue
+        r, rr = rep.row, ref_names[row.name]
+        cells = [(r, FIRST_COL + k) for k in range(positions)]
+        if not any(c in sh.formulas or c in sh.consts for c in cells):
+            rep.status = "empty"
+            continue
+        for k, (_, c) in enumerate(cells):
+            got = evaluated.value(main, r, c)
+            typed = (r, c) not in sh.formulas
+            if not typed and evaluated.tag[main][r, c] == 14 and (r, c) in sh.cached:
+                got, rep.source = sh.cached[(r, c)], "cached"        # a formula we cannot evaluate
+                got = float(got) if isinstance(got, (int, float)) and not isinstance(got, bool) else got
+            if typed:
+                rep.source = "typed"
+            exp = ref_book.value(ref_sheet, rr, c)
+            ok, err = _close(got, exp, row.name, typed)
+            if not ok:
+                rep.wrong_cells.append(k + 1)
+                if rep.first_wrong is None:
+                    rep.first_wrong, rep.expected, rep.got = k + 1, exp, got
+            if np.isfinite(err):
+                rep.max_error = max(rep.max_error, err)
+            else:
+                rep.max_error = math.inf
+        if rep.wrong_cells:
+            rep.status = "wrong"
+    # likely causes: wrong rows with no wrong ancestor; the rest depend on them
+    wrong = {r.name for r in report.rows if r.status in ("wrong", "missing", "empty")}
+    for rep in report.rows:
+        if rep.status != "wrong":
+            continue
+        bad_anc = ancestors.get(rep.name, set()) & wrong
+        if bad_anc:
+            rep.because_of = [n for n in (x.name for x in report.rows) if n in bad_anc
+                              and not (ancestors.get(n, set()) & wrong)]
+        else:
+            rep.cause = True
+    report.cache_mismatch = _cache_mismatches(evaluated, main)
+    report.failing_checks = [n for n, r in names.items() if n.startswith(("chk", "fd_"))
+                             and kinds.get(n) in ("check", "fdcheck") and evaluated.value(main, r, 4) not in (0.0, None)]
+    return report
+
+
+def _evaluate_student(raw) -> Book:
+    return evaluate_sheets(raw.path, raw.sheets, raw.order, raw.names, strict=False)
+
+
+def _reference(scene: Scene) -> Book:
+    """The generated workbook of the variant, evaluated (no file written)."""
+    wb = build_workbook(scene, scene_text="")
+    sheets, order = {}, []
+    for ws in wb.worksheets[:1]:
+        sh = Sheet(ws.title, "visible")
+        for row in ws.iter_rows():
+            for c in row:
+                v = c.value
+                if v is None:
+                    continue
+                if isinstance(v, str) and v.startswith("="):
+                    sh.formulas[(c.row, c.column)] = v[1:]
+                else:
+                    sh.consts[(c.row, c.column)] = float(v) if isinstance(v, int) and not isinstance(v, bool) else v
+                sh.max_row, sh.max_col = max(sh.max_row, c.row), max(sh.max_col, c.column)
+        sheets[ws.title] = sh
+        order.append(ws.title)
+    return evaluate_sheets("<reference>", sheets, order, {}, strict=True)
+
+
+def _cache_mismatches(book: Book, sheet: str, limit: int = 50) -> list[str]:
+    """Formula cells whose value, as the spreadsheet last saved it, differs from what the
+    formula gives now (stale values, or a number pasted over a formula's result)."""
+    from openpyxl.utils import get_column_letter
+    out = []
+    sh = book.sheets[sheet]
+    for (r, c), cached in sorted(sh.cached.items()):
+        now = book.value(sheet, r, c)
+        if isinstance(cached, (int, float)) and not isinstance(cached, bool):
+            cached = float(cached)
+            if isinstance(now, float) and abs(now - cached) <= max(1e-9, 1e-9 * abs(cached)):
+                continue
+        elif isinstance(cached, str) and (now == cached or (now is None and cached == "")):
+            continue
+        elif isinstance(cached, bool) and now == cached:
+            continue
+        elif isinstance(cached, str) and isinstance(now, str) and now.startswith("#") and cached.startswith("#"):
+            continue                                     # errors: LibreOffice and Excel name some differently
+        out.append(f"{sheet}!{get_column_letter(c)}{r} (formula gives {now!r}, saved value {cached!r})")
+        if len(out) >= limit:
+            break
+    return out
