@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+from xml.etree import ElementTree
 from openpyxl.formula.tokenizer import Token, Tokenizer
 from openpyxl.utils import column_index_from_string, get_column_letter
 
@@ -570,6 +571,7 @@ _TEMPLATE_REF = re.compile(
 
 
 _LETTERS = [""] + [get_column_letter(c) for c in range(1, 16385)]   # Excel's last column is XFD
+_COLUMN_INDEX = {letters: c for c, letters in enumerate(_LETTERS) if c}
 
 
 class _Template:
@@ -602,27 +604,49 @@ class _Template:
 
 def _read_sheet(pkg, name: str, part: str, state: str, shared: list[str], limits: Limits) -> Sheet:
     sh = Sheet(name, state)
-    root = pkg.xml(part)
+    # The C parser directly, not defusedxml's (which calls back into Python for every
+    # element, 4x slower here): safe because open_package refused every part that declares
+    # a DTD or an entity, the only way to an entity bomb or an external entity.
+    if not part.lower().endswith(".xml"):           # only .xml parts were pre-scanned
+        root = pkg.xml(part)
+    else:
+        try:
+            root = ElementTree.fromstring(pkg.read(part))
+        except ElementTree.ParseError as e:
+            raise UnusableWorkbook(pkg.path, f"not well-formed XML ({e})", part=part) from None
     ns = root.tag[:root.tag.index("}") + 1] if root.tag.startswith("{") else ""
     shared_f: dict[str, tuple[str, int, int]] = {}
+    f_tag, v_tag, is_tag, t_tag = f"{ns}f", f"{ns}v", f"{ns}is", f"{ns}t"
+    col_of = _COLUMN_INDEX
     for c in root.iter(f"{ns}c"):
-        ref = c.get("r")
-        m = re.match(r"([A-Z]+)(\d+)$", ref or "")
-        if not m:
+        ref = c.get("r") or ""
+        letters = ref.rstrip("0123456789")
+        col = col_of.get(letters)
+        if col is None or not ref[len(letters):].isdigit():
             raise UnusableWorkbook(pkg.path, f"a cell without a valid reference ({ref!r})", part=part)
-        col, row = column_index_from_string(m.group(1)), int(m.group(2))
+        row = int(ref[len(letters):])
         if row > limits.max_rows or col > limits.max_cols:
             raise UnusableWorkbook(pkg.path, f"sheet '{name}' has a cell at {ref}, beyond the limits "
                                    f"({limits.max_rows} rows, {limits.max_cols} columns)")
-        sh.max_row, sh.max_col = max(sh.max_row, row), max(sh.max_col, col)
+        if row > sh.max_row:
+            sh.max_row = row
+        if col > sh.max_col:
+            sh.max_col = col
+        f = v = inline = None
+        for child in c:                    # one pass over <f>, <v>, <is>
+            tag = child.tag
+            if tag == v_tag:
+                v = child
+            elif tag == f_tag:
+                f = child
+            elif tag == is_tag:
+                inline = child
         t = c.get("t", "n")
-        f = c.find(f"{ns}f")
-        v = c.find(f"{ns}v")
         vtext = v.text if v is not None else None
         if t == "s" and vtext is not None:
             value = shared[int(vtext)]
-        elif t == "inlineStr":
-            value = "".join(x.text or "" for x in c.iter(f"{ns}t"))
+        elif t == "inlineStr" and inline is not None:
+            value = "".join(x.text or "" for x in inline.iter(t_tag))
         elif t == "b" and vtext is not None:
             value = vtext.strip() == "1"
         elif t in ("e", "str") and vtext is not None:
@@ -637,11 +661,9 @@ def _read_sheet(pkg, name: str, part: str, state: str, shared: list[str], limits
                 si = f.get("si")
                 if text:
                     shared_f[si] = (text, row, col)
-                else:
+                elif si in shared_f:
                     master, mr, mc = shared_f[si]
                     text = _shift_formula(master, row - mr, col - mc)
-            elif f.get("t") == "array" and text is None:
-                text = None
             if text:
                 sh.formulas[(row, col)] = text
                 if value is not None:

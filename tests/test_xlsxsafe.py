@@ -195,7 +195,17 @@ def test_input_never_modified(good):
 def test_missing_path_and_directory(tmp_path):
     refused(tmp_path / "nope.xlsx", "no such file")
     refused(tmp_path, "is a directory")
-    refused("bad\0name.xlsx", "cannot be read")
+    with pytest.raises(UnusableWorkbook, match=r"^bad\\x00name\.xlsx: cannot be read"):
+        open_package("bad\0name.xlsx")
+
+
+def test_control_characters_in_the_path_are_escaped(tmp_path):
+    p = tmp_path / "two\nlines.xlsx"
+    p.write_text("not a workbook")
+    with pytest.raises(UnusableWorkbook) as info:
+        open_package(p)
+    msg = str(info.value)
+    assert "\n" not in msg and msg.startswith(str(p).replace("\n", "\\n") + ": not an .xlsx file")
 
 
 @pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no FIFOs here")
