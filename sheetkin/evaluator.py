@@ -613,7 +613,8 @@ def _read_sheet(pkg, name: str, part: str, state: str, shared: list[str], limits
         try:
             root = ElementTree.fromstring(pkg.read(part))
         except ElementTree.ParseError as e:
-            raise UnusableWorkbook(pkg.path, f"not well-formed XML ({e})", part=part) from None
+            raise UnusableWorkbook(pkg.path, f"not well-formed XML ({e})", "a sheet saved by Excel or LibreOffice",
+                                   part=part) from None
     ns = root.tag[:root.tag.index("}") + 1] if root.tag.startswith("{") else ""
     shared_f: dict[str, tuple[str, int, int]] = {}
     f_tag, v_tag, is_tag, t_tag = f"{ns}f", f"{ns}v", f"{ns}is", f"{ns}t"
@@ -623,11 +624,12 @@ def _read_sheet(pkg, name: str, part: str, state: str, shared: list[str], limits
         letters = ref.rstrip("0123456789")
         col = col_of.get(letters)
         if col is None or not ref[len(letters):].isdigit():
-            raise UnusableWorkbook(pkg.path, f"a cell without a valid reference ({ref!r})", part=part)
+            raise UnusableWorkbook(pkg.path, f"a cell without a valid reference ({ref!r})",
+                                   "cells named like A1", part=part)
         row = int(ref[len(letters):])
         if row > limits.max_rows or col > limits.max_cols:
-            raise UnusableWorkbook(pkg.path, f"sheet '{name}' has a cell at {ref}, beyond the limits "
-                                   f"({limits.max_rows} rows, {limits.max_cols} columns)")
+            raise UnusableWorkbook(pkg.path, f"sheet '{name}' has a cell at {ref}",
+                                   f"at most {limits.max_rows} rows and {limits.max_cols} columns")
         if row > sh.max_row:
             sh.max_row = row
         if col > sh.max_col:

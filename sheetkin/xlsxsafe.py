@@ -13,8 +13,9 @@ that lies about a part's size); encrypted entries; not a spreadsheet package (no
 .xltm, .xlam, xl/vbaProject.bin, Excel 4 macro sheets, a macro-enabled content type);
 external links (xl/externalLinks/ parts, externalLink relationships, any TargetMode="External"
 relationship other than a hyperlink); too many parts; too much uncompressed data or a zip-bomb
-compression ratio; any XML part with a DTD or entity declarations (entity bombs); a worksheet
-whose <dimension ref> exceeds the row/column limits.
+compression ratio; any XML part with a DTD or entity declarations (entity bombs) or declared in
+an encoding other than UTF-8/UTF-16; a worksheet whose <dimension ref> exceeds the row/column
+limits.
 
 Checks run cheapest first, so a zip bomb is refused before anything is inflated:
 
@@ -27,7 +28,9 @@ Checks run cheapest first, so a zip bomb is refused before anything is inflated:
 4. one streaming pass over every part (inflated in 1 MiB chunks, never trusting the
    headers: the real byte count is enforced while inflating, and it, the end of the deflate
    stream and the CRC-32 must match the central directory), scanning each XML part for
-   ``<!DOCTYPE`` / ``<!ENTITY`` (UTF-8 and UTF-16);
+   ``<!DOCTYPE`` / ``<!ENTITY`` (UTF-8 and UTF-16) and refusing an XML declaration of any
+   encoding but UTF-8 or UTF-16 (the standard's two; Python's expat would otherwise also
+   read single-byte code pages, or fail on UTF-32 with a ValueError, not a ParseError);
 5. the content, parsed with defusedxml: macro-enabled content types, macro and external
    relationships, the workbook's sheets and each worksheet's <dimension ref>.
 
@@ -91,6 +94,10 @@ _DTD_OVERLAP = max(len(m) for m in _DTD_MARKERS) - 1
 _XML_EXTENSIONS = ("xml", "rels", "vml")
 _DIMENSION_RE = re.compile(
     rb"<(?:[A-Za-z_][\w.-]*:)?dimension\b[^>]*?\bref\s*=\s*[\"']([^\"']*)[\"']")
+_DECLARATION_RE = re.compile(rb"\s*<\?xml\s[^>]*?\bencoding\s*=\s*[\"']([^\"']{0,40})[\"']")
+# ECMA-376 Part 2, 8.1.4: XML parts are UTF-8 or UTF-16 (ASCII is a subset of UTF-8).
+_XML_ENCODINGS = frozenset({"utf-8", "utf8", "utf-16", "utf16", "utf-16le", "utf-16be",
+                            "us-ascii", "ascii"})
 _CELL_RE = re.compile(r"\$?([A-Za-z]{1,3})\$?([0-9]{1,7})")
 
 
@@ -524,8 +531,15 @@ def open_package(path, limits: Limits = Limits()) -> Package:
         name = info.filename
         scan = _is_xmlish(name, pkg.content_type(name))
         tail = b""
+        first = True
         for chunk in pkg.chunks(name):
             real_total += len(chunk)
+            if scan and first:
+                first = False
+                encoding = _declared_encoding(chunk)
+                if encoding is not None and encoding not in _XML_ENCODINGS:
+                    pkg._fail(f"XML declared in encoding '{_show(encoding, 40)}'",
+                              "expected UTF-8 or UTF-16, as the .xlsx standard requires", name)
             if scan:
                 window = tail + chunk
                 if any(m in window for m in _DTD_MARKERS):
@@ -564,6 +578,18 @@ def open_package(path, limits: Limits = Limits()) -> Package:
             if dim is not None:
                 check_dimension(shown, sheet.name, dim[0], dim[1], limits)
     return pkg
+
+
+def _declared_encoding(head: bytes) -> str | None:
+    """The encoding named in an XML declaration at the start of `head`, lower-cased."""
+    if head.startswith(b"\xef\xbb\xbf"):
+        head = head[3:]
+    elif head[:2] in (b"\xff\xfe", b"\xfe\xff", b"<\x00", b"\x00<"):
+        codec = "utf-16" if head[:2] in (b"\xff\xfe", b"\xfe\xff") else (
+            "utf-16-le" if head[:1] == b"<" else "utf-16-be")
+        head = head[:512].decode(codec, "replace").encode("ascii", "replace")
+    m = _DECLARATION_RE.match(head[:512])
+    return m.group(1).decode("ascii", "replace").lower() if m else None
 
 
 def _is_xmlish(name: str, content_type: str | None) -> bool:

@@ -428,6 +428,25 @@ def test_billion_laughs_in_utf16(good, tmp_path):
     refused(p, SHEET, "entity bomb")
 
 
+@pytest.mark.parametrize("encoding", ["UTF-32", "windows-1251"])
+def test_xml_in_other_encodings(good, tmp_path, encoding):
+    # The standard allows UTF-8 and UTF-16 only. Stdlib ElementTree would read windows-1251
+    # through Python's codecs, and raises ValueError, not ParseError, on UTF-32.
+    p = rewrite(good, tmp_path / "enc.xlsx", replace={SHEET: lambda b: (
+        f'<?xml version="1.0" encoding="{encoding}"?>'.encode() + b.split(b"?>", 1)[-1])})
+    refused(p, SHEET, f"encoding '{encoding.lower()}'", "UTF-8 or UTF-16")
+
+
+def test_utf16_xml_is_fine(good, tmp_path):
+    def utf16(b: bytes) -> bytes:
+        text = '<?xml version="1.0" encoding="UTF-16"?>' + b.decode().split("?>", 1)[-1]
+        return text.encode("utf-16")
+    p = rewrite(good, tmp_path / "utf16.xlsx", replace={SHEET: utf16})
+    pkg = open_package(p)
+    assert pkg.read(SHEET).startswith(b"\xff\xfe")
+    assert len(list(pkg.xml(SHEET).iter())) > 20
+
+
 def test_dtd_in_relationships(good, tmp_path):
     p = rewrite(good, tmp_path / "relbomb.xlsx", replace={
         "_rels/.rels": lambda b: b'<!DOCTYPE r [<!ENTITY x "y">]>' + b})

@@ -1,0 +1,600 @@
+"""sheetkin.evaluator against LibreOffice, cell by cell; its messages; its vectorization.
+
+Differential part: small workbooks of formula *cases* are written here with openpyxl. A row
+case puts inputs a, b, c in B:F, G:K, L:P of its row and the same formula, copied with its
+relative references shifted, in R:V (five cells, so one vectorized run); a single case has
+one formula in R; a raw case is a sheet of its own (chains, cycles of runs, other sheets).
+Every case book, every bundled workbook (workbooks/*.xlsx) and a 360-column shaper are
+recalculated in ONE soffice call; every formula cell is then compared with ours: numbers to
+1e-12 (relative, absolute below 1), errors as "an error" (LibreOffice's codes are not always
+Excel's), text and booleans exactly.
+
+Where LibreOffice 7.4 and Excel disagree and the evaluator follows Excel, the case says so
+(`excel=`: those cells are compared with Excel's value, error codes exactly). A case the
+evaluator gets wrong is marked `bug=` (strict xfail: fixing the evaluator turns it into a
+failure that asks for the mark to go).
+"""
+from __future__ import annotations
+
+import math
+import re
+import shutil
+import subprocess
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import openpyxl
+import pytest
+from openpyxl.utils import get_column_letter
+from openpyxl.workbook.defined_name import DefinedName
+
+from libreoffice import is_error, recalculate
+from sheetkin.evaluator import ERRORS, EvaluationError, evaluate, read_book
+
+ROOT = Path(__file__).resolve().parent.parent
+BUNDLED = sorted((ROOT / "workbooks").glob("*.xlsx"))
+
+# columns of the inputs a, b, c and of the formulas (R:V); five cells each
+COL = {"a": 2, "b": 7, "c": 12, "f": 18}
+WIDTH = 5
+FIRST_ROW = 6
+PARAMS = [1, -2, 0, 0.5, 3]        # R2:V2, for row-absolute references {F}$2
+ABS_PARAM = 2.5                    # $A$2
+CASE_SHEET = "Cases"
+
+T, F = True, False
+
+
+@dataclass
+class Case:
+    name: str
+    formula: str | None = None       # template (see _render), None for a raw case
+    a: list | None = None
+    b: list | None = None
+    c: list | None = None
+    single: bool = False             # one formula cell (R) instead of five (R:V)
+    raw: dict | None = None          # raw case: {"A1" or "Sheet!A1": value}
+    excel: dict | None = None        # {column index: Excel's value} where LibreOffice differs
+    bug: str | None = None           # the evaluator is wrong here: strict xfail with this reason
+    split: bool = False              # a row case that refers to its own cells (a run of cells)
+    book: str = ""                   # set by _register
+
+
+BOOKS: dict[str, list[Case]] = {}
+
+
+def _register(book: str, cases: list[Case]):
+    for c in cases:
+        c.book = book
+    BOOKS[book] = cases
+
+
+def row(name, formula, a=None, b=None, c=None, **kw) -> Case:
+    return Case(name, formula, a, b, c, **kw)
+
+
+def one(name, formula, a=None, b=None, c=None, **kw) -> Case:
+    return Case(name, formula, a, b, c, single=True, **kw)
+
+
+def raw(name, cells, **kw) -> Case:
+    return Case(name, raw=cells, **kw)
+
+
+_PLACEHOLDER = re.compile(r"\{([abcfABCF])([+-]\d+)?\}|\{r\}|\{fp\}")
+
+
+def _render(template: str, r: int, j: int) -> str:
+    """The formula of column j of case row r: {a} {b} {c} {f} -> that column's input cell
+    (same row), {a+1} one column further; {A} {B} {C} {F} -> the column letter alone;
+    {r} -> the row; {fp} -> the formula cell of the previous row, same column."""
+    def sub(m):
+        if m.group(0) == "{r}":
+            return str(r)
+        if m.group(0) == "{fp}":
+            return f"{get_column_letter(COL['f'] + j)}{r - 1}"
+        key, off = m.group(1), int(m.group(2) or 0)
+        letter = get_column_letter(COL[key.lower()] + j + off)
+        return letter if key.isupper() else f"{letter}{r}"
+    return _PLACEHOLDER.sub(sub, template)
+
+
+# --------------------------------------------------------------------------- the cases
+_register("funcs", [
+    row("sin", "=SIN({a})", [0, 1, -2.5, 1e6, "x"]),
+    row("sin_coerced", "=SIN({a})", [None, T, "0.5", F, "#N/A"]),
+    row("cos", "=COS({a})", [0, math.pi, -1, 100, None]),
+    row("tan", "=TAN({a})", [0, 1, -1.2, "=PI()/2", "=PI()/4"]),
+    row("asin", "=ASIN({a})", [0.5, -1, 1, 2, -1.0000001]),
+    row("acos", "=ACOS({a})", [0.5, -1, 1, -2, 1.5]),
+    row("atan", "=ATAN({a})", [0, 1, -1e300, 1e300, "1"]),
+    row("atan2", "=ATAN2({a},{b})", [1, 0, -1, 0, -1], [0, 1, 0, -1, -1]),
+    row("atan2_more", "=ATAN2({a},{b})", [1, -2, 1e-300, "x", 3], [2, 1e-300, 0, 1, "#NUM!"]),
+    # LibreOffice: ATAN2(0,0) = 0; Excel: #DIV/0! (the evaluator follows Excel)
+    row("atan2_origin", "=ATAN2({a},{b})", [0, 0, 1, None, -0.0], [0, 1, 0, None, 0],
+        excel={0: "#DIV/0!", 3: "#DIV/0!", 4: "#DIV/0!"}),
+    one("atan2_origin_literal", "=ATAN2(0,0)", excel={0: "#DIV/0!"}),
+    row("sqrt", "=SQRT({a})", [4, 2, 0, -1, "9"]),
+    one("pi", "=PI()"),
+    one("pi_expr", "=2*PI()-PI()/3"),
+    row("radians", "=RADIANS({a})", [180, -30, 0, 1e308, "x"]),
+    row("degrees", "=DEGREES({a})", [math.pi, -1, 0, 1e308, T]),
+    row("abs", "=ABS({a})", [-3, 3, 0, "-2", None]),
+    row("sign", "=SIGN({a})", [-3, 2.5, 0, "=-0", T]),
+    row("power", "=POWER({a},{b})", [2, -2, 0, 0, -8], [10, 3, 2, -1, "=1/3"]),
+    row("power_more", "=POWER({a},{b})", [2, -2, 10, 0.5, -2], [0.5, -2, 400, -2000, 0.5]),
+    row("power_zero", "=POWER({a},{b})", [0, 0, 5, -5, 0], [0, 1, 0, 0, 0.5]),
+    row("caret", "={a}^{b}", [2, -2, 0, 0, -8], [10, 3, 2, -1, "=1/3"]),
+    row("caret_zero", "={a}^{b}", [0, 0, 5, -5, 0], [0, 1, 0, 0, 0.5]),
+    row("exp", "=EXP({a})", [0, 1, -1000, 709, 710]),
+    row("ln", "=LN({a})", [1, "=EXP(1)", 0, -1, 1e-300]),
+    row("log10", "=LOG10({a})", [1000, 1e-5, 0, -1, "x"]),
+    row("mod", "=MOD({a},{b})", [-7, 7, -7, 5, 5.5], [3, -3, -3, 0, 2]),
+    row("mod_more", "=MOD({a},{b})", [0, -30.5, 390, 1e10, -0.5], [5, 360, 360, 7, 1]),
+    row("mod_angle", "=MOD(DEGREES(ATAN2({a},{b})),360)", [1, -1, -1, 0, 1], [1, 1, -1, -1, -1e-9]),
+    row("round", "=ROUND({a},{b})", [2.5, -2.5, 0.125, 1234.5678, -1234.5], [0, 0, 2, -2, -1]),
+    row("round_more", "=ROUND({a},{b})", [1.45, 0.5, -0.5, 2.5, 123.456], [1, 0, 0, 0.7, 1.9]),
+    row("round_decimal", "=ROUND({a},2)", [1.005, 2.675, 0.285, 1.015, 8.345]),
+    one("round_many_digits", "=ROUND(2.5,400)"),
+])
+
+_register("crash_round_missing", [
+    row("round_missing", "=ROUND({a},)", [2.5, -0.5, 1.4, 0, 99.5]),
+])
+
+_CMP_A = [[1, "A", T, None, None], [None, "abc", "10", 2, F], [None, None, F, -1, "#N/A"]]
+_CMP_B = [["a", "a", 1, 0, ""], ["a", "ABD", "9", 2, T], [F, -1, 0, None, 1]]
+_register("ops", [
+    one("neg_pow", "=-2^2"),
+    one("pow_pow", "=2^3^2"),
+    one("precedence", "=1+2*3^2"),
+    one("parens", "=(1+2)*3^2"),
+    one("sub_chain", "=10-4-3"),
+    one("div_chain", "=100/10/5"),
+    one("neg_neg", "=--TRUE"),
+    one("neg_text", '=-"2"'),
+    one("pct_text", '="50"%'),
+    one("neg_pct_pow", "=-50%^2"),
+    one("concat_then_compare", "=1&2=12"),
+    one("add_then_concat", "=1+2&3"),
+    one("concat_literals", '="a"&1&TRUE'),
+    one("times_neg", "=2*-3^2"),
+    one("pow_neg_exp", "=-2^-2"),
+    one("error_literal", "=#N/A"),
+    one("ref_error_literal", "=#REF!+1"),
+    one("unknown_name", "=nosuchname+1"),
+    one("less_than_text", '=1<"a"'),
+    one("text_equal_case", '="A"="a"'),
+    one("bool_greater", "=TRUE>1"),
+    row("neg_pow_ref", "=-{a}^2", [3, -3, 0, "2", T]),
+    row("pct", "={a}%", [50, -3, "50", T, None]),
+    row("neg_pct_ref", "=-{a}%^2", [50, -3, 0, 1e3, None]),
+    row("pow_pct", "=2^{a}%", [100, 50, 0, -100, 200]),
+    row("chain_ops", "={a}-{b}-{c}*2^{b}/4", [1, 2, 3, 4, 5], [0.5, 1, 2, -1, 3], [2, -1, 0, 7, 1]),
+    row("concat", "={a}&{b}", ["x", 1.5, T, None, "=1/3"], [1, "y", F, None, 2]),
+    row("number_text", '={a}&""', [1234567.891, 1e15, 123456789012345678, -1.5, "=0.1+0.2"]),
+    row("number_text_more", '={a}&"|"', [1e20, "=-0", 2.5e-3, 100, -123456.789]),
+    row("text_arith", "={a}+1", ["3", "1e3", "a", "-2.5", "1E-2"]),
+    row("text_arith_spaces", "={a}*2", [" 3", "3 ", "4", " -1 ", "5"]),
+    row("text_arith_python_only", "={a}*2", ["1_000", "inf", "nan", "Infinity", "12"]),
+    row("bool_arith", "={a}+{b}", [T, F, T, None, None], [1, T, None, None, "2"]),
+    row("div", "={a}/{b}", [1, 1, 0, -1, "x"], [0, None, 0, 4, 1]),
+    row("errors_first", "={a}+{b}", ["#DIV/0!", 1, "#N/A", "#NUM!", "x"], ["#N/A", "#REF!", 1, "#DIV/0!", "#VALUE!"]),
+    *[row(f"compare{k}_{name}", f"={{a}}{op}{{b}}", a, b)
+      for op, name in (("=", "eq"), ("<>", "ne"), ("<", "lt"), (">", "gt"), ("<=", "le"), (">=", "ge"))
+      for k, (a, b) in enumerate(zip(_CMP_A, _CMP_B))],
+    row("compare_formula_results", "=({a}*2)>({b}&\"\")", [1, 2, 3, 4, 5], [1, 2, 3, 4, 5]),
+])
+
+_register("aggs", [
+    row("sum_range", "=SUM($B{r}:$F{r})", [1, "2", T, None, 4]),
+    row("sum_window", "=SUM({a}:{a+1})", [1, "x", T, 3, None], [10, 0, 0, 0, 0]),
+    row("sum_window_error", "=SUM({a}:{a+1})", [1, 2, "#DIV/0!", 4, 5], [6, 0, 0, 0, 0]),
+    row("sum_cells", "=SUM({a})", [1, "3", T, "a", None]),
+    row("sum_cell_and_number", "=SUM({a},1)", [2, "3", T, None, -1]),
+    one("sum_literals", '=SUM(TRUE,1,"3")'),
+    one("sum_literal_text", '=SUM("a",1)'),
+    row("sum_mixed_args", "=SUM($B{r}:$F{r},{a}*2,TRUE)", [1, 2, 3, 4, 5]),
+    row("average_range", "=AVERAGE($B{r}:$F{r})", [1, "2", T, None, 4]),
+    row("average_window", "=AVERAGE({a}:{a+1})", ["x", "y", 1, None, None], [None, 0, 0, 0, 0]),
+    one("average_literals", "=AVERAGE(TRUE,3)"),
+    row("min_range", "=MIN($B{r}:$F{r})", [5, "1", F, None, 7]),
+    row("max_range", "=MAX($B{r}:$F{r})", [5, "1", F, None, 7]),
+    row("minmax_window", "=MAX({a}:{a+1})+MIN({a}:{a+1})", ["x", None, T, -1, 3], [None, 0, 0, 0, 0]),
+    row("min_window_error", "=MIN({a}:{a+1})", [1, "#N/A", 3, 4, 5], [6, 0, 0, 0, 0]),
+    row("max_negative", "=MAX({a},{b},-100)", [-5, -1, -300, 2, -7], [-6, -2, -200, 1, None]),
+    one("min_literals", "=MIN(TRUE,5)"),
+    one("max_literals", '=MAX("9",1)'),
+    row("count_range", "=COUNT($B{r}:$F{r})", [1, "2", T, None, "#DIV/0!"]),
+    row("count_window", "=COUNT({a}:{a+1})", [1, "2", 3, None, 5], [F, 0, 0, 0, 0]),
+    one("count_literals", '=COUNT(1,"2",TRUE)'),
+    one("count_error_argument", "=COUNT(1/0,2)"),
+    row("sumproduct", "=SUMPRODUCT($B{r}:$F{r},$G{r}:$K{r})", [1, "2", T, None, 4], [2, 3, 4, 5, 0.5]),
+    row("sumproduct_window", "=SUMPRODUCT({a}:{a+1},{b}:{b+1})", [1, 2, 3, 4, 5], [6, 7, 8, 9, 10], [11, 0, 0, 0, 0]),
+    row("sumproduct_booleans", "=SUMPRODUCT(--($B{r}:$F{r}))", [T, F, 2, None, T]),
+    row("sumproduct_compare", "=SUMPRODUCT(--($B{r}:$F{r}>{b}))", [1, 2, 3, 4, 5], [0, 2, 3.5, 5, -1]),
+    row("sumproduct_text", "=SUMPRODUCT(--($B{r}:$F{r}))", [1, "x", 2, None, 3]),
+    row("sumproduct_error", "=SUMPRODUCT({a}:{a+1})", [1, "#DIV/0!", 3, 4, 5], [6, 0, 0, 0, 0]),
+    row("sumproduct_product", "=SUMPRODUCT(($B{r}:$F{r})*{b})", [1, 2, 3, 4, 5], [1, 2, 0, -1, 0.5]),
+    one("sumproduct_scalar", "=SUMPRODUCT(3)"),
+    row("and_range", "=AND($B{r}:$F{r})", [T, "x", 1, None, T]),
+    row("and_window", "=AND({a}:{a+1})", [T, F, "x", "y", None], [1, 0, 0, 0, 0]),
+    row("or_window", "=OR({a}:{a+1})", [F, 0, "x", None, "#N/A"], [None, 0, 0, 0, 0]),
+    row("and_compare", "=AND({a}>0,{b}>0)", [1, -1, 1, "x", None], [1, 1, -1, 2, 0]),
+    row("or_cells", "=OR({a},{b})", [0, 1, 0, None, T], [0, 0, 1, None, "#N/A"]),
+    row("or_cell_text", "=OR({a},{b})", ["x", "y", 1, None, T], [1, 0, "z", "x", None]),
+    one("and_text_literal", '=AND(TRUE,"x")'),
+    row("not", "=NOT({a})", [0, 1, "x", None, T]),
+    row("if_branch", '=IF({a}>0,SQRT({a}),"neg")', [4, -1, 0, "x", None]),
+    row("if_condition", '=IF({a},"y","n")', [1, 0, "x", None, T]),
+    row("if_guard", "=IF({a}=0,0,1/{a})", [0, 2, 0, -4, None]),
+    row("if_two_args", "=IF({a}>1,{a})", [2, 1, "x", None, 5]),
+    row("if_missing_branch", "=IF({a},,1)", [1, 0, T, F, None]),
+    row("if_error_condition", "=IF({a},1,2)", ["#DIV/0!", 1, "#N/A", 0, 2]),
+    row("iferror", '=IFERROR({a}/{b},"bad")', [1, 1, "x", 0, "#N/A"], [2, 0, 1, 0, 1]),
+    row("iferror_error_alternative", "=IFERROR(1/{a},1/{b})", [0, 1, 0, 2, "x"], [0, 0, 2, 0, 1]),
+    row("isnumber", "=ISNUMBER({a})", [1, "x", T, None, "#N/A"]),
+    row("iserror", "=ISERROR({a})", [1, "x", T, None, "#N/A"]),
+    row("istext", "=ISTEXT({a})", [1, "x", T, None, "#N/A"]),
+    # an error in one column stays in that column, through the rows below
+    row("error_column", "=1/{a}", [1, 0, 2, 0, 4]),
+    row("error_column_next", "={fp}*2+1"),
+    row("error_column_caught", "=IFERROR({fp},-1)"),
+    row("error_column_sum", "=SUM($R{r}:{F}{r})+SUM({F}{r})"),
+    # a formula whose value is an empty cell's is 0
+    row("empty_reference", "=$Z$99"),
+    row("empty_reference_is_number", "=ISNUMBER({fp})"),
+    row("empty_reference_text", '=$Z$99&"|"'),
+    one("empty_through_if", "=IF(TRUE,$Z$99)"),
+    one("empty_through_iferror", "=IFERROR($Z$99,1)"),
+    row("empty_compare", "={a}=$Z$99", [0, "", F, None, 1]),
+    row("empty_order", '=AND($Z$99<1,$Z$99<"a",$Z$99=FALSE,$Z$99>-1)+{a}', [0, 1, 2, 3, 4]),
+])
+
+_register("crash_sumproduct_sizes", [
+    one("sumproduct_sizes", "=SUMPRODUCT($B{r}:$F{r},$G{r}:$H{r})", [1, 2, 3, 4, 5], [1, 2, 0, 0, 0]),
+])
+
+_register("refs", [
+    row("other_sheet", "='Кинематика'!{A}1*2", [0] * 5),
+    row("other_sheet_spaces", "='My Data'!{A}1+{a}", [1, 2, 3, 4, 5]),
+    row("other_sheet_apostrophe", "='O''Brien'!$B$1*{a}", [1, 2, 3, 4, 5]),
+    row("other_sheet_plain", "=Data2!{A}1-{a}", [1, 2, 3, 4, 5]),
+    row("other_sheet_range", "=SUM('My Data'!$B$1:$F$1)+SUM('Кинематика'!$B1:{A}1)"),
+    row("other_sheet_sumproduct", "=SUMPRODUCT('My Data'!$B$1:$F$1,$B{r}:$F{r})", [1, 0, -1, 2, 0.5]),
+    row("absolute", "=$A$2*{a}", [1, 2, 3, 4, 5]),
+    row("row_absolute", "={a}*{F}$2", [1, 2, 3, 4, 5]),
+    row("column_absolute", "=$B{r}*{a}+$G{r}", [1, 2, 3, 4, 5], [10, 0, 0, 0, 0]),
+    row("mixed_all", "={a}*$R$2+{F}$2*$B{r}-$A2", [1, 2, 3, 4, 5]),
+    row("relative_left", "={F-1}{r}+1", split=True),
+    row("name_cell", "=Param*{a}", [1, 2, 3, 4, 5]),
+    row("name_constant", "=Gravity*{a}", [1, 2, 3, 4, 5]),
+    row("name_range", "=SUM(Span)+{a}", [1, 2, 3, 4, 5]),
+    row("name_other_sheet", "=Kin+Gravity+{a}", [1, 2, 3, 4, 5]),
+    row("name_sumproduct", "=SUMPRODUCT(Span,$B{r}:$F{r})", [1, 0, -1, 2, 0.5]),
+    one("name_lower_case", "=gravity*2"),
+])
+
+_register("raw", [
+    # each formula uses the previous cell of its row: one run refers to itself -> cells
+    raw("prefix_chain", {"A1": 1, **{f"{get_column_letter(c)}1": f"={get_column_letter(c - 1)}1*2+1"
+                                     for c in range(2, 21)},
+                         "A2": 1, **{f"{get_column_letter(c)}2":
+                                     f"=SUM($A2:{get_column_letter(c - 1)}2)+{get_column_letter(c)}1"
+                                     for c in range(2, 21)}}),
+    raw("reverse_chain", {**{f"{get_column_letter(c)}1": f"={get_column_letter(c + 1)}1*1.5-1"
+                             for c in range(1, 20)}, "T1": 2}),
+    # runs B1:F1 -> B2:F2 -> A1:E1 form a cycle of runs, not of cells
+    raw("row_cycle", {"A1": 1, **{f"{get_column_letter(c)}1": f"={get_column_letter(c)}2+1" for c in range(2, 7)},
+                      **{f"{get_column_letter(c)}2": f"={get_column_letter(c - 1)}1*2" for c in range(2, 7)}}),
+    # the same across two sheets
+    raw("sheet_cycle", {"A1": 1, **{f"{get_column_letter(c)}1": f"='Y cycle'!{get_column_letter(c)}1+1"
+                                    for c in range(2, 8)},
+                        **{f"Y cycle!{get_column_letter(c)}1": f"=sheet_cycle!{get_column_letter(c - 1)}1*2"
+                           for c in range(2, 8)}}),
+    raw("irregular", {"A1": 3, "B1": 4, "C1": "=A1+1", "D1": "=A1*2", "E1": "=SUM(A1:B1)", "F1": "=B1-1",
+                      "G1": "=C1+D1", "H1": "=H2*2", "H2": "=G1/2", "I1": "=B1+1", "J1": "=C1+1"}),
+    raw("forward_rows", {**{f"{get_column_letter(c)}1": f"={get_column_letter(c)}3*10" for c in range(1, 6)},
+                         **{f"{get_column_letter(c)}2": c for c in range(1, 6)},
+                         **{f"{get_column_letter(c)}3": f"={get_column_letter(c)}2^2" for c in range(1, 6)}}),
+    raw("wide", {**{f"{get_column_letter(c)}1": c * 10 for c in range(1, 41)},
+                 **{f"{get_column_letter(c)}2": f"=SIN(RADIANS({get_column_letter(c)}1))*$A$1+"
+                                                f"{get_column_letter(c - 1)}1" for c in range(2, 41)}}),
+])
+
+
+def _bug_marks(case: Case):
+    if case.bug:
+        return [pytest.mark.xfail(strict=True, reason=case.bug)]
+    return []
+
+
+ALL_CASES = [c for cases in BOOKS.values() for c in cases]
+assert len({c.name for c in ALL_CASES}) == len(ALL_CASES), "case names must be unique"
+
+
+# --------------------------------------------------------------------------- writing the books
+def _input(ws, r, c, value):
+    if value is not None:
+        ws.cell(r, c, value)
+
+
+def build_book(name: str, cases: list[Case]) -> tuple[openpyxl.Workbook, dict[str, list[tuple[str, int, int]]]]:
+    """The workbook of `cases`, and for each case the formula cells (sheet, row, col) it owns."""
+    wb = openpyxl.Workbook()
+    ws = wb.active
+    ws.title = CASE_SHEET
+    ws["A1"], ws["A2"], ws["A3"], ws["A4"] = "params", ABS_PARAM, "txt", True
+    for j, p in enumerate(PARAMS):
+        ws.cell(2, COL["f"] + j, p)
+    owned: dict[str, list[tuple[str, int, int]]] = {}
+    r = FIRST_ROW
+    for case in cases:
+        cells = []
+        if case.raw is not None:
+            for key, value in case.raw.items():
+                sheet, coord = key.rsplit("!", 1) if "!" in key else (case.name, key)
+                wsr = wb[sheet] if sheet in wb.sheetnames else wb.create_sheet(sheet)
+                wsr[coord] = value
+                if isinstance(value, str) and value.startswith("="):
+                    cell = wsr[coord]
+                    cells.append((sheet, cell.row, cell.column))
+            owned[case.name] = cells
+            continue
+        ws.cell(r, 1, case.name)
+        for key in ("a", "b", "c"):
+            values = getattr(case, key) or []
+            for j, v in enumerate(values):
+                _input(ws, r, COL[key] + j, v)
+                if isinstance(v, str) and v.startswith("="):
+                    cells.append((CASE_SHEET, r, COL[key] + j))
+        for j in range(1 if case.single else WIDTH):
+            ws.cell(r, COL["f"] + j, _render(case.formula, r, j))
+            cells.append((CASE_SHEET, r, COL["f"] + j))
+        owned[case.name] = cells
+        r += 1
+    if name == "refs":
+        kin, data, obrien, data2 = (wb.create_sheet(n) for n in ("Кинематика", "My Data", "O'Brien", "Data2"))
+        for j in range(WIDTH):
+            kin.cell(1, 2 + j, j + 1)
+            data.cell(1, 2 + j, 10 * (j + 1))
+            data2.cell(1, 2 + j, -j - 0.5)
+        kin["B2"], data["B2"], obrien["B1"] = 10, 7, 3
+        for n, target in (("Param", "'My Data'!$B$2"), ("Gravity", "9.81"),
+                          ("Span", "'My Data'!$B$1:$F$1"), ("Kin", "'Кинематика'!$B$2")):
+            wb.defined_names[n] = DefinedName(n, attr_text=target)
+    return wb, owned
+
+
+# --------------------------------------------------------------------------- comparison
+def _is_our_error(v) -> bool:
+    return isinstance(v, str) and v in ERRORS
+
+
+def agrees(ours, theirs, exact_errors=False) -> bool:
+    """ours (Book.value) against a spreadsheet's value (openpyxl data_only)."""
+    if is_error(theirs) or _is_our_error(ours):
+        if exact_errors:
+            return ours == theirs
+        return is_error(theirs) and _is_our_error(ours)
+    if theirs is None or theirs == "":
+        return ours is None or ours == ""        # a formula giving "" reads back as empty
+    if isinstance(theirs, bool) or isinstance(ours, bool):
+        return type(ours) is bool and type(theirs) is bool and ours == theirs
+    if isinstance(theirs, (int, float)):
+        if not isinstance(ours, float) or not math.isfinite(ours):
+            return False
+        return abs(ours - theirs) <= 1e-12 * max(1.0, abs(theirs))
+    return ours == theirs
+
+
+def _lo_values(path: Path) -> dict[tuple[str, int, int], object]:
+    wb = openpyxl.load_workbook(path, data_only=True)
+    try:
+        return {(ws.title, c.row, c.column): c.value
+                for ws in wb.worksheets for row_ in ws.iter_rows() for c in row_ if c.value is not None}
+    finally:
+        wb.close()
+
+
+def _where(sheet, r, c):
+    return f"{sheet}!{get_column_letter(c)}{r}"
+
+
+def _mismatches(book, lo: dict, cells, excel: dict | None = None) -> list[str]:
+    bad = []
+    for sheet, r, c in cells:
+        ours = book.value(sheet, r, c)
+        j = c - COL["f"]
+        if excel and sheet == CASE_SHEET and j in excel:
+            expected, exact, who = excel[j], True, "Excel"
+        else:
+            expected, exact, who = lo.get((sheet, r, c)), False, "LibreOffice"
+        if not agrees(ours, expected, exact):
+            bad.append(f"{_where(sheet, r, c)}: ours {ours!r}, {who} {expected!r}")
+    return bad
+
+
+# --------------------------------------------------------------------------- one soffice call
+@dataclass
+class Checked:
+    source: Path
+    lo: dict
+    book: object = None           # our Book, or None when evaluate raised
+    error: Exception | None = None
+    owned: dict | None = None
+
+
+@pytest.fixture(scope="module")
+def checked(soffice, tmp_path_factory) -> dict[str, Checked]:
+    """Every case book, every bundled workbook and the 360-column shaper, recalculated by
+    LibreOffice in one call and evaluated by us."""
+    src = tmp_path_factory.mktemp("eval_in")
+    out = tmp_path_factory.mktemp("eval_out")
+    paths, owned = {}, {}
+    for name, cases in BOOKS.items():
+        wb, owned[name] = build_book(name, cases)
+        paths[name] = src / f"cases_{name}.xlsx"
+        wb.save(paths[name])
+    for p in BUNDLED:
+        paths[p.stem] = src / p.name
+        shutil.copy(p, paths[p.stem])
+    paths["shaper360"] = src / "shaper360.xlsx"
+    subprocess.run([sys.executable, "-m", "sheetkin", "workbook", str(ROOT / "workbooks" / "shaper.toml"),
+                    "--positions", "360", "--step-deg", "-1", "-o", str(paths["shaper360"])],
+                   check=True, capture_output=True, cwd=ROOT)
+    outputs = recalculate(list(paths.values()), out)
+    result = {}
+    for name, p in paths.items():
+        ch = Checked(p, _lo_values(outputs[p.resolve()]), owned=owned.get(name))
+        try:
+            ch.book = evaluate(p)
+        except Exception as e:        # reported by the tests of this book
+            ch.error = e
+        result[name] = ch
+    return result
+
+
+def _book_of(checked, name) -> Checked:
+    ch = checked[name]
+    if ch.error is not None:
+        pytest.fail(f"evaluate({ch.source.name}) raised {type(ch.error).__name__}: {ch.error}")
+    return ch
+
+
+@pytest.mark.parametrize("case", [pytest.param(c, id=f"{c.book}-{c.name}", marks=_bug_marks(c))
+                                  for c in ALL_CASES])
+def test_case_agrees_with_libreoffice(checked, case: Case):
+    ch = _book_of(checked, case.book)
+    cells = ch.owned[case.name]
+    assert cells, "the case has no formula cell"
+    bad = _mismatches(ch.book, ch.lo, cells, case.excel)
+    assert not bad, f"{case.name}: " + "; ".join(bad)
+
+
+@pytest.mark.parametrize("name", [n for n in BOOKS if not n.startswith("crash_")])
+def test_case_books_are_fully_compared_and_vectorized(checked, name):
+    """Every formula cell of a case book belongs to a case (so it is compared), and the
+    five-cell rows became one run each (the vectorized path ran)."""
+    ch = _book_of(checked, name)
+    formula_cells = {(s, r, c) for s, sh in ch.book.sheets.items() for (r, c) in sh.formulas}
+    owned = {cell for cells in ch.owned.values() for cell in cells}
+    assert formula_cells == owned
+    assert ch.book.cells == len(formula_cells)
+    rows = [c for c in BOOKS[name] if c.raw is None and not c.single]
+    if rows:
+        singles = ch.book.cells - WIDTH * len(rows)
+        split = sum(c.split for c in rows)
+        # one run per row case (all five cells; a self-referring one: five), one per other cell
+        assert ch.book.runs <= len(rows) + singles + (WIDTH - 1) * split, (ch.book.runs, ch.book.cells)
+
+
+@pytest.mark.parametrize("stem", [p.stem for p in BUNDLED])
+def test_bundled_workbook_agrees_with_libreoffice(checked, stem):
+    ch = _book_of(checked, stem)
+    cells = [(s, r, c) for s, sh in ch.book.sheets.items() for (r, c) in sh.formulas]
+    assert len(cells) > 100
+    bad = _mismatches(ch.book, ch.lo, cells)
+    assert not bad, f"{len(bad)} of {len(cells)} cells differ: " + "; ".join(bad[:20])
+
+
+def test_shaper_360_columns_is_vectorized_and_agrees(checked):
+    ch = _book_of(checked, "shaper360")
+    book = ch.book
+    cells = [(s, r, c) for s, sh in book.sheets.items() for (r, c) in sh.formulas]
+    assert book.cells == len(cells) > 360 * 50
+    assert book.runs < book.cells / 50, (book.runs, book.cells)
+    bad = _mismatches(book, ch.lo, cells)
+    assert not bad, f"{len(bad)} of {len(cells)} cells differ: " + "; ".join(bad[:20])
+
+
+# --------------------------------------------------------------------------- messages
+def _save(tmp_path, name, cells: dict, sheet="Calc") -> Path:
+    wb = openpyxl.Workbook()
+    wb.active.title = sheet
+    for key, value in cells.items():
+        s, coord = key.rsplit("!", 1) if "!" in key else (sheet, key)
+        ws = wb[s] if s in wb.sheetnames else wb.create_sheet(s)
+        ws[coord] = value
+    path = tmp_path / name
+    wb.save(path)
+    return path
+
+
+def test_unsupported_function_strict_names_file_sheet_cells_and_function(tmp_path):
+    path = _save(tmp_path, "lookup.xlsx", {
+        "A1": 1, "B1": 2, "A2": 3, "B2": 4,
+        "C3": "=VLOOKUP(1,A1:B2,2)",
+        "Other sheet!D5": "=FOO(1)", "Other sheet!E5": "=FOO(1)", "Other sheet!F5": "=FOO(1)",
+        "D1": "=A1+B1",
+    })
+    with pytest.raises(EvaluationError) as exc:
+        evaluate(path, strict=True)
+    msg = str(exc.value)
+    assert "lookup.xlsx" in msg
+    assert "Calc!C3" in msg and "VLOOKUP" in msg
+    assert "Other sheet" in msg and "FOO" in msg
+    assert re.search(r"D5(:F5)?", msg), msg        # the run of FOO cells, or its cells
+
+
+def test_unsupported_function_lenient_gives_name_error_and_lists_problems(tmp_path):
+    path = _save(tmp_path, "lenient.xlsx", {
+        "A1": 1, "B1": 2, "A2": 3, "B2": 4,
+        "C3": "=VLOOKUP(1,A1:B2,2)", "C4": "=C3+1",
+        "D5": "=FOO(A1)", "E5": "=FOO(B1)", "F5": "=FOO(C1)",
+        "D1": "=A1+B1",
+    })
+    book = evaluate(path, strict=False)
+    assert book.value("Calc", 3, 3) == "#NAME?"
+    assert book.value("Calc", 4, 3) == "#NAME?"            # propagates
+    assert [book.value("Calc", 5, c) for c in (4, 5, 6)] == ["#NAME?"] * 3
+    assert book.value("Calc", 1, 4) == 3.0                  # the rest is computed
+    problems = " ".join(book.problems)
+    assert "Calc!C3" in problems and "VLOOKUP" in problems
+    assert "FOO" in problems and "D5" in problems
+    assert len(book.problems) == 2
+
+
+def test_circular_reference_names_both_cells(tmp_path):
+    path = _save(tmp_path, "circle.xlsx", {"A1": "=B1+1", "B1": "=A1+1", "C1": 5, "D1": "=C1*2"})
+    for strict in (True, False):
+        with pytest.raises(EvaluationError) as exc:
+            evaluate(path, strict=strict)
+        msg = str(exc.value)
+        assert "circle.xlsx" in msg and "circular" in msg.lower()
+        assert "Calc!A1" in msg and "Calc!B1" in msg
+        assert "D1" not in msg and "C1" not in msg
+
+
+def test_self_reference_names_the_cell(tmp_path):
+    path = _save(tmp_path, "self.xlsx", {"A1": 1, "B2": "=B2+A1", "C2": "=A1*2"})
+    with pytest.raises(EvaluationError) as exc:
+        evaluate(path)
+    msg = str(exc.value)
+    assert "self.xlsx" in msg and "circular" in msg.lower() and "Calc!B2" in msg
+    assert "C2" not in msg
+
+
+def test_cycle_inside_a_run_of_cells_names_the_cells(tmp_path):
+    """B1:F1 is one run (=C1+1 shifted) whose last cell closes a loop through G1."""
+    cells = {f"{get_column_letter(c)}1": f"={get_column_letter(c + 1)}1+1" for c in range(2, 7)}
+    cells["G1"] = "=B1*2"
+    cells["A1"] = "=A2+1"          # outside the loop
+    path = _save(tmp_path, "loop.xlsx", cells, sheet="Лист 1")
+    with pytest.raises(EvaluationError) as exc:
+        evaluate(path)
+    msg = str(exc.value)
+    for coord in ("B1", "C1", "D1", "E1", "F1", "G1"):
+        assert f"Лист 1!{coord}" in msg, msg
+    assert "A1" not in msg.replace("Лист 1!", "")
+
+
+def test_chains_are_not_circular(tmp_path):
+    """Prefix and reverse chains inside one row evaluate (no false circular reference)."""
+    cells = {"A1": 1, **{f"{get_column_letter(c)}1": f"={get_column_letter(c - 1)}1+1" for c in range(2, 30)}}
+    cells.update({f"{get_column_letter(c)}2": f"={get_column_letter(c + 1)}2*2" for c in range(1, 29)})
+    cells["AC2"] = 1
+    book = evaluate(_save(tmp_path, "chains.xlsx", cells))
+    assert [book.value("Calc", 1, c) for c in range(1, 30)] == [float(c) for c in range(1, 30)]
+    assert [book.value("Calc", 2, c) for c in range(1, 30)] == [2.0 ** (29 - c) for c in range(1, 30)]
