@@ -76,6 +76,9 @@ def _texts(v: Val) -> np.ndarray:
     return v.txt if v.txt is not None else np.full(v.shape, None, dtype=object)
 
 
+_NUMERIC_TEXT = re.compile(r"^\s*[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?\s*$")
+
+
 def _to_number(v: Val):
     """Arithmetic coercion: numbers, booleans; empty is 0; numeric text converts;
     other text is #VALUE!. Returns (num, error tags)."""
@@ -84,9 +87,10 @@ def _to_number(v: Val):
     if text.any():
         num = num.copy()
         for idx in zip(*np.nonzero(text)):
-            try:
-                num[idx] = float(str(v.txt[idx]).strip())
-            except ValueError:
+            t = str(v.txt[idx])
+            if _NUMERIC_TEXT.match(t):          # not Python's float(): "1_000", "inf" are not numbers
+                num[idx] = float(t)
+            else:
                 err[idx] = VALUE
     return num, err
 
@@ -142,6 +146,7 @@ def _arith(op: str, a: Val, b: Val) -> Val:
         else:   # "^"
             r = np.power(an, bn)
             err = np.where((err == 0) & (an == 0) & (bn < 0), DIV0, err).astype(np.int8)
+            err = np.where((err == 0) & (an == 0) & (bn == 0), NUMERR, err).astype(np.int8)   # Excel: 0^0
     return _result(r, err)
 
 
@@ -227,8 +232,21 @@ def _binary(fn, check=None):
 
 
 def _round(x, n):
-    f = 10.0 ** n
-    return np.sign(x) * np.floor(np.abs(x) * f + 0.5) / f       # Excel rounds half away from 0
+    """Excel's ROUND: half away from zero, on the number as its 15 significant digits show
+    it (=ROUND(1.005, 2) is 1.01, although the binary 1.005 is a little less)."""
+    from decimal import ROUND_HALF_UP, Decimal, InvalidOperation
+    x, n = np.broadcast_arrays(np.asarray(x, float), np.asarray(n, float))
+    out = np.empty(x.shape)
+    for idx in np.ndindex(x.shape):
+        v, d = x[idx], int(n[idx])
+        if not math.isfinite(v):
+            out[idx] = v
+            continue
+        try:
+            out[idx] = float(Decimal(f"{v:.15g}").quantize(Decimal(1).scaleb(-d), rounding=ROUND_HALF_UP))
+        except InvalidOperation:          # more digits than the number has: unchanged
+            out[idx] = v if d > 0 else 0.0
+    return out
 
 
 SCALAR_FUNCS = {
@@ -241,7 +259,7 @@ SCALAR_FUNCS = {
     # Excel's ATAN2 takes (x, y); ATAN2(0, 0) is #DIV/0!
     "ATAN2": _binary(lambda x, y: np.arctan2(y, x), lambda x, y: np.where((x == 0) & (y == 0), DIV0, 0)),
     "MOD": _binary(lambda a, b: a - b * np.floor(a / b), lambda a, b: np.where(b == 0, DIV0, 0)),
-    "POWER": _binary(np.power, lambda a, b: np.where((a == 0) & (b < 0), DIV0, 0)),
+    "POWER": _binary(np.power, lambda a, b: np.where((a == 0) & (b < 0), DIV0, np.where((a == 0) & (b == 0), NUMERR, 0))),
     "ROUND": _binary(lambda x, n: _round(x, np.trunc(n))),
 }
 
@@ -308,12 +326,21 @@ def _agg_minmax(fn, empty):
 def _agg_count(args, ranges):
     counts = None
     for v, is_range in zip(args, ranges):
-        c = (v.tag == NUM).reshape(v.shape[0], -1).sum(axis=1)
+        if is_range:
+            hit = v.tag == NUM
+        else:                               # typed: numbers, booleans and numeric text count
+            hit = (v.tag == NUM) | (v.tag == BOOL)
+            if (v.tag == TEXT).any():
+                hit = hit | np.vectorize(lambda t, x: t == TEXT and bool(_NUMERIC_TEXT.match(str(x))),
+                                         otypes=[bool])(v.tag, _texts(v))
+        c = hit.reshape(v.shape[0], -1).sum(axis=1)
         counts = c if counts is None else counts + c
     return Val(counts.astype(float).reshape(-1, 1, 1), np.zeros((counts.size, 1, 1), np.int8))
 
 
 def _agg_sumproduct(args, ranges):
+    if len({v.shape[1:] for v in args}) > 1:      # arrays of different sizes
+        return _const("#VALUE!", max(v.shape[0] for v in args))
     prod, err = None, None
     for v in args:
         n = np.where(v.tag == NUM, v.num, np.where(v.tag == BOOL, 0.0, 0.0))
@@ -413,11 +440,11 @@ def _operand_ref(text: str, host_r: int, host_c: int, names: dict):
     if all(e is not None for e in ends):
         a, b = ends[0], ends[-1]
         return Ref(sheet, a[0], a[1], b[0], b[1], a[2], a[3], b[2], b[3])
-    if sheet is None and len(parts) == 1 and ref in names:
-        return ("name", ref)
+    if sheet is None and len(parts) == 1 and ref.upper() in names:
+        return ("name", ref.upper())
     if len(parts) == 2 or re.match(r"^\$?[A-Za-z]{1,3}$|^\$?\d+$", parts[0]):
         raise ParseError(f"whole-row or whole-column references are not supported ({text})")
-    return ("name", ref)
+    return ("name", ref.upper())
 
 
 _PREC = {"=": 1, "<>": 1, "<": 1, ">": 1, "<=": 1, ">=": 1, "&": 2, "+": 3, "-": 3, "*": 4, "/": 4, "^": 5}
@@ -470,8 +497,9 @@ def parse_formula(formula: str, host_r: int, host_c: int, names: dict):
                 take()
                 return postfix(("fn", name, args))
             while True:
-                if peek() and peek().type == Token.SEP:
-                    args.append(("missing",))
+                nxt = peek()
+                if nxt and (nxt.type == Token.SEP or (nxt.type == Token.FUNC and nxt.subtype == Token.CLOSE)):
+                    args.append(("missing",))      # =ROUND(2.5,) : an empty argument
                 else:
                     args.append(expression(0))
                 sep = take() if peek() else None
@@ -802,7 +830,7 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
             tree = parse_formula("=" + text, 1, 1, {})
         except ParseError:
             tree = ("const", "#NAME?")
-        name_refs[n] = tree
+        name_refs[n.upper()] = tree               # names are case-insensitive
     for run in runs:
         try:
             run.tree = parse_formula("=" + run.formula, run.row, int(run.cols[0]), name_refs)
@@ -864,9 +892,12 @@ def _store(num, tag, txt, r, c, v):
 
 
 def _as_cells(v: Val, k: int) -> Val:
-    """A cell holds one value: an array result that is not a single value is #VALUE!."""
+    """A cell holds one value: an array result that is not a single value is #VALUE!;
+    a formula whose value is an empty cell holds 0 (=Z99 with Z99 empty is 0)."""
     if v.shape[1:] != (1, 1):
         return _const("#VALUE!", k)
+    if (v.tag == EMPTY).any():
+        v = Val(np.where(v.tag == EMPTY, 0.0, v.num), np.where(v.tag == EMPTY, NUM, v.tag).astype(np.int8), v.txt)
     if v.shape[0] != k:
         v = Val(np.broadcast_to(v.num, (k, 1, 1)), np.broadcast_to(v.tag, (k, 1, 1)),
                 None if v.txt is None else np.broadcast_to(v.txt, (k, 1, 1)))
@@ -893,8 +924,8 @@ def _schedule(path, runs: list[Run], dims, sheets) -> list[Run]:
                     continue
                 block = owner[target][r1:r2 + 1, int(c1.min()):int(c2.max()) + 1]
                 ids = set(np.unique(block[block >= 0]).tolist())
-                if i in ids and len(run.cols) > 1:
-                    split.add(i)
+                if len(run.cols) > 1 and (i in ids or ref.c1_abs != ref.c2_abs):
+                    split.add(i)                # self-reference, or a range whose width varies
                 d |= ids
             deps.append(d)
         if split:
@@ -999,7 +1030,8 @@ class _Context:
             return SCALAR_FUNCS[name](*(self.eval(a, run) for a in args))
         if name in AGGREGATES:
             vals = [self.eval(a, run) for a in args]
-            ranges = [a[0] == "ref" and a[1].is_range for a in args]
+            # a reference, even to one cell, is read like a range: text and booleans skipped
+            ranges = [a[0] == "ref" for a in args]
             return AGGREGATES[name](vals, ranges)
         return _const("#NAME?", len(run.cols))
 
@@ -1024,3 +1056,9 @@ def rows_frame(book: Book, sheet: str | None = None, first_col: int = 5) -> pd.D
     df = pd.DataFrame(data, index=names, columns=list(range(1, last - first_col + 2)), dtype=object)
     df.index.name = "name"
     return df
+
+
+def evaluate_frame(path: str | Path, sheet: str | None = None) -> pd.DataFrame:
+    """A workbook's named rows (column A) against its positions (column E onwards), every
+    formula evaluated headlessly: the Python face of `sheetkin evaluate`."""
+    return rows_frame(evaluate(path), sheet)

@@ -30,7 +30,7 @@ from openpyxl.utils import get_column_letter
 from openpyxl.workbook.defined_name import DefinedName
 
 from libreoffice import is_error, recalculate
-from sheetkin.evaluator import ERRORS, EvaluationError, evaluate, read_book
+from sheetkin.evaluator import ERRORS, EvaluationError, evaluate
 
 ROOT = Path(__file__).resolve().parent.parent
 BUNDLED = sorted((ROOT / "workbooks").glob("*.xlsx"))
@@ -44,6 +44,7 @@ ABS_PARAM = 2.5                    # $A$2
 CASE_SHEET = "Cases"
 
 T, F = True, False
+
 
 
 @dataclass
@@ -82,16 +83,19 @@ def raw(name, cells, **kw) -> Case:
     return Case(name, raw=cells, **kw)
 
 
-_PLACEHOLDER = re.compile(r"\{([abcfABCF])([+-]\d+)?\}|\{r\}|\{fp\}")
+_PLACEHOLDER = re.compile(r"\{([abcfABCF])([+-]\d+)?\}|\{r\}|\{rp\}|\{fp\}")
 
 
 def _render(template: str, r: int, j: int) -> str:
     """The formula of column j of case row r: {a} {b} {c} {f} -> that column's input cell
     (same row), {a+1} one column further; {A} {B} {C} {F} -> the column letter alone;
-    {r} -> the row; {fp} -> the formula cell of the previous row, same column."""
+    {r} -> the row, {rp} the previous row; {fp} -> the formula cell of the previous row,
+    same column."""
     def sub(m):
         if m.group(0) == "{r}":
             return str(r)
+        if m.group(0) == "{rp}":
+            return str(r - 1)
         if m.group(0) == "{fp}":
             return f"{get_column_letter(COL['f'] + j)}{r - 1}"
         key, off = m.group(1), int(m.group(2) or 0)
@@ -111,7 +115,7 @@ _register("funcs", [
     row("atan", "=ATAN({a})", [0, 1, -1e300, 1e300, "1"]),
     row("atan2", "=ATAN2({a},{b})", [1, 0, -1, 0, -1], [0, 1, 0, -1, -1]),
     row("atan2_more", "=ATAN2({a},{b})", [1, -2, 1e-300, "x", 3], [2, 1e-300, 0, 1, "#NUM!"]),
-    # LibreOffice: ATAN2(0,0) = 0; Excel: #DIV/0! (the evaluator follows Excel)
+    # LibreOffice: ATAN2(0,0) = 0 (and ATAN2(-0,0) = pi); Excel: #DIV/0! (the evaluator follows Excel)
     row("atan2_origin", "=ATAN2({a},{b})", [0, 0, 1, None, -0.0], [0, 1, 0, None, 0],
         excel={0: "#DIV/0!", 3: "#DIV/0!", 4: "#DIV/0!"}),
     one("atan2_origin_literal", "=ATAN2(0,0)", excel={0: "#DIV/0!"}),
@@ -122,43 +126,58 @@ _register("funcs", [
     row("degrees", "=DEGREES({a})", [math.pi, -1, 0, 1e308, T]),
     row("abs", "=ABS({a})", [-3, 3, 0, "-2", None]),
     row("sign", "=SIGN({a})", [-3, 2.5, 0, "=-0", T]),
-    row("power", "=POWER({a},{b})", [2, -2, 0, 0, -8], [10, 3, 2, -1, "=1/3"]),
+    row("power", "=POWER({a},{b})", [2, -2, 0, 0, 1.5], [10, 3, 2, -1, -2]),
     row("power_more", "=POWER({a},{b})", [2, -2, 10, 0.5, -2], [0.5, -2, 400, -2000, 0.5]),
-    row("power_zero", "=POWER({a},{b})", [0, 0, 5, -5, 0], [0, 1, 0, 0, 0.5]),
-    row("caret", "={a}^{b}", [2, -2, 0, 0, -8], [10, 3, 2, -1, "=1/3"]),
-    row("caret_zero", "={a}^{b}", [0, 0, 5, -5, 0], [0, 1, 0, 0, 0.5]),
+    row("power_zero", "=POWER({a},{b})", [0, 0, 5, -5, 0], [3, 1, 0, 0, 0.5]),
+    # a negative number to a fractional power: LibreOffice takes the odd root (-2), Excel #NUM!
+    row("power_negative_root", "=POWER({a},{b})", [-8, -8, 8, -27, -1], ["=1/3", 3, "=1/3", "=1/3", 0.5],
+        excel={0: "#NUM!", 3: "#NUM!"}),
+    one("power_zero_zero", "=POWER(0,0)", excel={0: "#NUM!"}),
+    row("caret", "={a}^{b}", [2, -2, 0, 0, 1.5], [10, 3, 2, -1, -2]),
+    row("caret_zero", "={a}^{b}", [0, 0, 5, -5, 0], [3, 1, 0, 0, 0.5]),
+    row("caret_negative_root", "={a}^{b}", [-8, -8, 8, -27, -1], ["=1/3", 3, "=1/3", "=1/3", 0.5],
+        excel={0: "#NUM!", 3: "#NUM!"}),
+    one("caret_zero_zero", "=0^0", excel={0: "#NUM!"}),
     row("exp", "=EXP({a})", [0, 1, -1000, 709, 710]),
     row("ln", "=LN({a})", [1, "=EXP(1)", 0, -1, 1e-300]),
     row("log10", "=LOG10({a})", [1000, 1e-5, 0, -1, "x"]),
     row("mod", "=MOD({a},{b})", [-7, 7, -7, 5, 5.5], [3, -3, -3, 0, 2]),
-    row("mod_more", "=MOD({a},{b})", [0, -30.5, 390, 1e10, -0.5], [5, 360, 360, 7, 1]),
+    row("mod_more", "=MOD({a},{b})", [0, -30.5, 390, 1e6, -0.5], [5, 360, 360, 7, 1]),
     row("mod_angle", "=MOD(DEGREES(ATAN2({a},{b})),360)", [1, -1, -1, 0, 1], [1, 1, -1, -1, -1e-9]),
     row("round", "=ROUND({a},{b})", [2.5, -2.5, 0.125, 1234.5678, -1234.5], [0, 0, 2, -2, -1]),
     row("round_more", "=ROUND({a},{b})", [1.45, 0.5, -0.5, 2.5, 123.456], [1, 0, 0, 0.7, 1.9]),
-    row("round_decimal", "=ROUND({a},2)", [1.005, 2.675, 0.285, 1.015, 8.345]),
+    row("round_exact_halves", "=ROUND({a},{b})", [0.375, -0.625, 2.675, 8.345, 1e15 + 0.5], [2, 2, 2, 2, 0]),
+    row("round_decimal", "=ROUND({a},2)", [1.005, 0.285, 1.015, 4.005, 1.245]),
     one("round_many_digits", "=ROUND(2.5,400)"),
 ])
 
 _register("crash_round_missing", [
-    row("round_missing", "=ROUND({a},)", [2.5, -0.5, 1.4, 0, 99.5]),
+    row("round_missing_argument", "=ROUND({a},)", [2.5, -0.5, 1.4, 0, 99.5]),
 ])
 
 _CMP_A = [[1, "A", T, None, None], [None, "abc", "10", 2, F], [None, None, F, -1, "#N/A"]]
 _CMP_B = [["a", "a", 1, 0, ""], ["a", "ABD", "9", 2, T], [F, -1, 0, None, 1]]
+# LibreOffice has no boolean type (TRUE is 1): TRUE=1 and FALSE=0 are TRUE there. In Excel a
+# boolean is greater than any number, so TRUE vs 1 and FALSE vs 0 are unequal, the boolean greater.
+_CMP_EXCEL = {"=": F, "<>": T, "<": F, ">": T, "<=": F, ">=": T}
 _register("ops", [
     one("neg_pow", "=-2^2"),
     one("pow_pow", "=2^3^2"),
     one("precedence", "=1+2*3^2"),
-    one("parens", "=(1+2)*3^2"),
+    one("parens", "=((1+2))*3^2"),
     one("sub_chain", "=10-4-3"),
     one("div_chain", "=100/10/5"),
-    one("neg_neg", "=--TRUE"),
+    one("spaces", "= 1 + 2 * 3 "),
+    one("literals", "=.5+1E3-2.5E-1"),
+    one("neg_neg", "=--TRUE", excel={0: 1.0}),          # LibreOffice: TRUE
     one("neg_text", '=-"2"'),
     one("pct_text", '="50"%'),
+    one("pct_function", "=SUM(1,2)%"),
     one("neg_pct_pow", "=-50%^2"),
     one("concat_then_compare", "=1&2=12"),
     one("add_then_concat", "=1+2&3"),
-    one("concat_literals", '="a"&1&TRUE'),
+    one("concat_literals", '="a"&1&TRUE', excel={0: "a1TRUE"}),     # LibreOffice: "a11"
+    one("quotes", '="a""b"&1'),
     one("times_neg", "=2*-3^2"),
     one("pow_neg_exp", "=-2^-2"),
     one("error_literal", "=#N/A"),
@@ -166,51 +185,64 @@ _register("ops", [
     one("unknown_name", "=nosuchname+1"),
     one("less_than_text", '=1<"a"'),
     one("text_equal_case", '="A"="a"'),
-    one("bool_greater", "=TRUE>1"),
+    one("bool_greater", "=TRUE>1", excel={0: T}),        # LibreOffice: FALSE
     row("neg_pow_ref", "=-{a}^2", [3, -3, 0, "2", T]),
     row("pct", "={a}%", [50, -3, "50", T, None]),
     row("neg_pct_ref", "=-{a}%^2", [50, -3, 0, 1e3, None]),
     row("pow_pct", "=2^{a}%", [100, 50, 0, -100, 200]),
     row("chain_ops", "={a}-{b}-{c}*2^{b}/4", [1, 2, 3, 4, 5], [0.5, 1, 2, -1, 3], [2, -1, 0, 7, 1]),
-    row("concat", "={a}&{b}", ["x", 1.5, T, None, "=1/3"], [1, "y", F, None, 2]),
-    row("number_text", '={a}&""', [1234567.891, 1e15, 123456789012345678, -1.5, "=0.1+0.2"]),
-    row("number_text_more", '={a}&"|"', [1e20, "=-0", 2.5e-3, 100, -123456.789]),
+    row("concat", "={a}&{b}", ["x", 1.5, T, None, "=1/3"], [1, "y", F, None, 2],
+        excel={2: "TRUEFALSE"}),                         # LibreOffice: "10"
+    # Excel writes exponents with at least two digits, LibreOffice with three
+    row("number_text", '={a}&""', [1234567.891, 1e14, 123456789012345678, -1.5, "=0.1+0.2"],
+        excel={2: "1.23456789012346E+17"}),
+    row("number_text_more", '={a}&"|"', [1e20, "=-0", 2.5e-3, 100, -123456.789], excel={0: "1E+20|"}),
     row("text_arith", "={a}+1", ["3", "1e3", "a", "-2.5", "1E-2"]),
     row("text_arith_spaces", "={a}*2", [" 3", "3 ", "4", " -1 ", "5"]),
-    row("text_arith_python_only", "={a}*2", ["1_000", "inf", "nan", "Infinity", "12"]),
+    row("text_arith_python_only", "={a}*2", ["1_000", "inf", "nan", "Infinity", "12"],
+        excel={0: "#VALUE!", 1: "#VALUE!", 2: "#VALUE!", 3: "#VALUE!"}),
     row("bool_arith", "={a}+{b}", [T, F, T, None, None], [1, T, None, None, "2"]),
     row("div", "={a}/{b}", [1, 1, 0, -1, "x"], [0, None, 0, 4, 1]),
     row("errors_first", "={a}+{b}", ["#DIV/0!", 1, "#N/A", "#NUM!", "x"], ["#N/A", "#REF!", 1, "#DIV/0!", "#VALUE!"]),
-    *[row(f"compare{k}_{name}", f"={{a}}{op}{{b}}", a, b)
+    *[row(f"compare{k}_{name}", f"={{a}}{op}{{b}}", a, b,
+          excel={2: _CMP_EXCEL[op]} if k in (0, 2) else None)
       for op, name in (("=", "eq"), ("<>", "ne"), ("<", "lt"), (">", "gt"), ("<=", "le"), (">=", "ge"))
       for k, (a, b) in enumerate(zip(_CMP_A, _CMP_B))],
     row("compare_formula_results", "=({a}*2)>({b}&\"\")", [1, 2, 3, 4, 5], [1, 2, 3, 4, 5]),
 ])
 
 _register("aggs", [
-    row("sum_range", "=SUM($B{r}:$F{r})", [1, "2", T, None, 4]),
-    row("sum_window", "=SUM({a}:{a+1})", [1, "x", T, 3, None], [10, 0, 0, 0, 0]),
+    # LibreOffice counts booleans in ranges as numbers; Excel skips them (and the evaluator)
+    row("sum_range", "=SUM($B{r}:$F{r})", [1, "2", T, None, 4], excel=dict.fromkeys(range(5), 5.0)),
+    row("sum_window", "=SUM({a}:{a+1})", [1, "x", T, 3, None], [10, 0, 0, 0, 0], excel={1: 0.0, 2: 3.0}),
     row("sum_window_error", "=SUM({a}:{a+1})", [1, 2, "#DIV/0!", 4, 5], [6, 0, 0, 0, 0]),
-    row("sum_cells", "=SUM({a})", [1, "3", T, "a", None]),
-    row("sum_cell_and_number", "=SUM({a},1)", [2, "3", T, None, -1]),
-    one("sum_literals", '=SUM(TRUE,1,"3")'),
+    row("sum_cumulative", "=SUM($B{r}:{a})", [1, 2, 3, 4, 5], split=True),
+    row("sum_shrinking", "=SUM({a}:$F{r})", [1, 2, 3, 4, 5], [100, 200, 300, 400, 500], split=True),
+    row("sum_cells", "=SUM({a})", [1, "3", T, "a", None], excel={2: 0.0}),
+    row("sum_cell_and_number", "=SUM({a},1)", [2, "3", T, None, -1], excel={2: 1.0}),
+    row("sum_cell_numbers", "=SUM({a},{b})+SUM({a})", [2, -3, 0.5, None, 1e10], [1, 2, None, None, 3]),
+    # typed booleans and numbers as text count (Excel); LibreOffice: #VALUE!
+    one("sum_literals", '=SUM(TRUE,1,"3")', excel={0: 5.0}),
     one("sum_literal_text", '=SUM("a",1)'),
     row("sum_mixed_args", "=SUM($B{r}:$F{r},{a}*2,TRUE)", [1, 2, 3, 4, 5]),
-    row("average_range", "=AVERAGE($B{r}:$F{r})", [1, "2", T, None, 4]),
+    row("average_range", "=AVERAGE($B{r}:$F{r})", [1, "2", T, None, 4], excel=dict.fromkeys(range(5), 2.5)),
     row("average_window", "=AVERAGE({a}:{a+1})", ["x", "y", 1, None, None], [None, 0, 0, 0, 0]),
     one("average_literals", "=AVERAGE(TRUE,3)"),
-    row("min_range", "=MIN($B{r}:$F{r})", [5, "1", F, None, 7]),
+    row("min_range", "=MIN($B{r}:$F{r})", [5, "1", F, None, 7], excel=dict.fromkeys(range(5), 5.0)),
     row("max_range", "=MAX($B{r}:$F{r})", [5, "1", F, None, 7]),
-    row("minmax_window", "=MAX({a}:{a+1})+MIN({a}:{a+1})", ["x", None, T, -1, 3], [None, 0, 0, 0, 0]),
+    row("minmax_window", "=MAX({a}:{a+1})+MIN({a}:{a+1})", ["x", None, T, -1, 3], [None, 0, 0, 0, 0],
+        excel={1: 0.0, 2: -2.0}),
     row("min_window_error", "=MIN({a}:{a+1})", [1, "#N/A", 3, 4, 5], [6, 0, 0, 0, 0]),
     row("max_negative", "=MAX({a},{b},-100)", [-5, -1, -300, 2, -7], [-6, -2, -200, 1, None]),
+    row("min_cells", "=MIN({a},{b})", ["x", T, 3, None, "2"], [5, 4, "y", None, 1], excel={1: 4.0}),
     one("min_literals", "=MIN(TRUE,5)"),
-    one("max_literals", '=MAX("9",1)'),
-    row("count_range", "=COUNT($B{r}:$F{r})", [1, "2", T, None, "#DIV/0!"]),
-    row("count_window", "=COUNT({a}:{a+1})", [1, "2", 3, None, 5], [F, 0, 0, 0, 0]),
+    one("max_literals", '=MAX("9",1)', excel={0: 9.0}),    # LibreOffice: #VALUE!
+    row("count_range", "=COUNT($B{r}:$F{r})", [1, "2", T, None, "#DIV/0!"], excel=dict.fromkeys(range(5), 1.0)),
+    row("count_window", "=COUNT({a}:{a+1})", [1, "2", 3, None, 5], [F, 0, 0, 0, 0], excel={4: 1.0}),
     one("count_literals", '=COUNT(1,"2",TRUE)'),
     one("count_error_argument", "=COUNT(1/0,2)"),
-    row("sumproduct", "=SUMPRODUCT($B{r}:$F{r},$G{r}:$K{r})", [1, "2", T, None, 4], [2, 3, 4, 5, 0.5]),
+    row("sumproduct", "=SUMPRODUCT($B{r}:$F{r},$G{r}:$K{r})", [1, "2", T, None, 4], [2, 3, 4, 5, 0.5],
+        excel=dict.fromkeys(range(5), 4.0)),
     row("sumproduct_window", "=SUMPRODUCT({a}:{a+1},{b}:{b+1})", [1, 2, 3, 4, 5], [6, 7, 8, 9, 10], [11, 0, 0, 0, 0]),
     row("sumproduct_booleans", "=SUMPRODUCT(--($B{r}:$F{r}))", [T, F, 2, None, T]),
     row("sumproduct_compare", "=SUMPRODUCT(--($B{r}:$F{r}>{b}))", [1, 2, 3, 4, 5], [0, 2, 3.5, 5, -1]),
@@ -234,17 +266,20 @@ _register("aggs", [
     row("if_error_condition", "=IF({a},1,2)", ["#DIV/0!", 1, "#N/A", 0, 2]),
     row("iferror", '=IFERROR({a}/{b},"bad")', [1, 1, "x", 0, "#N/A"], [2, 0, 1, 0, 1]),
     row("iferror_error_alternative", "=IFERROR(1/{a},1/{b})", [0, 1, 0, 2, "x"], [0, 0, 2, 0, 1]),
-    row("isnumber", "=ISNUMBER({a})", [1, "x", T, None, "#N/A"]),
+    row("isnumber", "=ISNUMBER({a})", [1, "x", T, None, "#N/A"], excel={2: F}),    # LibreOffice: TRUE
     row("iserror", "=ISERROR({a})", [1, "x", T, None, "#N/A"]),
     row("istext", "=ISTEXT({a})", [1, "x", T, None, "#N/A"]),
     # an error in one column stays in that column, through the rows below
     row("error_column", "=1/{a}", [1, 0, 2, 0, 4]),
     row("error_column_next", "={fp}*2+1"),
     row("error_column_caught", "=IFERROR({fp},-1)"),
-    row("error_column_sum", "=SUM($R{r}:{F}{r})+SUM({F}{r})"),
+    row("error_column_sum", "=SUM($R{rp}:$V{rp})+{fp}"),
+    row("error_column_sum_running", "=SUM($R{rp}:{F}{rp})+{F}{rp}", split=True),
     # a formula whose value is an empty cell's is 0
     row("empty_reference", "=$Z$99"),
-    row("empty_reference_is_number", "=ISNUMBER({fp})"),
+    row("empty_reference_used", '={fp}&"|"', excel=dict.fromkeys(range(5), "0|")),
+    row("empty_reference_2", "=$Z$98*1"),
+    row("empty_reference_2_used", "=ISNUMBER({fp})"),
     row("empty_reference_text", '=$Z$99&"|"'),
     one("empty_through_if", "=IF(TRUE,$Z$99)"),
     one("empty_through_iferror", "=IFERROR($Z$99,1)"),
@@ -261,7 +296,8 @@ _register("refs", [
     row("other_sheet_spaces", "='My Data'!{A}1+{a}", [1, 2, 3, 4, 5]),
     row("other_sheet_apostrophe", "='O''Brien'!$B$1*{a}", [1, 2, 3, 4, 5]),
     row("other_sheet_plain", "=Data2!{A}1-{a}", [1, 2, 3, 4, 5]),
-    row("other_sheet_range", "=SUM('My Data'!$B$1:$F$1)+SUM('Кинематика'!$B1:{A}1)"),
+    row("other_sheet_range", "=SUM('My Data'!$B$1:$F$1)+SUM('Кинематика'!$B$1:$C$1)+SUM('Кинематика'!{A}1:{A+1}1)"),
+    row("other_sheet_running", "=SUM('Кинематика'!$B1:{A}1)", split=True),
     row("other_sheet_sumproduct", "=SUMPRODUCT('My Data'!$B$1:$F$1,$B{r}:$F{r})", [1, 0, -1, 2, 0.5]),
     row("absolute", "=$A$2*{a}", [1, 2, 3, 4, 5]),
     row("row_absolute", "={a}*{F}$2", [1, 2, 3, 4, 5]),
@@ -283,7 +319,7 @@ _register("raw", [
                          "A2": 1, **{f"{get_column_letter(c)}2":
                                      f"=SUM($A2:{get_column_letter(c - 1)}2)+{get_column_letter(c)}1"
                                      for c in range(2, 21)}}),
-    raw("reverse_chain", {**{f"{get_column_letter(c)}1": f"={get_column_letter(c + 1)}1*1.5-1"
+    raw("reverse_chain", {**{f"{get_column_letter(c)}1": f"={get_column_letter(c + 1)}1*1.5+1"
                              for c in range(1, 20)}, "T1": 2}),
     # runs B1:F1 -> B2:F2 -> A1:E1 form a cycle of runs, not of cells
     raw("row_cycle", {"A1": 1, **{f"{get_column_letter(c)}1": f"={get_column_letter(c)}2+1" for c in range(2, 7)},
@@ -534,8 +570,7 @@ def test_unsupported_function_strict_names_file_sheet_cells_and_function(tmp_pat
     msg = str(exc.value)
     assert "lookup.xlsx" in msg
     assert "Calc!C3" in msg and "VLOOKUP" in msg
-    assert "Other sheet" in msg and "FOO" in msg
-    assert re.search(r"D5(:F5)?", msg), msg        # the run of FOO cells, or its cells
+    assert "FOO" in msg and "Other sheet!D5" in msg    # the run of FOO cells (D5:F5) or its cells
 
 
 def test_unsupported_function_lenient_gives_name_error_and_lists_problems(tmp_path):
@@ -562,9 +597,10 @@ def test_circular_reference_names_both_cells(tmp_path):
         with pytest.raises(EvaluationError) as exc:
             evaluate(path, strict=strict)
         msg = str(exc.value)
-        assert "circle.xlsx" in msg and "circular" in msg.lower()
-        assert "Calc!A1" in msg and "Calc!B1" in msg
-        assert "D1" not in msg and "C1" not in msg
+        assert str(path) in msg and "circular" in msg.lower()
+        cells = msg.replace(str(path), "")
+        assert "Calc!A1" in cells and "Calc!B1" in cells
+        assert "D1" not in cells and "C1" not in cells
 
 
 def test_self_reference_names_the_cell(tmp_path):
@@ -572,8 +608,9 @@ def test_self_reference_names_the_cell(tmp_path):
     with pytest.raises(EvaluationError) as exc:
         evaluate(path)
     msg = str(exc.value)
-    assert "self.xlsx" in msg and "circular" in msg.lower() and "Calc!B2" in msg
-    assert "C2" not in msg
+    assert str(path) in msg and "circular" in msg.lower()
+    cells = msg.replace(str(path), "")
+    assert "Calc!B2" in cells and "C2" not in cells and "A1" not in cells
 
 
 def test_cycle_inside_a_run_of_cells_names_the_cells(tmp_path):
@@ -585,9 +622,11 @@ def test_cycle_inside_a_run_of_cells_names_the_cells(tmp_path):
     with pytest.raises(EvaluationError) as exc:
         evaluate(path)
     msg = str(exc.value)
+    assert str(path) in msg
+    cells = msg.replace(str(path), "")
     for coord in ("B1", "C1", "D1", "E1", "F1", "G1"):
-        assert f"Лист 1!{coord}" in msg, msg
-    assert "A1" not in msg.replace("Лист 1!", "")
+        assert f"Лист 1!{coord}" in cells, msg
+    assert "A1" not in cells and "A2" not in cells
 
 
 def test_chains_are_not_circular(tmp_path):
