@@ -1,4 +1,5 @@
-"""Command line: `sheetkin compute SCENE.toml ...`, `sheetkin workbook SCENE.toml ...`.
+"""Command line: `sheetkin compute SCENE.toml ...`, `sheetkin workbook SCENE.toml ...`,
+`sheetkin bench SCENE.toml --out DIR`, ...
 
 Exit codes: 0 done, 1 `workbook --check` found a stale or missing workbook, 2 unusable
 input (a scene mistake, a bad option), 3 the mechanism cannot be assembled at some
@@ -129,6 +130,22 @@ def build_parser() -> argparse.ArgumentParser:
     v.add_argument("--html", metavar="REPORT.html", help="also write a readable HTML page")
     v.add_argument("--progress", choices=["auto", "always", "never"], default="auto",
                    help="progress bar on stderr for several files (auto: when stderr is a terminal)")
+    b = sub.add_parser(
+        "bench", help="time and accuracy of each way of computing a scene",
+        description="For each method (the closed-form solver; Newton on the loop-closure "
+                    "equations, warm-started; finite differences of the positions for steps "
+                    "1e-1..1e-8 rad; the workbook's formulas through sheetkin's evaluator; "
+                    "LibreOffice's recalculation of the workbook, when installed) measure the "
+                    "time per crank position and the largest error of positions, velocities "
+                    "and accelerations against an independent mpmath solution at 50 digits. "
+                    "Writes DIR/bench.csv and DIR/bench.png (error against time, log-log) and "
+                    "prints the table; a warning names the positions where a method fails.")
+    b.add_argument("scene", metavar="SCENE.toml", help="the scene file")
+    b.add_argument("--out", metavar="DIR", required=True, help="folder for bench.csv and bench.png")
+    b.add_argument("--positions", type=_positive_int, metavar="N",
+                   help="N crank positions over one revolution from phi0 (default: the scene's)")
+    b.add_argument("--no-libreoffice", action="store_true",
+                   help="skip the LibreOffice recalculation (the slowest method)")
     w.add_argument("--check", action="store_true",
                    help="write nothing: exit 1 if an existing workbook differs from what would be "
                         "written (stale) or is missing")
@@ -327,11 +344,22 @@ def cmd_validate(args) -> int:
     return 0 if all(r.ok for r in reports) else 1
 
 
+def cmd_bench(args) -> int:
+    from .bench import format_bench, run_bench   # mpmath and matplotlib are needed only here
+    scene = load_scene(args.scene)
+    table, warnings = run_bench(scene, args.positions, args.out, libreoffice=not args.no_libreoffice)
+    sys.stdout.write(format_bench(table))
+    print(f"{Path(args.out) / 'bench.csv'}, {Path(args.out) / 'bench.png'}: written", file=sys.stderr)
+    for w in warnings:
+        print(f"sheetkin: warning: {w}", file=sys.stderr)
+    return 0
+
+
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     try:
         return {"compute": cmd_compute, "workbook": cmd_workbook, "evaluate": cmd_evaluate,
-                "validate": cmd_validate}[args.command](args)
+                "validate": cmd_validate, "bench": cmd_bench}[args.command](args)
     except SceneError as e:
         print(f"sheetkin: error: {e}", file=sys.stderr)
         return EXIT_INPUT

@@ -163,7 +163,11 @@ def _compare(op: str, a: Val, b: Val) -> Val:
     bt_eff = np.where(bt == EMPTY, at_eff, bt)
     an, bn = np.broadcast_to(a.num, shape), np.broadcast_to(b.num, shape)
     ra, rb = _rank(at_eff), _rank(bt_eff)
-    diff = np.where(ra != rb, np.sign(ra - rb).astype(float), np.sign(an - bn))
+    # numbers compare as Excel shows them, to about 15 significant digits (=0.1+0.2=0.3 is TRUE)
+    with np.errstate(all="ignore"):
+        d = an - bn
+        near = np.abs(d) <= 4 * np.finfo(float).eps * np.maximum(np.abs(an), np.abs(bn))
+    diff = np.where(ra != rb, np.sign(ra - rb).astype(float), np.where(near, 0.0, np.sign(d)))
     text = (at_eff == TEXT) & (bt_eff == TEXT)
     if text.any():
         ta, tb = np.broadcast_to(_texts(a), shape), np.broadcast_to(_texts(b), shape)
@@ -249,8 +253,13 @@ def _round(x, n):
     return out
 
 
+def _TRIG_OK(x):
+    return np.abs(x) < 134217728.0
+
+
 SCALAR_FUNCS = {
-    "SIN": _unary(np.sin), "COS": _unary(np.cos), "TAN": _unary(np.tan),
+    # Excel refuses trigonometry of |x| >= 2^27 (#NUM!): too few digits are left for the angle
+    "SIN": _unary(np.sin, _TRIG_OK), "COS": _unary(np.cos, _TRIG_OK), "TAN": _unary(np.tan, _TRIG_OK),
     "ASIN": _unary(np.arcsin, lambda x: np.abs(x) <= 1), "ACOS": _unary(np.arccos, lambda x: np.abs(x) <= 1),
     "ATAN": _unary(np.arctan), "SQRT": _unary(np.sqrt, lambda x: x >= 0),
     "RADIANS": _unary(np.radians), "DEGREES": _unary(np.degrees), "ABS": _unary(np.abs),
@@ -450,9 +459,30 @@ def _operand_ref(text: str, host_r: int, host_c: int, names: dict):
 _PREC = {"=": 1, "<>": 1, "<": 1, ">": 1, "<=": 1, ">=": 1, "&": 2, "+": 3, "-": 3, "*": 4, "/": 4, "^": 5}
 
 
+_MANTISSA_E = re.compile(r"^(\d+\.?\d*|\.\d+)[Ee]$")
+
+
+def _merge_exponents(tokens: list) -> list:
+    """openpyxl's tokenizer reads =12.5E-1 as the name '12.5E', '-', 1: glue such a
+    mantissa, its exponent's sign and digits back into one number."""
+    out, i = [], 0
+    while i < len(tokens):
+        t = tokens[i]
+        if (t.type == Token.OPERAND and _MANTISSA_E.match(t.value) and i + 2 < len(tokens)
+                and tokens[i + 1].type == Token.OP_IN and tokens[i + 1].value in "+-"
+                and tokens[i + 2].type == Token.OPERAND and tokens[i + 2].subtype == Token.NUMBER
+                and tokens[i + 2].value.isdigit()):
+            out.append(Token(t.value + tokens[i + 1].value + tokens[i + 2].value, Token.OPERAND, Token.NUMBER))
+            i += 3
+            continue
+        out.append(t)
+        i += 1
+    return out
+
+
 def parse_formula(formula: str, host_r: int, host_c: int, names: dict):
     """Expression tree of a formula (openpyxl's tokenizer, then precedence climbing)."""
-    tokens = [t for t in Tokenizer(formula).items if t.type != Token.WSPACE]
+    tokens = _merge_exponents([t for t in Tokenizer(formula).items if t.type != Token.WSPACE])
     pos = 0
 
     def peek():
@@ -1030,8 +1060,10 @@ class _Context:
             return SCALAR_FUNCS[name](*(self.eval(a, run) for a in args))
         if name in AGGREGATES:
             vals = [self.eval(a, run) for a in args]
-            # a reference, even to one cell, is read like a range: text and booleans skipped
-            ranges = [a[0] == "ref" for a in args]
+            # a reference, even to one cell or through a defined name, is read like a range:
+            # text and booleans skipped
+            ranges = [a[0] == "ref" or (a[0] == "name" and self.names.get(a[1], ("",))[0] == "ref")
+                      for a in args]
             return AGGREGATES[name](vals, ranges)
         return _const("#NAME?", len(run.cols))
 

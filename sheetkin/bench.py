@@ -1,0 +1,677 @@
+"""`sheetkin bench`: how fast and how exact each way of computing a scene's kinematics is.
+
+Every method is timed per crank position and compared with a reference computed here with
+mpmath at 50 digits, independently of the closed-form solver (issue #5):
+
+  solver      the closed-form solver (the lecture's method, sheetkin.solver);
+  newton      Newton on the vector loop-closure equations (the seeds' Given-Find),
+              warm-started from the previous position; rates from the Jacobian systems;
+  fd          central differences of the solver's positions in the crank angle (what
+              Mathcad's d/dphi does), for steps h = 1e-1 .. 1e-8 rad;
+  evaluator   the workbook's formulas (sheetkin.workbook) through sheetkin.evaluator;
+  libreoffice the same workbook recalculated by LibreOffice Calc (when installed).
+
+Errors are reported in three kinds, each the largest over positions and quantities of
+|value - reference| / scale, where a quantity family's scale is max(1, the largest
+|reference| of that family over all positions) (so small values are compared absolutely,
+large ones relatively; the families are listed in FAMILIES):
+  err_pos  x, y, s (m) and link angles phi_k (rad, the difference taken modulo 2 pi);
+  err_vel  vx, vy, vs (m/s) and omega_k (rad/s);
+  err_acc  ax, ay, as (m/s^2) and eps_k (rad/s^2).
+A position where a method gives no number (NaN, a spreadsheet error) or jumps to the
+other branch is a failure: the table's notes and a warning name the crank angles.
+"""
+from __future__ import annotations
+
+import math
+import os
+import shutil
+import signal
+import subprocess
+import tempfile
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from types import SimpleNamespace
+
+import mpmath
+import numpy as np
+import pandas as pd
+
+from .compute import AssemblyError, assembly_gaps, failed_positions, solution_columns
+from .scene import Scene, override_crank
+from .solver import solve
+
+FD_STEPS = tuple(10.0 ** -k for k in np.arange(1.0, 8.01, 0.5))     # rad, 1e-1 .. 1e-8
+NEWTON_TOL = 1e-14          # step size (relative to 1 + |q|) at which Newton stops
+NEWTON_MAX_ITER = 50
+REPEATS = 5                 # timing: best of this many runs for the fast methods
+
+# quantity head -> (error kind, family whose common scale it is measured against)
+FAMILIES = {"x": ("pos", "m"), "y": ("pos", "m"), "s": ("pos", "m"), "phi": ("pos", "rad"),
+            "vx": ("vel", "m/s"), "vy": ("vel", "m/s"), "vs": ("vel", "m/s"),
+            "omega": ("vel", "rad/s"),
+            "ax": ("acc", "m/s^2"), "ay": ("acc", "m/s^2"), "as": ("acc", "m/s^2"),
+            "eps": ("acc", "rad/s^2")}
+COLUMNS = ["method", "param", "seconds_per_position", "err_pos", "err_vel", "err_acc", "notes"]
+
+
+@dataclass
+class MethodResult:
+    """One method's values (name -> array over positions), its time and its failures."""
+    method: str
+    param: str
+    seconds_per_position: float
+    values: dict[str, np.ndarray]
+    failures: dict[str, list[float]] = field(default_factory=dict)   # reason -> crank angles
+    notes: str = ""
+
+
+def quantity_names(scene: Scene) -> list[str]:
+    """The contract quantities the bench compares (magnitudes v_P, a_P are derived, left out)."""
+    names = []
+    for k in scene.links:
+        names += [f"phi_{k}", f"omega_{k}", f"eps_{k}"]
+    for p in scene.moving_joints + [p.name for p in scene.points]:
+        names += [f"{q}_{p}" for q in ("x", "y", "vx", "vy", "ax", "ay")]
+    for p in scene.sliders:
+        names += [f"s_{p}", f"vs_{p}", f"as_{p}"]
+    return names
+
+
+# --------------------------------------------------------------------------- loop equations
+# Written once for any number type: `lib` is MP (mpmath, 50 digits) or FLOAT (math +
+# numpy). The reference and the Newton method share these equations; the closed-form solver
+# shares nothing with them (different unknowns, no half-angle, no Cramer), which is what
+# makes the reference independent of it.
+def _mp_solve(m, b):
+    return list(mpmath.lu_solve(mpmath.matrix(m), mpmath.matrix(b)))
+
+
+MP = SimpleNamespace(cos=mpmath.cos, sin=mpmath.sin, pi=lambda: mpmath.pi, num=mpmath.mpf,
+                     floor=mpmath.floor, solve=_mp_solve, finite=mpmath.isfinite)
+FLOAT = SimpleNamespace(cos=math.cos, sin=math.sin, pi=lambda: math.pi, num=float,
+                        floor=math.floor, solve=lambda m, b: list(np.linalg.solve(m, b)),
+                        finite=math.isfinite)
+
+
+def _e(lib, a):
+    return lib.cos(a), lib.sin(a)
+
+
+def _ep(lib, a):
+    """e(a) turned +90 deg: d e(a) / da."""
+    return -lib.sin(a), lib.cos(a)
+
+
+def _carried(lib, origin, link, along, across):
+    """A point fixed on a link turning at (phi, w, eps): r = along e + across e_perp,
+    v = v_O + w dr/dphi, a = a_O + eps dr/dphi - w^2 r."""
+    (px, py), (vx, vy), (ax, ay) = origin
+    phi, w, eps = link
+    (c, s), (nc, ns) = _e(lib, phi), _ep(lib, phi)
+    rx, ry = along * c + across * nc, along * s + across * ns
+    dx, dy = along * nc - across * c, along * ns - across * s
+    return ((px + rx, py + ry), (vx + w * dx, vy + w * dy),
+            (ax + eps * dx - w * w * rx, ay + eps * dy - w * w * ry))
+
+
+def _loop(lib, g, known):
+    """Group g's vector loop-closure equation F(q) = 0 in its two unknowns q.
+
+    Returns F(q), J(q) = dF/dq, b_v(q) and b_a(q, q_t) with J q_t = b_v and J q_tt = b_a
+    (the first and second time derivatives of F = 0), and place(q, q_t, q_tt) giving the
+    group's new joint (or None), its links' (phi, omega, eps) and its slide (or None).
+    """
+    n = lib.num
+    if g.type == "RRR":
+        # J1 + L2 e(p2) = J2 + L3 e(p3); q = (p2, p3) the directions J1->N and J2->N
+        (p1, v1, a1), (p2, v2, a2) = known[g.joints[0]], known[g.joints[2]]
+        l2, l3 = n(g.lengths[0]), n(g.lengths[1])
+
+        def F(q):
+            (c2, s2), (c3, s3) = _e(lib, q[0]), _e(lib, q[1])
+            return [p1[0] + l2 * c2 - l3 * c3 - p2[0], p1[1] + l2 * s2 - l3 * s3 - p2[1]]
+
+        def J(q):
+            (c2, s2), (c3, s3) = _e(lib, q[0]), _e(lib, q[1])
+            return [[-l2 * s2, l3 * s3], [l2 * c2, -l3 * c3]]
+
+        def b_v(q):
+            return [v2[0] - v1[0], v2[1] - v1[1]]
+
+        def b_a(q, qt):
+            (c2, s2), (c3, s3) = _e(lib, q[0]), _e(lib, q[1])
+            w2, w3 = qt
+            return [a2[0] - a1[0] + l2 * w2 * w2 * c2 - l3 * w3 * w3 * c3,
+                    a2[1] - a1[1] + l2 * w2 * w2 * s2 - l3 * w3 * w3 * s3]
+
+        def place(q, qt, qtt):
+            la, lb = (q[0], qt[0], qtt[0]), (q[1], qt[1], qtt[1])
+            return _carried(lib, known[g.joints[0]], la, l2, n(0)), (la, lb), None
+    elif g.type == "RRP":
+        # J1 + L e(p2) = G + s u; q = (p2, s)
+        p1, v1, a1 = known[g.joints[0]]
+        length = n(g.lengths[0])
+        gam = n(g.guide_angle_deg) * lib.pi() / 180
+        ux, uy = _e(lib, gam)
+        gx, gy = n(g.guide_point[0]), n(g.guide_point[1])
+
+        def F(q):
+            c, s = _e(lib, q[0])
+            return [p1[0] + length * c - gx - q[1] * ux, p1[1] + length * s - gy - q[1] * uy]
+
+        def J(q):
+            c, s = _e(lib, q[0])
+            return [[-length * s, -ux], [length * c, -uy]]
+
+        def b_v(q):
+            return [-v1[0], -v1[1]]
+
+        def b_a(q, qt):
+            c, s = _e(lib, q[0])
+            return [-a1[0] + length * qt[0] ** 2 * c, -a1[1] + length * qt[0] ** 2 * s]
+
+        def place(q, qt, qtt):
+            joint = ((gx + q[1] * ux, gy + q[1] * uy), (qt[1] * ux, qt[1] * uy),
+                     (qtt[1] * ux, qtt[1] * uy))
+            return joint, ((q[0], qt[0], qtt[0]), (gam, n(0), n(0))), (q[1], qt[1], qtt[1])
+    else:
+        # J1 - J2 = s u(th) + off n(th); q = (th, s)
+        (p1, v1, a1), (p2, v2, a2) = known[g.joints[0]], known[g.joints[1]]
+        off = n(g.offset)
+
+        def F(q):
+            (c, s), (nc, ns) = _e(lib, q[0]), _ep(lib, q[0])
+            return [p1[0] - p2[0] - q[1] * c - off * nc, p1[1] - p2[1] - q[1] * s - off * ns]
+
+        def J(q):
+            (c, s), (nc, ns) = _e(lib, q[0]), _ep(lib, q[0])
+            return [[-(q[1] * nc - off * c), -c], [-(q[1] * ns - off * s), -s]]
+
+        def b_v(q):
+            return [v2[0] - v1[0], v2[1] - v1[1]]
+
+        def b_a(q, qt):
+            # d2(s u + off n)/dt2 = s_tt u + th_tt (s n - off u) + 2 s_t th_t n - s th_t^2 u - off th_t^2 n
+            (c, s), (nc, ns) = _e(lib, q[0]), _ep(lib, q[0])
+            w, vs = qt
+            return [a2[0] - a1[0] + 2 * vs * w * nc - q[1] * w * w * c - off * w * w * nc,
+                    a2[1] - a1[1] + 2 * vs * w * ns - q[1] * w * w * s - off * w * w * ns]
+
+        def place(q, qt, qtt):
+            lever = (q[0], qt[0], qtt[0])
+            return None, (lever, lever), (q[1], qt[1], qtt[1])
+    return F, J, b_v, b_a, place
+
+
+def _side(lib, g, known, q, joint) -> int:
+    """Which branch q is on, in the scene's terms: RRR the side of J1 -> J2 the new joint
+    lies on (+1 left); RRP +1 if N is ahead of the foot of the perpendicular from J1 along
+    the guide; RPR the sign of s (the contract has s >= 0, so always +1)."""
+    if g.type == "RRR":
+        (p1, _, _), (p2, _, _) = known[g.joints[0]], known[g.joints[2]]
+        n_ = joint[0]
+        v = (p2[0] - p1[0]) * (n_[1] - p1[1]) - (p2[1] - p1[1]) * (n_[0] - p1[0])
+    elif g.type == "RRP":
+        p1 = known[g.joints[0]][0]
+        ux, uy = _e(lib, lib.num(g.guide_angle_deg) * lib.pi() / 180)
+        v = (joint[0][0] - p1[0]) * ux + (joint[0][1] - p1[1]) * uy
+    else:
+        v = q[1]
+    return 1 if v > 0 else -1
+
+
+def _newton(lib, F, J, q, tol, max_iter):
+    """Plain Newton from q; returns (q, converged). Converged: the last step was below
+    tol * (1 + |q|) and the residual is small for the number type."""
+    for _ in range(max_iter):
+        dq = lib.solve(J(q), [-f for f in F(q)])
+        q = [a + d for a, d in zip(q, dq)]
+        if not all(lib.finite(x) for x in q):
+            return q, False
+        if max(abs(d) for d in dq) <= tol * (1 + max(abs(x) for x in q)):
+            return q, True
+    return q, False
+
+
+def _walk(lib, scene: Scene, phi_deg: float, guesses: dict[int, list], tol: float, max_iter: int):
+    """Kinematics at one crank angle by the loop equations, placing the plan in order.
+
+    guesses: group index -> starting q. Returns (values name -> number, q per group,
+    problems: list of (group, "no convergence" | "branch jump")).
+    """
+    n = lib.num
+    crank = scene.crank
+    known = {name: ((n(x), n(y)), (n(0), n(0)), (n(0), n(0))) for name, (x, y) in scene.frame.items()}
+    links = {1: (n(phi_deg) * lib.pi() / 180, n(crank.omega), n(crank.epsilon))}
+    slides, qs, problems = {}, {}, []
+    for kind, item in scene.plan:
+        if kind == "crank":
+            known[crank.joint] = _carried(lib, known[crank.pivot], links[1], n(crank.length), n(0))
+        elif kind == "point":
+            known[item.name] = _carried(lib, known[item.origin], links[item.link],
+                                        n(item.along), n(item.across))
+        else:
+            g = item
+            F, J, b_v, b_a, place = _loop(lib, g, known)
+            q, ok = _newton(lib, F, J, [n(x) for x in guesses[g.index]], tol, max_iter)
+            if not ok:
+                problems.append((g, "no convergence"))
+                return None, qs, problems
+            Jq = J(q)
+            qt = lib.solve(Jq, b_v(q))
+            qtt = lib.solve(Jq, b_a(q, qt))
+            joint, (la, lb), slide = place(q, qt, qtt)
+            qs[g.index] = q
+            if joint is not None:
+                known[g.joints[1]] = joint
+            if _side(lib, g, known, q, joint) != (g.branch if g.type != "RPR" else 1):
+                problems.append((g, "branch jump"))
+            links[g.links[0]], links[g.links[1]] = la, lb
+            if slide is not None:
+                slides[g.slider] = slide
+    values = {}
+    deg = 180 / lib.pi()
+    for k in scene.links:
+        phi, w, eps = links[k]
+        a = phi * deg
+        values[f"phi_{k}"], values[f"omega_{k}"], values[f"eps_{k}"] = a - 360 * lib.floor(a / 360), w, eps
+    for name in scene.moving_joints + [p.name for p in scene.points]:
+        (x, y), (vx, vy), (ax, ay) = known[name]
+        values.update({f"x_{name}": x, f"y_{name}": y, f"vx_{name}": vx, f"vy_{name}": vy,
+                       f"ax_{name}": ax, f"ay_{name}": ay})
+    for name, (s, vs, as_) in slides.items():
+        values.update({f"s_{name}": s, f"vs_{name}": vs, f"as_{name}": as_})
+    return values, qs, problems
+
+
+def _unknowns(scene: Scene, phi_deg) -> list[dict[int, list[float]]]:
+    """Each group's unknowns q from the closed-form solver, per position (starting points)."""
+    sol = solve(scene, phi_deg)
+    out = [{} for _ in np.atleast_1d(phi_deg)]
+    for g in scene.groups:
+        la, lb = g.links
+        if g.type == "RRR":
+            qa = np.arctan2(sol.links[la].s, sol.links[la].c)
+            qb = np.arctan2(sol.links[lb].s, sol.links[lb].c)
+        else:
+            qa = np.arctan2(sol.links[la].s, sol.links[la].c)
+            qb = sol.slides[g.slider].s
+        for i, d in enumerate(out):
+            d[g.index] = [float(qa[i]), float(qb[i])]
+    return out
+
+
+# --------------------------------------------------------------------------- the reference
+def reference_mp(scene: Scene, phi_deg_list, dps: int = 50) -> dict[str, list]:
+    """The contract quantities at each crank angle, by mpmath at `dps` digits.
+
+    Each group's loop-closure equations are solved by Newton in mpmath, started from the
+    float solver's answer (which only picks the root: 3-4 quadratic steps take it from 1e-16
+    to 1e-50); rates from the differentiated equations by mpmath.lu_solve; points on links
+    by the rigid-body formulas. Scene numbers enter as the exact values of their floats.
+    Raises ArithmeticError if a group does not converge or lands on the other branch.
+    """
+    phis = [float(p) for p in phi_deg_list]
+    starts = _unknowns(scene, phis)
+    out = {name: [] for name in quantity_names(scene)}
+    with mpmath.workdps(dps):
+        tol = mpmath.mpf(10) ** (-(dps - 5))
+        for phi, start in zip(phis, starts):
+            values, _, problems = _walk(MP, scene, phi, start, tol, 60)
+            if problems:
+                g, why = problems[0]
+                raise ArithmeticError(f"reference: {g.label}: {why} at crank angle {phi:g} deg")
+            for name in out:
+                out[name].append(+values[name])
+    return out
+
+
+# --------------------------------------------------------------------------- the methods
+def _best_time(fn, repeats: int = REPEATS):
+    """fn() run `repeats` times: (its last result, the shortest wall time in seconds)."""
+    best, result = math.inf, None
+    for _ in range(repeats):
+        t = time.perf_counter()
+        result = fn()
+        best = min(best, time.perf_counter() - t)
+    return result, best
+
+
+def _nonfinite(values: dict[str, np.ndarray], phis) -> list[float]:
+    bad = np.zeros(len(phis), dtype=bool)
+    for v in values.values():
+        bad |= ~np.isfinite(np.asarray(v, dtype=float))
+    return [float(p) for p in np.asarray(phis)[bad]]
+
+
+def method_solver(scene: Scene, phis) -> MethodResult:
+    phis = np.asarray(phis, dtype=float)
+    names = quantity_names(scene)
+    sol, t = _best_time(lambda: solve(scene, phis))
+    cols = solution_columns(scene, sol)
+    values = {n: cols[n] for n in names}
+    res = MethodResult("solver", "", t / len(phis), values)
+    fail = failed_positions(sol)
+    if fail.any():
+        res.failures["cannot assemble"] = [float(p) for p in phis[fail]]
+    return res
+
+
+def method_newton(scene: Scene, phis, tol: float = NEWTON_TOL, max_iter: int = NEWTON_MAX_ITER) -> MethodResult:
+    """Newton on the loop equations at each position in turn, started from the previous
+    position's answer (the first from the closed-form solver's, as a user's sketch would
+    give it to Mathcad's Find). Where it does not converge the position is NaN (and the
+    next starts from the last converged answer); where it lands on the other branch the
+    values are kept (they are what a Given-Find block would show) and reported."""
+    phis = [float(p) for p in phis]
+    names = quantity_names(scene)
+    first = _unknowns(scene, phis[:1])[0]
+
+    def run():
+        guess, rows, problems = dict(first), [], {}
+        for phi in phis:
+            values, qs, probs = _walk(FLOAT, scene, phi, guess, tol, max_iter)
+            guess.update(qs)
+            rows.append(values)
+            for g, why in probs:
+                problems.setdefault(f"{why} ({g.label})", []).append(phi)
+        return rows, problems
+
+    (rows, problems), t = _best_time(run, 3)
+    values = {n: np.array([r[n] if r else np.nan for r in rows]) for n in names}
+    return MethodResult("newton", f"tol={tol:g}", t / len(phis), values, problems)
+
+
+def _wrap_deg(d):
+    return (d + 180.0) % 360.0 - 180.0
+
+
+def method_fd(scene: Scene, phis, steps=FD_STEPS) -> list[MethodResult]:
+    """Central differences of the solver's positions in the crank angle, for each step h:
+    v = omega dx/dphi, a = omega^2 d2x/dphi2 + epsilon dx/dphi (x also a link angle or a
+    slide). Positions are the solver's own."""
+    phis = np.asarray(phis, dtype=float)
+    n = len(phis)
+    w, eps = scene.crank.omega, scene.crank.epsilon
+    out = []
+    for h in steps:
+        hd = math.degrees(h)
+        grid = np.concatenate([phis - hd, phis, phis + hd])
+
+        def run():
+            cols = solution_columns(scene, solve(scene, grid))
+            values = {}
+            for k in scene.links:
+                lo, mid, hi = np.split(cols[f"phi_{k}"], 3)
+                # link angles in degrees in [0, 360): differences taken modulo 360
+                d1 = np.radians(_wrap_deg(hi - lo)) / (2 * h)
+                d2 = np.radians(_wrap_deg(hi - mid) - _wrap_deg(mid - lo)) / (h * h)
+                values[f"phi_{k}"], values[f"omega_{k}"], values[f"eps_{k}"] = mid, w * d1, w * w * d2 + eps * d1
+            coords = [(f"x_{p}", f"vx_{p}", f"ax_{p}") for p in scene.moving_joints + [p.name for p in scene.points]]
+            coords += [(f"y_{p}", f"vy_{p}", f"ay_{p}") for p in scene.moving_joints + [p.name for p in scene.points]]
+            coords += [(f"s_{p}", f"vs_{p}", f"as_{p}") for p in scene.sliders]
+            for x, v, a in coords:
+                lo, mid, hi = np.split(cols[x], 3)
+                d1, d2 = (hi - lo) / (2 * h), (hi - 2 * mid + lo) / (h * h)
+                values[x], values[v], values[a] = mid, w * d1, w * w * d2 + eps * d1
+            return values
+
+        values, t = _best_time(run)
+        res = MethodResult("fd", f"h={h:.2g}", t / n, values)
+        bad = _nonfinite(values, phis)
+        if bad:
+            res.failures[f"a neighbour phi +- {hd:.3g} deg cannot assemble"] = bad
+        out.append(res)
+    return out
+
+
+def _workbook_file(scene: Scene, scene_text: str | None, folder: Path) -> Path:
+    from .workbook import build_workbook      # openpyxl is needed only here
+    path = folder / "bench.xlsx"
+    build_workbook(scene, lang="en", scene_text=scene_text).save(path)
+    return path
+
+
+def _frame_values(df: pd.DataFrame, names, phis) -> dict[str, np.ndarray]:
+    """name -> floats from a workbook's rows; text (a marker, a spreadsheet error) -> NaN."""
+    out = {}
+    for name in names:
+        row = df.loc[name] if name in df.index else pd.Series([np.nan] * len(phis))
+        if isinstance(row, pd.DataFrame):      # a name used twice: the accepted row comes first
+            row = row.iloc[0]
+        out[name] = pd.to_numeric(pd.Series(list(row)), errors="coerce").to_numpy(dtype=float)[:len(phis)]
+    return out
+
+
+def method_evaluator(scene: Scene, phis, workbook: Path) -> MethodResult:
+    """The workbook's formulas through sheetkin.evaluator; timed: reading and evaluating
+    the file (not writing it), per position."""
+    from .evaluator import evaluate, rows_frame
+    df, t = _best_time(lambda: rows_frame(evaluate(workbook)), 3)
+    values = _frame_values(df, quantity_names(scene), phis)
+    res = MethodResult("evaluator", "", t / len(phis), values)
+    bad = _nonfinite(values, phis)
+    if bad:
+        res.failures["no number in the workbook"] = bad
+    return res
+
+
+# LibreOffice keeps a cached value by default, even a wrong one, unless told to recalculate
+# on load: a private profile sets OOXMLRecalcMode = 0 ("always"). See tests/libreoffice.py.
+_LO_REGISTRY = """<?xml version="1.0" encoding="UTF-8"?>
+<oor:items xmlns:oor="http://openoffice.org/2001/registry" xmlns:xs="http://www.w3.org/2001/XMLSchema" xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance">
+<item oor:path="/org.openoffice.Office.Calc/Formula/Load"><prop oor:name="OOXMLRecalcMode" oor:op="fuse"><value>0</value></prop></item>
+<item oor:path="/org.openoffice.Office.Calc/Formula/Load"><prop oor:name="ODFRecalcMode" oor:op="fuse"><value>0</value></prop></item>
+</oor:items>
+"""
+
+
+def soffice_path() -> str | None:
+    return shutil.which("soffice") or shutil.which("libreoffice")
+
+
+def libreoffice_recalculate(book: Path, outdir: Path, timeout: float = 300) -> Path:
+    """Open `book` in headless LibreOffice Calc, recalculate every formula, save it as
+    outdir/<name>.xlsx. Raises RuntimeError with soffice's output if that fails."""
+    soffice = soffice_path()
+    if soffice is None:
+        raise RuntimeError("LibreOffice (soffice) not found")
+    outdir.mkdir(parents=True, exist_ok=True)
+    out = outdir / book.name
+    out.unlink(missing_ok=True)        # a stale output must not pass for a fresh one
+    with tempfile.TemporaryDirectory(prefix="sheetkin-lo-profile-") as profile:
+        (Path(profile) / "user").mkdir()
+        (Path(profile) / "user" / "registrymodifications.xcu").write_text(_LO_REGISTRY, "utf-8")
+        cmd = [soffice, f"-env:UserInstallation={Path(profile).as_uri()}", "--headless",
+               "--norestore", "--nolockcheck", "--nologo", "--convert-to",
+               "xlsx:Calc MS Excel 2007 XML", "--outdir", str(outdir.resolve()), str(book.resolve())]
+        # own process group, so a timeout kills the wrapper and soffice.bin together
+        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                                stdin=subprocess.DEVNULL, start_new_session=True)
+        try:
+            stdout, stderr = proc.communicate(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.communicate()
+            raise RuntimeError(f"LibreOffice timed out after {timeout:g} s") from None
+    if not out.is_file():
+        raise RuntimeError(f"LibreOffice wrote no file (exit code {proc.returncode}): "
+                           f"{(stderr or stdout).strip().splitlines()[-1:] or ''}")
+    return out
+
+
+def method_libreoffice(scene: Scene, phis, workbook: Path) -> MethodResult:
+    """The workbook recalculated by LibreOffice (one run; the time includes soffice's
+    start-up, most of it). LibreOffice stores 15 significant digits."""
+    from openpyxl import load_workbook
+    with tempfile.TemporaryDirectory(prefix="sheetkin-bench-lo-") as tmp:
+        t = time.perf_counter()
+        out = libreoffice_recalculate(workbook, Path(tmp))
+        t = time.perf_counter() - t
+        wb = load_workbook(out, data_only=True, read_only=True)
+        try:
+            ws = wb.worksheets[0]
+            rows = {}
+            for row in ws.iter_rows(min_row=5, values_only=True):
+                if row and isinstance(row[0], str) and row[0] not in rows:
+                    rows[row[0]] = list(row[4:4 + len(phis)])
+        finally:
+            wb.close()
+    df = pd.DataFrame.from_dict(rows, orient="index")
+    values = _frame_values(df, quantity_names(scene), phis)
+    res = MethodResult("libreoffice", "", t / len(phis), values, notes="time includes soffice start-up")
+    bad = _nonfinite(values, phis)
+    if bad:
+        res.failures["no number in the recalculated workbook"] = bad
+    return res
+
+
+# --------------------------------------------------------------------------- errors, table, chart
+def errors(values: dict[str, np.ndarray], ref: dict[str, list]) -> dict[str, float]:
+    """err_pos, err_vel, err_acc of `values` against the mpmath reference (see the module's
+    docstring); positions where the method gave no number are left out (they are reported
+    as failures). The difference is taken against the reference split into two floats
+    (hi + lo), so it is not limited by rounding the reference to a float."""
+    worst = {"pos": 0.0, "vel": 0.0, "acc": 0.0}
+    diffs, scales = {}, {}
+    for name, refs in ref.items():
+        head = name.split("_", 1)[0]
+        kind, family = FAMILIES[head]
+        hi = np.array([float(r) for r in refs])
+        lo = np.array([float(r - mpmath.mpf(h)) for r, h in zip(refs, hi)])
+        d = (np.asarray(values[name], dtype=float) - hi) - lo
+        scales.setdefault(family, 1.0)
+        if head == "phi":
+            # degrees in [0, 360): the angle between, in radians; an angle's size says
+            # nothing about its accuracy, so the scale stays 1
+            d = np.radians(_wrap_deg(d))
+        else:
+            scales[family] = max(scales[family], float(np.max(np.abs(hi), initial=0.0)))
+        diffs[name] = (kind, family, d)
+    for name, (kind, family, d) in diffs.items():
+        d = np.abs(d[np.isfinite(d)])
+        if d.size:
+            worst[kind] = max(worst[kind], float(d.max()) / scales[family])
+    return {f"err_{k}": v for k, v in worst.items()}
+
+
+def _angles(phis) -> str:
+    shown = ", ".join(f"{p:g}" for p in phis[:8])
+    return shown + (f" ... ({len(phis)} positions)" if len(phis) > 8 else "")
+
+
+def bench_scene(scene: Scene, positions: int | None, scene_text: str | None = None):
+    """The scene (and its text, for the workbook) with `positions` crank positions over one
+    revolution from phi0, in the crank's direction; the scene as it is for None."""
+    text = scene_text if scene_text is not None else Path(scene.source).read_text(encoding="utf-8-sig")
+    if positions is None:
+        return scene, text
+    step = math.copysign(360.0 / positions, scene.crank.step_deg or 1.0)
+    text, scene = override_crank(text, scene.source, positions=positions, step_deg=step)
+    return scene, text
+
+
+def run_bench(scene: Scene, positions: int | None, out_dir, *, scene_text: str | None = None,
+              libreoffice: bool = True, fd_steps=FD_STEPS):
+    """Run every method, write out_dir/bench.csv and out_dir/bench.png.
+
+    Returns (table, warnings): the table as a DataFrame with COLUMNS, the warnings as
+    one-line texts naming the failing crank angles. Raises AssemblyError if the scene
+    cannot be assembled at some position (there is nothing to compare there).
+    """
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    scene, text = bench_scene(scene, positions, scene_text)
+    phis = np.asarray(scene.crank_angles_deg(), dtype=float)
+    if failed_positions(solve(scene, phis)).any():
+        raise AssemblyError("; ".join(map(str, assembly_gaps(scene, phis))) +
+                            ": the bench needs every position assembled")
+    ref = reference_mp(scene, phis)
+    results = [method_solver(scene, phis), method_newton(scene, phis), *method_fd(scene, phis, fd_steps)]
+    warnings = []
+    with tempfile.TemporaryDirectory(prefix="sheetkin-bench-") as tmp:
+        book = _workbook_file(scene, text, Path(tmp))
+        results.append(method_evaluator(scene, phis, book))
+        if libreoffice and soffice_path():
+            try:
+                results.append(method_libreoffice(scene, phis, book))
+            except RuntimeError as e:
+                warnings.append(f"libreoffice: skipped: {e}")
+        elif libreoffice:
+            warnings.append("libreoffice: skipped: LibreOffice (soffice) not found")
+    rows = []
+    for r in results:
+        notes = [r.notes] if r.notes else []
+        for why, at in r.failures.items():
+            notes.append(f"{why} at {len(at)} of {len(phis)} positions")
+            label = f"{r.method} {r.param}".strip()
+            warnings.append(f"{label}: {why} at crank angles {_angles(at)} deg")
+        rows.append({"method": r.method, "param": r.param,
+                     "seconds_per_position": r.seconds_per_position,
+                     **errors(r.values, ref), "notes": "; ".join(notes)})
+    table = pd.DataFrame(rows, columns=COLUMNS)
+    table.to_csv(out_dir / "bench.csv", index=False, float_format="%.3e", lineterminator="\n")
+    plot(table, out_dir / "bench.png", f"{scene.title}: {len(phis)} positions")
+    return table, warnings
+
+
+FLOOR = 1e-18     # an error of exactly 0 is drawn here (a log axis has no 0)
+MARKERS = {"solver": "o", "newton": "s", "evaluator": "^", "libreoffice": "D"}
+
+
+def plot(table: pd.DataFrame, path, title: str = "") -> None:
+    """Left: velocity (filled) and acceleration (hollow) error against time per position,
+    log-log, one marker per method, the finite-difference steps joined by a line. Right:
+    the finite-difference errors against the step h (the V: truncation against round-off)."""
+    import matplotlib
+    matplotlib.use("Agg")          # files only, no display
+    import matplotlib.pyplot as plt
+
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(12, 5))
+    fd = table[table["method"] == "fd"]
+    for m, marker in MARKERS.items():
+        row = table[table["method"] == m]
+        if row.empty:
+            continue
+        t = row["seconds_per_position"]
+        line = ax.loglog(t, np.maximum(row["err_vel"], FLOOR), marker, ms=9, label=f"{m} (velocity)")[0]
+        ax.loglog(t, np.maximum(row["err_acc"], FLOOR), marker, ms=9, mfc="none",
+                  color=line.get_color(), label=f"{m} (acceleration)")
+    if not fd.empty:
+        # the time does not depend on h: every step drawn at the median time, so the
+        # steps form one column (timing noise would make a zigzag of them)
+        t = np.full(len(fd), fd["seconds_per_position"].median())
+        ax.loglog(t, np.maximum(fd["err_vel"], FLOOR), "_", ms=14, mew=2, color="gray",
+                  label="fd, each step h = 1e-1..1e-8 (velocity)")
+        ax.loglog(t, np.maximum(fd["err_acc"], FLOOR), "x", ms=6, color="gray", label="fd (acceleration)")
+        h = fd["param"].str.slice(2).astype(float)
+        bx.loglog(h, np.maximum(fd["err_pos"], FLOOR), ":", color="gray", label="positions")
+        bx.loglog(h, np.maximum(fd["err_vel"], FLOOR), "o-", label="velocities")
+        bx.loglog(h, np.maximum(fd["err_acc"], FLOOR), "s--", label="accelerations")
+        bx.invert_xaxis()
+    ax.set_xlabel("time per crank position, s")
+    ax.set_ylabel("largest error (scaled, see bench.csv)")
+    ax.set_title("error against time")
+    ax.legend(fontsize=7)
+    ax.grid(True, which="major", alpha=0.3)
+    bx.set_xlabel("finite-difference step h, rad")
+    bx.set_ylabel("largest error")
+    bx.set_title("finite differences: truncation vs round-off")
+    bx.legend(fontsize=8)
+    bx.grid(True, which="major", alpha=0.3)
+    if title:
+        fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def format_bench(table: pd.DataFrame) -> str:
+    """The table for a terminal."""
+    lines = [f"{'method':<12}{'param':<12}{'s/position':>12}{'err_pos':>11}{'err_vel':>11}{'err_acc':>11}  notes"]
+    for r in table.itertuples(index=False):
+        lines.append(f"{r.method:<12}{r.param:<12}{r.seconds_per_position:>12.3e}{r.err_pos:>11.2e}"
+                     f"{r.err_vel:>11.2e}{r.err_acc:>11.2e}  {r.notes}")
+    return "\n".join(lines) + "\n"
