@@ -19,7 +19,12 @@ large ones relatively; the families are listed in FAMILIES):
   err_vel  vx, vy, vs (m/s) and omega_k (rad/s);
   err_acc  ax, ay, as (m/s^2) and eps_k (rad/s^2).
 A position where a method gives no number (NaN, a spreadsheet error) or jumps to the
-other branch is a failure: the table's notes and a warning name the crank angles.
+other branch is a failure: the table's notes and a warning name the crank angles; so is a
+position the solver flags as near a toggle (a warning).
+
+`sheetkin bench --stability --out DIR` (stability_study): the solver, Newton and finite
+differences walked towards a toggle, a change point and past the edge of a non-assembling
+interval, 1e-2 .. 1e-10 rad away, against the reference; see the section at the end.
 """
 from __future__ import annotations
 
@@ -39,7 +44,7 @@ import numpy as np
 import pandas as pd
 
 from .compute import AssemblyError, assembly_gaps, failed_positions, solution_columns
-from .scene import Scene, override_crank
+from .scene import Scene, override_crank, parse_scene
 from .solver import solve
 
 FD_STEPS = tuple(10.0 ** -k for k in np.arange(1.0, 8.01, 0.5))     # rad, 1e-1 .. 1e-8
@@ -65,6 +70,7 @@ class MethodResult:
     values: dict[str, np.ndarray]
     failures: dict[str, list[float]] = field(default_factory=dict)   # reason -> crank angles
     notes: str = ""
+    flags: dict[str, list[float]] = field(default_factory=dict)      # warning -> crank angles
 
 
 def quantity_names(scene: Scene) -> list[str]:
@@ -356,6 +362,15 @@ def method_solver(scene: Scene, phis) -> MethodResult:
     fail = failed_positions(sol)
     if fail.any():
         res.failures["cannot assemble"] = [float(p) for p in phis[fail]]
+    from .compute import TOGGLE_THRESHOLD
+    near = np.zeros(len(phis), dtype=bool)
+    for det in sol.det.values():
+        near |= ~(np.abs(det) >= TOGGLE_THRESHOLD)
+    near &= ~fail
+    if near.any():
+        # the key is the warning, {at} standing for the crank angles
+        res.flags[f"near a toggle at crank angles {{at}} deg (|det| < {TOGGLE_THRESHOLD:g}): "
+                  "velocities and accelerations lose accuracy"] = [float(p) for p in phis[near]]
     return res
 
 
@@ -608,6 +623,10 @@ def run_bench(scene: Scene, positions: int | None, out_dir, *, scene_text: str |
             notes.append(f"{why} at {len(at)} of {len(phis)} positions")
             label = f"{r.method} {r.param}".strip()
             warnings.append(f"{label}: {why} at crank angles {_angles(at)} deg")
+        for why, at in r.flags.items():
+            notes.append(f"near a toggle at {len(at)} of {len(phis)} positions")
+            label = f"{r.method} {r.param}".strip()
+            warnings.append(f"{label}: {why.format(at=_angles(at))}")
         rows.append({"method": r.method, "param": r.param,
                      "seconds_per_position": r.seconds_per_position,
                      **errors(r.values, ref), "notes": "; ".join(notes)})
@@ -674,4 +693,372 @@ def format_bench(table: pd.DataFrame) -> str:
     for r in table.itertuples(index=False):
         lines.append(f"{r.method:<12}{r.param:<12}{r.seconds_per_position:>12.3e}{r.err_pos:>11.2e}"
                      f"{r.err_vel:>11.2e}{r.err_acc:>11.2e}  {r.notes}")
+    return "\n".join(lines) + "\n"
+
+
+# --------------------------------------------------------------------------- stability study
+# Issue #5, items 2-3: each method walked towards a place where the kinematics degenerate,
+# at distances d = 1e-2 .. 1e-10 rad of crank angle. Three four-bars (RRR), every length a
+# binary fraction, so the float scene IS the mechanism studied (0.45 + 0.25 != 0.7 in
+# binary would move a change point by ~1e-8 rad, or open a gap there):
+#   toggle        non-Grashof (s + l = 0.75 > p + q = 0.625): the crank cannot turn fully;
+#                 at the edge of its range coupler and rocker are stretched in line, the
+#                 dyad's toggle (discriminant P^2 + Q^2 - F^2 -> 0, sin(psi - xi) -> 0);
+#                 approached from the assembling side, phi = phi_edge - d.
+#   change-point  Grashof sum equal (s + l = 0.625 = p + q): at phi = 180 deg all four
+#                 links are in line and the two branches of the dyad meet (the
+#                 discriminant touches 0 from above); phi = 180 deg - d.
+#   gap-edge      the toggle family seen from the far side: phi = phi_edge + d, where no
+#                 real position exists; the right answer is a refusal.
+STABILITY_DISTANCES = tuple(10.0 ** -k for k in range(2, 11))     # rad, 1e-2 .. 1e-10
+STABILITY_FD_STEPS = {"vel": 1e-5, "acc": 3e-4}     # the main bench's best steps (rad)
+STABILITY_FAR = 0.5         # rad: where Newton's walk towards the edge starts
+SILENT_ERROR = 1e-6         # an "ok" answer off by more than this is a silent failure
+_REF_EXTRA_DPS = 30         # the reference's guard digits: the singular point costs up to 20
+# det: the toggle measure the method's status is judged by (solver: its |det|, newton:
+# |sin(psi - xi)| of its own answer; fd: not a determinant but its step-doubling estimate)
+STABILITY_COLUMNS = ["family", "d", "distance", "phi_deg", "method", "param", "status",
+                     "err_pos", "err_vel", "err_acc", "det", "silent"]
+FAMILY_TITLES = {"toggle": "towards a toggle (non-Grashof crank, edge of its range)",
+                 "change-point": "towards a change point (s + l = p + q, links in line)",
+                 "gap-edge": "just outside the edge of a non-assembling interval"}
+
+_STABILITY_SCENE = """\
+title = "{title}"
+author = "sheetkin stability study"
+
+[frame]
+O  = [0.0, 0.0]
+O1 = [{frame!r}, 0.0]
+
+[crank]
+pivot = "O"
+joint = "A"
+length = {crank!r}
+phi0_deg = 0.0
+step_deg = 30.0
+positions = 1
+omega = 10.0
+epsilon = 0.0
+
+[[group]]
+type = "RRR"
+links = [2, 3]
+joints = ["A", "B", "O1"]
+lengths = [{coupler!r}, {rocker!r}]
+branch = {branch}
+"""
+
+
+def stability_scene(family: str) -> Scene:
+    """The four-bar of a stability family ("toggle" and "gap-edge" share theirs)."""
+    if family in ("toggle", "gap-edge"):
+        kw = dict(title="Non-Grashof four-bar: the crank's range ends in a toggle",
+                  frame=0.5, crank=0.25, coupler=0.375, rocker=0.25, branch=1)
+    elif family == "change-point":
+        kw = dict(title="Change-point four-bar: s + l = p + q",
+                  frame=0.5, crank=0.125, coupler=0.375, rocker=0.25, branch=1)
+    else:
+        raise ValueError(f"unknown stability family {family!r}")
+    return parse_scene(_STABILITY_SCENE.format(**kw), f"<stability {family}>")
+
+
+def _rrr_mp(scene: Scene, phi):
+    """(crank joint A, its frame point O1, L2, L3) of the one-dyad scene, in mpmath, at the
+    crank angle phi (radians, an mpf)."""
+    c, g = scene.crank, scene.groups[0]
+    ox, oy = (mpmath.mpf(v) for v in scene.frame[c.pivot])
+    ax, ay = ox + mpmath.mpf(c.length) * mpmath.cos(phi), oy + mpmath.mpf(c.length) * mpmath.sin(phi)
+    jx, jy = (mpmath.mpf(v) for v in scene.frame[g.joints[2]])
+    return (ax, ay), (jx, jy), mpmath.mpf(g.lengths[0]), mpmath.mpf(g.lengths[1])
+
+
+def _discriminant_mp(scene: Scene, phi):
+    """The dyad's discriminant P^2 + Q^2 - F^2 at crank angle phi (rad), exactly as the
+    lecture writes it, in mpmath."""
+    (ax, ay), (jx, jy), l2, l3 = _rrr_mp(scene, phi)
+    p, q = jx - ax, jy - ay
+    f = (p * p + q * q + l2 * l2 - l3 * l3) / (2 * l2)
+    return p * p + q * q - f * f
+
+
+def edge_angle_mp(scene: Scene, near_deg: float, dps: int = 50):
+    """The crank angle (radians, mpf) near `near_deg` where the dyad's discriminant is 0:
+    mpmath's root finder on P^2 + Q^2 - F^2 (a simple root at a toggle that ends the range).
+    """
+    with mpmath.workdps(dps + 10):
+        root = mpmath.findroot(lambda t: _discriminant_mp(scene, t), mpmath.radians(near_deg),
+                               tol=mpmath.mpf(10) ** (-dps - 5))
+    return +root
+
+
+def _family_angles(family: str, scene: Scene, distances):
+    """The exact singular angle (mpf, rad) and the float crank angles (deg) at the distances."""
+    with mpmath.workdps(60):
+        if family == "change-point":
+            edge = +mpmath.pi                      # all links in line: crank pointing away from O1
+        else:
+            # the closed form only gives the start: cos phi = (r^2 + d^2 - (L2 + L3)^2) / (2 r d)
+            c, g = scene.crank, scene.groups[0]
+            r, fr = c.length, scene.frame[g.joints[2]][0]
+            near = math.degrees(math.acos((r * r + fr * fr - sum(g.lengths) ** 2) / (2 * r * fr)))
+            edge = edge_angle_mp(scene, near)
+        sign = 1 if family == "gap-edge" else -1
+        phis = [float(mpmath.degrees(edge + sign * d)) for d in distances]
+        # the distance the float angle really is from the edge (the rounding of phi to a
+        # float double is ~1e-16 rad: 1e-6 of the smallest d)
+        dist = [float(abs(edge - mpmath.radians(mpmath.mpf(p)))) for p in phis]
+    return edge, phis, dist
+
+
+def reference_near_singular(scene: Scene, phi_deg_list, dps: int = 50) -> dict[str, list]:
+    """reference_mp for the one-dyad stability scenes, started independently of the float
+    solver (which may give NaN or the wrong digits there): the circles' intersection in
+    mpmath, then Newton on the loop equations, with _REF_EXTRA_DPS guard digits because the
+    Jacobian's conditioning near the singular point costs up to 20 of them. A position with
+    no real solution gives None for every quantity."""
+    g = scene.groups[0]
+    out = {name: [] for name in quantity_names(scene)}
+    work = dps + _REF_EXTRA_DPS
+    with mpmath.workdps(work):
+        tol = mpmath.mpf(10) ** (-(dps + 5))
+        for phi in phi_deg_list:
+            t = mpmath.mpf(float(phi)) * mpmath.pi / 180
+            (ax, ay), (jx, jy), l2, l3 = _rrr_mp(scene, t)
+            px, py = jx - ax, jy - ay
+            dd = px * px + py * py
+            a = (dd + l2 * l2 - l3 * l3) / (2 * mpmath.sqrt(dd))    # along A -> O1
+            h2 = l2 * l2 - a * a
+            if h2 < 0:
+                for name in out:
+                    out[name].append(None)
+                continue
+            h = mpmath.sqrt(h2) * g.branch                           # left of A -> O1: +
+            ux, uy = px / mpmath.sqrt(dd), py / mpmath.sqrt(dd)
+            bx, by = ax + a * ux - h * uy, ay + a * uy + h * ux
+            start = {g.index: [mpmath.atan2(by - ay, bx - ax), mpmath.atan2(by - jy, bx - jx)]}
+            values, _, problems = _walk(MP, scene, float(phi), start, tol, 60)
+            if problems:
+                raise ArithmeticError(f"reference: {problems[0][0].label}: {problems[0][1]} "
+                                      f"at crank angle {float(phi)!r} deg")
+            for name in out:
+                out[name].append(+values[name])
+    return out
+
+
+def _at(values: dict, i: int) -> dict:
+    return {n: np.asarray(v, dtype=float)[i:i + 1] for n, v in values.items()}
+
+
+def _solver_at(scene: Scene, phis):
+    sol = solve(scene, np.asarray(phis, dtype=float))
+    cols = solution_columns(scene, sol)
+    det = np.min(np.abs(np.vstack(list(sol.det.values()))), axis=0)
+    return {n: cols[n] for n in quantity_names(scene)}, failed_positions(sol), det
+
+
+def _fd_at(scene: Scene, phis, factor: float = 1.0) -> dict[str, np.ndarray]:
+    """Finite differences at the main bench's best steps (times `factor`): positions and
+    velocities from h_vel, accelerations from h_acc."""
+    v = method_fd(scene, phis, [STABILITY_FD_STEPS["vel"] * factor])[0].values
+    a = method_fd(scene, phis, [STABILITY_FD_STEPS["acc"] * factor])[0].values
+    return {n: (a[n] if FAMILIES[n.split("_", 1)[0]][0] == "acc" else v[n]) for n in v}
+
+
+def fd_estimate(scene: Scene, phis) -> np.ndarray:
+    """Finite differences' own error estimate, per position: the scaled difference (as in
+    errors()) between the answers at steps h and 2h (with a second-order formula the error
+    at h is about a third of it). NaN where either gives no number."""
+    a, b = _fd_at(scene, phis), _fd_at(scene, phis, 2.0)
+    out = []
+    for i in range(len(phis)):
+        if not all(np.isfinite(v[i]) for d in (a, b) for v in d.values()):
+            out.append(np.nan)
+            continue
+        e = errors(_at(a, i), {n: [float(v[i])] for n, v in b.items()})
+        out.append(max(e["err_vel"], e["err_acc"]))
+    return np.array(out)
+
+
+def _stability_family(family: str, distances, threshold: float):
+    scene = stability_scene(family)
+    edge, phis, dist = _family_angles(family, scene, distances)
+    ref = reference_near_singular(scene, phis)
+    far = float(mpmath.degrees(edge - STABILITY_FAR))
+    rows = []
+
+    def add(i, method, param, status, values, det=np.nan):
+        if ref[next(iter(ref))][i] is None:
+            err = {"err_pos": np.nan, "err_vel": np.nan, "err_acc": np.nan}
+        elif status in ("refused", "diverged", "nan"):
+            err = {"err_pos": np.nan, "err_vel": np.nan, "err_acc": np.nan}
+        else:
+            err = errors(_at(values, i), {n: r[i:i + 1] for n, r in ref.items()})
+        exists = ref[next(iter(ref))][i] is not None
+        # a silent failure: numbers shown with no flag, either where no position exists
+        # or off by more than SILENT_ERROR
+        silent = status == "ok" and (not exists or max(err.values()) > SILENT_ERROR)
+        rows.append({"family": family, "d": distances[i], "distance": dist[i], "phi_deg": phis[i],
+                     "method": method, "param": param, "status": status, **err,
+                     "det": det, "silent": bool(silent)})
+
+    # the solver, position by position (it has no memory)
+    sv, sfail, sdet = _solver_at(scene, phis)
+    nan_s = np.zeros(len(phis), dtype=bool)
+    for v in sv.values():
+        nan_s |= ~np.isfinite(v)
+    # Newton walks from STABILITY_FAR rad away towards (and, for gap-edge, past) the edge,
+    # each position warm-started from the last converged one
+    if family == "gap-edge":
+        inside = [float(mpmath.degrees(edge - d)) for d in distances]
+        walk = [far] + [p for pair in zip(inside, phis) for p in pair]
+        pick = list(range(2, len(walk), 2))
+    else:
+        walk = [far] + list(phis)
+        pick = list(range(1, len(walk)))
+    nr = method_newton(scene, walk)
+    why_at = {}
+    for why, at in nr.failures.items():
+        for p in at:
+            why_at.setdefault(p, "diverged" if why.startswith("no convergence") else "branch jump")
+    nv = {n: np.asarray(v)[pick] for n, v in nr.values.items()}
+    # Newton's own toggle measure, from its own answer: its Jacobian's determinant over
+    # L2 L3 is sin(psi - xi), the angle between coupler and rocker
+    ndet = np.sin(np.radians(nv["phi_2"] - nv["phi_3"]))
+    fv = _fd_at(scene, phis)
+    fest = fd_estimate(scene, phis)
+    for i, phi in enumerate(phis):
+        st = ("refused" if sfail[i] else "nan" if nan_s[i] else
+              "flagged" if abs(sdet[i]) < threshold else "ok")
+        add(i, "solver", "", st, sv, sdet[i])
+        st = why_at.get(walk[pick[i]], "ok")
+        if st == "ok" and not all(np.isfinite(v[i]) for v in nv.values()):
+            st = "nan"
+        elif st == "ok" and abs(ndet[i]) < threshold:
+            st = "flagged"
+        add(i, "newton", f"from {STABILITY_FAR:g} rad", st, nv, ndet[i])
+        fd_ok = all(np.isfinite(v[i]) for v in fv.values())
+        # finite differences cannot tell by themselves; the bench can, from the solver's
+        # toggle measure and from the step doubled (fd_estimate)
+        st = ("refused" if not fd_ok else "flagged" if abs(sdet[i]) < threshold else
+              "unsure" if not fest[i] <= SILENT_ERROR else "ok")
+        add(i, "fd", "h=1e-05/3e-04", st, fv, fest[i])
+    return rows, edge
+
+
+def stability_warnings(table: pd.DataFrame, threshold: float = 1e-2) -> list[str]:
+    """One line per family, method and kind of trouble, naming the crank angles (and how
+    far each is from the singular angle)."""
+    out = []
+    lose = "velocities and accelerations lose accuracy"
+    # status -> method -> (what happened, why / what it means), the angles go between
+    say = {"flagged": {"solver": ("near a toggle", f"(|det| < {threshold:g}): {lose}"),
+                       "newton": ("converged near a singular Jacobian",
+                                  f"(|sin(psi - xi)| < {threshold:g}): positions may be off, {lose}"),
+                       "fd": ("near a toggle", f"(the solver's |det| < {threshold:g}): the "
+                                               "differences lose digits")},
+           "unsure": {"fd": ("the answers at steps h and 2h differ by more than "
+                             f"{SILENT_ERROR:g}", "(too close to a singular position for the step)")},
+           "refused": {"solver": ("cannot assemble", "(refused)"),
+                       "fd": ("no number", "(a neighbour phi +- h cannot assemble)")},
+           "diverged": {"newton": ("no convergence", "(no number)")},
+           "branch jump": {"newton": ("landed on the other branch", "")},
+           "nan": {"solver": ("no velocities or accelerations", "(NaN: det = 0 in floats)"),
+                   "newton": ("no number", "(NaN)"), "fd": ("no number", "(NaN)")}}
+    for (family, method), grp in table.groupby(["family", "method"], sort=False):
+        for status, text in say.items():
+            hit = grp[grp["status"] == status]
+            if text.get(method) and len(hit):
+                at = ", ".join(f"{p:.12g} (d={d:.0e})" for p, d in zip(hit["phi_deg"], hit["d"]))
+                what, why = text[method]
+                out.append(f"{method} ({family}): {what} at crank angles {at} deg {why}".rstrip())
+        hit = grp[grp["silent"]]
+        if len(hit):
+            at = ", ".join(f"{p:.12g} (d={d:.0e})" for p, d in zip(hit["phi_deg"], hit["d"]))
+            out.append(f"{method} ({family}): SILENT: numbers with no flag but wrong by more than "
+                       f"{SILENT_ERROR:g} (or where no position exists) at crank angles {at} deg")
+    return out
+
+
+def stability_study(out_dir, distances=STABILITY_DISTANCES, threshold: float | None = None):
+    """Run the three families, write out_dir/stability.csv and out_dir/stability.png.
+
+    Returns (table, warnings, edges): a DataFrame with STABILITY_COLUMNS (err_* NaN where
+    the method gave no number or no position exists; `silent` True where a method printed
+    unflagged numbers that are wrong), the warning lines, and each family's singular crank
+    angle in degrees (mpf).
+    """
+    from .compute import TOGGLE_THRESHOLD
+    threshold = TOGGLE_THRESHOLD if threshold is None else threshold
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    rows, edges = [], {}
+    for family in FAMILY_TITLES:
+        r, edge = _stability_family(family, list(distances), threshold)
+        rows += r
+        edges[family] = mpmath.degrees(edge)
+    table = pd.DataFrame(rows, columns=STABILITY_COLUMNS)
+    table.to_csv(out_dir / "stability.csv", index=False, float_format="%.6e", lineterminator="\n")
+    plot_stability(table, out_dir / "stability.png")
+    return table, stability_warnings(table, threshold), edges
+
+
+_METHOD_COLOURS = {"solver": "C0", "newton": "C3", "fd": "C2"}
+_KIND_STYLES = {"err_pos": ("-", "o"), "err_vel": ("--", "s"), "err_acc": (":", "^")}
+
+
+def plot_stability(table: pd.DataFrame, path) -> None:
+    """Three panels (the families): each method's error against the distance d, log-log,
+    one line per method and quantity; a hollow marker where the method flagged the
+    position; where it gave no number, a cross at the top with its status."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fams = list(FAMILY_TITLES)
+    fig, axes = plt.subplots(1, len(fams), figsize=(6 * len(fams), 6), sharey=True)
+    clip = 1e8          # errors above are drawn here (wrong in every digit anyway)
+    levels = {"solver": 1e10, "newton": 1e12, "fd": 1e14}    # rows of "no number" crosses
+    for ax, fam in zip(np.atleast_1d(axes), fams):
+        t = table[table["family"] == fam]
+        for m, colour in _METHOD_COLOURS.items():
+            tm = t[t["method"] == m]
+            for kind, (ls, mk) in _KIND_STYLES.items():
+                y = np.clip(tm[kind].to_numpy(dtype=float), FLOOR, clip)
+                ax.loglog(tm["d"], y, ls, color=colour, lw=1.2,
+                          label=f"{m} {kind[4:]}" if fam == fams[0] else None)
+                fl = (tm["status"] != "ok").to_numpy()
+                ax.loglog(tm["d"][fl], y[fl], mk, color=colour, mfc="none", ms=6)
+                ax.loglog(tm["d"][~fl], y[~fl], mk, color=colour, ms=4)
+            bad = tm[tm[["err_pos", "err_vel", "err_acc"]].isna().all(axis=1)]
+            if len(bad):
+                ax.loglog(bad["d"], np.full(len(bad), levels[m]), "x", color=colour, ms=8)
+                ax.annotate(f"{m}: {', '.join(sorted(set(bad['status'])))}",
+                            (bad["d"].max(), levels[m]), fontsize=8, color=colour,
+                            xytext=(0, 6), textcoords="offset points")
+        ax.axhline(clip, color="gray", lw=0.5)
+        ax.set_ylim(FLOOR / 10, 1e16)
+        ax.set_title(FAMILY_TITLES[fam], fontsize=9)
+        ax.set_xlabel("distance d from the singular crank angle, rad")
+        ax.invert_xaxis()
+        ax.grid(True, which="major", alpha=0.3)
+    first = np.atleast_1d(axes)[0]
+    first.set_ylabel(f"error against mpmath (scaled; >= {clip:.0e} drawn at the line)")
+    fig.legend(*first.get_legend_handles_labels(), fontsize=8, ncol=9, loc="lower center")
+    fig.suptitle("stability: error against distance to the singular position; hollow marker: "
+                 "the method flagged it; x on top: no number (the status says why)", fontsize=10)
+    fig.tight_layout(rect=(0, 0.06, 1, 1))
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def format_stability(table: pd.DataFrame) -> str:
+    """The study's table for a terminal."""
+    lines = [f"{'family':<13}{'d':>8}  {'method':<8}{'status':<12}{'err_pos':>10}{'err_vel':>10}"
+             f"{'err_acc':>10}{'|det|':>10}"]
+    for r in table.itertuples(index=False):
+        e = [f"{v:10.1e}" if np.isfinite(v) else f"{'-':>10}" for v in (r.err_pos, r.err_vel, r.err_acc)]
+        det = f"{abs(r.det):10.1e}" if np.isfinite(r.det) else f"{'':>10}"
+        lines.append(f"{r.family:<13}{r.d:>8.0e}  {r.method:<8}{r.status + ('!' if r.silent else ''):<12}"
+                     f"{''.join(e)}{det}")
     return "\n".join(lines) + "\n"

@@ -140,8 +140,16 @@ def build_parser() -> argparse.ArgumentParser:
                     "and accelerations against an independent mpmath solution at 50 digits. "
                     "Writes DIR/bench.csv and DIR/bench.png (error against time, log-log) and "
                     "prints the table; a warning names the positions where a method fails.")
-    b.add_argument("scene", metavar="SCENE.toml", help="the scene file")
-    b.add_argument("--out", metavar="DIR", required=True, help="folder for bench.csv and bench.png")
+    b.add_argument("scene", metavar="SCENE.toml", nargs="?",
+                   help="the scene file (none with --stability)")
+    b.add_argument("--out", metavar="DIR", required=True,
+                   help="folder for bench.csv and bench.png (stability.csv, stability.png)")
+    b.add_argument("--stability", action="store_true",
+                   help="instead of a scene, the stability study: four-bars built in code walked "
+                        "towards a toggle, a change point (s + l = p + q) and just past the edge "
+                        "of a non-assembling interval, 1e-2..1e-10 rad away; each method's error "
+                        "and status (ok, flagged, refused, diverged, branch jump, NaN) at each "
+                        "distance; writes DIR/stability.csv and DIR/stability.png")
     b.add_argument("--positions", type=_positive_int, metavar="N",
                    help="N crank positions over one revolution from phi0 (default: the scene's)")
     b.add_argument("--no-libreoffice", action="store_true",
@@ -346,10 +354,30 @@ def cmd_validate(args) -> int:
 
 def cmd_bench(args) -> int:
     from .bench import format_bench, run_bench   # mpmath and matplotlib are needed only here
+    if args.stability:
+        return _cmd_stability(args)
+    if args.scene is None:
+        print("sheetkin: error: bench: a SCENE.toml is needed (or --stability)", file=sys.stderr)
+        return EXIT_INPUT
     scene = load_scene(args.scene)
     table, warnings = run_bench(scene, args.positions, args.out, libreoffice=not args.no_libreoffice)
     sys.stdout.write(format_bench(table))
     print(f"{Path(args.out) / 'bench.csv'}, {Path(args.out) / 'bench.png'}: written", file=sys.stderr)
+    for w in warnings:
+        print(f"sheetkin: warning: {w}", file=sys.stderr)
+    return 0
+
+
+def _cmd_stability(args) -> int:
+    from .bench import format_stability, stability_study
+    if args.scene is not None:
+        print("sheetkin: error: bench --stability builds its own scenes: give no SCENE.toml",
+              file=sys.stderr)
+        return EXIT_INPUT
+    table, warnings, _ = stability_study(args.out)
+    sys.stdout.write(format_stability(table))
+    print(f"{Path(args.out) / 'stability.csv'}, {Path(args.out) / 'stability.png'}: written",
+          file=sys.stderr)
     for w in warnings:
         print(f"sheetkin: warning: {w}", file=sys.stderr)
     return 0

@@ -1,0 +1,248 @@
+"""`sheetkin bench --stability` (issue #5, items 2-3): each method walked towards a toggle,
+a change point and just past the edge of a non-assembling interval, 1e-2 .. 1e-10 rad away.
+
+What is pinned here is what the methods actually do there (measured against the mpmath
+reference), and that every failure is reported: no method shows unflagged numbers that are
+wrong. Fast: one run of the study (about 2 s), no LibreOffice.
+"""
+from __future__ import annotations
+
+import csv
+import math
+import re
+
+import mpmath
+import numpy as np
+import pytest
+
+from sheetkin.bench import (STABILITY_DISTANCES, SILENT_ERROR, _STABILITY_SCENE, _rrr_mp,
+                            edge_angle_mp, method_solver, reference_near_singular,
+                            stability_scene, stability_study)
+from sheetkin.cli import main
+from sheetkin.compute import TOGGLE_THRESHOLD, AssemblyError, compute
+from sheetkin.scene import override_crank
+
+D = list(STABILITY_DISTANCES)
+
+
+@pytest.fixture(scope="module")
+def study(tmp_path_factory):
+    out = tmp_path_factory.mktemp("stability")
+    table, warnings, edges = stability_study(out)
+    return table, warnings, edges, out
+
+
+def rows(table, family, method):
+    t = table[(table["family"] == family) & (table["method"] == method)]
+    assert list(t["d"]) == D
+    return t
+
+
+def warning(warnings, start):
+    hits = [w for w in warnings if w.startswith(start)]
+    assert len(hits) == 1, (start, warnings)
+    return hits[0]
+
+
+def named_distances(text):
+    """The distances d named in a warning's list of crank angles."""
+    return [float(x) for x in re.findall(r"\(d=([0-9.e+-]+)\)", text)]
+
+
+# --------------------------------------------------------------------------- the cases
+def test_scenes_are_exact_binary_fractions():
+    """The change point is a change point in floats too: s + l = p + q exactly."""
+    cp = stability_scene("change-point")
+    assert cp.crank.length + cp.frame["O1"][0] == sum(cp.groups[0].lengths) == 0.625
+    tg = stability_scene("toggle")
+    assert tg.crank.length + tg.frame["O1"][0] > sum(tg.groups[0].lengths)   # non-Grashof
+
+
+def test_edge_angle_is_the_discriminant_root():
+    scene = stability_scene("toggle")
+    with mpmath.workdps(50):
+        edge = edge_angle_mp(scene, 108.0)
+        exact = mpmath.acos(mpmath.mpf(-0.3125))     # (r^2 + d^2 - (L2 + L3)^2) / (2 r d)
+        assert abs(edge - exact) < mpmath.mpf(10) ** -45
+
+
+def test_reference_agrees_with_differentiating_the_closed_form():
+    """The reference's velocity and acceleration at 1e-6 rad from the toggle equal the
+    derivatives (mpmath.diff, 60 digits) of B's closed-form position."""
+    scene = stability_scene("toggle")
+    with mpmath.workdps(60):
+        phi = float(mpmath.degrees(edge_angle_mp(scene, 108.0) - mpmath.mpf("1e-6")))
+        ref = reference_near_singular(scene, [phi])
+
+        def xb(t_deg):
+            (ax, ay), (jx, jy), l2, l3 = _rrr_mp(scene, t_deg * mpmath.pi / 180)
+            px, py = jx - ax, jy - ay
+            dist = mpmath.sqrt(px * px + py * py)
+            a = (dist * dist + l2 * l2 - l3 * l3) / (2 * dist)
+            return ax + a * px / dist - mpmath.sqrt(l2 * l2 - a * a) * py / dist
+
+        k = 180 / mpmath.pi * scene.crank.omega        # d/dt = omega d/dphi, phi in degrees
+        vx = mpmath.diff(xb, mpmath.mpf(phi)) * k
+        ax_ = mpmath.diff(xb, mpmath.mpf(phi), 2) * k * k
+        assert abs(vx / ref["vx_B"][0] - 1) < mpmath.mpf(10) ** -40
+        assert abs(ax_ / ref["ax_B"][0] - 1) < mpmath.mpf(10) ** -40
+        assert abs(ref["ax_B"][0]) > 1e8          # it is near the toggle: huge accelerations
+
+
+# --------------------------------------------------------------------------- the solver
+def test_solver_towards_a_toggle_flags_and_loses_digits_like_1_over_d(study):
+    table, warnings, _, _ = study
+    t = rows(table, "toggle", "solver")
+    det = t["det"].abs().to_numpy()
+    # flagged exactly where |det| < threshold; det ~ sqrt(d) (a square-root toggle)
+    assert list(t["status"]) == ["ok"] * 3 + ["flagged"] * 6
+    assert ((det < TOGGLE_THRESHOLD) == (t["status"] == "flagged")).all()
+    assert det[4] / det[6] == pytest.approx(10, rel=0.01)
+    # the velocity error, relative, grows like eps / d but stays finite and usable
+    err = t["err_vel"].to_numpy()
+    assert np.isfinite(t[["err_pos", "err_vel", "err_acc"]].to_numpy()).all()
+    assert (err * np.array(D) < 1e-15).all() and (err * np.array(D) > 1e-19).all()
+    assert err[-1] > 1e4 * err[0] and err[-1] < 1e-6
+    w = warning(warnings, "solver (toggle): near a toggle at crank angles ")
+    assert named_distances(w) == D[3:]
+    assert w.endswith("deg (|det| < 0.01): velocities and accelerations lose accuracy")
+
+
+def test_solver_just_outside_the_edge_refuses_naming_the_interval(study):
+    table, warnings, edges, _ = study
+    edge = float(edges["gap-edge"])
+    assert list(rows(table, "gap-edge", "solver")["status"]) == ["refused"] * len(D)
+    scene = stability_scene("toggle")
+    for d in D:
+        with pytest.raises(AssemblyError) as e:
+            compute(scene, at=[edge + math.degrees(d)])
+        start, end = map(float, re.search(r"crank angles ([0-9.]+)\.\.([0-9.]+) deg", str(e.value)).groups())
+        assert start == pytest.approx(edge, abs=0.01) and end == pytest.approx(360 - edge, abs=0.01)
+    # just inside it computes, flagged as near a toggle from 1e-5 rad on
+    df = compute(scene, at=[edge - math.degrees(d) for d in D])
+    assert list(df["near_toggle"]) == [""] * 3 + ["1"] * 6
+    marked = compute(scene, at=[edge - 1e-6, edge + 1e-6], allow_gaps=True)
+    assert list(marked["assembled"]) == [True, False]
+    assert named_distances(warning(warnings, "solver (gap-edge): cannot assemble")) == D
+
+
+def test_solver_at_a_change_point_keeps_its_branch_and_says_when_it_has_no_rates(study):
+    table, warnings, edges, _ = study
+    assert float(edges["change-point"]) == 180.0
+    t = rows(table, "change-point", "solver")
+    # det ~ d: flagged from the first distance on
+    assert set(t["status"]) == {"flagged", "nan"}
+    # at 1e-8 and 1e-10 rad the float discriminant is exactly 0: det = 0, rates NaN
+    assert list(t[t["status"] == "nan"]["d"]) == [1e-8, 1e-10]
+    assert (t[t["status"] == "nan"]["det"] == 0).all()
+    w = warning(warnings, "solver (change-point): no velocities or accelerations")
+    assert named_distances(w) == [1e-8, 1e-10]
+    # positions stay good (error ~ eps / d at worst) ...
+    assert (t["err_pos"].dropna() < 1e-8).all()
+    # ... the accelerations are lost (flagged): 1e-2 rad away already at 2.6e-8
+    acc = t["err_acc"].to_numpy()
+    assert acc[0] < 1e-6 and acc[3] > 0.1 and acc[5] > 1e6
+    # no silent branch flip: B never on the other side of A -> O1 than branch = +1
+    scene = stability_scene("change-point")
+    df = compute(scene, at=list(t["phi_deg"]))
+    cross = ((0.5 - df["x_A"]) * (df["y_B"] - df["y_A"]) - (0.0 - df["y_A"]) * (df["x_B"] - df["x_A"]))
+    assert (cross >= -1e-15).all() and (cross[:6] > 0).all()
+    assert (df["near_toggle"] == "1").all()
+
+
+# --------------------------------------------------------------------------- Newton
+def test_newton_towards_a_toggle_converges_then_stops_and_says_so(study):
+    table, warnings, _, _ = study
+    t = rows(table, "toggle", "newton")
+    assert list(t["status"]) == ["ok"] * 3 + ["flagged"] * 4 + ["diverged"] * 2
+    assert (t["err_vel"].iloc[:7] < 1e-8).all() and t["err_vel"].iloc[6] > 100 * t["err_vel"].iloc[0]
+    assert t[["err_pos", "err_vel", "err_acc"]].iloc[7:].isna().all().all()
+    w = warning(warnings, "newton (toggle): no convergence at crank angles ")
+    assert named_distances(w) == [1e-9, 1e-10]
+    assert "108.209956807 (d=1e-09)" in w
+
+
+def test_newton_past_the_edge_diverges_and_says_so(study):
+    table, warnings, _, _ = study
+    assert list(rows(table, "gap-edge", "newton")["status"]) == ["diverged"] * len(D)
+    assert named_distances(warning(warnings, "newton (gap-edge): no convergence")) == D
+
+
+def test_newton_at_a_change_point_stalls_in_the_flat_valley_flagged(study):
+    """Newton's step test passes (the residual is round-off in a valley ~d wide), so it
+    'converges', but its answer stops following the crank near 1e-8 rad: positions off by
+    ~1e-8, velocities by their own size. Its own |sin(psi - xi)| flags all of it."""
+    table, warnings, _, _ = study
+    t = rows(table, "change-point", "newton")
+    assert list(t["status"]) == ["flagged"] * len(D)
+    assert t["err_pos"].iloc[-1] > 1e-9 and t["err_vel"].iloc[-1] > 0.1
+    assert t["err_vel"].iloc[0] < 1e-10
+    w = warning(warnings, "newton (change-point): converged near a singular Jacobian")
+    assert named_distances(w) == D
+
+
+# --------------------------------------------------------------------------- differences
+def test_finite_differences_lose_digits_and_are_reported(study):
+    table, warnings, _, _ = study
+    t = rows(table, "toggle", "fd")
+    # a neighbour phi +- 3e-4 rad falls in the gap from 1e-4 rad on: no number
+    assert list(t["status"]) == ["unsure"] * 2 + ["refused"] * 7
+    acc = t["err_acc"].to_numpy()
+    assert acc[1] > 10 * acc[0] > 1e-3          # 1e-2 -> 1e-3 rad: another digit lost
+    assert t["det"].iloc[1] > t["det"].iloc[0] > SILENT_ERROR    # its step-doubling estimate
+    w = warning(warnings, "fd (toggle): the answers at steps h and 2h differ")
+    assert named_distances(w) == [1e-2, 1e-3]
+    # towards the change point the acceleration error grows decade by decade, to no digit
+    c = rows(table, "change-point", "fd")
+    acc = c["err_acc"].to_numpy()
+    assert (acc[1:] >= 0.5 * acc[:-1]).all() and acc[-1] > 1e4 * acc[0]
+    assert (c["err_vel"].iloc[4:] > 0.1).all()
+    assert set(c["status"]) == {"flagged"}
+
+
+def test_no_method_is_silently_wrong(study):
+    table, warnings, _, _ = study
+    assert not table["silent"].any()
+    assert not [w for w in warnings if "SILENT" in w]
+    # and the check can fire: an unflagged wrong answer would be counted
+    ok = table[table["status"] == "ok"]
+    assert (ok[["err_pos", "err_vel", "err_acc"]].max(axis=1) <= SILENT_ERROR).all()
+
+
+# --------------------------------------------------------------------------- files, CLI
+def test_csv_and_png_written(study):
+    table, _, _, out = study
+    with open(out / "stability.csv", newline="") as f:
+        got = list(csv.DictReader(f))
+    assert len(got) == 3 * 3 * len(D) == len(table)
+    assert list(got[0])[:7] == ["family", "d", "distance", "phi_deg", "method", "param", "status"]
+    # the float angle's distance from the edge is the nominal one to 1e-6 of it
+    for r in got:
+        assert float(r["distance"]) == pytest.approx(float(r["d"]), rel=1e-5)
+    png = (out / "stability.png").read_bytes()
+    assert png[:8] == b"\x89PNG\r\n\x1a\n" and len(png) > 30_000
+
+
+def test_cli_stability(tmp_path, capsys):
+    assert main(["bench", "--stability", "--out", str(tmp_path)]) == 0
+    out, err = capsys.readouterr()
+    assert out.split()[:4] == ["family", "d", "method", "status"]
+    assert ("sheetkin: warning: solver (toggle): near a toggle at crank angles "
+            "108.209383906 (d=1e-05)") in err
+    assert (tmp_path / "stability.csv").is_file() and (tmp_path / "stability.png").is_file()
+    assert main(["bench", "--out", str(tmp_path)]) == 2
+    assert "a SCENE.toml is needed" in capsys.readouterr().err
+
+
+def test_main_bench_warns_about_the_solvers_near_toggle_positions(tmp_path, capsys):
+    text = _STABILITY_SCENE.format(title="t", frame=0.5, crank=0.25, coupler=0.375, rocker=0.25,
+                                   branch=1)
+    text, scene = override_crank(text, "t.toml", phi0_deg=108.2099, step_deg=-30.0, positions=2)
+    r = method_solver(scene, scene.crank_angles_deg())
+    assert list(r.flags.values()) == [[108.2099]] and not r.failures
+    path = tmp_path / "t.toml"
+    path.write_text(text)
+    assert main(["bench", str(path), "--out", str(tmp_path / "o"), "--no-libreoffice"]) == 0
+    err = capsys.readouterr().err
+    assert ("sheetkin: warning: solver: near a toggle at crank angles 108.21 deg (|det| < 0.01): "
+            "velocities and accelerations lose accuracy") in err
