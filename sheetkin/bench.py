@@ -29,10 +29,6 @@ interval, 1e-2 .. 1e-10 rad away, against the reference; see the section at the 
 from __future__ import annotations
 
 import math
-import os
-import shutil
-import signal
-import subprocess
 import tempfile
 import time
 from dataclasses import dataclass, field
@@ -44,6 +40,7 @@ import numpy as np
 import pandas as pd
 
 from .compute import AssemblyError, assembly_gaps, failed_positions, solution_columns
+from .libreoffice import soffice_path
 from .scene import Scene, override_crank, parse_scene
 from .solver import solve
 
@@ -473,48 +470,11 @@ def method_evaluator(scene: Scene, phis, workbook: Path) -> MethodResult:
     return res
 
 
-# LibreOffice keeps a cached value by default, even a wrong one, unless told to recalculate
-# on load: a private profile sets OOXMLRecalcMode = 0 ("always"). See tests/libreoffice.py.
-_LO_REGISTRY = """<?xml version="1.0" encoding="UTF-8"?>
-<oor:items xmlns:oor="http://openoffice.org/2001/registry" xmlns:xs="http://www.w3.org/2001/XMLSchema" xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance">
-<item oor:path="/org.openoffice.Office.Calc/Formula/Load"><prop oor:name="OOXMLRecalcMode" oor:op="fuse"><value>0</value></prop></item>
-<item oor:path="/org.openoffice.Office.Calc/Formula/Load"><prop oor:name="ODFRecalcMode" oor:op="fuse"><value>0</value></prop></item>
-</oor:items>
-"""
-
-
-def soffice_path() -> str | None:
-    return shutil.which("soffice") or shutil.which("libreoffice")
-
-
 def libreoffice_recalculate(book: Path, outdir: Path, timeout: float = 300) -> Path:
-    """Open `book` in headless LibreOffice Calc, recalculate every formula, save it as
-    outdir/<name>.xlsx. Raises RuntimeError with soffice's output if that fails."""
-    soffice = soffice_path()
-    if soffice is None:
-        raise RuntimeError("LibreOffice (soffice) not found")
-    outdir.mkdir(parents=True, exist_ok=True)
-    out = outdir / book.name
-    out.unlink(missing_ok=True)        # a stale output must not pass for a fresh one
-    with tempfile.TemporaryDirectory(prefix="sheetkin-lo-profile-") as profile:
-        (Path(profile) / "user").mkdir()
-        (Path(profile) / "user" / "registrymodifications.xcu").write_text(_LO_REGISTRY, "utf-8")
-        cmd = [soffice, f"-env:UserInstallation={Path(profile).as_uri()}", "--headless",
-               "--norestore", "--nolockcheck", "--nologo", "--convert-to",
-               "xlsx:Calc MS Excel 2007 XML", "--outdir", str(outdir.resolve()), str(book.resolve())]
-        # own process group, so a timeout kills the wrapper and soffice.bin together
-        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                                stdin=subprocess.DEVNULL, start_new_session=True)
-        try:
-            stdout, stderr = proc.communicate(timeout=timeout)
-        except subprocess.TimeoutExpired:
-            os.killpg(proc.pid, signal.SIGKILL)
-            proc.communicate()
-            raise RuntimeError(f"LibreOffice timed out after {timeout:g} s") from None
-    if not out.is_file():
-        raise RuntimeError(f"LibreOffice wrote no file (exit code {proc.returncode}): "
-                           f"{(stderr or stdout).strip().splitlines()[-1:] or ''}")
-    return out
+    """`book` recalculated by headless LibreOffice (sheetkin.libreoffice: a private profile
+    forces recalculation on load) and saved as outdir/<name>.xlsx."""
+    from .libreoffice import recalculate
+    return recalculate([book], outdir, timeout)[Path(book).resolve()]
 
 
 def method_libreoffice(scene: Scene, phis, workbook: Path) -> MethodResult:

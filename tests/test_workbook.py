@@ -298,7 +298,7 @@ def test_a_check_row_at_least_every_8_rows(stem):
     start = rows["i"]
     gap = worst = 0
     for r in range(start, ws.max_row + 1):
-        name, status = ws.cell(r, 1).value, ws.cell(r, 4).value
+        status = ws.cell(r, 4).value
         if ws.cell(r, 2).value is None and ws.cell(r, 3).value is None:
             continue                                    # a section heading
         gap = 0 if str(status).startswith("=IF(AND(") else gap + 1
