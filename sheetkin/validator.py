@@ -277,8 +277,22 @@ def _evaluate_student(raw) -> Book:
     return evaluate_sheets(raw.path, raw.sheets, raw.order, raw.names, strict=False)
 
 
+_REFERENCES: dict[str, Book] = {}
+
+
 def _reference(scene: Scene) -> Book:
-    """The generated workbook of the variant, evaluated (no file written)."""
+    """The generated workbook of the variant, evaluated (no file written). A class often
+    shares variants, so references are kept per variant (the scene's repr names every
+    value) for the rest of the run."""
+    key = repr(dataclasses.replace(scene, source=""))
+    if key not in _REFERENCES:
+        if len(_REFERENCES) > 64:
+            _REFERENCES.clear()
+        _REFERENCES[key] = _build_reference(scene)
+    return _REFERENCES[key]
+
+
+def _build_reference(scene: Scene) -> Book:
     wb = build_workbook(scene, scene_text="")
     sheets, order = {}, []
     for ws in wb.worksheets[:1]:

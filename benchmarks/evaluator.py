@@ -1,0 +1,253 @@
+"""Benchmark of the headless evaluator against the `formulas` package and LibreOffice.
+
+    python benchmarks/evaluator.py [--repeat 5] [--copies 30] [--formulas-timeout 600]
+
+Run on demand, not by the tests. On 360-column workbooks of the four-bar (1 deg steps) and
+the shaper (-1 deg steps), made with `sheetkin workbook ... --positions 360`, it times:
+
+* ours: sheetkin.evaluator.evaluate(path), end to end (reading the xlsx included), best and
+  median of --repeat runs;
+* formulas (https://pypi.org/project/formulas/): formulas.ExcelModel().loads(path).finish()
+  (load + compile) and .calculate(), separately, once, in a child process. If it fails or
+  takes longer than --formulas-timeout seconds (default 600), it is timed on a 36-column
+  workbook of the same mechanism instead, and the table says so. A few cells are compared
+  with ours (sanity). `formulas` is NOT a dependency of sheetkin: install it for this
+  benchmark with `pip install formulas`; without it that part is reported as skipped;
+* LibreOffice headless: sheetkin.libreoffice.recalculate() (the harness the tests use) of the
+  one file, end to end (soffice start-up included), and the time per file when --copies
+  copies are recalculated in one soffice call.
+
+And: `sheetkin validate FOLDER` (subprocess, wall time, best and median of 3) on a folder of
+--copies copies of the four-bar's 13-column workbook (workbooks/fourbar.xlsx); target < 10 s.
+
+Prints a table of times and the ratios (their time / ours).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+from sheetkin.evaluator import evaluate  # noqa: E402
+
+MECHANISMS = (("fourbar", 1.0), ("shaper", -1.0))
+
+
+def make_workbook(stem: str, step: float, positions: int, out: Path) -> Path:
+    subprocess.run([sys.executable, "-m", "sheetkin", "workbook", str(ROOT / "workbooks" / f"{stem}.toml"),
+                    "--positions", str(positions), "--step-deg", str(step), "-o", str(out)],
+                   check=True, capture_output=True, cwd=ROOT)
+    return out
+
+
+def time_ours(path: Path, repeat: int):
+    times, book = [], None
+    for _ in range(repeat):
+        t = time.perf_counter()
+        book = evaluate(path)
+        times.append(time.perf_counter() - t)
+    return min(times), statistics.median(times), book
+
+
+def sample_cells(book, count: int = 6) -> list[tuple[str, int, int]]:
+    """A few numeric formula cells spread over the first sheet (first, middle, last columns)."""
+    sheet = book.order[0]
+    cells = sorted(book.sheets[sheet].formulas)
+    numeric = [(r, c) for (r, c) in cells if isinstance(book.value(sheet, r, c), float)
+               and not isinstance(book.value(sheet, r, c), bool)]
+    rows = sorted({r for r, _ in numeric})
+    picked = []
+    for k in range(count):
+        r = rows[(k * (len(rows) - 1)) // max(1, count - 1)]
+        cols = [c for (rr, c) in numeric if rr == r]
+        picked.append((sheet, r, cols[(k * len(cols)) // count]))
+    return picked
+
+
+# --------------------------------------------------------------------------- formulas (child)
+def formulas_worker(path: str, cells_json: str) -> None:
+    """Child process: load, compile and calculate with `formulas`; print JSON."""
+    import formulas
+    from openpyxl.utils import get_column_letter
+    t = time.perf_counter()
+    model = formulas.ExcelModel().loads(path).finish()
+    t1 = time.perf_counter()
+    solution = model.calculate()
+    t2 = time.perf_counter()
+    by_key = {k.upper(): v for k, v in solution.items()}
+    name = Path(path).name.upper()
+    values = []
+    for sheet, r, c in json.loads(cells_json):
+        key = f"'[{name}]{sheet.upper()}'!{get_column_letter(c)}{r}"
+        v = by_key.get(key)
+        if v is None:
+            values.append(None)
+            continue
+        x = v.value[0, 0] if hasattr(v, "value") else v
+        try:
+            values.append(float(x))
+        except (TypeError, ValueError):
+            values.append(str(x))
+    print(json.dumps({"load": t1 - t, "calc": t2 - t1, "values": values, "cells": len(solution)}))
+
+
+def time_formulas(path: Path, cells, timeout: float):
+    """(result dict, None) or (None, reason)."""
+    try:
+        import formulas  # noqa: F401
+    except ImportError:
+        return None, "not installed (pip install formulas)"
+    cmd = [sys.executable, __file__, "--formulas-worker", str(path), json.dumps(cells)]
+    t = time.perf_counter()
+    try:
+        res = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+    except subprocess.TimeoutExpired:
+        return None, f"did not finish in {timeout:.0f} s"
+    wall = time.perf_counter() - t
+    if res.returncode != 0:
+        return None, f"failed: {res.stderr.strip().splitlines()[-1] if res.stderr.strip() else res.returncode}"
+    out = json.loads(res.stdout.strip().splitlines()[-1])
+    out["wall"] = wall
+    return out, None
+
+
+def close(a, b) -> bool:
+    return (isinstance(a, float) and isinstance(b, float)
+            and abs(a - b) <= 1e-9 * max(1.0, abs(a)))
+
+
+# --------------------------------------------------------------------------- LibreOffice
+def time_libreoffice(path: Path, copies: int, work: Path):
+    from sheetkin.libreoffice import recalculate, soffice_path
+    if soffice_path() is None:
+        return None, None
+    out = work / "lo_single"
+    t = time.perf_counter()
+    recalculate([path], out, timeout=1800)
+    single = time.perf_counter() - t
+    many = work / f"lo_many_{path.stem}"
+    many.mkdir()
+    paths = []
+    for k in range(copies):
+        p = many / f"{path.stem}_{k:02d}.xlsx"
+        shutil.copy(path, p)
+        paths.append(p)
+    t = time.perf_counter()
+    recalculate(paths, many / "out", timeout=3600)
+    batch = time.perf_counter() - t
+    return single, batch / copies
+
+
+def time_validate(copies: int, work: Path):
+    folder = work / "students"
+    folder.mkdir()
+    for k in range(copies):
+        shutil.copy(ROOT / "workbooks" / "fourbar.xlsx", folder / f"student_{k:02d}.xlsx")
+    times, rc = [], None
+    for _ in range(3):
+        t = time.perf_counter()
+        res = subprocess.run([sys.executable, "-m", "sheetkin", "validate", str(folder), "--progress", "never"],
+                             capture_output=True, text=True, cwd=ROOT)
+        times.append(time.perf_counter() - t)
+        rc = res.returncode
+    return min(times), statistics.median(times), rc
+
+
+# --------------------------------------------------------------------------- main
+def fmt(x):
+    return "-" if x is None else f"{x:.3f}"
+
+
+def ratio(theirs, ours):
+    if theirs is None or not ours:
+        return "-"
+    r = theirs / ours
+    return f"{r:.1f}x" if r < 100 else f"{r:.0f}x"
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--repeat", type=int, default=5, help="runs of our evaluator (best and median)")
+    ap.add_argument("--copies", type=int, default=30, help="copies for LibreOffice's batch and for validate")
+    ap.add_argument("--formulas-timeout", type=float, default=600)
+    ap.add_argument("--no-formulas", action="store_true")
+    ap.add_argument("--no-libreoffice", action="store_true")
+    ap.add_argument("--formulas-worker", nargs=2, metavar=("PATH", "CELLS"), help=argparse.SUPPRESS)
+    args = ap.parse_args(argv)
+    if args.formulas_worker:
+        formulas_worker(*args.formulas_worker)
+        return 0
+
+    rows, notes = [], []
+    with tempfile.TemporaryDirectory(prefix="sheetkin-bench-") as tmp:
+        work = Path(tmp)
+        for stem, step in MECHANISMS:
+            path = make_workbook(stem, step, 360, work / f"{stem}360.xlsx")
+            best, median, book = time_ours(path, args.repeat)
+            print(f"{stem} 360 columns: {book.cells} formula cells in {book.runs} runs; "
+                  f"ours best {best:.3f} s, median {median:.3f} s", flush=True)
+            rows.append((f"{stem}360", "ours: evaluate()", best, median, "1x"))
+
+            if not args.no_formulas:
+                cells = sample_cells(book)
+                res, why = time_formulas(path, cells, args.formulas_timeout)
+                label, ours_ref, ref_book = "360", best, book
+                if res is None:
+                    notes.append(f"formulas on {stem}360: {why}; timed on 36 columns instead")
+                    small = make_workbook(stem, step * 10, 36, work / f"{stem}36.xlsx")
+                    b36, m36, ref_book = time_ours(small, args.repeat)
+                    rows.append((f"{stem}36", "ours: evaluate()", b36, m36, "1x"))
+                    cells = sample_cells(ref_book)
+                    res, why = time_formulas(small, cells, args.formulas_timeout)
+                    label, ours_ref = "36", b36
+                if res is None:
+                    notes.append(f"formulas on {stem}36: {why}")
+                else:
+                    total = res["load"] + res["calc"]
+                    rows.append((f"{stem}{label}", "formulas: load+compile", res["load"], None, ratio(res["load"], ours_ref)))
+                    rows.append((f"{stem}{label}", "formulas: calculate", res["calc"], None, ratio(res["calc"], ours_ref)))
+                    rows.append((f"{stem}{label}", "formulas: total", total, None, ratio(total, ours_ref)))
+                    ok = 0
+                    for (sheet, r, c), theirs in zip(cells, res["values"]):
+                        mine = ref_book.value(sheet, r, c)
+                        ok += close(mine, theirs)
+                        if not close(mine, theirs):
+                            notes.append(f"formulas differs at {stem}{label} {sheet}!R{r}C{c}: ours {mine!r}, formulas {theirs!r}")
+                    notes.append(f"sanity: formulas equals ours on {ok} of {len(cells)} sampled cells of {stem}{label}")
+                print(f"  formulas done ({'ok' if res else why})", flush=True)
+
+            if not args.no_libreoffice:
+                single, per_file = time_libreoffice(path, args.copies, work)
+                if single is None:
+                    notes.append("LibreOffice (soffice) not found: skipped")
+                else:
+                    rows.append((f"{stem}360", "LibreOffice: 1 file, 1 soffice run", single, None, ratio(single, best)))
+                    rows.append((f"{stem}360", f"LibreOffice: per file, {args.copies} in 1 run", per_file, None,
+                                 ratio(per_file, best)))
+                print("  LibreOffice done", flush=True)
+
+        vbest, vmedian, rc = time_validate(args.copies, work)
+        rows.append((f"{args.copies} x fourbar13", "sheetkin validate FOLDER", vbest, vmedian,
+                     "target < 10 s: " + ("met" if vmedian < 10 else "NOT met")))
+        notes.append(f"validate exit code {rc} (0 = every workbook correct)")
+
+    print()
+    print(f"{'workbook':<16} {'what':<40} {'best s':>9} {'median s':>9}  vs ours")
+    for wb, what, best, median, r in rows:
+        print(f"{wb:<16} {what:<40} {fmt(best):>9} {fmt(median):>9}  {r}")
+    for n in notes:
+        print("note:", n)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
