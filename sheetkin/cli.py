@@ -1,5 +1,5 @@
 """Command line: `sheetkin compute SCENE.toml ...`, `sheetkin workbook SCENE.toml ...`,
-`sheetkin bench SCENE.toml --out DIR`, ...
+`sheetkin bench SCENE.toml --out DIR`, `sheetkin synth crank-rocker ...`, ...
 
 Exit codes: 0 done, 1 `workbook --check` found a stale or missing workbook, 2 unusable
 input (a scene mistake, a bad option), 3 the mechanism cannot be assembled at some
@@ -154,6 +154,41 @@ def build_parser() -> argparse.ArgumentParser:
                    help="N crank positions over one revolution from phi0 (default: the scene's)")
     b.add_argument("--no-libreoffice", action="store_true",
                    help="skip the LibreOffice recalculation (the slowest method)")
+    s = sub.add_parser(
+        "synth", help="synthesize a mechanism from design data (seed 002)",
+        description="Synthesize a mechanism from its design data and print its dimensions; "
+                    "with -o, write a scene file ready for `compute` and `workbook`.")
+    ssub = s.add_subparsers(dest="kind", metavar="KIND", required=True)
+    cr = ssub.add_parser(
+        "crank-rocker", help="crank-rocker four-bar from the time-ratio coefficient K_w",
+        description="Seed 002: from the time-ratio coefficient K_w (overlap angle theta = "
+                    "180 (K_w - 1)/(K_w + 1) deg), the rocker length l3, the rocker pivot's "
+                    "Y_D and the rocker's extreme angles gamma1 < gamma2, find the crank l1, "
+                    "the coupler l2, the crank angle phi1H of the extended dead position and "
+                    "the rocker pivot's X_D (crank pivot at the origin, crank turning "
+                    "counterclockwise). Prints l1, l2, phi1H_deg, X_D. Refuses data with no "
+                    "crank-rocker (K_w < 1, Grashof violated, crank not the shortest link).")
+    cr.add_argument("--kw", type=_finite_float, required=True, metavar="K_W",
+                    help="time-ratio coefficient K_w >= 1 (working stroke time / return time)")
+    cr.add_argument("--l3", type=_positive_float, required=True, metavar="L3",
+                    help="rocker length |DB|, m")
+    cr.add_argument("--yd", type=_finite_float, required=True, metavar="Y_D",
+                    help="ordinate of the rocker pivot D, m")
+    cr.add_argument("--gamma1-deg", type=_finite_float, required=True, metavar="DEG",
+                    help="rocker angle (direction D->B) at the extended dead position")
+    cr.add_argument("--gamma2-deg", type=_finite_float, required=True, metavar="DEG",
+                    help="rocker angle at the folded dead position (gamma1 < gamma2)")
+    cr.add_argument("--format", choices=["table", "json"], default="table",
+                    help="table: one line per unknown (default); json: an object")
+    cr.add_argument("-o", "--output", metavar="SCENE.toml",
+                    help="also write the synthesized mechanism as a scene file")
+    cr.add_argument("--omega", type=_finite_float, default=10.0, metavar="RAD_S",
+                    help="crank angular velocity in the written scene, rad/s (default 10; "
+                         "positive: the working stroke is gamma1 -> gamma2)")
+    cr.add_argument("--positions", type=_positive_int, default=13, metavar="N",
+                    help="crank positions in the written scene (default 13)")
+    cr.add_argument("--step-deg", type=_finite_float, default=30.0, metavar="DEG",
+                    help="crank angle step in the written scene (default 30)")
     w.add_argument("--check", action="store_true",
                    help="write nothing: exit 1 if an existing workbook differs from what would be "
                         "written (stale) or is missing")
@@ -383,11 +418,36 @@ def _cmd_stability(args) -> int:
     return 0
 
 
+def cmd_synth(args) -> int:
+    from .scene import parse_scene
+    from .synthesis import synthesize_crank_rocker
+    if args.omega <= 0:
+        raise SceneError(f"--omega {args.omega:g}: expected a positive angular velocity (the "
+                         "working stroke gamma1 -> gamma2 needs the crank turning counterclockwise)")
+    mech = synthesize_crank_rocker(args.kw, args.l3, args.yd, args.gamma1_deg, args.gamma2_deg)
+    res = mech.results()
+    if args.format == "json":
+        text = json.dumps(res, indent=1) + "\n"
+    else:
+        units = {"l1": "m", "l2": "m", "phi1H_deg": "deg", "X_D": "m"}
+        text = "".join(f"{k:<11}{v:>14.6g}  {units[k]}\n" for k, v in res.items())
+    if args.output:
+        scene_text = mech.scene_toml(omega=args.omega, positions=args.positions,
+                                     step_deg=args.step_deg)
+        parse_scene(scene_text, args.output)          # what is written must load
+        _write(args.output, scene_text)
+        print(f"{args.output}: written (crank-rocker, theta = {mech.theta_deg:.6g} deg)",
+              file=sys.stderr)
+    sys.stdout.write(text)
+    return 0
+
+
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     try:
         return {"compute": cmd_compute, "workbook": cmd_workbook, "evaluate": cmd_evaluate,
-                "validate": cmd_validate, "bench": cmd_bench}[args.command](args)
+                "validate": cmd_validate, "bench": cmd_bench,
+                "synth": cmd_synth}[args.command](args)
     except SceneError as e:
         print(f"sheetkin: error: {e}", file=sys.stderr)
         return EXIT_INPUT
