@@ -26,7 +26,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .evaluator import Book, EvaluationError, Sheet, evaluate_sheets, read_book
+from .evaluator import Book, EvaluationError, evaluate_sheets
+from .xlsxread import Sheet, read_book
 from .scene import Scene, SceneError, parse_scene
 from .workbook import FIRST_COL, SCENE_SHEET, _rows, build_workbook
 from .xlsxsafe import Limits, UnusableWorkbook
