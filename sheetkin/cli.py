@@ -182,6 +182,13 @@ def build_parser() -> argparse.ArgumentParser:
                     help="table: one line per unknown (default); json: an object")
     cr.add_argument("-o", "--output", metavar="SCENE.toml",
                     help="also write the synthesized mechanism as a scene file")
+    cr.add_argument("--workbook", metavar="OUT.xlsx",
+                    help="also write a workbook with a synthesis sheet: the given data (editable), "
+                         "theta, the closed-form solution as live formulas, the four equations' "
+                         "residuals, the dead positions' points and a chart of them with the "
+                         "rocker's arc")
+    cr.add_argument("--lang", choices=["ru", "en"], default="ru",
+                    help="language of the synthesis workbook (default ru)")
     cr.add_argument("--omega", type=_finite_float, default=10.0, metavar="RAD_S",
                     help="crank angular velocity in the written scene, rad/s (default 10; "
                          "positive: the working stroke is gamma1 -> gamma2)")
@@ -438,6 +445,11 @@ def cmd_synth(args) -> int:
         _write(args.output, scene_text)
         print(f"{args.output}: written (crank-rocker, theta = {mech.theta_deg:.6g} deg)",
               file=sys.stderr)
+    if args.workbook:
+        from .synthesis import write_synthesis_workbook
+        write_synthesis_workbook(args.workbook, args.kw, args.l3, args.yd, args.gamma1_deg,
+                                 args.gamma2_deg, lang=args.lang)
+        print(f"{args.workbook}: written (synthesis sheet)", file=sys.stderr)
     sys.stdout.write(text)
     return 0
 

@@ -214,3 +214,288 @@ def _check(kw, l3, yd, gamma1_deg, gamma2_deg, theta_deg, r1, r2, xd, phi) -> Cr
     return CrankRocker(kw=kw, l3=l3, yd=yd, gamma1_deg=gamma1_deg, gamma2_deg=gamma2_deg,
                        theta_deg=theta_deg, l1=l1, l2=l2, phi1H_deg=phi_deg, X_D=xd,
                        branch=1 if s1 > 0 else -1)
+
+
+# --------------------------------------------------------------------------- the workbook
+SYNTH_SHEET_TITLES = {"ru": "Синтез", "en": "Synthesis"}
+_ARC_POINTS = 31
+# (name, unit, ru, en, formula | None for an input, "cand" for a per-root row in D and E).
+# In formulas {name} is the value cell $D$r of the row `name`, {c} the candidate's column.
+_SYNTH_ROWS = [
+    ("#", "", "Исходные данные", "Given data"),
+    ("K_w", "", "коэффициент изменения средней скорости хода коромысла", "time-ratio coefficient"),
+    ("l3", "m", "длина коромысла |DB|", "rocker length |DB|"),
+    ("Y_D", "m", "ордината центра вращения коромысла D", "ordinate of the rocker pivot D"),
+    ("gamma1_deg", "deg", "угол коромысла в начальном (разогнутом) крайнем положении",
+     "rocker angle at the extended dead position"),
+    ("gamma2_deg", "deg", "угол коромысла в конечном (сложенном) крайнем положении",
+     "rocker angle at the folded dead position"),
+    ("phi_ref_deg", "deg", "приближение phi1H (из нескольких корней выбирается ближайший)",
+     "initial guess of phi1H (of several roots the nearest is chosen)"),
+    ("Tol", "", "допуск проверок", "tolerance of the checks"),
+    ("#", "", "Угол перекрытия", "Overlap angle"),
+    ("theta", "rad", "theta = pi (K_w - 1)/(K_w + 1)", "theta = pi (K_w - 1)/(K_w + 1)",
+     "=PI()*({K_w}-1)/({K_w}+1)"),
+    ("theta_deg", "deg", "угол перекрытия, град", "overlap angle, deg", "=DEGREES({theta})"),
+    ("g1", "rad", "gamma1, рад", "gamma1, rad", "=RADIANS({gamma1_deg})"),
+    ("g2", "rad", "gamma2, рад", "gamma2, rad", "=RADIANS({gamma2_deg})"),
+    ("#", "", "Решение в замкнутой форме: a ctg(phi) - b ctg(phi + theta) = c",
+     "Closed-form solution: a cot(phi) - b cot(phi + theta) = c"),
+    ("a", "m", "a = Y_D + l3 sin(gamma1)", "a = Y_D + l3 sin(gamma1)", "={Y_D}+{l3}*SIN({g1})"),
+    ("b", "m", "b = Y_D + l3 sin(gamma2)", "b = Y_D + l3 sin(gamma2)", "={Y_D}+{l3}*SIN({g2})"),
+    ("c", "m", "c = l3 (cos(gamma1) - cos(gamma2))", "c = l3 (cos(gamma1) - cos(gamma2))",
+     "={l3}*(COS({g1})-COS({g2}))"),
+    ("p", "m", "p = a - b; psi = 2 phi + theta: p sin(psi) + c cos(psi) = r",
+     "p = a - b; psi = 2 phi + theta: p sin(psi) + c cos(psi) = r", "={a}-{b}"),
+    ("r", "m", "r = c cos(theta) - (a + b) sin(theta)", "r = c cos(theta) - (a + b) sin(theta)",
+     "={c}*COS({theta})-({a}+{b})*SIN({theta})"),
+    ("m", "m", "m = sqrt(p^2 + c^2)", "m = sqrt(p^2 + c^2)", "=SQRT({p}^2+{c}^2)"),
+    ("solvable", "", "уравнение имеет корни: m > 0, |r| <= m, sin(theta) <> 0 (K_w > 1)",
+     "the equation has roots: m > 0, |r| <= m, sin(theta) <> 0 (K_w > 1)",
+     "=AND({m}>0,ABS({r})<={m}*(1+1E-12),SIN({theta})<>0)"),
+    ("beta", "rad", "beta = atan2(p, c)", "beta = atan2(p, c)", "=ATAN2({c},{p})"),
+    ("delta", "rad", "delta = acos(r/m)", "delta = acos(r/m)",
+     "=ACOS(MAX(-1,MIN(1,IF({m}>0,{r}/{m},0))))"),
+    ("#", "", "Два корня (D: psi = beta + delta, E: psi = beta - delta)",
+     "Two roots (D: psi = beta + delta, E: psi = beta - delta)"),
+    ("phi0", "rad", "phi = (psi - theta)/2", "phi = (psi - theta)/2",
+     "cand", "=({beta}+{delta}-{theta})/2", "=({beta}-{delta}-{theta})/2"),
+    ("R1_0", "m", "l1 + l2 при phi (Крамер)", "l1 + l2 at phi (Cramer's rule)",
+     "cand", "=({c}*SIN({c}@phi0+{theta})-{p}*COS({c}@phi0+{theta}))/SIN({theta})"),
+    ("flip", "", "-1: phi + pi даёт l1 + l2 > 0", "-1: phi + pi gives l1 + l2 > 0",
+     "cand", "=IF({c}@R1_0<0,-1,1)"),
+    ("phi", "rad", "phi1H-кандидат", "candidate phi1H",
+     "cand", "={c}@phi0+IF({c}@flip<0,PI(),0)"),
+    ("R1", "m", "R1 = l1 + l2", "R1 = l1 + l2", "cand", "={c}@flip*{c}@R1_0"),
+    ("R2", "m", "R2 = l2 - l1", "R2 = l2 - l1",
+     "cand", "={c}@flip*({c}*SIN({c}@phi0)-{p}*COS({c}@phi0))/SIN({theta})"),
+    ("l1_c", "m", "l1 = (R1 - R2)/2", "l1 = (R1 - R2)/2", "cand", "=({c}@R1-{c}@R2)/2"),
+    ("l2_c", "m", "l2 = (R1 + R2)/2", "l2 = (R1 + R2)/2", "cand", "=({c}@R1+{c}@R2)/2"),
+    ("X_D_c", "m", "X_D = R1 cos(phi) - l3 cos(gamma1)", "X_D = R1 cos(phi) - l3 cos(gamma1)",
+     "cand", "={c}@R1*COS({c}@phi)-{l3}*COS({g1})"),
+    ("OD_c", "m", "длина стойки |OD|", "frame length |OD|",
+     "cand", "=SQRT({c}@X_D_c^2+{Y_D}^2)"),
+    ("phi_deg_c", "deg", "phi1H, град, 0..360", "phi1H, deg, 0..360",
+     "cand", "=MOD(DEGREES({c}@phi),360)"),
+    ("side_H", "m^2", "сторона B относительно A->D, начальное положение",
+     "side of B relative to A->D, extended position",
+     "cand", "=({c}@X_D_c-{c}@l1_c*COS({c}@phi))*({Y_D}+{l3}*SIN({g1})-{c}@l1_c*SIN({c}@phi))"
+             "-({Y_D}-{c}@l1_c*SIN({c}@phi))*({c}@X_D_c+{l3}*COS({g1})-{c}@l1_c*COS({c}@phi))"),
+    ("side_K", "m^2", "сторона B относительно A->D, конечное положение",
+     "side of B relative to A->D, folded position",
+     "cand", "=({c}@X_D_c+{c}@l1_c*COS({c}@phi+{theta}))*({Y_D}+{l3}*SIN({g2})+{c}@l1_c*SIN({c}@phi+{theta}))"
+             "-({Y_D}+{c}@l1_c*SIN({c}@phi+{theta}))*({c}@X_D_c+{l3}*COS({g2})+{c}@l1_c*COS({c}@phi+{theta}))"),
+    ("valid", "", "кривошипно-коромысловый: l2 > l1 > 0, кривошип короче всех, Грасгоф строго, "
+     "одна сборка в обоих положениях",
+     "a crank-rocker: l2 > l1 > 0, the crank the shortest link, Grashof strictly, one branch "
+     "in both positions",
+     "cand", "=AND({solvable},{c}@R1>0,{c}@R2>0,{c}@R1>{c}@R2,"
+             "{c}@l1_c<=MIN({c}@l2_c,{l3},{c}@OD_c),"
+             "MIN({c}@l1_c,{c}@l2_c,{l3},{c}@OD_c)+MAX({c}@l1_c,{c}@l2_c,{l3},{c}@OD_c)<"
+             "({c}@l1_c+{c}@l2_c+{l3}+{c}@OD_c-MIN({c}@l1_c,{c}@l2_c,{l3},{c}@OD_c)"
+             "-MAX({c}@l1_c,{c}@l2_c,{l3},{c}@OD_c))*(1-1E-9),{c}@side_H*{c}@side_K>0)"),
+    ("dist", "deg", "|phi1H - приближение|", "|phi1H - initial guess|",
+     "cand", "=ABS(MOD({c}@phi_deg_c-{phi_ref_deg}+180,360)-180)"),
+    ("root", "", "выбранный корень: 1 (D), 2 (E), 0 - нет решения",
+     "chosen root: 1 (D), 2 (E), 0 - no solution",
+     "=IF(AND(D{valid},E{valid}),IF(D{dist}<=E{dist},1,2),IF(D{valid},1,IF(E{valid},2,0)))"),
+    ("#", "", "Решение", "Solution"),
+    ("l1", "m", "длина кривошипа", "crank length", "=IF({root}=0,\"{marker}\",IF({root}=1,D{l1_c},E{l1_c}))"),
+    ("l2", "m", "длина шатуна", "coupler length", "=IF({root}=0,\"{marker}\",IF({root}=1,D{l2_c},E{l2_c}))"),
+    ("phi1H_deg", "deg", "угол кривошипа в начальном положении",
+     "crank angle at the extended dead position",
+     "=IF({root}=0,\"{marker}\",IF({root}=1,D{phi_deg_c},E{phi_deg_c}))"),
+    ("X_D", "m", "абсцисса центра вращения коромысла D", "abscissa of the rocker pivot D",
+     "=IF({root}=0,\"{marker}\",IF({root}=1,D{X_D_c},E{X_D_c}))"),
+    ("phi1H", "rad", "phi1H, рад", "phi1H, rad", "=RADIANS({phi1H_deg})"),
+    ("#", "", "Проверка: решение в четырёх уравнениях (левая часть - правая)",
+     "Check: the solution in the four equations (left side - right side)"),
+    ("res_1", "m", "(l1 + l2) cos(phi1H) - X_D - l3 cos(gamma1)",
+     "(l1 + l2) cos(phi1H) - X_D - l3 cos(gamma1)",
+     "=({l1}+{l2})*COS({phi1H})-({X_D}+{l3}*COS({g1}))"),
+    ("res_2", "m", "(l1 + l2) sin(phi1H) - Y_D - l3 sin(gamma1)",
+     "(l1 + l2) sin(phi1H) - Y_D - l3 sin(gamma1)",
+     "=({l1}+{l2})*SIN({phi1H})-({Y_D}+{l3}*SIN({g1}))"),
+    ("res_3", "m", "(l2 - l1) cos(phi1H + theta) - X_D - l3 cos(gamma2)",
+     "(l2 - l1) cos(phi1H + theta) - X_D - l3 cos(gamma2)",
+     "=({l2}-{l1})*COS({phi1H}+{theta})-({X_D}+{l3}*COS({g2}))"),
+    ("res_4", "m", "(l2 - l1) sin(phi1H + theta) - Y_D - l3 sin(gamma2)",
+     "(l2 - l1) sin(phi1H + theta) - Y_D - l3 sin(gamma2)",
+     "=({l2}-{l1})*SIN({phi1H}+{theta})-({Y_D}+{l3}*SIN({g2}))"),
+]
+_SYNTH_TEXT = {
+    "ru": {"name": "имя", "unit": "ед.", "desc": "описание", "value": "значение / корень 1",
+           "value2": "корень 2", "checks": "проверки", "pass": "все проверки выполнены",
+           "fail": "проверки не выполнены", "marker": "нет решения",
+           "title": "Синтез кривошипно-коромыслового механизма по коэффициенту K_w (seed 002)",
+           "points": "Крайние положения: точки O, A, B, D", "arc": "Дуга коромысла (точка B)",
+           "chart": "Механизм в крайних положениях", "H": "начальное (разогнутое)",
+           "K": "конечное (сложенное)", "arcs": "дуга коромысла", "k": "номер точки",
+           "gamma": "угол коромысла"},
+    "en": {"name": "name", "unit": "unit", "desc": "description", "value": "value / root 1",
+           "value2": "root 2", "checks": "checks", "pass": "all checks pass",
+           "fail": "checks fail", "marker": "no solution",
+           "title": "Synthesis of a crank-rocker from the time-ratio coefficient K_w (seed 002)",
+           "points": "Dead positions: points O, A, B, D", "arc": "The rocker's arc (point B)",
+           "chart": "The mechanism in its dead positions", "H": "extended",
+           "K": "folded", "arcs": "rocker's arc", "k": "point number", "gamma": "rocker angle"},
+}
+
+
+def build_synthesis_workbook(kw: float, l3: float, yd: float, gamma1_deg: float,
+                             gamma2_deg: float, *, lang: str = "ru", tol: float = 1e-9,
+                             phi_ref_deg: float = 30.0):
+    """A workbook with one sheet solving seed 002 with live formulas: the given data (yellow,
+    editable), theta, the closed form above with its two roots side by side (columns D, E) and
+    the choice between them written with IF (the same rules as synthesize_crank_rocker), the
+    four equations' residuals against Tol, the dead positions' points, the rocker's arc and a
+    chart of both. Needs K_w > 1 (theta = 0 makes the closed form's 2x2 system singular)."""
+    import re
+
+    from openpyxl import Workbook
+    from openpyxl.chart import Reference, ScatterChart, Series
+    from openpyxl.chart.data_source import NumFmt
+    from openpyxl.formatting.rule import FormulaRule
+    from openpyxl.styles import Font
+    from openpyxl.utils import get_column_letter
+
+    from .workbook import GREEN, INPUT_FILL, RED, SECTION_FONT
+
+    if lang not in _SYNTH_TEXT:
+        raise ValueError(f"lang must be one of {', '.join(_SYNTH_TEXT)}, got {lang!r}")
+    text = _SYNTH_TEXT[lang]
+    values = {"K_w": kw, "l3": l3, "Y_D": yd, "gamma1_deg": gamma1_deg,
+              "gamma2_deg": gamma2_deg, "phi_ref_deg": phi_ref_deg, "Tol": tol}
+    first = 5
+    where = {}
+    for k, row in enumerate(_SYNTH_ROWS):
+        if row[0] != "#":
+            where[row[0]] = first + k
+    after = first + len(_SYNTH_ROWS) + 1
+    pts = {"X_H": after + 1, "Y_H": after + 2, "X_K": after + 3, "Y_K": after + 4}
+    arc0 = after + 6
+    arc = {"k": arc0 + 1, "gamma_arc": arc0 + 2, "X_arc": arc0 + 3, "Y_arc": arc0 + 4}
+    where.update(pts)
+
+    def fill(tpl: str, col: str = "D") -> str:
+        tpl = tpl.replace("{marker}", text["marker"])
+        tpl = re.sub(r"\{c\}@(\w+)", lambda m: f"{col}{where[m.group(1)]}", tpl)
+        tpl = re.sub(r"D\{(\w+)\}", lambda m: f"D{where[m.group(1)]}", tpl)
+        tpl = re.sub(r"E\{(\w+)\}", lambda m: f"E{where[m.group(1)]}", tpl)
+        return re.sub(r"\{(\w+)\}", lambda m: f"$D${where[m.group(1)]}", tpl)
+
+    wb = Workbook()
+    ws = wb.active
+    ws.title = SYNTH_SHEET_TITLES[lang]
+    ws["A1"] = text["title"]
+    ws["A1"].font = Font(bold=True, size=14)
+    ws["A3"] = text["checks"]
+    ws["A3"].font = SECTION_FONT
+    for col, key in zip("ABCDE", ("name", "unit", "desc", "value", "value2")):
+        ws[f"{col}4"] = text[key]
+        ws[f"{col}4"].font = SECTION_FONT
+    for k, row in enumerate(_SYNTH_ROWS):
+        r = first + k
+        name, unit, ru, en = row[:4]
+        if name == "#":
+            ws.cell(r, 1, ru if lang == "ru" else en).font = SECTION_FONT
+            continue
+        ws.cell(r, 1, name)
+        ws.cell(r, 2, unit)
+        ws.cell(r, 3, ru if lang == "ru" else en)
+        if len(row) == 4:
+            ws.cell(r, 4, float(values[name])).fill = INPUT_FILL
+            continue
+        fmt = ("0.0E+00" if name.startswith("res_") else
+               "General" if name in ("solvable", "flip", "valid", "root") else "0.000000000")
+        if row[4] == "cand":
+            tpls = row[5:] if len(row) == 7 else (row[5], row[5])
+            for col, tpl in zip("DE", tpls):
+                ws[f"{col}{r}"] = fill(tpl, col)
+                ws[f"{col}{r}"].number_format = fmt
+        else:
+            ws.cell(r, 4, fill(row[4])).number_format = fmt
+    tolc = f"$D${where['Tol']}"
+    res = [f"D{where[f'res_{i}']}" for i in range(1, 5)]
+    for c in res:
+        ws.conditional_formatting.add(c, FormulaRule(formula=[f"AND(ISNUMBER({c}),ABS({c})<={tolc})"], fill=GREEN))
+        ws.conditional_formatting.add(c, FormulaRule(formula=[f"OR(NOT(ISNUMBER({c})),ABS({c})>{tolc})"], fill=RED))
+    absmax = ",".join(f"ABS({c})" for c in res)
+    ws["D3"] = (f'=IF(COUNT({",".join(res)})<4,"{text["fail"]}",'
+                f'IF(MAX({absmax})<={tolc},"{text["pass"]}","{text["fail"]}"))')
+    ws["D3"].font = SECTION_FONT
+    ws.conditional_formatting.add("D3", FormulaRule(formula=[f'D3="{text["pass"]}"'], fill=GREEN))
+    ws.conditional_formatting.add("D3", FormulaRule(formula=[f'D3<>"{text["pass"]}"'], fill=RED))
+
+    # the dead positions' points O, A, B, D (columns D..G), as in the seed
+    ws.cell(after, 1, text["points"]).font = SECTION_FONT
+    for j, p in enumerate("OABD"):
+        ws.cell(after, 4 + j, p).font = SECTION_FONT
+    t = lambda s: fill(s)
+    pt = {"X_H": ("0", "={l1}*COS({phi1H})", "=({l1}+{l2})*COS({phi1H})", "={X_D}"),
+          "Y_H": ("0", "={l1}*SIN({phi1H})", "=({l1}+{l2})*SIN({phi1H})", "={Y_D}"),
+          "X_K": ("0", "={l1}*COS({phi1H}+{theta}+PI())", "=({l2}-{l1})*COS({phi1H}+{theta})", "={X_D}"),
+          "Y_K": ("0", "={l1}*SIN({phi1H}+{theta}+PI())", "=({l2}-{l1})*SIN({phi1H}+{theta})", "={Y_D}")}
+    desc = {"X_H": ("абсциссы, начальное положение", "abscissae, extended position"),
+            "Y_H": ("ординаты, начальное положение", "ordinates, extended position"),
+            "X_K": ("абсциссы, конечное положение", "abscissae, folded position"),
+            "Y_K": ("ординаты, конечное положение", "ordinates, folded position")}
+    for name, r in pts.items():
+        ws.cell(r, 1, name)
+        ws.cell(r, 2, "m")
+        ws.cell(r, 3, desc[name][0 if lang == "ru" else 1])
+        for j, f in enumerate(pt[name]):
+            cell = ws.cell(r, 4 + j, 0.0 if f == "0" else t(f))
+            cell.number_format = "0.000000"
+    # the rocker's arc: gamma1 .. gamma2 in _ARC_POINTS points (columns D..)
+    ws.cell(arc0, 1, text["arc"]).font = SECTION_FONT
+    n = _ARC_POINTS
+    cols = [get_column_letter(4 + k) for k in range(n)]
+    labels = {"k": ("", text["k"]), "gamma_arc": ("deg", text["gamma"]),
+              "X_arc": ("m", "X_D + l3 cos(gamma)"), "Y_arc": ("m", "Y_D + l3 sin(gamma)")}
+    for name, r in arc.items():
+        ws.cell(r, 1, name)
+        ws.cell(r, 2, labels[name][0])
+        ws.cell(r, 3, labels[name][1])
+        for k, c in enumerate(cols):
+            if name == "k":
+                ws.cell(r, 4 + k, k)
+                continue
+            f = {"gamma_arc": f"={{gamma1_deg}}+({{gamma2_deg}}-{{gamma1_deg}})*{c}{arc['k']}/{n - 1}",
+                 "X_arc": f"={{X_D}}+{{l3}}*COS(RADIANS({c}{arc['gamma_arc']}))",
+                 "Y_arc": f"={{Y_D}}+{{l3}}*SIN(RADIANS({c}{arc['gamma_arc']}))"}[name]
+            ws.cell(r, 4 + k, fill(f)).number_format = "0.00" if name == "gamma_arc" else "0.0000"
+    ws.column_dimensions["A"].width = 14
+    ws.column_dimensions["B"].width = 6
+    ws.column_dimensions["C"].width = 56
+    ws.column_dimensions["D"].width = 16
+    ws.column_dimensions["E"].width = 16
+
+    ch = ScatterChart()
+    ch.title, ch.style, ch.height, ch.width = text["chart"], 2, 12, 14
+    ch.x_axis.title, ch.y_axis.title = "x, m", "y, m"
+    for axis in (ch.x_axis, ch.y_axis):
+        axis.delete = False
+        axis.crosses = "min"
+        axis.numFmt = NumFmt(formatCode="General", sourceLinked=False)
+    row_ref = lambda r, c0, c1: Reference(ws, min_col=c0, max_col=c1, min_row=r, max_row=r)
+    for xs, ys, label, c1 in ((pts["X_H"], pts["Y_H"], text["H"], 7),
+                              (pts["X_K"], pts["Y_K"], text["K"], 7),
+                              (arc["X_arc"], arc["Y_arc"], text["arcs"], 3 + n)):
+        s = Series(row_ref(ys, 4, c1), row_ref(xs, 4, c1), title=label)
+        s.marker.symbol = "circle" if c1 == 7 else "none"
+        s.smooth = False
+        ch.series.append(s)
+    ws.add_chart(ch, "G3")
+    ws.freeze_panes = "D5"
+    ws.page_setup.orientation = "landscape"
+    ws.page_setup.paperSize = ws.PAPERSIZE_A4
+    ws.sheet_properties.pageSetUpPr.fitToPage = True
+    ws.page_setup.fitToWidth, ws.page_setup.fitToHeight = 1, 0
+    return wb
+
+
+def write_synthesis_workbook(path, kw: float, l3: float, yd: float, gamma1_deg: float,
+                             gamma2_deg: float, *, lang: str = "ru") -> None:
+    """Write build_synthesis_workbook(...) to `path` (.xlsx)."""
+    build_synthesis_workbook(kw, l3, yd, gamma1_deg, gamma2_deg, lang=lang).save(path)
