@@ -80,6 +80,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--analogs", action="store_true",
                    help="add the velocity and acceleration analogs d/dphi, d2/dphi2 "
                         "(columns vqx_A, vq_A, aqx_A, omegaq_2, epsq_2, vqs_B, ...)")
+    p.add_argument("--dynamics", action="store_true",
+                   help="add the energy and force analysis: kinetic and potential energy, inertia "
+                        "forces, energy rates, power of the external forces, joint reactions, the "
+                        "balancing moment M_bal and the energy balance (needs [[mass]]/[[force]])")
     p.add_argument("--allow-gaps", action="store_true",
                    help="where a group cannot assemble, mark those positions (assembled = "
                         "false, empty values) and compute the rest instead of failing")
@@ -108,6 +112,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help="number of crank positions (columns), instead of the scene's")
     w.add_argument("--step-deg", type=_finite_float, metavar="DEG", help="crank angle step, instead of the scene's")
     w.add_argument("--phi0-deg", type=_finite_float, metavar="DEG", help="first crank angle, instead of the scene's")
+    w.add_argument("--synthesis", action="store_true",
+                   help="require the synthesis sheet (seed 002): exit 2 if the scene has no "
+                        "[synthesis] table (`synth crank-rocker -o` writes one). Without this "
+                        "option the sheet is added whenever the scene has the table")
     e = sub.add_parser(
         "evaluate", help="compute a workbook's formulas without a spreadsheet program",
         description="Evaluate every formula of an .xlsx workbook headlessly (numpy) and print "
@@ -181,7 +189,9 @@ def build_parser() -> argparse.ArgumentParser:
     cr.add_argument("--format", choices=["table", "json"], default="table",
                     help="table: one line per unknown (default); json: an object")
     cr.add_argument("-o", "--output", metavar="SCENE.toml",
-                    help="also write the synthesized mechanism as a scene file")
+                    help="also write the synthesized mechanism as a scene file, with a [synthesis] "
+                         "table of the given data (`sheetkin workbook SCENE.toml` then adds the "
+                         "synthesis sheet to the scene's workbook)")
     cr.add_argument("--workbook", metavar="OUT.xlsx",
                     help="also write a workbook with a synthesis sheet: the given data (editable), "
                          "theta, the closed-form solution as live formulas, the four equations' "
@@ -266,8 +276,11 @@ def _toggle_warnings(df) -> list[str]:
 
 def cmd_compute(args) -> int:
     scene = load_scene(args.scene)
+    if args.dynamics and not scene.has_dynamics:
+        raise SceneError(f"{args.scene}: --dynamics needs [[mass]] and/or [[force]] tables in the "
+                         "scene (and `gravity = [gx, gy]` for weight); see the README")
     df = compute(scene, args.at, analogs=args.analogs, allow_gaps=args.allow_gaps,
-                 toggle_threshold=args.toggle_threshold)
+                 toggle_threshold=args.toggle_threshold, dynamics=args.dynamics)
     warnings = _toggle_warnings(df)
     if "assembled" in df:
         gaps = assembly_gaps(scene, df["phi_1"].to_numpy())
@@ -289,6 +302,7 @@ def cmd_compute(args) -> int:
 
 
 def cmd_workbook(args) -> int:
+    from .synthesis import add_scene_synthesis_sheet, parse_synthesis
     from .workbook import build_workbook, fingerprint   # openpyxl is needed only here
 
     if args.output and len(args.scenes) > 1:
@@ -303,7 +317,15 @@ def cmd_workbook(args) -> int:
             text, scene = override_crank(text, path, **overrides)
         out = Path(args.output) if args.output else Path(path).with_name(
             Path(path).stem + ("-exercise" if args.exercise else "") + ".xlsx")
+        synthesis = parse_synthesis(text, path)
+        if synthesis is None and args.synthesis:
+            raise SceneError(f"{path}: --synthesis: the scene has no [synthesis] table (the data "
+                             "of `sheetkin synth crank-rocker`, which writes it with -o)")
         wb = build_workbook(scene, lang=args.lang, exercise=args.exercise, scene_text=text)
+        if synthesis is not None:
+            for w in add_scene_synthesis_sheet(wb, scene, synthesis, lang=args.lang):
+                print(f"sheetkin: warning: {path}: {w}: the synthesis sheet's check rows "
+                      "comparing it with the kinematics sheet fail", file=sys.stderr)
         if args.check:
             if not out.exists():
                 print(f"sheetkin: {out}: missing (regenerate: sheetkin workbook {path})")
@@ -318,7 +340,8 @@ def cmd_workbook(args) -> int:
             raise SceneError(f"{out}: expected a file name ending in .xlsx")
         wb.save(out)
         print(f"{out}: {scene.crank.positions} positions, {len(scene.groups)} group(s), "
-              f"{len(scene.points)} point(s)", file=sys.stderr)
+              f"{len(scene.points)} point(s)" + (", synthesis sheet" if synthesis else ""),
+              file=sys.stderr)
     return 1 if stale else 0
 
 
@@ -427,7 +450,7 @@ def _cmd_stability(args) -> int:
 
 def cmd_synth(args) -> int:
     from .scene import parse_scene
-    from .synthesis import synthesize_crank_rocker
+    from .synthesis import parse_synthesis, synthesize_crank_rocker
     if args.omega <= 0:
         raise SceneError(f"--omega {args.omega:g}: expected a positive angular velocity (the "
                          "working stroke gamma1 -> gamma2 needs the crank turning counterclockwise)")
@@ -441,7 +464,8 @@ def cmd_synth(args) -> int:
     if args.output:
         scene_text = mech.scene_toml(omega=args.omega, positions=args.positions,
                                      step_deg=args.step_deg)
-        parse_scene(scene_text, args.output)          # what is written must load
+        parse_scene(scene_text, args.output)          # what is written must load,
+        parse_synthesis(scene_text, args.output)      # its [synthesis] table too
         _write(args.output, scene_text)
         print(f"{args.output}: written (crank-rocker, theta = {mech.theta_deg:.6g} deg)",
               file=sys.stderr)

@@ -6,7 +6,8 @@ in shared/spec/scene.md ("Output names"), followed by sheetkin's own extra colum
   det_g<i>        group i's normalised Jacobian determinant (toggle measure)
   near_toggle     the groups (e.g. "1" or "1,2") whose |det| is below the threshold, else ""
 and, with analogs=True, the velocity/acceleration analogs (d/dphi, d2/dphi2): vqx_A,
-vq_A, aqx_A, omegaq_2, epsq_2, vqs_B, ... (seed 000's v_qAx, omega_q2, ...).
+vq_A, aqx_A, omegaq_2, epsq_2, vqs_B, ... (seed 000's v_qAx, omega_q2, ...); with
+dynamics=True, the energy and force analysis (sheetkin.dynamics: T_k, U_k, ..., M_bal).
 """
 from __future__ import annotations
 
@@ -18,6 +19,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from .dynamics import dynamics as solve_dynamics
+from .dynamics import dynamics_names
 from .scene import Scene, load_scene
 from .solver import Solution, solve
 
@@ -63,8 +66,14 @@ _UNITS = {"phi": "deg", "omega": "rad/s", "eps": "rad/s^2", "x": "m", "y": "m",
           "aq": "m", "vqs": "m", "aqs": "m", "det": "1"}
 
 
+_UNITS.update({"T": "J", "U": "J", "Fix": "N", "Fiy": "N", "Mi": "N m", "Rx": "N", "Ry": "N",
+               "R": "N", "M": "N m"})
+_WHOLE_UNITS = {"T_t": "W", "U_t": "W", "P_ext": "W", "P_bal": "W", "balance": "W",
+                "M_bal": "N m"}
+
+
 def unit(column: str) -> str:
-    return _UNITS.get(column.split("_", 1)[0], "")
+    return _WHOLE_UNITS.get(column) or _UNITS.get(column.split("_", 1)[0], "")
 
 
 def analog_name(column: str) -> str:
@@ -202,15 +211,19 @@ def _keep_temporaries_in_heap():
         pass
 
 
-def table_names(scene: Scene, analogs: bool = False) -> list[str]:
-    """Rows of solve_table: the contract's columns, [their analogs], then det_g<i>."""
+def table_names(scene: Scene, analogs: bool = False, dynamics: bool = False) -> list[str]:
+    """Rows of solve_table: the contract's columns, [their analogs], [the dynamics], then
+    det_g<i>."""
     names = column_names(scene)
     if analogs:
         names += [analog_name(n) for n in names if n.split("_", 1)[0] in ANALOG_HEADS]
+    if dynamics:
+        names += dynamics_names(scene)
     return names + [f"det_g{g.index}" for g in scene.groups]
 
 
-def solve_table(scene: Scene, phi_deg, *, analogs: bool = False, threads: int | None = None):
+def solve_table(scene: Scene, phi_deg, *, analogs: bool = False, dynamics: bool = False,
+                threads: int | None = None):
     """Solve in cache-sized chunks (on `threads` threads) into one preallocated table.
 
     Returns (names, table, failed): table[j] is the column names[j] (see table_names);
@@ -220,7 +233,7 @@ def solve_table(scene: Scene, phi_deg, *, analogs: bool = False, threads: int | 
     _keep_temporaries_in_heap()
     phi = np.asarray(phi_deg, dtype=float).reshape(-1)
     n = phi.size
-    names = table_names(scene, analogs)
+    names = table_names(scene, analogs, dynamics)
     table = np.empty((len(names), n))
     failed = np.zeros((len(scene.groups), n), dtype=bool)
     row_of = {name: j for j, name in enumerate(names)}
@@ -236,6 +249,9 @@ def solve_table(scene: Scene, phi_deg, *, analogs: bool = False, threads: int | 
                 np.copyto(table[row_of[f"det_g{g.index}"], a:b], sol.det[g.index])
             for i, f in sol.failed.items():
                 failed[i - 1, a:b] = f
+            if dynamics:
+                for name, value in solve_dynamics(scene, sol).items():
+                    np.copyto(table[row_of[name], a:b], value)
             if analogs:
                 q = solution_columns(scene, solve(scene, phi[a:b], omega=1.0, epsilon=0.0))
                 for name, base in analog_of.items():
@@ -255,18 +271,22 @@ def solve_table(scene: Scene, phi_deg, *, analogs: bool = False, threads: int | 
 
 
 def compute(scene: Scene | str | Path, at=None, *, analogs: bool = False, allow_gaps: bool = False,
-            toggle_threshold: float = TOGGLE_THRESHOLD) -> pd.DataFrame:
+            toggle_threshold: float = TOGGLE_THRESHOLD, dynamics: bool = False) -> pd.DataFrame:
     """Positions, velocities and accelerations of every link and point, one row per position.
 
     `scene` is a Scene or a path to a scene file; `at` (degrees) replaces the scene's crank
     positions. Raises AssemblyError naming the crank-angle intervals where a group cannot
     assemble, unless allow_gaps, which keeps those rows (NaN, `assembled` False).
-    Columns: the contract's, [analogs], [assembled], det_g<i>..., near_toggle.
+    Columns: the contract's, [analogs], [dynamics], [assembled], det_g<i>..., near_toggle.
+    With dynamics, a scene needs [[mass]] or [[force]] tables (ValueError otherwise).
     """
     if not isinstance(scene, Scene):
         scene = load_scene(scene)
+    if dynamics and not scene.has_dynamics:
+        raise ValueError(f"{scene.source}: no [[mass]] or [[force]] tables, so there is nothing for "
+                         "the dynamics to compute (see the README: masses, forces, gravity)")
     phi = np.asarray(scene.crank_angles_deg() if at is None else at, dtype=float).reshape(-1)
-    names, table, failed = solve_table(scene, phi, analogs=analogs)
+    names, table, failed = solve_table(scene, phi, analogs=analogs, dynamics=dynamics)
     fail = failed.any(axis=0)
     if fail.any() and not allow_gaps:
         gaps = assembly_gaps(scene, phi)

@@ -70,6 +70,31 @@ class Point:
 
 
 @dataclass(frozen=True)
+class Mass:
+    """A link's mass (kg), its moment of inertia about its centre of mass (kg m^2), and the
+    point that is that centre (a joint or [[point]] of the link)."""
+    link: int
+    mass: float
+    inertia: float
+    centre: str
+
+
+@dataclass(frozen=True)
+class Force:
+    """An external force (N) at a point of a link and/or a moment (N m, + counterclockwise)
+    on the link, acting while the crank angle is in [from_deg, to_deg] (mod 360), or always
+    when the interval is None (e.g. the cutting resistance on a shaper's ram over its
+    working stroke)."""
+    index: int
+    name: str
+    link: int
+    at: str | None
+    force: tuple[float, float]
+    moment: float
+    interval_deg: tuple[float, float] | None = None
+
+
+@dataclass(frozen=True)
 class Scene:
     title: str
     author: str
@@ -79,6 +104,14 @@ class Scene:
     points: tuple[Point, ...]
     plan: tuple[tuple[str, object], ...]   # ("crank", Crank) | ("group", Group) | ("point", Point)
     source: str = "<scene>"
+    gravity: tuple[float, float] = (0.0, 0.0)    # m/s^2; (0, -9.81) when y points up
+    masses: tuple[Mass, ...] = ()
+    forces: tuple[Force, ...] = ()
+
+    @property
+    def has_dynamics(self) -> bool:
+        """The scene has something for the energy and force analysis to work on."""
+        return bool(self.masses or self.forces)
 
     @property
     def links(self) -> list[int]:
@@ -258,7 +291,10 @@ def parse_scene(text: str, source: str = "<scene>") -> Scene:
         raise SceneError(f"{where}: not valid TOML: {msg}") from None
     ctx = _Ctx(source, _Locator(text))
     top = _Table(ctx, data, "scene", None)
-    top.check_keys(["title", "author", "frame", "crank", "group", "point"])
+    top.check_keys(["title", "author", "frame", "crank", "group", "point", "gravity", "mass",
+                    "force", "synthesis"])
+    # [synthesis] (the data a crank-rocker was synthesized from) is read and checked by
+    # sheetkin.synthesis when a workbook gets its synthesis sheet
     title = top.get("title", "a string", Path(source).stem)
     author = top.get("author", "a string", "")
 
@@ -274,7 +310,14 @@ def parse_scene(text: str, source: str = "<scene>") -> Scene:
     groups = _parse_groups(ctx, data, frame, define)
     points = _parse_points(ctx, data, define)
     plan = _make_plan(ctx, frame, crank, groups, points)
-    return Scene(title, author, frame, crank, tuple(groups), tuple(points), plan, source)
+    gravity = top.array("gravity", 2, "number") if "gravity" in data else (0.0, 0.0)
+    on_link = link_joints(crank, groups)
+    for p in points:
+        on_link[p.link].append(p.name)
+    masses = _parse_masses(ctx, data, on_link)
+    forces = _parse_forces(ctx, data, on_link)
+    return Scene(title, author, frame, crank, tuple(groups), tuple(points), plan, source,
+                 gravity, masses, forces)
 
 
 def _parse_frame(ctx, data, define):
@@ -398,6 +441,73 @@ def _parse_points(ctx, data, define):
         points.append(Point(name, tbl.get("link", "an integer"), tbl.name("from"),
                             tbl.get("along", "a number", 0.0), tbl.get("across", "a number", 0.0)))
     return points
+
+
+def _array_of_tables(ctx, data, key: str):
+    raw = data.get(key, [])
+    if not isinstance(raw, list) or not all(isinstance(x, dict) for x in raw):
+        ctx.fail("scene", None, 0, key, f"expected [[{key}]] tables (double brackets: one per {key})")
+    return raw
+
+
+def _link_and_point(tbl: _Table, on_link: dict[int, list[str]], point_key: str, required: bool):
+    """`link` (a moving link) and a point of it named by `point_key`, for [[mass]]/[[force]]."""
+    link = tbl.get("link", "an integer")
+    if link not in on_link:
+        tbl.fail("link", f"expected a moving link 1..{max(on_link)}, got {link}")
+    if point_key not in tbl.data:
+        if not required:
+            return link, None
+        tbl.fail(point_key, f"missing; expected a joint or point of link {link} ({', '.join(on_link[link])})")
+    name = tbl.name(point_key)
+    if name not in on_link[link]:
+        tbl.fail(point_key, f"expected a joint or point of link {link} "
+                            f"({', '.join(on_link[link])}), got '{name}'")
+    return link, name
+
+
+def _parse_masses(ctx, data, on_link) -> tuple[Mass, ...]:
+    masses: dict[int, Mass] = {}
+    for i, m in enumerate(_array_of_tables(ctx, data, "mass")):
+        tbl = _Table(ctx, m, f"[[mass]] #{i + 1}", "mass", i)
+        tbl.check_keys(["link", "mass", "inertia", "centre"])
+        link, centre = _link_and_point(tbl, on_link, "centre", True)
+        if link in masses:
+            tbl.fail("link", f"link {link} already has a [[mass]]; give each link one")
+        inertia = tbl.get("inertia", "a number", 0.0)
+        if inertia < 0:
+            tbl.fail("inertia", f"expected a moment of inertia >= 0 in kg m^2, got {inertia:g}")
+        mass = tbl.get("mass", "a number")
+        if mass <= 0:
+            tbl.fail("mass", f"expected a positive mass in kg, got {mass:g}")
+        masses[link] = Mass(link, mass, inertia, centre)
+    return tuple(sorted(masses.values(), key=lambda m: m.link))
+
+
+def _parse_forces(ctx, data, on_link) -> tuple[Force, ...]:
+    forces = []
+    names: set[str] = set()
+    for i, f in enumerate(_array_of_tables(ctx, data, "force")):
+        tbl = _Table(ctx, f, f"[[force]] #{i + 1}", "force", i)
+        tbl.check_keys(["name", "link", "at", "force", "moment", "from_deg", "to_deg"])
+        name = tbl.name("name") if "name" in tbl.data else f"F{i + 1}"
+        if name in names:
+            tbl.fail("name", f"name '{name}' is used by another [[force]]")
+        names.add(name)
+        has_force = "force" in tbl.data
+        if not has_force and "moment" not in tbl.data:
+            tbl.fail(None, "expected `force = [Fx, Fy]` (N, with `at`) and/or `moment` (N m)")
+        link, at = _link_and_point(tbl, on_link, "at", has_force)
+        force = tbl.array("force", 2, "number") if has_force else (0.0, 0.0)
+        interval = None
+        if "from_deg" in tbl.data or "to_deg" in tbl.data:
+            lo, hi = tbl.get("from_deg", "a number"), tbl.get("to_deg", "a number")
+            if not 0.0 < hi - lo < 360.0:
+                tbl.fail("to_deg", f"expected from_deg < to_deg < from_deg + 360 (the crank angles, "
+                                   f"degrees, while the force acts), got {lo:g}..{hi:g}")
+            interval = (lo, hi)
+        forces.append(Force(i + 1, name, link, at, force, tbl.get("moment", "a number", 0.0), interval))
+    return tuple(forces)
 
 
 def link_joints(crank: Crank, groups) -> dict[int, list[str]]:

@@ -30,8 +30,16 @@ from dataclasses import dataclass
 import numpy as np
 
 
+SYNTHESIS_KEYS = ("kw", "l3", "yd", "gamma1_deg", "gamma2_deg")   # a scene's [synthesis] table
+
+
 class SynthesisError(ValueError):
-    """Data with no crank-rocker solution; str() is one line naming the failed condition."""
+    """Data with no crank-rocker solution; str() is one line naming the failed condition.
+    `key` names the given datum at fault (a [synthesis] key: kw, l3, ...), if there is one."""
+
+    def __init__(self, message: str, key: str | None = None):
+        super().__init__(message)
+        self.key = key
 
 
 @dataclass(frozen=True)
@@ -57,11 +65,18 @@ class CrankRocker:
         """The unknowns of the seed, under the names the CLI prints."""
         return {"l1": self.l1, "l2": self.l2, "phi1H_deg": self.phi1H_deg, "X_D": self.X_D}
 
+    def synthesis_toml(self) -> str:
+        """The scene's [synthesis] table: the data this mechanism was synthesized from
+        (`sheetkin workbook` adds the synthesis sheet for them; parse_synthesis reads them)."""
+        return ("[synthesis]            # the data this crank-rocker was synthesized from (seed 002)\n"
+                + "".join(f"{k} = {float(getattr(self, k))!r}\n" for k in SYNTHESIS_KEYS))
+
     def scene_toml(self, omega: float = 10.0, positions: int = 13, step_deg: float = 30.0,
                    title: str | None = None) -> str:
         """A scene (shared/spec/scene.md) ready for `compute` and `workbook`: frame O = (0, 0),
         D = (X_D, Y_D); crank O->A starting at phi1H (position 1 is the extended dead
-        position); RRR group A-B-D on the branch that puts the rocker at gamma1 there."""
+        position); RRR group A-B-D on the branch that puts the rocker at gamma1 there; and the
+        [synthesis] table with the given data."""
         title = title or (f"Crank-rocker four-bar synthesized from K_w = {self.kw:g} "
                           f"(seed 002)")
         return (
@@ -70,6 +85,7 @@ class CrankRocker:
             f"--gamma1-deg {self.gamma1_deg!r} --gamma2-deg {self.gamma2_deg!r}\n"
             f"# theta = {self.theta_deg!r} deg; rocker extremes gamma1, gamma2 at crank angles "
             f"phi1H and phi1H + 180 + theta\n\n"
+            f"{self.synthesis_toml()}\n"
             "[frame]\n"
             "O = [0.0, 0.0]\n"
             f"D = [{self.X_D!r}, {self.yd!r}]\n\n"
@@ -103,22 +119,22 @@ def _side(ax, ay, dx, dy, bx, by) -> float:
 def synthesize_crank_rocker(kw: float, l3: float, yd: float, gamma1_deg: float,
                             gamma2_deg: float) -> CrankRocker:
     """Solve the seed's four dead-position equations; refuse data with no crank-rocker."""
-    for name, v in (("K_w", kw), ("l3", l3), ("Y_D", yd), ("gamma1", gamma1_deg),
-                    ("gamma2", gamma2_deg)):
+    for name, key, v in (("K_w", "kw", kw), ("l3", "l3", l3), ("Y_D", "yd", yd),
+                         ("gamma1", "gamma1_deg", gamma1_deg), ("gamma2", "gamma2_deg", gamma2_deg)):
         if not math.isfinite(v):
-            raise SynthesisError(f"{name} = {v}: expected a finite number")
+            raise SynthesisError(f"{name} = {v}: expected a finite number", key)
     if kw < 1.0:
         raise SynthesisError(f"K_w = {kw:g} < 1: the time-ratio coefficient of a crank-rocker "
-                             "(working stroke over return) is at least 1")
+                             "(working stroke over return) is at least 1", "kw")
     if l3 <= 0:
-        raise SynthesisError(f"l3 = {l3:g}: the rocker length must be positive")
+        raise SynthesisError(f"l3 = {l3:g}: the rocker length must be positive", "l3")
     swing = gamma2_deg - gamma1_deg
     if swing <= 0:
         raise SynthesisError(f"gamma2 = {gamma2_deg:g} deg <= gamma1 = {gamma1_deg:g} deg: the "
-                             "rocker's swing gamma2 - gamma1 must be positive")
+                             "rocker's swing gamma2 - gamma1 must be positive", "gamma2_deg")
     if swing >= 180:
         raise SynthesisError(f"gamma2 - gamma1 = {swing:g} deg >= 180 deg: a rocker swings "
-                             "less than half a turn")
+                             "less than half a turn", "gamma2_deg")
     theta_deg = overlap_angle_deg(kw)
     th, g1, g2 = math.radians(theta_deg), math.radians(gamma1_deg), math.radians(gamma2_deg)
     a = yd + l3 * math.sin(g1)
@@ -216,6 +232,61 @@ def _check(kw, l3, yd, gamma1_deg, gamma2_deg, theta_deg, r1, r2, xd, phi) -> Cr
                        branch=1 if s1 > 0 else -1)
 
 
+# --------------------------------------------------------------------------- the scene's table
+def parse_synthesis(text: str, source: str = "<scene>") -> dict[str, float] | None:
+    """The scene's [synthesis] table (the data its crank-rocker was synthesized from) as
+    {kw, l3, yd, gamma1_deg, gamma2_deg}, or None if the scene has none. Raises SceneError,
+    one line naming file, line and key, for a mistake in the scene, an unknown or missing
+    key, a value that is not a number, data with no crank-rocker (K_w < 1, ...), or a scene
+    whose first group is not the four-bar's dyad (an RRR from the crank's joint to a frame
+    point), to which the synthesis sheet refers."""
+    import tomllib
+
+    from .scene import _Ctx, _Locator, _Table, parse_scene
+
+    scene = parse_scene(text, source)          # the scene's own mistakes first
+    data = tomllib.loads(text)
+    if "synthesis" not in data:
+        return None
+    loc = _Locator(text)
+    ctx = _Ctx(source, loc)
+    tbl = _Table(ctx, data["synthesis"], "[synthesis]", "synthesis")
+    if ("synthesis", 0) not in loc.tables:
+        # an inline table `synthesis = {kw = ...}`: point at that line
+        tbl.fail = lambda key, msg: ctx.fail("[synthesis]", None, 0,
+                                             "synthesis" + (f".{key}" if key else ""), msg)
+    tbl.check_keys(SYNTHESIS_KEYS)
+    values = {k: tbl.get(k, "a number") for k in SYNTHESIS_KEYS}
+    try:
+        synthesize_crank_rocker(**values)
+    except SynthesisError as e:
+        tbl.fail(e.key, str(e) if e.key else f"no crank-rocker for these data: {e}")
+    g = scene.groups[0] if scene.groups else None
+    if not (g and g.type == "RRR" and g.joints[0] == scene.crank.joint
+            and g.joints[2] in scene.frame):
+        tbl.fail(None, "the data are a crank-rocker four-bar's, but the scene's first group is not "
+                       f"an RRR dyad from the crank's joint {scene.crank.joint} to a frame point")
+    return values
+
+
+def scene_mismatches(scene, data: dict[str, float], tol: float = 1e-9) -> list[str]:
+    """Where the scene's four-bar (crank, first group, frame points) differs by more than
+    `tol` from the one its [synthesis] data give: the synthesis sheet's check rows comparing
+    it with the kinematics sheet fail there. Empty for a scene written by `synth -o`."""
+    m = synthesize_crank_rocker(**data)
+    g, o = scene.groups[0], scene.crank.pivot
+    d = g.joints[2]
+    (ox, oy), (dx, dy) = scene.frame[o], scene.frame[d]
+    pairs = [(f"L1 = {scene.crank.length:.9g}", scene.crank.length, "l1", m.l1),
+             (f"L{g.links[0]} = {g.lengths[0]:.9g}", g.lengths[0], "l2", m.l2),
+             (f"L{g.links[1]} = {g.lengths[1]:.9g}", g.lengths[1], "l3", m.l3),
+             (f"x_{d} - x_{o} = {dx - ox:.9g}", dx - ox, "X_D", m.X_D),
+             (f"y_{d} - y_{o} = {dy - oy:.9g}", dy - oy, "Y_D", m.yd),
+             (f"branch = {g.branch:+d}", g.branch, "branch", m.branch)]
+    return [f"{have_text} but the synthesis gives {name} = {want:.9g}"
+            for have_text, have, name, want in pairs if not abs(have - want) <= tol]
+
+
 # --------------------------------------------------------------------------- the workbook
 SYNTH_SHEET_TITLES = {"ru": "Синтез", "en": "Synthesis"}
 _ARC_POINTS = 31
@@ -250,29 +321,48 @@ _SYNTH_ROWS = [
     ("r", "m", "r = c cos(theta) - (a + b) sin(theta)", "r = c cos(theta) - (a + b) sin(theta)",
      "={c}*COS({theta})-({a}+{b})*SIN({theta})"),
     ("m", "m", "m = sqrt(p^2 + c^2)", "m = sqrt(p^2 + c^2)", "=SQRT({p}^2+{c}^2)"),
-    ("solvable", "", "уравнение имеет корни: m > 0, |r| <= m, sin(theta) <> 0 (K_w > 1)",
-     "the equation has roots: m > 0, |r| <= m, sin(theta) <> 0 (K_w > 1)",
-     "=AND({m}>0,ABS({r})<={m}*(1+1E-12),SIN({theta})<>0)"),
+    ("solvable", "", "уравнение имеет корни: m > 0, |r| <= m",
+     "the equation has roots: m > 0, |r| <= m", "=AND({m}>0,ABS({r})<={m}*(1+1E-12))"),
     ("beta", "rad", "beta = atan2(p, c)", "beta = atan2(p, c)", "=ATAN2({c},{p})"),
     ("delta", "rad", "delta = acos(r/m)", "delta = acos(r/m)",
      "=ACOS(MAX(-1,MIN(1,IF({m}>0,{r}/{m},0))))"),
-    ("#", "", "Два корня (D: psi = beta + delta, E: psi = beta - delta)",
-     "Two roots (D: psi = beta + delta, E: psi = beta - delta)"),
+    ("#", "", "Два корня (D: psi = beta + delta, E: psi = beta - delta); при phi четыре уравнения "
+     "линейны в R1 = l1 + l2, R2 = l2 - l1, X_D: нормальные уравнения (точны в корне, годны и при "
+     "theta = 0)",
+     "Two roots (D: psi = beta + delta, E: psi = beta - delta); at phi the four equations are "
+     "linear in R1 = l1 + l2, R2 = l2 - l1, X_D: the normal equations (exact at a root, also for "
+     "theta = 0)"),
     ("phi0", "rad", "phi = (psi - theta)/2", "phi = (psi - theta)/2",
      "cand", "=({beta}+{delta}-{theta})/2", "=({beta}-{delta}-{theta})/2"),
-    ("R1_0", "m", "l1 + l2 при phi (Крамер)", "l1 + l2 at phi (Cramer's rule)",
-     "cand", "=({c}*SIN({c}@phi0+{theta})-{p}*COS({c}@phi0+{theta}))/SIN({theta})"),
+    ("den", "", "sin^2(phi) + sin^2(phi + theta): 0 только при theta = 0, phi = 0 или pi (не корень)",
+     "sin^2(phi) + sin^2(phi + theta): 0 only for theta = 0, phi = 0 or pi (not a root)",
+     "cand", "=SIN({c}@phi0)^2+SIN({c}@phi0+{theta})^2"),
+    ("X_D_c", "m", "X_D = (x s1 + y s2 - l3 (cos(gamma1) + cos(gamma2)))/den, x = cos(phi), "
+     "y = cos(phi + theta), s1 = l3 cos(gamma1) x + a sin(phi), s2 = l3 cos(gamma2) y + "
+     "b sin(phi + theta)",
+     "X_D = (x s1 + y s2 - l3 (cos(gamma1) + cos(gamma2)))/den, x = cos(phi), "
+     "y = cos(phi + theta), s1 = l3 cos(gamma1) x + a sin(phi), s2 = l3 cos(gamma2) y + "
+     "b sin(phi + theta)",
+     "cand", "=IF({c}@den>0,(COS({c}@phi0)*({l3}*COS({g1})*COS({c}@phi0)+{a}*SIN({c}@phi0))"
+             "+COS({c}@phi0+{theta})*({l3}*COS({g2})*COS({c}@phi0+{theta})+{b}*SIN({c}@phi0+{theta}))"
+             "-{l3}*(COS({g1})+COS({g2})))/{c}@den,0)"),
+    ("R1_0", "m", "l1 + l2 при phi: s1 + x X_D", "l1 + l2 at phi: s1 + x X_D",
+     "cand", "={l3}*COS({g1})*COS({c}@phi0)+{a}*SIN({c}@phi0)+COS({c}@phi0)*{c}@X_D_c"),
     ("flip", "", "-1: phi + pi даёт l1 + l2 > 0", "-1: phi + pi gives l1 + l2 > 0",
      "cand", "=IF({c}@R1_0<0,-1,1)"),
     ("phi", "rad", "phi1H-кандидат", "candidate phi1H",
      "cand", "={c}@phi0+IF({c}@flip<0,PI(),0)"),
     ("R1", "m", "R1 = l1 + l2", "R1 = l1 + l2", "cand", "={c}@flip*{c}@R1_0"),
-    ("R2", "m", "R2 = l2 - l1", "R2 = l2 - l1",
-     "cand", "={c}@flip*({c}*SIN({c}@phi0)-{p}*COS({c}@phi0))/SIN({theta})"),
+    ("R2", "m", "R2 = l2 - l1 = s2 + y X_D", "R2 = l2 - l1 = s2 + y X_D",
+     "cand", "={c}@flip*({l3}*COS({g2})*COS({c}@phi0+{theta})+{b}*SIN({c}@phi0+{theta})"
+             "+COS({c}@phi0+{theta})*{c}@X_D_c)"),
+    ("fit", "m", "наибольшая невязка четырёх уравнений (у постороннего корня велика)",
+     "the four equations' largest residual (large at a spurious root)",
+     "cand", "=MAX(ABS({c}@R1*COS({c}@phi)-{c}@X_D_c-{l3}*COS({g1})),ABS({c}@R1*SIN({c}@phi)-{a}),"
+             "ABS({c}@R2*COS({c}@phi+{theta})-{c}@X_D_c-{l3}*COS({g2})),"
+             "ABS({c}@R2*SIN({c}@phi+{theta})-{b}))"),
     ("l1_c", "m", "l1 = (R1 - R2)/2", "l1 = (R1 - R2)/2", "cand", "=({c}@R1-{c}@R2)/2"),
     ("l2_c", "m", "l2 = (R1 + R2)/2", "l2 = (R1 + R2)/2", "cand", "=({c}@R1+{c}@R2)/2"),
-    ("X_D_c", "m", "X_D = R1 cos(phi) - l3 cos(gamma1)", "X_D = R1 cos(phi) - l3 cos(gamma1)",
-     "cand", "={c}@R1*COS({c}@phi)-{l3}*COS({g1})"),
     ("OD_c", "m", "длина стойки |OD|", "frame length |OD|",
      "cand", "=SQRT({c}@X_D_c^2+{Y_D}^2)"),
     ("phi_deg_c", "deg", "phi1H, град, 0..360", "phi1H, deg, 0..360",
@@ -285,11 +375,11 @@ _SYNTH_ROWS = [
      "side of B relative to A->D, folded position",
      "cand", "=({c}@X_D_c+{c}@l1_c*COS({c}@phi+{theta}))*({Y_D}+{l3}*SIN({g2})+{c}@l1_c*SIN({c}@phi+{theta}))"
              "-({Y_D}+{c}@l1_c*SIN({c}@phi+{theta}))*({c}@X_D_c+{l3}*COS({g2})+{c}@l1_c*COS({c}@phi+{theta}))"),
-    ("valid", "", "кривошипно-коромысловый: l2 > l1 > 0, кривошип короче всех, Грасгоф строго, "
-     "одна сборка в обоих положениях",
-     "a crank-rocker: l2 > l1 > 0, the crank the shortest link, Grashof strictly, one branch "
-     "in both positions",
-     "cand", "=AND({solvable},{c}@R1>0,{c}@R2>0,{c}@R1>{c}@R2,"
+    ("valid", "", "кривошипно-коромысловый: корень, l2 > l1 > 0, кривошип короче всех, Грасгоф "
+     "строго, одна сборка в обоих положениях",
+     "a crank-rocker: a root, l2 > l1 > 0, the crank the shortest link, Grashof strictly, one "
+     "branch in both positions",
+     "cand", "=AND({solvable},{c}@fit<=1E-9*MAX({l3},ABS({Y_D})),{c}@R1>0,{c}@R2>0,{c}@R1>{c}@R2,"
              "{c}@l1_c<=MIN({c}@l2_c,{l3},{c}@OD_c),"
              "MIN({c}@l1_c,{c}@l2_c,{l3},{c}@OD_c)+MAX({c}@l1_c,{c}@l2_c,{l3},{c}@OD_c)<"
              "({c}@l1_c+{c}@l2_c+{l3}+{c}@OD_c-MIN({c}@l1_c,{c}@l2_c,{l3},{c}@OD_c)"
@@ -307,6 +397,9 @@ _SYNTH_ROWS = [
      "=IF({root}=0,\"{marker}\",IF({root}=1,D{phi_deg_c},E{phi_deg_c}))"),
     ("X_D", "m", "абсцисса центра вращения коромысла D", "abscissa of the rocker pivot D",
      "=IF({root}=0,\"{marker}\",IF({root}=1,D{X_D_c},E{X_D_c}))"),
+    ("branch", "", "ветвь группы A-B-D сцены: сторона B относительно A->D (+1 слева)",
+     "the scene's branch of the dyad A-B-D: the side of B relative to A->D (+1 left)",
+     "=IF({root}=0,\"{marker}\",SIGN(IF({root}=1,D{side_H},E{side_H})))"),
     ("phi1H", "rad", "phi1H, рад", "phi1H, rad", "=RADIANS({phi1H_deg})"),
     ("#", "", "Проверка: решение в четырёх уравнениях (левая часть - правая)",
      "Check: the solution in the four equations (left side - right side)"),
@@ -322,6 +415,24 @@ _SYNTH_ROWS = [
     ("res_4", "m", "(l2 - l1) sin(phi1H + theta) - Y_D - l3 sin(gamma2)",
      "(l2 - l1) sin(phi1H + theta) - Y_D - l3 sin(gamma2)",
      "=({l2}-{l1})*SIN({phi1H}+{theta})-({Y_D}+{l3}*SIN({g2}))"),
+]
+# In a scene's workbook: the kinematics sheet's input block against the solution ({kin:L1} is
+# that sheet's cell of L1, ...; O the crank's pivot, D the rocker's). Check rows, like res_*.
+_LINK_ROWS = [
+    ("#", "", "Проверка: лист кинематики считает синтезированный механизм (его исходные данные "
+     "- решение)", "Check: the kinematics sheet computes the synthesized mechanism (its input "
+     "data - the solution)"),
+    ("kin_l1", "m", "L1 (лист кинематики) - l1", "L1 (kinematics sheet) - l1", "={kin:L1}-{l1}"),
+    ("kin_l2", "m", "длина шатуна (лист кинематики) - l2", "coupler length (kinematics sheet) - l2",
+     "={kin:L2}-{l2}"),
+    ("kin_l3", "m", "длина коромысла (лист кинематики) - l3",
+     "rocker length (kinematics sheet) - l3", "={kin:L3}-{l3}"),
+    ("kin_X_D", "m", "x_D - x_O (лист кинематики) - X_D", "x_D - x_O (kinematics sheet) - X_D",
+     "={kin:x_D}-{kin:x_O}-{X_D}"),
+    ("kin_Y_D", "m", "y_D - y_O (лист кинематики) - Y_D", "y_D - y_O (kinematics sheet) - Y_D",
+     "={kin:y_D}-{kin:y_O}-{Y_D}"),
+    ("kin_branch", "", "ветвь группы 1 (лист кинематики) - branch",
+     "group 1's branch (kinematics sheet) - branch", "={kin:branch}-{branch}"),
 ]
 _SYNTH_TEXT = {
     "ru": {"name": "имя", "unit": "ед.", "desc": "описание", "value": "значение / корень 1",
@@ -342,17 +453,20 @@ _SYNTH_TEXT = {
 }
 
 
-def build_synthesis_workbook(kw: float, l3: float, yd: float, gamma1_deg: float,
-                             gamma2_deg: float, *, lang: str = "ru", tol: float = 1e-9,
-                             phi_ref_deg: float = 30.0):
-    """A workbook with one sheet solving seed 002 with live formulas: the given data (yellow,
-    editable), theta, the closed form above with its two roots side by side (columns D, E) and
-    the choice between them written with IF (the same rules as synthesize_crank_rocker), the
+def add_synthesis_sheet(wb, kw: float, l3: float, yd: float, gamma1_deg: float,
+                        gamma2_deg: float, lang: str = "ru", *, tol: float = 1e-9,
+                        phi_ref_deg: float = 30.0, kinematics: dict[str, str] | None = None,
+                        index: int | None = None):
+    """Add to the openpyxl Workbook `wb` (at `index`, default last) the sheet solving seed 002
+    with live formulas, titled SYNTH_SHEET_TITLES[lang]: the given data (yellow, editable),
+    theta, the closed form above with its two roots side by side (columns D, E) and the choice
+    between them written with IF (the same rules as synthesize_crank_rocker; K_w = 1 too), the
     four equations' residuals against Tol, the dead positions' points, the rocker's arc and a
-    chart of both. Needs K_w > 1 (theta = 0 makes the closed form's 2x2 system singular)."""
+    chart of both. With `kinematics` ({"L1", "L2", "L3", "x_O", "y_O", "x_D", "y_D", "branch"}
+    -> a cell of another sheet), check rows compare those cells with the solution as well.
+    Returns the sheet."""
     import re
 
-    from openpyxl import Workbook
     from openpyxl.chart import Reference, ScatterChart, Series
     from openpyxl.chart.data_source import NumFmt
     from openpyxl.formatting.rule import FormulaRule
@@ -366,12 +480,13 @@ def build_synthesis_workbook(kw: float, l3: float, yd: float, gamma1_deg: float,
     text = _SYNTH_TEXT[lang]
     values = {"K_w": kw, "l3": l3, "Y_D": yd, "gamma1_deg": gamma1_deg,
               "gamma2_deg": gamma2_deg, "phi_ref_deg": phi_ref_deg, "Tol": tol}
+    rows = _SYNTH_ROWS + (_LINK_ROWS if kinematics else [])
     first = 5
     where = {}
-    for k, row in enumerate(_SYNTH_ROWS):
+    for k, row in enumerate(rows):
         if row[0] != "#":
             where[row[0]] = first + k
-    after = first + len(_SYNTH_ROWS) + 1
+    after = first + len(rows) + 1
     pts = {"X_H": after + 1, "Y_H": after + 2, "X_K": after + 3, "Y_K": after + 4}
     arc0 = after + 6
     arc = {"k": arc0 + 1, "gamma_arc": arc0 + 2, "X_arc": arc0 + 3, "Y_arc": arc0 + 4}
@@ -379,14 +494,13 @@ def build_synthesis_workbook(kw: float, l3: float, yd: float, gamma1_deg: float,
 
     def fill(tpl: str, col: str = "D") -> str:
         tpl = tpl.replace("{marker}", text["marker"])
+        tpl = re.sub(r"\{kin:(\w+)\}", lambda m: kinematics[m.group(1)], tpl)
         tpl = re.sub(r"\{c\}@(\w+)", lambda m: f"{col}{where[m.group(1)]}", tpl)
         tpl = re.sub(r"D\{(\w+)\}", lambda m: f"D{where[m.group(1)]}", tpl)
         tpl = re.sub(r"E\{(\w+)\}", lambda m: f"E{where[m.group(1)]}", tpl)
         return re.sub(r"\{(\w+)\}", lambda m: f"$D${where[m.group(1)]}", tpl)
 
-    wb = Workbook()
-    ws = wb.active
-    ws.title = SYNTH_SHEET_TITLES[lang]
+    ws = wb.create_sheet(SYNTH_SHEET_TITLES[lang], index)
     ws["A1"] = text["title"]
     ws["A1"].font = Font(bold=True, size=14)
     ws["A3"] = text["checks"]
@@ -394,7 +508,7 @@ def build_synthesis_workbook(kw: float, l3: float, yd: float, gamma1_deg: float,
     for col, key in zip("ABCDE", ("name", "unit", "desc", "value", "value2")):
         ws[f"{col}4"] = text[key]
         ws[f"{col}4"].font = SECTION_FONT
-    for k, row in enumerate(_SYNTH_ROWS):
+    for k, row in enumerate(rows):
         r = first + k
         name, unit, ru, en = row[:4]
         if name == "#":
@@ -406,8 +520,9 @@ def build_synthesis_workbook(kw: float, l3: float, yd: float, gamma1_deg: float,
         if len(row) == 4:
             ws.cell(r, 4, float(values[name])).fill = INPUT_FILL
             continue
-        fmt = ("0.0E+00" if name.startswith("res_") else
-               "General" if name in ("solvable", "flip", "valid", "root") else "0.000000000")
+        checked = name.startswith(("res_", "kin_"))
+        fmt = ("0.0E+00" if checked else "General" if name in
+               ("solvable", "flip", "valid", "root", "branch") else "0.000000000")
         if row[4] == "cand":
             tpls = row[5:] if len(row) == 7 else (row[5], row[5])
             for col, tpl in zip("DE", tpls):
@@ -416,12 +531,12 @@ def build_synthesis_workbook(kw: float, l3: float, yd: float, gamma1_deg: float,
         else:
             ws.cell(r, 4, fill(row[4])).number_format = fmt
     tolc = f"$D${where['Tol']}"
-    res = [f"D{where[f'res_{i}']}" for i in range(1, 5)]
+    res = [f"D{r}" for name, r in where.items() if name.startswith(("res_", "kin_"))]
     for c in res:
         ws.conditional_formatting.add(c, FormulaRule(formula=[f"AND(ISNUMBER({c}),ABS({c})<={tolc})"], fill=GREEN))
         ws.conditional_formatting.add(c, FormulaRule(formula=[f"OR(NOT(ISNUMBER({c})),ABS({c})>{tolc})"], fill=RED))
     absmax = ",".join(f"ABS({c})" for c in res)
-    ws["D3"] = (f'=IF(COUNT({",".join(res)})<4,"{text["fail"]}",'
+    ws["D3"] = (f'=IF(COUNT({",".join(res)})<{len(res)},"{text["fail"]}",'
                 f'IF(MAX({absmax})<={tolc},"{text["pass"]}","{text["fail"]}"))')
     ws["D3"].font = SECTION_FONT
     ws.conditional_formatting.add("D3", FormulaRule(formula=[f'D3="{text["pass"]}"'], fill=GREEN))
@@ -492,7 +607,42 @@ def build_synthesis_workbook(kw: float, l3: float, yd: float, gamma1_deg: float,
     ws.page_setup.paperSize = ws.PAPERSIZE_A4
     ws.sheet_properties.pageSetUpPr.fitToPage = True
     ws.page_setup.fitToWidth, ws.page_setup.fitToHeight = 1, 0
+    return ws
+
+
+def build_synthesis_workbook(kw: float, l3: float, yd: float, gamma1_deg: float,
+                             gamma2_deg: float, *, lang: str = "ru", tol: float = 1e-9,
+                             phi_ref_deg: float = 30.0):
+    """A workbook of one sheet: add_synthesis_sheet's."""
+    from openpyxl import Workbook
+
+    wb = Workbook()
+    wb.remove(wb.active)
+    add_synthesis_sheet(wb, kw, l3, yd, gamma1_deg, gamma2_deg, lang, tol=tol,
+                        phi_ref_deg=phi_ref_deg)
     return wb
+
+
+def add_scene_synthesis_sheet(wb, scene, data: dict[str, float], lang: str = "ru") -> list[str]:
+    """Add the synthesis sheet for the scene's [synthesis] `data` (parse_synthesis) to the
+    scene's workbook `wb` (build_workbook: the kinematics sheet first, the hidden scene sheet
+    last), before the hidden sheet, with check rows comparing the kinematics sheet's input
+    block with the solution. Returns scene_mismatches: where those checks fail."""
+    from .workbook import SCENE_SHEET
+
+    kin = wb.worksheets[0]
+    g = scene.groups[0]
+    o, d = scene.crank.pivot, g.joints[2]
+    names = {"L1": "L1", "L2": f"L{g.links[0]}", "L3": f"L{g.links[1]}", "x_O": f"x_{o}",
+             "y_O": f"y_{o}", "x_D": f"x_{d}", "y_D": f"y_{d}", "branch": f"branch_g{g.index}"}
+    found = {}
+    for r, (v,) in enumerate(kin.iter_rows(min_col=1, max_col=1, values_only=True), 1):
+        found.setdefault(v, r)
+    sheet = "'" + kin.title.replace("'", "''") + "'"
+    cells = {k: f"{sheet}!$D${found[n]}" for k, n in names.items()}
+    index = wb.sheetnames.index(SCENE_SHEET) if SCENE_SHEET in wb.sheetnames else None
+    add_synthesis_sheet(wb, **data, lang=lang, kinematics=cells, index=index)
+    return scene_mismatches(scene, data)
 
 
 def write_synthesis_workbook(path, kw: float, l3: float, yd: float, gamma1_deg: float,

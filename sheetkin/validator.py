@@ -137,7 +137,17 @@ def variant_scene(scene: Scene, inputs: dict[str, object], positions: int, where
     by_index, by_name = {g.index: g for g in groups}, {p.name: p for p in points}
     plan = tuple((k, crank if k == "crank" else by_index[it.index] if k == "group" else by_name[it.name])
                  for k, it in scene.plan)
-    return dataclasses.replace(scene, frame=frame, crank=crank, groups=tuple(groups), points=points, plan=plan)
+    gravity = (num("g_x", scene.gravity[0]), num("g_y", scene.gravity[1]))
+    masses = tuple(dataclasses.replace(m, mass=num(f"m_{m.link}", m.mass), inertia=num(f"J_{m.link}", m.inertia))
+                   for m in scene.masses)
+    forces = []
+    for f in scene.forces:
+        n = f.name
+        interval = f.interval_deg and (num(f"from_{n}", f.interval_deg[0]), num(f"to_{n}", f.interval_deg[1]))
+        forces.append(dataclasses.replace(f, force=(num(f"Fx_{n}", f.force[0]), num(f"Fy_{n}", f.force[1])),
+                                          moment=num(f"Mz_{n}", f.moment), interval_deg=interval))
+    return dataclasses.replace(scene, frame=frame, crank=crank, groups=tuple(groups), points=points, plan=plan,
+                               gravity=gravity, masses=masses, forces=tuple(forces))
 
 
 # --------------------------------------------------------------------------- dependencies

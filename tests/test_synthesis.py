@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -185,3 +186,216 @@ def test_bad_option_values_exit_2(capsys):
     assert e.value.code == 2
     assert main(SEED_ARGS + ["--omega", "-5"]) == 2
     assert "--omega" in capsys.readouterr().err
+
+
+# --------------------------------------------------------------------------- the [synthesis] table
+def _seed_scene(tmp_path, capsys, name="scene.toml", args=SEED_ARGS):
+    out = tmp_path / name
+    assert main(args + ["-o", str(out)]) == 0
+    capsys.readouterr()
+    return out
+
+
+def _line_of(text, prefix):
+    """1-based number of the only line starting with `prefix`."""
+    found = [no for no, line in enumerate(text.splitlines(), 1) if line.startswith(prefix)]
+    assert len(found) == 1, (prefix, found)
+    return found[0]
+
+
+def test_synth_writes_the_synthesis_table(tmp_path, capsys):
+    import tomllib
+    from sheetkin.synthesis import parse_synthesis
+    out = _seed_scene(tmp_path, capsys)
+    text = out.read_text(encoding="utf-8")
+    table = tomllib.loads(text)["synthesis"]
+    assert table == SEED and all(type(v) is float for v in table.values())
+    assert parse_synthesis(text, str(out)) == SEED
+    # the scene itself still loads, and a scene without the table has no synthesis data
+    sheetkin.load_scene(out)
+    start = _line_of(text, "[synthesis]")
+    lines = text.splitlines()
+    without = "\n".join(lines[:start - 1] + lines[start + len(SEED):]) + "\n"
+    assert "[synthesis]" not in without and "gamma1_deg" not in without
+    assert parse_synthesis(without, "x.toml") is None
+    assert sheetkin.parse_scene(without, "x.toml") == sheetkin.parse_scene(text, "x.toml")
+
+
+def _workbook_error(path, capsys, *extra):
+    assert main(["workbook", str(path), *extra]) == 2
+    captured = capsys.readouterr()
+    err = captured.err
+    assert err.startswith("sheetkin: error: ") and err.count("\n") == 1, err
+    assert not path.with_suffix(".xlsx").exists()
+    return err
+
+
+@pytest.mark.parametrize("old, new, key, words", [
+    ("kw = 1.2", "kw = 0.9", "kw", "K_w = 0.9 < 1"),
+    ("kw = 1.2", 'kw = "1.2"', "kw", "expected a number, got a string '1.2'"),
+    ("kw = 1.2", "kw = nan", "kw", "expected a finite number, got nan"),
+    ("l3 = 0.6", "l3 = -0.6", "l3", "the rocker length must be positive"),
+    ("yd = -0.1", "yd = [0.1]", "yd", "expected a number, got an array"),
+    ("gamma2_deg = 105.0", "gamma2_deg = 50.0", "gamma2_deg", "gamma2 = 50 deg <= gamma1 = 60 deg"),
+    ("gamma2_deg = 105.0", "gamma2_deg = 250.0", "gamma2_deg", ">= 180 deg"),
+    ("yd = -0.1", "yd = -0.1\nk_w = 1.3", "k_w", "unknown key; expected one of: kw, l3, yd, "
+                                                   "gamma1_deg, gamma2_deg"),
+])
+def test_bad_synthesis_values_are_one_line_errors(tmp_path, capsys, old, new, key, words):
+    out = _seed_scene(tmp_path, capsys)
+    text = out.read_text(encoding="utf-8")
+    assert text.count(old + "\n") == 1
+    out.write_text(text.replace(old + "\n", new + "\n"), encoding="utf-8")
+    no = _line_of(out.read_text(encoding="utf-8"), f"{key} =")
+    err = _workbook_error(out, capsys)
+    assert err.startswith(f"sheetkin: error: {out}:{no}: [synthesis] key '{key}': "), err
+    assert words in err
+
+
+def test_missing_key_and_no_solution_point_at_the_table(tmp_path, capsys):
+    out = _seed_scene(tmp_path, capsys)
+    text = out.read_text(encoding="utf-8")
+    header = _line_of(text, "[synthesis]")
+    out.write_text(text.replace("l3 = 0.6\n", ""), encoding="utf-8")
+    err = _workbook_error(out, capsys)
+    assert err.startswith(f"sheetkin: error: {out}:{header}: [synthesis] key 'l3': missing; "
+                          "expected a number"), err
+    # K_w = 2 with the seed's other data: no crank-rocker (the closed form says why)
+    with pytest.raises(SynthesisError) as e:
+        synthesize_crank_rocker(**dict(SEED, kw=2.0))
+    out.write_text(text.replace("kw = 1.2\n", "kw = 2.0\n"), encoding="utf-8")
+    err = _workbook_error(out, capsys)
+    assert err == (f"sheetkin: error: {out}:{header}: [synthesis]: no crank-rocker for these "
+                   f"data: {e.value}\n")
+
+
+def test_synthesis_table_of_the_wrong_kind(tmp_path, capsys):
+    from sheetkin.scene import SceneError
+    from sheetkin.synthesis import parse_synthesis
+    out = _seed_scene(tmp_path, capsys)
+    text = out.read_text(encoding="utf-8")
+    header = _line_of(text, "[synthesis]")
+    block = "".join(text.splitlines(keepends=True)[header - 1:header + len(SEED)])
+    # an inline table: errors point at its line
+    inline = text.replace(block, 'synthesis = {kw = 1.2, l3 = 0.6, yd = -0.1, gamma1_deg = 60, '
+                                 'gamma2_deg = "105"}\n')
+    with pytest.raises(SceneError, match=rf"^x.toml:{header}: \[synthesis\] key "
+                                         r"'synthesis.gamma2_deg': expected a number"):
+        parse_synthesis(inline, "x.toml")
+    assert parse_synthesis(inline.replace('"105"', "105"), "x.toml") == SEED
+    with pytest.raises(SceneError, match=rf"^x.toml:{header}: scene key 'synthesis': expected a "
+                                         r"\[synthesis\] table, got an integer"):
+        parse_synthesis(text.replace(block, "synthesis = 5\n"), "x.toml")
+    # the data of a crank-rocker in a scene that is not one (its first group is an RRP)
+    slider = (Path(__file__).parent.parent / "workbooks" / "crank_slider.toml").read_text(encoding="utf-8")
+    with pytest.raises(SceneError, match=r"^s.toml:\d+: \[synthesis\]: .*first group is not an "
+                                         r"RRR dyad from the crank's joint"):
+        parse_synthesis(slider + "\n" + block, "s.toml")
+
+
+def test_workbook_synthesis_option(tmp_path, capsys):
+    """--synthesis requires the table; without the option a scene without it gets no sheet."""
+    import openpyxl
+    from sheetkin.synthesis import SYNTH_SHEET_TITLES
+    out = _seed_scene(tmp_path, capsys)
+    text = out.read_text(encoding="utf-8")
+    plain = tmp_path / "plain.toml"
+    header = _line_of(text, "[synthesis]")
+    lines = text.splitlines()
+    plain.write_text("\n".join(lines[:header - 1] + lines[header + len(SEED):]) + "\n",
+                     encoding="utf-8")
+    err = _workbook_error(plain, capsys, "--synthesis")
+    assert err == (f"sheetkin: error: {plain}: --synthesis: the scene has no [synthesis] table "
+                   "(the data of `sheetkin synth crank-rocker`, which writes it with -o)\n")
+    assert main(["workbook", str(plain)]) == 0
+    assert "synthesis sheet" not in capsys.readouterr().err
+    assert openpyxl.load_workbook(plain.with_suffix(".xlsx")).sheetnames == ["Кинематика", "Графики", "scene"]
+    assert main(["workbook", str(out), "--synthesis"]) == 0
+    assert "synthesis sheet" in capsys.readouterr().err
+    wb = openpyxl.load_workbook(out.with_suffix(".xlsx"))
+    assert wb.sheetnames == ["Кинематика", "Графики", SYNTH_SHEET_TITLES["ru"], "scene"]
+    assert wb["scene"].sheet_state == "hidden" and wb.active.title == "Кинематика"
+
+
+def test_scene_workbook_check_evaluate_validate(tmp_path, capsys):
+    """--check (the fingerprint covers the synthesis sheet), evaluate and validate on a
+    scene's workbook with the synthesis sheet; the sheet evaluated headlessly gives the closed
+    form, and its rows comparing it with the kinematics sheet pass."""
+    from sheetkin.evaluator import evaluate
+    from sheetkin.synthesis import SYNTH_SHEET_TITLES
+    from sheetkin.workbook import embedded_scene_text
+    out = _seed_scene(tmp_path, capsys)
+    book = out.with_suffix(".xlsx")
+    assert main(["workbook", str(out), "--lang", "en"]) == 0
+    assert main(["workbook", str(out), "--lang", "en", "--check"]) == 0
+    assert "up to date" in capsys.readouterr().out
+    assert main(["workbook", str(out), "--check"]) == 1          # ru: other descriptions
+    assert "stale" in capsys.readouterr().out
+    text = out.read_text(encoding="utf-8")
+    assert embedded_scene_text(book) == text
+    # the synthesis sheet is in the fingerprint: other [synthesis] data make the book stale
+    m2 = synthesize_crank_rocker(**dict(SEED, kw=1.3))
+    out.write_text(text.replace("kw = 1.2\n", "kw = 1.3\n"), encoding="utf-8")
+    assert main(["workbook", str(out), "--lang", "en", "--check"]) == 1
+    assert "stale" in capsys.readouterr().out
+    out.write_text(text, encoding="utf-8")
+    assert main(["evaluate", str(book), "--format", "csv"]) == 0
+    assert capsys.readouterr().out.startswith("name,1,2,")
+    assert main(["validate", str(book)]) == 0
+    report = capsys.readouterr().out
+    assert "0 wrong, 0 missing or empty" in report and "all correct" in report
+    b = evaluate(book)
+    s = SYNTH_SHEET_TITLES["en"]
+    assert b.order[0] == "Kinematics" and s in b.order and not b.problems
+    rows = {b.value(s, r, 1): r for r in range(1, b.sheets[s].max_row + 1)}
+    m = synthesize_crank_rocker(**SEED)
+    for name in ("l1", "l2", "phi1H_deg", "X_D", "branch"):
+        assert b.value(s, rows[name], 4) == pytest.approx(getattr(m, name), rel=1e-12, abs=1e-12)
+    assert m2.l1 != pytest.approx(m.l1, rel=1e-3)
+    kin = [n for n in rows if isinstance(n, str) and n.startswith("kin_")]
+    assert kin == ["kin_l1", "kin_l2", "kin_l3", "kin_X_D", "kin_Y_D", "kin_branch"]
+    for n in kin + ["res_1", "res_2", "res_3", "res_4"]:
+        assert abs(b.value(s, rows[n], 4)) <= 1e-12, n
+    assert b.value(s, 3, 4) == "all checks pass"
+    assert b.value("Kinematics", 3, 4) == "all checks pass"
+
+
+def test_a_scene_unlike_its_synthesis_data_is_warned_and_checked(tmp_path, capsys):
+    from sheetkin.evaluator import evaluate
+    out = _seed_scene(tmp_path, capsys)
+    m = synthesize_crank_rocker(**SEED)
+    text = out.read_text(encoding="utf-8")
+    out.write_text(text.replace(f"length = {m.l1!r}\n", "length = 0.19\n"), encoding="utf-8")
+    assert main(["workbook", str(out), "--lang", "en"]) == 0
+    err = capsys.readouterr().err
+    warning = [line for line in err.splitlines() if line.startswith("sheetkin: warning:")]
+    assert len(warning) == 1 and f"L1 = 0.19 but the synthesis gives l1 = {m.l1:.9g}" in warning[0]
+    b = evaluate(out.with_suffix(".xlsx"))
+    rows = {b.value("Synthesis", r, 1): r for r in range(1, b.sheets["Synthesis"].max_row + 1)}
+    assert b.value("Synthesis", rows["kin_l1"], 4) == pytest.approx(0.19 - m.l1, abs=1e-12)
+    assert abs(b.value("Synthesis", rows["kin_l2"], 4)) <= 1e-12
+    assert b.value("Synthesis", 3, 4) == "checks fail"
+
+
+def test_kw_1_closed_form_and_the_seeds_data():
+    """K_w = 1 (theta = 0): the dead positions' crank lines coincide, so O lies on the line
+    B1 B2, with B2 between O and B1 (|OB1| = l1 + l2 > |OB2| = l2 - l1). With Y_D = -0.1 and
+    gamma 60 -> 105 that line puts B1 nearer O than B2: no crank (l1 < 0), as the closed form
+    says; with Y_D = -1, gamma 0 -> 45 it is a crank-rocker."""
+    def collinear(l3, yd, g1, g2):
+        g1, g2 = math.radians(g1), math.radians(g2)
+        ux, uy = math.cos(g1) - math.cos(g2), math.sin(g1) - math.sin(g2)     # (B1 - B2)/l3
+        # O = (0, 0) on the line through B1 = (xd + l3 cos g1, yd + l3 sin g1), direction u
+        b1y = yd + l3 * math.sin(g1)
+        xd = b1y * ux / uy - l3 * math.cos(g1)
+        b1 = (xd + l3 * math.cos(g1), b1y)
+        b2 = (xd + l3 * math.cos(g2), yd + l3 * math.sin(g2))
+        return xd, math.hypot(*b1), math.hypot(*b2), b1[0] * b2[0] + b1[1] * b2[1] > 0
+    xd, r1, r2, same_side = collinear(0.6, -0.1, 60.0, 105.0)
+    assert same_side and r1 < r2
+    with pytest.raises(SynthesisError, match=rf"l1 = {(r1 - r2) / 2:.5g} <= 0"):
+        synthesize_crank_rocker(1.0, 0.6, -0.1, 60.0, 105.0)
+    xd, r1, r2, same_side = collinear(0.6, -1.0, 0.0, 45.0)
+    m = synthesize_crank_rocker(1.0, 0.6, -1.0, 0.0, 45.0)
+    assert same_side and r1 > r2 and m.theta_deg == 0.0
+    assert (m.l1, m.l2, m.X_D) == pytest.approx(((r1 - r2) / 2, (r1 + r2) / 2, xd), abs=1e-12)
