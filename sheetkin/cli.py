@@ -274,6 +274,27 @@ def _toggle_warnings(df) -> list[str]:
     return out
 
 
+BALANCE_TOL = 1e-9
+
+
+def _balance_warnings(df) -> list[str]:
+    """Positions where the energy balance misses by more than 1e-9 of its terms' size: next
+    to a toggle the reactions grow without bound and lose their digits."""
+    terms = [df[c].abs() for c in ("P_bal", "P_ext", "U_t", "T_t") if c in df]
+    rel = df["balance"].abs() / (sum(terms) + 1e-300)
+    out = []
+    assembled = df["assembled"] if "assembled" in df else True
+    for bad, what in ((rel > BALANCE_TOL, f"the energy balance misses by up to {rel.max():.1e} of its terms"),
+                      (~np.isfinite(rel) & assembled, "the reactions and M_bal are undefined (a toggle: "
+                                                      "the group's determinant is 0)")):
+        angles = df["phi_1"][bad]
+        if not angles.empty:
+            listed = ", ".join(f"{a:g}" for a in angles.iloc[:8]) + (", ..." if len(angles) > 8 else "")
+            out.append(f"{what} at crank angles {listed} deg (near a toggle the reactions grow "
+                       "without bound and lose their digits)")
+    return out
+
+
 def cmd_compute(args) -> int:
     scene = load_scene(args.scene)
     if args.dynamics and not scene.has_dynamics:
@@ -282,6 +303,8 @@ def cmd_compute(args) -> int:
     df = compute(scene, args.at, analogs=args.analogs, allow_gaps=args.allow_gaps,
                  toggle_threshold=args.toggle_threshold, dynamics=args.dynamics)
     warnings = _toggle_warnings(df)
+    if args.dynamics:
+        warnings += _balance_warnings(df)
     if "assembled" in df:
         gaps = assembly_gaps(scene, df["phi_1"].to_numpy())
         warnings.insert(0, "; ".join(map(str, gaps)) + " (those positions are marked assembled = false)")

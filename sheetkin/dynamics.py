@@ -183,8 +183,11 @@ def dynamics(scene: Scene, sol: Solution) -> dict[str, np.ndarray]:
     known.update({name: _frame_point(scene, name, n) for name in scene.frame})
     owner = point_owners(scene)
     reactions: dict[str, tuple] = {}
-    for g in reversed(scene.groups):
-        reactions.update(_group_reactions(g, known, sol, loads, owner))
+    # at a toggle the determinant is 0: the reactions come out inf/NaN there, as the
+    # kinematics' rates do (compute flags those positions)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for g in reversed(scene.groups):
+            reactions.update(_group_reactions(g, known, sol, loads, owner))
     # the crank: R_0_1 balances everything on it; the moment about the pivot gives M_bal
     o = known[scene.crank.pivot]
     fx, fy = loads[1].resultant()

@@ -278,7 +278,7 @@ def _validate(path: str, limits: Limits) -> Report:
                               and not (ancestors.get(n, set()) & wrong)]
         else:
             rep.cause = True
-    report.cache_mismatch = _cache_mismatches(evaluated, main)
+    report.cache_mismatch = _cache_mismatches(evaluated, main, {r for n, r in names.items() if n.startswith("phi_")})
     report.failing_checks = [n for n, r in names.items() if n.startswith(("chk", "fd_"))
                              and kinds.get(n) in ("check", "fdcheck") and evaluated.value(main, r, 4) not in (0.0, None)]
     return report
@@ -323,9 +323,11 @@ def _build_reference(scene: Scene) -> Book:
     return evaluate_sheets("<reference>", sheets, order, {}, strict=True)
 
 
-def _cache_mismatches(book: Book, sheet: str, limit: int = 50) -> list[str]:
+def _cache_mismatches(book: Book, sheet: str, angle_rows: set[int] = frozenset(), limit: int = 50) -> list[str]:
     """Formula cells whose value, as the spreadsheet last saved it, differs from what the
-    formula gives now (stale values, or a number pasted over a formula's result)."""
+    formula gives now (stale values, or a number pasted over a formula's result). On the
+    rows of link angles, in [0, 360), 359.99999999999994 and 0 are the same angle (MOD's
+    last bit differs between spreadsheets)."""
     from openpyxl.utils import get_column_letter
     out = []
     sh = book.sheets[sheet]
@@ -334,6 +336,8 @@ def _cache_mismatches(book: Book, sheet: str, limit: int = 50) -> list[str]:
         if isinstance(cached, (int, float)) and not isinstance(cached, bool):
             cached = float(cached)
             if isinstance(now, float) and abs(now - cached) <= max(1e-9, 1e-9 * abs(cached)):
+                continue
+            if isinstance(now, float) and r in angle_rows and abs(abs(now - cached) - 360.0) <= 1e-9:
                 continue
         elif isinstance(cached, str) and (now == cached or (now is None and cached == "")):
             continue

@@ -482,3 +482,51 @@ def test_validator_names_a_wrong_reaction(tmp_path):
     wrong = {x.name for x in rep.rows if x.status == "wrong"}
     assert wrong == {"Ry_4_5"}
     assert {"chk_eq_4", "chk_eq_5"} <= set(rep.failing_checks)
+
+
+CHANGE_POINT = """
+title = "four-bar at a change point (collinear at phi = 0)"
+[frame]
+O = [0.0, 0.0]
+O1 = [1.0, 0.0]
+[crank]
+pivot = "O"
+joint = "A"
+length = 0.5
+omega = 10.0
+[[group]]
+type = "RRR"
+links = [2, 3]
+joints = ["A", "B", "O1"]
+lengths = [1.0, 0.5]
+branch = 1
+[[point]]
+name = "S2"
+link = 2
+from = "A"
+along = 0.5
+[[mass]]
+link = 2
+mass = 2.0
+inertia = 0.1
+centre = "S2"
+[[force]]
+link = 3
+moment = 5.0
+"""
+
+
+def test_toggle_reactions_are_flagged_not_silent(tmp_path, capsys):
+    """At the change point the dyad's determinant is 0: the reactions are undefined there
+    and grow without bound near it; compute --dynamics says so, naming the angles."""
+    path = tmp_path / "cp.toml"
+    path.write_text(CHANGE_POINT, encoding="utf-8")
+    assert main(["compute", str(path), "--dynamics", "--at", "1e-7", "--at", "0.001", "--at", "30",
+                 "--format", "csv"]) == 0
+    out, err = capsys.readouterr()
+    lines = [x for x in err.splitlines() if "reactions" in x]
+    assert len(lines) == 1 and "undefined" in lines[0] and "1e-07 deg" in lines[0]
+    scene = parse_scene(CHANGE_POINT)
+    df = sheetkin.compute(scene, [0.001, 30.0], dynamics=True)
+    assert df["R_1_2"][0] > 1e4 * df["R_1_2"][1]         # grows like 1/det near the toggle
+    assert relative_balance(df).max() <= BALANCE_TOL       # and still balances at 1e-3 deg
