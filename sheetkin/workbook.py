@@ -909,6 +909,12 @@ def _add_charts(wb, ws, scene: Scene, where, cols, lang):
         ("Угловые скорости звеньев" if ru else "Angular velocities of links", "phi_1, deg", "omega, rad/s",
          [("phi_1", f"omega_{k}", f"omega_{k}") for k in scene.links]),
     ]
+    if scene.has_dynamics:
+        from .dynamics import reaction_pairs
+        specs.append(("Уравновешивающий момент и мощности" if ru else "Balancing moment and powers", "phi_1, deg",
+                      "N m, W", [("phi_1", n, n) for n in ("M_bal", "P_bal", "P_ext", "T_t") if n in where]))
+        specs.append(("Реакции в кинематических парах" if ru else "Joint reactions", "phi_1, deg", "R, N",
+                      [("phi_1", f"R_{p.tag}", f"R_{p.tag}") for p in reaction_pairs(scene)]))
     for k, (title, xt, yt, series) in enumerate(specs):
         ch = ScatterChart()
         ch.title, ch.style, ch.height, ch.width = title, 2, 9, 16

@@ -530,3 +530,16 @@ def test_toggle_reactions_are_flagged_not_silent(tmp_path, capsys):
     df = sheetkin.compute(scene, [0.001, 30.0], dynamics=True)
     assert df["R_1_2"][0] > 1e4 * df["R_1_2"][1]         # grows like 1/det near the toggle
     assert relative_balance(df).max() <= BALANCE_TOL       # and still balances at 1e-3 deg
+
+
+def test_dynamics_charts_reference_the_rows():
+    """Two more charts: M_bal with the powers, and every joint reaction's magnitude."""
+    from sheetkin.workbook import build_workbook, fingerprint
+    scene = sheetkin.load_scene(WORKBOOKS / "shaper_dynamics.toml")
+    wb = build_workbook(scene)
+    charts = fingerprint(wb)["charts"]
+    assert len(charts) == 6
+    rows = rows_of(wb.worksheets[0])
+    flat = " ".join(" ".join(c) for c in charts)
+    for name in ["M_bal", "P_bal", "P_ext", "T_t"] + [f"R_{p.tag}" for p in reaction_pairs(scene)]:
+        assert f"$E${rows[name]}:$Q${rows[name]}" in flat, name
