@@ -628,10 +628,23 @@ def _kinetostatics_rows(b: _Builder):
               f"check: the moment of link {k}'s loads about the origin (relative)", "check",
               f"({about_o}-({{MQ_{k}}}+{b.p('x', ref)}*{{Qy_{k}}}-{b.p('y', ref)}*{{Qx_{k}}}))/(1+ABS({{Qx_{k}}})+ABS({{Qy_{k}}})+ABS({{MQ_{k}}}))")
 
+    def magnitude(tag: str, ru: str, en: str):
+        b.add(f"R_{tag}", "N", f"модуль реакции {ru}", f"magnitude of the reaction {en}", "accepted", f"SQRT({{Rx_{tag}}}^2+{{Ry_{tag}}}^2)")
+
     def reaction(tag: str, rx: str, ry: str, ru: str, en: str):
         b.add(f"Rx_{tag}", "N", f"реакция {ru}, x", f"reaction {en}, x", "accepted", rx)
         b.add(f"Ry_{tag}", "N", f"реакция {ru}, y", f"reaction {en}, y", "accepted", ry)
-        b.add(f"R_{tag}", "N", f"модуль реакции {ru}", f"magnitude of the reaction {en}", "accepted", f"SQRT({{Rx_{tag}}}^2+{{Ry_{tag}}}^2)")
+        magnitude(tag, ru, en)
+
+    def cramer_reaction(i: int, tag: str, mat, rhs, det_unit: str, det_text: tuple[str, str], ru: str, en: str):
+        """The group's determinant, the reaction at J1 by Cramer's rule (lecture slide 20),
+        the check putting it back into its two equations, and its magnitude."""
+        det = f"Delta_R_g{i}"
+        _det_row(b, det, mat, det_unit, *det_text)
+        _cramer_rows(b, mat, det, ((f"Rx_{tag}", "N", f"реакция {ru} (Крамер), x", f"reaction {en} (Cramer), x"),
+                                   (f"Ry_{tag}", "N", f"реакция {ru} (Крамер), y", f"reaction {en} (Cramer), y")),
+                     rhs, (f"chk_Rsys_g{i}", "реакция в её двух уравнениях", "the reaction put back into its two equations"))
+        magnitude(tag, ru, en)
 
     def equilibrium(k: int, ref: str, acting, couple: str):
         """Check row: link k's three equilibrium equations with every reaction on it, the
@@ -662,17 +675,11 @@ def _kinetostatics_rows(b: _Builder):
             d1x, d1y = f"({b.p('x', J1)}-{b.p('x', N)})", f"({b.p('y', J1)}-{b.p('y', N)})"
             d2x, d2y = f"({b.p('x', J2)}-{b.p('x', N)})", f"({b.p('y', J2)}-{b.p('y', N)})"
             # moments about N: d1 x R1 = -MQ_a and d2 x R2 = -MQ_b with R2 = -(Q_a + Q_b) - R1
-            mat = (f"(-{d1y})", d1x, f"(-{d2y})", d2x)
-            det = f"Delta_R_g{i}"
-            _det_row(b, det, mat, "m^2", f"определитель: ({J1}-{N}) x ({J2}-{N}) (0 в мёртвом положении)",
-                     f"determinant: ({J1}-{N}) x ({J2}-{N}) (0 at the toggle)")
             qx, qy = f"({{Qx_{a}}}+{{Qx_{bl}}})", f"({{Qy_{a}}}+{{Qy_{bl}}})"
-            rhs = (f"(-{{MQ_{a}}})", f"({{MQ_{bl}}}-({d2x}*{qy}-{d2y}*{qx}))")
-            m11, m12, m21, m22 = mat
-            reaction(t1, f"({rhs[0]}*{m22}-{rhs[1]}*{m12})/{{{det}}}", f"({m11}*{rhs[1]}-{m21}*{rhs[0]})/{{{det}}}",
-                     f"звена {o1} на звено {a} в {J1} (Крамер)", f"of link {o1} on link {a} at {J1} (Cramer)")
-            _system_check(b, f"chk_Rsys_g{i}", ("реакция в системе моментов", "the reaction put back into the moment equations"),
-                          mat, r1[0], r1[1], rhs)
+            cramer_reaction(i, t1, (f"(-{d1y})", d1x, f"(-{d2y})", d2x), (f"(-{{MQ_{a}}})", f"({{MQ_{bl}}}-({d2x}*{qy}-{d2y}*{qx}))"),
+                            "m^2", (f"определитель: ({J1}-{N}) x ({J2}-{N}) (0 в мёртвом положении)",
+                                    f"determinant: ({J1}-{N}) x ({J2}-{N}) (0 at the toggle)"),
+                            f"звена {o1} на звено {a} в {J1}", f"of link {o1} on link {a} at {J1}")
             reaction(tab, f"{r1[0]}+{{Qx_{a}}}", f"{r1[1]}+{{Qy_{a}}}", f"звена {a} на звено {bl} в {N}", f"of link {a} on link {bl} at {N}")
             reaction(t2, f"-{qx}-{r1[0]}", f"-{qy}-{r1[1]}", f"звена {o2} на звено {bl} в {J2}", f"of link {o2} on link {bl} at {J2}")
             equilibrium(a, N, [(J1, *r1), (N, f"(-{rab[0]})", f"(-{rab[1]})")], "")
@@ -685,17 +692,11 @@ def _kinetostatics_rows(b: _Builder):
             ux, uy = f"COS(RADIANS({{gamma_g{i}}}))", f"SIN(RADIANS({{gamma_g{i}}}))"
             d1x, d1y = f"({b.p('x', J1)}-{b.p('x', N)})", f"({b.p('y', J1)}-{b.p('y', N)})"
             # along the guide: R1.u = -(Q_a + Q_b).u; moments of link a about N: d1 x R1 = -MQ_a
-            mat = (ux, uy, f"(-{d1y})", d1x)
-            det = f"Delta_R_g{i}"
-            _det_row(b, det, mat, "m", f"определитель: ({J1}-{N}).u (0, когда шатун поперёк направляющей)",
-                     f"determinant: ({J1}-{N}).u (0 with the coupler across the guide)")
             qx, qy = f"({{Qx_{a}}}+{{Qx_{bl}}})", f"({{Qy_{a}}}+{{Qy_{bl}}})"
-            rhs = (f"(-({qx}*{ux}+{qy}*{uy}))", f"(-{{MQ_{a}}})")
-            m11, m12, m21, m22 = mat
-            reaction(t1, f"({rhs[0]}*{m22}-{rhs[1]}*{m12})/{{{det}}}", f"({m11}*{rhs[1]}-{m21}*{rhs[0]})/{{{det}}}",
-                     f"звена {o1} на звено {a} в {J1} (Крамер)", f"of link {o1} on link {a} at {J1} (Cramer)")
-            _system_check(b, f"chk_Rsys_g{i}", ("реакция в уравнениях проекции и моментов", "the reaction put back into its two equations"),
-                          mat, r1[0], r1[1], rhs)
+            cramer_reaction(i, t1, (ux, uy, f"(-{d1y})", d1x), (f"(-({qx}*{ux}+{qy}*{uy}))", f"(-{{MQ_{a}}})"),
+                            "m", (f"определитель: ({J1}-{N}).u (0, когда шатун поперёк направляющей)",
+                                  f"determinant: ({J1}-{N}).u (0 with the coupler across the guide)"),
+                            f"звена {o1} на звено {a} в {J1}", f"of link {o1} on link {a} at {J1}")
             reaction(tab, f"{r1[0]}+{{Qx_{a}}}", f"{r1[1]}+{{Qy_{a}}}", f"звена {a} на ползун {bl} в {N}", f"of link {a} on slider {bl} at {N}")
             tg = f"0_{bl}"
             # the guide pushes across itself: -(R1 + Q).n n with n = (-uy, ux)
