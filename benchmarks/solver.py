@@ -5,6 +5,8 @@
 For 1e3, 1e5 and 1e6 positions it times (best and median of --repeat runs, wall clock):
   solve_table  the solver into its preallocated table (all contract columns + det_g*);
   compute      the public API, the same plus the pandas DataFrame and toggle flags.
+For a scene with masses or loads (e.g. workbooks/shaper_dynamics.toml) it also times
+  dynamics    compute(dynamics=True): the same plus energies, reactions and M_bal.
 Peak memory at 1e6 is the peak resident set of a fresh process running `compute` once
 (ru_maxrss), and that peak minus the process's size after importing sheetkin.
 Targets (issue 2): >= 5e6 positions/s at 1e6 on this 2-core machine; peak < 1 GB.
@@ -73,12 +75,18 @@ def main(argv=None) -> int:
     scene = sheetkin.load_scene(args.scene)
     print(f"scene {Path(args.scene).name}; {platform.processor() or platform.machine()}, "
           f"{os.cpu_count()} cores, numpy {np.__version__}")
-    print(f"{'positions':>10} {'solve_table pos/s best / median':>32} {'compute pos/s best / median':>30}")
+    dyn = scene.has_dynamics
+    print(f"{'positions':>10} {'solve_table pos/s best / median':>32} {'compute pos/s best / median':>30}"
+          + (f" {'dynamics pos/s best / median':>30}" if dyn else ""))
     for n in (1_000, 100_000, 1_000_000):
         phi = np.linspace(0.0, 360.0, n, endpoint=False)
         s_best, s_med = timings(lambda: solve_table(scene, phi), args.repeat)
         c_best, c_med = timings(lambda: sheetkin.compute(scene, phi), args.repeat)
-        print(f"{n:>10} {n / s_best:>20.3g} / {n / s_med:<9.3g} {n / c_best:>18.3g} / {n / c_med:<9.3g}")
+        line = f"{n:>10} {n / s_best:>20.3g} / {n / s_med:<9.3g} {n / c_best:>18.3g} / {n / c_med:<9.3g}"
+        if dyn:
+            d_best, d_med = timings(lambda: sheetkin.compute(scene, phi, dynamics=True), args.repeat)
+            line += f" {n / d_best:>18.3g} / {n / d_med:<9.3g}"
+        print(line)
     out = subprocess.run([sys.executable, __file__, "--scene", args.scene, "--memory-child", "1000000"],
                          capture_output=True, text=True, check=True)
     mem = json.loads(out.stdout)
