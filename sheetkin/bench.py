@@ -19,8 +19,12 @@ large ones relatively; the families are listed in FAMILIES):
   err_vel  vx, vy, vs (m/s) and omega_k (rad/s);
   err_acc  ax, ay, as (m/s^2) and eps_k (rad/s^2).
 A position where a method gives no number (NaN, a spreadsheet error) or jumps to the
-other branch is a failure: the table's notes and a warning name the crank angles; so is a
-position the solver flags as near a toggle (a warning).
+other branch is a failure: the table's notes and a warning name the crank angles. So are
+the positions a method's own check flags (the columns flagged and flagged_deg): the solver
+near a toggle (its |det|), Newton converged where its Jacobian is nearly singular
+(newton_singular, the same check as the stability study's), a finite-difference step whose
+answer changes by more than SILENT_ERROR when the step is doubled (step_doubling, its
+estimate in est_vel and est_acc; also the stability study's).
 
 `sheetkin bench --stability --out DIR` (stability_study): the solver, Newton and finite
 differences walked towards a toggle, a change point and past the edge of a non-assembling
@@ -39,7 +43,7 @@ import mpmath
 import numpy as np
 import pandas as pd
 
-from .compute import AssemblyError, assembly_gaps, failed_positions, solution_columns
+from .compute import TOGGLE_THRESHOLD, AssemblyError, assembly_gaps, failed_positions, solution_columns
 from .libreoffice import soffice_path
 from .scene import Scene, override_crank, parse_scene
 from .solver import solve
@@ -55,7 +59,14 @@ FAMILIES = {"x": ("pos", "m"), "y": ("pos", "m"), "s": ("pos", "m"), "phi": ("po
             "omega": ("vel", "rad/s"),
             "ax": ("acc", "m/s^2"), "ay": ("acc", "m/s^2"), "as": ("acc", "m/s^2"),
             "eps": ("acc", "rad/s^2")}
-COLUMNS = ["method", "param", "seconds_per_position", "err_pos", "err_vel", "err_acc", "notes"]
+# flagged: how many positions the method's own checks flag (the solver's |det|, Newton's
+# singular Jacobian, the finite differences' step doubling), flagged_deg: their crank angles;
+# est_vel, est_acc: the finite differences' step-doubling estimate (empty for the others)
+COLUMNS = ["method", "param", "seconds_per_position", "err_pos", "err_vel", "err_acc", "notes",
+           "flagged", "flagged_deg", "est_vel", "est_acc"]
+SILENT_ERROR = 1e-6         # a difference of h against 2h above this flags the finite
+                            # differences; (stability) an "ok" answer off by more is silent
+LOSE = "velocities and accelerations lose accuracy"
 
 
 @dataclass
@@ -68,6 +79,38 @@ class MethodResult:
     failures: dict[str, list[float]] = field(default_factory=dict)   # reason -> crank angles
     notes: str = ""
     flags: dict[str, list[float]] = field(default_factory=dict)      # warning -> crank angles
+    # the method's own check per position (Newton: its smallest jacobian_sine; the finite
+    # differences: the larger kind of their step-doubling estimate); None for the others
+    measure: np.ndarray | None = None
+    estimate: dict[str, np.ndarray] = field(default_factory=dict)   # fd: "vel", "acc" -> per position
+
+
+def flag(res: MethodResult, what: str, why: str, phis, mask) -> None:
+    """Record the warning `what at crank angles ... deg why` for the positions in `mask`
+    (the key keeps {at} for the angles; the text before " at crank angles" is the note)."""
+    at = [float(p) for p in np.asarray(phis, dtype=float)[np.asarray(mask, dtype=bool)]]
+    if at:
+        res.flags[f"{what} at crank angles {{at}} deg {why}".rstrip()] = at
+
+
+def newton_singular(threshold: float) -> tuple[str, str]:
+    """(what, why) of Newton's flag: it converged where its Jacobian is (near) singular."""
+    return ("converged near a singular Jacobian",
+            f"(|det J| / (|J col 1| |J col 2|) < {threshold:g}; RRR: |sin(psi - xi)|): "
+            f"positions may be off, {LOSE}")
+
+
+def unsure(estimate) -> np.ndarray:
+    """Where the finite differences' step-doubling estimate flags them: above SILENT_ERROR,
+    or no estimate (the doubled step gives no number)."""
+    return ~(np.asarray(estimate, dtype=float) <= SILENT_ERROR)
+
+
+def fd_unsure(limit: float = SILENT_ERROR) -> tuple[str, str]:
+    """(what, why) of the finite differences' step-doubling flag (unsure)."""
+    return (f"the answers at steps h and 2h differ by more than {limit:g}",
+            "(step doubling: the step is too large or too small there, or too close to a "
+            "singular position)")
 
 
 def quantity_names(scene: Scene) -> list[str]:
@@ -238,17 +281,27 @@ def _newton(lib, F, J, q, tol, max_iter):
     return q, False
 
 
+def jacobian_sine(J) -> float:
+    """How far from singular a 2x2 Jacobian is, free of units: det J / (|col 1| |col 2|),
+    the sine of the angle between its columns (RRR: sin(psi - xi), the coupler against the
+    rocker; RRP: the coupler against the guide's normal; RPR: s / |J1 - J2|)."""
+    (a, b), (c, d) = ([float(x) for x in row] for row in J)
+    norm = math.hypot(a, c) * math.hypot(b, d)
+    return (a * d - b * c) / norm if norm > 0 else 0.0
+
+
 def _walk(lib, scene: Scene, phi_deg: float, guesses: dict[int, list], tol: float, max_iter: int):
     """Kinematics at one crank angle by the loop equations, placing the plan in order.
 
     guesses: group index -> starting q. Returns (values name -> number, q per group,
-    problems: list of (group, "no convergence" | "branch jump")).
+    problems: list of (group, "no convergence" | "branch jump"), the jacobian_sine of each
+    group's Jacobian at its answer).
     """
     n = lib.num
     crank = scene.crank
     known = {name: ((n(x), n(y)), (n(0), n(0)), (n(0), n(0))) for name, (x, y) in scene.frame.items()}
     links = {1: (n(phi_deg) * lib.pi() / 180, n(crank.omega), n(crank.epsilon))}
-    slides, qs, problems = {}, {}, []
+    slides, qs, problems, sines = {}, {}, [], {}
     for kind, item in scene.plan:
         if kind == "crank":
             known[crank.joint] = _carried(lib, known[crank.pivot], links[1], n(crank.length), n(0))
@@ -261,8 +314,9 @@ def _walk(lib, scene: Scene, phi_deg: float, guesses: dict[int, list], tol: floa
             q, ok = _newton(lib, F, J, [n(x) for x in guesses[g.index]], tol, max_iter)
             if not ok:
                 problems.append((g, "no convergence"))
-                return None, qs, problems
+                return None, qs, problems, sines
             Jq = J(q)
+            sines[g.index] = jacobian_sine(Jq)
             qt = lib.solve(Jq, b_v(q))
             qtt = lib.solve(Jq, b_a(q, qt))
             joint, (la, lb), slide = place(q, qt, qtt)
@@ -286,7 +340,7 @@ def _walk(lib, scene: Scene, phi_deg: float, guesses: dict[int, list], tol: floa
                        f"ax_{name}": ax, f"ay_{name}": ay})
     for name, (s, vs, as_) in slides.items():
         values.update({f"s_{name}": s, f"vs_{name}": vs, f"as_{name}": as_})
-    return values, qs, problems
+    return values, qs, problems, sines
 
 
 def _unknowns(scene: Scene, phi_deg) -> list[dict[int, list[float]]]:
@@ -322,7 +376,7 @@ def reference_mp(scene: Scene, phi_deg_list, dps: int = 50) -> dict[str, list]:
     with mpmath.workdps(dps):
         tol = mpmath.mpf(10) ** (-(dps - 5))
         for phi, start in zip(phis, starts):
-            values, _, problems = _walk(MP, scene, phi, start, tol, 60)
+            values, _, problems, _ = _walk(MP, scene, phi, start, tol, 60)
             if problems:
                 g, why = problems[0]
                 raise ArithmeticError(f"reference: {g.label}: {why} at crank angle {phi:g} deg")
@@ -342,11 +396,15 @@ def _best_time(fn, repeats: int = REPEATS):
     return result, best
 
 
-def _nonfinite(values: dict[str, np.ndarray], phis) -> list[float]:
-    bad = np.zeros(len(phis), dtype=bool)
+def _nonfinite_mask(values: dict[str, np.ndarray], n: int) -> np.ndarray:
+    bad = np.zeros(n, dtype=bool)
     for v in values.values():
         bad |= ~np.isfinite(np.asarray(v, dtype=float))
-    return [float(p) for p in np.asarray(phis)[bad]]
+    return bad
+
+
+def _nonfinite(values: dict[str, np.ndarray], phis) -> list[float]:
+    return [float(p) for p in np.asarray(phis)[_nonfinite_mask(values, len(phis))]]
 
 
 def method_solver(scene: Scene, phis) -> MethodResult:
@@ -359,82 +417,107 @@ def method_solver(scene: Scene, phis) -> MethodResult:
     fail = failed_positions(sol)
     if fail.any():
         res.failures["cannot assemble"] = [float(p) for p in phis[fail]]
-    from .compute import TOGGLE_THRESHOLD
     near = np.zeros(len(phis), dtype=bool)
     for det in sol.det.values():
         near |= ~(np.abs(det) >= TOGGLE_THRESHOLD)
-    near &= ~fail
-    if near.any():
-        # the key is the warning, {at} standing for the crank angles
-        res.flags[f"near a toggle at crank angles {{at}} deg (|det| < {TOGGLE_THRESHOLD:g}): "
-                  "velocities and accelerations lose accuracy"] = [float(p) for p in phis[near]]
+    flag(res, "near a toggle", f"(|det| < {TOGGLE_THRESHOLD:g}): {LOSE}", phis, near & ~fail)
     return res
 
 
-def method_newton(scene: Scene, phis, tol: float = NEWTON_TOL, max_iter: int = NEWTON_MAX_ITER) -> MethodResult:
+def method_newton(scene: Scene, phis, tol: float = NEWTON_TOL, max_iter: int = NEWTON_MAX_ITER,
+                  threshold: float = TOGGLE_THRESHOLD) -> MethodResult:
     """Newton on the loop equations at each position in turn, started from the previous
     position's answer (the first from the closed-form solver's, as a user's sketch would
     give it to Mathcad's Find). Where it does not converge the position is NaN (and the
     next starts from the last converged answer); where it lands on the other branch the
-    values are kept (they are what a Given-Find block would show) and reported."""
+    values are kept (they are what a Given-Find block would show) and reported.
+
+    Its own check: `measure` is, per position, the jacobian_sine of the group whose
+    Jacobian is nearest singular at Newton's answer (NaN where it did not converge); where
+    |measure| < threshold the position is flagged (newton_singular): the answer may be off
+    (the residual's valley is flat) and the rates, solved with that Jacobian, lose digits."""
     phis = [float(p) for p in phis]
     names = quantity_names(scene)
     first = _unknowns(scene, phis[:1])[0]
 
     def run():
-        guess, rows, problems = dict(first), [], {}
+        guess, rows, problems, sines = dict(first), [], {}, []
         for phi in phis:
-            values, qs, probs = _walk(FLOAT, scene, phi, guess, tol, max_iter)
+            values, qs, probs, sine = _walk(FLOAT, scene, phi, guess, tol, max_iter)
             guess.update(qs)
             rows.append(values)
+            sines.append(min(sine.values(), key=abs) if values and sine else np.nan)
             for g, why in probs:
                 problems.setdefault(f"{why} ({g.label})", []).append(phi)
-        return rows, problems
+        return rows, problems, sines
 
-    (rows, problems), t = _best_time(run, 3)
+    (rows, problems, sines), t = _best_time(run, 3)
     values = {n: np.array([r[n] if r else np.nan for r in rows]) for n in names}
-    return MethodResult("newton", f"tol={tol:g}", t / len(phis), values, problems)
+    res = MethodResult("newton", f"tol={tol:g}", t / len(phis), values, problems,
+                       measure=np.array(sines, dtype=float))
+    flag(res, *newton_singular(threshold), phis, np.abs(res.measure) < threshold)
+    return res
 
 
 def _wrap_deg(d):
     return (d + 180.0) % 360.0 - 180.0
 
 
-def method_fd(scene: Scene, phis, steps=FD_STEPS) -> list[MethodResult]:
-    """Central differences of the solver's positions in the crank angle, for each step h:
+def fd_values(scene: Scene, phis, h: float) -> dict[str, np.ndarray]:
+    """Central differences of the solver's positions in the crank angle at step h (rad):
     v = omega dx/dphi, a = omega^2 d2x/dphi2 + epsilon dx/dphi (x also a link angle or a
     slide). Positions are the solver's own."""
     phis = np.asarray(phis, dtype=float)
-    n = len(phis)
     w, eps = scene.crank.omega, scene.crank.epsilon
+    hd = math.degrees(h)
+    cols = solution_columns(scene, solve(scene, np.concatenate([phis - hd, phis, phis + hd])))
+    values = {}
+    for k in scene.links:
+        lo, mid, hi = np.split(cols[f"phi_{k}"], 3)
+        # link angles in degrees in [0, 360): differences taken modulo 360
+        d1 = np.radians(_wrap_deg(hi - lo)) / (2 * h)
+        d2 = np.radians(_wrap_deg(hi - mid) - _wrap_deg(mid - lo)) / (h * h)
+        values[f"phi_{k}"], values[f"omega_{k}"], values[f"eps_{k}"] = mid, w * d1, w * w * d2 + eps * d1
+    coords = [(f"x_{p}", f"vx_{p}", f"ax_{p}") for p in scene.moving_joints + [p.name for p in scene.points]]
+    coords += [(f"y_{p}", f"vy_{p}", f"ay_{p}") for p in scene.moving_joints + [p.name for p in scene.points]]
+    coords += [(f"s_{p}", f"vs_{p}", f"as_{p}") for p in scene.sliders]
+    for x, v, a in coords:
+        lo, mid, hi = np.split(cols[x], 3)
+        d1, d2 = (hi - lo) / (2 * h), (hi - 2 * mid + lo) / (h * h)
+        values[x], values[v], values[a] = mid, w * d1, w * w * d2 + eps * d1
+    return values
+
+
+def step_doubling(at_h: dict[str, np.ndarray], at_2h: dict[str, np.ndarray],
+                  each_position: bool = False) -> dict[str, np.ndarray]:
+    """The finite differences' own error estimate: "vel", "acc" -> per position, the scaled
+    difference (as in errors(), the answers at 2h standing for the reference) between the
+    answers at steps h and 2h. With a second-order formula the truncation error at h is
+    about a third of it; where round-off rules, about as large. NaN where either gives no
+    number. each_position: each position scaled by its own values (positions that are
+    separate cases), else by the family's largest over all of them (as the main table)."""
+    per = scaled_differences(at_h, at_2h, each_position)
+    bad = np.zeros(len(per["vel"]), dtype=bool)
+    for d in (at_h, at_2h):
+        bad |= _nonfinite_mask(d, len(bad))
+    return {k: np.where(bad, np.nan, per[k]) for k in ("vel", "acc")}
+
+
+def method_fd(scene: Scene, phis, steps=FD_STEPS) -> list[MethodResult]:
+    """fd_values for each step h (timed), each with its step-doubling check (step_doubling
+    against h doubled, not timed): `estimate` the estimate, `measure` its larger kind per
+    position, flagged (fd_unsure) where that exceeds SILENT_ERROR."""
+    phis = np.asarray(phis, dtype=float)
     out = []
     for h in steps:
-        hd = math.degrees(h)
-        grid = np.concatenate([phis - hd, phis, phis + hd])
-
-        def run():
-            cols = solution_columns(scene, solve(scene, grid))
-            values = {}
-            for k in scene.links:
-                lo, mid, hi = np.split(cols[f"phi_{k}"], 3)
-                # link angles in degrees in [0, 360): differences taken modulo 360
-                d1 = np.radians(_wrap_deg(hi - lo)) / (2 * h)
-                d2 = np.radians(_wrap_deg(hi - mid) - _wrap_deg(mid - lo)) / (h * h)
-                values[f"phi_{k}"], values[f"omega_{k}"], values[f"eps_{k}"] = mid, w * d1, w * w * d2 + eps * d1
-            coords = [(f"x_{p}", f"vx_{p}", f"ax_{p}") for p in scene.moving_joints + [p.name for p in scene.points]]
-            coords += [(f"y_{p}", f"vy_{p}", f"ay_{p}") for p in scene.moving_joints + [p.name for p in scene.points]]
-            coords += [(f"s_{p}", f"vs_{p}", f"as_{p}") for p in scene.sliders]
-            for x, v, a in coords:
-                lo, mid, hi = np.split(cols[x], 3)
-                d1, d2 = (hi - lo) / (2 * h), (hi - 2 * mid + lo) / (h * h)
-                values[x], values[v], values[a] = mid, w * d1, w * w * d2 + eps * d1
-            return values
-
-        values, t = _best_time(run)
-        res = MethodResult("fd", f"h={h:.2g}", t / n, values)
+        values, t = _best_time(lambda: fd_values(scene, phis, h))
+        res = MethodResult("fd", f"h={h:.2g}", t / len(phis), values)
         bad = _nonfinite(values, phis)
         if bad:
-            res.failures[f"a neighbour phi +- {hd:.3g} deg cannot assemble"] = bad
+            res.failures[f"a neighbour phi +- {math.degrees(h):.3g} deg cannot assemble"] = bad
+        res.estimate = step_doubling(values, fd_values(scene, phis, 2 * h))
+        res.measure = np.maximum(res.estimate["vel"], res.estimate["acc"])
+        flag(res, *fd_unsure(), phis, unsure(res.measure) & ~_nonfinite_mask(values, len(phis)))
         out.append(res)
     return out
 
@@ -504,32 +587,45 @@ def method_libreoffice(scene: Scene, phis, workbook: Path) -> MethodResult:
 
 
 # --------------------------------------------------------------------------- errors, table, chart
-def errors(values: dict[str, np.ndarray], ref: dict[str, list]) -> dict[str, float]:
-    """err_pos, err_vel, err_acc of `values` against the mpmath reference (see the module's
-    docstring); positions where the method gave no number are left out (they are reported
-    as failures). The difference is taken against the reference split into two floats
-    (hi + lo), so it is not limited by rounding the reference to a float."""
-    worst = {"pos": 0.0, "vel": 0.0, "acc": 0.0}
+def scaled_differences(values: dict[str, np.ndarray], ref: dict, each_position: bool = False
+                       ) -> dict[str, np.ndarray]:
+    """"pos", "vel", "acc" -> per position, the largest |value - reference| / scale over the
+    kind's quantities (see the module's docstring; NaN where none has a number). `ref` is
+    the mpmath reference (each number split into two floats, hi + lo, so the difference is
+    not limited by rounding it to a float) or floats. each_position: a family's scale is
+    max(1, its largest |reference| at that position) instead of over all positions."""
     diffs, scales = {}, {}
     for name, refs in ref.items():
         head = name.split("_", 1)[0]
         kind, family = FAMILIES[head]
         hi = np.array([float(r) for r in refs])
-        lo = np.array([float(r - mpmath.mpf(h)) for r, h in zip(refs, hi)])
-        d = (np.asarray(values[name], dtype=float) - hi) - lo
-        scales.setdefault(family, 1.0)
+        d = np.asarray(values[name], dtype=float) - hi
+        if any(isinstance(r, mpmath.mpf) for r in refs):
+            d -= np.array([float(r - mpmath.mpf(h)) for r, h in zip(refs, hi)])
+        scales.setdefault(family, np.ones(len(hi)) if each_position else 1.0)
         if head == "phi":
             # degrees in [0, 360): the angle between, in radians; an angle's size says
             # nothing about its accuracy, so the scale stays 1
             d = np.radians(_wrap_deg(d))
+        elif each_position:
+            scales[family] = np.fmax(scales[family], np.abs(hi))
         else:
-            scales[family] = max(scales[family], float(np.max(np.abs(hi), initial=0.0)))
-        diffs[name] = (kind, family, d)
-    for name, (kind, family, d) in diffs.items():
-        d = np.abs(d[np.isfinite(d)])
-        if d.size:
-            worst[kind] = max(worst[kind], float(d.max()) / scales[family])
-    return {f"err_{k}": v for k, v in worst.items()}
+            scales[family] = max(scales[family], float(np.max(np.abs(hi), initial=0.0,
+                                                              where=np.isfinite(hi))))
+        diffs[name] = (kind, family, np.abs(d))
+    n = len(next(iter(ref.values()), []))
+    worst = {k: np.full(n, np.nan) for k in ("pos", "vel", "acc")}
+    for kind, family, d in diffs.values():
+        worst[kind] = np.fmax(worst[kind], d / scales[family])
+    return worst
+
+
+def errors(values: dict[str, np.ndarray], ref: dict[str, list]) -> dict[str, float]:
+    """err_pos, err_vel, err_acc of `values` against the mpmath reference: the largest of
+    scaled_differences over positions; positions where the method gave no number are left
+    out (they are reported as failures)."""
+    return {f"err_{k}": float(np.max(d, initial=0.0, where=np.isfinite(d)))
+            for k, d in scaled_differences(values, ref).items()}
 
 
 def _angles(phis) -> str:
@@ -553,8 +649,11 @@ def run_bench(scene: Scene, positions: int | None, out_dir, *, scene_text: str |
     """Run every method, write out_dir/bench.csv and out_dir/bench.png.
 
     Returns (table, warnings): the table as a DataFrame with COLUMNS, the warnings as
-    one-line texts naming the failing crank angles. Raises AssemblyError if the scene
-    cannot be assembled at some position (there is nothing to compare there).
+    one-line texts naming the crank angles where a method fails or flags itself (the
+    solver near a toggle, Newton at a singular Jacobian, a finite-difference step whose
+    answer changes by more than SILENT_ERROR when the step is doubled; the rows of a method
+    that say the same share one line). Raises AssemblyError if the scene cannot be
+    assembled at some position (there is nothing to compare there).
     """
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -576,20 +675,25 @@ def run_bench(scene: Scene, positions: int | None, out_dir, *, scene_text: str |
                 warnings.append(f"libreoffice: skipped: {e}")
         elif libreoffice:
             warnings.append("libreoffice: skipped: LibreOffice (soffice) not found")
-    rows = []
+    rows, said = [], {}         # (method, warning) -> the params (rows) it is said of
     for r in results:
         notes = [r.notes] if r.notes else []
         for why, at in r.failures.items():
             notes.append(f"{why} at {len(at)} of {len(phis)} positions")
-            label = f"{r.method} {r.param}".strip()
-            warnings.append(f"{label}: {why} at crank angles {_angles(at)} deg")
+            said.setdefault((r.method, f"{why} at crank angles {_angles(at)} deg"), []).append(r.param)
         for why, at in r.flags.items():
-            notes.append(f"near a toggle at {len(at)} of {len(phis)} positions")
-            label = f"{r.method} {r.param}".strip()
-            warnings.append(f"{label}: {why.format(at=_angles(at))}")
+            notes.append(f"{why.partition(' at crank angles')[0]} at {len(at)} of {len(phis)} positions")
+            said.setdefault((r.method, why.format(at=_angles(at))), []).append(r.param)
+        flagged = {p for at in r.flags.values() for p in at}
+        est = {f"est_{k}": float(np.nanmax(v)) if np.isfinite(v).any() else np.nan
+               for k, v in r.estimate.items()}
         rows.append({"method": r.method, "param": r.param,
                      "seconds_per_position": r.seconds_per_position,
-                     **errors(r.values, ref), "notes": "; ".join(notes)})
+                     **errors(r.values, ref), "notes": "; ".join(notes), "flagged": len(flagged),
+                     "flagged_deg": " ".join(f"{p:g}" for p in phis if p in flagged), **est})
+    # one line for the rows of a method that say the same (the finite differences' steps)
+    warnings += [f"{method} {', '.join(params)}".strip() + f": {text}"
+                 for (method, text), params in said.items()]
     table = pd.DataFrame(rows, columns=COLUMNS)
     table.to_csv(out_dir / "bench.csv", index=False, float_format="%.3e", lineterminator="\n")
     plot(table, out_dir / "bench.png", f"{scene.title}: {len(phis)} positions")
@@ -649,10 +753,12 @@ def plot(table: pd.DataFrame, path, title: str = "") -> None:
 
 def format_bench(table: pd.DataFrame) -> str:
     """The table for a terminal."""
-    lines = [f"{'method':<12}{'param':<12}{'s/position':>12}{'err_pos':>11}{'err_vel':>11}{'err_acc':>11}  notes"]
+    lines = [f"{'method':<12}{'param':<12}{'s/position':>12}{'err_pos':>11}{'err_vel':>11}{'err_acc':>11}"
+             f"{'est_vel':>11}{'est_acc':>11}  notes"]
     for r in table.itertuples(index=False):
+        est = "".join(f"{v:>11.2e}" if np.isfinite(v) else f"{'':>11}" for v in (r.est_vel, r.est_acc))
         lines.append(f"{r.method:<12}{r.param:<12}{r.seconds_per_position:>12.3e}{r.err_pos:>11.2e}"
-                     f"{r.err_vel:>11.2e}{r.err_acc:>11.2e}  {r.notes}")
+                     f"{r.err_vel:>11.2e}{r.err_acc:>11.2e}{est}  {r.notes}")
     return "\n".join(lines) + "\n"
 
 
@@ -673,7 +779,6 @@ def format_bench(table: pd.DataFrame) -> str:
 STABILITY_DISTANCES = tuple(10.0 ** -k for k in range(2, 11))     # rad, 1e-2 .. 1e-10
 STABILITY_FD_STEPS = {"vel": 1e-5, "acc": 3e-4}     # the main bench's best steps (rad)
 STABILITY_FAR = 0.5         # rad: where Newton's walk towards the edge starts
-SILENT_ERROR = 1e-6         # an "ok" answer off by more than this is a silent failure
 _REF_EXTRA_DPS = 30         # the reference's guard digits: the singular point costs up to 20
 # det: the toggle measure the method's status is judged by (solver: its |det|, newton:
 # |sin(psi - xi)| of its own answer; fd: not a determinant but its step-doubling estimate)
@@ -797,7 +902,7 @@ def reference_near_singular(scene: Scene, phi_deg_list, dps: int = 50) -> dict[s
             ux, uy = px / mpmath.sqrt(dd), py / mpmath.sqrt(dd)
             bx, by = ax + a * ux - h * uy, ay + a * uy + h * ux
             start = {g.index: [mpmath.atan2(by - ay, bx - ax), mpmath.atan2(by - jy, bx - jx)]}
-            values, _, problems = _walk(MP, scene, float(phi), start, tol, 60)
+            values, _, problems, _ = _walk(MP, scene, float(phi), start, tol, 60)
             if problems:
                 raise ArithmeticError(f"reference: {problems[0][0].label}: {problems[0][1]} "
                                       f"at crank angle {float(phi)!r} deg")
@@ -820,24 +925,17 @@ def _solver_at(scene: Scene, phis):
 def _fd_at(scene: Scene, phis, factor: float = 1.0) -> dict[str, np.ndarray]:
     """Finite differences at the main bench's best steps (times `factor`): positions and
     velocities from h_vel, accelerations from h_acc."""
-    v = method_fd(scene, phis, [STABILITY_FD_STEPS["vel"] * factor])[0].values
-    a = method_fd(scene, phis, [STABILITY_FD_STEPS["acc"] * factor])[0].values
+    v = fd_values(scene, phis, STABILITY_FD_STEPS["vel"] * factor)
+    a = fd_values(scene, phis, STABILITY_FD_STEPS["acc"] * factor)
     return {n: (a[n] if FAMILIES[n.split("_", 1)[0]][0] == "acc" else v[n]) for n in v}
 
 
 def fd_estimate(scene: Scene, phis) -> np.ndarray:
-    """Finite differences' own error estimate, per position: the scaled difference (as in
-    errors()) between the answers at steps h and 2h (with a second-order formula the error
-    at h is about a third of it). NaN where either gives no number."""
-    a, b = _fd_at(scene, phis), _fd_at(scene, phis, 2.0)
-    out = []
-    for i in range(len(phis)):
-        if not all(np.isfinite(v[i]) for d in (a, b) for v in d.values()):
-            out.append(np.nan)
-            continue
-        e = errors(_at(a, i), {n: [float(v[i])] for n, v in b.items()})
-        out.append(max(e["err_vel"], e["err_acc"]))
-    return np.array(out)
+    """The finite differences' step_doubling estimate, per position (each scaled by its own
+    values: each position is a case of its own), the larger of velocities' and
+    accelerations'. NaN where either step gives no number."""
+    est = step_doubling(_fd_at(scene, phis), _fd_at(scene, phis, 2.0), each_position=True)
+    return np.maximum(est["vel"], est["acc"])
 
 
 def _stability_family(family: str, distances, threshold: float):
@@ -876,17 +974,19 @@ def _stability_family(family: str, distances, threshold: float):
     else:
         walk = [far] + list(phis)
         pick = list(range(1, len(walk)))
-    nr = method_newton(scene, walk)
+    nr = method_newton(scene, walk, threshold=threshold)
+    singular = {p for at in nr.flags.values() for p in at}
     why_at = {}
     for why, at in nr.failures.items():
         for p in at:
             why_at.setdefault(p, "diverged" if why.startswith("no convergence") else "branch jump")
     nv = {n: np.asarray(v)[pick] for n, v in nr.values.items()}
-    # Newton's own toggle measure, from its own answer: its Jacobian's determinant over
-    # L2 L3 is sin(psi - xi), the angle between coupler and rocker
-    ndet = np.sin(np.radians(nv["phi_2"] - nv["phi_3"]))
+    # Newton's own toggle measure (jacobian_sine: here sin(psi - xi)) and flag, as the
+    # main bench's
+    ndet = nr.measure[pick]
     fv = _fd_at(scene, phis)
     fest = fd_estimate(scene, phis)
+    fd_unsure_at = unsure(fest)
     for i, phi in enumerate(phis):
         st = ("refused" if sfail[i] else "nan" if nan_s[i] else
               "flagged" if abs(sdet[i]) < threshold else "ok")
@@ -894,14 +994,14 @@ def _stability_family(family: str, distances, threshold: float):
         st = why_at.get(walk[pick[i]], "ok")
         if st == "ok" and not all(np.isfinite(v[i]) for v in nv.values()):
             st = "nan"
-        elif st == "ok" and abs(ndet[i]) < threshold:
+        elif st == "ok" and walk[pick[i]] in singular:
             st = "flagged"
         add(i, "newton", f"from {STABILITY_FAR:g} rad", st, nv, ndet[i])
         fd_ok = all(np.isfinite(v[i]) for v in fv.values())
         # finite differences cannot tell by themselves; the bench can, from the solver's
         # toggle measure and from the step doubled (fd_estimate)
         st = ("refused" if not fd_ok else "flagged" if abs(sdet[i]) < threshold else
-              "unsure" if not fest[i] <= SILENT_ERROR else "ok")
+              "unsure" if fd_unsure_at[i] else "ok")
         add(i, "fd", "h=1e-05/3e-04", st, fv, fest[i])
     return rows, edge
 
@@ -910,15 +1010,12 @@ def stability_warnings(table: pd.DataFrame, threshold: float = 1e-2) -> list[str
     """One line per family, method and kind of trouble, naming the crank angles (and how
     far each is from the singular angle)."""
     out = []
-    lose = "velocities and accelerations lose accuracy"
     # status -> method -> (what happened, why / what it means), the angles go between
-    say = {"flagged": {"solver": ("near a toggle", f"(|det| < {threshold:g}): {lose}"),
-                       "newton": ("converged near a singular Jacobian",
-                                  f"(|sin(psi - xi)| < {threshold:g}): positions may be off, {lose}"),
+    say = {"flagged": {"solver": ("near a toggle", f"(|det| < {threshold:g}): {LOSE}"),
+                       "newton": newton_singular(threshold),
                        "fd": ("near a toggle", f"(the solver's |det| < {threshold:g}): the "
                                                "differences lose digits")},
-           "unsure": {"fd": ("the answers at steps h and 2h differ by more than "
-                             f"{SILENT_ERROR:g}", "(too close to a singular position for the step)")},
+           "unsure": {"fd": fd_unsure()},
            "refused": {"solver": ("cannot assemble", "(refused)"),
                        "fd": ("no number", "(a neighbour phi +- h cannot assemble)")},
            "diverged": {"newton": ("no convergence", "(no number)")},

@@ -147,7 +147,11 @@ def build_parser() -> argparse.ArgumentParser:
                     "time per crank position and the largest error of positions, velocities "
                     "and accelerations against an independent mpmath solution at 50 digits. "
                     "Writes DIR/bench.csv and DIR/bench.png (error against time, log-log) and "
-                    "prints the table; a warning names the positions where a method fails.")
+                    "prints the table; a warning names the positions where a method fails or flags "
+                    "itself (the solver near a toggle, Newton at a nearly singular Jacobian, a "
+                    "finite-difference step whose answer changes by more than 1e-6 when the step "
+                    "is doubled); bench.csv counts and names them (flagged, flagged_deg) and gives "
+                    "the finite differences' step-doubling estimate (est_vel, est_acc).")
     b.add_argument("scene", metavar="SCENE.toml", nargs="?",
                    help="the scene file (none with --stability)")
     b.add_argument("--out", metavar="DIR", required=True,

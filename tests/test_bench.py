@@ -13,11 +13,12 @@ import numpy as np
 import pytest
 
 import sheetkin
-from sheetkin.bench import (bench_scene, errors, method_evaluator, method_fd, method_newton,
-                            method_solver, quantity_names, reference_mp, run_bench, _workbook_file)
+from sheetkin.bench import (COLUMNS, SILENT_ERROR, bench_scene, errors, method_evaluator, method_fd,
+                            method_newton, method_solver, quantity_names, reference_mp, run_bench,
+                            scaled_differences, _workbook_file)
 from sheetkin.cli import main
-from sheetkin.compute import AssemblyError, solution_columns
-from sheetkin.scene import parse_scene
+from sheetkin.compute import TOGGLE_THRESHOLD, AssemblyError, solution_columns
+from sheetkin.scene import override_crank, parse_scene
 
 ROOT = Path(__file__).resolve().parent.parent
 FOURBAR_TOML = ROOT / "workbooks" / "fourbar.toml"
@@ -41,6 +42,11 @@ def _fourbar(lengths, positions, step):
 NEAR_TOGGLE = _fourbar("[0.3305, 0.34]", 4, 90.0)
 # coupler + rocker = 0.67 exactly: the toggle itself at 90 deg
 AT_TOGGLE = _fourbar("[0.33, 0.34]", 4, 90.0)
+# coupler + rocker = 0.670001: 89 .. 91 deg in steps of 0.25 deg, the middle ones so near the
+# toggle that the transmission angle's sine is below TOGGLE_THRESHOLD, the outer ones not
+CLOSE_TO_TOGGLE = override_crank(_fourbar("[0.330001, 0.34]", 13, 30.0), "close.toml",
+                                 phi0_deg=89.0, step_deg=0.25, positions=9)[0]
+FD_FLAG = "the answers at steps h and 2h differ by more than"
 
 
 @pytest.fixture(scope="module")
@@ -139,13 +145,20 @@ def test_evaluator_is_exact(fourbar, tmp_path):
 def test_run_bench_writes_table_and_chart(tmp_path):
     scene = sheetkin.load_scene(FOURBAR_TOML)
     table, warnings = run_bench(scene, None, tmp_path, libreoffice=False)
-    assert warnings == []
+    # a normal scene: only the finite-difference steps too large or too small are flagged
+    assert warnings and all(w.startswith("fd h=") and FD_FLAG in w for w in warnings)
+    assert (table[table["method"] != "fd"]["flagged"] == 0).all()
     assert list(table["method"].unique()) == ["solver", "newton", "fd", "evaluator"]
     with open(tmp_path / "bench.csv", newline="") as f:
         rows = list(csv.DictReader(f))
-    assert list(rows[0]) == ["method", "param", "seconds_per_position", "err_pos", "err_vel",
-                             "err_acc", "notes"]
+    # the old columns first, unchanged (readers of the old file keep working)
+    assert list(rows[0])[:7] == ["method", "param", "seconds_per_position", "err_pos", "err_vel",
+                                 "err_acc", "notes"]
+    assert list(rows[0]) == COLUMNS
     assert len(rows) == len(table) and sum(r["method"] == "fd" for r in rows) == 15
+    for r in rows:
+        assert int(r["flagged"]) == len(r["flagged_deg"].split())
+        assert (r["est_vel"] != "") == (r["method"] == "fd")
     png = (tmp_path / "bench.png").read_bytes()
     assert png[:8] == b"\x89PNG\r\n\x1a\n" and len(png) > 20_000
 
@@ -155,7 +168,12 @@ def test_cli_bench(tmp_path, capsys):
                  "--no-libreoffice"]) == 0
     out, err = capsys.readouterr()
     assert out.splitlines()[0].split()[:3] == ["method", "param", "s/position"]
-    assert "evaluator" in out and "warning" not in err
+    assert "evaluator" in out
+    # the only warnings: finite-difference steps flagged by their step doubling, one line
+    # for the steps flagged at the same positions
+    warned = [line for line in err.splitlines() if "warning" in line]
+    assert warned and all(w.startswith("sheetkin: warning: fd h=") and FD_FLAG in w for w in warned)
+    assert len(warned) < sum(line.startswith("fd") and FD_FLAG in line for line in out.splitlines())
     assert (tmp_path / "bench.csv").is_file() and (tmp_path / "bench.png").is_file()
     rows = list(csv.DictReader(open(tmp_path / "bench.csv", newline="")))
     assert float(rows[0]["err_vel"]) < 1e-12
@@ -202,3 +220,88 @@ def test_bench_refuses_a_scene_that_cannot_assemble(tmp_path, capsys):
         run_bench(sheetkin.load_scene(path), None, tmp_path, libreoffice=False)
     assert main(["bench", str(path), "--out", str(tmp_path / "out"), "--no-libreoffice"]) == 3
     assert capsys.readouterr().err.startswith("sheetkin: error: ")
+
+
+# --------------------------------------------------------------------------- the methods' own checks
+def _sine_from_reference(ref):
+    """sin(psi - xi), coupler against rocker, of the four-bar from the mpmath reference:
+    the toggle measure computed without the bench's Jacobian."""
+    return np.array([float(mpmath.sin(mpmath.radians(a - b))) for a, b in zip(ref["phi_2"], ref["phi_3"])])
+
+
+def test_newton_flags_its_singular_jacobian_in_the_main_table(tmp_path, capsys):
+    """Near a toggle Newton still converges, but its Jacobian is nearly singular: the main
+    table counts and names those positions and a warning names the crank angles, exactly
+    where the reference's |sin(psi - xi)| is below the threshold."""
+    scene = parse_scene(CLOSE_TO_TOGGLE, "close.toml")
+    phis = scene.crank_angles_deg()
+    sine = _sine_from_reference(reference_mp(scene, phis))
+    expected = [p for p, s in zip(phis, sine) if abs(s) < TOGGLE_THRESHOLD]
+    assert 0 < len(expected) < len(phis)          # the scene has both kinds of position
+    r = method_newton(scene, phis)
+    assert not r.failures
+    assert r.measure == pytest.approx(sine, abs=1e-9)
+    assert list(r.flags.values()) == [expected]
+    path = tmp_path / "close.toml"
+    path.write_text(CLOSE_TO_TOGGLE)
+    assert main(["bench", str(path), "--out", str(tmp_path / "out"), "--no-libreoffice"]) == 0
+    out, err = capsys.readouterr()
+    at = ", ".join(f"{p:g}" for p in expected)
+    assert (f"sheetkin: warning: newton tol=1e-14: converged near a singular Jacobian at crank "
+            f"angles {at} deg") in err
+    newton = next(line for line in out.splitlines() if line.startswith("newton"))
+    assert f"converged near a singular Jacobian at {len(expected)} of {len(phis)} positions" in newton
+    rows = {row["method"]: row for row in csv.DictReader(open(tmp_path / "out" / "bench.csv", newline=""))}
+    assert int(rows["newton"]["flagged"]) == len(expected)
+    assert [float(p) for p in rows["newton"]["flagged_deg"].split()] == expected
+    # the solver's own |det| flags the same positions
+    assert [float(p) for p in rows["solver"]["flagged_deg"].split()] == expected
+
+
+@pytest.mark.parametrize("name", ["fourbar", "crank_slider", "shaper"])
+def test_newton_flags_nothing_on_a_normal_scene(name):
+    """Far from toggles nothing is flagged; Newton's measure (its Jacobian's columns) is
+    the solver's toggle measure (its Cramer determinant) for RRR and RRP groups."""
+    scene = sheetkin.load_scene(ROOT / "workbooks" / f"{name}.toml")
+    phis = scene.crank_angles_deg()
+    r = method_newton(scene, phis)
+    assert not r.flags and not r.failures and not method_solver(scene, phis).flags
+    assert (np.abs(r.measure) > TOGGLE_THRESHOLD).all()
+    if len(scene.groups) == 1 and scene.groups[0].type in ("RRR", "RRP"):
+        det = sheetkin.solve(scene, phis).det[scene.groups[0].index]
+        assert r.measure == pytest.approx(det, abs=1e-12)
+
+
+def test_fd_step_doubling_estimates_the_true_error(fourbar):
+    """The step-doubling estimate (h against 2h, no reference used) against the true error
+    (against mpmath): three times it where truncation rules (error ~ h^2: the difference of
+    h and 2h is 4 - 1 = 3 errors), within a small factor where round-off rules, for every
+    step whose answer has any digits left."""
+    scene, phis, ref = fourbar
+    checked = 0
+    for r in method_fd(scene, phis):
+        err = scaled_differences(r.values, ref)
+        for kind in ("vel", "acc"):
+            true, est = float(np.max(err[kind])), float(np.max(r.estimate[kind]))
+            assert np.isfinite(est) and est > 0
+            if float(r.param[2:]) >= 1e-3:             # truncation: the ratio is 3
+                assert est / true == pytest.approx(3, rel=0.05), (r.param, kind)
+            if true < 1e-2:
+                assert 0.3 < est / true < 5, (r.param, kind, est, true)
+                checked += 1
+    assert checked >= 25
+
+
+def test_fd_step_doubling_flags_agree_with_the_reference(fourbar, tmp_path):
+    """The FD rows the check leaves unflagged are right to 1e-6; those wrong by 10 times
+    more are flagged at every position."""
+    scene, phis, _ = fourbar
+    table, _ = run_bench(scene, None, tmp_path, libreoffice=False)
+    fd = table[table["method"] == "fd"]
+    worst = fd[["err_vel", "err_acc"]].max(axis=1)
+    assert (worst[fd["flagged"] == 0] <= SILENT_ERROR).all()
+    assert (fd["flagged"][worst > 10 * SILENT_ERROR] == len(phis)).all()
+    assert (fd["flagged"] == 0).any() and (worst > 10 * SILENT_ERROR).any()
+    # the estimate the row shows is the check's: above the threshold where flagged
+    est = fd[["est_vel", "est_acc"]].max(axis=1)
+    assert ((est > SILENT_ERROR) == (fd["flagged"] > 0)).all()
