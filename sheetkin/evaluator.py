@@ -3,12 +3,18 @@
 How: the cells are read by xlsxread (through the input gate). Formula cells are
 grouped into *runs*: consecutive cells of a row whose formulas are the same formula with
 relative references shifted (recognised by rendering the run's first formula as a template
-for the next column and comparing the text, so most cells are never tokenized). Each run
-is tokenized once (openpyxl's formula tokenizer), parsed into an expression tree whose
-relative references are column offsets, and evaluated for all its cells at once as numpy
-arrays. Runs are evaluated in dependency order; a run that refers to itself, or sits in a
-cycle of runs, is split into single cells (the irregular fallback); a cycle of single cells
-is a circular reference, reported with its cells.
+for the next columns, in growing batches, and comparing the text, so most cells are never
+tokenized). Each run is tokenized once (openpyxl's formula tokenizer), parsed into an
+expression tree whose relative references are column offsets, and evaluated for all its
+cells at once as numpy arrays. Runs are evaluated in dependency order; a run that refers to
+itself, or sits in a cycle of runs, is split into single cells (the irregular fallback); a
+cycle of single cells is a circular reference, reported with its cells.
+
+Speed: parsed formulas and run templates are kept for the rest of the process (a class's
+workbooks share them); values known to be all numbers (or all booleans) without errors are
+marked `pure` and take fast paths (no coercion, no error tags, references as views of the
+value stores); any NaN or infinity sends an operation back to the general path, which
+names the error.
 
 Values follow Excel: numbers, text, booleans, empty cells and the errors #NULL! #DIV/0!
 #VALUE! #REF! #NAME? #NUM! #N/A, which propagate per cell. Every value is an array of
@@ -19,6 +25,7 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass
+from operator import itemgetter
 from pathlib import Path
 
 import numpy as np
@@ -26,7 +33,7 @@ import pandas as pd
 from openpyxl.formula.tokenizer import Token, Tokenizer
 from openpyxl.utils import column_index_from_string, get_column_letter
 
-from .xlsxread import _LETTERS, Sheet, read_book
+from .xlsxread import _MAX_COL, Sheet, _Template, read_book
 from .xlsxsafe import Limits
 
 NUM, BOOL, TEXT, EMPTY = 0, 1, 2, 3
@@ -41,18 +48,51 @@ class EvaluationError(ValueError):
 
 
 # --------------------------------------------------------------------------- values
-@dataclass
 class Val:
-    num: np.ndarray                  # float64, shape (k, R, C)
-    tag: np.ndarray                  # int8: NUM BOOL TEXT EMPTY or an error code
-    txt: np.ndarray | None = None    # object array of str where tag == TEXT
+    """A value per cell of a run: num float64 (k, R, C); tag int8, NUM BOOL TEXT EMPTY or
+    an error code; txt an object array of str where tag == TEXT (or None); pure NUM or BOOL
+    when every tag is that one, else -1 (the fast paths: no coercion, no error to carry).
+    The tags of a pure value are made only when asked for."""
+    __slots__ = ("num", "_tag", "txt", "pure")
+
+    def __init__(self, num: np.ndarray, tag: np.ndarray | None, txt: np.ndarray | None = None, pure: int = -1):
+        self.num, self._tag, self.txt, self.pure = num, tag, txt, pure
+
+    @property
+    def tag(self) -> np.ndarray:
+        if self._tag is None:
+            self._tag = np.full(self.num.shape, self.pure, np.int8)
+        return self._tag
 
     @property
     def shape(self):
         return self.num.shape
 
 
+def _pure(num: np.ndarray, kind: int = NUM) -> Val:
+    """A result known to be all numbers (or all booleans), without errors."""
+    return Val(num, None, None, kind)
+
+
+_CONSTS: dict = {}
+
+
 def _const(value, k=1) -> Val:
+    if k == 1 and type(value) in (bool, float, int):
+        key = (type(value), value)
+        v = _CONSTS.get(key)
+        if v is None:
+            v = _const_new(value, 1)
+            v.pure = BOOL if type(value) is bool else NUM
+            v.num.setflags(write=False)
+            v.tag.setflags(write=False)
+            if len(_CONSTS) < 10000:
+                _CONSTS[key] = v
+        return v
+    return _const_new(value, k)
+
+
+def _const_new(value, k) -> Val:
     if isinstance(value, bool):
         return Val(np.full((k, 1, 1), float(value)), np.full((k, 1, 1), BOOL, np.int8))
     if isinstance(value, (int, float)):
@@ -99,11 +139,13 @@ def _result(num, err) -> Val:
     """A numeric result; NaN or infinity where no error is set yet becomes #NUM!."""
     bad = (err == 0) & ~np.isfinite(num)
     tag = np.where(bad, NUMERR, err).astype(np.int8)
-    return Val(np.where(tag == 0, num, 0.0), tag)
+    return Val(np.where(tag == 0, num, 0.0), tag, None, -1 if tag.any() else NUM)
 
 
 def _to_bool(v: Val):
     """Logical coercion (IF, AND...): numbers non-zero, booleans, empty FALSE; text #VALUE!."""
+    if v.pure != -1:
+        return v.num != 0, np.zeros(v.shape, np.int8)
     err = np.where(v.tag >= 10, v.tag, np.where(v.tag == TEXT, VALUE, 0)).astype(np.int8)
     return v.num != 0, err
 
@@ -129,7 +171,17 @@ def _to_text(v: Val) -> tuple[np.ndarray, np.ndarray]:
 
 
 # --------------------------------------------------------------------------- operators
+_OPS = {"+": np.add, "-": np.subtract, "*": np.multiply, "/": np.divide, "^": np.power}
+
+
 def _arith(op: str, a: Val, b: Val) -> Val:
+    if a.pure != -1 and b.pure != -1:            # numbers, booleans (1, 0): no coercion, no errors
+        with np.errstate(all="ignore"):
+            r = _OPS[op](a.num, b.num)
+        # x/0, 0^-1 and overflow give NaN or infinity, and so a sum that is not finite (a
+        # sum that overflows only sends finite values the general way): that path names the error
+        if math.isfinite(r.sum()) and (op != "^" or not ((a.num == 0) & (b.num == 0)).any()):
+            return _pure(r)
     an, ae = _to_number(a)
     bn, be = _to_number(b)
     err = _error_of(ae, be)
@@ -156,6 +208,13 @@ def _rank(tag):
 
 
 def _compare(op: str, a: Val, b: Val) -> Val:
+    if a.pure == NUM and b.pure == NUM:          # the general path's arithmetic, without tags
+        an, bn = a.num, b.num
+        with np.errstate(all="ignore"):
+            d = an - bn
+            near = np.abs(d) <= 4 * np.finfo(float).eps * np.maximum(np.abs(an), np.abs(bn))
+        diff = np.where(near, 0.0, np.sign(d))
+        return _pure(_COMPARE[op](diff, 0).astype(float), BOOL)
     shape = np.broadcast_shapes(a.shape, b.shape)
     at, bt = np.broadcast_to(a.tag, shape), np.broadcast_to(b.tag, shape)
     # an empty cell takes the other side's type (0, "" or FALSE)
@@ -182,6 +241,10 @@ def _compare(op: str, a: Val, b: Val) -> Val:
     return Val(np.where(err == 0, res.astype(float), 0.0), np.where(err == 0, BOOL, err).astype(np.int8))
 
 
+_COMPARE = {"=": np.equal, "<>": np.not_equal, "<": np.less, ">": np.greater,
+            "<=": np.less_equal, ">=": np.greater_equal}
+
+
 def _concat(a: Val, b: Val) -> Val:
     ta, ea = _to_text(a)
     tb, eb = _to_text(b)
@@ -195,6 +258,8 @@ def _concat(a: Val, b: Val) -> Val:
 
 
 def _select(cond: np.ndarray, a: Val, b: Val) -> Val:
+    if a.pure == b.pure != -1:
+        return _pure(np.where(cond, a.num, b.num), a.pure)
     shape = np.broadcast_shapes(cond.shape, a.shape, b.shape)
     txt = None
     if a.txt is not None or b.txt is not None:
@@ -213,6 +278,11 @@ def _with_error(v: Val, err: np.ndarray) -> Val:
 # --------------------------------------------------------------------------- functions
 def _unary(fn, domain=None):
     def f(x: Val) -> Val:
+        if x.pure != -1:
+            with np.errstate(all="ignore"):
+                r = fn(x.num)
+            if math.isfinite(r.sum()) and (domain is None or domain(x.num).all()):
+                return _pure(r)
         n, err = _to_number(x)
         with np.errstate(all="ignore"):
             r = fn(n)
@@ -224,6 +294,11 @@ def _unary(fn, domain=None):
 
 def _binary(fn, check=None):
     def f(a: Val, b: Val) -> Val:
+        if a.pure != -1 and b.pure != -1:
+            with np.errstate(all="ignore"):
+                r = fn(a.num, b.num)
+                if math.isfinite(r.sum()) and (check is None or not np.any(check(a.num, b.num))):
+                    return _pure(r)
         an, ae = _to_number(a)
         bn, be = _to_number(b)
         err = _error_of(ae, be)
@@ -277,6 +352,12 @@ def _values_of(args: list[Val], ranges: list[bool], *, numbers_only_in_ranges=Tr
     """The numbers an aggregate sees: in ranges only numbers (text, booleans, empty
     cells skipped); direct arguments coerced. Returns (num, use mask, first error), each
     with the per-cell axis first, concatenated over the other axes."""
+    if all(v.pure == NUM for v in args):         # numbers only: every one counts, no errors
+        k = max(v.shape[0] for v in args)
+        nums = [v.num.reshape(k, -1) if v.shape[0] == k else
+                np.broadcast_to(v.num.reshape(v.shape[0], -1), (k, v.num[0].size)) for v in args]
+        n = nums[0] if len(nums) == 1 else np.concatenate(nums, axis=1)
+        return n, np.ones(n.shape, bool), np.zeros(k, np.int8)
     nums, uses, errs = [], [], []
     for v, is_range in zip(args, ranges):
         k = v.shape[0]
@@ -344,7 +425,7 @@ def _agg_count(args, ranges):
                                          otypes=[bool])(v.tag, _texts(v))
         c = hit.reshape(v.shape[0], -1).sum(axis=1)
         counts = c if counts is None else counts + c
-    return Val(counts.astype(float).reshape(-1, 1, 1), np.zeros((counts.size, 1, 1), np.int8))
+    return Val(counts.astype(float).reshape(-1, 1, 1), np.zeros((counts.size, 1, 1), np.int8), None, NUM)
 
 
 def _agg_sumproduct(args, ranges):
@@ -600,6 +681,12 @@ class Run:
     formula: str                      # the first cell's formula (without "=")
     tree: object = None
     error: str | None = None          # parse problem or unsupported function
+    refs: list | None = None          # the references of tree
+
+    @property
+    def contiguous(self) -> bool:
+        """Adjacent cells (columns sorted, as runs are made)."""
+        return int(self.cols[-1]) - int(self.cols[0]) == len(self.cols) - 1
 
     def cells(self) -> list[str]:
         return [f"{get_column_letter(c)}{self.row}" for c in self.cols]
@@ -609,42 +696,6 @@ class Run:
         if len(self.cols) == 1:
             return f"{self.sheet}!{a}"
         return f"{self.sheet}!{a}:{get_column_letter(int(self.cols[-1]))}{self.row}"
-
-
-_TEMPLATE_REF = re.compile(
-    r'(?P<str>"(?:[^"]|"")*")'
-    r"|(?<![\w.$!'])(?P<sheet>(?:'(?:[^']|'')+'|[^\W\d][\w.]*)!)?(?P<cabs>\$?)(?P<col>[A-Z]{1,3})"
-    r"(?P<rabs>\$?)(?P<row>\d+)(?![\w(])")
-
-
-
-
-class _Template:
-    """A formula as text with its relative columns left open: rendering it for the next
-    column and comparing strings tells whether that cell holds the same formula shifted."""
-
-    def __init__(self, formula: str, host_c: int):
-        offsets: list[int] = []
-        parts, last = [], 0
-        for m in _TEMPLATE_REF.finditer(formula):
-            if m.group("str") is not None:
-                continue
-            parts.append(formula[last:m.start()].replace("{", "{{").replace("}", "}}"))
-            if m.group("cabs"):
-                parts.append(m.group(0).replace("{", "{{").replace("}", "}}"))
-            else:
-                offsets.append(column_index_from_string(m.group("col")) - host_c)
-                sheet = (m.group("sheet") or "").replace("{", "{{").replace("}", "}}")
-                parts.append(f"{sheet}{{{len(offsets) - 1}}}{m.group('rabs')}{m.group('row')}")
-            last = m.end()
-        parts.append(formula[last:].replace("{", "{{").replace("}", "}}"))
-        self.text, self.offsets = "".join(parts), offsets
-        self.low = -min(offsets, default=0)
-
-    def render(self, col: int) -> str | None:
-        if col <= self.low:           # a reference left of column A
-            return None
-        return self.text.format(*[_LETTERS[col + o] for o in self.offsets])
 
 
 @dataclass
@@ -677,27 +728,60 @@ class Book:
         return ERROR_TEXT[int(tg)]
 
 
+_TEMPLATES: dict = {}           # (formula, column) -> _Template, for the rest of the process
+
+
 def _group_runs(sheet: Sheet) -> list[Run]:
+    """The sheet's formula cells as runs: in each row, the longest stretches of adjacent
+    cells whose formulas are the first one's shifted (compared in growing batches of
+    rendered text, so a regular row costs a few list comparisons)."""
+    formulas = sheet.formulas
+    if not formulas:
+        return []
+    keys = list(formulas)
+    texts = list(formulas.values())
+    rows = np.fromiter(map(itemgetter(0), keys), np.int64, len(keys))
+    cols = np.fromiter(map(itemgetter(1), keys), np.int64, len(keys))
+    code = rows * (_MAX_COL + 1) + cols
+    if len(code) > 1 and not (np.diff(code) > 0).all():      # not in row, column order
+        order = np.argsort(code, kind="stable")
+        rows, cols, texts = rows[order], cols[order], [texts[i] for i in order.tolist()]
+    bounds = [0, *(np.flatnonzero(np.diff(rows)) + 1).tolist(), len(keys)]
+    col_list = cols.tolist()
     runs: list[Run] = []
-    by_row: dict[int, list[int]] = {}
-    for (r, c) in sheet.formulas:
-        by_row.setdefault(r, []).append(c)
-    for r, cols in by_row.items():
-        cols.sort()
-        start, tpl = 0, None
-        for i, c in enumerate(cols):
-            text = sheet.formulas[(r, c)]
-            if tpl is not None and c == cols[i - 1] + 1 and tpl.render(c) == text:
-                continue
-            if i > start:
-                runs.append(Run(sheet.name, r, np.array(cols[start:i]), sheet.formulas[(r, cols[start])]))
-            start, tpl = i, _Template(text, c)
-        runs.append(Run(sheet.name, r, np.array(cols[start:]), sheet.formulas[(r, cols[start])]))
+    name = sheet.name
+    for a, b in zip(bounds[:-1], bounds[1:]):
+        r = int(rows[a])
+        i = a
+        while i < b:
+            tpl = _TEMPLATES.get((texts[i], col_list[i]))
+            if tpl is None:
+                if len(_TEMPLATES) > 100_000:
+                    _TEMPLATES.clear()
+                tpl = _TEMPLATES[texts[i], col_list[i]] = _Template(texts[i], col_list[i])
+            j, window = i + 1, 4
+            while j < b:
+                m = min(b - j, window)
+                if col_list[j + m - 1] - col_list[j - 1] != m:           # a gap in the row
+                    m = next(k for k in range(m) if col_list[j + k] != col_list[j - 1] + k + 1)
+                    if m == 0:
+                        break
+                expected = tpl.render_many(col_list[j], m)
+                if expected == texts[j:j + m]:
+                    j += m
+                    if m < window:
+                        break
+                    window *= 4
+                    continue
+                j += next(k for k in range(m) if expected[k] != texts[j + k])
+                break
+            runs.append(Run(name, r, cols[i:j], texts[i]))
+            i = j
     return runs
 
 
 def _split(run: Run) -> list[Run]:
-    return [Run(run.sheet, run.row, np.array([c]), run.formula, run.tree, run.error) for c in run.cols]
+    return [Run(run.sheet, run.row, np.array([c]), run.formula, run.tree, run.error, run.refs) for c in run.cols]
 
 
 def _target_block(run: Run, ref: Ref):
@@ -731,16 +815,9 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
         except ParseError:
             tree = ("const", "#NAME?")
         name_refs[n.upper()] = tree               # names are case-insensitive
+    names_key = frozenset(name_refs)
     for run in runs:
-        try:
-            run.tree = parse_formula("=" + run.formula, run.row, int(run.cols[0]), name_refs)
-            bad = sorted(f for f in functions_of(run.tree) if f not in SUPPORTED)
-            if bad:
-                run.error = f"unsupported function{'s' if len(bad) > 1 else ''} {', '.join(bad)}"
-        except ParseError as e:
-            run.error = f"cannot read the formula ={run.formula}: {e}"
-        except Exception as e:      # the tokenizer's own errors
-            run.error = f"cannot read the formula ={run.formula}: {e}"
+        run.tree, run.error, run.refs = _parse_run(run.formula, run.row, int(run.cols[0]), name_refs, names_key)
         if run.error:
             problems.append(f"{run.where()}: {run.error}")
     if problems and strict:
@@ -749,13 +826,13 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
     # value stores, big enough for every cell and every reference
     dims = {n: [sh.max_row + 1, sh.max_col + 1] for n, sh in sheets.items()}
     for run in runs:
-        for ref in (refs_of(run.tree) if run.tree is not None else []):
+        for ref in run.refs:
             target = ref.sheet or run.sheet
             if target not in dims:
                 continue
-            r1, r2, c1, c2 = _target_block(run, ref)
+            r1, r2, c1, c2 = _span(run, ref)
             dims[target][0] = max(dims[target][0], r2 + 1)
-            dims[target][1] = max(dims[target][1], int(c2.max()) + 1)
+            dims[target][1] = max(dims[target][1], c2 + 1)
     num = {n: np.zeros(d) for n, d in dims.items()}
     tag = {n: np.full(d, EMPTY, np.int8) for n, d in dims.items()}
     txt = {n: np.empty(d, dtype=object) for n, d in dims.items()}
@@ -765,18 +842,21 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
     order_runs = _schedule(path, runs, dims, sheets)
     ctx = _Context(num, tag, txt, name_refs)
     cells = 0
-    for run in order_runs:
-        cells += len(run.cols)
-        if run.error:
-            v = _const("#NAME?", len(run.cols))
-        else:
-            v = ctx.eval(run.tree, run)
-            v = _as_cells(v, len(run.cols))
-        n = run.sheet
-        num[n][run.row, run.cols] = v.num[:, 0, 0]
-        tag[n][run.row, run.cols] = v.tag[:, 0, 0]
-        if v.txt is not None:
-            txt[n][run.row, run.cols] = v.txt[:, 0, 0]
+    with np.errstate(all="ignore"):
+        for run in order_runs:
+            k = len(run.cols)
+            cells += k
+            if run.error:
+                v = _const("#NAME?", k)
+            else:
+                v = ctx.eval(run.tree, run)
+                v = _as_cells(v, k)
+            n = run.sheet
+            where = (run.row, slice(int(run.cols[0]), int(run.cols[0]) + k)) if run.contiguous else (run.row, run.cols)
+            num[n][where] = v.num[:, 0, 0]
+            tag[n][where] = v.tag[:, 0, 0]
+            if v.txt is not None:
+                txt[n][where] = v.txt[:, 0, 0]
     return Book(path, sheets, order, num, tag, txt, problems, len(order_runs), cells)
 
 
@@ -796,7 +876,7 @@ def _as_cells(v: Val, k: int) -> Val:
     a formula whose value is an empty cell holds 0 (=Z99 with Z99 empty is 0)."""
     if v.shape[1:] != (1, 1):
         return _const("#VALUE!", k)
-    if (v.tag == EMPTY).any():
+    if v.pure == -1 and (v.tag == EMPTY).any():
         v = Val(np.where(v.tag == EMPTY, 0.0, v.num), np.where(v.tag == EMPTY, NUM, v.tag).astype(np.int8), v.txt)
     if v.shape[0] != k:
         v = Val(np.broadcast_to(v.num, (k, 1, 1)), np.broadcast_to(v.tag, (k, 1, 1)),
@@ -810,20 +890,25 @@ def _schedule(path, runs: list[Run], dims, sheets) -> list[Run]:
     while True:
         owner = {n: np.full(d, -1, np.int64) for n, d in dims.items()}
         for i, run in enumerate(runs):
-            owner[run.sheet][run.row, run.cols] = i
+            c0 = int(run.cols[0])
+            owner[run.sheet][run.row, slice(c0, c0 + len(run.cols)) if run.contiguous else run.cols] = i
         deps: list[set[int]] = []
         split = set()
         for i, run in enumerate(runs):
             d = set()
-            for ref in (refs_of(run.tree) if run.tree is not None else []):
+            for ref in run.refs:
                 target = ref.sheet or run.sheet
                 if target not in owner:
                     continue
-                r1, r2, c1, c2 = _target_block(run, ref)
-                if r1 < 1 or int(c1.min()) < 1:
+                r1, r2, c1, c2 = _span(run, ref)
+                if r1 < 1 or c1 < 1:
                     continue
-                block = owner[target][r1:r2 + 1, int(c1.min()):int(c2.max()) + 1]
-                ids = set(np.unique(block[block >= 0]).tolist())
+                block = owner[target][r1:r2 + 1, c1:c2 + 1]
+                if block.size <= 4096:
+                    ids = set(block.ravel().tolist())
+                    ids.discard(-1)
+                else:
+                    ids = set(np.unique(block[block >= 0]).tolist())
                 if len(run.cols) > 1 and (i in ids or ref.c1_abs != ref.c2_abs):
                     split.add(i)                # self-reference, or a range whose width varies
                 d |= ids
@@ -858,6 +943,44 @@ def _schedule(path, runs: list[Run], dims, sheets) -> list[Run]:
                               + (f" and {len(cells) - 12} more cells" if len(cells) > 12 else ""))
 
 
+def _span(run: Run, ref: Ref) -> tuple[int, int, int, int]:
+    """The rows and columns a reference touches from all the cells of a run: first row,
+    last row, first column, last column (the block _schedule and the stores consider)."""
+    r1 = ref.r1 if ref.r1_abs else run.row + ref.r1
+    r2 = ref.r2 if ref.r2_abs else run.row + ref.r2
+    first, last = int(run.cols[0]), int(run.cols[-1])
+    lo1, hi1 = (ref.c1, ref.c1) if ref.c1_abs else (first + ref.c1, last + ref.c1)
+    lo2, hi2 = (ref.c2, ref.c2) if ref.c2_abs else (first + ref.c2, last + ref.c2)
+    return min(r1, r2), max(r1, r2), min(lo1, lo2), max(hi1, hi2)
+
+
+_PARSED: dict = {}
+
+
+def _parse_run(formula: str, row: int, col: int, names: dict, names_key) -> tuple:
+    """(tree, error, references) of a run's first formula; kept for the rest of the process
+    (a class's workbooks share their formulas), keyed by the text, the cell and the names."""
+    key = (formula, row, col, names_key)
+    hit = _PARSED.get(key)
+    if hit is not None:
+        return hit
+    tree, error = None, None
+    try:
+        tree = parse_formula("=" + formula, row, col, names)
+        bad = sorted(f for f in functions_of(tree) if f not in SUPPORTED)
+        if bad:
+            error = f"unsupported function{'s' if len(bad) > 1 else ''} {', '.join(bad)}"
+    except ParseError as e:
+        error = f"cannot read the formula ={formula}: {e}"
+    except Exception as e:      # the tokenizer's own errors
+        error = f"cannot read the formula ={formula}: {e}"
+    hit = (tree, error, refs_of(tree) if tree is not None else [])
+    if len(_PARSED) > 100_000:
+        _PARSED.clear()
+    _PARSED[key] = hit
+    return hit
+
+
 class _Context:
     def __init__(self, num, tag, txt, names):
         self.num, self.tag, self.txt, self.names = num, tag, txt, names
@@ -866,6 +989,33 @@ class _Context:
         sheet = ref.sheet or run.sheet
         if sheet not in self.num:
             return _const("#REF!", len(run.cols))
+        if (ref.r1, ref.c1, ref.r1_abs, ref.c1_abs) == (ref.r2, ref.c2, ref.r2_abs, ref.c2_abs) and run.contiguous:
+            # one cell per cell of the run, adjacent: views of one stretch of a row
+            r = ref.r1 if ref.r1_abs else run.row + ref.r1
+            k = len(run.cols)
+            c = ref.c1 if ref.c1_abs else int(run.cols[0]) + ref.c1
+            if r < 1 or c < 1:
+                return _const("#REF!", k)
+            n = 1 if ref.c1_abs else k
+            tag = self.tag[sheet][r, c:c + n].reshape(n, 1, 1)
+            if not tag.any():
+                return Val(self.num[sheet][r, c:c + n].reshape(n, 1, 1), tag, None, NUM)
+            if (tag == BOOL).all():
+                return Val(self.num[sheet][r, c:c + n].reshape(n, 1, 1), tag, None, BOOL)
+            txt = self.txt[sheet][r, c:c + n].reshape(n, 1, 1) if (tag == TEXT).any() else None
+            return Val(self.num[sheet][r, c:c + n].reshape(n, 1, 1), tag, txt)
+        if len(run.cols) == 1 or (ref.c1_abs and ref.c2_abs):
+            # one block for all the cells (a single cell's range, or absolute columns): a view
+            r1, r2, c1, c2 = _span(run, ref)
+            if r1 < 1 or c1 < 1:
+                return _const("#REF!", len(run.cols))
+            tag = self.tag[sheet][None, r1:r2 + 1, c1:c2 + 1]
+            if not tag.any():
+                return Val(self.num[sheet][None, r1:r2 + 1, c1:c2 + 1], tag, None, NUM)
+            if (tag == BOOL).all():
+                return Val(self.num[sheet][None, r1:r2 + 1, c1:c2 + 1], tag, None, BOOL)
+            txt = self.txt[sheet][None, r1:r2 + 1, c1:c2 + 1] if (tag == TEXT).any() else None
+            return Val(self.num[sheet][None, r1:r2 + 1, c1:c2 + 1], tag, txt)
         r1, r2, c1, c2 = _target_block(run, ref)
         if r1 < 1 or int(c1.min()) < 1:
             return _const("#REF!", len(run.cols))
@@ -945,16 +1095,22 @@ def rows_frame(book: Book, sheet: str | None = None, first_col: int = 5) -> pd.D
     error texts such as '#NUM!'."""
     sheet = sheet or book.order[0]
     sh = book.sheets[sheet]
-    last = max([c for (_, c) in sh.formulas] + [c for (_, c) in sh.consts] + [first_col])
+    last = max(max(map(itemgetter(1), sh.formulas), default=first_col),
+               max(map(itemgetter(1), sh.consts), default=first_col), first_col)
+    filled = {r for (r, c) in sh.formulas if c >= first_col} | {r for (r, c) in sh.consts if c >= first_col}
+    num, tag = book.num[sheet], book.tag[sheet]
+    stop = min(last + 1, num.shape[1])             # columns past the stores are empty
     names, data = [], []
     for r in range(1, sh.max_row + 1):
         label = book.value(sheet, r, 1)
-        if not isinstance(label, str) or not label or r <= 4:
-            continue
-        if not any((r, c) in sh.formulas or (r, c) in sh.consts for c in range(first_col, last + 1)):
+        if not isinstance(label, str) or not label or r <= 4 or r not in filled:
             continue
         names.append(label)
-        data.append([book.value(sheet, r, c) for c in range(first_col, last + 1)])
+        if r < num.shape[0] and not tag[r, first_col:stop].any():       # numbers only
+            values = num[r, first_col:stop].tolist()
+        else:
+            values = [book.value(sheet, r, c) for c in range(first_col, stop)]
+        data.append(values + [None] * (last + 1 - max(stop, first_col)))
     df = pd.DataFrame(data, index=names, columns=list(range(1, last - first_col + 2)), dtype=object)
     df.index.name = "name"
     return df

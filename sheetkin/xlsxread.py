@@ -2,19 +2,28 @@
 
 The sheet XML is read directly (an .xlsx is a zip of XML parts), through the input gate
 (xlsxsafe): never modified, never trusted. Shared formulas (LibreOffice, Excel) are expanded.
+
+Two paths, the same cells: a sheet part in the shape Excel, LibreOffice and openpyxl write
+is read with one compiled regex over its <sheetData> bytes (no element tree; every byte
+must be matched, texts are unescaped and decoded in one pass); anything else, and anything
+the regex does not account for, goes through ElementTree (see _read_fast).
 """
 from __future__ import annotations
 
+import gc
+import re
 from dataclasses import dataclass, field
+from itertools import compress
 from pathlib import Path
 from xml.etree import ElementTree
 
-from openpyxl.utils import get_column_letter
+from openpyxl.utils import column_index_from_string, get_column_letter
 
 from .xlsxsafe import Limits, UnusableWorkbook, open_package, sheet_parts
 
 _LETTERS = [""] + [get_column_letter(c) for c in range(1, 16385)]   # Excel's last column is XFD
 _COLUMN_INDEX = {letters: c for c, letters in enumerate(_LETTERS) if c}
+_MAX_COL = len(_LETTERS) - 1             # XFD
 
 
 @dataclass
@@ -30,20 +39,28 @@ class Sheet:
 
 
 def _read_sheet(pkg, name: str, part: str, state: str, shared: list[str], limits: Limits) -> Sheet:
-    sh = Sheet(name, state)
+    if not part.lower().endswith(".xml"):           # only .xml parts were pre-scanned
+        return _read_tree(pkg, pkg.xml(part), name, part, state, shared, limits)
+    data = pkg.read(part)
+    sh = _read_fast(pkg, data, name, state, shared, limits)
+    if sh is not None:
+        return sh
     # The C parser directly, not defusedxml's (which calls back into Python for every
     # element, 4x slower here): safe because open_package refused every part that declares
     # a DTD or an entity, the only way to an entity bomb or an external entity.
-    if not part.lower().endswith(".xml"):           # only .xml parts were pre-scanned
-        root = pkg.xml(part)
-    else:
-        try:
-            root = ElementTree.fromstring(pkg.read(part))
-        except ElementTree.ParseError as e:
-            raise UnusableWorkbook(pkg.path, f"not well-formed XML ({e})", "a sheet saved by Excel or LibreOffice",
-                                   part=part) from None
+    try:
+        root = ElementTree.fromstring(data)
+    except ElementTree.ParseError as e:
+        raise UnusableWorkbook(pkg.path, f"not well-formed XML ({e})", "a sheet saved by Excel or LibreOffice",
+                               part=part) from None
+    return _read_tree(pkg, root, name, part, state, shared, limits)
+
+
+def _read_tree(pkg, root, name: str, part: str, state: str, shared: list[str], limits: Limits) -> Sheet:
+    """The general path: every well-formed sheet, through an element tree."""
+    sh = Sheet(name, state)
     ns = root.tag[:root.tag.index("}") + 1] if root.tag.startswith("{") else ""
-    shared_f: dict[str, tuple[str, int, int]] = {}
+    shared_f: dict[str, _Shared] = {}
     f_tag, v_tag, is_tag, t_tag = f"{ns}f", f"{ns}v", f"{ns}is", f"{ns}t"
     col_of = _COLUMN_INDEX
     for c in root.iter(f"{ns}c"):
@@ -89,10 +106,9 @@ def _read_sheet(pkg, name: str, part: str, state: str, shared: list[str], limits
             if f.get("t") == "shared":
                 si = f.get("si")
                 if text:
-                    shared_f[si] = (text, row, col)
+                    shared_f[si] = _Shared(text, row, col)
                 elif si in shared_f:
-                    master, mr, mc = shared_f[si]
-                    text = _shift_formula(master, row - mr, col - mc)
+                    text = shared_f[si].at(row, col)
             if text:
                 sh.formulas[(row, col)] = text
                 if value is not None:
@@ -101,6 +117,260 @@ def _read_sheet(pkg, name: str, part: str, state: str, shared: list[str], limits
         if value is not None:
             sh.consts[(row, col)] = value
     return sh
+
+
+# ----------------------------------------------------------------- the fast path: one regex
+# A sheet part as Excel, LibreOffice and openpyxl write it: an unprefixed <worksheet> (its
+# namespace the default one), one <sheetData>, rows of cells <c r="A1" [s=".."] [t=".."] ...>
+# with an optional <f>, <v> and <is><t>. One compiled regex must tile every byte of
+# <sheetData> (re.split leaves nothing between its matches), so no byte goes unread. Any
+# other shape (prefixed names, a namespace declared inside, t after other attributes,
+# rich text, comments, CDATA, references in attributes, carriage returns, control
+# characters, undefined entities, text that is not UTF-8, duplicate cells) goes to the
+# element-tree path, which reads every well-formed sheet and refuses the rest. Either way
+# the part was pre-scanned by open_package (no DTD, no entity declarations; limits).
+_WS = rb"[ \t\n]"
+_TEXT = rb"[^<]*+"                                      # character data (controls: _CONTROLS)
+_VALUE = rb'"[^"<>&]*+"'                                # an attribute value without references
+_NAME = rb"[A-Za-z_][\w.:-]*+"
+_CELLS = re.compile(
+    _WS + rb"*+(?:"
+    rb"(?:</row>" + _WS + rb"*+)?(?:<row(?:" + _WS + rb"++(?!xmlns)" + _NAME + b"=" + _VALUE + rb")*+" + _WS + rb"*+>"
+    + _WS + rb"*+)?"
+    rb'<c r="([A-Z]{1,3}+)([0-9]{1,7}+)"(?: s="[0-9]*+")?(?: t="([A-Za-z]*+)")?'
+    rb"(?:" + _WS + rb"++(?!t=|xmlns)" + _NAME + b"=" + _VALUE + rb")*+" + _WS + rb"*+"
+    rb"(?:/>|>"
+    rb"(?:<f((?:" + _WS + rb"++(?!xmlns)" + _NAME + b"=" + _VALUE + rb")*+)" + _WS + rb"*+(?:/>|>(" + _TEXT + rb")</f>))?"
+    rb"(?:<v" + _WS + rb"*+(?:/>|>(" + _TEXT + rb")</v>))?"
+    rb'(?:<is><t(?: xml:space="[a-z]*+")?' + _WS + rb"*+(>" + _TEXT + rb")</t></is>)?"
+    rb"</c>)"
+    rb"|<row(?:" + _WS + rb"++(?!xmlns)" + _NAME + b"=" + _VALUE + rb")*+" + _WS + rb"*+/?>"
+    rb"|</row>"
+    rb")" + _WS + rb"*+")
+# XML 1.0 allows no other control characters; a carriage return would need normalizing
+_CONTROLS = bytes(range(0, 9)) + b"\x0b\x0c\x0d" + bytes(range(14, 32))
+_GROUPS = _CELLS.groups                                # letters, row, t, <f> attributes, <f>, <v>, ">" + <t>
+_HEAD = re.compile(rb"(?:\xef\xbb\xbf)?(?:<\?xml[^<>?]*+\?>)?[ \t\r\n]*+<worksheet[ \t\r\n>]")
+_SHARED = re.compile(rb'(?:^|[ \t\n])t="shared"')
+_SI = re.compile(rb'(?:^|[ \t\n])si="([^"]*)"')
+_CHAR_REF = re.compile(rb"#[0-9]{1,7}|#x[0-9A-Fa-f]{1,6}")
+_NAMED = {b"amp": b"&", b"lt": b"<", b"gt": b">", b"quot": b'"', b"apos": b"'"}
+_COLUMN_BYTES = {letters.encode(): c for letters, c in _COLUMN_INDEX.items()}
+
+
+class _NotSimple(Exception):
+    """Not the shape the fast path reads: the element tree decides."""
+
+
+def _unescape(data: bytes) -> bytes:
+    """XML's five named references and character references, replaced; anything else
+    after a "&" is not for the fast path."""
+    pieces = data.split(b"&")
+    out = [pieces[0]]
+    for piece in pieces[1:]:
+        name, semi, rest = piece.partition(b";")
+        char = _NAMED.get(name)
+        if char is None:
+            if not (semi and _CHAR_REF.fullmatch(name)):
+                raise _NotSimple                    # an undefined entity, or a stray "&"
+            code = int(name[2:], 16) if name[1:2] == b"x" else int(name[1:])
+            if not (code in (0x9, 0xA, 0xD) or 0x20 <= code <= 0xD7FF or 0xE000 <= code <= 0xFFFD
+                    or 0x10000 <= code <= 0x10FFFF):
+                raise _NotSimple                    # a character XML does not allow
+            char = chr(code).encode("utf-8")
+        out.append(char + rest)
+    return b"".join(out)
+
+
+def _texts(items: list[bytes]) -> list[str]:
+    """Character data (bytes without markup): unescaped and decoded, all in one pass."""
+    if not items:
+        return []
+    joined = b"\0".join(items)                     # NUL occurs neither raw nor as a reference
+    if b"&" in joined:
+        joined = _unescape(joined)
+    return joined.decode("utf-8").split("\0")
+
+
+def _text(b: bytes) -> str:
+    return (_unescape(b) if b"&" in b else b).decode("utf-8")
+
+
+def _read_fast(pkg, data: bytes, name: str, state: str, shared: list[str], limits: Limits) -> Sheet | None:
+    """The cells of a sheet part in the simple shape (see _CELLS), else None."""
+    if not _HEAD.match(data):
+        return None
+    start, end = data.find(b"<sheetData>"), data.find(b"</sheetData>")
+    if start < 0 or end < start or data.count(b"<sheetData") != 1:
+        return None
+    region = data[start + 11:end]
+    if len(region.translate(None, _CONTROLS)) != len(region):
+        return None
+    gc_was = gc.isenabled()
+    gc.disable()                # tens of thousands of small tuples, none of them cyclic
+    try:
+        parts = _CELLS.split(region)
+        if any(parts[::_GROUPS + 1]):
+            return None                             # bytes that no match accounts for
+        return _cells_of(pkg, parts, name, state, shared, limits)
+    except UnusableWorkbook:
+        raise
+    except (_NotSimple, UnicodeDecodeError, ValueError, KeyError, IndexError):
+        return None                                 # the element tree decides (or says what is wrong)
+    finally:
+        if gc_was:
+            gc.enable()
+
+
+def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits: Limits) -> Sheet:
+    k = _GROUPS + 1
+    columns = [parts[g::k] for g in range(1, k)]
+    if columns[0] and columns[0][-1] is None and columns[0].count(None) == 1:
+        columns = [x[:-1] for x in columns]         # the last </row>
+    elif None in columns[0]:                        # <row> or </row> matched alone
+        keep = [x is not None for x in columns[0]]
+        columns = [list(compress(x, keep)) for x in columns]
+    letters, rownums, types, fattrs, ftexts, vtexts, itexts = columns
+    sh = Sheet(name, state)
+    if not letters:
+        return sh
+    cols = list(map(_COLUMN_BYTES.__getitem__, letters))    # KeyError past XFD
+    rows = list(map(int, rownums))
+    keys = list(zip(rows, cols))
+    if len(set(keys)) != len(keys):
+        raise _NotSimple                            # a cell listed twice
+    sh.max_row, sh.max_col = max(rows), max(cols)
+    if sh.max_row > limits.max_rows or sh.max_col > limits.max_cols:
+        for r, c, L, R in zip(rows, cols, letters, rownums):
+            if r > limits.max_rows or c > limits.max_cols:
+                raise UnusableWorkbook(pkg.path, f"sheet '{name}' has a cell at {(L + R).decode()}",
+                                       f"at most {limits.max_rows} rows and {limits.max_cols} columns")
+    # formulas: the text of every <f> that has one, decoded in one pass
+    formulas = dict(zip(compress(keys, ftexts), _texts(list(filter(None, ftexts)))))
+    if any(fattrs):
+        # shared formulas (Excel, LibreOffice): the first cell <f t="shared" si=".."> has the
+        # text, the block's other cells <f t="shared" si=".."/> are shifted from it
+        masters: dict = {}
+        for i in compress(range(len(keys)), fattrs):
+            if not _SHARED.search(fattrs[i]):
+                continue
+            si = _SI.search(fattrs[i])
+            si = si.group(1) if si else None
+            if ftexts[i]:
+                masters[si] = _Shared(formulas[keys[i]], rows[i], cols[i])
+            elif si in masters:
+                text = masters[si].at(rows[i], cols[i])
+                if text:
+                    formulas[keys[i]] = text
+        formulas = {key: formulas[key] for key in keys if key in formulas}     # document order
+    # values: constants, and the values saved for formula cells
+    with_value = compress(range(len(keys)), vtexts)
+    if any(itexts):
+        with_value = sorted(set(with_value) | set(compress(range(len(keys)), itexts)))
+    consts, cached = sh.consts, sh.cached
+    for i in with_value:
+        t, v = types[i], vtexts[i] or None
+        if v is not None and (t is None or t == b"n"):
+            value = float(v.decode())
+        else:
+            value = _value(t, v, itexts[i], shared)
+            if value is None:
+                continue
+        key = keys[i]
+        if key in formulas:
+            cached[key] = value
+        else:
+            consts[key] = value
+    sh.formulas = formulas
+    return sh
+
+
+def _value(t: bytes | None, v: bytes | None, inline: bytes | None, shared: list[str]):
+    """A cell's value from its type and <v> or <is>, as _read_tree reads it."""
+    t = b"n" if t is None else t
+    if t == b"s" and v is not None:
+        return shared[int(v.decode())]
+    if t == b"inlineStr" and inline is not None:
+        return _text(inline[1:])
+    if t == b"b" and v is not None:
+        return _text(v).strip() == "1"
+    if t in (b"e", b"str") and v is not None:
+        return _text(v)
+    if v is not None:
+        return float(_text(v))
+    return None
+
+
+# ----------------------------------------------------------------- formulas shifted along a row
+_TEMPLATE_REF = re.compile(
+    r'(?P<str>"(?:[^"]|"")*")'
+    r"|(?<![\w.$!'])(?P<sheet>(?:'(?:[^']|'')+'|[^\W\d][\w.]*)!)?(?P<cabs>\$?)(?P<col>[A-Z]{1,3})"
+    r"(?P<rabs>\$?)(?P<row>\d+)(?![\w(])")
+
+
+class _Template:
+    """A formula as text with its relative columns left open: rendering it for the next
+    columns and comparing strings tells whether those cells hold the same formula shifted."""
+
+    def __init__(self, formula: str, host_c: int):
+        offsets: list[int] = []           # one placeholder per distinct column offset
+        pieces, slots, last = [], [], 0   # literal text between the placeholders
+        for m in _TEMPLATE_REF.finditer(formula):
+            if m.group("str") is not None or m.group("cabs"):
+                continue
+            o = column_index_from_string(m.group("col")) - host_c
+            if o not in offsets:
+                offsets.append(o)
+            pieces.append(formula[last:m.start("cabs")])
+            slots.append(offsets.index(o))
+            last = m.end("col")
+        pieces.append(formula[last:])
+        self.pieces, self.offsets = pieces, offsets
+        self.text = "".join(p.replace("{", "{{").replace("}", "}}") + (f"{{{slots[i]}}}" if i < len(slots) else "")
+                            for i, p in enumerate(pieces))
+        self.low = -min(offsets, default=0)
+        self.high = _MAX_COL - max(offsets, default=0)
+
+    def render(self, col: int) -> str | None:
+        if not self.low < col <= self.high:        # a reference left of column A or past XFD
+            return None
+        return self.text.format(*[_LETTERS[col + o] for o in self.offsets])
+
+    def render_many(self, col: int, n: int) -> list[str | None]:
+        """The formulas of columns col ... col + n - 1."""
+        if not (self.low < col and col + n - 1 <= self.high):
+            return [self.render(c) for c in range(col, col + n)]
+        if not self.offsets:
+            return [self.pieces[0]] * n
+        if len(self.offsets) == 1:                 # every relative column the same: join the letters in
+            o = self.offsets[0]
+            return list(map(str.join, _LETTERS[col + o:col + o + n], [self.pieces] * n))
+        return list(map(self.text.format, *[_LETTERS[col + o:col + o + n] for o in self.offsets]))
+
+
+class _Shared:
+    """A shared formula's first cell; the texts of the block's other cells. Along the row
+    (the way a formula is filled right) the text is the template rendered for the column,
+    once the template gave openpyxl's translation for the first such cell; otherwise
+    openpyxl's Translator."""
+
+    def __init__(self, text: str, row: int, col: int):
+        self.text, self.row, self.col = text, row, col
+        self.template: _Template | None = None
+        self.agrees: bool | None = None
+
+    def at(self, row: int, col: int) -> str:
+        dr, dc = row - self.row, col - self.col
+        if dr == 0 and dc > 0 and self.agrees is not False:
+            if self.template is None:
+                self.template = _Template(self.text, self.col)
+            text = self.template.render(col)
+            if self.agrees and text is not None:
+                return text
+            translated = _shift_formula(self.text, dr, dc)
+            self.agrees = text == translated
+            return translated
+        return _shift_formula(self.text, dr, dc)
 
 
 def _shift_formula(formula: str, dr: int, dc: int) -> str:

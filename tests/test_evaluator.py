@@ -483,6 +483,7 @@ class Checked:
     book: object = None           # our Book, or None when evaluate raised
     error: Exception | None = None
     owned: dict | None = None
+    lo_path: Path | None = None   # the file LibreOffice saved
 
 
 @pytest.fixture(scope="module")
@@ -506,7 +507,7 @@ def checked(soffice, tmp_path_factory) -> dict[str, Checked]:
     outputs = recalculate(list(paths.values()), out)
     result = {}
     for name, p in paths.items():
-        ch = Checked(p, _lo_values(outputs[p.resolve()]), owned=owned.get(name))
+        ch = Checked(p, _lo_values(outputs[p.resolve()]), owned=owned.get(name), lo_path=outputs[p.resolve()])
         try:
             ch.book = evaluate(p)
         except Exception as e:        # reported by the tests of this book
@@ -660,3 +661,227 @@ def test_chains_are_not_circular(tmp_path):
     book = evaluate(_save(tmp_path, "chains.xlsx", cells))
     assert [book.value("Calc", 1, c) for c in range(1, 30)] == [float(c) for c in range(1, 30)]
     assert [book.value("Calc", 2, c) for c in range(1, 30)] == [2.0 ** (29 - c) for c in range(1, 30)]
+
+
+# --------------------------------------------------------------------------- reading the XML
+# xlsxread reads a sheet part in the usual shape with one regex (the fast path) and anything
+# else through ElementTree; both must give the same cells, and openpyxl must agree.
+MAIN_NS = "http://schemas.openxmlformats.org/spreadsheetml/2006/main"
+SST = (f'<sst xmlns="{MAIN_NS}" count="2" uniqueCount="2"><si><t>shared &amp; text</t></si>'
+       '<si><r><t>rich </t></r><r><rPr><b/></rPr><t>text</t></r></si></sst>').encode()
+CELLS_XML = """
+<row r="1" spans="1:9"><c r="A1" t="inlineStr"><is><t>a &lt; b &amp; &quot;c&quot; &#1044;&#x416; &gt;</t></is></c>
+<c r="B1" s="0"><v>2.5</v></c><c r="C1" t="b"><v>1</v></c><c r="D1" t="e"><v>#DIV/0!</v></c>
+<c r="E1" t="s"><v>0</v></c><c r="F1" t="str"><f>"x"&amp;A1</f><v>xa &lt; b</v></c><c r="G1" s="0"/>
+<c r="H1"><v/></c><c r="I1" t="s"><v>1</v></c></row>
+<row r="2"><c r="B2"><f t="shared" ref="B2:E2" si="0">B1*2+$B$1</f><v>7.5</v></c>
+<c r="C2"><f t="shared" si="0"/><v>3</v></c><c r="D2"><f t="shared" si="0"/></c><c r="E2"><f t="shared" si="0"/><v>1</v></c></row>
+<row r="3"><c r="A3"><f t="shared" ref="A3:A5" si="1">B1&lt;3</f><v>1</v></c></row>
+<row r="4"><c r="A4" t="b"><f t="shared" si="1"/><v>0</v></c></row>
+<row r="5"><c r="A5" t="b"><f t="shared" si="1"/><v>0</v></c></row>
+<row r="6"><c r="A6"><f>IF(B1&lt;&gt;2,"&lt;&gt;","&amp;")</f></c><c r="B6"><f>IF(B1&#60;3,1,0)</f><v>1</v></c>
+<c r="C6" t="e"><f>1/0</f><v>#DIV/0!</v></c><c r="D6"><f></f><v>4</v></c><c r="E6"><f aca="false">B1+1</f><v>3.5</v></c></row>
+<row r="7"><c r="A7" t="inlineStr"><is><t xml:space="preserve">  two spaces </t></is></c><c r="B7" t="inlineStr"><is><t></t></is></c></row>
+<row r="8"><c r="A8" t="n" s="0"><v>3</v></c><c r="B8" s="0" t="n" cm="1"><v>-1.5E-3</v></c></row>
+<row r="9"/><row r="10"></row><row r="11"><c r="AB11"><v>11</v></c></row>"""
+
+
+def _sheet_xml(cells: str = CELLS_XML, *, prefix: str = "", pretty: bool = False) -> bytes:
+    p = f"{prefix}:" if prefix else ""
+    body = cells if pretty else "".join(line.strip() for line in cells.splitlines())
+    if prefix:
+        body = re.sub(r"<(/?)(row|c|f|v|is|t)\b", rf"<\1{p}\2", body)
+    ns = f'xmlns{":" + prefix if prefix else ""}="{MAIN_NS}"'
+    return (f'<?xml version="1.0" encoding="UTF-8" standalone="yes"?>\n<{p}worksheet {ns}>'
+            f'<{p}sheetData>{body}</{p}sheetData></{p}worksheet>').encode()
+
+
+def _crafted(tmp_path, name: str, sheet: bytes) -> Path:
+    """A workbook whose first sheet is the given XML, with shared strings (SST)."""
+    import zipfile
+    base = tmp_path / "base.xlsx"
+    if not base.exists():
+        wb = openpyxl.Workbook()
+        wb.active.title = "Calc"
+        wb.save(base)
+    rel = (b'<Relationship Id="rId99" Type="http://schemas.openxmlformats.org/officeDocument/2006/'
+           b'relationships/sharedStrings" Target="sharedStrings.xml"/></Relationships>')
+    ct = (b'<Override PartName="/xl/sharedStrings.xml" ContentType="application/vnd.openxmlformats-'
+          b'officedocument.spreadsheetml.sharedStrings+xml"/></Types>')
+    path = tmp_path / name
+    with zipfile.ZipFile(base) as zin, zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as zout:
+        for info in zin.infolist():
+            data = zin.read(info.filename)
+            if info.filename == "xl/worksheets/sheet1.xml":
+                data = sheet
+            elif info.filename == "xl/_rels/workbook.xml.rels":
+                data = data.replace(b"</Relationships>", rel)
+            elif info.filename == "[Content_Types].xml":
+                data = data.replace(b"</Types>", ct)
+            zout.writestr(info.filename, data)
+        zout.writestr("xl/sharedStrings.xml", SST)
+    return path
+
+
+def _read_both(path, monkeypatch, **kw):
+    """read_book through the normal path (recording whether the fast path read each sheet)
+    and through ElementTree alone."""
+    from sheetkin import xlsxread
+    fast_read, used = xlsxread._read_fast, []
+
+    def spy(*a, **k):
+        sh = fast_read(*a, **k)
+        used.append(sh is not None)
+        return sh
+    monkeypatch.setattr(xlsxread, "_read_fast", spy)
+    normal = xlsxread.read_book(path, **kw)
+    monkeypatch.setattr(xlsxread, "_read_fast", lambda *a, **k: None)
+    tree = xlsxread.read_book(path, **kw)
+    monkeypatch.setattr(xlsxread, "_read_fast", fast_read)
+    return normal, tree, used
+
+
+def _same_cells(a, b):
+    assert a.order == b.order
+    for name in a.order:
+        x, y = a.sheets[name], b.sheets[name]
+        assert (x.max_row, x.max_col, x.state) == (y.max_row, y.max_col, y.state), name
+        for kind in ("consts", "formulas", "cached"):
+            dx, dy = getattr(x, kind), getattr(y, kind)
+            assert list(dx.items()) == list(dy.items()), (name, kind)
+            assert [type(v) for v in dx.values()] == [type(v) for v in dy.values()], (name, kind)
+
+
+def _agrees_with_openpyxl(path, book, sheet="Calc"):
+    sh = book.sheets[sheet]
+    wb, cached = openpyxl.load_workbook(path), openpyxl.load_workbook(path, data_only=True)
+    seen = set()
+    for row_ in wb[sheet].iter_rows():
+        for c in row_:
+            key = (c.row, c.column)
+            if c.value is None or c.value == "=":      # openpyxl: <f></f> is "="; ours: no formula
+                continue
+            seen.add(key)
+            if c.data_type == "f":
+                assert sh.formulas[key] == c.value[1:], key
+                v = cached[sheet].cell(*key).value
+                assert sh.cached.get(key) == (float(v) if type(v) is int else v), key
+            else:
+                v = c.value
+                assert sh.consts[key] == (float(v) if type(v) is int else v), key
+                assert type(sh.consts[key]) is (float if type(v) is int else type(v)), key
+    assert (set(sh.formulas) | set(sh.consts)) - {(6, 4)} == seen
+
+
+def test_reading_every_kind_of_cell(tmp_path, monkeypatch):
+    """Inline, shared and formula strings with references (&lt; &amp; &#1044;), numbers,
+    booleans, errors, empty and self-closing cells, shared formulas along a row and down a
+    column, an <f> without text, t before s: the fast path reads them as ElementTree and
+    openpyxl do."""
+    path = _crafted(tmp_path, "kinds.xlsx", _sheet_xml())
+    normal, tree, used = _read_both(path, monkeypatch)
+    assert used[0] is True                        # Calc went through the fast path
+    _same_cells(normal, tree)
+    _agrees_with_openpyxl(path, normal)
+    sh = normal.sheets["Calc"]
+    assert sh.consts[(1, 1)] == 'a < b & "c" ДЖ >'
+    assert sh.consts[(1, 5)] == "shared & text" and sh.consts[(1, 9)] == "rich text"
+    assert sh.consts[(1, 3)] is True and sh.consts[(1, 4)] == "#DIV/0!"
+    assert sh.formulas[(1, 6)] == '"x"&A1' and sh.cached[(1, 6)] == "xa < b"
+    assert [sh.formulas[(2, c)] for c in range(2, 6)] == ["B1*2+$B$1", "C1*2+$B$1", "D1*2+$B$1", "E1*2+$B$1"]
+    assert (2, 4) not in sh.cached
+    assert [sh.formulas[(r, 1)] for r in (3, 4, 5)] == ["B1<3", "B2<3", "B3<3"]
+    assert sh.cached[(4, 1)] is False
+    assert sh.formulas[(6, 1)] == 'IF(B1<>2,"<>","&")' and sh.formulas[(6, 2)] == "IF(B1<3,1,0)"
+    assert (6, 4) not in sh.formulas and sh.consts[(6, 4)] == 4.0     # <f></f>: its value
+    assert sh.consts[(7, 1)] == "  two spaces " and sh.consts[(7, 2)] == ""
+    assert sh.consts[(8, 2)] == -1.5e-3 and (sh.max_row, sh.max_col) == (11, 28)
+    book = evaluate(path, strict=False)
+    assert book.value("Calc", 6, 1) == "<>" and book.value("Calc", 6, 2) == 1.0
+    assert book.value("Calc", 2, 2) == 7.5 and book.value("Calc", 4, 1) is False
+
+
+@pytest.mark.parametrize("variant", ["pretty", "prefixed", "crlf", "t_after_other", "stray_ampersand"])
+def test_unusual_xml_falls_back_to_the_element_tree(tmp_path, monkeypatch, variant):
+    """Indented XML stays on the fast path; prefixed names (x:c), a carriage return in text,
+    t after another attribute go to ElementTree with the same cells; XML that is not
+    well-formed is refused as before."""
+    sheet = {
+        "pretty": _sheet_xml(pretty=True),
+        "prefixed": _sheet_xml(prefix="x"),
+        "crlf": _sheet_xml().replace(b"two spaces", b"two\r\nlines"),
+        "t_after_other": _sheet_xml().replace(b'<c r="C1" t="b">', b'<c r="C1" cm="1" t="b">'),
+        "stray_ampersand": _sheet_xml().replace(b"&amp; &quot;", b"&nbsp; &quot;"),
+    }[variant]
+    path = _crafted(tmp_path, f"{variant}.xlsx", sheet)
+    if variant == "stray_ampersand":
+        from sheetkin.xlsxsafe import UnusableWorkbook
+        with pytest.raises(UnusableWorkbook, match="not well-formed XML"):
+            _read_both(path, monkeypatch)
+        return
+    normal, tree, used = _read_both(path, monkeypatch)
+    assert used[0] is (variant == "pretty")
+    _same_cells(normal, tree)
+    _agrees_with_openpyxl(path, normal)
+    if variant == "crlf":
+        assert normal.sheets["Calc"].consts[(7, 1)] == "  two\nlines "
+
+
+def test_a_cell_past_the_limits_is_refused_by_both_paths(tmp_path, monkeypatch):
+    from sheetkin import xlsxread
+    from sheetkin.xlsxsafe import Limits, UnusableWorkbook
+    path = _crafted(tmp_path, "wide.xlsx", _sheet_xml())
+    messages = []
+    for fast in (True, False):
+        if not fast:
+            monkeypatch.setattr(xlsxread, "_read_fast", lambda *a, **k: None)
+        with pytest.raises(UnusableWorkbook) as info:
+            xlsxread.read_book(path, Limits(max_cols=20))
+        messages.append(str(info.value))
+    assert messages[0] == messages[1] and "has a cell at AB11" in messages[0]
+
+
+@pytest.mark.parametrize("stem", [p.stem for p in BUNDLED])
+def test_bundled_workbooks_are_read_on_the_fast_path(stem, monkeypatch):
+    """The workbooks sheetkin writes take the fast path (every sheet), with the same cells."""
+    normal, tree, used = _read_both(ROOT / "workbooks" / f"{stem}.xlsx", monkeypatch)
+    assert used and all(used)
+    _same_cells(normal, tree)
+
+
+def test_libreoffice_saved_workbooks_read_alike(checked, monkeypatch):
+    """The files LibreOffice saved in the differential run (its own XML: every formula with
+    attributes, cached values of every type) read the same on both paths."""
+    for name, ch in checked.items():
+        normal, tree, used = _read_both(ch.lo_path, monkeypatch)
+        assert any(used), name
+        _same_cells(normal, tree)
+
+
+def test_shared_formulas_along_a_row_equal_openpyxl(tmp_path, monkeypatch):
+    """Excel fills a row with one shared formula: the cells after the first are rendered
+    from the first one's template once it matched openpyxl's Translator, and translated one
+    by one when it did not (a whole-column range, which the template leaves alone)."""
+    masters = {1: "SUM($A1:B1)+A$1*'My Sheet'!C1-Data!$D$2+IF(E1&lt;&gt;\"F1\",G1,0)",
+               2: "SUM(B:B)+C2",                    # the template would not shift B:B
+               3: "ROUND(B1,2)+LOG10(C1)+ZZ1"}
+    rows = []
+    for r, text in masters.items():
+        cells = [f'<c r="B{r}"><f t="shared" ref="B{r}:AF{r}" si="{r}">{text}</f></c>']
+        cells += [f'<c r="{get_column_letter(c)}{r}"><f t="shared" si="{r}"/></c>' for c in range(3, 33)]
+        rows.append(f'<row r="{r}">{"".join(cells)}</row>')
+    rows.append('<row r="4"><c r="C4"><f t="shared" si="1"/></c></row>')    # down a row: Translator
+    path = _crafted(tmp_path, "shared.xlsx", _sheet_xml("".join(rows)))
+    from sheetkin import xlsxread
+    translate, calls = xlsxread._shift_formula, []
+    monkeypatch.setattr(xlsxread, "_shift_formula", lambda *a: calls.append(a) or translate(*a))
+    normal, tree, used = _read_both(path, monkeypatch)
+    assert used[0] is True
+    # per path: one check each for rows 1 and 3, all 30 cells of row 2, and row 4's cell
+    assert len(calls) == 2 * (1 + 30 + 1 + 1)
+    _same_cells(normal, tree)
+    _agrees_with_openpyxl(path, normal)
+    f = normal.sheets["Calc"].formulas
+    assert f[(1, 32)] == "SUM($A1:AF1)+AE$1*'My Sheet'!AG1-Data!$D$2+IF(AI1<>\"F1\",AK1,0)"
+    assert f[(2, 32)] == "SUM(AF:AF)+AG2" and f[(3, 3)] == "ROUND(C1,2)+LOG10(D1)+AAA1"
+    assert f[(4, 3)] == "SUM($A4:C4)+B$1*'My Sheet'!D4-Data!$D$2+IF(F4<>\"F1\",H4,0)"
