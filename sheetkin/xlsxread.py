@@ -89,18 +89,22 @@ def _read_tree(pkg, root, name: str, part: str, state: str, shared: list[str], l
                 inline = child
         t = c.get("t", "n")
         vtext = v.text if v is not None else None
-        if t == "s" and vtext is not None:
-            value = shared[int(vtext)]
-        elif t == "inlineStr" and inline is not None:
-            value = "".join(x.text or "" for x in inline.iter(t_tag))
-        elif t == "b" and vtext is not None:
-            value = vtext.strip() == "1"
-        elif t in ("e", "str") and vtext is not None:
-            value = vtext
-        elif vtext is not None:
-            value = float(vtext)
-        else:
-            value = None
+        try:
+            if t == "s" and vtext is not None:
+                value = shared[int(vtext)]
+            elif t == "inlineStr" and inline is not None:
+                value = "".join(x.text or "" for x in inline.iter(t_tag))
+            elif t == "b" and vtext is not None:
+                value = vtext.strip() == "1"
+            elif t in ("e", "str", "d") and vtext is not None:
+                value = vtext             # "d": an ISO 8601 date, text to a kinematics sheet
+            elif vtext is not None:
+                value = float(vtext)
+            else:
+                value = None
+        except (ValueError, IndexError):
+            raise UnusableWorkbook(pkg.path, f"sheet '{name}' cell {ref} has the value {vtext!r} of type {t!r}",
+                                   "a number, or an index into the shared strings", part=part) from None
         if f is not None:
             text = f.text
             if f.get("t") == "shared":
@@ -294,7 +298,7 @@ def _value(t: bytes | None, v: bytes | None, inline: bytes | None, shared: list[
         return _text(inline[1:])
     if t == b"b" and v is not None:
         return _text(v).strip() == "1"
-    if t in (b"e", b"str") and v is not None:
+    if t in (b"e", b"str", b"d") and v is not None:
         return _text(v)
     if v is not None:
         return float(_text(v))

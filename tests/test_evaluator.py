@@ -885,3 +885,18 @@ def test_shared_formulas_along_a_row_equal_openpyxl(tmp_path, monkeypatch):
     assert f[(1, 32)] == "SUM($A1:AF1)+AE$1*'My Sheet'!AG1-Data!$D$2+IF(AI1<>\"F1\",AK1,0)"
     assert f[(2, 32)] == "SUM(AF:AF)+AG2" and f[(3, 3)] == "ROUND(C1,2)+LOG10(D1)+AAA1"
     assert f[(4, 3)] == "SUM($A4:C4)+B$1*'My Sheet'!D4-Data!$D$2+IF(F4<>\"F1\",H4,0)"
+
+
+def test_date_cells_and_malformed_values(tmp_path, monkeypatch, capsys):
+    """A t="d" cell (an ISO 8601 date, strict OOXML) reads as its text on both paths; a
+    number cell whose value is not a number is one clear line (exit 2), never a traceback."""
+    from sheetkin.cli import main
+    dated = _crafted(tmp_path, "dated.xlsx", _sheet_xml(
+        '<row r="1"><c r="A1" t="d"><v>2026-11-23T00:00:00</v></c><c r="B1"><v>2</v></c></row>'))
+    normal, tree, used = _read_both(dated, monkeypatch)
+    _same_cells(normal, tree)
+    assert normal.sheets["Calc"].consts[(1, 1)] == "2026-11-23T00:00:00" and used == [True]
+    bad = _crafted(tmp_path, "bad.xlsx", _sheet_xml('<row r="1"><c r="A1"><v>12abc</v></c></row>'))
+    assert main(["evaluate", str(bad)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "cell A1 has the value '12abc'" in err and "\n" not in err
