@@ -491,6 +491,9 @@ def _parse_forces(ctx, data, on_link) -> tuple[Force, ...]:
         tbl = _Table(ctx, f, f"[[force]] #{i + 1}", "force", i)
         tbl.check_keys(["name", "link", "at", "force", "moment", "from_deg", "to_deg"])
         name = tbl.name("name") if "name" in tbl.data else f"F{i + 1}"
+        if name in ("ext", "bal"):
+            # P_<name> is the load's power row; P_ext and P_bal are the totals'
+            tbl.fail("name", f"'{name}' is reserved (P_{name} names a total); choose another name")
         if name in names:
             tbl.fail("name", f"name '{name}' is used by another [[force]]")
         names.add(name)

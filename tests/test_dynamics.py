@@ -351,6 +351,7 @@ def test_random_mechanisms_energy_balance(data, kind):
     ('[[force]]\nlink = 3\nmoment = 1.0\nfrom_deg = 90.0\n', "key 'to_deg': missing; expected a number"),
     ('[[force]]\nlink = 3\nmoment = 1.0\nfrom_deg = 90.0\nto_deg = 30.0\n', "expected from_deg < to_deg < from_deg + 360"),
     ('[[force]]\nname = "F"\nlink = 3\nmoment = 1.0\n[[force]]\nname = "F"\nlink = 2\nmoment = 1.0\n', "name 'F' is used by another [[force]]"),
+    ('[[force]]\nname = "ext"\nlink = 3\nmoment = 1.0\n', "key 'name': 'ext' is reserved (P_ext names a total)"),
 ])
 def test_scene_errors_name_the_line_and_key(extra, expected):
     from scenes import FOURBAR
