@@ -241,7 +241,7 @@ def _group_reactions(g: Group, known, sol: Solution, loads, owner) -> dict[str, 
         gam = np.radians(g.guide_angle_deg)
         ux, uy = np.cos(gam), np.sin(gam)
         d1x, d1y = j1.x - nj.x, j1.y - nj.y
-        m11, m12, m21, m22 = ux + 0.0 * d1x, uy + 0.0 * d1x, -d1y, d1x
+        m11, m12, m21, m22 = ux, uy, -d1y, d1x
         _, inv = inverse_det(m11, m12, m21, m22)     # zero when the coupler is across the guide
         r1x, r1y = cramer(m11, m12, m21, m22, -(fx * ux + fy * uy), -la.moment(nj.x, nj.y), inv)
         q = (r1x + fx) * uy - (r1y + fy) * ux     # -(R1 + F).n with n = (-uy, ux)
