@@ -381,3 +381,26 @@ def test_readme_pictures_render(soffice, pdftoppm, tmp_path):
         assert data[:8] == b"\x89PNG\r\n\x1a\n"
         width, height = int.from_bytes(data[16:20], "big"), int.from_bytes(data[20:24], "big")
         assert width > 600 and height > 400, (png, width, height)
+
+
+@pytest.mark.parametrize("stem", BUNDLED)
+def test_numeric_derivative_checks_pass_at_the_largest_step_they_run(stem, tmp_path):
+    """At |Delta_Fi| = FD_MAX_STEP_DEG the central-difference checks are active and, for
+    every bundled mechanism (the quick-return ones included), within their tolerance: a red
+    check there would be the finite differences' own error, not a mistake."""
+    from sheetkin.evaluator import evaluate
+    from sheetkin.workbook import FD_MAX_STEP_DEG
+    text = (WORKBOOKS / f"{stem}.toml").read_text(encoding="utf-8")
+    sign = 1.0 if sheetkin.parse_scene(text).crank.step_deg > 0 else -1.0
+    text, scene = override_crank(text, stem, positions=int(360 / FD_MAX_STEP_DEG) + 1,
+                                 step_deg=sign * FD_MAX_STEP_DEG)
+    path = tmp_path / f"{stem}.xlsx"
+    write_workbook(scene, path, scene_text=text)
+    ws = openpyxl.load_workbook(path).worksheets[0]
+    fd = {name: r for name, r in rows_of(ws).items() if str(name).startswith("fd_")}
+    assert fd
+    book = evaluate(path)
+    sheet = book.order[0]
+    for name, r in fd.items():
+        assert isinstance(book.value(sheet, r, 6), float), name          # active, not n/a
+        assert book.value(sheet, r, 4) == 0, name
