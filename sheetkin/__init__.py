@@ -1,16 +1,56 @@
 """sheetkin: kinematic analysis of planar linkages in the spreadsheet workflow of
-Prof. Yu. A. Alyushin's course (MGGU). Pipeline: scene -> solver -> compute -> cli."""
+Prof. Yu. A. Alyushin's course (MGGU). Pipeline: scene -> solver -> compute -> cli.
+
+The public names load on first use (PEP 562): `import sheetkin` costs only the scene
+reader, so `sheetkin --help` and small commands start quickly; numpy comes with the solver,
+pandas with `compute()`'s DataFrame, openpyxl with the workbooks (tests/test_startup.py).
+"""
+import sys as _sys
+import types as _types
+
 __version__ = "0.1.0"
 
-from .compute import AssemblyError, Gap, column_names, compute  # noqa: E402
-from .scene import Scene, SceneError, load_scene, parse_scene  # noqa: E402
-from .solver import solve  # noqa: E402
+from .scene import AssemblyError, Scene, SceneError, load_scene, parse_scene  # noqa: E402
+
+_LAZY = {"Gap": "compute", "column_names": "compute", "solve": "solver"}
+
+
+def __getattr__(name):
+    if name in _LAZY:
+        from importlib import import_module
+        value = getattr(import_module(f".{_LAZY[name]}", __name__), name)
+        globals()[name] = value          # once: later lookups are plain attributes
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_LAZY))
+
+
+class _Package(_types.ModuleType):
+    """`sheetkin.compute` is the function, as before it loaded lazily: the import system
+    sets a package's attribute to each submodule it loads, and the submodule
+    sheetkin.compute would otherwise replace the function of the same name."""
+
+    @property
+    def compute(self):
+        from .compute import compute
+        return compute
+
+    @compute.setter
+    def compute(self, submodule):
+        pass                                 # the submodule stays in sys.modules
+
+
+_sys.modules[__name__].__class__ = _Package
 
 
 def evaluate_frame(path, sheet=None):
     """Evaluate a workbook's formulas headlessly; rows = names, columns = positions."""
     from .evaluator import evaluate_frame as run     # imported on use: openpyxl's tokenizer
     return run(path, sheet)
+
 
 __all__ = ["AssemblyError", "Gap", "Scene", "SceneError", "column_names", "compute", "evaluate_frame",
            "load_scene", "parse_scene", "solve", "__version__"]

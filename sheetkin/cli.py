@@ -11,17 +11,17 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import shutil
 import sys
 from pathlib import Path
 
-import numpy as np
-
+# Only the standard library and the scene reader here: `--help` and small commands start
+# quickly, and each command imports what it needs (numpy, pandas, openpyxl, matplotlib)
+# inside its function (tests/test_startup.py checks which modules a command loads).
 from . import __version__
-from .compute import TOGGLE_THRESHOLD, AssemblyError, assembly_gaps, compute, unit
-from .scene import SceneError, load_scene, override_crank
+from .scene import AssemblyError, SceneError, load_scene, override_crank
 
 EXIT_INPUT, EXIT_ASSEMBLY = 2, 3
+TOGGLE_THRESHOLD = 1e-2      # compute.TOGGLE_THRESHOLD, without importing numpy for --help (tested equal)
 
 
 def _finite_float(text: str) -> float:
@@ -72,11 +72,26 @@ def build_parser() -> argparse.ArgumentParser:
                     "coordinates, velocities and accelerations of every moving joint and point; "
                     "slides of sliders. Names follow shared/spec/scene.md.")
     p.add_argument("scene", metavar="SCENE.toml", help="the scene file")
-    p.add_argument("--format", choices=["table", "csv", "json"], default="table",
+    p.add_argument("--format", choices=["table", "csv", "json", "parquet"], default="table",
                    help="table: one row per quantity, readable (default); csv: one row per "
-                        "position, the contract's columns; json: the same as records")
-    p.add_argument("--at", metavar="DEG", type=_finite_float, action="append",
-                   help="crank angle in degrees; repeatable; replaces the scene's positions")
+                        "position, the contract's columns, numbers as Python's repr (the shortest "
+                        "decimal that reads back as the same double), empty cells where there is "
+                        "no value; json: the same as records (null where there is no value); "
+                        "parquet: the same columns in a parquet file (needs -o and pyarrow: "
+                        "pip install 'sheetkin[parquet]'). csv, json and parquet are computed and "
+                        "written in blocks of 65536 positions: millions stream at bounded memory")
+    where = p.add_mutually_exclusive_group()
+    where.add_argument("--at", metavar="DEG", type=_finite_float, action="append",
+                       help="crank angle in degrees; repeatable; replaces the scene's positions")
+    where.add_argument("--range", metavar="START:STOP:STEP",
+                       help="crank angles START, START+STEP, ... in degrees, STOP excluded (as "
+                            "numpy's arange: 0:360:0.5 is 720 positions); STEP may be negative; "
+                            "decimal steps are exact (0:1:0.1 gives 0.3); a negative START "
+                            "needs '=': --range=-90:90:1")
+    where.add_argument("--at-file", metavar="FILE[:COLUMN]",
+                       help="crank angles in degrees from FILE: one a line (blank lines and # "
+                            "comments skipped), or a CSV file with a header, its column phi_1 "
+                            "or the one named after ':' (e.g. angles.csv:phi)")
     p.add_argument("--analogs", action="store_true",
                    help="add the velocity and acceleration analogs d/dphi, d2/dphi2 "
                         "(columns vqx_A, vq_A, aqx_A, omegaq_2, epsq_2, vqs_B, ...)")
@@ -216,113 +231,23 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def _fmt(v, scale: float = 0.0) -> str:
-    """Six significant digits; round-off noise (below 1e-12 of the row's largest) shows as 0."""
-    if isinstance(v, str):
-        return v
-    if v is None or (isinstance(v, float) and math.isnan(v)):
-        return "-"
-    if isinstance(v, (bool, np.bool_)):
-        return "yes" if v else "NO"
-    if abs(v) <= 1e-12 * scale:
-        v = 0.0
-    return f"{v + 0.0:.6g}"
-
-
-def _row(values) -> list[str]:
-    nums = [abs(v) for v in values if isinstance(v, float) and math.isfinite(v)]
-    scale = max(nums, default=0.0)
-    return [_fmt(v, scale) for v in values]
-
-
-def format_table(df, width: int | None = None) -> str:
-    """Quantities as rows, positions as columns (like the lecture's workbook), paged to width."""
-    width = width or shutil.get_terminal_size((120, 24)).columns
-    names = [c for c in df.columns if c != "phi_1"]
-    label_w = max(len(c) for c in df.columns) + 2
-    unit_w = max(len(unit(c)) for c in df.columns) + 2
-    col_w = 13
-    per_page = max(1, (width - label_w - unit_w) // col_w)
-    lines = [df.attrs.get("title", "")] if df.attrs.get("title") else []
-    for start in range(0, len(df), per_page):
-        page = df.iloc[start:start + per_page]
-        lines.append("")
-        lines.append("phi_1".ljust(label_w) + "deg".ljust(unit_w) +
-                     "".join(t.rjust(col_w) for t in _row(list(page["phi_1"]))))
-        lines.append("-" * (label_w + unit_w + col_w * len(page)))
-        for name in names:
-            lines.append(name.ljust(label_w) + unit(name).ljust(unit_w) +
-                         "".join(t.rjust(col_w) for t in _row(list(page[name]))))
-    return "\n".join(lines) + "\n"
-
-
-def format_json(df, warnings: list[str]) -> str:
-    records = [{k: (None if isinstance(v, float) and math.isnan(v) else
-                    (bool(v) if isinstance(v, (bool, np.bool_)) else v))
-                for k, v in row.items()} for row in df.to_dict(orient="records")]
-    return json.dumps({"title": df.attrs.get("title", ""),
-                       "units": {c: unit(c) for c in df.columns if unit(c)},
-                       "warnings": warnings, "positions": records}, indent=1) + "\n"
-
-
-def _toggle_warnings(df) -> list[str]:
-    out = []
-    flagged = df[df["near_toggle"] != ""]
-    if len(flagged):
-        groups = sorted({g for s in flagged["near_toggle"] for g in s.split(",")}, key=int)
-        for g in groups:
-            at = flagged[flagged["near_toggle"].str.split(",").apply(lambda s: g in s)]["phi_1"]
-            shown = ", ".join(f"{v:g}" for v in at.iloc[:8]) + (" ..." if len(at) > 8 else "")
-            out.append(f"group {g} is near a toggle position (|det_g{g}| small: velocities and "
-                       f"accelerations lose accuracy) at crank angles {shown} deg")
-    return out
-
-
-BALANCE_TOL = 1e-9
-
-
-def _balance_warnings(df) -> list[str]:
-    """Positions where the energy balance misses by more than 1e-9 of its terms' size: next
-    to a toggle the reactions grow without bound and lose their digits."""
-    terms = [df[c].abs() for c in ("P_bal", "P_ext", "U_t", "T_t") if c in df]
-    rel = df["balance"].abs() / (sum(terms) + 1e-300)
-    out = []
-    assembled = df["assembled"] if "assembled" in df else True
-    for bad, what in ((rel > BALANCE_TOL, f"the energy balance misses by up to {rel.max():.1e} of its terms"),
-                      (~np.isfinite(rel) & assembled, "the reactions and M_bal are undefined (a toggle: "
-                                                      "the group's determinant is 0)")):
-        angles = df["phi_1"][bad]
-        if not angles.empty:
-            listed = ", ".join(f"{a:g}" for a in angles.iloc[:8]) + (", ..." if len(angles) > 8 else "")
-            out.append(f"{what} at crank angles {listed} deg (near a toggle the reactions grow "
-                       "without bound and lose their digits)")
-    return out
-
-
 def cmd_compute(args) -> int:
+    import numpy as np
+    from .angles import parse_range, read_angles
+    from .output import write_compute
     scene = load_scene(args.scene)
     if args.dynamics and not scene.has_dynamics:
         raise SceneError(f"{args.scene}: --dynamics needs [[mass]] and/or [[force]] tables in the "
                          "scene (and `gravity = [gx, gy]` for weight); see the README")
-    df = compute(scene, args.at, analogs=args.analogs, allow_gaps=args.allow_gaps,
-                 toggle_threshold=args.toggle_threshold, dynamics=args.dynamics)
-    warnings = _toggle_warnings(df)
-    if args.dynamics:
-        warnings += _balance_warnings(df)
-    if "assembled" in df:
-        gaps = assembly_gaps(scene, df["phi_1"].to_numpy())
-        warnings.insert(0, "; ".join(map(str, gaps)) + " (those positions are marked assembled = false)")
-    if args.format == "csv":
-        text = df.to_csv(index=False, lineterminator="\n")
-    elif args.format == "json":
-        text = format_json(df, warnings)
+    if args.range is not None:
+        phi = parse_range(args.range)
+    elif args.at_file is not None:
+        phi = read_angles(args.at_file)
     else:
-        text = format_table(df)
-    if args.output:
-        with open(args.output, "w", encoding="utf-8", newline="") as f:
-            f.write(text)
-    else:
-        sys.stdout.write(text)
+        phi = np.array(scene.crank_angles_deg() if args.at is None else args.at, dtype=float)
+    warnings = write_compute(scene, phi, args.format, args.output, analogs=args.analogs,
+                             dynamics=args.dynamics, allow_gaps=args.allow_gaps,
+                             toggle_threshold=args.toggle_threshold)
     for w in warnings:
         print(f"sheetkin: warning: {w}", file=sys.stderr)
     return 0
@@ -374,6 +299,7 @@ def cmd_workbook(args) -> int:
 
 def cmd_evaluate(args) -> int:
     from .evaluator import evaluate, rows_frame
+    from .output import fmt_cell as _fmt
     book = evaluate(args.book)
     if args.sheet and args.sheet not in book.sheets:
         raise SceneError(f"{args.book}: no sheet {args.sheet!r}; sheets: {', '.join(book.order)}")

@@ -17,11 +17,10 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-import pandas as pd
 
 from .dynamics import dynamics as solve_dynamics
 from .dynamics import dynamics_names
-from .scene import Scene, load_scene
+from .scene import AssemblyError, Scene, load_scene  # noqa: F401 (AssemblyError: compute's API)
 from .solver import Solution, solve
 
 TOGGLE_THRESHOLD = 1e-2
@@ -31,10 +30,6 @@ _SCAN_STEP_DEG = 0.005      # grid of the revolution scanned for non-assembly in
 # than the arithmetic, and much smaller chunks pay numpy's per-call overhead. Measured on
 # this 2-core machine (benchmarks/solver.py, four-bar, 1e6): 16384 to 65536 fastest.
 CHUNK = 16384
-
-
-class AssemblyError(ValueError):
-    """The mechanism cannot be assembled at some requested crank positions."""
 
 
 @dataclass(frozen=True)
@@ -271,7 +266,7 @@ def solve_table(scene: Scene, phi_deg, *, analogs: bool = False, dynamics: bool 
 
 
 def compute(scene: Scene | str | Path, at=None, *, analogs: bool = False, allow_gaps: bool = False,
-            toggle_threshold: float = TOGGLE_THRESHOLD, dynamics: bool = False) -> pd.DataFrame:
+            toggle_threshold: float = TOGGLE_THRESHOLD, dynamics: bool = False):
     """Positions, velocities and accelerations of every link and point, one row per position.
 
     `scene` is a Scene or a path to a scene file; `at` (degrees) replaces the scene's crank
@@ -292,6 +287,7 @@ def compute(scene: Scene | str | Path, at=None, *, analogs: bool = False, allow_
         gaps = assembly_gaps(scene, phi)
         raise AssemblyError("; ".join(map(str, gaps)) +
                             f" ({int(fail.sum())} of {fail.size} positions; use --allow-gaps to keep the rest)")
+    import pandas as pd        # only here: the command line's path (sheetkin.output) needs no pandas
     # the table's rows become the frame's columns without a copy (one float block)
     df = pd.DataFrame(table.T, columns=names, copy=False)
     n_det = len(scene.groups)
@@ -302,11 +298,19 @@ def compute(scene: Scene | str | Path, at=None, *, analogs: bool = False, allow_
     return df
 
 
-def _near_toggle(dets: np.ndarray, fail: np.ndarray, threshold: float) -> pd.Categorical:
-    """"1", "1,2", ... naming the groups whose |det| is below threshold; "" elsewhere.
+def _near_toggle(dets: np.ndarray, fail: np.ndarray, threshold: float):
+    """The near_toggle column as a pandas Categorical (see near_toggle_codes)."""
+    import pandas as pd
+    codes, labels = near_toggle_codes(dets, fail, threshold)
+    return pd.Categorical.from_codes(codes, categories=labels)
 
-    Built as a categorical from a bitmask of flagged groups: a million positions need a
-    few distinct strings, not a million Python objects.
+
+def near_toggle_codes(dets: np.ndarray, fail: np.ndarray, threshold: float) -> tuple[np.ndarray, list[str]]:
+    """(codes, labels): labels[codes[i]] is "1", "1,2", ... naming the groups whose |det| is
+    below threshold at position i, "" where none is. dets is (positions, groups).
+
+    Built from a bitmask of flagged groups: a million positions need a few distinct
+    strings, not a million Python objects.
     """
     flags = ~(np.abs(dets) >= threshold) & ~fail[:, None]
     mask = (flags.astype(np.int64) << np.arange(flags.shape[1])).sum(axis=1)
@@ -318,4 +322,71 @@ def _near_toggle(dets: np.ndarray, fail: np.ndarray, threshold: float) -> pd.Cat
     else:
         present, codes = np.unique(mask, return_inverse=True)
     labels = [",".join(str(i + 1) for i in range(flags.shape[1]) if m >> i & 1) for m in present]
-    return pd.Categorical.from_codes(codes.reshape(-1), categories=labels)
+    return codes.reshape(-1), labels
+
+
+# --------------------------------------------------------------------------- blocks, for the command line
+# Positions per block of the command line's output: 64 Ki positions x 40 columns is 20 MB of
+# numbers and about 80 MB of text in flight, whatever the total (1e7 positions stream).
+BLOCK = 65536
+
+
+@dataclass(frozen=True)
+class AngleRange:
+    """The crank angles first + i * step / scale, i < count (scale = 10^decimals: the angles
+    are exact decimal multiples, so --range 0:360:0.1 gives 0.3, not 0.30000000000000004)."""
+    first: int
+    step: int
+    scale: int
+    count: int
+
+    def __len__(self):
+        return self.count
+
+    def take(self, a: int, b: int) -> np.ndarray:
+        return (self.first + self.step * np.arange(a, b, dtype=np.float64)) / self.scale
+
+
+def _angles(phi, a: int, b: int) -> np.ndarray:
+    return phi.take(a, b) if isinstance(phi, AngleRange) else phi[a:b]
+
+
+@dataclass
+class Block:
+    """Positions start..start+n of a computation: table[j] is the column names[j] (see
+    table_names), fail marks the positions where some group cannot assemble, near_toggle's
+    labels[codes[i]] names the groups near a toggle."""
+    start: int
+    table: np.ndarray
+    fail: np.ndarray
+    codes: np.ndarray
+    labels: list[str]
+
+    @property
+    def phi(self) -> np.ndarray:
+        return self.table[0]
+
+
+def failing(scene: Scene, phi, block: int = BLOCK) -> np.ndarray:
+    """Where some group cannot assemble, for every position (positions only, no rates: a
+    first pass that decides the output's columns and refuses before anything is written)."""
+    n = len(phi)
+    fail = np.zeros(n, dtype=bool)
+    for a in range(0, n, block):
+        fail[a:a + block] = failed_positions(solve(scene, _angles(phi, a, min(a + block, n))))
+    return fail
+
+
+def compute_blocks(scene: Scene, phi, *, analogs: bool = False, dynamics: bool = False,
+                   toggle_threshold: float = TOGGLE_THRESHOLD, block: int = BLOCK):
+    """compute() without pandas and in blocks of `block` positions, for writing as they come:
+    yields Block objects over the angles `phi` (an array or an AngleRange). Assembly is not
+    checked here (see failing); failing positions come back as NaN with fail set."""
+    n = len(phi)
+    n_det = len(scene.groups)
+    for a in range(0, n, block):
+        b = min(a + block, n)
+        names, table, failed = solve_table(scene, _angles(phi, a, b), analogs=analogs, dynamics=dynamics)
+        fail = failed.any(axis=0)
+        codes, labels = near_toggle_codes(table[len(names) - n_det:].T, fail, toggle_threshold)
+        yield Block(a, table, fail, codes, labels)

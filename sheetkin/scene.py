@@ -21,6 +21,12 @@ class SceneError(ValueError):
     """A scene file that cannot be used; str() is one line naming file, line and key."""
 
 
+class AssemblyError(ValueError):
+    """The mechanism cannot be assembled at some requested crank positions (raised by
+    sheetkin.compute; defined here, with no numpy, so the command line can catch it
+    without importing the solver)."""
+
+
 @dataclass(frozen=True)
 class Crank:
     pivot: str
