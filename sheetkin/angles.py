@@ -9,11 +9,8 @@ so 0:1:0.1 gives 0.3 (as typed), not 0.30000000000000004.
 """
 from __future__ import annotations
 
-import csv
-import io
 import math
 import re
-from decimal import Decimal, InvalidOperation
 from pathlib import Path
 
 import numpy as np
@@ -26,7 +23,8 @@ MAX_POSITIONS = 100_000_000
 _MAX_DECIMALS = 9
 
 
-def _decimal(text: str, what: str, spec: str) -> Decimal:
+def _decimal(text: str, what: str, spec: str):
+    from decimal import Decimal, InvalidOperation
     try:
         d = Decimal(text.strip())
     except InvalidOperation:
@@ -119,6 +117,8 @@ def _one_a_line(path: Path, lines: list[str]) -> np.ndarray:
 
 
 def _csv_column(path: Path, lines: list[str], first: int, column: str | None) -> np.ndarray:
+    import csv
+    import io
     rows = csv.reader(io.StringIO("\n".join(lines[first:])))
     header = [h.strip() for h in next(rows)]
     want = column or "phi_1"

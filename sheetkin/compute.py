@@ -12,7 +12,6 @@ dynamics=True, the energy and force analysis (sheetkin.dynamics: T_k, U_k, ..., 
 from __future__ import annotations
 
 import os
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -256,6 +255,7 @@ def solve_table(scene: Scene, phi_deg, *, analogs: bool = False, dynamics: bool 
     if threads > 1 and n > 4 * CHUNK:
         # one contiguous share per thread; numpy releases the GIL inside ufuncs, so the
         # shares run in parallel
+        from concurrent.futures import ThreadPoolExecutor
         bounds = np.linspace(0, n // CHUNK, threads + 1).astype(int) * CHUNK
         bounds[-1] = n
         with ThreadPoolExecutor(threads) as pool:

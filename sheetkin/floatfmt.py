@@ -11,7 +11,9 @@ integer arithmetic over whole arrays:
      from exact fractions), so m is the correctly rounded d-digit mantissa;
   3. the shortest d whose m reads back as x (|m - x 10^k| under half the gap to the
      neighbouring double, in the same scaled units) is repr's: any decimal of <= 15 digits
-     survives double -> 15 digits, and among 16 (17) digit decimals repr picks the nearest;
+     survives double -> 15 digits, and among 16 (17) digit decimals repr picks the nearest
+     that reads back (at a power of two, where the gap below is narrower, that can be the
+     one above the nearest);
   4. the digits laid out as repr does: positional for 1e-4 <= |x| < 1e16 ("30.0",
      "0.0001"), otherwise "1.5e-05", "1e+16".
 Where step 2 or 3 is too close to a tie to decide (a few in 1e9 random doubles), and for
@@ -20,17 +22,34 @@ reported to the caller, who decides what to write (sheetkin never writes "nan"/"
 """
 from __future__ import annotations
 
-from fractions import Fraction
-
 import numpy as np
 
 WIDTH = 32                      # bytes per number (unused ones are 0, dropped later)
 _KMIN, _KMAX = -240, 240        # powers of ten kept as double-doubles
 _LO, _HI = 1e-200, 1e200        # |x| formatted here; outside, by repr
-_P10 = [Fraction(10) ** k for k in range(_KMIN, _KMAX + 1)]
-_POW_HI = np.array([float(p) for p in _P10])
-_POW_LO = np.array([float(p - Fraction(h)) for p, h in zip(_P10, _POW_HI.tolist())])
-del _P10
+
+
+def _powers_of_ten():
+    """10^k for _KMIN <= k <= _KMAX as double-doubles (hi + lo, to ~1e-32), from exact
+    integers: int / int is correctly rounded in Python."""
+    hi, lo = [], []
+    for k in range(_KMIN, _KMAX + 1):
+        if k >= 0:
+            p = 10 ** k
+            h = float(p)
+            a, b = h.as_integer_ratio()          # b = 1
+            rest_num, rest_den = p - a, 1
+        else:
+            q = 10 ** -k
+            h = 1 / q
+            a, b = h.as_integer_ratio()
+            rest_num, rest_den = b - a * q, b * q  # 1/q - a/b
+        hi.append(h)
+        lo.append(rest_num / rest_den)
+    return np.array(hi), np.array(lo)
+
+
+_POW_HI, _POW_LO = _powers_of_ten()
 _SPLIT = 134217729.0            # 2^27 + 1: Veltkamp's split of a double into two halves
 _INT10 = 10 ** np.arange(18, dtype=np.int64)
 _MARGIN = 1e-7                  # closer than this (in units of the last digit) to a tie: repr
@@ -122,6 +141,14 @@ def _slots_chunk(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         dist = np.abs(delta)
         ok = dist < half
         unsure |= (np.abs(dist - 0.5) < _MARGIN) | (np.abs(dist - half) < _MARGIN)
+        # at a power of two the gap below is half the gap above: the nearest decimal below
+        # may miss where the next one up still reads back (2^-44 is 5.684341886080802e-14)
+        alt = ~ok & (delta < 0.0) & (down < up)
+        if alt.any():
+            ok_up = alt & (delta + 1.0 < up / cut)
+            unsure |= alt & (np.abs(delta + 1.0 - up / cut) < _MARGIN)
+            m = np.where(ok_up, m + 1, m)
+            ok |= ok_up
         carry = m >= _INT10[17] // cut           # 9.99..95 -> 10.0...: one more decade
         big_m = np.where(ok, np.where(carry, m // 10, m) * cut, big_m)
         X = np.where(ok, e + carry, X)

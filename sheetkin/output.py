@@ -291,7 +291,7 @@ class _Target:
         self.path, self.tmp = path, None
         if path is None:
             sys.stdout.flush()
-            self.file = sys.stdout.buffer
+            self.file = getattr(sys.stdout, "buffer", None) or _TextSink(sys.stdout)
             return
         folder = os.path.dirname(os.path.abspath(path))
         if not os.path.isdir(folder):
@@ -312,6 +312,19 @@ class _Target:
             self.file.close()
             if os.path.exists(self.tmp):
                 os.unlink(self.tmp)
+
+
+class _TextSink:
+    """A text stream without a binary buffer (io.StringIO, some embedders) taking bytes."""
+
+    def __init__(self, stream):
+        self.stream = stream
+
+    def write(self, data: bytes):
+        self.stream.write(data.decode("utf-8"))
+
+    def flush(self):
+        self.stream.flush()
 
 
 def _umask() -> int:

@@ -1,0 +1,59 @@
+"""A quick start: `import sheetkin`, `sheetkin --help` and `sheetkin compute` of a small scene
+load only what they use (checked in fresh processes through sys.modules, not by timing):
+pandas, openpyxl, matplotlib and mpmath load lazily, numpy only with the solver."""
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+HEAVY = ("pandas", "openpyxl", "matplotlib", "mpmath", "scipy", "pyarrow")
+
+PROBE = """
+import json, sys
+{setup}
+print(json.dumps(sorted(m for m in sys.modules if m.split('.')[0] in {heavy!r})))
+"""
+
+
+def loaded(setup: str) -> set[str]:
+    code = PROBE.format(setup=setup, heavy=HEAVY + ("numpy",))
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT,
+                          timeout=120, env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
+    assert proc.returncode == 0, proc.stderr
+    return {m.split(".")[0] for m in json.loads(proc.stdout.splitlines()[-1])}
+
+
+def test_import_sheetkin_loads_no_numpy_or_heavier():
+    assert loaded("import sheetkin") == set()
+
+
+def test_help_loads_nothing_heavy():
+    setup = ("from sheetkin.cli import main\n"
+             "import contextlib, io\n"
+             "with contextlib.redirect_stdout(io.StringIO()):\n"
+             "    try: main(['compute', '--help'])\n"
+             "    except SystemExit: pass")
+    assert loaded(setup) == set()
+
+
+@pytest.mark.parametrize("fmt", ["table", "csv", "json"])
+def test_compute_command_loads_numpy_only(fmt):
+    setup = ("from sheetkin.cli import main\n"
+             "import contextlib, io\n"
+             "with contextlib.redirect_stdout(io.StringIO()) as out:\n"
+             f"    assert main(['compute', 'workbooks/fourbar.toml', '--format', '{fmt}']) == 0")
+    assert loaded(setup) == {"numpy"}
+
+
+def test_the_api_still_gives_a_dataframe():
+    setup = ("import sheetkin\n"
+             "df = sheetkin.compute('workbooks/fourbar.toml')\n"
+             "assert type(df).__name__ == 'DataFrame' and len(df) == 13\n"
+             "import sheetkin.compute\n"
+             "assert callable(sheetkin.compute) and sheetkin.solve and sheetkin.Gap")
+    assert "pandas" in loaded(setup)
