@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import sys
 from pathlib import Path
 
@@ -153,6 +154,10 @@ def build_parser() -> argparse.ArgumentParser:
     v.add_argument("--html", metavar="REPORT.html", help="also write a readable HTML page")
     v.add_argument("--progress", choices=["auto", "always", "never"], default="auto",
                    help="progress bar on stderr for several files (auto: when stderr is a terminal)")
+    v.add_argument("--jobs", type=_positive_int, metavar="N",
+                   help="validate in N processes (default: one per core, here "
+                        f"{os.cpu_count() or 1}); 1: in this process. Reports come "
+                        "in the order of the files either way")
     b = sub.add_parser(
         "bench", help="time and accuracy of each way of computing a scene",
         description="For each method (the closed-form solver; Newton on the loop-closure "
@@ -343,21 +348,22 @@ def _validation_files(paths: list[str]) -> list[Path]:
 
 
 def cmd_validate(args) -> int:
+    from .batch import validate_many
     from .report import html_report, json_report, summary_table, text_report
-    from .validator import validate
     files = _validation_files(args.paths)
     show = args.progress == "always" or (args.progress == "auto" and sys.stderr.isatty() and len(files) > 1)
+
+    def progress(done, f):
+        bar = int(30 * done / len(files))
+        sys.stderr.write(f"\r[{'#' * bar}{'.' * (30 - bar)}] {done}/{len(files)} {f.name[:40]:<40}")
+        sys.stderr.flush()
     reports = []
-    for i, f in enumerate(files, 1):
-        if show:
-            done = int(30 * (i - 1) / len(files))
-            sys.stderr.write(f"\r[{'#' * done}{'.' * (30 - done)}] {i - 1}/{len(files)} {f.name[:40]:<40}")
-            sys.stderr.flush()
-        reports.append(validate(f))
+    for rep in validate_many(files, args.jobs, progress if show else None):
+        reports.append(rep)
         if not args.json:
-            sys.stdout.write(text_report(reports[-1]))
+            sys.stdout.write(text_report(rep))
     if show:
-        sys.stderr.write(f"\r[{'#' * 30}] {len(files)}/{len(files)} {'':<40}\n")
+        sys.stderr.write("\n")
     if args.json:
         sys.stdout.write(json_report(reports))
     elif len(reports) > 1:
