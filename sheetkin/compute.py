@@ -326,9 +326,11 @@ def near_toggle_codes(dets: np.ndarray, fail: np.ndarray, threshold: float) -> t
 
 
 # --------------------------------------------------------------------------- blocks, for the command line
-# Positions per block of the command line's output: 64 Ki positions x 40 columns is 20 MB of
-# numbers and about 80 MB of text in flight, whatever the total (1e7 positions stream).
-BLOCK = 65536
+# Positions per block of the command line's output: 16 Ki positions x 40 columns is 5 MB of
+# numbers and about 20 MB of text slots in flight, whatever the total (1e7 positions stream
+# in about 100-150 MB; benchmarks/cli.py measures it). Larger blocks save nothing: the
+# formatting works in chunks of 8192 numbers anyway.
+BLOCK = 16384
 
 
 @dataclass(frozen=True)

@@ -22,6 +22,8 @@ reported to the caller, who decides what to write (sheetkin never writes "nan"/"
 """
 from __future__ import annotations
 
+import os
+
 import numpy as np
 
 WIDTH = 32                      # bytes per number (unused ones are 0, dropped later)
@@ -54,11 +56,12 @@ _SPLIT = 134217729.0            # 2^27 + 1: Veltkamp's split of a double into tw
 _INT10 = 10 ** np.arange(18, dtype=np.int64)
 _MARGIN = 1e-7                  # closer than this (in units of the last digit) to a tie: repr
 # The text is built in four little-endian uint64 words (byte i of the text = bits 8i..8i+7):
-# word 0: sign, then "0.000" up to the leading zeros (1e-4 <= |x| < 1); words 1-3: the 17
+# word 0: a byte left 0 for the caller (a separator), the sign, then "0.000" up to the
+# leading zeros (1e-4 <= |x| < 1); words 1-3: the 17
 # digits with the point inserted; word 3's bytes 3-7: "e", its sign, three exponent digits.
 _U = np.uint64
 _BYTES = np.array([(1 << (8 * k)) - 1 for k in range(8)] + [(1 << 64) - 1], dtype=np.uint64)
-_PREFIX = _U(int.from_bytes(b"\x000.000\x00\x00", "little"))
+_PREFIX = _U(int.from_bytes(b"\x00\x000.000\x00", "little"))
 _ZEROS = _U(0x3030303030303030)
 CHUNK = 8192                    # numbers per pass: the temporaries stay in the L2 cache
 
@@ -104,9 +107,13 @@ def _top_byte(w):
     return np.where(w != 0, (np.frexp(w.astype(np.float64))[1] - 1) // 8, -1)
 
 
+def _clip8(k):
+    return np.minimum(np.maximum(k, 0), 8)
+
+
 def _masked(w, nbytes):
     """w's lowest nbytes bytes (nbytes clipped to 0..8)."""
-    return w & _BYTES[np.clip(nbytes, 0, 8)]
+    return w & _BYTES[_clip8(nbytes)]
 
 
 def _slots_chunk(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -177,12 +184,12 @@ def _slots_chunk(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     out = np.empty((n, 4), np.uint64)
     dot = _U(ord(".")) << ((q % 8) * 8).astype(np.uint64)
     for i, (b, sh) in enumerate(((b0, s0), (b1, s1), (b2, s2))):
-        low = _BYTES[np.clip(q - 8 * i, 0, 8)]
-        high = ~_BYTES[np.clip(q + 1 - 8 * i, 0, 8)]
+        low = _BYTES[_clip8(q - 8 * i)]
+        high = ~_BYTES[_clip8(q + 1 - 8 * i)]
         out[:, i + 1] = (b & low) | (sh & high) | np.where(q // 8 == i, dot, _U(0))
     # word 0: sign and "0." with the leading zeros; word 3 also takes the exponent
-    lead = np.where(positional & (X < 0), 2 - X, 1)           # bytes of word 0 used
-    out[:, 0] = (_PREFIX & _BYTES[lead]) | np.signbit(x).astype(np.uint64) * _U(ord("-"))
+    lead = np.where(positional & (X < 0), 3 - X, 2)           # bytes of word 0 used
+    out[:, 0] = (_PREFIX & _BYTES[lead]) | np.signbit(x).astype(np.uint64) * _U(ord("-") << 8)
     ax = np.abs(X).astype(np.uint64)
     hundreds = ax // _U(100)
     exp_word = ((_U(ord("e")) << _U(24)) | (np.where(X < 0, _U(ord("-")), _U(ord("+"))) << _U(32))
@@ -201,17 +208,30 @@ def _slots_chunk(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return out, finite
 
 
-def repr_slots(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def repr_slots(x: np.ndarray, threads: int | None = None) -> tuple[np.ndarray, np.ndarray]:
     """(slots, finite): slots[i] is repr(float(x[i])) in WIDTH uint8 slots, with 0 bytes
-    where a slot is unused (drop them: slots.tobytes().translate(None, b"\\0")); non-finite
-    elements get no characters, and finite is False there."""
+    where a slot is unused (drop them: slots.tobytes().translate(None, b"\\0")); byte 0 is
+    always 0 (for a separator); non-finite elements get no characters, and finite is False
+    there. Large arrays are done in cache-sized chunks on `threads` threads (default: up to
+    2; numpy releases the GIL in its loops)."""
     x = np.asarray(x, dtype=np.float64).reshape(-1)
     if x.size <= CHUNK:
         return _slots_chunk(x)
     out = np.empty((x.size, WIDTH), np.uint8)
     finite = np.empty(x.size, dtype=bool)
-    for a in range(0, x.size, CHUNK):
+
+    def run(a):
         out[a:a + CHUNK], finite[a:a + CHUNK] = _slots_chunk(x[a:a + CHUNK])
+
+    starts = range(0, x.size, CHUNK)
+    threads = threads or min(2, os.cpu_count() or 1)
+    if threads > 1 and len(starts) > 2:
+        from concurrent.futures import ThreadPoolExecutor
+        with ThreadPoolExecutor(threads) as pool:
+            list(pool.map(run, starts))
+    else:
+        for a in starts:
+            run(a)
     return out, finite
 
 

@@ -157,7 +157,7 @@ def test_cli_streams_many_blocks_to_stdout(capsys):
                          "--range", "0:360:0.002")
     assert code == 0 and err == ""
     lines = out.splitlines()
-    assert len(lines) == 1 + 180_000                      # three blocks of 65536
+    assert len(lines) == 1 + 180_000                      # eleven blocks of 16384
     assert lines[1].startswith("0.0,") and lines[-1].startswith("359.998,")
     assert lines[150_001].startswith("300.0,")            # exact decimal steps
 
