@@ -13,6 +13,7 @@ import json
 import math
 import os
 import shutil
+import stat
 import sys
 import tempfile
 from dataclasses import dataclass, field
@@ -302,8 +303,10 @@ def _parquet_writer(path: str):
 
 # --------------------------------------------------------------------------- the command
 class _Target:
-    """Where the output goes: stdout, or a file written beside its final name and renamed
-    when complete, so a failure leaves nothing half-written and overwrites nothing."""
+    """Where the output goes: stdout; a new or regular file, written beside its final name
+    and renamed when complete (a failure leaves nothing half-written and an existing file as
+    it was; its permissions are kept); anything else (a device such as /dev/null, a pipe, a
+    symbolic link) is opened and written as it is."""
 
     def __init__(self, path: str | None):
         self.path, self.tmp = path, None
@@ -311,25 +314,39 @@ class _Target:
             sys.stdout.flush()
             self.file = getattr(sys.stdout, "buffer", None) or _TextSink(sys.stdout)
             return
+        try:
+            st = os.lstat(path)
+        except FileNotFoundError:
+            st = None
+        if st is not None and not stat.S_ISREG(st.st_mode):
+            self.file = open(path, "wb")
+            return
         folder = os.path.dirname(os.path.abspath(path))
         if not os.path.isdir(folder):
             raise OSError(2, "No such file or directory", path)
         fd, self.tmp = tempfile.mkstemp(prefix=".sheetkin-", suffix=".part", dir=folder)
+        self.mode = stat.S_IMODE(st.st_mode) if st is not None else 0o666 & ~_umask()
         self.file = os.fdopen(fd, "wb")
 
     def commit(self):
         if self.tmp is None:
             self.file.flush()
+            if self.path is not None:
+                self.file.close()
             return
         self.file.close()
-        os.chmod(self.tmp, 0o666 & ~_umask())
+        os.chmod(self.tmp, self.mode)
         os.replace(self.tmp, self.path)
 
     def abandon(self):
-        if self.tmp is not None:
-            self.file.close()
-            if os.path.exists(self.tmp):
-                os.unlink(self.tmp)
+        if self.path is None:
+            return
+        try:
+            self.file.close()            # may fail again (a full disk): the first error counts
+        except OSError:
+            pass
+        if self.tmp is not None and os.path.exists(self.tmp):
+            os.unlink(self.tmp)
 
 
 class _TextSink:
@@ -401,7 +418,10 @@ def write_compute(scene: Scene, phi, fmt: str, output: str | None, *, analogs=Fa
             warnings = notes.warnings(scene)
             target.file.write(writer.tail(warnings))
         target.commit()
-    except BaseException:
+    except BaseException as e:
         target.abandon()
+        if isinstance(e, OSError) and not isinstance(e, BrokenPipeError) and not e.filename:
+            # a write error (a full disk) has no file name of its own: name the output
+            raise OSError(e.errno, e.strerror or str(e), output or "<stdout>") from None
         raise
     return warnings

@@ -330,3 +330,30 @@ def test_at_file_fuzz_only_our_errors(tmp_path_factory, text):
 def test_angle_range_take_matches_exact_decimals():
     r = AngleRange(first=0, step=1, scale=10, count=100_000)
     assert np.array_equal(r.take(0, 100_000), np.array([float(f"{i / 10}") for i in range(100_000)]))
+
+
+def test_output_to_a_pipe_a_symlink_and_a_file_with_its_mode(tmp_path, capsys):
+    """Only new or regular files are written beside and renamed: a FIFO (like a device,
+    /dev/null) is written as it is, a symbolic link stays a link, a file keeps its mode."""
+    import stat
+    import threading
+    fourbar = ROOT / "workbooks" / "fourbar.toml"
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    got = []
+    reader = threading.Thread(target=lambda: got.append(fifo.read_bytes()))
+    reader.start()
+    code, out, err = run(capsys, "compute", fourbar, "--format", "csv", "-o", fifo)
+    reader.join(30)
+    assert code == 0 and stat.S_ISFIFO(os.lstat(fifo).st_mode)
+    assert got and got[0].startswith(b"phi_1,") and got[0].count(b"\n") == 14
+    real = tmp_path / "real.csv"
+    real.write_text("old")
+    real.chmod(0o600)
+    link = tmp_path / "link.csv"
+    link.symlink_to(real)
+    code, _, _ = run(capsys, "compute", fourbar, "--format", "csv", "-o", link)
+    assert code == 0 and link.is_symlink() and real.read_text().startswith("phi_1,")
+    code, _, _ = run(capsys, "compute", fourbar, "--format", "json", "-o", real)
+    assert code == 0 and stat.S_IMODE(real.stat().st_mode) == 0o600 and real.read_text().startswith("{")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["link.csv", "pipe", "real.csv"]
