@@ -1028,9 +1028,9 @@ def _array_runs(sheet: Sheet, runs: list[Run]) -> list[Run]:
         if not any((run.row, int(c)) in sheet.arrays for c in run.cols):
             out.append(run)
             continue
-        for one in _split(run):
-            one.array = sheet.arrays.get((one.row, int(one.cols[0])))
-            out.append(one)
+        for c in run.cols.tolist():           # each its own text: parsed from its own cell
+            out.append(Run(run.sheet, run.row, np.array([c]), sheet.formulas[(run.row, c)],
+                           array=sheet.arrays.get((run.row, c))))
     return out
 
 

@@ -67,6 +67,7 @@ def _read_tree(pkg, root, name: str, part: str, state: str, shared: list[str], l
     sh = Sheet(name, state)
     ns = root.tag[:root.tag.index("}") + 1] if root.tag.startswith("{") else ""
     shared_f: dict[str, _Shared] = {}
+    before_master: list = []
     f_tag, v_tag, is_tag, t_tag = f"{ns}f", f"{ns}v", f"{ns}is", f"{ns}t"
     col_of = _COLUMN_INDEX
     for c in root.iter(f"{ns}c"):
@@ -86,7 +87,7 @@ def _read_tree(pkg, root, name: str, part: str, state: str, shared: list[str], l
                 f = child
             elif tag == is_tag:
                 inline = child
-        if f is None and v is None and inline is None:
+        if f is None and (v is None or not v.text) and inline is None:
             continue                       # styled emptiness: no limit, not in the used range
         if row > limits.max_rows or col > limits.max_cols:
             raise UnusableWorkbook(pkg.path, f"sheet '{name}' has a cell at {ref}",
@@ -121,6 +122,9 @@ def _read_tree(pkg, root, name: str, part: str, state: str, shared: list[str], l
                     shared_f[si] = _Shared(text, row, col)
                 elif si in shared_f:
                     text = shared_f[si].at(row, col)
+                else:                      # before its master (a block the master is inside)
+                    before_master.append((si, row, col, value))
+                    continue
             if text:
                 sh.formulas[(row, col)] = text
                 if f.get("t") == "array":
@@ -129,6 +133,14 @@ def _read_tree(pkg, root, name: str, part: str, state: str, shared: list[str], l
                     sh.cached[(row, col)] = value
                 continue
         if value is not None:
+            sh.consts[(row, col)] = value
+    for si, row, col, value in before_master:
+        text = shared_f[si].at(row, col) if si in shared_f else None
+        if text:
+            sh.formulas[(row, col)] = text
+            if value is not None:
+                sh.cached[(row, col)] = value
+        elif value is not None:
             sh.consts[(row, col)] = value
     return _finish(sh)
 
@@ -300,7 +312,9 @@ def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits
     if any(fattrs):
         # shared formulas (Excel, LibreOffice): the first cell <f t="shared" si=".."> has the
         # text, the block's other cells <f t="shared" si=".."/> are shifted from it
+        # (a block's master need not be its first cell: the masters are found first)
         masters: dict = {}
+        children = []
         for i in compress(range(len(keys)), fattrs):
             if not _SHARED.search(fattrs[i]):
                 if _ARRAY.search(fattrs[i]) and keys[i] in formulas:
@@ -311,7 +325,10 @@ def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits
             si = si.group(1) if si else None
             if ftexts[i]:
                 masters[si] = _Shared(formulas[keys[i]], rows[i], cols[i])
-            elif si in masters:
+            else:
+                children.append((i, si))
+        for i, si in children:
+            if si in masters:
                 text = masters[si].at(rows[i], cols[i])
                 if text:
                     formulas[keys[i]] = text
