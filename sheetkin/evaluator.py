@@ -846,9 +846,11 @@ def _target_block(run: Run, ref: Ref):
 
 
 def evaluate(path: str | Path, *, strict: bool = True, limits: Limits = Limits()) -> Book:
-    """Evaluate every formula of an .xlsx workbook. With strict, an unsupported function
-    or an unparsable formula raises EvaluationError naming the cells; otherwise those
-    cells become #NAME? and the problem is listed in Book.problems."""
+    """Evaluate every formula of an .xlsx workbook (an .ods or .fods is converted by
+    LibreOffice first, see xlsxread.read_book); `Book.value(sheet, row, col)` then gives any
+    cell. With strict, an unsupported function or an unparsable formula raises
+    EvaluationError naming the cells; otherwise those cells become #NAME? and the problem is
+    listed in Book.problems."""
     raw = read_book(path, limits)
     return evaluate_sheets(raw.path, raw.sheets, raw.order, raw.names, strict=strict)
 

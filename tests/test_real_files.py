@@ -593,3 +593,19 @@ def test_both_readers_read_excels_shape_alike(lo, key, monkeypatch):
         other = tree.sheets[name]
         for attr in ("consts", "formulas", "cached", "arrays", "names", "max_row", "max_col"):
             assert getattr(sh, attr) == getattr(other, attr), (name, attr)
+
+
+def test_readme_value_example_holds():
+    """The README's `book.value(...)` lines give what their comments say."""
+    import ast
+    import re
+    text = (ROOT / "README.md").read_text("utf-8")
+    block = text[text.index("Any cell's value, from Python"):]
+    block = block[block.index("```python"):block.index("```\n", 10)]
+    book = evaluate(ROOT / "workbooks" / "fourbar.xlsx")
+    lines = [m for m in re.finditer(r"^book\.value\((.*)\)\s+# .*?: (.+?)(?:;.*)?$", block, re.M)]
+    assert len(lines) >= 5
+    for m in lines:
+        args = ast.literal_eval(f"({m.group(1)})")
+        assert book.value(*args) == ast.literal_eval(m.group(2)), m.group(0)
+    assert repr(book.order) in block
