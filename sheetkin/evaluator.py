@@ -484,7 +484,7 @@ AGGREGATES = {
     "SUMSQ": _agg_sumsq, "PRODUCT": _agg_product,
 }
 SPECIAL = {"IF", "IFERROR", "NOT", "PI", "ISNUMBER", "ISERROR", "ISTEXT", "TRUE", "FALSE", "TRUNC",
-           "INDEX", "CHOOSE"}
+           "INDEX", "CHOOSE", "ANCHORARRAY", "SINGLE"}
 SUPPORTED = sorted(set(SCALAR_FUNCS) | set(AGGREGATES) | SPECIAL)
 
 
@@ -899,6 +899,7 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
             _store(num[n], tag[n], txt[n], r, c, v)
     order_runs = _schedule(path, runs, dims, sheets)
     ctx = _Context(num, tag, txt, scopes)
+    ctx.arrays = {n: sh.arrays for n, sh in sheets.items()}
     cells = 0
     with np.errstate(all="ignore"):
         for run in order_runs:
@@ -1190,6 +1191,7 @@ class _Context:
     def __init__(self, num, tag, txt, scopes):
         self.num, self.tag, self.txt, self.scopes = num, tag, txt, scopes
         self.open_names: set = set()          # the names being evaluated (a cycle: #REF!)
+        self.arrays: dict = {}                # sheet -> its array formulas (Sheet.arrays)
 
     def name(self, name: str, run: Run):
         """The tree a name stands for in a formula of run's sheet, or None."""
@@ -1300,6 +1302,10 @@ class _Context:
             return self.index(args, run)
         if name == "CHOOSE":
             return self.choose(args, run)
+        if name == "ANCHORARRAY":
+            return self.spill(args, run)
+        if name == "SINGLE":
+            return self.single(args, run)
         if name in SCALAR_FUNCS:
             return SCALAR_FUNCS[name](*(self.eval(a, run) for a in args))
         if name in AGGREGATES:
@@ -1307,7 +1313,7 @@ class _Context:
             # a reference, even to one cell or through a defined name, is read like a range:
             # text and booleans skipped
             ranges = [a[0] == "ref" or (a[0] == "name" and (self.name(a[1], run) or ("",))[0] == "ref")
-                      for a in args]
+                      or (a[0] == "fn" and a[1] == "ANCHORARRAY") for a in args]
             return AGGREGATES[name](vals, ranges)
         return _const("#NAME?", len(run.cols))
 
@@ -1316,6 +1322,47 @@ class _Context:
         if len(args) == 1:
             return _unary(fx.trunc)(self.eval(args[0], run))
         return _binary(fx.trunc)(self.eval(args[0], run), self.eval(args[1], run))
+
+    def spill(self, args, run: Run) -> Val:
+        """Excel 365's E1# (written _xlfn.ANCHORARRAY(E1)): the range an array formula at E1
+        fills; #REF! where E1 holds no array formula."""
+        if len(args) != 1 or args[0][0] != "ref" or args[0][1].is_range:
+            return _const("#REF!", len(run.cols))
+        ref = args[0][1]
+        sheet = ref.sheet or run.sheet
+        r = ref.r1 if ref.r1_abs else run.row + ref.r1
+        cols = [ref.c1] if ref.c1_abs else [c + ref.c1 for c in run.cols.tolist()]
+        ends = [self.arrays.get(sheet, {}).get((r, c)) for c in cols]
+        if any(e is None for e in ends) or len({(e[0] - r, e[1] - c) for e, c in zip(ends, cols)}) != 1:
+            return _const("#REF!", len(run.cols))
+        (r2, c2), c = ends[0], cols[0]
+        block = Ref(sheet, r, c if ref.c1_abs else c - int(run.cols[0]), r2,
+                    c2 if ref.c1_abs else c2 - int(run.cols[0]), True, ref.c1_abs, True, ref.c1_abs)
+        return self.ref(block, run)
+
+    def single(self, args, run: Run) -> Val:
+        """Excel 365's @ (written _xlfn.SINGLE(...)), implicit intersection: of a range, the
+        cell in the formula's row (a column range) or column (a row range); of an array, its
+        first element; #VALUE! where the formula's row or column misses the range."""
+        if len(args) != 1:
+            return _const("#VALUE!", len(run.cols))
+        v = self.eval(args[0], run)
+        k0, R, C = v.shape
+        k = len(run.cols)
+        if (R, C) == (1, 1):
+            return v
+        if args[0][0] != "ref":
+            return Val(v.num[:, :1, :1], v.tag[:, :1, :1], None if v.txt is None else v.txt[:, :1, :1])
+        r1, _, c1, _ = _target_block(run, args[0][1])
+        i = np.full(k, run.row - r1) if R > 1 else np.zeros(k, np.int64)
+        j = (run.cols - c1) if C > 1 else np.zeros(k, np.int64)
+        bad = (i < 0) | (i >= R) | (j < 0) | (j >= C)
+        i, j = np.where(bad, 0, i), np.where(bad, 0, j)
+        cells = np.arange(k) if k0 == k else np.zeros(k, np.int64)
+        pick = (cells, i, j)
+        out = Val(v.num[pick].reshape(k, 1, 1), v.tag[pick].reshape(k, 1, 1).astype(np.int8),
+                  None if v.txt is None else np.asarray(v.txt)[pick].reshape(k, 1, 1))
+        return _with_error(out, np.where(bad, VALUE, 0).astype(np.int8).reshape(k, 1, 1))
 
     def choose(self, args, run: Run) -> Val:
         """CHOOSE(i, v1, v2, ...): the i-th value (per cell of the run)."""
