@@ -42,6 +42,13 @@ class Sheet:
     arrays: dict = field(default_factory=dict)
     names: dict = field(default_factory=dict)     # names scoped to this sheet (localSheetId)
 
+    def computed(self, r: int, c: int) -> bool:
+        """Whether the cell's value comes from a formula: its own, or an array formula's
+        whose range holds it (a spilled cell), as opposed to a typed value."""
+        if (r, c) in self.formulas:
+            return True
+        return any(r0 <= r <= r2 and c0 <= c <= c2 for (r0, c0), (r2, c2) in self.arrays.items())
+
 
 
 def _read_sheet(pkg, name: str, part: str, state: str, shared: list[str], limits: Limits) -> Sheet:

@@ -617,3 +617,23 @@ def test_readme_value_example_holds():
         args = ast.literal_eval(f"({m.group(1)})")
         assert book.value(*args) == ast.literal_eval(m.group(2)), m.group(0)
     assert repr(book.order) in block
+
+
+def test_fourbar_row_as_one_array_formula_grades_correct(tmp_path):
+    """A student who fills row Fi with ONE array formula over E30:Q30 (its other cells hold
+    no formula in the file) is graded correct, and the row counts as formulas, not typed."""
+    from openpyxl.worksheet.formula import ArrayFormula
+    wb = openpyxl.load_workbook(ROOT / "workbooks" / "fourbar.xlsx")
+    ws = wb.worksheets[0]
+    row = next(r for r in range(1, ws.max_row + 1) if ws.cell(r, 1).value == "Fi")
+    last = max(c for c in range(5, ws.max_column + 1) if ws.cell(row, c).value is not None)
+    span = f"E{row}:{get_column_letter(last)}{row}"
+    for c in range(5, last + 1):
+        ws.cell(row, c).value = None
+    ws[f"E{row}"] = ArrayFormula(span, f"=RADIANS($D$18)+E28:{get_column_letter(last)}28*$D$22")
+    wb.save(tmp_path / "array_row.xlsx")
+    report = validate(tmp_path / "array_row.xlsx")
+    assert report.error is None, report.error
+    assert all(r.status == "correct" for r in report.rows), [r.name for r in report.rows if r.status != "correct"]
+    fi = next(r for r in report.rows if r.name == "Fi")
+    assert fi.source == "formula"
