@@ -149,7 +149,7 @@ def _read_tree(pkg, root, name: str, part: str, state: str, shared: list[str], l
                 sh.cached[(row, col)] = value
         elif value is not None:
             sh.consts[(row, col)] = value
-    return _finish(sh)
+    return _finish(sh, pkg, limits)
 
 
 def _array_end(ref: str | None, row: int, col: int) -> tuple[int, int]:
@@ -163,11 +163,16 @@ def _array_end(ref: str | None, row: int, col: int) -> tuple[int, int]:
     return max(row, int(last[len(letters):])), max(col, c)
 
 
-def _finish(sh: Sheet) -> Sheet:
+def _finish(sh: Sheet, pkg, limits: Limits) -> Sheet:
     """The cells of array ranges other than their anchors hold the anchor's values: what
     the spreadsheet saved there moves from the constants to the cached values (the
-    evaluator computes them), and stays out of the formulas."""
+    evaluator computes them), and stays out of the formulas. An array range counts as
+    cells that hold something: past the limits, the file is refused."""
     for (r, c), (r2, c2) in sh.arrays.items():
+        if r2 > limits.max_rows or c2 > limits.max_cols:
+            raise UnusableWorkbook(pkg.path, f"sheet '{sh.name}' has an array formula at "
+                                   f"{_LETTERS[c]}{r} over {_LETTERS[c]}{r}:{_LETTERS[c2]}{r2}",
+                                   f"at most {limits.max_rows} rows and {limits.max_cols} columns")
         if (r2 - r + 1) * (c2 - c + 1) <= len(sh.consts):
             cells = [(i, j) for i in range(r, r2 + 1) for j in range(c, c2 + 1)]
         else:
@@ -359,7 +364,7 @@ def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits
         else:
             consts[key] = value
     sh.formulas = formulas
-    return _finish(sh)
+    return _finish(sh, pkg, limits)
 
 
 def _value(t: bytes | None, v: bytes | None, inline: bytes | None, shared: list[str]):

@@ -637,3 +637,16 @@ def test_fourbar_row_as_one_array_formula_grades_correct(tmp_path):
     assert all(r.status == "correct" for r in report.rows), [r.name for r in report.rows if r.status != "correct"]
     fi = next(r for r in report.rows if r.name == "Fi")
     assert fi.source == "formula"
+
+
+def test_an_array_range_past_the_limits_is_refused(tmp_path):
+    """An array formula's range holds computed cells: past the row limit it is one line,
+    not a store of a million rows."""
+    from sheetkin.xlsxread import read_book
+    from sheetkin.xlsxsafe import UnusableWorkbook
+    xml = rf.sheet_xml([cell("A1", 1), cell("B1", 0, "A1*2", ' t="array" ref="B1:B1048576"')])
+    path = rf.xlsx(tmp_path / "big_array.xlsx", [("Calc", xml)])
+    with pytest.raises(UnusableWorkbook) as info:
+        read_book(path)
+    msg = str(info.value)
+    assert msg.startswith(str(path)) and "B1:B1048576" in msg and "at most 100000 rows" in msg
