@@ -522,6 +522,8 @@ def test_opendocument_spreadsheet_is_converted(lo, tmp_path, soffice):
     assert (ods.read_bytes(), ods.stat().st_mtime_ns) == before
     assert sorted(p.name for p in folder.iterdir()) == ["student.ods"]
     assert ours.path == str(ods)
+    from sheetkin.cli import main
+    assert main(["evaluate", str(ods), "--format", "csv"]) == 0
     for key, v in b.expected.items():
         assert agrees(ours.value(*_split(key)), v), key
         assert agrees(ours.value(*_split(key)), ref.value(*_split(key))), key
