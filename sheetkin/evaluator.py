@@ -490,7 +490,7 @@ AGGREGATES = {
     "SUMSQ": _agg_sumsq, "PRODUCT": _agg_product,
 }
 SPECIAL = {"IF", "IFERROR", "NOT", "PI", "ISNUMBER", "ISERROR", "ISTEXT", "TRUE", "FALSE", "TRUNC",
-           "INDEX", "CHOOSE", "ANCHORARRAY", "SINGLE"}
+           "INDEX", "CHOOSE", "ANCHORARRAY", "SINGLE", *fx.ROUNDING}
 SUPPORTED = sorted(set(SCALAR_FUNCS) | set(AGGREGATES) | SPECIAL)
 
 
@@ -1308,6 +1308,8 @@ class _Context:
             return self.index(args, run)
         if name == "CHOOSE":
             return self.choose(args, run)
+        if name in fx.ROUNDING:
+            return self.rounding(name, args, run)
         if name == "ANCHORARRAY":
             return self.spill(args, run)
         if name == "SINGLE":
@@ -1328,6 +1330,18 @@ class _Context:
         if len(args) == 1:
             return _unary(fx.trunc)(self.eval(args[0], run))
         return _binary(fx.trunc)(self.eval(args[0], run), self.eval(args[1], run))
+
+    def rounding(self, name: str, args, run: Run) -> Val:
+        """FLOOR.MATH and kin: a number, then optional arguments with defaults."""
+        fn, defaults = fx.ROUNDING[name]
+        if not 1 <= len(args) <= fx.ROUNDING_ARITY[name]:
+            return _const("#VALUE!", len(run.cols))
+        vals = [self.eval(a, run) if a[0] != "missing" else _const(0.0) for a in args]
+        vals += [_const(d) for d in defaults[len(args) - 1:]]
+        nums, errs = zip(*(_to_number(v) for v in vals))
+        with np.errstate(all="ignore"):
+            r = fn(*np.broadcast_arrays(*nums))
+        return _result(r, _error_of(*errs))
 
     def spill(self, args, run: Run) -> Val:
         """Excel 365's E1# (written _xlfn.ANCHORARRAY(E1)): the range an array formula at E1

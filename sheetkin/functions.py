@@ -68,6 +68,34 @@ def ceiling(x, s):
         return np.where(s == 0, 0.0, np.ceil(_approx(x / s)) * s)
 
 
+def floor_math(x, s, mode):
+    """FLOOR.MATH(x, [s=1], [mode=0]) (also FLOOR.PRECISE): down to a multiple of |s|; a
+    negative x goes toward zero when mode is not 0. s = 0 gives 0. LibreOffice writes its
+    own FLOOR(x; s) to .xlsx as this function."""
+    s = np.abs(s)
+    with np.errstate(all="ignore"):
+        q = _approx(x / s)
+        r = np.where((x < 0) & (mode != 0), np.ceil(q), np.floor(q)) * s
+    return np.where(s == 0, 0.0, r)
+
+
+def ceiling_math(x, s, mode):
+    """CEILING.MATH(x, [s=1], [mode=0]) (also CEILING.PRECISE, ISO.CEILING): up to a
+    multiple of |s|; a negative x goes away from zero when mode is not 0. s = 0 gives 0."""
+    s = np.abs(s)
+    with np.errstate(all="ignore"):
+        q = _approx(x / s)
+        r = np.where((x < 0) & (mode != 0), np.floor(q), np.ceil(q)) * s
+    return np.where(s == 0, 0.0, r)
+
+
+# the rounding functions with optional arguments: (kernel, defaults of the optional ones)
+ROUNDING = {"FLOOR.MATH": (floor_math, (1.0, 0.0)), "FLOOR.PRECISE": (floor_math, (1.0, 0.0)),
+            "CEILING.MATH": (ceiling_math, (1.0, 0.0)), "CEILING.PRECISE": (ceiling_math, (1.0, 0.0)),
+            "ISO.CEILING": (ceiling_math, (1.0, 0.0))}
+ROUNDING_ARITY = {"FLOOR.MATH": 3, "CEILING.MATH": 3, "FLOOR.PRECISE": 2, "CEILING.PRECISE": 2, "ISO.CEILING": 2}
+
+
 # ---------------------------------------------------------------- aggregates
 def sumsq(n: np.ndarray, use: np.ndarray) -> np.ndarray:
     """SUMSQ over (k, n) values, per row, of the values in use."""
