@@ -345,6 +345,8 @@ def generated_formulas(seed: int = 11, count: int = 240) -> list[str]:
         lambda: f"COUNT({rng()})", lambda: f"MAX({rng()})", lambda: f"SUMSQ({x()},{rng()})",
         lambda: f"IF({x()}>{x()},TRUE(),FALSE())", lambda: f"AND(TRUE(),{x()}<{x()})",
         lambda: f"{x()}*gf+lk", lambda: f"SUM(ABS({rnd.choice(['A1:A5', 'B2:D2'])}))",
+        lambda: f"_xlfn.FLOOR.MATH({x()},{rnd.choice(['0.5', '2', '-2', x()])},{rnd.choice([0, 1])})",
+        lambda: f"_xlfn.CEILING.MATH({x()},{rnd.choice(['0.5', '2', '-2', x()])},{rnd.choice([0, 1])})",
     ]
     return [rnd.choice(makers)() for _ in range(count)]
 
