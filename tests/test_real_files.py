@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import math
 import random
-import shutil
 from dataclasses import dataclass, field
 from pathlib import Path
 
