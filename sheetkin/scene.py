@@ -7,18 +7,53 @@ point. Every mistake raises SceneError with one line: file, line, key, what was 
 """
 from __future__ import annotations
 
+import heapq
 import math
 import re
+import reprlib
 import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
+_repr = reprlib.Repr()
+_repr.maxlevel, _repr.maxlist, _repr.maxdict, _repr.maxstring, _repr.maxother = 3, 8, 8, 60, 60
+_repr.maxlong = 40
+
 GROUP_TYPES = ("RRR", "RRP", "RPR")
 NAME_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
+
+# Caps on what a scene may hold (README, "Scene files"); a file past them gets one line.
+# Magnitudes: a kinematic chain multiplies up to about six of its numbers (mass x length x
+# omega^2 x velocity ...), so 1e12 keeps every product far below float overflow (1e308)
+# while no real mechanism (metres, rad/s, kg) comes near it.
+MAX_MAGNITUDE = 1e12
+MAX_POSITIONS = 100_000_000      # compute: 1e8 crank positions (streamed output is linear)
+WORKBOOK_MAX_POSITIONS = 16_380  # Excel's 16,384 columns (XFD) less the label columns A-D
+MAX_DEPTH = 8                    # arrays/tables inside each other (a scene needs 3)
+MAX_SCENE_BYTES = 16_000_000     # a scene is a few KB; 20,000 [[point]]s are about 2 MB
+MAX_TEXT = 1000                  # characters of one string (a title, a name)
+MAX_MESSAGE = 300                # characters of a value shown in an error line
 
 
 class SceneError(ValueError):
     """A scene file that cannot be used; str() is one line naming file, line and key."""
+
+
+def one_line(text: object, limit: int = 2 * MAX_MESSAGE) -> str:
+    """`text` fit for a one-line message: control characters escaped (a quoted TOML key
+    or a path may hold a newline), cut to `limit` characters."""
+    s = str(text)
+    if not s.isprintable():
+        s = "".join(c if c.isprintable() else repr(c)[1:-1] for c in s)
+    return s if len(s) <= limit else s[:limit - 3] + "..."
+
+
+def _shown(value) -> str:
+    """repr of a scene value for a message, short (a 20,000-number array, a 400-digit
+    integer) and one line."""
+    if isinstance(value, int) and not isinstance(value, bool) and abs(value) > 10 ** 30:
+        return f"an integer of {len(str(abs(value)))} digits"
+    return one_line(_repr.repr(value), MAX_MESSAGE)
 
 
 @dataclass(frozen=True)
@@ -180,19 +215,34 @@ class _Locator:
 class _Ctx:
     """Where we are in the file, to build one-line errors."""
 
-    def __init__(self, source: str, loc: _Locator):
-        self.source, self.loc = source, loc
+    def __init__(self, source: str, loc: _Locator | str):
+        # the locator is built on the first error only (its line scan is most of the cost
+        # of a long valid file): `loc` may be the scene's text
+        self.source, self._loc = source, loc
+
+    @property
+    def loc(self) -> _Locator:
+        if isinstance(self._loc, str):
+            self._loc = _Locator(self._loc)
+        return self._loc
 
     def fail(self, where: str, table: str | None, index: int, key: str | None, msg: str):
         no = self.loc.line(table, index, key)
         pos = f"{self.source}:{no}" if no else self.source
         what = f"{where} key '{key}'" if key else where
-        raise SceneError(f"{pos}: {what}: {msg}")
+        raise SceneError(one_line(f"{pos}: {what}: {msg}"))
 
 
 def _type_name(v) -> str:
     return {bool: "a boolean", int: "an integer", float: "a number", str: "a string",
             list: "an array", dict: "a table"}.get(type(v), type(v).__name__)
+
+
+_CHECKS = {
+    "a number": lambda x: isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x),
+    "an integer": lambda x: isinstance(x, int) and not isinstance(x, bool),
+    "a string": lambda x: isinstance(x, str),
+}
 
 
 class _Table:
@@ -219,16 +269,10 @@ class _Table:
                 self.fail(key, f"missing; expected {kind}")
             return default
         v = self.data[key]
-        check = {
-            "a number": lambda x: isinstance(x, (int, float)) and not isinstance(x, bool)
-            and math.isfinite(x),
-            "an integer": lambda x: isinstance(x, int) and not isinstance(x, bool),
-            "a string": lambda x: isinstance(x, str),
-        }[kind]
-        if not check(v):
+        if not _CHECKS[kind](v):
             if isinstance(v, float) and not math.isfinite(v):
-                self.fail(key, f"expected a finite number, got {v!r}")
-            self.fail(key, f"expected {kind}, got {_type_name(v)} {v!r}")
+                self.fail(key, f"expected a finite number, got {_shown(v)}")
+            self.fail(key, f"expected {kind}, got {_type_name(v)} {_shown(v)}")
         return float(v) if kind == "a number" else v
 
     def positive(self, key):
@@ -240,7 +284,7 @@ class _Table:
     def name(self, key):
         v = self.get(key, "a string")
         if not NAME_RE.match(v):
-            self.fail(key, f"expected a name of letters, digits and _ starting with a letter, got {v!r}")
+            self.fail(key, f"expected a name of letters, digits and _ starting with a letter, got {_shown(v)}")
         return v
 
     def array(self, key, n, kind):
@@ -248,13 +292,13 @@ class _Table:
         if v is ...:
             self.fail(key, f"missing; expected an array of {n} {kind}s")
         if not isinstance(v, list) or len(v) != n:
-            self.fail(key, f"expected an array of {n} {kind}s, got {v!r}")
+            self.fail(key, f"expected an array of {n} {kind}s, got {_shown(v)}")
         ok = {"number": lambda x: isinstance(x, (int, float)) and not isinstance(x, bool)
               and math.isfinite(x),
               "name": lambda x: isinstance(x, str) and bool(NAME_RE.match(x)),
               "integer": lambda x: isinstance(x, int) and not isinstance(x, bool)}[kind]
         if not all(ok(x) for x in v):
-            self.fail(key, f"expected an array of {n} {kind}s, got {v!r}")
+            self.fail(key, f"expected an array of {n} {kind}s, got {_shown(v)}")
         return tuple(float(x) for x in v) if kind == "number" else tuple(v)
 
 
@@ -265,19 +309,25 @@ def load_scene(path: str | Path) -> Scene:
     try:
         text = path.read_text(encoding="utf-8-sig")   # tolerate Notepad's byte-order mark
     except FileNotFoundError:
-        raise SceneError(f"{path}: no such file") from None
+        raise SceneError(one_line(f"{path}: no such file")) from None
     except IsADirectoryError:
-        raise SceneError(f"{path}: is a directory, expected a scene .toml file") from None
+        raise SceneError(one_line(f"{path}: is a directory, expected a scene .toml file")) from None
     except UnicodeDecodeError:
-        raise SceneError(f"{path}: not a UTF-8 text file, expected a scene .toml file") from None
+        raise SceneError(one_line(f"{path}: not a UTF-8 text file, expected a scene .toml file")) from None
     except OSError as e:
-        raise SceneError(f"{path}: cannot read: {e.strerror}") from None
+        raise SceneError(one_line(f"{path}: cannot read: {e.strerror}")) from None
+    if len(text) > MAX_SCENE_BYTES:
+        raise SceneError(one_line(f"{path}: {len(text):,} characters; a scene file may hold at most "
+                                  f"{MAX_SCENE_BYTES:,} (a scene is a few KB)"))
     return parse_scene(text, str(path))
 
 
-def parse_scene(text: str, source: str = "<scene>") -> Scene:
+def load_toml(text: str, source: str = "<scene>") -> dict:
+    """tomllib.loads, with every failure one SceneError line: invalid TOML (with its line),
+    an integer too long to read, or arrays/inline tables nested past Python's recursion
+    limit (tomllib recurses once per level)."""
     try:
-        data = tomllib.loads(text)
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as e:
         m = re.search(r"\(at line (\d+), column (\d+)\)", str(e))
         msg = re.sub(r"\s*\(at line \d+, column \d+\)", "", str(e))
@@ -287,9 +337,82 @@ def parse_scene(text: str, source: str = "<scene>") -> Scene:
             line = text.splitlines()[int(m.group(1)) - 1]
             k = re.match(r"^\s*\[*\s*([A-Za-z0-9_.\"-]+)", line)
             if k:
-                raise SceneError(f"{where}: key '{k.group(1)}' is defined twice (not valid TOML)") from None
-        raise SceneError(f"{where}: not valid TOML: {msg}") from None
-    ctx = _Ctx(source, _Locator(text))
+                raise SceneError(one_line(f"{where}: key '{k.group(1)}' is defined twice (not valid TOML)")) from None
+        raise SceneError(one_line(f"{where}: not valid TOML: {msg}")) from None
+    except RecursionError:
+        raise SceneError(one_line(f"{source}: arrays or inline tables nested too deep to read; a scene "
+                                  f"nests at most {MAX_DEPTH} levels")) from None
+    except ValueError as e:
+        # int() of more than 4300 digits (sys.get_int_max_str_digits)
+        m = re.search(r"[0-9_]{1000,}", text)
+        where = f"{source}:{text.count(chr(10), 0, m.start()) + 1}" if m else source
+        raise SceneError(one_line(f"{where}: a number of thousands of digits; numbers in a scene are "
+                                  f"at most {MAX_MAGNITUDE:g} in magnitude ({e})", MAX_MESSAGE)) from None
+
+
+def _check_values(ctx: _Ctx, data: dict) -> None:
+    """Every value of the document, whatever its key: finite, |x| <= MAX_MAGNITUDE, text
+    without control characters, at most MAX_TEXT characters, nesting at most MAX_DEPTH.
+    Iterative, so no document reaches the recursion limit; runs before the typed getters,
+    which can then convert any number to float (a 400-digit integer would raise
+    OverflowError). One pass, a few type tests per value (20,000 [[point]]s: 0.1 s)."""
+    big = MAX_MAGNITUDE
+    stack = [(data, ())]
+    while stack:
+        node, path = stack.pop()
+        for k, v in (node.items() if type(node) is dict else enumerate(node)):
+            t = type(v)
+            if t is float or t is int:
+                if -big <= v <= big:            # False for NaN
+                    continue
+                if t is float and not math.isfinite(v):
+                    bad = f"expected a finite number, got {v!r}"
+                else:
+                    bad = (f"{_shown(v)} is too large: numbers in a scene are at most {big:g} in "
+                           "magnitude (metres, degrees, rad/s, kg, N)")
+            elif t is str:
+                if len(v) <= MAX_TEXT and (v.isprintable() or not _CONTROL_RE.search(v)):
+                    continue
+                if len(v) > MAX_TEXT:
+                    bad = f"text of {len(v):,} characters; expected at most {MAX_TEXT:,}"
+                else:
+                    bad = (f"text with a control character ({_CONTROL_RE.search(v).group()!r}) in "
+                           f"{_shown(v)}; expected one line of printable text")
+            elif t is dict or t is list:
+                if len(path) + 1 >= MAX_DEPTH:
+                    bad = f"nested deeper than {MAX_DEPTH} levels of arrays and tables"
+                else:
+                    if t is dict:
+                        for key in v:
+                            if not key.isprintable() and _CONTROL_RE.search(key):
+                                _fail_at(ctx, data, path + (k, key), "a key with a control character")
+                    stack.append((v, path + (k,)))
+                    continue
+            else:                   # booleans, dates: the typed getters say what they expected
+                continue
+            _fail_at(ctx, data, path + (k,), bad)
+
+
+_CONTROL_RE = re.compile(r"[\x00-\x08\x0a-\x1f\x7f-\x9f\u2028\u2029]")   # tab is allowed
+
+
+def _fail_at(ctx: _Ctx, data: dict, path: tuple, msg: str):
+    """SceneError at a value's path in the document: [table] key, [[table]] #i key, or a
+    top-level key, located as the typed getters locate theirs."""
+    head = path[0]
+    keys = [k for k in path[1:] if isinstance(k, str)]
+    top = data.get(head)
+    if len(path) > 2 and isinstance(top, list) and isinstance(path[1], int) and isinstance(top[path[1]], dict):
+        ctx.fail(f"[[{head}]] #{path[1] + 1}", head, path[1], ".".join(map(str, path[2:3] + tuple(keys[1:2]))), msg)
+    if len(path) > 1 and isinstance(top, dict):
+        ctx.fail(f"[{head}]", head, 0, ".".join(keys[:2]), msg)
+    ctx.fail("scene", None, 0, head, msg)
+
+
+def parse_scene(text: str, source: str = "<scene>") -> Scene:
+    data = load_toml(text, source)
+    ctx = _Ctx(source, text)
+    _check_values(ctx, data)
     top = _Table(ctx, data, "scene", None)
     top.check_keys(["title", "author", "frame", "crank", "group", "point", "gravity", "mass",
                     "force", "synthesis"])
@@ -347,10 +470,15 @@ def _parse_crank(ctx, data, frame, define):
     joint = tbl.name("joint")
     define(tbl, "joint", joint, "the crank's joint")
     positions = tbl.get("positions", "an integer", 13)
-    if positions < 1:
-        tbl.fail("positions", f"expected an integer >= 1, got {positions}")
+    if not 1 <= positions <= MAX_POSITIONS:
+        tbl.fail("positions", f"expected an integer >= 1 and at most {MAX_POSITIONS:,} (the compute cap; a "
+                              f"workbook holds at most {WORKBOOK_MAX_POSITIONS:,}), got {positions:,}")
+    step = tbl.get("step_deg", "a number", 30.0)
+    if step == 0 and positions > 1:
+        tbl.fail("step_deg", f"expected a nonzero step: with step 0 all {positions} positions are "
+                             "the same crank angle (use positions = 1 for one angle)")
     return Crank(pivot, joint, tbl.positive("length"), tbl.get("phi0_deg", "a number", 0.0),
-                 tbl.get("step_deg", "a number", 30.0), positions, tbl.get("omega", "a number"),
+                 step, positions, tbl.get("omega", "a number"),
                  tbl.get("epsilon", "a number", 0.0))
 
 
@@ -536,37 +664,56 @@ def _make_plan(ctx, frame, crank, groups, points):
     """
     on_link = link_joints(crank, groups)
     n_links = 1 + 2 * len(groups)
+    on_link_set = {k: set(v) for k, v in on_link.items()}
+    names_on = {}                    # link -> names of the points on it
+    for p in points:
+        names_on.setdefault(p.link, set()).add(p.name)
     for i, p in enumerate(points):
         if not 1 <= p.link <= n_links:
             ctx.fail(f"[[point]] #{i + 1}", "point", i, "link",
                      f"expected a moving link 1..{n_links}, got {p.link}")
         # checked before placement, so a bad `from` is blamed on the point, not on a
         # group that needs the point
-        allowed = on_link[p.link] + [q.name for q in points if q.link == p.link and q is not p]
         # (a point that its own link's group uses as a joint is circular: the group's
         # `joints` is the mistake, reported during placement below)
-        if p.origin not in allowed and p.name not in on_link[p.link]:
+        if not (p.origin in on_link_set[p.link] or (p.origin in names_on[p.link] and p.origin != p.name)
+                or p.name in on_link_set[p.link]):
+            allowed = on_link[p.link] + [q.name for q in points if q.link == p.link and q is not p]
             ctx.fail(f"[[point]] #{i + 1}", "point", i, "from",
                      f"expected a joint or point of link {p.link} ({', '.join(allowed)}), got '{p.origin}'")
     known = set(frame) | {crank.joint}
-    placed_links = {1}
     plan: list[tuple[str, object]] = [("crank", crank)]
-    pending = list(enumerate(points))
+    # Points go in the order of repeated passes over the file's points (a point whose
+    # `from` was placed earlier in the same pass goes in that pass, else in the next).
+    # Emulated with a heap of (pass, index) and, per (link, name), the points waiting
+    # for that name: linear in the number of points, as 20,000 of them must parse in
+    # well under a second (the passes themselves were quadratic).
+    waiting: dict[tuple[int, str], list[int]] = {}
+    by_link: dict[int, list[int]] = {}
+    for i, p in enumerate(points):
+        waiting.setdefault((p.link, p.origin), []).append(i)
+        by_link.setdefault(p.link, []).append(i)
+    placed = [False] * len(points)
 
-    def place_points():
-        progress = True
-        while progress:
-            progress = False
-            for item in list(pending):
-                i, p = item
-                if p.link in placed_links and p.origin in on_link[p.link]:
-                    plan.append(("point", p))
-                    known.add(p.name)
-                    on_link[p.link].append(p.name)
-                    pending.remove(item)
-                    progress = True
+    def place_points(new_links):
+        heap = [(1, i) for k in new_links for i in by_link.get(k, ())
+                if points[i].origin in on_link_set[k]]
+        heapq.heapify(heap)
+        while heap:
+            pass_no, i = heapq.heappop(heap)
+            p = points[i]
+            if placed[i]:
+                continue
+            placed[i] = True
+            plan.append(("point", p))
+            known.add(p.name)
+            on_link[p.link].append(p.name)
+            on_link_set[p.link].add(p.name)
+            for j in waiting.get((p.link, p.name), ()):
+                if not placed[j]:
+                    heapq.heappush(heap, (pass_no if j > i else pass_no + 1, j))
 
-    place_points()
+    place_points([1])
     for g in groups:
         inputs = [g.joints[0], g.joints[-1]] if g.type == "RRR" else (
             [g.joints[0]] if g.type == "RRP" else list(g.joints))
@@ -581,8 +728,8 @@ def _make_plan(ctx, frame, crank, groups, points):
         plan.append(("group", g))
         if g.new_joint:
             known.add(g.new_joint)
-        placed_links.update(g.links)
-        place_points()
+        place_points(g.links)
+    pending = [(i, p) for i, p in enumerate(points) if not placed[i]]
     for i, p in pending:   # only points measured from each other in a circle remain
         ctx.fail(f"[[point]] #{i + 1}", "point", i, "from",
                  f"'{p.origin}' is measured, directly or through other points, from '{p.name}' itself")
