@@ -736,6 +736,12 @@ def _make_plan(ctx, frame, crank, groups, points):
     return tuple(plan)
 
 
+def key_line(text: str, table: str | None, key: str) -> int | None:
+    """Line number of `key` in [table] of a scene's text (for messages about a valid
+    scene's values, e.g. a workbook's column cap)."""
+    return _Locator(text).line(table, 0, key)
+
+
 def override_crank(text: str, source: str = "<scene>", **values) -> tuple[str, Scene]:
     """The scene text with some [crank] keys replaced (positions, step_deg, phi0_deg ...),
     and the scene it parses to. The text is patched, not regenerated, so comments stay and
