@@ -22,7 +22,7 @@ import numpy as np
 
 from . import __version__
 from .compute import TOGGLE_THRESHOLD, AssemblyError, assembly_gaps, compute, unit
-from .scene import (MAX_POSITIONS, WORKBOOK_MAX_POSITIONS, SceneError, key_line, load_scene,
+from .scene import (MAX_MAGNITUDE, MAX_POSITIONS, WORKBOOK_MAX_POSITIONS, SceneError, key_line, load_scene,
                     one_line, override_crank)
 
 EXIT_INPUT, EXIT_ASSEMBLY = 2, 3
@@ -37,6 +37,8 @@ def _finite_float(text: str) -> float:
         raise argparse.ArgumentTypeError(f"expected a number of degrees, got {text!r}") from None
     if not math.isfinite(v):
         raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
+    if abs(v) > MAX_MAGNITUDE:      # the scene's cap on numbers (README, "Scene files")
+        raise argparse.ArgumentTypeError(f"expected a magnitude of at most {MAX_MAGNITUDE:g}, got {text!r}")
     return v
 
 
@@ -47,6 +49,8 @@ def _positive_int(text: str) -> int:
         raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
     if v < 1:
         raise argparse.ArgumentTypeError(f"expected a number >= 1, got {text!r}")
+    if v > MAX_POSITIONS:
+        raise argparse.ArgumentTypeError(f"expected at most {MAX_POSITIONS:,}, got {text!r}")
     return v
 
 

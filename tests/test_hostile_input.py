@@ -279,6 +279,14 @@ def test_negative_angle_in_exponent_notation(tmp_path, capsys, value):
     assert float(out.splitlines()[1].split(",")[0]) == float(value)
 
 
+@pytest.mark.parametrize("argv", [["--at", "1e300"], ["--at", "-1e13"], ["--at", "nan"], ["--at", "-inf"]])
+def test_option_numbers_have_the_scene_caps(tmp_path, capsys, argv):
+    path = tmp_path / "f.toml"
+    path.write_text(FOURBAR, encoding="utf-8")
+    code, out, err = run(capsys, "compute", path, *argv)
+    assert code == 2 and out == "" and "argument --at" in one_error_line(err)
+
+
 def test_negative_exponent_in_other_options(tmp_path, capsys):
     path = tmp_path / "f.toml"
     path.write_text(FOURBAR, encoding="utf-8")
