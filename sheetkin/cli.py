@@ -402,8 +402,6 @@ def check_workbook_positions(scene, text: str, path: str, from_option: bool) -> 
 def existing_fingerprint(path) -> dict:
     """fingerprint() of a workbook on disk, read through the input gate (xlsxsafe), as
     `validate` reads: `workbook --check` may meet any file under that name."""
-    import io
-
     from .workbook import fingerprint
     from .xlsxsafe import UnusableWorkbook, open_package
     pkg = open_package(path)
