@@ -333,7 +333,14 @@ def compute(scene: Scene | str | Path, at=None, *, analogs: bool = False, allow_
     if dynamics and not scene.has_dynamics:
         raise ValueError(f"{scene.source}: no [[mass]] or [[force]] tables, so there is nothing for "
                          "the dynamics to compute (see the README: masses, forces, gravity)")
-    phi = np.asarray(scene.crank_angles_deg() if at is None else at, dtype=float).reshape(-1)
+    c = scene.crank
+    # refused before anything is allocated (touching 1e8 fresh angles alone takes seconds)
+    check_table_fits(scene, c.positions if at is None else np.size(at),
+                     len(table_names(scene, analogs, dynamics)))
+    # the scene's angles as crank_angles_deg() gives them (the same float operations), without
+    # a Python list: 1e8 positions would be 3 GB of float objects
+    phi = (c.phi0_deg + np.arange(c.positions, dtype=float) * c.step_deg if at is None else
+           np.asarray(at, dtype=float).reshape(-1))
     finite = np.ones(phi.size, dtype=bool)
     names, table, failed = solve_table(scene, phi, analogs=analogs, dynamics=dynamics, finite=finite)
     fail = failed.any(axis=0)
