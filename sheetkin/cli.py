@@ -2,8 +2,10 @@
 `sheetkin bench SCENE.toml --out DIR`, `sheetkin synth crank-rocker ...`, ...
 
 Exit codes: 0 done, 1 `workbook --check` found a stale or missing workbook, 2 unusable
-input (a scene mistake, a bad option), 3 the mechanism cannot be assembled at some
-requested position (the message gives the intervals).
+input (a scene mistake, a bad option) or unwritable output (a full disk, a closed pipe, an
+output option naming an input file), 3 the mechanism cannot be assembled at some
+requested position (the message gives the intervals), 70 a bug (one line asking to report
+it; SHEETKIN_DEBUG=1 shows the traceback).
 Every error is one line on stderr; no traceback reaches the user.
 """
 from __future__ import annotations
