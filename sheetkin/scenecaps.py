@@ -22,7 +22,8 @@ MAX_MAGNITUDE = 1e12
 MAX_POSITIONS = 100_000_000      # compute: 1e8 crank positions (streamed output is linear)
 WORKBOOK_MAX_POSITIONS = 16_380  # Excel's 16,384 columns (XFD) less the label columns A-D
 MAX_DEPTH = 8                    # arrays/tables inside each other (a scene needs 3)
-MAX_SCENE_BYTES = 16_000_000     # a scene is a few KB; 20,000 [[point]]s are about 2 MB
+MAX_SCENE_BYTES = 8_000_000      # a scene is a few KB; 20,000 [[point]]s are about 2 MB
+MAX_LINE = 10_000                # characters of one line of the file
 MAX_TEXT = 1000                  # characters of one string (a title, a name)
 MAX_MESSAGE = 300                # characters of a value shown in an error line
 
@@ -56,10 +57,20 @@ _REPR.maxlevel, _REPR.maxlist, _REPR.maxdict, _REPR.maxstring, _REPR.maxother = 
 _REPR.maxlong = 40
 
 
+_LONG_LINE = re.compile(r"^[^\n]{%d}" % (MAX_LINE + 1), re.M)
+
+
 def load_toml(text: str, source: str = "<scene>") -> dict:
     """tomllib.loads, with every failure one SceneError line: invalid TOML (with its line),
     an integer too long to read, or arrays/inline tables nested past Python's recursion
-    limit (tomllib recurses once per level)."""
+    limit (tomllib recurses once per level). Lines longer than MAX_LINE are refused first:
+    tomllib's time grows with the square of a dotted key's length (a header of 20,000
+    dotted parts takes seconds)."""
+    long_line = _LONG_LINE.search(text)
+    if long_line:
+        no = text.count("\n", 0, long_line.start()) + 1
+        raise SceneError(f"{one_line(source)}:{no}: a line of more than {MAX_LINE:,} characters; "
+                         "a scene's lines are short (split long arrays over several lines)")
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as e:
