@@ -412,16 +412,20 @@ def write_compute(scene: Scene, phi, fmt: str, output: str | None, *, analogs=Fa
             target.file.write(text.encode())
         else:
             writer = _Text(fmt, names, n_det, gaps, scene.title)
+            stream = blocks()
+            first = writer.rows(next(stream))     # a failure in the first block writes nothing
             target.file.write(writer.head())
-            for blk in blocks():
+            target.file.write(first)
+            del first
+            for blk in stream:
                 target.file.write(writer.rows(blk))
             warnings = notes.warnings(scene)
             target.file.write(writer.tail(warnings))
         target.commit()
     except BaseException as e:
         target.abandon()
-        if isinstance(e, OSError) and not isinstance(e, BrokenPipeError) and not e.filename:
+        if isinstance(e, OSError) and not isinstance(e, BrokenPipeError) and not e.filename and output:
             # a write error (a full disk) has no file name of its own: name the output
-            raise OSError(e.errno, e.strerror or str(e), output or "<stdout>") from None
+            raise OSError(e.errno, e.strerror or str(e), output) from None
         raise
     return warnings
