@@ -56,6 +56,10 @@ max_rows           100,000      rows of one worksheet (its <dimension ref>, or c
                                 the caller while reading cells: `check_dimension`)
 max_cols           4,000        columns of one worksheet (likewise; LibreOffice's whole
                                 width is 1024, Excel's 16384)
+max_used_cells     10,000,000   the evaluator's cells: rows x columns from A1 to the last
+                                cell that holds something, all sheets together
+max_reads          400,000,000  cells the evaluator reads for all formulas together (a
+                                range clipped to the used range; its time is about this)
 =================  ===========  ============================================================
 """
 from __future__ import annotations
@@ -113,6 +117,8 @@ class Limits:
     max_parts: int = 2000
     max_rows: int = 100_000
     max_cols: int = 4_000
+    max_used_cells: int = 10_000_000
+    max_reads: int = 400_000_000
 
     def __post_init__(self):
         for field, value in vars(self).items():
