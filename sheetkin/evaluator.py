@@ -22,6 +22,7 @@ shape (cells, rows, cols): (k, 1, 1) for one value per cell of a run, (k, R, C) 
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 import re
 from dataclasses import dataclass
@@ -572,6 +573,8 @@ def _cell(text: str, host_r: int, host_c: int):
 
 
 def _operand_ref(text: str, host_r: int, host_c: int, names: dict):
+    if text.upper().endswith("!#REF!"):     # Sheet1!#REF!: a reference to deleted cells
+        return ("const", "#REF!")
     sheet, ref = _split_sheet(text)
     parts = ref.split(":")
     if len(parts) > 2:
@@ -582,8 +585,6 @@ def _operand_ref(text: str, host_r: int, host_c: int, names: dict):
         return Ref(sheet, a[0], a[1], b[0], b[1], a[2], a[3], b[2], b[3])
     if sheet is None and len(parts) == 1 and ref.upper() in names:
         return ("name", ref.upper())
-    if ref.upper() == "#REF!":               # Sheet1!#REF!: a reference Excel found deleted
-        return ("const", "#REF!")
     if len(parts) == 2 or re.match(r"^\$?[A-Za-z]{1,3}$|^\$?\d+$", parts[0]):
         raise ParseError(f"whole-row or whole-column references are not supported ({text})")
     return ("name", ref.upper())
@@ -1097,8 +1098,7 @@ def _chunks(run: Run, dims: dict, name_refs: dict) -> list[Run]:
     step = max(1, CHUNK_READS // max(per_cell, 1))
     if step >= k:
         return [run]
-    return [Run(run.sheet, run.row, run.cols[i:i + step], run.formula, run.tree, run.error, run.refs)
-            for i in range(0, k, step)]
+    return [dataclasses.replace(run, cols=run.cols[i:i + step]) for i in range(0, k, step)]
 
 
 def evaluate(path: str | Path, *, strict: bool = True, limits: Limits = Limits()) -> Book:
@@ -1133,9 +1133,8 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
         else:
             problems.extend(_run_notes(run, sheets, name_refs, name_notes))
     for n, sh in sheets.items():
-        for (r, c), si in getattr(sh, "dangling", {}).items():
-            problems.append(f"{n}!{get_column_letter(c)}{r}: a shared formula (si={_show(si, 20)}) whose "
-                            "first cell, which holds its text, is missing: #N/A")
+        for (r, c), what in getattr(sh, "dangling", {}).items():
+            problems.append(f"{n}!{get_column_letter(c)}{r}: {what}: #N/A")
     if problems and strict:
         raise EvaluationError(f"{path}: " + "; ".join(problems[:10]) +
                               (f" (and {len(problems) - 10} more)" if len(problems) > 10 else ""))

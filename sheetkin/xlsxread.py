@@ -35,6 +35,7 @@ class Sheet:
     cached: dict = field(default_factory=dict)    # (r, c) -> cached value of a formula cell
     max_row: int = 0
     max_col: int = 0
+    dangling: dict = field(default_factory=dict)  # (r, c) -> why a shared formula's cell has no text
 
 
 
@@ -62,6 +63,7 @@ def _read_tree(pkg, root, name: str, part: str, state: str, shared: list[str], l
     ns = root.tag[:root.tag.index("}") + 1] if root.tag.startswith("{") else ""
     shared_f: dict[str, _Shared] = {}
     f_tag, v_tag, is_tag, t_tag = f"{ns}f", f"{ns}v", f"{ns}is", f"{ns}t"
+    pending: list = []                     # shared-formula cells met before their master
     col_of = _COLUMN_INDEX
     for c in root.iter(f"{ns}c"):
         ref = c.get("r") or ""
@@ -112,7 +114,12 @@ def _read_tree(pkg, root, name: str, part: str, state: str, shared: list[str], l
                 if text:
                     shared_f[si] = _Shared(text, row, col)
                 elif si in shared_f:
-                    text = shared_f[si].at(row, col)
+                    text = _shifted(sh, shared_f[si], row, col, si)
+                else:
+                    pending.append((row, col, si))
+                    if value is not None:
+                        sh.cached[(row, col)] = value
+                    continue
             if text:
                 sh.formulas[(row, col)] = text
                 if value is not None:
@@ -120,7 +127,30 @@ def _read_tree(pkg, root, name: str, part: str, state: str, shared: list[str], l
                 continue
         if value is not None:
             sh.consts[(row, col)] = value
+    _resolve_pending(sh, pending, shared_f)
     return sh
+
+
+def _shifted(sh: Sheet, master: "_Shared", row: int, col: int, si) -> str | None:
+    """A shared formula's text at (row, col), or None and the cell marked dangling when
+    the master's text cannot be shifted (openpyxl's translator refuses it)."""
+    try:
+        return master.at(row, col)
+    except Exception as e:      # noqa: BLE001 - the cell's problem: evaluated as #N/A with a note
+        sh.dangling[(row, col)] = f"a shared formula (si={str(si)[:20]}) whose text cannot be shifted ({type(e).__name__})"
+        return None
+
+
+def _resolve_pending(sh: Sheet, pending: list, masters: dict) -> None:
+    """Shared-formula cells listed before their master get its text now; those whose
+    master is missing are dangling (the evaluator gives them #N/A and a note, never the
+    value the file cached)."""
+    for row, col, si in pending:
+        text = _shifted(sh, masters[si], row, col, si) if si in masters else None
+        if text:
+            sh.formulas[(row, col)] = text
+        elif (row, col) not in sh.dangling:
+            sh.dangling[(row, col)] = f"a shared formula (si={str(si)[:20]}) without its first cell, which holds the text"
 
 
 # ----------------------------------------------------------------- the fast path: one regex
@@ -255,17 +285,23 @@ def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits
         # shared formulas (Excel, LibreOffice): the first cell <f t="shared" si=".."> has the
         # text, the block's other cells <f t="shared" si=".."/> are shifted from it
         masters: dict = {}
+        pending: list = []
         for i in compress(range(len(keys)), fattrs):
             if not _SHARED.search(fattrs[i]):
                 continue
             si = _SI.search(fattrs[i])
-            si = si.group(1) if si else None
+            si = si.group(1).decode("utf-8", "replace") if si else None
             if ftexts[i]:
                 masters[si] = _Shared(formulas[keys[i]], rows[i], cols[i])
             elif si in masters:
-                text = masters[si].at(rows[i], cols[i])
+                text = _shifted(sh, masters[si], rows[i], cols[i], si)
                 if text:
                     formulas[keys[i]] = text
+            else:
+                pending.append((rows[i], cols[i], si))
+        if pending:
+            sh.formulas = formulas
+            _resolve_pending(sh, pending, masters)
         formulas = {key: formulas[key] for key in keys if key in formulas}     # document order
     # values: constants, and the values saved for formula cells
     with_value = compress(range(len(keys)), vtexts)
@@ -281,7 +317,7 @@ def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits
             if value is None:
                 continue
         key = keys[i]
-        if key in formulas:
+        if key in formulas or key in sh.dangling:
             cached[key] = value
         else:
             consts[key] = value
