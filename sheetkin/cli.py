@@ -401,10 +401,10 @@ def _evaluate_one_line(evaluate, path):
     except (ValueError, OSError) as e:
         if isinstance(e, OSError) or type(e).__module__.startswith("sheetkin."):
             raise
-        raise EvaluationError(f"{path}: cannot be evaluated ({type(e).__name__}: {e}); "
+        raise EvaluationError(f"{path}: cannot be evaluated ({type(e).__name__}: {' '.join(str(e).split())[:200]}); "
                               "please report this file to sheetkin's authors") from None
     except Exception as e:      # noqa: BLE001 - RecursionError, MemoryError, a bug: one line, exit 2
-        raise EvaluationError(f"{path}: cannot be evaluated ({type(e).__name__}: {e}); "
+        raise EvaluationError(f"{path}: cannot be evaluated ({type(e).__name__}: {' '.join(str(e).split())[:200]}); "
                               "please report this file to sheetkin's authors") from None
 
 
