@@ -697,7 +697,8 @@ def parse_formula(formula: str, host_r: int, host_c: int, names: dict):
             return postfix(node)
         if t.type == Token.OPERAND:
             if t.subtype == Token.NUMBER:
-                node = ("const", float(t.value))
+                x = float(t.value)
+                node = ("const", x if math.isfinite(x) else "#NUM!")   # =1e999: past the largest double
             elif t.subtype == Token.TEXT:
                 node = ("const", t.value[1:-1].replace('""', '"'))
             elif t.subtype == Token.LOGICAL:
