@@ -1088,6 +1088,16 @@ def _check_reads(path: str, runs: list[Run], dims: dict, name_refs: dict, limits
                                    f"expected at most {limits.max_reads:,} (sheetkin's limit for a workbook)")
 
 
+def _check_formula_text(path: str, runs: list[Run], limits: Limits) -> None:
+    """Refuse (one line) a workbook with more formula text to parse than
+    limits.max_formula_chars (a run's formula counts once)."""
+    total = sum(len(run.formula) for run in runs)
+    if total > limits.max_formula_chars:
+        raise UnusableWorkbook(path, f"its formulas hold {total:,} characters of text to read (each formula "
+                               "once, a row of cells filled from a neighbour once)",
+                               f"expected at most {limits.max_formula_chars:,} (sheetkin's limit for a workbook)")
+
+
 def _chunks(run: Run, dims: dict, name_refs: dict) -> list[Run]:
     """A run in pieces small enough that its relative ranges, read for every cell at once,
     stay below CHUNK_READS cells (a row of =SUM(A1:A100000) filled right is read 1000
@@ -1117,6 +1127,7 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
     for sh in sheets.values():
         runs.extend(_group_runs(sh))
     # parse each run once (its first cell)
+    _check_formula_text(path, runs, limits)
     name_refs, name_notes = {}, {}
     for n, text in names.items():
         try:
