@@ -1,6 +1,6 @@
 """Peak memory and time of the evaluator on a workbook at sheetkin's input limits.
 
-    python benchmarks/evaluator_memory.py [--out DIR] [--keep] [--parts data,formulas,distinct,runs]
+    python benchmarks/evaluator_memory.py [--out DIR] [--keep] [--parts distinct,runs,notes]
 
 Run on demand, not by the tests. Builds (XML written directly, no openpyxl) one workbook
 that sits at the documented limits of xlsxsafe.Limits and the evaluator (README, "What
@@ -20,7 +20,9 @@ max_ratio; used ranges below max_used_cells together; reads below max_reads):
   (=SUM(Data!A$1:A$2300)...: read in pieces, CHUNK_READS), absolute ranges over the whole
   Data block (=SUM(Data!$A$1:$ALL${DATA_ROWS})...), whole-grid ranges clipped to the used range
   ($A$1:$XFD$1048576), until the formulas read about max_reads cells; and one constant
-  at Runs!A2000, so that the used ranges come near max_used_cells.
+  at Runs!A2000, so that the used ranges come near max_used_cells;
+* Notes: 600 x 400 cells of random text, so that the file comes near max_file_bytes
+  (50 MB) and the cells near max_cells.
 
 In all about max_cells cells hold something.
 
@@ -51,6 +53,7 @@ RNS = "http://schemas.openxmlformats.org/officeDocument/2006/relationships"
 DATA_ROWS, DATA_COLS = 1400, 1000
 FAR_ROW = 2000                 # a constant at Runs!A2000: the used range 2000 x 4000
 RUN_COLS = 4000
+NOTES_ROWS, NOTES_COLS = 600, 400
 
 
 def _sheet(rows) -> bytes:
@@ -74,6 +77,13 @@ def data_sheet(rng: random.Random) -> bytes:
             return f"><v>{rng.random():.15f}</v>"
         return f' t="inlineStr"><is><t>{"".join(rng.choices(letters, k=40))}</t></is>'
     return _sheet((r, [(c, cell(c)) for c in range(1, DATA_COLS + 1)]) for r in range(1, DATA_ROWS + 1))
+
+
+def notes_sheet(rng: random.Random, rows: int, cols: int) -> bytes:
+    """Random text in every cell: brings the file near max_file_bytes and the cells near max_cells."""
+    letters = "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789"
+    return _sheet((r, [(c, f' t="inlineStr"><is><t>{"".join(rng.choices(letters, k=36))}</t></is>')
+                       for c in range(1, cols + 1)]) for r in range(1, rows + 1))
 
 
 def distinct_sheet(rng: random.Random, chars: int) -> tuple[bytes, int, int]:
@@ -132,6 +142,9 @@ def build(path: Path, parts: set[str], limits: Limits, seed: int = 1) -> dict:
         xml, nrows, reads = runs_sheet(int(limits.max_reads * 0.9))
         sheets.append(("Runs", xml))
         info.update(run_rows=nrows, run_cells=nrows * RUN_COLS, reads=reads)
+    if "notes" in parts:
+        sheets.append(("Notes", notes_sheet(rng, NOTES_ROWS, NOTES_COLS)))
+        info.update(notes_cells=NOTES_ROWS * NOTES_COLS)
     wb = (f'<?xml version="1.0" encoding="UTF-8" standalone="yes"?>\n<workbook xmlns="{NS}" xmlns:r="{RNS}"><sheets>'
           + "".join(f'<sheet name="{n}" sheetId="{i + 1}" r:id="rId{i + 1}"/>' for i, (n, _) in enumerate(sheets))
           + "</sheets></workbook>")
@@ -197,7 +210,7 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--out", metavar="DIR", help="write DIR/evaluator_memory.json")
     ap.add_argument("--keep", action="store_true", help="keep the workbook (printed path)")
-    ap.add_argument("--parts", default="distinct,runs", help="sheets besides Data (default distinct,runs)")
+    ap.add_argument("--parts", default="distinct,runs,notes", help="sheets besides Data (default distinct,runs,notes)")
     args = ap.parse_args(argv)
     limits = Limits()
     tmp = Path(tempfile.mkdtemp(prefix="sheetkin_mem_"))

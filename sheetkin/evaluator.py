@@ -1004,10 +1004,22 @@ def _run_notes(run: Run, sheets: dict, name_refs: dict, name_notes: dict) -> lis
     for n in dict.fromkeys(used):
         if n in name_notes:
             out.append(f"{run.where()}: {name_notes[n]}")
-    if used and _depth(run.tree, {n: _depth(t) for n, t in name_refs.items()}) > MAX_EVAL_DEPTH:
+    if used and _depth(run.tree, _name_depths(name_refs)) > MAX_EVAL_DEPTH:
         run.error = Note(f"nesting deeper than {MAX_EVAL_DEPTH} levels with its names", "#VALUE!")
         out.append(f"{run.where()}: {run.error}")
     return out
+
+
+_DEPTHS: dict = {}
+
+
+def _name_depths(name_refs: dict) -> dict:
+    """Each name's own depth (after _check_names, no name is deeper than MAX_EVAL_DEPTH),
+    kept for the last dict of names asked about."""
+    if _DEPTHS.get("of") is not name_refs:
+        _DEPTHS.clear()
+        _DEPTHS.update(of=name_refs, depths={n: _depth(t) for n, t in name_refs.items()})
+    return _DEPTHS["depths"]
 
 
 def _used_range(sh: Sheet) -> tuple[int, int]:

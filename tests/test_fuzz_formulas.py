@@ -21,8 +21,11 @@ hang, not a slow machine, is what it is there for). The counts of a run are in R
 """
 from __future__ import annotations
 
+import json
 import math
+import os
 from datetime import timedelta
+from pathlib import Path
 
 import numpy as np
 import openpyxl
@@ -89,6 +92,30 @@ garbage = st.lists(st.sampled_from(list("AB12$:!,;()[]{}\"'+-*/^&=<>%#? ~.eE") +
 formulas = st.one_of(expressions, expressions, expressions, nested, chains, garbage).map(lambda f: "=" + f)
 
 
+# what a run tried (README, "Reliability"): SHEETKIN_FUZZ_COUNTS=FILE writes them as JSON
+COUNTS = {"formulas tried": 0, "refused cleanly (an error and a note, or a ParseError)": 0,
+          "evaluated without a note": 0, "crashes": 0}
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _write_counts():
+    yield
+    if os.environ.get("SHEETKIN_FUZZ_COUNTS"):
+        Path(os.environ["SHEETKIN_FUZZ_COUNTS"]).write_text(json.dumps(COUNTS, indent=1) + "\n")
+
+
+def _count(n: int, refused: int) -> None:
+    COUNTS["formulas tried"] += n
+    COUNTS["refused cleanly (an error and a note, or a ParseError)"] += refused
+    COUNTS["evaluated without a note"] += n - refused
+
+
+def _refused(book, n: int, cols=(5, 6, 7)) -> int:
+    """Formulas (rows) of the book that have a note."""
+    noted = {note.split(":", 1)[0] for note in book.notes}
+    return sum(any(f"Calc!{get_column_letter(c)}{5 + i}" in noted for c in cols) for i in range(n))
+
+
 def _sheets(row_formulas: list[str]):
     """Calc: A1:C3 numbers, text and a boolean; the formulas in rows 5..., each also copied
     to the next two cells of its row (a run of three); Data: A1, C5."""
@@ -130,7 +157,9 @@ def test_parse_formula_gives_a_tree_or_a_parse_error(formula):
         tree = parse_formula(formula, 5, 5, {n.upper(): None for n in NAMES})
     except ParseError as e:
         assert str(e) and "\n" not in str(e)
+        _count(1, 1)
         return
+    _count(1, 0)
     assert isinstance(tree, tuple) and tree[0] in ("const", "ref", "name", "neg", "pct", "bin", "fn", "missing")
 
 
@@ -140,6 +169,7 @@ def test_evaluating_random_formulas_gives_values_or_notes(row_formulas):
     sheets = _sheets(row_formulas)
     book = evaluate_sheets("fuzz.xlsx", sheets, ["Calc", "Data"], dict(NAMES), strict=False)
     _check_book(book, len(row_formulas))
+    _count(len(row_formulas), _refused(book, len(row_formulas)))
     try:
         strict = evaluate_sheets("fuzz.xlsx", _sheets(row_formulas), ["Calc", "Data"], dict(NAMES), strict=True)
     except EvaluationError as e:
@@ -169,6 +199,7 @@ def test_random_formulas_in_xlsx_files_through_sheetkin_evaluate(tmp_path_factor
         wb.defined_names[n] = DefinedName(n, attr_text=text)
     wb.save(path)
     book = evaluate(path, strict=False)
+    _count(len(row_formulas), _refused(book, len(row_formulas), (5, 6)))
     for i in range(len(row_formulas)):
         for c in (5, 6):
             v = book.value("Calc", 5 + i, c)
@@ -191,3 +222,4 @@ def test_numbers_that_overflow_are_num_errors_never_inf(formula):
     book = evaluate_sheets("n.xlsx", _sheets([formula]), ["Calc", "Data"], {}, strict=False)
     v = book.value("Calc", 5, 5)
     assert v in ERRORS, v
+    _count(1, 0)

@@ -369,3 +369,48 @@ def test_validate_reports_the_rest_of_a_workbook_with_hostile_cells(tmp_path):
     for piece in ("SIN takes 1 argument", f"nesting deeper than {MAX_NESTING}", "circular reference",
                   "LOOP_A -> LOOP_A"):
         assert piece in notes, notes
+
+
+def _column_filled_down(path: Path, rows: int = 300) -> Path:
+    """A column of =A1*2 filled down (LibreOffice writes it as one shared formula) and numbers."""
+    wb = openpyxl.Workbook()
+    ws = wb.active
+    ws.title = "Calc"
+    for r in range(1, rows + 1):
+        ws.cell(r, 1, r * 0.5)
+        ws.cell(r, 3, "text" if r % 7 == 0 else r)
+    wb.save(path)
+    # the shared block B1:B{rows}, master in B1, as Excel and LibreOffice write it
+    cells = "".join(f'<row r="{r}"><c r="A{r}"><v>{r * 0.5}</v></c><c r="B{r}"><f t="shared" si="0"'
+                    + (f' ref="B1:B{rows}">A1*2</f>' if r == 1 else "/>") + "</c></row>" for r in range(1, rows + 1))
+    return _crafted(path.parent, "filled.xlsx", cells)
+
+
+def test_a_sheet_read_in_pieces_equals_it_read_at_once(tmp_path, monkeypatch):
+    path = _column_filled_down(tmp_path / "base_filled.xlsx")
+    whole = xlsxread.read_book(path)
+    monkeypatch.setattr(xlsxread, "_PIECE", 300)              # a few rows a piece: the block spans pieces
+    pieces = xlsxread.read_book(path)
+    a, b = whole.sheets["Calc"], pieces.sheets["Calc"]
+    assert (a.consts, a.formulas, a.cached, a.dangling, a.max_row, a.max_col) == \
+           (b.consts, b.formulas, b.cached, b.dangling, b.max_row, b.max_col)
+    assert b.formulas[(300, 2)] == "A300*2" and not b.dangling
+    book = evaluate(path)
+    assert book.value("Calc", 300, 2) == 300.0
+
+
+def test_too_many_cells_are_refused_while_reading(tmp_path, monkeypatch):
+    path = _column_filled_down(tmp_path / "base_filled.xlsx")
+    for fast in (True, False):
+        if not fast:
+            monkeypatch.setattr(xlsxread, "_read_fast", lambda *a, **k: None)
+        with pytest.raises(UnusableWorkbook, match=r"more than 500 cells hold a value or a formula \(counted up to sheet 'Calc'\)"):
+            xlsxread.read_book(path, Limits(max_cells=500))
+        assert len(xlsxread.read_book(path, Limits(max_cells=600)).sheets["Calc"].formulas) == 300
+
+
+def test_too_much_formula_text_is_refused_with_one_line(tmp_path):
+    path = _book(tmp_path / "text.xlsx", [f"=A1*{i}+SIN(A1)" for i in range(100)])
+    assert evaluate(path).value("Calc", 3, 3) == pytest.approx(2 + np.sin(2))
+    with pytest.raises(UnusableWorkbook, match=r"its formulas hold 1,\d{3} characters of text to read"):
+        evaluate(path, limits=Limits(max_formula_chars=1000))
