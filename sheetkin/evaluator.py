@@ -1173,8 +1173,9 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
             _store(num[n], tag[n], txt[n], r, c, v)
         for (r, c) in getattr(sh, "dangling", {}):
             tag[n][r, c] = NA
+    _check_reads(path, runs, dims, name_refs, limits)      # before ordering: it scans the ranges too
     order_runs = _schedule(path, runs, dims, sheets, strict=strict, problems=problems)
-    _check_reads(path, order_runs, dims, name_refs, limits)
+    _check_reads(path, order_runs, dims, name_refs, limits)  # runs split into cells read more
     ctx = _Context(num, tag, txt, name_refs)
     cells = 0
     with np.errstate(all="ignore"):
