@@ -609,6 +609,9 @@ ARITY = {
     **{f: (2, 2) for f in ("ATAN2", "MOD", "POWER", "ROUND", "IFERROR")},
     **{f: (1, MAX_ARGS) for f in ("SUM", "AVERAGE", "MIN", "MAX", "COUNT", "SUMPRODUCT", "AND", "OR")},
     "IF": (1, 3), "PI": (0, 0),
+    # Excel's arities of functions other branches add (harmless until they are supported)
+    "INT": (1, 1), "TRUNC": (1, 2), "FLOOR": (2, 2), "CEILING": (2, 2), "SUMSQ": (1, MAX_ARGS),
+    "PRODUCT": (1, MAX_ARGS), "INDEX": (2, 4), "CHOOSE": (2, MAX_ARGS), "TRUE": (0, 0), "FALSE": (0, 0),
 }
 
 
@@ -676,7 +679,7 @@ def parse_formula(formula: str, host_r: int, host_c: int, names: dict):
     try:
         tokens = _merge_exponents([t for t in Tokenizer(formula).items if t.type != Token.WSPACE])
     except Exception as e:      # noqa: BLE001 - the tokenizer's own errors (TokenizerError, IndexError...)
-        raise ParseError(f"not a formula ({type(e).__name__}: {e})") from None
+        raise ParseError(f"not a formula ({type(e).__name__}: {_show(e, 100)})") from None
     _check_limits(tokens)
     pos = 0
 
