@@ -942,7 +942,7 @@ def _depth(tree, weights: dict | None = None) -> int:
     return best
 
 
-def _names_in(tree) -> list[str]:
+def _names_used(tree) -> list[str]:
     return [node[1] for node in _nodes(tree) if node[0] == "name"]
 
 
@@ -960,7 +960,7 @@ def _check_names(name_refs: dict) -> dict[str, Note]:
             code = "#NAME?" if bad else "#VALUE!"
             notes[n] = Note(f"the name {n}: " + (f"unsupported function {', '.join(bad)}" if bad else wrong), code)
             name_refs[n] = ("const", code)
-    uses = {n: [m for m in _names_in(t) if m in name_refs] for n, t in name_refs.items()}
+    uses = {n: [m for m in _names_used(t) if m in name_refs] for n, t in name_refs.items()}
     state: dict[str, int] = {}          # 1 being visited, 2 done
     weight: dict[str, int] = {}
     for start in uses:
@@ -1003,7 +1003,7 @@ def _run_notes(run: Run, sheets: dict, name_refs: dict, name_notes: dict) -> lis
         if ref.sheet is not None and ref.sheet not in sheets:
             out.append(f"{run.where()}: refers to the sheet '{_show(ref.sheet, 60)}', which does not exist: #REF!")
             break
-    used = [n for n in _names_in(run.tree) if n in name_refs] if run.tree is not None else []
+    used = [n for n in _names_used(run.tree) if n in name_refs] if run.tree is not None else []
     for n in dict.fromkeys(used):
         if n in name_notes:
             out.append(f"{run.where()}: {name_notes[n]}")
@@ -1079,7 +1079,7 @@ def _run_reads(run: Run, dims: dict, name_refs: dict) -> tuple[int, int]:
     once = per_cell = 0
     refs = list(run.refs or [])
     if run.tree is not None:
-        for n in _names_in(run.tree):
+        for n in _names_used(run.tree):
             if n in name_refs:
                 refs += refs_of(name_refs[n])
     for ref in refs:
