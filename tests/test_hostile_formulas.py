@@ -67,6 +67,7 @@ HOSTILE = [
 ]
 
 # formulas at (not past) the limits, and references far outside the used range: computed
+# (the chains also go through every walk of the tree: names, whole columns)
 COMPUTED = [
     ("=" + "+".join(["1"] * 4000), 4000.0),                  # 7999 characters: a chain 4000 deep
     ("=" + "+".join(["A1"] * 2700), 5400.0),
@@ -75,6 +76,8 @@ COMPUTED = [
     ("=" + "SIN(" * 63 + "0" + ")" * 63, 0.0),
     ("=" + "-" * 60 + "A1", 2.0),
     ("=short_chain", 5.0),                                    # 150 names, each naming the next
+    ("=" + "+".join(["short_150"] * 700), 3500.0),            # a chain of names 700 deep
+    ("=" + "+".join(["SUM(Data!A:A)"] * 500), 1500.0),        # whole columns in a chain 500 deep
     ("=$XFD$1048576+1", 1.0),
     ("=XFD1048576", 0.0),
     ("=SUM(Data!$A$1:$XFD$1048576)", 7.0),
