@@ -298,3 +298,28 @@ def test_an_array_range_past_the_limits_is_refused(tmp_path):
         read_book(path)
     msg = str(info.value)
     assert msg.startswith(str(path)) and "B1:B1048576" in msg and "at most 100000 rows" in msg
+
+
+def test_a_class_of_ods_files_is_converted_in_one_run(lo, tmp_path, monkeypatch, capsys):
+    """`sheetkin validate FOLDER` converts all the folder's .ods and .fods files in one
+    LibreOffice run (not one per file), and reads each from its converted copy."""
+    from sheetkin import libreoffice, xlsxread
+    from sheetkin.cli import main
+    folder = tmp_path / "class"
+    folder.mkdir()
+    b = lo["books"]["lo_functions"]
+    for i in range(3):
+        rf.ods(folder / f"s{i}.ods", b.source)
+    (folder / "s3.fods").write_bytes(b.source.read_bytes())
+    runs = []
+    convert = libreoffice._convert
+    monkeypatch.setattr(libreoffice, "_convert", lambda paths, *a, **k: runs.append(len(paths)) or convert(paths, *a, **k))
+    monkeypatch.setattr(xlsxread, "_CONVERTED", {})
+    assert main(["validate", str(folder), "--progress", "always"]) == 2      # no embedded scene: each one line
+    assert runs == [4]
+    out, err = capsys.readouterr()
+    assert "4 OpenDocument spreadsheets: converting them" in err
+    assert all(f"s{i}." in out for i in range(4)) and "no embedded scene" in out
+    for p in folder.iterdir():
+        assert agrees(evaluate(p).value("Calc", 5, 6), math.pi / 4)
+    assert runs == [4]                                   # read from the converted copies
