@@ -478,7 +478,7 @@ def _shift_formula(formula: str, dr: int, dc: int) -> str:
     def col(abs_, letters):
         if abs_:
             return abs_ + letters
-        c = _COLUMN_INDEX[letters] + dc
+        c = _COLUMN_INDEX.get(letters, _MAX_COL + 1) + dc      # past XFD: not a column
         return _LETTERS[c] if 1 <= c <= _MAX_COL else None
 
     def row(abs_, digits):
