@@ -7,18 +7,18 @@ point. Every mistake raises SceneError with one line: file, line, key, what was 
 """
 from __future__ import annotations
 
+import heapq
 import math
 import re
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
+from .scenecaps import (MAX_DEPTH, MAX_MAGNITUDE, MAX_MESSAGE, MAX_POSITIONS, MAX_SCENE_BYTES,  # noqa: F401
+                        MAX_TEXT, WORKBOOK_MAX_POSITIONS, SceneError, check_values, load_toml, one_line,
+                        shown)
+
 GROUP_TYPES = ("RRR", "RRP", "RPR")
 NAME_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
-
-
-class SceneError(ValueError):
-    """A scene file that cannot be used; str() is one line naming file, line and key."""
 
 
 @dataclass(frozen=True)
@@ -180,19 +180,34 @@ class _Locator:
 class _Ctx:
     """Where we are in the file, to build one-line errors."""
 
-    def __init__(self, source: str, loc: _Locator):
-        self.source, self.loc = source, loc
+    def __init__(self, source: str, loc: _Locator | str):
+        # the locator is built on the first error only (its line scan is most of the cost
+        # of a long valid file): `loc` may be the scene's text
+        self.source, self._loc = source, loc
+
+    @property
+    def loc(self) -> _Locator:
+        if isinstance(self._loc, str):
+            self._loc = _Locator(self._loc)
+        return self._loc
 
     def fail(self, where: str, table: str | None, index: int, key: str | None, msg: str):
         no = self.loc.line(table, index, key)
         pos = f"{self.source}:{no}" if no else self.source
         what = f"{where} key '{key}'" if key else where
-        raise SceneError(f"{pos}: {what}: {msg}")
+        raise SceneError(one_line(f"{pos}: {what}: {msg}"))
 
 
 def _type_name(v) -> str:
     return {bool: "a boolean", int: "an integer", float: "a number", str: "a string",
             list: "an array", dict: "a table"}.get(type(v), type(v).__name__)
+
+
+_CHECKS = {
+    "a number": lambda x: isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x),
+    "an integer": lambda x: isinstance(x, int) and not isinstance(x, bool),
+    "a string": lambda x: isinstance(x, str),
+}
 
 
 class _Table:
@@ -219,16 +234,10 @@ class _Table:
                 self.fail(key, f"missing; expected {kind}")
             return default
         v = self.data[key]
-        check = {
-            "a number": lambda x: isinstance(x, (int, float)) and not isinstance(x, bool)
-            and math.isfinite(x),
-            "an integer": lambda x: isinstance(x, int) and not isinstance(x, bool),
-            "a string": lambda x: isinstance(x, str),
-        }[kind]
-        if not check(v):
+        if not _CHECKS[kind](v):
             if isinstance(v, float) and not math.isfinite(v):
-                self.fail(key, f"expected a finite number, got {v!r}")
-            self.fail(key, f"expected {kind}, got {_type_name(v)} {v!r}")
+                self.fail(key, f"expected a finite number, got {shown(v)}")
+            self.fail(key, f"expected {kind}, got {_type_name(v)} {shown(v)}")
         return float(v) if kind == "a number" else v
 
     def positive(self, key):
@@ -240,7 +249,7 @@ class _Table:
     def name(self, key):
         v = self.get(key, "a string")
         if not NAME_RE.match(v):
-            self.fail(key, f"expected a name of letters, digits and _ starting with a letter, got {v!r}")
+            self.fail(key, f"expected a name of letters, digits and _ starting with a letter, got {shown(v)}")
         return v
 
     def array(self, key, n, kind):
@@ -248,13 +257,13 @@ class _Table:
         if v is ...:
             self.fail(key, f"missing; expected an array of {n} {kind}s")
         if not isinstance(v, list) or len(v) != n:
-            self.fail(key, f"expected an array of {n} {kind}s, got {v!r}")
+            self.fail(key, f"expected an array of {n} {kind}s, got {shown(v)}")
         ok = {"number": lambda x: isinstance(x, (int, float)) and not isinstance(x, bool)
               and math.isfinite(x),
               "name": lambda x: isinstance(x, str) and bool(NAME_RE.match(x)),
               "integer": lambda x: isinstance(x, int) and not isinstance(x, bool)}[kind]
         if not all(ok(x) for x in v):
-            self.fail(key, f"expected an array of {n} {kind}s, got {v!r}")
+            self.fail(key, f"expected an array of {n} {kind}s, got {shown(v)}")
         return tuple(float(x) for x in v) if kind == "number" else tuple(v)
 
 
@@ -265,31 +274,36 @@ def load_scene(path: str | Path) -> Scene:
     try:
         text = path.read_text(encoding="utf-8-sig")   # tolerate Notepad's byte-order mark
     except FileNotFoundError:
-        raise SceneError(f"{path}: no such file") from None
+        raise SceneError(one_line(f"{path}: no such file")) from None
     except IsADirectoryError:
-        raise SceneError(f"{path}: is a directory, expected a scene .toml file") from None
+        raise SceneError(one_line(f"{path}: is a directory, expected a scene .toml file")) from None
     except UnicodeDecodeError:
-        raise SceneError(f"{path}: not a UTF-8 text file, expected a scene .toml file") from None
+        raise SceneError(one_line(f"{path}: not a UTF-8 text file, expected a scene .toml file")) from None
     except OSError as e:
-        raise SceneError(f"{path}: cannot read: {e.strerror}") from None
+        raise SceneError(one_line(f"{path}: cannot read: {e.strerror}")) from None
+    if len(text) > MAX_SCENE_BYTES:
+        raise SceneError(one_line(f"{path}: {len(text):,} characters; a scene file may hold at most "
+                                  f"{MAX_SCENE_BYTES:,} (a scene is a few KB)"))
     return parse_scene(text, str(path))
 
 
+def _fail_at(ctx: _Ctx, data: dict, path: tuple, msg: str):
+    """SceneError at a value's path in the document: [table] key, [[table]] #i key, or a
+    top-level key, located as the typed getters locate theirs."""
+    head = path[0]
+    keys = [k for k in path[1:] if isinstance(k, str)]
+    top = data.get(head)
+    if len(path) > 2 and isinstance(top, list) and isinstance(path[1], int) and isinstance(top[path[1]], dict):
+        ctx.fail(f"[[{head}]] #{path[1] + 1}", head, path[1], ".".join(map(str, path[2:3] + tuple(keys[1:2]))), msg)
+    if len(path) > 1 and isinstance(top, dict):
+        ctx.fail(f"[{head}]", head, 0, ".".join(keys[:2]), msg)
+    ctx.fail("scene", None, 0, head, msg)
+
+
 def parse_scene(text: str, source: str = "<scene>") -> Scene:
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as e:
-        m = re.search(r"\(at line (\d+), column (\d+)\)", str(e))
-        msg = re.sub(r"\s*\(at line \d+, column \d+\)", "", str(e))
-        where = f"{source}:{m.group(1)}" if m else source
-        if m and "overwrite" in msg.lower():
-            # tomllib says "Cannot overwrite a value": name the key written twice
-            line = text.splitlines()[int(m.group(1)) - 1]
-            k = re.match(r"^\s*\[*\s*([A-Za-z0-9_.\"-]+)", line)
-            if k:
-                raise SceneError(f"{where}: key '{k.group(1)}' is defined twice (not valid TOML)") from None
-        raise SceneError(f"{where}: not valid TOML: {msg}") from None
-    ctx = _Ctx(source, _Locator(text))
+    data = load_toml(text, source)
+    ctx = _Ctx(source, text)
+    check_values(data, lambda path, msg: _fail_at(ctx, data, path, msg))
     top = _Table(ctx, data, "scene", None)
     top.check_keys(["title", "author", "frame", "crank", "group", "point", "gravity", "mass",
                     "force", "synthesis"])
@@ -347,10 +361,15 @@ def _parse_crank(ctx, data, frame, define):
     joint = tbl.name("joint")
     define(tbl, "joint", joint, "the crank's joint")
     positions = tbl.get("positions", "an integer", 13)
-    if positions < 1:
-        tbl.fail("positions", f"expected an integer >= 1, got {positions}")
+    if not 1 <= positions <= MAX_POSITIONS:
+        tbl.fail("positions", f"expected an integer >= 1 and at most {MAX_POSITIONS:,} (the compute cap; a "
+                              f"workbook holds at most {WORKBOOK_MAX_POSITIONS:,}), got {positions:,}")
+    step = tbl.get("step_deg", "a number", 30.0)
+    if step == 0 and positions > 1:
+        tbl.fail("step_deg", f"expected a nonzero step: with step 0 all {positions} positions are "
+                             "the same crank angle (use positions = 1 for one angle)")
     return Crank(pivot, joint, tbl.positive("length"), tbl.get("phi0_deg", "a number", 0.0),
-                 tbl.get("step_deg", "a number", 30.0), positions, tbl.get("omega", "a number"),
+                 step, positions, tbl.get("omega", "a number"),
                  tbl.get("epsilon", "a number", 0.0))
 
 
@@ -536,37 +555,56 @@ def _make_plan(ctx, frame, crank, groups, points):
     """
     on_link = link_joints(crank, groups)
     n_links = 1 + 2 * len(groups)
+    on_link_set = {k: set(v) for k, v in on_link.items()}
+    names_on = {}                    # link -> names of the points on it
+    for p in points:
+        names_on.setdefault(p.link, set()).add(p.name)
     for i, p in enumerate(points):
         if not 1 <= p.link <= n_links:
             ctx.fail(f"[[point]] #{i + 1}", "point", i, "link",
                      f"expected a moving link 1..{n_links}, got {p.link}")
         # checked before placement, so a bad `from` is blamed on the point, not on a
         # group that needs the point
-        allowed = on_link[p.link] + [q.name for q in points if q.link == p.link and q is not p]
         # (a point that its own link's group uses as a joint is circular: the group's
         # `joints` is the mistake, reported during placement below)
-        if p.origin not in allowed and p.name not in on_link[p.link]:
+        if not (p.origin in on_link_set[p.link] or (p.origin in names_on[p.link] and p.origin != p.name)
+                or p.name in on_link_set[p.link]):
+            allowed = on_link[p.link] + [q.name for q in points if q.link == p.link and q is not p]
             ctx.fail(f"[[point]] #{i + 1}", "point", i, "from",
                      f"expected a joint or point of link {p.link} ({', '.join(allowed)}), got '{p.origin}'")
     known = set(frame) | {crank.joint}
-    placed_links = {1}
     plan: list[tuple[str, object]] = [("crank", crank)]
-    pending = list(enumerate(points))
+    # Points go in the order of repeated passes over the file's points (a point whose
+    # `from` was placed earlier in the same pass goes in that pass, else in the next).
+    # Emulated with a heap of (pass, index) and, per (link, name), the points waiting
+    # for that name: linear in the number of points, as 20,000 of them must parse in
+    # well under a second (the passes themselves were quadratic).
+    waiting: dict[tuple[int, str], list[int]] = {}
+    by_link: dict[int, list[int]] = {}
+    for i, p in enumerate(points):
+        waiting.setdefault((p.link, p.origin), []).append(i)
+        by_link.setdefault(p.link, []).append(i)
+    placed = [False] * len(points)
 
-    def place_points():
-        progress = True
-        while progress:
-            progress = False
-            for item in list(pending):
-                i, p = item
-                if p.link in placed_links and p.origin in on_link[p.link]:
-                    plan.append(("point", p))
-                    known.add(p.name)
-                    on_link[p.link].append(p.name)
-                    pending.remove(item)
-                    progress = True
+    def place_points(new_links):
+        heap = [(1, i) for k in new_links for i in by_link.get(k, ())
+                if points[i].origin in on_link_set[k]]
+        heapq.heapify(heap)
+        while heap:
+            pass_no, i = heapq.heappop(heap)
+            p = points[i]
+            if placed[i]:
+                continue
+            placed[i] = True
+            plan.append(("point", p))
+            known.add(p.name)
+            on_link[p.link].append(p.name)
+            on_link_set[p.link].add(p.name)
+            for j in waiting.get((p.link, p.name), ()):
+                if not placed[j]:
+                    heapq.heappush(heap, (pass_no if j > i else pass_no + 1, j))
 
-    place_points()
+    place_points([1])
     for g in groups:
         inputs = [g.joints[0], g.joints[-1]] if g.type == "RRR" else (
             [g.joints[0]] if g.type == "RRP" else list(g.joints))
@@ -581,12 +619,18 @@ def _make_plan(ctx, frame, crank, groups, points):
         plan.append(("group", g))
         if g.new_joint:
             known.add(g.new_joint)
-        placed_links.update(g.links)
-        place_points()
+        place_points(g.links)
+    pending = [(i, p) for i, p in enumerate(points) if not placed[i]]
     for i, p in pending:   # only points measured from each other in a circle remain
         ctx.fail(f"[[point]] #{i + 1}", "point", i, "from",
                  f"'{p.origin}' is measured, directly or through other points, from '{p.name}' itself")
     return tuple(plan)
+
+
+def key_line(text: str, table: str | None, key: str) -> int | None:
+    """Line number of `key` in [table] of a scene's text (for messages about a valid
+    scene's values, e.g. a workbook's column cap)."""
+    return _Locator(text).line(table, 0, key)
 
 
 def override_crank(text: str, source: str = "<scene>", **values) -> tuple[str, Scene]:

@@ -203,6 +203,19 @@ def validate(path: str | Path, limits: Limits = Limits()) -> Report:
     except (UnusableWorkbook, UnusableInput, SceneError, EvaluationError) as e:
         msg = str(e)
         return Report(path, error=msg if msg.startswith(path) else f"{path}: {msg}")
+    except (KeyboardInterrupt, SystemExit):
+        raise
+    except BaseException as e:     # RecursionError, MemoryError, a bug: this file's error only
+        return Report(path, error=internal_error(path, e))
+
+
+def internal_error(path: str, e: BaseException) -> str:
+    """The one line for an unexpected exception while validating `path`: the batch goes
+    on, and the teacher learns that this is sheetkin's fault, not the student's."""
+    from . import __version__
+    what = " ".join(str(e).split())[:200]
+    return (f"{path}: internal error while validating ({type(e).__name__}{': ' + what if what else ''}); "
+            f"this is a bug in sheetkin {__version__}: please report it with this file")
 
 
 def _validate(path: str, limits: Limits) -> Report:

@@ -550,9 +550,9 @@ def build_workbook(scene: Scene, *, lang: str = "ru", exercise: bool = False,
     wb = Workbook()
     ws = wb.active
     ws.title = SHEET_TITLES[lang][0]
-    ws["A1"] = scene.title
+    _text_cell(ws["A1"], scene.title)
     ws["A1"].font = Font(bold=True, size=14)
-    ws["A2"] = scene.author or ""
+    _text_cell(ws["A2"], scene.author or "")
     ws["A3"] = text["checks"]
     ws["A3"].font = SECTION_FONT
     for col, key in zip("ABCD", ("name", "unit", "desc", "value")):
@@ -682,6 +682,14 @@ def _add_charts(wb, ws, scene: Scene, where, cols, lang):
             s.smooth = False
             ch.series.append(s)
         cs.add_chart(ch, f"{'A' if k % 2 == 0 else 'K'}{1 + (k // 2) * 20}")
+
+
+def _text_cell(cell, text: str) -> None:
+    """Text from the scene (title, author) is written as text: openpyxl would store a
+    string starting with "=" as a formula, and "+", "-", "@" are formulas to a spreadsheet
+    program that retypes the cell (formula injection). A string cell keeps it text."""
+    cell.value = text
+    cell.data_type = "s"
 
 
 def _embed_scene(wb, scene: Scene, scene_text: str | None):
