@@ -545,6 +545,8 @@ def cmd_validate(args) -> int:
     from .validator import validate
     files = _validation_files(args.paths)
     show = args.progress == "always" or (args.progress == "auto" and sys.stderr.isatty() and len(files) > 1)
+    from .xlsxread import convert_opendocument     # a class's .ods files: one LibreOffice run
+    convert_opendocument(files, note=(lambda t: print(f"sheetkin: {t}", file=sys.stderr)) if show else None)
     reports = []
     for i, f in enumerate(files, 1):
         if show:
