@@ -22,11 +22,14 @@ import math
 import numpy as np
 import openpyxl
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import sheetkin
 from kinds import CASES, DYNAMICS
 from libreoffice import recalculate
 from sheetkin.bench import FLOAT, errors, method_newton, reference_mp
+from sheetkin.compute import AssemblyError
 from sheetkin.groups import KINDS, kind_of
 from sheetkin.scene import SceneError, parse_scene
 from sheetkin.workbook import write_workbook
@@ -294,10 +297,6 @@ def _moved(scene, k: float, theta_deg: float, shift):
     return dataclasses.replace(scene, frame=frame, crank=crank, groups=tuple(groups), points=points, plan=plan)
 
 
-from hypothesis import given, settings  # noqa: E402
-from hypothesis import strategies as st  # noqa: E402
-
-
 @pytest.mark.parametrize("case", list(CASES))
 @settings(max_examples=15, deadline=None, database=None)
 @given(k=st.floats(0.01, 100.0), theta=st.floats(-180.0, 180.0),
@@ -319,3 +318,47 @@ def test_the_same_mechanism_elsewhere_and_of_another_size(case, k, theta, shift)
         elif head == "phi":
             d = (b[col] - a[col] - theta) % 360.0
             assert np.all(np.minimum(d, 360.0 - d) < 1e-7), col
+
+
+# --------------------------------------------------------------------------- fuzzing the group keys
+def _toml_value(v) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, (int, float)):
+        return repr(v) if math.isfinite(v) else ("nan" if v != v else ("inf" if v > 0 else "-inf"))
+    if isinstance(v, str):
+        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    if isinstance(v, list):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    return "{" + ", ".join(f"{k} = {_toml_value(x)}" for k, x in v.items()) + "}"
+
+
+_atoms = st.one_of(st.integers(-3, 9), st.floats(allow_nan=True, allow_infinity=True), st.booleans(),
+                   st.sampled_from(["O", "O1", "A", "B", "D", "E", "Z", "", "1x"]))
+_values = st.recursive(_atoms, lambda inner: st.one_of(
+    st.lists(inner, max_size=3),
+    st.dictionaries(st.sampled_from(["through", "angle_deg", "link", "x"]), inner, max_size=4)), max_leaves=6)
+
+
+@settings(max_examples=150, deadline=None, database=None)
+@given(case=st.sampled_from(["rrp_two_rockers", "rpr_moving_axis", "rrr_fourbar"]),
+       key=st.sampled_from(["joints", "length", "lengths", "guide", "branch", "offset", "links", "type", "extra"]),
+       value=_values, drop=st.booleans())
+def test_only_scene_errors_come_out_of_a_mangled_group(case, key, value, drop):
+    """Any value (or none) for any key of the last group: a one-line SceneError, or a scene
+    that computes (or cannot assemble: AssemblyError), never a traceback of ours."""
+    text = CASES[case][1]
+    head, _, last = text.rpartition("[[group]]")
+    lines = [ln for ln in last.splitlines() if not ln.split("=")[0].strip() == key]
+    if not drop:
+        lines.insert(1, f"{key} = {_toml_value(value)}")
+    mangled = head + "[[group]]" + "\n".join(lines) + "\n"
+    try:
+        scene = parse_scene(mangled, "fuzz.toml")
+    except SceneError as e:
+        assert "\n" not in str(e) and str(e).startswith("fuzz.toml")
+        return
+    try:
+        sheetkin.compute(scene)
+    except AssemblyError:
+        pass
