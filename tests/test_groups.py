@@ -130,7 +130,8 @@ def test_distances_are_kept_and_sliders_stay_on_their_lines(case):
             j1, n = g.joints
             assert np.allclose(np.hypot(*(np.subtract(xy(j1), xy(n)))), g.length, atol=1e-12)
             # N = G + s_N u, u at phi_b = phi_k + A
-            G = xy(g.guide.through) if g.guide.moving else (np.full(len(df), g.guide.point[0]), np.full(len(df), g.guide.point[1]))
+            G = xy(g.guide.through) if g.guide.moving else (np.full(len(df), g.guide.point[0]),
+                                                            np.full(len(df), g.guide.point[1]))
             th = np.radians(df[f"phi_{lb}"].to_numpy())
             base = np.radians(df[f"phi_{g.guide.link}"].to_numpy()) if g.guide.moving else 0.0
             assert np.allclose(np.cos(th - base - np.radians(g.guide.angle_deg)), 1.0, atol=1e-12)
@@ -222,11 +223,13 @@ def test_a_point_used_before_it_is_known_is_refused_naming_both():
 
 
 def test_a_moving_guide_passes_through_a_point_of_its_link():
-    text = CASES["rrp_two_rockers"][1].replace('through = "O1", angle_deg = 0.0, link = 3', 'through = "A", angle_deg = 0.0, link = 3')
+    text = CASES["rrp_two_rockers"][1].replace('through = "O1", angle_deg = 0.0, link = 3',
+                                               'through = "A", angle_deg = 0.0, link = 3')
     with pytest.raises(SceneError) as e:
         parse_scene(text, "two.toml")
     assert "guide.through" in str(e.value) and "'A' is not a point of link 3" in str(e.value)
-    text = CASES["rrp_two_rockers"][1].replace('through = "O1", angle_deg = 0.0, link = 3', 'through = [0.0, 0.0], link = 3')
+    text = CASES["rrp_two_rockers"][1].replace('through = "O1", angle_deg = 0.0, link = 3',
+                                               'through = [0.0, 0.0], link = 3')
     with pytest.raises(SceneError, match="guide.through"):
         parse_scene(text, "two.toml")
     text = CASES["rrp_two_rockers"][1].replace('link = 3 }', 'link = 5 }')
