@@ -97,3 +97,67 @@ def with_loads(text: str) -> str:
 
 
 DYNAMICS = {key: (kind, with_loads(text)) for key, (kind, text) in CASES.items()}
+
+
+# --------------------------------------------------------------------------- random chains
+def random_chains():
+    """Hypothesis strategy: a random assemblable four-bar (tests/test_properties.py) extended
+    by a random chain of the generalised groups: an RRP on a guide of its rocker (two
+    rockers with a slotted pair), an RPR about a point E of the rocker (a kulisa with a
+    moving axis), or both with the RRP's guide on that kulisa. Every added group assembles
+    over the whole revolution, away from its toggle (|det| >= 0.5). Returns
+    (scene text, crank angles, length scale)."""
+    import math
+
+    import numpy as np
+    from hypothesis import strategies as st
+
+    import sheetkin
+    from test_properties import fl, fourbars
+
+    @st.composite
+    def build(draw):
+        m = draw(fourbars())
+        S = m.size
+        text = m.toml
+        revolution = np.arange(0.0, 360.0, 1.0)
+        what = draw(st.sampled_from(["slotted", "moving_axis", "both"]))
+
+        def line_distances(text, through, k, angle_deg, point):
+            """|h| of `point` from the line through `through` at phi_k + A, over a revolution."""
+            sol = sheetkin.solve(sheetkin.parse_scene(text), revolution)
+            g = sol.points.get(through)
+            gx, gy = (g.x, g.y) if g is not None else sheetkin.parse_scene(text).frame[through]
+            r = sol.links[k]
+            th = np.arctan2(r.s, r.c) + math.radians(angle_deg)
+            return np.abs(-(point[0] - gx) * np.sin(th) + (point[1] - gy) * np.cos(th))
+
+        def add_rrp(text, links, through, k):
+            O = m.frame["O"]
+            p = O + S * np.array([draw(st.floats(-2.0, 2.0)), draw(st.floats(-2.0, 2.0))])
+            A = draw(st.floats(-90.0, 90.0))
+            text = text.replace("[crank]", f"Q{k} = [{fl(p[0])}, {fl(p[1])}]\n\n[crank]", 1)
+            h = line_distances(text, through, k, A, p)
+            L = float(h.max()) / draw(st.floats(0.1, 0.85)) + 1e-3 * S
+            return text + (f'\n[[group]]\ntype = "RRP"\nlinks = [{links[0]}, {links[1]}]\njoints = ["Q{k}", "N{k}"]\n'
+                           f"length = {fl(L)}\nguide = {{ through = \"{through}\", angle_deg = {fl(A)}, link = {k} }}\n"
+                           f"branch = {draw(st.sampled_from([-1, 1]))}\n")
+
+        def add_rpr(text):
+            along, across = S * draw(st.floats(0.2, 1.5)), S * draw(st.floats(-0.5, 0.5))
+            text += f'\n[[point]]\nname = "E"\nlink = 3\nfrom = "O1"\nalong = {fl(along)}\nacross = {fl(across)}\n'
+            sol = sheetkin.solve(sheetkin.parse_scene(text), revolution)
+            d = np.hypot(sol.points["A"].x - sol.points["E"].x, sol.points["A"].y - sol.points["E"].y)
+            from hypothesis import assume
+            assume(d.min() > 0.05 * S)
+            off = draw(st.sampled_from([0.0, 0.3, -0.5])) * float(d.min())
+            return text + (f'\n[[group]]\ntype = "RPR"\nlinks = [4, 5]\njoints = ["A", "E"]\noffset = {fl(off)}\n')
+
+        if what == "slotted":
+            text = add_rrp(text, (4, 5), "O1", 3)
+        elif what == "moving_axis":
+            text = add_rpr(text)
+        else:
+            text = add_rrp(add_rpr(text), (6, 7), "E", 5)
+        return text, m.angles, S
+    return build()

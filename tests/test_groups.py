@@ -84,9 +84,15 @@ def _float_known(scene, sol, i):
 
 @pytest.mark.parametrize("case", list(CASES))
 def test_loop_equations_and_cramer_residuals_vanish_at_the_closed_form(case):
-    scene = scene_of(case)
+    check_loop(scene_of(case), ANGLES)
+
+
+def check_loop(scene, angles, size=None):
+    """Each group's loop equations hold at the closed form; their derivatives, solved here
+    by numpy, give the closed form's (Cramer's) rates, joints, links and slides."""
+    ANGLES = list(angles)
     sol = sheetkin.solve(scene, ANGLES)
-    size = max([1.0] + [abs(c) for p in scene.frame.values() for c in p])
+    size = size or max([1.0] + [abs(c) for p in scene.frame.values() for c in p])
     w = abs(scene.crank.omega) + 1.0
     for g in scene.groups:
         kind = kind_of(g)
@@ -152,19 +158,24 @@ def test_distances_are_kept_and_sliders_stay_on_their_lines(case):
 @pytest.mark.parametrize("case", list(CASES))
 def test_mpmath_reference_and_newton_equal_compute(case):
     scene = scene_of(case)
-    ref = reference_mp(scene, ANGLES, dps=30)
-    df = sheetkin.compute(scene, at=ANGLES)
-    for name, values in ref.items():
-        got, want = df[name].to_numpy(), np.array([float(v) for v in values])
-        d = np.abs(got - want)
-        if name.startswith("phi_"):
-            d = np.minimum(d, 360.0 - d)
-        assert np.all(d <= 1e-9 * np.maximum(1.0, np.abs(want))), (name, got, want)
+    check_reference(scene, ANGLES)
     # Newton warm-starts from the previous position: a revolution in 10 deg steps
     steps = np.arange(0.0, 360.0, 10.0)
     newton = method_newton(scene, steps)
     assert not newton.failures
     assert max(errors(newton.values, reference_mp(scene, steps, dps=20)).values()) < 1e-10
+
+
+def check_reference(scene, angles, tol=1e-9):
+    """The 30-digit mpmath solution of the loop equations equals compute."""
+    ref = reference_mp(scene, list(angles), dps=30)
+    df = sheetkin.compute(scene, at=list(angles))
+    for name, values in ref.items():
+        got, want = df[name].to_numpy(), np.array([float(v) for v in values])
+        d = np.abs(got - want)
+        if name.startswith("phi_"):
+            d = np.minimum(d, 360.0 - d)
+        assert np.all(d <= tol * np.maximum(1.0, np.abs(want))), (name, got, want)
 
 
 D1 = (4 / 5, -1 / 5, 4 / 105, -1 / 280)           # 8th-order central differences
@@ -173,12 +184,15 @@ D2 = (8 / 5, -1 / 5, 8 / 315, -1 / 560)
 
 @pytest.mark.parametrize("case", list(CASES))
 def test_velocities_and_accelerations_are_derivatives_of_the_positions(case):
+    check_derivatives(scene_of(case), ANGLES)
+
+
+def check_derivatives(scene, angles):
     """v = omega dx/dphi, a = omega^2 d2x/dphi2 + eps dx/dphi (positions do not depend on the
     crank's rates); 8th-order differences at h = 1e-3 rad are good to ~1e-12."""
-    scene = scene_of(case)
     w, eps = scene.crank.omega, scene.crank.epsilon
     h = 1e-3
-    phis = np.array(ANGLES)
+    phis = np.array(angles)
     frames = {o: sheetkin.compute(scene, at=list(phis + math.degrees(o * h))) for o in range(-4, 5)}
     names = [c for c in sheetkin.column_names(scene) if c.split("_")[0] in ("x", "y", "s", "phi") and c != "phi_1"]
     size = max(1.0, max(float(frames[0][c].abs().max()) for c in names if not c.startswith("phi")))
@@ -365,3 +379,20 @@ def test_only_scene_errors_come_out_of_a_mangled_group(case, key, value, drop):
         sheetkin.compute(scene)
     except AssemblyError:
         pass
+
+
+# --------------------------------------------------------------------------- random chains
+from kinds import random_chains  # noqa: E402
+
+
+@settings(max_examples=30, deadline=None, database=None)
+@given(chain=random_chains())
+def test_random_chains_of_moving_guides_and_axes(chain):
+    """Random four-bars extended by an RRP on a guide of the rocker, an RPR about a moving
+    point of the rocker, or both (the RRP's guide on the RPR's kulisa): loop equations and
+    Cramer residuals, the mpmath reference, and finite differences."""
+    text, angles, size = chain
+    scene = parse_scene(text, "random.toml")
+    check_loop(scene, angles, size=size)
+    check_reference(scene, angles, tol=1e-8)
+    check_derivatives(scene, angles)
