@@ -107,8 +107,14 @@ def rows(b: Builder, g: Group):
     with a moving axis): its velocity and acceleration enter the right sides."""
     i, (la, lb), (J1, J2) = g.index, g.links, g.joints
     e = f"{{e_g{i}}}"
-    b.section(f"group_{i}", f"Группа {i} (ВПВ: камень {J1} в кулисе, ось {J2}): слайды 22-24",
-              f"Group {i} (RPR: block {J1} in the slotted lever about {J2}): slides 22-24")
+    if J2 in b.frame:
+        b.section(f"group_{i}", f"Группа {i} (ВПВ: камень {J1} в кулисе, ось {J2}): слайды 22-24",
+                  f"Group {i} (RPR: block {J1} in the slotted lever about {J2}): slides 22-24")
+    else:   # the lecture's "Кулисные механизмы. Направляющая с подвижной осью"
+        b.section(f"group_{i}", f"Группа {i} (ВПВ: камень {J1} в кулисе с подвижной осью {J2}): "
+                                f"L_ТЕК^2 = (x{J2} - x{J1})^2 + (y{J2} - y{J1})^2, слайды 22-24",
+                  f"Group {i} (RPR: block {J1} in a kulisa with a moving axis {J2}): "
+                  f"L_TEK^2 = (x{J2} - x{J1})^2 + (y{J2} - y{J1})^2, slides 22-24")
     dx, dy, r2, D = f"dx_g{i}", f"dy_g{i}", f"r2_g{i}", f"D_g{i}"
     b.add(dx, "m", f"x{J1} - x{J2}", f"x{J1} - x{J2}", "calc", f"{b.p('x', J1)}-{b.p('x', J2)}", guard=b.guard)
     b.add(dy, "m", f"y{J1} - y{J2}", f"y{J1} - y{J2}", "calc", f"{b.p('y', J1)}-{b.p('y', J2)}", guard=b.guard)
