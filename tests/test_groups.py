@@ -38,7 +38,7 @@ from test_workbook import compare_accepted, rows_of
 
 SURFACE = ["KIND", "LECTURE", "SLIDES", "TITLE", "KEYS", "Params", "parse", "needs", "on_links", "new_joints",
            "carries", "sliders", "solve", "input_rows", "with_inputs", "rows", "pin_owner", "pairs", "reactions",
-           "reaction_rows", "loop", "side_ok", "unknowns"]
+           "reaction_rows", "loop", "side_ok", "discriminant", "unknowns"]
 ANGLES = [0.0, 17.0, 95.5, 181.0, 263.25, 333.0]
 
 

@@ -291,6 +291,13 @@ def side_ok(lib, g: Group, known, links, q, joints) -> bool:
     return q[1] > 0
 
 
+def discriminant(lib, g: Group, known, links):
+    """L_TEK^2 - e^2: 0 where the block passes over the kulisa's axis (offset 0)."""
+    (p1, _, _), (p2, _, _) = known[g.joints[0]], known[g.joints[1]]
+    off = lib.num(g.offset)
+    return (p1[0] - p2[0]) ** 2 + (p1[1] - p2[1]) ** 2 - off * off
+
+
 def unknowns(g: Group, sol) -> tuple[np.ndarray, np.ndarray]:
     rb = sol.links[g.links[1]]
     return np.arctan2(rb.s, rb.c), sol.slides[g.joints[0]].s

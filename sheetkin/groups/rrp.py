@@ -486,6 +486,15 @@ def side_ok(lib, g: Group, known, links, q, joints) -> bool:
     return (1 if v > 0 else -1) == g.branch
 
 
+def discriminant(lib, g: Group, known, links):
+    """L^2 - h^2, h the distance of J1 from the guide: 0 with the coupler across the guide."""
+    p1 = known[g.joints[0]][0]
+    (pg, _, _), (th, _, _) = _guide(lib, g, known, links)
+    h = -(p1[0] - pg[0]) * lib.sin(th) + (p1[1] - pg[1]) * lib.cos(th)
+    length = lib.num(g.length)
+    return length * length - h * h
+
+
 def unknowns(g: Group, sol) -> tuple[np.ndarray, np.ndarray]:
     ra = sol.links[g.links[0]]
     return np.arctan2(ra.s, ra.c), sol.slides[g.joints[1]].s

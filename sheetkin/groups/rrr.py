@@ -317,6 +317,15 @@ def side_ok(lib, g: Group, known, links, q, joints) -> bool:
     return (1 if v > 0 else -1) == g.branch
 
 
+def discriminant(lib, g: Group, known, links):
+    """P^2 + Q^2 - F^2 (constraint (a)): >= 0 where the group assembles, 0 at its toggle."""
+    (p1, _, _), (p2, _, _) = known[g.joints[0]], known[g.joints[2]]
+    l2, l3 = lib.num(g.lengths[0]), lib.num(g.lengths[1])
+    p, q = p2[0] - p1[0], p2[1] - p1[1]
+    f = (p * p + q * q + l2 * l2 - l3 * l3) / (2 * l2)
+    return p * p + q * q - f * f
+
+
 def unknowns(g: Group, sol) -> tuple[np.ndarray, np.ndarray]:
     ra, rb = sol.links[g.links[0]], sol.links[g.links[1]]
     return np.arctan2(ra.s, ra.c), np.arctan2(rb.s, rb.c)
