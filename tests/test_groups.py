@@ -30,6 +30,7 @@ from kinds import CASES, DYNAMICS
 from libreoffice import recalculate
 from sheetkin.bench import FLOAT, errors, method_newton, reference_mp
 from sheetkin.compute import AssemblyError
+from sheetkin.group import Guide
 from sheetkin.groups import KINDS, kind_of
 from sheetkin.scene import SceneError, parse_scene
 from sheetkin.workbook import write_workbook
@@ -297,14 +298,21 @@ def _moved(scene, k: float, theta_deg: float, shift):
     for g in scene.groups:
         p = g.params
         changes = {}
+        def guide(v):
+            return v if v.moving else dataclasses.replace(v, point=rot(v.point), angle_deg=v.angle_deg + theta_deg)
+
         for f in dataclasses.fields(p):
             v = getattr(p, f.name)
-            if f.name in ("lengths",):
+            if isinstance(v, Guide):
+                changes[f.name] = guide(v)
+            elif isinstance(v, tuple) and v and all(isinstance(x, Guide) for x in v):
+                changes[f.name] = tuple(guide(x) for x in v)
+            elif f.name in ("lengths",):
                 changes[f.name] = tuple(k * x for x in v)
             elif f.name in ("length", "offset"):
                 changes[f.name] = k * v
-            elif f.name == "guide" and not v.moving:
-                changes[f.name] = dataclasses.replace(v, point=rot(v.point), angle_deg=v.angle_deg + theta_deg)
+            elif f.name.endswith("_deg"):          # an absolute angle (RPP's slot_angle_deg)
+                changes[f.name] = v + theta_deg
         groups.append(dataclasses.replace(g, params=dataclasses.replace(p, **changes)))
     points = tuple(dataclasses.replace(q, along=k * q.along, across=k * q.across) for q in scene.points)
     crank = dataclasses.replace(scene.crank, length=k * scene.crank.length, phi0_deg=scene.crank.phi0_deg + theta_deg)
