@@ -404,3 +404,21 @@ def test_random_chains_of_moving_guides_and_axes(chain):
     check_loop(scene, angles, size=size)
     check_reference(scene, angles, tol=1e-8)
     check_derivatives(scene, angles)
+
+
+# --------------------------------------------------------------------------- the documentation
+def _doc_section(kind: str) -> str:
+    from pathlib import Path
+    text = (Path(__file__).resolve().parents[1] / "docs" / "scene-format.md").read_text(encoding="utf-8")
+    start = text.index(f"### {kind}")
+    end = text.find("\n### ", start + 1)
+    return text[start:end if end > 0 else None]
+
+
+@pytest.mark.parametrize("kind", list(KINDS))
+def test_every_kind_and_key_is_documented_for_students(kind):
+    """docs/scene-format.md has a section per kind that names every one of its keys and
+    its slides' output names."""
+    section = _doc_section(kind)
+    missing = [k for k in KINDS[kind].KEYS if f"`{k}" not in section and f"{k} " not in section]
+    assert not missing, f"docs/scene-format.md, {kind}: keys not documented: {missing}"
