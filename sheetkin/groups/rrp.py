@@ -267,8 +267,10 @@ def _moving_guide_rows(b: Builder, g: Group):
     dx, dy = f"({b.p('x', J1)}-{b.p('x', G)})", f"({b.p('y', J1)}-{b.p('y', G)})"
     b.add(al, "m", f"{G}K: проекция {J1} на направляющую", f"{G}K: {J1}'s foot on the guide", "calc",
           f"{dx}*{U}+{dy}*{V}", guard=b.guard)
-    b.add(xK, "m", f"x_K: основание перпендикуляра из {J1} на прямую {G}{N}",
-          f"x_K: foot of the perpendicular from {J1} on line {G}{N}",
+    b.add(xK, "m", f"x_K: основание перпендикуляра из {J1} на прямую {G}{N} (через cos и sin, не tg: "
+                   f"конечно и для вертикальной прямой)",
+          f"x_K: foot of the perpendicular from {J1} on line {G}{N} (by cos and sin, not tg: "
+          f"finite for a vertical line too)",
           "calc", f"{b.p('x', G)}+{{{al}}}*{U}", guard=b.guard)
     b.add(yK, "m", "y_K", "y_K", "calc", f"{b.p('y', G)}+{{{al}}}*{V}", guard=b.guard)
     b.add(h, "m", f"h: расстояние от {J1} до прямой {G}{N} (влево +)",
