@@ -18,6 +18,7 @@ a three-group chain):
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import openpyxl
@@ -41,6 +42,7 @@ SURFACE = ["KIND", "LECTURE", "SLIDES", "TITLE", "KEYS", "Params", "parse", "nee
            "carries", "sliders", "solve", "input_rows", "with_inputs", "rows", "pin_owner", "pairs", "reactions",
            "reaction_rows", "loop", "side_ok", "discriminant", "unknowns"]
 ANGLES = [0.0, 17.0, 95.5, 181.0, 263.25, 333.0]
+WORKBOOKS_DIR = Path(__file__).resolve().parents[1] / "workbooks"
 
 
 def scene_of(case: str):
@@ -422,3 +424,31 @@ def test_every_kind_and_key_is_documented_for_students(kind):
     section = _doc_section(kind)
     missing = [k for k in KINDS[kind].KEYS if f"`{k}" not in section and f"{k} " not in section]
     assert not missing, f"docs/scene-format.md, {kind}: keys not documented: {missing}"
+
+
+# --------------------------------------------------------------------------- the validator
+@pytest.mark.parametrize("stem, inputs, broken", [
+    ("two_rockers_slotted", {"gamma_g2": 4.0, "L4": 0.31, "branch_g2": 1}, "vs_D"),
+    ("kulisa_moving_axis", {"e_g2": 0.02, "along_E": 0.22}, "omega_5"),
+])
+def test_validator_takes_a_students_variant_and_names_a_broken_row(tmp_path, stem, inputs, broken):
+    """A student's own inputs (the guide's angle on the moving rocker, a length, the
+    branch; the kulisa's offset and its moving axis) are a variant, not mistakes; a formula
+    broken in one column is named as the cause."""
+    import shutil
+
+    from sheetkin.validator import validate
+    from test_workbook import set_input
+    path = tmp_path / f"{stem}.xlsx"
+    shutil.copy(WORKBOOKS_DIR / f"{stem}.xlsx", path)
+    for name, value in inputs.items():
+        set_input(path, name, value)
+    report = validate(path)
+    assert report.ok, [w.name for w in report.wrong]
+    wb = openpyxl.load_workbook(path)
+    ws = wb.worksheets[0]
+    cell = ws.cell(rows_of(ws)[broken], 7)
+    cell.value = "=-(" + cell.value[1:] + ")"
+    wb.save(path)
+    report = validate(path)
+    assert not report.ok and [w.name for w in report.causes] == [broken]
