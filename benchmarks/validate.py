@@ -51,8 +51,8 @@ def base_workbook(columns: int, folder: Path) -> tuple[bytes, int]:
     text, scene = override_crank(text, str(SCENE), positions=columns, step_deg=COLUMNS[columns])
     path = folder / f"base{columns}.xlsx"
     write_workbook(scene, path, scene_text=text)
-    from sheetkin.workbook import _rows
-    row = 5 + [r.name for r in _rows(scene).rows].index("L1")
+    from sheetkin.workbook import sheet_rows
+    row = 5 + [r.name for r in sheet_rows(scene).rows].index("L1")
     return path.read_bytes(), row
 
 

@@ -81,15 +81,16 @@ def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(
         prog="sheetkin",
         description="Kinematic analysis of planar linkages in the spreadsheet workflow of "
-                    "Alyushin's course (MGGU).")
+                    "Alyushin's course (MGGU). Scene files (every key, group kind and output "
+                    "name): docs/scene-format.md in the repository.")
     parser.add_argument("--version", action="version", version=f"sheetkin {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     p = sub.add_parser(
         "compute", help="positions, velocities and accelerations of every link and point",
-        description="Compute the kinematics of a scene (see README, 'Scene files') at every "
+        description="Compute the kinematics of a scene (docs/scene-format.md) at every "
                     "crank position: link angles, angular velocities and accelerations; "
                     "coordinates, velocities and accelerations of every moving joint and point; "
-                    "slides of sliders. Names follow shared/spec/scene.md.")
+                    "slides of sliders. The scene format and the names: docs/scene-format.md.")
     p.add_argument("scene", metavar="SCENE.toml", help="the scene file")
     p.add_argument("--format", choices=["table", "csv", "json", "parquet"], default="table",
                    help="table: one row per quantity, readable (default); csv: one row per "
@@ -98,7 +99,7 @@ def build_parser() -> argparse.ArgumentParser:
                         "no value; json: the same as records (null where there is no value); "
                         "parquet: the same columns in a parquet file (needs -o and pyarrow: "
                         "pip install 'sheetkin[parquet]'). csv, json and parquet are computed and "
-                        "written in blocks of 65536 positions: millions stream at bounded memory")
+                        "written in blocks of 16384 positions: millions stream at bounded memory")
     where = p.add_mutually_exclusive_group()
     where.add_argument("--at", metavar="DEG", type=_finite_float, action="append",
                        help="crank angle in degrees; repeatable; replaces the scene's positions")
@@ -352,7 +353,7 @@ def existing_fingerprint(path) -> dict:
 def cmd_evaluate(args) -> int:
     from .evaluator import evaluate, rows_frame
     from .output import fmt_cell as _fmt
-    book = evaluate(args.book)
+    book = _evaluate_one_line(evaluate, args.book)
     if args.sheet and args.sheet not in book.sheets:
         raise SceneError(f"{args.book}: no sheet {args.sheet!r}; sheets: {', '.join(book.order)}")
     df = rows_frame(book, args.sheet)
@@ -367,6 +368,23 @@ def cmd_evaluate(args) -> int:
                          for n, row in zip(df.index, df.itertuples(index=False))) + "\n"
     _write(args.output, text)
     return 0
+
+
+def _evaluate_one_line(evaluate, path):
+    """evaluate(path), every failure one line: the evaluator's own errors (a cell's
+    problem with strict evaluation, a refused file) pass as they are; anything else (a bug
+    of ours, memory) becomes an EvaluationError naming the file, never a traceback."""
+    from .evaluator import EvaluationError
+    try:
+        return evaluate(path)
+    except (ValueError, OSError) as e:
+        if isinstance(e, OSError) or type(e).__module__.startswith("sheetkin."):
+            raise
+        raise EvaluationError(f"{path}: cannot be evaluated ({type(e).__name__}: {' '.join(str(e).split())[:200]}); "
+                              "please report this file to sheetkin's authors") from None
+    except Exception as e:      # noqa: BLE001 - RecursionError, MemoryError, a bug: one line, exit 2
+        raise EvaluationError(f"{path}: cannot be evaluated ({type(e).__name__}: {' '.join(str(e).split())[:200]}); "
+                              "please report this file to sheetkin's authors") from None
 
 
 def _write(path, text):
@@ -464,6 +482,9 @@ def cmd_validate(args) -> int:
     from .report import html_report, json_report, summary_table, text_report
     files = _validation_files(args.paths)
     show = args.progress == "always" or (args.progress == "auto" and sys.stderr.isatty() and len(files) > 1)
+    from .xlsxread import convert_opendocument     # a class's .ods files: one LibreOffice run
+    convert_opendocument(files, note=(lambda t: print(f"sheetkin: {t}", file=sys.stderr)) if show else None)
+    # (converted before the pool starts: forked workers inherit the conversions)
 
     def progress(done, f):
         bar = int(30 * done / len(files))

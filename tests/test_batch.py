@@ -34,8 +34,8 @@ def _variants(scene):
     yield scene
     yield dataclasses.replace(scene, crank=dataclasses.replace(c, length=c.length * 0.9, phi0_deg=7.5, omega=-3.0))
     yield dataclasses.replace(scene, crank=dataclasses.replace(c, step_deg=2.0, positions=9))
-    if g.type in ("RRR", "RRP"):
-        flipped = dataclasses.replace(g, branch=-g.branch)
+    if hasattr(g, "branch"):            # a kind with two assemblies: the other branch
+        flipped = dataclasses.replace(g, params=dataclasses.replace(g.params, branch=-g.branch))
         yield dataclasses.replace(scene, groups=(flipped,) + scene.groups[1:],
                                   plan=tuple((k, flipped if it is g else it) for k, it in scene.plan))
 
