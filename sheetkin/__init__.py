@@ -2,8 +2,9 @@
 Prof. Yu. A. Alyushin's course (MGGU). Pipeline: scene -> solver -> compute -> cli.
 
 The public names load on first use (PEP 562): `import sheetkin` costs only the scene
-reader, so `sheetkin --help` and small commands start quickly; numpy comes with the solver,
-pandas with `compute()`'s DataFrame, openpyxl with the workbooks (tests/test_startup.py).
+reader (with the group kinds' registry, which uses numpy), so `sheetkin --help` and small
+commands start quickly; the solver loads with sheetkin.solve / sheetkin.compute, pandas
+with `compute()`'s DataFrame, openpyxl with the workbooks (tests/test_startup.py).
 """
 import sys as _sys
 import types as _types
