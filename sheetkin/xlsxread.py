@@ -583,6 +583,8 @@ def _shift_formula(formula: str, dr: int, dc: int) -> str:
         if m.group("str") is not None:
             return m.group(0)
         if m.group("col") is not None:
+            if m.group("col") not in _COLUMN_INDEX:     # ZZZ9: past XFD, a name, not a cell
+                return m.group(0)
             c, r = col(m.group("cabs"), m.group("col")), row(m.group("rabs"), m.group("row"))
             return "#REF!" if c is None or r is None else (m.group("sheet") or "") + c + r
         if m.group("wc1") is not None:
