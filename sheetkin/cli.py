@@ -416,7 +416,7 @@ def existing_fingerprint(path) -> dict:
 
 def cmd_evaluate(args) -> int:
     from .evaluator import evaluate, rows_frame
-    book = evaluate(args.book)
+    book = _evaluate_one_line(evaluate, args.book)
     if args.sheet and args.sheet not in book.sheets:
         raise SceneError(f"{args.book}: no sheet {args.sheet!r}; sheets: {', '.join(book.order)}")
     df = rows_frame(book, args.sheet)
@@ -431,6 +431,23 @@ def cmd_evaluate(args) -> int:
                          for n, row in zip(df.index, df.itertuples(index=False))) + "\n"
     _write(args.output, text)
     return 0
+
+
+def _evaluate_one_line(evaluate, path):
+    """evaluate(path), every failure one line: the evaluator's own errors (a cell's
+    problem with strict evaluation, a refused file) pass as they are; anything else (a bug
+    of ours, memory) becomes an EvaluationError naming the file, never a traceback."""
+    from .evaluator import EvaluationError
+    try:
+        return evaluate(path)
+    except (ValueError, OSError) as e:
+        if isinstance(e, OSError) or type(e).__module__.startswith("sheetkin."):
+            raise
+        raise EvaluationError(f"{path}: cannot be evaluated ({type(e).__name__}: {' '.join(str(e).split())[:200]}); "
+                              "please report this file to sheetkin's authors") from None
+    except Exception as e:      # noqa: BLE001 - RecursionError, MemoryError, a bug: one line, exit 2
+        raise EvaluationError(f"{path}: cannot be evaluated ({type(e).__name__}: {' '.join(str(e).split())[:200]}); "
+                              "please report this file to sheetkin's authors") from None
 
 
 def _write(path, text):
@@ -506,7 +523,7 @@ def refuse_overwriting_inputs(args) -> None:
                 raise SceneError(f"{path}: both {opt} and {opt2} name this file; choose two names")
 
 
-SPREADSHEET_SUFFIXES = (".xlsx", ".xlsm", ".xltx", ".xltm", ".xls", ".ods")
+SPREADSHEET_SUFFIXES = (".xlsx", ".xlsm", ".xltx", ".xltm", ".xls", ".ods", ".fods")
 
 
 def _validation_files(paths: list[str], strict: bool = True) -> list[Path]:
@@ -528,6 +545,8 @@ def cmd_validate(args) -> int:
     from .validator import validate
     files = _validation_files(args.paths)
     show = args.progress == "always" or (args.progress == "auto" and sys.stderr.isatty() and len(files) > 1)
+    from .xlsxread import convert_opendocument     # a class's .ods files: one LibreOffice run
+    convert_opendocument(files, note=(lambda t: print(f"sheetkin: {t}", file=sys.stderr)) if show else None)
     reports = []
     for i, f in enumerate(files, 1):
         if show:
