@@ -13,6 +13,8 @@ from __future__ import annotations
 import gc
 import io
 import re
+import shutil
+import tempfile
 from dataclasses import dataclass, field
 from itertools import compress
 from pathlib import Path
@@ -568,7 +570,7 @@ def _shift_formula(formula: str, dr: int, dc: int) -> str:
     def col(abs_, letters):
         if abs_:
             return abs_ + letters
-        c = _COLUMN_INDEX[letters] + dc
+        c = _COLUMN_INDEX.get(letters, _MAX_COL + 1) + dc      # past XFD: not a column
         return _LETTERS[c] if 1 <= c <= _MAX_COL else None
 
     def row(abs_, digits):
@@ -665,37 +667,97 @@ def _opendocument(path) -> bool:
 def _read_opendocument(path, limits: Limits, timeout: float) -> RawBook:
     """LibreOffice (its own temporary profile, a time limit) converts a copy of the file
     to .xlsx in a temporary folder, which is read like any .xlsx; the original is only
-    read. Without LibreOffice: refused, with the command that converts it."""
+    read. Without LibreOffice: refused, with the command that converts it. A file that
+    `convert_opendocument` converted already is read from its converted copy."""
     from . import libreoffice
-    import shutil
-    import tempfile
     shown = str(path)
     how = f"convert it to .xlsx: soffice --headless --convert-to xlsx {shown!r}"
     size = Path(path).stat().st_size
     if size > limits.max_file_bytes:
         raise UnusableWorkbook(shown, f"an OpenDocument spreadsheet of {size} bytes",
                                f"at most {limits.max_file_bytes} bytes")
+    done = _CONVERTED.get(_signature(path))
+    if done is not None and done.is_file():
+        return _read_converted(done, shown, limits)
     if libreoffice.soffice_path() is None:
         raise UnusableWorkbook(shown, "an OpenDocument spreadsheet, and LibreOffice (soffice) is not "
                                "installed to read it", how)
     with tempfile.TemporaryDirectory(prefix="sheetkin-ods-") as tmp:
         src = Path(tmp) / "in"
         src.mkdir()
-        copy = src / ("book" + (Path(path).suffix.lower() if Path(path).suffix.lower() in (".ods", ".fods")
-                                 else ".ods"))
+        copy = src / ("book" + _odf_suffix(path))
         shutil.copyfile(path, copy)
         try:
             out = libreoffice.convert_to_xlsx(copy, Path(tmp) / "out", timeout)
         except (RuntimeError, OSError) as e:
             reason = "timed out" if "timed out" in str(e) else "failed"
             raise UnusableWorkbook(shown, f"LibreOffice's conversion to .xlsx {reason}", how) from None
-        try:
-            raw = _read_xlsx(out, limits)
-        except UnusableWorkbook as e:
-            raise UnusableWorkbook(shown, f"(converted to .xlsx by LibreOffice) {e.problem}", e.expected,
-                                   e.part) from None
+        return _read_converted(out, shown, limits)
+
+
+def _read_converted(out: Path, shown: str, limits: Limits) -> RawBook:
+    try:
+        raw = _read_xlsx(out, limits)
+    except UnusableWorkbook as e:
+        raise UnusableWorkbook(shown, f"(converted to .xlsx by LibreOffice) {e.problem}", e.expected,
+                               e.part) from None
     raw.path = shown
     return raw
+
+
+def _odf_suffix(path) -> str:
+    return ".fods" if Path(path).suffix.lower() == ".fods" else ".ods"
+
+
+def _signature(path) -> tuple:
+    """A file as it is now: its resolved name, size and modification time."""
+    st = Path(path).stat()
+    return str(Path(path).resolve()), st.st_size, st.st_mtime_ns
+
+
+_CONVERTED: dict = {}      # _signature(original) -> its .xlsx made by convert_opendocument
+_BATCH_DIRS: list = []     # their temporary folders, removed when the process ends
+
+
+def convert_opendocument(paths, limits: Limits = Limits(), *, timeout_per_file: float = 60,
+                         note=None) -> int:
+    """Convert every OpenDocument spreadsheet among `paths` to .xlsx in ONE LibreOffice run
+    (its start-up is most of the time a file costs: a class's .ods files, 2-4 s each one
+    by one); read_book then reads the converted copies, as long as the originals do not
+    change. Copies are converted, in a temporary folder removed when the process ends.
+    If the run fails, nothing is kept: read_book converts each file alone (and says what
+    is wrong with it). `note(text)` is told before the run. Returns how many were converted."""
+    from . import libreoffice
+    todo = []
+    for p in paths:
+        try:
+            if _opendocument(p) and Path(p).stat().st_size <= limits.max_file_bytes:
+                todo.append(p)
+        except OSError:
+            continue
+    if len(todo) < 2 or libreoffice.soffice_path() is None:
+        return 0
+    if note is not None:
+        note(f"{len(todo)} OpenDocument spreadsheets: converting them to .xlsx with LibreOffice (one run)")
+    tmp = tempfile.TemporaryDirectory(prefix="sheetkin-ods-batch-")
+    _BATCH_DIRS.append(tmp)
+    src = Path(tmp.name) / "in"
+    src.mkdir()
+    copies = {}
+    for i, p in enumerate(todo):
+        copy = src / f"book{i}{_odf_suffix(p)}"
+        try:
+            shutil.copyfile(p, copy)
+        except OSError:
+            continue
+        copies[copy.resolve()] = (p, _signature(p))
+    try:
+        outputs = libreoffice.recalculate(list(copies), Path(tmp.name) / "out", 60 + timeout_per_file * len(copies))
+    except (RuntimeError, OSError, ValueError):
+        return 0
+    for copy, out in outputs.items():
+        _CONVERTED[copies[copy][1]] = out
+    return len(outputs)
 
 
 def _read_xlsx(path, limits: Limits) -> RawBook:
