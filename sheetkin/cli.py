@@ -416,7 +416,7 @@ def existing_fingerprint(path) -> dict:
 
 def cmd_evaluate(args) -> int:
     from .evaluator import evaluate, rows_frame
-    book = evaluate(args.book)
+    book = _evaluate_one_line(evaluate, args.book)
     if args.sheet and args.sheet not in book.sheets:
         raise SceneError(f"{args.book}: no sheet {args.sheet!r}; sheets: {', '.join(book.order)}")
     df = rows_frame(book, args.sheet)
@@ -431,6 +431,23 @@ def cmd_evaluate(args) -> int:
                          for n, row in zip(df.index, df.itertuples(index=False))) + "\n"
     _write(args.output, text)
     return 0
+
+
+def _evaluate_one_line(evaluate, path):
+    """evaluate(path), every failure one line: the evaluator's own errors (a cell's
+    problem with strict evaluation, a refused file) pass as they are; anything else (a bug
+    of ours, memory) becomes an EvaluationError naming the file, never a traceback."""
+    from .evaluator import EvaluationError
+    try:
+        return evaluate(path)
+    except (ValueError, OSError) as e:
+        if isinstance(e, OSError) or type(e).__module__.startswith("sheetkin."):
+            raise
+        raise EvaluationError(f"{path}: cannot be evaluated ({type(e).__name__}: {' '.join(str(e).split())[:200]}); "
+                              "please report this file to sheetkin's authors") from None
+    except Exception as e:      # noqa: BLE001 - RecursionError, MemoryError, a bug: one line, exit 2
+        raise EvaluationError(f"{path}: cannot be evaluated ({type(e).__name__}: {' '.join(str(e).split())[:200]}); "
+                              "please report this file to sheetkin's authors") from None
 
 
 def _write(path, text):
