@@ -585,8 +585,6 @@ def _shift_formula(formula: str, dr: int, dc: int) -> str:
         if any(g is not None and g not in _COLUMN_INDEX for g in (m.group("col"), m.group("wc1"), m.group("wc2"))):
             return m.group(0)                 # past XFD (ZZZ9): a name, not a reference
         if m.group("col") is not None:
-            if m.group("col") not in _COLUMN_INDEX:     # ZZZ9: past XFD, a name, not a cell
-                return m.group(0)
             c, r = col(m.group("cabs"), m.group("col")), row(m.group("rabs"), m.group("row"))
             return "#REF!" if c is None or r is None else (m.group("sheet") or "") + c + r
         if m.group("wc1") is not None:
