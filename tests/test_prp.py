@@ -183,7 +183,7 @@ def test_prp_kinetostatics_balances_power_through_ideal_sliding_pairs(ca, cb, lo
         return
     (n, sa, sb, _, _), (pa, ga, pb, gb) = crossing(ca, cb)
     fax, fay, fbx, fby, ma, mb = loads
-    (qa, ca_), (qb, cb_), x = prp.reactions((fax, fay), (fbx, fby), ma, mb, ga, gb)
+    (qa, ca_), (qb, cb_), x = prp.reaction_forces((fax, fay), (fbx, fby), ma, mb, ga, gb)
     # equilibrium of each block (forces): Qa n_a + X + Fa = 0, Qb n_b - X + Fb = 0
     assert abs(qa[0] + x[0] + fax) + abs(qa[1] + x[1] + fay) < 1e-9 * (1 + sum(map(abs, loads)))
     assert abs(qb[0] - x[0] + fbx) + abs(qb[1] - x[1] + fby) < 1e-9 * (1 + sum(map(abs, loads)))
@@ -203,7 +203,7 @@ def test_prp_loop_equations_hold_at_the_closed_form_answer():
     ca = (0.1, -0.2, 0.3, 2.0, 0.4, 0.3, 1.5, -2.0)
     cb = (0.5, 0.7, 0.2, -1.0, 1.0, 1.9, -0.5, 3.0)
     (n, sa, sb, _, _), _ = crossing(ca, cb)
-    F, J, b_v, b_a, place = prp.loop(FLOAT, *trajectory(math, 0.0, ca), *trajectory(math, 0.0, cb))
+    F, J, b_v, b_a, place = prp.loop_lines(FLOAT, *trajectory(math, 0.0, ca), *trajectory(math, 0.0, cb))
     q, qt, qtt = [sa.s, sb.s], [sa.vs, sb.vs], [sa.as_, sb.as_]
     assert max(map(abs, F(q))) < 1e-14
     assert np.allclose(np.array(J(q)) @ qt, b_v(q), atol=1e-12)
