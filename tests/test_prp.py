@@ -13,7 +13,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from sheetkin.groups import prp
-from sheetkin.solver import Motion, Rotation
+from sheetkin.motion import Motion, Rotation
 
 # 8th-order central differences: weights for f' and f'' on offsets -4..4
 D1 = np.array([1 / 280, -4 / 105, 1 / 5, -4 / 5, 0, 4 / 5, -1 / 5, 4 / 105, -1 / 280])
