@@ -46,6 +46,8 @@ import pandas as pd
 from .compute import TOGGLE_THRESHOLD, AssemblyError, assembly_gaps, failed_positions, solution_columns
 from .libreoffice import soffice_path
 from .scene import Scene, override_crank, parse_scene
+from .groups import kind_of
+from .motion import slide_names
 from .solver import solve
 
 FD_STEPS = tuple(10.0 ** -k for k in np.arange(1.0, 8.01, 0.5))     # rad, 1e-1 .. 1e-8
@@ -121,7 +123,7 @@ def quantity_names(scene: Scene) -> list[str]:
     for p in scene.moving_joints + [p.name for p in scene.points]:
         names += [f"{q}_{p}" for q in ("x", "y", "vx", "vy", "ax", "ay")]
     for p in scene.sliders:
-        names += [f"s_{p}", f"vs_{p}", f"as_{p}"]
+        names += list(slide_names(p))
     return names
 
 
@@ -160,112 +162,6 @@ def _carried(lib, origin, link, along, across):
     dx, dy = along * nc - across * c, along * ns - across * s
     return ((px + rx, py + ry), (vx + w * dx, vy + w * dy),
             (ax + eps * dx - w * w * rx, ay + eps * dy - w * w * ry))
-
-
-def _loop(lib, g, known):
-    """Group g's vector loop-closure equation F(q) = 0 in its two unknowns q.
-
-    Returns F(q), J(q) = dF/dq, b_v(q) and b_a(q, q_t) with J q_t = b_v and J q_tt = b_a
-    (the first and second time derivatives of F = 0), and place(q, q_t, q_tt) giving the
-    group's new joint (or None), its links' (phi, omega, eps) and its slide (or None).
-    """
-    n = lib.num
-    if g.type == "RRR":
-        # J1 + L2 e(p2) = J2 + L3 e(p3); q = (p2, p3) the directions J1->N and J2->N
-        (p1, v1, a1), (p2, v2, a2) = known[g.joints[0]], known[g.joints[2]]
-        l2, l3 = n(g.lengths[0]), n(g.lengths[1])
-
-        def F(q):
-            (c2, s2), (c3, s3) = _e(lib, q[0]), _e(lib, q[1])
-            return [p1[0] + l2 * c2 - l3 * c3 - p2[0], p1[1] + l2 * s2 - l3 * s3 - p2[1]]
-
-        def J(q):
-            (c2, s2), (c3, s3) = _e(lib, q[0]), _e(lib, q[1])
-            return [[-l2 * s2, l3 * s3], [l2 * c2, -l3 * c3]]
-
-        def b_v(q):
-            return [v2[0] - v1[0], v2[1] - v1[1]]
-
-        def b_a(q, qt):
-            (c2, s2), (c3, s3) = _e(lib, q[0]), _e(lib, q[1])
-            w2, w3 = qt
-            return [a2[0] - a1[0] + l2 * w2 * w2 * c2 - l3 * w3 * w3 * c3,
-                    a2[1] - a1[1] + l2 * w2 * w2 * s2 - l3 * w3 * w3 * s3]
-
-        def place(q, qt, qtt):
-            la, lb = (q[0], qt[0], qtt[0]), (q[1], qt[1], qtt[1])
-            return _carried(lib, known[g.joints[0]], la, l2, n(0)), (la, lb), None
-    elif g.type == "RRP":
-        # J1 + L e(p2) = G + s u; q = (p2, s)
-        p1, v1, a1 = known[g.joints[0]]
-        length = n(g.lengths[0])
-        gam = n(g.guide_angle_deg) * lib.pi() / 180
-        ux, uy = _e(lib, gam)
-        gx, gy = n(g.guide_point[0]), n(g.guide_point[1])
-
-        def F(q):
-            c, s = _e(lib, q[0])
-            return [p1[0] + length * c - gx - q[1] * ux, p1[1] + length * s - gy - q[1] * uy]
-
-        def J(q):
-            c, s = _e(lib, q[0])
-            return [[-length * s, -ux], [length * c, -uy]]
-
-        def b_v(q):
-            return [-v1[0], -v1[1]]
-
-        def b_a(q, qt):
-            c, s = _e(lib, q[0])
-            return [-a1[0] + length * qt[0] ** 2 * c, -a1[1] + length * qt[0] ** 2 * s]
-
-        def place(q, qt, qtt):
-            joint = ((gx + q[1] * ux, gy + q[1] * uy), (qt[1] * ux, qt[1] * uy),
-                     (qtt[1] * ux, qtt[1] * uy))
-            return joint, ((q[0], qt[0], qtt[0]), (gam, n(0), n(0))), (q[1], qt[1], qtt[1])
-    else:
-        # J1 - J2 = s u(th) + off n(th); q = (th, s)
-        (p1, v1, a1), (p2, v2, a2) = known[g.joints[0]], known[g.joints[1]]
-        off = n(g.offset)
-
-        def F(q):
-            (c, s), (nc, ns) = _e(lib, q[0]), _ep(lib, q[0])
-            return [p1[0] - p2[0] - q[1] * c - off * nc, p1[1] - p2[1] - q[1] * s - off * ns]
-
-        def J(q):
-            (c, s), (nc, ns) = _e(lib, q[0]), _ep(lib, q[0])
-            return [[-(q[1] * nc - off * c), -c], [-(q[1] * ns - off * s), -s]]
-
-        def b_v(q):
-            return [v2[0] - v1[0], v2[1] - v1[1]]
-
-        def b_a(q, qt):
-            # d2(s u + off n)/dt2 = s_tt u + th_tt (s n - off u) + 2 s_t th_t n - s th_t^2 u - off th_t^2 n
-            (c, s), (nc, ns) = _e(lib, q[0]), _ep(lib, q[0])
-            w, vs = qt
-            return [a2[0] - a1[0] + 2 * vs * w * nc - q[1] * w * w * c - off * w * w * nc,
-                    a2[1] - a1[1] + 2 * vs * w * ns - q[1] * w * w * s - off * w * w * ns]
-
-        def place(q, qt, qtt):
-            lever = (q[0], qt[0], qtt[0])
-            return None, (lever, lever), (q[1], qt[1], qtt[1])
-    return F, J, b_v, b_a, place
-
-
-def _side(lib, g, known, q, joint) -> int:
-    """Which branch q is on, in the scene's terms: RRR the side of J1 -> J2 the new joint
-    lies on (+1 left); RRP +1 if N is ahead of the foot of the perpendicular from J1 along
-    the guide; RPR the sign of s (the contract has s >= 0, so always +1)."""
-    if g.type == "RRR":
-        (p1, _, _), (p2, _, _) = known[g.joints[0]], known[g.joints[2]]
-        n_ = joint[0]
-        v = (p2[0] - p1[0]) * (n_[1] - p1[1]) - (p2[1] - p1[1]) * (n_[0] - p1[0])
-    elif g.type == "RRP":
-        p1 = known[g.joints[0]][0]
-        ux, uy = _e(lib, lib.num(g.guide_angle_deg) * lib.pi() / 180)
-        v = (joint[0][0] - p1[0]) * ux + (joint[0][1] - p1[1]) * uy
-    else:
-        v = q[1]
-    return 1 if v > 0 else -1
 
 
 def _newton(lib, F, J, q, tol, max_iter):
@@ -310,7 +206,8 @@ def _walk(lib, scene: Scene, phi_deg: float, guesses: dict[int, list], tol: floa
                                         n(item.along), n(item.across))
         else:
             g = item
-            F, J, b_v, b_a, place = _loop(lib, g, known)
+            kind = kind_of(g)
+            F, J, b_v, b_a, place = kind.loop(lib, g, known, links)
             q, ok = _newton(lib, F, J, [n(x) for x in guesses[g.index]], tol, max_iter)
             if not ok:
                 problems.append((g, "no convergence"))
@@ -319,15 +216,13 @@ def _walk(lib, scene: Scene, phi_deg: float, guesses: dict[int, list], tol: floa
             sines[g.index] = jacobian_sine(Jq)
             qt = lib.solve(Jq, b_v(q))
             qtt = lib.solve(Jq, b_a(q, qt))
-            joint, (la, lb), slide = place(q, qt, qtt)
+            joints, (la, lb), group_slides = place(q, qt, qtt)
             qs[g.index] = q
-            if joint is not None:
-                known[g.joints[1]] = joint
-            if _side(lib, g, known, q, joint) != (g.branch if g.type != "RPR" else 1):
+            known.update(joints)
+            if not kind.side_ok(lib, g, known, links, q, joints):
                 problems.append((g, "branch jump"))
             links[g.links[0]], links[g.links[1]] = la, lb
-            if slide is not None:
-                slides[g.slider] = slide
+            slides.update(group_slides)
     values = {}
     deg = 180 / lib.pi()
     for k in scene.links:
@@ -338,8 +233,8 @@ def _walk(lib, scene: Scene, phi_deg: float, guesses: dict[int, list], tol: floa
         (x, y), (vx, vy), (ax, ay) = known[name]
         values.update({f"x_{name}": x, f"y_{name}": y, f"vx_{name}": vx, f"vy_{name}": vy,
                        f"ax_{name}": ax, f"ay_{name}": ay})
-    for name, (s, vs, as_) in slides.items():
-        values.update({f"s_{name}": s, f"vs_{name}": vs, f"as_{name}": as_})
+    for tag, triple in slides.items():
+        values.update(zip(slide_names(tag), triple))
     return values, qs, problems, sines
 
 
@@ -348,13 +243,7 @@ def _unknowns(scene: Scene, phi_deg) -> list[dict[int, list[float]]]:
     sol = solve(scene, phi_deg)
     out = [{} for _ in np.atleast_1d(phi_deg)]
     for g in scene.groups:
-        la, lb = g.links
-        if g.type == "RRR":
-            qa = np.arctan2(sol.links[la].s, sol.links[la].c)
-            qb = np.arctan2(sol.links[lb].s, sol.links[lb].c)
-        else:
-            qa = np.arctan2(sol.links[la].s, sol.links[la].c)
-            qb = sol.slides[g.slider].s
+        qa, qb = kind_of(g).unknowns(g, sol)
         for i, d in enumerate(out):
             d[g.index] = [float(qa[i]), float(qb[i])]
     return out
@@ -480,7 +369,7 @@ def fd_values(scene: Scene, phis, h: float) -> dict[str, np.ndarray]:
         values[f"phi_{k}"], values[f"omega_{k}"], values[f"eps_{k}"] = mid, w * d1, w * w * d2 + eps * d1
     coords = [(f"x_{p}", f"vx_{p}", f"ax_{p}") for p in scene.moving_joints + [p.name for p in scene.points]]
     coords += [(f"y_{p}", f"vy_{p}", f"ay_{p}") for p in scene.moving_joints + [p.name for p in scene.points]]
-    coords += [(f"s_{p}", f"vs_{p}", f"as_{p}") for p in scene.sliders]
+    coords += [slide_names(p) for p in scene.sliders]
     for x, v, a in coords:
         lo, mid, hi = np.split(cols[x], 3)
         d1, d2 = (hi - lo) / (2 * h), (hi - 2 * mid + lo) / (h * h)

@@ -21,6 +21,7 @@ import pandas as pd
 
 from .dynamics import dynamics as solve_dynamics
 from .dynamics import dynamics_names
+from .motion import slide_names
 from .scene import Scene, load_scene
 from .solver import Solution, solve
 
@@ -55,7 +56,7 @@ def column_names(scene: Scene) -> list[str]:
     for p in scene.moving_joints + [p.name for p in scene.points]:
         cols += [f"{q}_{p}" for q in ("x", "y", "vx", "vy", "v", "ax", "ay", "a")]
     for p in scene.sliders:
-        cols += [f"s_{p}", f"vs_{p}", f"as_{p}"]
+        cols += list(slide_names(p))
     return cols
 
 
@@ -73,7 +74,8 @@ _WHOLE_UNITS = {"T_t": "W", "U_t": "W", "P_ext": "W", "P_bal": "W", "balance": "
 
 
 def unit(column: str) -> str:
-    return _WHOLE_UNITS.get(column) or _UNITS.get(column.split("_", 1)[0], "")
+    # s2_N, vs2_N, as2_N (a group's second slide) have the units of s, vs, as
+    return _WHOLE_UNITS.get(column) or _UNITS.get(column.split("_", 1)[0].rstrip("0123456789"), "")
 
 
 def analog_name(column: str) -> str:
@@ -113,11 +115,10 @@ def solution_columns(scene: Scene, sol: Solution, out: dict | None = None) -> di
             put(f"{q}_{name}", value)
         _norm(m.vx, m.vy, out[f"v_{name}"])
         _norm(m.ax, m.ay, out[f"a_{name}"])
-    for name in scene.sliders:
-        sl = sol.slides[name]
-        put(f"s_{name}", sl.s)
-        put(f"vs_{name}", sl.vs)
-        put(f"as_{name}", sl.as_)
+    for tag in scene.sliders:
+        sl = sol.slides[tag]
+        for name, value in zip(slide_names(tag), (sl.s, sl.vs, sl.as_)):
+            put(name, value)
     return out
 
 

@@ -13,7 +13,11 @@ import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
-GROUP_TYPES = ("RRR", "RRP", "RPR")
+from .group import Group, Guide
+from .groups import KINDS, kind_of
+from .motion import slide_names
+
+GROUP_TYPES = tuple(KINDS)
 NAME_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 
 
@@ -31,33 +35,6 @@ class Crank:
     positions: int
     omega: float
     epsilon: float
-
-
-@dataclass(frozen=True)
-class Group:
-    """One Assur group (dyad). `index` counts groups from 1 in file order."""
-    index: int
-    type: str
-    links: tuple[int, int]
-    joints: tuple[str, ...]           # RRR: (J1, N, J2); RRP: (J1, N); RPR: (J1, J2)
-    lengths: tuple[float, ...]        # RRR: (|J1 N|, |N J2|); RRP: (|J1 N|,); RPR: ()
-    branch: int = 1
-    guide_point: tuple[float, float] | None = None   # RRP: the guide's `through` point
-    guide_angle_deg: float = 0.0
-    offset: float = 0.0               # RPR: slot line's distance from J2
-
-    @property
-    def new_joint(self) -> str | None:
-        return self.joints[1] if self.type in ("RRR", "RRP") else None
-
-    @property
-    def slider(self) -> str | None:
-        """Name of the point whose slide `s_*` this group defines (RRR defines none)."""
-        return {"RRP": self.joints[1], "RPR": self.joints[0]}.get(self.type)
-
-    @property
-    def label(self) -> str:
-        return f"group {self.index} ({self.type} {'-'.join(self.joints)})"
 
 
 @dataclass(frozen=True)
@@ -120,11 +97,12 @@ class Scene:
 
     @property
     def moving_joints(self) -> list[str]:
-        return [self.crank.joint] + [g.new_joint for g in self.groups if g.new_joint]
+        return [self.crank.joint] + [n for g in self.groups for n in kind_of(g).new_joints(g)]
 
     @property
     def sliders(self) -> list[str]:
-        return [g.slider for g in self.groups if g.slider]
+        """Slide tags in group order (sheetkin.motion.slide_names gives s_*, vs_*, as_*)."""
+        return [t for g in self.groups for t in kind_of(g).sliders(g)]
 
     def crank_angles_deg(self) -> list[float]:
         c = self.crank
@@ -243,6 +221,9 @@ class _Table:
             self.fail(key, f"expected a name of letters, digits and _ starting with a letter, got {v!r}")
         return v
 
+    def guide(self, key, frame) -> Guide:
+        return _parse_guide(self, key, frame)
+
     def array(self, key, n, kind):
         v = self.data.get(key, ...)
         if v is ...:
@@ -310,6 +291,7 @@ def parse_scene(text: str, source: str = "<scene>") -> Scene:
     groups = _parse_groups(ctx, data, frame, define)
     points = _parse_points(ctx, data, define)
     plan = _make_plan(ctx, frame, crank, groups, points)
+    _check_slides(ctx, groups)
     gravity = top.array("gravity", 2, "number") if "gravity" in data else (0.0, 0.0)
     on_link = link_joints(crank, groups)
     for p in points:
@@ -354,13 +336,6 @@ def _parse_crank(ctx, data, frame, define):
                  tbl.get("epsilon", "a number", 0.0))
 
 
-GROUP_KEYS = {
-    "RRR": ["type", "links", "joints", "lengths", "branch"],
-    "RRP": ["type", "links", "joints", "length", "guide", "branch"],
-    "RPR": ["type", "links", "joints", "offset"],
-}
-
-
 def _parse_groups(ctx, data, frame, define):
     raw = data.get("group", [])
     if not isinstance(raw, list) or not all(isinstance(x, dict) for x in raw):
@@ -371,61 +346,65 @@ def _parse_groups(ctx, data, frame, define):
         if "type" not in tbl.data:
             tbl.fail("type", f"missing; expected one of {', '.join(GROUP_TYPES)}")
         kind = tbl.get("type", "a string")
-        if kind not in GROUP_TYPES:
+        if kind not in KINDS:
             tbl.fail("type", f"unknown group type '{kind}'; expected one of {', '.join(GROUP_TYPES)}")
-        tbl.check_keys(GROUP_KEYS[kind])
+        mod = KINDS[kind]
+        tbl.check_keys(mod.KEYS)
         links = tbl.array("links", 2, "integer")
         if links != (next_link, next_link + 1):
             tbl.fail("links", f"expected [{next_link}, {next_link + 1}] (links are numbered 0 frame, "
                               f"1 crank, then each group's links in file order), got {list(links)}")
         next_link += 2
-        njoints = 3 if kind == "RRR" else 2
-        joints = tbl.array("joints", njoints, "name")
-        kw = {}
-        if kind in ("RRR", "RRP"):
-            if joints[1] in (joints[0], joints[2] if kind == "RRR" else joints[0]):
-                tbl.fail("joints", f"the new joint '{joints[1]}' (second name) must differ from the "
-                                   f"known joint(s) it is attached to, got {list(joints)}")
-            define(tbl, "joints", joints[1], f"the new joint of group {i + 1}")
-            branch = tbl.get("branch", "an integer")
-            if branch not in (1, -1):
-                tbl.fail("branch", f"expected +1 or -1, got {branch}")
-            kw["branch"] = branch
-        if kind == "RRR":
-            lengths = tbl.array("lengths", 2, "number")
-            if min(lengths) <= 0:
-                tbl.fail("lengths", f"expected positive lengths in metres, got {list(lengths)}")
-        elif kind == "RRP":
-            lengths = (tbl.positive("length"),)
-            kw.update(_parse_guide(ctx, tbl, frame))
-        else:
-            lengths = ()
-            kw["offset"] = tbl.get("offset", "a number", 0.0)
-            if joints[0] == joints[1]:
-                tbl.fail("joints", f"expected two different points, got {list(joints)}")
-        groups.append(Group(i + 1, kind, links, joints, lengths, **kw))
+        joints, params = mod.parse(tbl, frame)
+        group = Group(i + 1, kind, links, joints, params)
+        for n in mod.new_joints(group):
+            define(tbl, "joints", n, f"the new joint of group {i + 1}")
+        groups.append(group)
     return groups
 
 
-def _parse_guide(ctx, tbl, frame):
-    expected = "guide = {through = FRAME_POINT or [x, y], angle_deg = ...}"
-    if "guide" not in tbl.data:
-        tbl.fail("guide", f"missing; expected {expected}")
-    if not isinstance(tbl.data["guide"], dict):
-        tbl.fail("guide", f"expected {expected}, got {_type_name(tbl.data['guide'])}")
-    guide = _Table(ctx, tbl.data["guide"], tbl.where, tbl.table, tbl.index)
-    guide.fail = lambda key, msg: tbl.fail(f"guide.{key}" if key else "guide", msg)
-    guide.check_keys(["through", "angle_deg"])
+def _check_slides(ctx, groups):
+    """One name, one quantity: two groups may not both define s_P."""
+    slides: dict[str, int] = {}
+    for g in groups:
+        for tag in kind_of(g).sliders(g):
+            if tag in slides:
+                ctx.fail(f"[[group]] #{g.index}", "group", g.index - 1, "joints",
+                         f"group {slides[tag]} already defines the slide of '{tag}' "
+                         f"({slide_names(tag)[0]}); a slider quantity is named once")
+            slides[tag] = g.index
+
+
+def _parse_guide(tbl: "_Table", key: str, frame) -> Guide:
+    """A guide `{through = POINT or [x, y], angle_deg = A, link = k}` (the contract's
+    "Group types"): on the frame (link 0, the default) `through` is a frame point or [x, y];
+    on a moving link k it names a point of link k (checked when the scene is planned)."""
+    expected = f"{key} = {{through = POINT or [x, y], angle_deg = ..., link = k}}"
+    if key not in tbl.data:
+        tbl.fail(key, f"missing; expected {expected}")
+    if not isinstance(tbl.data[key], dict):
+        tbl.fail(key, f"expected {expected}, got {_type_name(tbl.data[key])}")
+    guide = _Table(tbl.ctx, tbl.data[key], tbl.where, tbl.table, tbl.index)
+    guide.fail = lambda k, msg: tbl.fail(f"{key}.{k}" if k else key, msg)
+    guide.check_keys(["through", "angle_deg", "link"])
+    link = guide.get("link", "an integer", 0)
+    if link < 0:
+        guide.fail("link", f"expected 0 (the frame) or a moving link's number, got {link}")
+    angle = guide.get("angle_deg", "a number", 0.0)
     through = guide.data.get("through", ...)
     if through is ...:
-        guide.fail("through", "missing; expected a frame point's name or [x, y]")
+        guide.fail("through", "missing; expected a point's name" + (" or [x, y]" if link == 0 else ""))
     if isinstance(through, str):
-        if through not in frame:
-            guide.fail("through", f"expected a frame point ({', '.join(frame)}) or [x, y], got '{through}'")
-        point = frame[through]
-    else:
-        point = guide.array("through", 2, "number")
-    return {"guide_point": tuple(point), "guide_angle_deg": guide.get("angle_deg", "a number", 0.0)}
+        name = guide.name("through")
+        if link == 0:
+            if name not in frame:
+                guide.fail("through", f"expected a frame point ({', '.join(frame)}) or [x, y], got '{name}'")
+            return Guide(name, tuple(frame[name]), angle, 0)
+        return Guide(name, None, angle, link)
+    if link != 0:
+        guide.fail("through", f"a guide on moving link {link} passes through a point of that link: "
+                              f"expected its name, got {through!r}")
+    return Guide(None, tuple(guide.array("through", 2, "number")), angle, 0)
 
 
 def _parse_points(ctx, data, define):
@@ -517,13 +496,7 @@ def link_joints(crank: Crank, groups) -> dict[int, list[str]]:
     """The joints each moving link carries (where a point on it may be measured from)."""
     out = {1: [crank.pivot, crank.joint]}
     for g in groups:
-        a, b = g.links
-        if g.type == "RRR":
-            out[a], out[b] = [g.joints[0], g.joints[1]], [g.joints[2], g.joints[1]]
-        elif g.type == "RRP":
-            out[a], out[b] = [g.joints[0], g.joints[1]], [g.joints[1]]
-        else:   # RPR: the block carries J1, the kulisa turns about J2
-            out[a], out[b] = [g.joints[0]], [g.joints[1]]
+        out.update(kind_of(g).carries(g))
     return out
 
 
@@ -567,26 +540,41 @@ def _make_plan(ctx, frame, crank, groups, points):
                     progress = True
 
     place_points()
+    placer = {n: g for g in groups for n in kind_of(g).new_joints(g)}
+    placer.update({p.name: p for p in points})
     for g in groups:
-        inputs = [g.joints[0], g.joints[-1]] if g.type == "RRR" else (
-            [g.joints[0]] if g.type == "RRP" else list(g.joints))
-        for name in inputs:
+        kind = kind_of(g)
+        where = (f"[[group]] #{g.index}", "group", g.index - 1)
+        for name in kind.needs(g):
             if name not in known:
-                later = name in {q.new_joint for q in groups} or name in {p.name for p in points}
-                why = ("is placed only later; a group may use frame points, the crank's joint, "
-                       "joints of earlier groups and points on earlier links") if later else (
-                       "is not defined anywhere (no frame point, joint or [[point]] of that name)")
-                ctx.fail(f"[[group]] #{g.index}", "group", g.index - 1, "joints",
-                         f"'{name}' {why}")
+                ctx.fail(*where, "joints", f"'{name}' {_not_yet(name, g, placer)}")
+        for key, name, link in kind.on_links(g):
+            if link >= g.links[0]:
+                ctx.fail(*where, key.split(".")[0],
+                         f"link {link} is not placed before group {g.index} (its links are {list(g.links)}); "
+                         f"a guide may be on the frame (0), the crank (1) or an earlier group's link")
+            if name not in on_link.get(link, []):
+                ctx.fail(*where, key, f"'{name}' is not a point of link {link} "
+                                      f"(expected one of {', '.join(on_link.get(link, []))})")
         plan.append(("group", g))
-        if g.new_joint:
-            known.add(g.new_joint)
+        known.update(kind.new_joints(g))
         placed_links.update(g.links)
         place_points()
     for i, p in pending:   # only points measured from each other in a circle remain
         ctx.fail(f"[[point]] #{i + 1}", "point", i, "from",
                  f"'{p.origin}' is measured, directly or through other points, from '{p.name}' itself")
     return tuple(plan)
+
+
+def _not_yet(name: str, g: Group, placer: dict) -> str:
+    """Why a group cannot use `name` yet: naming what defines it later, or that nothing does."""
+    by = placer.get(name)
+    if by is None:
+        return "is not defined anywhere (no frame point, joint or [[point]] of that name)"
+    what = (f"{by.label}, later in the file" if isinstance(by, Group)
+            else f"[[point]] '{by.name}' on link {by.link}, known only after link {by.link} is placed")
+    return (f"is used by {g.label} before it is known: it is placed by {what}; a group may use "
+            "frame points, the crank's joint, joints of earlier groups and points on earlier links")
 
 
 def override_crank(text: str, source: str = "<scene>", **values) -> tuple[str, Scene]:

@@ -23,6 +23,8 @@ Every kind module provides the same surface, under banners in this order:
         tbl.fail (one line naming file, line, key). `type`, `links` are checked before.
   needs(g) -> list[str]      points that must be known before the group is placed (J1,
                              J2, a moving guide's `through`), in the order to report them
+  on_links(g) -> [(key, point, link)]  points that must belong to a given link (RRP: a
+                             moving guide's `through` is a point of the guide's link)
   new_joints(g) -> list[str] joints the group places (RRR/RRP/PRP: N; RPP: K; RPR: none)
   carries(g) -> {link: [joints]}  the joints on each of its two links ([[point]] `from`,
                              [[mass]] `centre`, [[force]] `at` must be one of them)
