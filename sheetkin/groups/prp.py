@@ -382,11 +382,11 @@ def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
           f"-{{MQ_{a}}}")
     k.reaction(tab, f"-{{{qa}}}*{sa}+{{Qx_{a}}}", f"{{{qa}}}*{ca}+{{Qy_{a}}}", f"камня {a} на ползун {bl} в {N}",
                f"of block {a} on slider {bl} at {N}")
+    k.equilibrium(a, N, [(N, f"{{Rx_{t1}}}", f"{{Ry_{t1}}}"), (N, f"(-{{Rx_{tab}}})", f"(-{{Ry_{tab}}})")], f"{{M_{t1}}}")
     k.reaction(t2, f"-{{{qb}}}*{sb}", f"{{{qb}}}*{cb}", f"направляющей 2 (звено {gb.link}) на ползун {bl} (через {N})",
                f"of guide 2 (link {gb.link}) on slider {bl} (through {N})")
     b.add(f"M_{t2}", "N m", f"момент реакции направляющей 2 на ползун {bl}", f"couple of guide 2 on slider {bl}",
           "accepted", f"-{{MQ_{bl}}}")
-    k.equilibrium(a, N, [(N, f"{{Rx_{t1}}}", f"{{Ry_{t1}}}"), (N, f"(-{{Rx_{tab}}})", f"(-{{Ry_{tab}}})")], f"{{M_{t1}}}")
     k.equilibrium(bl, N, [(N, f"{{Rx_{tab}}}", f"{{Ry_{tab}}}"), (N, f"{{Rx_{t2}}}", f"{{Ry_{t2}}}")], f"{{M_{t2}}}")
     for gd, t in ((ga, t1), (gb, t2)):
         if gd.moving:      # the link that carries the guide: the block pushes back on it

@@ -135,32 +135,26 @@ def rows(b: Builder, g: Group):
     ug = (f"COS(RADIANS({{gamma_g{i}}}))", f"SIN(RADIANS({{gamma_g{i}}}))")
     b.section(f"group_{i}", f"Группа {i} (ВПП {J1}{K}): кулиса {lb}, движущаяся прямолинейно (синусный механизм)",
               f"Group {i} (RPP {J1}{K}): kulisa {lb} moving straight (Scotch yoke)")
-    b.add(f"phi_{la}", "deg", f"угол паза (камень {la} и кулиса {lb} не вращаются)",
-          f"the slot's angle (block {la} and kulisa {lb} do not turn)", "accepted", f"MOD({{alpha_g{i}}},360)", guard=b.guard)
-    b.add(f"phi_{lb}", "deg", f"угол кулисы {lb} (= угол паза)", f"angle of kulisa {lb} (= the slot's)", "accepted",
-          f"{{phi_{la}}}", guard=b.guard)
-    cos_sin_rows(b, la, "", "")
-    cos_sin_rows(b, lb, "", "")
-    cs, ss = f"{{cos_{la}}}", f"{{sin_{la}}}"
-    for k, what in ((la, ("камня", "block")), (lb, ("кулисы", "kulisa"))):
-        b.add(f"omega_{k}", "rad/s", f"угловая скорость {what[0]} {k}", f"angular velocity of {what[1]} {k}", "accepted", "0")
-        b.add(f"eps_{k}", "rad/s^2", f"угловое ускорение {what[0]} {k}", f"angular acceleration of {what[1]} {k}",
-              "accepted", "0")
+    us = (f"COS(RADIANS({{alpha_g{i}}}))", f"SIN(RADIANS({{alpha_g{i}}}))")
     det = f"D_g{i}"
-    m = (ug[0], cs, ug[1], ss)
+    m = (ug[0], us[0], ug[1], us[1])
     b.add(det, "", "определитель [u_g, u_s] = sin(alpha - gamma) (0: паз вдоль направляющей, K нет)",
           "determinant [u_g, u_s] = sin(alpha - gamma) (0: the slot along the guide, no K)", "calc",
           f"{m[0]}*{m[3]}-{m[1]}*{m[2]}", guard=b.guard)
     prev = b.guard
-    b.add(f"asm_g{i}", "", f"группа {i} собирается (паз пересекает направляющую)", f"group {i} assembles (the slot crosses the guide)",
+    b.add(f"asm_g{i}", "", f"группа {i} собирается (паз пересекает направляющую)",
+          f"group {i} assembles (the slot crosses the guide)",
           "guard", f"AND({{{prev}}},{{{det}}}<>0)" if prev else f"{{{det}}}<>0")
     b.guard = f"asm_g{i}"
-    b.add(f"det_g{i}", "", "sin(alpha - gamma): синус угла между пазом и направляющей", "sin(alpha - gamma): sine of the angle "
-          "between the slot and the guide", "calc", f"{{{det}}}")
+    b.add(f"det_g{i}", "", "sin(alpha - gamma): синус угла между пазом и направляющей",
+          "sin(alpha - gamma): sine of the angle between the slot and the guide", "calc", f"{{{det}}}")
     b.section(f"accepted_g{i}", "Принятые значения: положение, скорость, ускорение вдоль направляющей и паза",
               "Accepted values: position, velocity, acceleration along the guide and the slot")
-    for q, pre, unit, ru, en in (("", "x", "m", "положение", "travel"), ("v", "vx", "m/s", "скорость", "velocity"),
-                                 ("a", "ax", "m/s^2", "ускорение", "acceleration")):
+    systems = (("", "x", "m", "положение", "travel"), ("v", "vx", "m/s", "скорость", "velocity"),
+               ("a", "ax", "m/s^2", "ускорение", "acceleration"))
+
+    def split(q, pre, unit, ru, en):
+        """J1's position (from G), velocity or acceleration along u_g and u_s (Cramer)."""
         if q:
             rhs = (b.p(pre, J1), b.p(pre.replace("x", "y"), J1))
         else:
@@ -170,6 +164,23 @@ def rows(b: Builder, g: Group):
                                 (f"{q}s_{J1}", unit, f"{ru} камня {J1} вдоль паза от {K} (Крамер)",
                                  f"{en} of block {J1} along the slot from {K} (Cramer)")),
                     rhs, (f"chk_{q or 'p'}sys_g{i}", f"{ru}: невязка системы", f"{en}: residual of the system"))
+    split(*systems[0])
+    b.add(f"phi_{la}", "deg", f"угол паза (камень {la} и кулиса {lb} не вращаются)",
+          f"the slot's angle (block {la} and kulisa {lb} do not turn)", "accepted", f"MOD({{alpha_g{i}}},360)")
+    b.add(f"phi_{lb}", "deg", f"угол кулисы {lb} (= угол паза)", f"angle of kulisa {lb} (= the slot's)", "accepted",
+          f"{{phi_{la}}}")
+    cos_sin_rows(b, la, "", "")
+    cos_sin_rows(b, lb, "", "")
+    cs, ss = f"{{cos_{la}}}", f"{{sin_{la}}}"
+    b.add(f"chk_acc_g{i}", "m", f"проверка принятых значений: G + s_{K} u_g + s_{J1} u_s - {J1}",
+          f"check of the accepted values: G + s_{K} u_g + s_{J1} u_s - {J1}", "check",
+          f"ABS({gx}+{{s_{K}}}*{ug[0]}+{{s_{J1}}}*{cs}-{b.p('x', J1)})+ABS({gy}+{{s_{K}}}*{ug[1]}+{{s_{J1}}}*{ss}-{b.p('y', J1)})")
+    for k, what in ((la, ("камня", "block")), (lb, ("кулисы", "kulisa"))):
+        b.add(f"omega_{k}", "rad/s", f"угловая скорость {what[0]} {k}", f"angular velocity of {what[1]} {k}", "accepted", "0")
+        b.add(f"eps_{k}", "rad/s^2", f"угловое ускорение {what[0]} {k}", f"angular acceleration of {what[1]} {k}",
+              "accepted", "0")
+    split(*systems[1])
+    split(*systems[2])
     b.rot[la] = (f"cos_{la}", f"sin_{la}", f"omega_{la}", f"eps_{la}")
     b.rot[lb] = (f"cos_{lb}", f"sin_{lb}", f"omega_{lb}", f"eps_{lb}")
     b.guard_of_link[la] = b.guard_of_link[lb] = b.guard
@@ -258,13 +269,13 @@ def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
                f"of block {a} on kulisa {bl} (through {J1})")
     b.add(f"M_{tab}", "N m", f"момент камня {a} на кулису {bl}", f"couple of block {a} on kulisa {bl}", "accepted",
           f"{{MQ_{a}}}")
+    k.equilibrium(a, J1, [(J1, f"{{Rx_{t1}}}", f"{{Ry_{t1}}}"), (J1, f"(-{{Rx_{tab}}})", f"(-{{Ry_{tab}}})")],
+                  f"(-{{M_{tab}}})")
     k.reaction(t0, f"-{{{Q}}}*{sg}", f"{{{Q}}}*{cg}", f"направляющей на кулису {bl} (через {K})",
                f"of the guide on kulisa {bl} (through {K})")
     dx, dy = f"({b.p('x', J1)}-{{x_{K}}})", f"({b.p('y', J1)}-{{y_{K}}})"
     b.add(f"M_{t0}", "N m", f"момент направляющей на кулису {bl}", f"couple of the guide on kulisa {bl}", "accepted",
           f"-{{MQ_{a}}}-{{MQ_{bl}}}+{{{P}}}*({dx}*{cs}+{dy}*{ss})")
-    k.equilibrium(a, J1, [(J1, f"{{Rx_{t1}}}", f"{{Ry_{t1}}}"), (J1, f"(-{{Rx_{tab}}})", f"(-{{Ry_{tab}}})")],
-                  f"(-{{M_{tab}}})")
     k.equilibrium(bl, K, [(J1, f"{{Rx_{tab}}}", f"{{Ry_{tab}}}"), (K, f"{{Rx_{t0}}}", f"{{Ry_{t0}}}")],
                   f"{{M_{tab}}}+{{M_{t0}}}")
     k.loads[o1].append((J1, f"(-{{Rx_{t1}}})", f"(-{{Ry_{t1}}})"))
