@@ -238,3 +238,40 @@ def test_prp_and_rpp_mistakes_give_one_line_errors(text, key, words):
     msg = str(err.value)
     assert "\n" not in msg and msg.startswith("mistake.toml:"), msg
     assert f"'{key}" in msg and words in msg, msg
+
+
+# --------------------------------------------------------------------------- the sheet's kinetostatics
+@pytest.fixture(scope="module")
+def dyn_sheets(soffice, tmp_path_factory):
+    """The three bundled workbooks (with their masses and forces), recalculated by
+    LibreOffice in one soffice run."""
+    from libreoffice import recalculate
+    from sheetkin.workbook import write_workbook
+    src = tmp_path_factory.mktemp("prp_rpp")
+    made = {}
+    for stem in NEW:
+        text = (WORKBOOKS / f"{stem}.toml").read_text(encoding="utf-8")
+        scene = parse_scene(text, f"{stem}.toml")
+        write_workbook(scene, src / f"{stem}.xlsx", scene_text=text)
+        made[stem] = (src / f"{stem}.xlsx", scene)
+    out = recalculate([p for p, _ in made.values()], tmp_path_factory.mktemp("prp_rpp_recalculated"))
+    import openpyxl
+    return {k: (openpyxl.load_workbook(out[p.resolve()], data_only=True).worksheets[0], s) for k, (p, s) in made.items()}
+
+
+@pytest.mark.parametrize("stem", NEW)
+def test_libreoffice_kinetostatics_rows_equal_compute(dyn_sheets, stem):
+    """Every reaction, couple and M_bal row of the sheet (PRP's and RPP's blocks included),
+    recalculated by LibreOffice, equals compute --dynamics; every check row passes."""
+    from sheetkin.dynamics import dynamics_names
+    ws, scene = dyn_sheets[stem]
+    df = sheetkin.compute(scene, dynamics=True)
+    rows = {ws.cell(r, 1).value: r for r in range(1, ws.max_row + 1) if ws.cell(r, 1).value}
+    names = [n for n in dynamics_names(scene) if n != "balance"]
+    assert any(n.startswith("M_") and n != "M_bal" for n in names)      # a sliding pair's couple
+    for name in names:
+        got = np.array([ws.cell(rows[name], 5 + k).value for k in range(len(df))], dtype=float)
+        ref = df[name].to_numpy()
+        assert np.all(np.abs(got - ref) <= 1e-9 * max(1.0, float(np.abs(ref).max()))), (name, got, ref)
+    failing = [n for n, r in rows.items() if str(n).startswith("chk") and ws.cell(r, 4).value != 0]
+    assert not failing and ws["D3"].value == "все проверки выполнены", failing
