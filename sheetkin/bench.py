@@ -186,12 +186,14 @@ def jacobian_sine(J) -> float:
     return (a * d - b * c) / norm if norm > 0 else 0.0
 
 
-def _walk(lib, scene: Scene, phi_deg: float, guesses: dict[int, list], tol: float, max_iter: int):
+def _walk(lib, scene: Scene, phi_deg: float, guesses: dict[int, list], tol: float, max_iter: int,
+          until: int | None = None):
     """Kinematics at one crank angle by the loop equations, placing the plan in order.
 
     guesses: group index -> starting q. Returns (values name -> number, q per group,
     problems: list of (group, "no convergence" | "branch jump"), the jacobian_sine of each
-    group's Jacobian at its answer).
+    group's Jacobian at its answer). With `until` = a group's index: stops before placing
+    that group and returns (known, links) as its loop equations take them.
     """
     n = lib.num
     crank = scene.crank
@@ -206,6 +208,8 @@ def _walk(lib, scene: Scene, phi_deg: float, guesses: dict[int, list], tol: floa
                                         n(item.along), n(item.across))
         else:
             g = item
+            if g.index == until:
+                return known, links
             kind = kind_of(g)
             F, J, b_v, b_a, place = kind.loop(lib, g, known, links)
             q, ok = _newton(lib, F, J, [n(x) for x in guesses[g.index]], tol, max_iter)
@@ -675,7 +679,57 @@ STABILITY_COLUMNS = ["family", "d", "distance", "phi_deg", "method", "param", "s
                      "err_pos", "err_vel", "err_acc", "det", "silent"]
 FAMILY_TITLES = {"toggle": "towards a toggle (non-Grashof crank, edge of its range)",
                  "change-point": "towards a change point (s + l = p + q, links in line)",
-                 "gap-edge": "just outside the edge of a non-assembling interval"}
+                 "gap-edge": "just outside the edge of a non-assembling interval",
+                 "slider-toggle": "RRP: towards the coupler standing across its guide (edge of the range)",
+                 "slotted-toggle": "RRP on a moving guide (two rockers, slotted pair): rocker across the kulisa"}
+# families of the group kinds other than the four-bar's RRR: the scene, and the group whose
+# range ends in a toggle (approached from inside, as the "toggle" family)
+_KIND_FAMILIES = {
+    "slider-toggle": ("""\
+title = "Crank-slider with a short coupler: it stands across the guide at the edge of its range"
+[frame]
+O = [0.0, 0.0]
+[crank]
+pivot = "O"
+joint = "A"
+length = 0.25
+positions = 1
+omega = 10.0
+[[group]]
+type = "RRP"
+links = [2, 3]
+joints = ["A", "B"]
+length = 0.2
+guide = { through = [0.0, 0.05], angle_deg = 0.0 }
+branch = 1
+""", 1),
+    "slotted-toggle": ("""\
+title = "Two rockers with a slotted pair: rocker O2 D stands across the kulisa O1 B at the edge"
+[frame]
+O  = [0.0, 0.0]
+O1 = [0.0, -0.53]
+O2 = [-0.45, -0.2]
+[crank]
+pivot = "O"
+joint = "A"
+length = 0.14
+positions = 1
+omega = 20.0
+[[group]]
+type    = "RRR"
+links   = [2, 3]
+joints  = ["A", "B", "O1"]
+lengths = [0.5, 0.34]
+branch  = -1
+[[group]]
+type   = "RRP"
+links  = [4, 5]
+joints = ["O2", "D"]
+length = 0.3
+guide  = { through = "O1", angle_deg = 0.0, link = 3 }
+branch = -1
+""", 2),
+}
 
 _STABILITY_SCENE = """\
 title = "{title}"
@@ -705,7 +759,10 @@ branch = {branch}
 
 
 def stability_scene(family: str) -> Scene:
-    """The four-bar of a stability family ("toggle" and "gap-edge" share theirs)."""
+    """The four-bar of a stability family ("toggle" and "gap-edge" share theirs), or the
+    scene of a family of another group kind."""
+    if family in _KIND_FAMILIES:
+        return parse_scene(_KIND_FAMILIES[family][0], f"<stability {family}>")
     if family in ("toggle", "gap-edge"):
         kw = dict(title="Non-Grashof four-bar: the crank's range ends in a toggle",
                   frame=0.5, crank=0.25, coupler=0.375, rocker=0.25, branch=1)
@@ -746,10 +803,60 @@ def edge_angle_mp(scene: Scene, near_deg: float, dps: int = 50):
     return +root
 
 
+def _group_discriminant_mp(scene: Scene, index: int, phi, guesses):
+    """Group `index`'s discriminant at the crank angle phi (radians, mpf), the groups before
+    it placed by Newton on their loop equations in mpmath (kind.discriminant)."""
+    g = next(g for g in scene.groups if g.index == index)
+    tol = mpmath.mpf(10) ** (-(mpmath.mp.dps - 5))
+    known, links = _walk(MP, scene, phi * 180 / mpmath.pi, guesses, tol, 60, until=index)
+    return kind_of(g).discriminant(MP, g, known, links)
+
+
+def _kind_edge_mp(scene: Scene, index: int, dps: int = 50):
+    """The crank angle (radians, mpf) where group `index`'s range ends (its discriminant's
+    root at the start of the first non-assembling interval the float solver finds)."""
+    from .compute import assembly_gaps
+    gaps = assembly_gaps(scene, np.arange(0.0, 360.0, 1.0))
+    near = gaps[0].start_deg
+    guesses = _unknowns(scene, [near - 0.5])[0]
+    with mpmath.workdps(dps + 10):
+        root = mpmath.findroot(lambda t: _group_discriminant_mp(scene, index, t, guesses),
+                               mpmath.radians(near), tol=mpmath.mpf(10) ** (-dps - 5))
+    return +root
+
+
+def reference_by_continuation(scene: Scene, phi_deg_list, edge, dps: int = 50) -> dict[str, list]:
+    """reference_mp for crank angles approaching `edge` (rad, mpf) from below, in order of
+    decreasing distance: Newton in mpmath walked towards the edge by steps that halve the
+    distance, each started from the last answer (the other branch stays twice as far as
+    the step), from the float solver's answer 0.05 rad away; _REF_EXTRA_DPS guard digits."""
+    out = {name: [] for name in quantity_names(scene)}
+    with mpmath.workdps(dps + _REF_EXTRA_DPS):
+        tol = mpmath.mpf(10) ** (-(dps + 5))
+        d = mpmath.mpf("0.05")
+        guesses = _unknowns(scene, [float(mpmath.degrees(edge - d))])[0]
+        for phi in phi_deg_list:
+            target = edge - mpmath.radians(mpmath.mpf(float(phi)))
+            while True:
+                d = max(d / 2, target)
+                values, qs, problems, _ = _walk(MP, scene, mpmath.degrees(edge - d), guesses, tol, 60)
+                if problems:
+                    raise ArithmeticError(f"reference: {problems[0][0].label}: {problems[0][1]} "
+                                          f"at {float(d)!r} rad from the edge")
+                guesses = qs
+                if d == target:
+                    break
+            for name in out:
+                out[name].append(+values[name])
+    return out
+
+
 def _family_angles(family: str, scene: Scene, distances):
     """The exact singular angle (mpf, rad) and the float crank angles (deg) at the distances."""
     with mpmath.workdps(60):
-        if family == "change-point":
+        if family in _KIND_FAMILIES:
+            edge = _kind_edge_mp(scene, _KIND_FAMILIES[family][1])
+        elif family == "change-point":
             edge = +mpmath.pi                      # all links in line: crank pointing away from O1
         else:
             # the closed form only gives the start: cos phi = (r^2 + d^2 - (L2 + L3)^2) / (2 r d)
@@ -830,7 +937,8 @@ def fd_estimate(scene: Scene, phis) -> np.ndarray:
 def _stability_family(family: str, distances, threshold: float):
     scene = stability_scene(family)
     edge, phis, dist = _family_angles(family, scene, distances)
-    ref = reference_near_singular(scene, phis)
+    ref = (reference_by_continuation(scene, phis, edge) if family in _KIND_FAMILIES
+           else reference_near_singular(scene, phis))
     far = float(mpmath.degrees(edge - STABILITY_FAR))
     rows = []
 
@@ -927,7 +1035,7 @@ def stability_warnings(table: pd.DataFrame, threshold: float = 1e-2) -> list[str
 
 
 def stability_study(out_dir, distances=STABILITY_DISTANCES, threshold: float | None = None):
-    """Run the three families, write out_dir/stability.csv and out_dir/stability.png.
+    """Run the families (FAMILY_TITLES), write out_dir/stability.csv and out_dir/stability.png.
 
     Returns (table, warnings, edges): a DataFrame with STABILITY_COLUMNS (err_* NaN where
     the method gave no number or no position exists; `silent` True where a method printed
@@ -954,7 +1062,7 @@ _KIND_STYLES = {"err_pos": ("-", "o"), "err_vel": ("--", "s"), "err_acc": (":", 
 
 
 def plot_stability(table: pd.DataFrame, path) -> None:
-    """Three panels (the families): each method's error against the distance d, log-log,
+    """One panel per family (three a row): each method's error against the distance d, log-log,
     one line per method and quantity; a hollow marker where the method flagged the
     position; where it gave no number, a cross at the top with its status."""
     import matplotlib
@@ -962,10 +1070,15 @@ def plot_stability(table: pd.DataFrame, path) -> None:
     import matplotlib.pyplot as plt
 
     fams = list(FAMILY_TITLES)
-    fig, axes = plt.subplots(1, len(fams), figsize=(6 * len(fams), 6), sharey=True)
+    ncols = min(3, len(fams))
+    nrows = -(-len(fams) // ncols)
+    fig, axes = plt.subplots(nrows, ncols, figsize=(6 * ncols, 6 * nrows), sharey=True, squeeze=False)
+    for ax in axes.flat[len(fams):]:
+        ax.set_visible(False)
+    axes = axes.flat[:len(fams)]
     clip = 1e8          # errors above are drawn here (wrong in every digit anyway)
     levels = {"solver": 1e10, "newton": 1e12, "fd": 1e14}    # rows of "no number" crosses
-    for ax, fam in zip(np.atleast_1d(axes), fams):
+    for ax, fam in zip(axes, fams):
         t = table[table["family"] == fam]
         for m, colour in _METHOD_COLOURS.items():
             tm = t[t["method"] == m]
@@ -988,12 +1101,12 @@ def plot_stability(table: pd.DataFrame, path) -> None:
         ax.set_xlabel("distance d from the singular crank angle, rad")
         ax.invert_xaxis()
         ax.grid(True, which="major", alpha=0.3)
-    first = np.atleast_1d(axes)[0]
+    first = axes[0]
     first.set_ylabel(f"error against mpmath (scaled; >= {clip:.0e} drawn at the line)")
     fig.legend(*first.get_legend_handles_labels(), fontsize=8, ncol=9, loc="lower center")
     fig.suptitle("stability: error against distance to the singular position; hollow marker: "
                  "the method flagged it; x on top: no number (the status says why)", fontsize=10)
-    fig.tight_layout(rect=(0, 0.06, 1, 1))
+    fig.tight_layout(rect=(0, 0.06 / nrows, 1, 1))
     fig.savefig(path, dpi=100)
     plt.close(fig)
 

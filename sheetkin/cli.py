@@ -62,15 +62,16 @@ def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(
         prog="sheetkin",
         description="Kinematic analysis of planar linkages in the spreadsheet workflow of "
-                    "Alyushin's course (MGGU).")
+                    "Alyushin's course (MGGU). Scene files (every key, group kind and output "
+                    "name): docs/scene-format.md in the repository.")
     parser.add_argument("--version", action="version", version=f"sheetkin {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     p = sub.add_parser(
         "compute", help="positions, velocities and accelerations of every link and point",
-        description="Compute the kinematics of a scene (see README, 'Scene files') at every "
+        description="Compute the kinematics of a scene (docs/scene-format.md) at every "
                     "crank position: link angles, angular velocities and accelerations; "
                     "coordinates, velocities and accelerations of every moving joint and point; "
-                    "slides of sliders. Names follow shared/spec/scene.md.")
+                    "slides of sliders. The scene format and the names: docs/scene-format.md.")
     p.add_argument("scene", metavar="SCENE.toml", help="the scene file")
     p.add_argument("--format", choices=["table", "csv", "json"], default="table",
                    help="table: one row per quantity, readable (default); csv: one row per "

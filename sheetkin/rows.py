@@ -65,7 +65,8 @@ class Builder:
 
 def motion_rows(b: Builder, n: str, ru: str, en: str, x: str, y: str, vx: str, vy: str, ax: str, ay: str):
     """The eight accepted rows of a moving point: coordinates, velocity, acceleration."""
-    for q, unit, f, r, e in (("x", "m", x, "координата x", "x coordinate"), ("y", "m", y, "координата y", "y coordinate"),
+    for q, unit, f, r, e in (("x", "m", x, "координата x", "x coordinate"),
+                             ("y", "m", y, "координата y", "y coordinate"),
                              ("vx", "m/s", vx, "скорость, проекция на x", "velocity, x component"),
                              ("vy", "m/s", vy, "скорость, проекция на y", "velocity, y component")):
         b.add(f"{q}_{n}", unit, f"{r} {ru}", f"{e} of {en}", "accepted", f)
@@ -73,11 +74,13 @@ def motion_rows(b: Builder, n: str, ru: str, en: str, x: str, y: str, vx: str, v
     for q, f, r, e in (("ax", ax, "ускорение, проекция на x", "acceleration, x component"),
                        ("ay", ay, "ускорение, проекция на y", "acceleration, y component")):
         b.add(f"{q}_{n}", "m/s^2", f"{r} {ru}", f"{e} of {en}", "accepted", f)
-    b.add(f"a_{n}", "m/s^2", f"модуль ускорения {ru}", f"acceleration magnitude of {en}", "accepted", f"SQRT({{ax_{n}}}^2+{{ay_{n}}}^2)")
+    b.add(f"a_{n}", "m/s^2", f"модуль ускорения {ru}", f"acceleration magnitude of {en}", "accepted",
+          f"SQRT({{ax_{n}}}^2+{{ay_{n}}}^2)")
 
 
 def distance_check(b: Builder, name: str, p1: str, p2: str, length: str, ru: str, en: str):
-    b.add(name, "m", ru, en, "check", f"SQRT(({b.p('x', p2)}-{b.p('x', p1)})^2+({b.p('y', p2)}-{b.p('y', p1)})^2)-{length}")
+    b.add(name, "m", ru, en, "check",
+          f"SQRT(({b.p('x', p2)}-{b.p('x', p1)})^2+({b.p('y', p2)}-{b.p('y', p1)})^2)-{length}")
 
 
 def fd_checks(b: Builder, n: str):
@@ -102,7 +105,8 @@ def cos_sin_rows(b: Builder, k: int, ru: str, en: str):
 
 def group_guard(b: Builder, g, disc: str):
     prev = b.guard
-    b.add(f"asm_g{g.index}", "", f"группа {g.index} собирается (дискриминант >= 0)", f"group {g.index} assembles (discriminant >= 0)",
+    b.add(f"asm_g{g.index}", "", f"группа {g.index} собирается (дискриминант >= 0)",
+          f"group {g.index} assembles (discriminant >= 0)",
           "guard", f"AND({{{prev}}},{{{disc}}}>=0)" if prev else f"{{{disc}}}>=0")
     b.guard = f"asm_g{g.index}"
 
@@ -114,10 +118,13 @@ def via_link_checks(b: Builder, n: str, j: str, k: int, label: str):
     angular velocity or acceleration of link k shows here, at any step."""
     c, s, w, e = (f"{{{r}}}" for r in b.rot[k])
     X, Y = f"({b.p('x', n)}-{b.p('x', j)})", f"({b.p('y', n)}-{b.p('y', j)})"
-    b.add(f"chk_v_{n}_{k}", "m/s", f"проверка: скорость {n} через звено {k} ({label})", f"check: velocity of {n} through link {k} ({label})",
+    b.add(f"chk_v_{n}_{k}", "m/s", f"проверка: скорость {n} через звено {k} ({label})",
+          f"check: velocity of {n} through link {k} ({label})",
           "check", f"ABS({b.p('vx', n)}-({b.p('vx', j)}-{w}*{Y}))+ABS({b.p('vy', n)}-({b.p('vy', j)}+{w}*{X}))")
-    b.add(f"chk_a_{n}_{k}", "m/s^2", f"проверка: ускорение {n} через звено {k} ({label})", f"check: acceleration of {n} through link {k} ({label})",
-          "check", f"ABS({b.p('ax', n)}-({b.p('ax', j)}-{e}*{Y}-{w}^2*{X}))+ABS({b.p('ay', n)}-({b.p('ay', j)}+{e}*{X}-{w}^2*{Y}))")
+    b.add(f"chk_a_{n}_{k}", "m/s^2", f"проверка: ускорение {n} через звено {k} ({label})",
+          f"check: acceleration of {n} through link {k} ({label})",
+          "check",
+          f"ABS({b.p('ax', n)}-({b.p('ax', j)}-{e}*{Y}-{w}^2*{X}))+ABS({b.p('ay', n)}-({b.p('ay', j)}+{e}*{X}-{w}^2*{Y}))")
 
 
 def system_check(b: Builder, name: str, what: tuple[str, str], m, x: str, y: str, rhs: tuple[str, str]):
@@ -145,8 +152,10 @@ def det_row(b: Builder, det: str, m, unit: str, ru: str, en: str):
 
 def relative_velocity_check(b: Builder, n: str, j: str):
     """A rigid link keeps |n j|: the relative velocity is perpendicular to n - j."""
-    b.add(f"chk_v_{n}{j}", "m^2/s", f"проверка: (v{n} - v{j}) перпендикулярна {j}{n}", f"check: (v{n} - v{j}) perpendicular to {j}{n}",
-          "check", f"({b.p('vx', n)}-{b.p('vx', j)})*({b.p('x', n)}-{b.p('x', j)})+({b.p('vy', n)}-{b.p('vy', j)})*({b.p('y', n)}-{b.p('y', j)})")
+    b.add(f"chk_v_{n}{j}", "m^2/s", f"проверка: (v{n} - v{j}) перпендикулярна {j}{n}",
+          f"check: (v{n} - v{j}) perpendicular to {j}{n}",
+          "check",
+          f"({b.p('vx', n)}-{b.p('vx', j)})*({b.p('x', n)}-{b.p('x', j)})+({b.p('vy', n)}-{b.p('vy', j)})*({b.p('y', n)}-{b.p('y', j)})")
 
 
 def carried_rows(b: Builder, n: str, k: int, origin: str, along: str, across: str, ru: str, en: str):

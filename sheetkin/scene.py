@@ -222,7 +222,16 @@ class _Table:
         return v
 
     def guide(self, key, frame) -> Guide:
+        """The guide table `key` (see _parse_guide)."""
         return _parse_guide(self, key, frame)
+
+    def guides(self, key, n, frame) -> tuple[Guide, ...]:
+        """An array of exactly n guide tables (PRP: `guides = [guide_a, guide_b]`)."""
+        v = self.data.get(key, ...)
+        if v is ... or not isinstance(v, list) or len(v) != n:
+            self.fail(key, f"expected an array of {n} guides {{through = ..., angle_deg = ..., link = ...}}, "
+                           f"got {'nothing' if v is ... else _type_name(v)}")
+        return tuple(_parse_guide(self, key, frame, i) for i in range(n))
 
     def array(self, key, n, kind):
         v = self.data.get(key, ...)
@@ -375,17 +384,24 @@ def _check_slides(ctx, groups):
             slides[tag] = g.index
 
 
-def _parse_guide(tbl: "_Table", key: str, frame) -> Guide:
+def _parse_guide(tbl: "_Table", key: str, frame, index: int | None = None) -> Guide:
     """A guide `{through = POINT or [x, y], angle_deg = A, link = k}` (the contract's
     "Group types"): on the frame (link 0, the default) `through` is a frame point or [x, y];
-    on a moving link k it names a point of link k (checked when the scene is planned)."""
-    expected = f"{key} = {{through = POINT or [x, y], angle_deg = ..., link = k}}"
-    if key not in tbl.data:
-        tbl.fail(key, f"missing; expected {expected}")
-    if not isinstance(tbl.data[key], dict):
-        tbl.fail(key, f"expected {expected}, got {_type_name(tbl.data[key])}")
-    guide = _Table(tbl.ctx, tbl.data[key], tbl.where, tbl.table, tbl.index)
-    guide.fail = lambda k, msg: tbl.fail(f"{key}.{k}" if k else key, msg)
+    on a moving link k it names a point of link k (checked when the scene is planned).
+    With `index`, the index-th element of the array `key` (PRP's `guides`)."""
+    expected = "{through = POINT or [x, y], angle_deg = ..., link = k}"
+    value = tbl.data.get(key, ...)
+    where = key
+    if index is not None:
+        if not isinstance(value, list):
+            tbl.fail(key, f"expected an array of guides [{expected}, ...], got {_type_name(value)}")
+        value, where = value[index], f"{key}[{index}]"
+    if value is ...:
+        tbl.fail(key, f"missing; expected {key} = {expected}")
+    if not isinstance(value, dict):
+        tbl.fail(key, f"expected {where} = {expected}, got {_type_name(value)}")
+    guide = _Table(tbl.ctx, value, tbl.where, tbl.table, tbl.index)
+    guide.fail = lambda k, msg: tbl.fail(f"{where}.{k}" if k else where, msg)
     guide.check_keys(["through", "angle_deg", "link"])
     link = guide.get("link", "an integer", 0)
     if link < 0:

@@ -71,6 +71,8 @@ Every kind module provides the same surface, under banners in this order:
         loop-closure equation in two unknowns q; J q_t = b_v(q); J q_tt = b_a(q, q_t);
         place(q, q_t, q_tt) -> ({joint: motion tuple}, (link a, link b), {tag: (s, vs, as)})
   side_ok(lib, g, known, links, q, joints) -> bool   q is on the scene's branch
+  discriminant(lib, g, known, links)   >= 0 where the group assembles, 0 at the edge of
+                             its range (the stability study finds that edge in mpmath)
   unknowns(g, sol) -> (qa, qb)   the closed-form solution's q, arrays over positions
 """
 from __future__ import annotations

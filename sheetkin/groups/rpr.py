@@ -107,39 +107,56 @@ def rows(b: Builder, g: Group):
     with a moving axis): its velocity and acceleration enter the right sides."""
     i, (la, lb), (J1, J2) = g.index, g.links, g.joints
     e = f"{{e_g{i}}}"
-    b.section(f"group_{i}", f"Группа {i} (ВПВ: камень {J1} в кулисе, ось {J2}): слайды 22-24",
-              f"Group {i} (RPR: block {J1} in the slotted lever about {J2}): slides 22-24")
+    if J2 in b.frame:
+        b.section(f"group_{i}", f"Группа {i} (ВПВ: камень {J1} в кулисе, ось {J2}): слайды 22-24",
+                  f"Group {i} (RPR: block {J1} in the slotted lever about {J2}): slides 22-24")
+    else:   # the lecture's "Кулисные механизмы. Направляющая с подвижной осью"
+        b.section(f"group_{i}", f"Группа {i} (ВПВ: камень {J1} в кулисе с подвижной осью {J2}): "
+                                f"L_ТЕК^2 = (x{J2} - x{J1})^2 + (y{J2} - y{J1})^2, слайды 22-24",
+                  f"Group {i} (RPR: block {J1} in a kulisa with a moving axis {J2}): "
+                  f"L_TEK^2 = (x{J2} - x{J1})^2 + (y{J2} - y{J1})^2, slides 22-24")
     dx, dy, r2, D = f"dx_g{i}", f"dy_g{i}", f"r2_g{i}", f"D_g{i}"
     b.add(dx, "m", f"x{J1} - x{J2}", f"x{J1} - x{J2}", "calc", f"{b.p('x', J1)}-{b.p('x', J2)}", guard=b.guard)
     b.add(dy, "m", f"y{J1} - y{J2}", f"y{J1} - y{J2}", "calc", f"{b.p('y', J1)}-{b.p('y', J2)}", guard=b.guard)
-    b.add(r2, "m^2", f"L_TEK^2 = |{J2}{J1}|^2", f"L_TEK^2 = |{J2}{J1}|^2", "calc", f"{{{dx}}}^2+{{{dy}}}^2", guard=b.guard)
-    b.add(D, "m^2", "дискриминант L_TEK^2 - e^2 (< 0: группа не собирается)", "discriminant L_TEK^2 - e^2 (< 0: cannot assemble)",
+    b.add(r2, "m^2", f"L_TEK^2 = |{J2}{J1}|^2", f"L_TEK^2 = |{J2}{J1}|^2", "calc", f"{{{dx}}}^2+{{{dy}}}^2",
+          guard=b.guard)
+    b.add(D, "m^2", "дискриминант L_TEK^2 - e^2 (< 0: группа не собирается)",
+          "discriminant L_TEK^2 - e^2 (< 0: cannot assemble)",
           "calc", f"IF({{{r2}}}>0,{{{r2}}}-{e}^2,-1)", guard=b.guard)
     group_guard(b, g, D)
     b.section(f"accepted_g{i}", "Принятые значения", "Accepted values")
     sJ = f"s_{J1}"
-    b.add(sJ, "m", f"положение камня {J1} вдоль кулисы (L_TEK при e = 0)", f"block {J1}'s place along the slot (L_TEK when e = 0)",
+    b.add(sJ, "m", f"положение камня {J1} вдоль кулисы (L_TEK при e = 0)",
+          f"block {J1}'s place along the slot (L_TEK when e = 0)",
           "accepted", f"SQRT({{{D}}})")
     cu, su = f"cu_g{i}", f"su_g{i}"
-    b.add(cu, "", "cos угла кулисы: (s dx + e dy) / L_TEK^2", "cos of the slot's angle: (s dx + e dy) / L_TEK^2", "calc",
+    b.add(cu, "", "cos угла кулисы: (s dx + e dy) / L_TEK^2", "cos of the slot's angle: (s dx + e dy) / L_TEK^2",
+          "calc",
           f"({{{sJ}}}*{{{dx}}}+{e}*{{{dy}}})/{{{r2}}}")
-    b.add(su, "", "sin угла кулисы: (s dy - e dx) / L_TEK^2", "sin of the slot's angle: (s dy - e dx) / L_TEK^2", "calc",
+    b.add(su, "", "sin угла кулисы: (s dy - e dx) / L_TEK^2", "sin of the slot's angle: (s dy - e dx) / L_TEK^2",
+          "calc",
           f"({{{sJ}}}*{{{dy}}}-{e}*{{{dx}}})/{{{r2}}}")
-    b.add(f"chk_e_g{i}", "m", f"проверка: расстояние {J1} от оси кулисы - e", f"check: distance of {J1} from the slot line - e", "check",
+    b.add(f"chk_e_g{i}", "m", f"проверка: расстояние {J1} от оси кулисы - e",
+          f"check: distance of {J1} from the slot line - e", "check",
           f"-{{{dx}}}*{{{su}}}+{{{dy}}}*{{{cu}}}-{e}")
     b.add(f"phi_{lb}", "deg", f"угол кулисы {lb}", f"angle of the slotted lever {lb}", "accepted",
           f"MOD(DEGREES(ATAN2({{{cu}}},{{{su}}})),360)")
-    b.add(f"phi_{la}", "deg", f"угол камня {la} (= углу кулисы)", f"angle of the block {la} (= the lever's)", "accepted", f"{{phi_{lb}}}")
+    b.add(f"phi_{la}", "deg", f"угол камня {la} (= углу кулисы)", f"angle of the block {la} (= the lever's)",
+          "accepted", f"{{phi_{lb}}}")
     c, s = f"{{{cu}}}", f"{{{su}}}"
     det = f"Delta_g{i}"
     # unknowns theta_t, s_t: columns (-s sin - e cos, s cos - e sin) and (cos, sin); determinant -s
     m11, m21 = f"(-{{{sJ}}}*{s}-{e}*{c})", f"({{{sJ}}}*{c}-{e}*{s})"
     m = (m11, c, m21, s)
     det_row(b, det, m, "m", "определитель: -s", "determinant: -s")
-    b.add(f"det_g{i}", "", "s / L1 (около 0: кулиса не определена)", "s / L1 (near 0: the slot is undefined)", "calc", f"-{{{det}}}/{{L1}}")
+    b.add(f"det_g{i}", "", "s / L1 (около 0: кулиса не определена)", "s / L1 (near 0: the slot is undefined)", "calc",
+          f"-{{{det}}}/{{L1}}")
     b1, b2 = f"({b.p('vx', J1)}-{b.p('vx', J2)})", f"({b.p('vy', J1)}-{b.p('vy', J2)})"
-    cramer_rows(b, m, det, ((f"omega_{lb}", "rad/s", f"угловая скорость кулисы {lb} (Крамер)", f"angular velocity of the lever {lb} (Cramer)"),
-                            (f"vs_{J1}", "m/s", f"относительная скорость камня {J1} вдоль кулисы", f"velocity of block {J1} along the slot")),
+    cramer_rows(b, m, det,
+                ((f"omega_{lb}", "rad/s", f"угловая скорость кулисы {lb} (Крамер)",
+                  f"angular velocity of the lever {lb} (Cramer)"),
+                            (f"vs_{J1}", "m/s", f"относительная скорость камня {J1} вдоль кулисы",
+                             f"velocity of block {J1} along the slot")),
                 (b1, b2), (f"chk_vsys_g{i}", "невязка системы для скоростей", "residual of the velocity system"))
     w, vs = f"{{omega_{lb}}}", f"{{vs_{J1}}}"
     bx, by = f"bx_g{i}", f"by_g{i}"
@@ -149,11 +166,15 @@ def rows(b: Builder, g: Group):
     b.add(by, "m/s^2", "кориолисово и центростремительное: проекция на y", "Coriolis and centripetal terms, y", "calc",
           f"-{{{sJ}}}*{w}^2*{s}+(2*{vs}*{w}-{e}*{w}^2)*{c}")
     f1, f2 = f"({b.p('ax', J1)}-{b.p('ax', J2)}-{{{bx}}})", f"({b.p('ay', J1)}-{b.p('ay', J2)}-{{{by}}})"
-    cramer_rows(b, m, det, ((f"eps_{lb}", "rad/s^2", f"угловое ускорение кулисы {lb}", f"angular acceleration of the lever {lb}"),
-                            (f"as_{J1}", "m/s^2", f"относительное ускорение камня {J1} вдоль кулисы", f"acceleration of block {J1} along the slot")),
+    cramer_rows(b, m, det,
+                ((f"eps_{lb}", "rad/s^2", f"угловое ускорение кулисы {lb}", f"angular acceleration of the lever {lb}"),
+                            (f"as_{J1}", "m/s^2", f"относительное ускорение камня {J1} вдоль кулисы",
+                             f"acceleration of block {J1} along the slot")),
                 (f1, f2), (f"chk_asys_g{i}", "невязка системы для ускорений", "residual of the acceleration system"))
-    b.add(f"omega_{la}", "rad/s", f"угловая скорость камня {la}", f"angular velocity of the block {la}", "accepted", f"{{omega_{lb}}}")
-    b.add(f"eps_{la}", "rad/s^2", f"угловое ускорение камня {la}", f"angular acceleration of the block {la}", "accepted", f"{{eps_{lb}}}")
+    b.add(f"omega_{la}", "rad/s", f"угловая скорость камня {la}", f"angular velocity of the block {la}", "accepted",
+          f"{{omega_{lb}}}")
+    b.add(f"eps_{la}", "rad/s^2", f"угловое ускорение камня {la}", f"angular acceleration of the block {la}",
+          "accepted", f"{{eps_{lb}}}")
     b.add(f"cos_{lb}", "", f"cos угла кулисы {lb}", f"cos of lever {lb}'s angle", "calc", c)
     b.add(f"sin_{lb}", "", f"sin угла кулисы {lb}", f"sin of lever {lb}'s angle", "calc", s)
     b.rot[la] = b.rot[lb] = (f"cos_{lb}", f"sin_{lb}", f"omega_{lb}", f"eps_{lb}")
@@ -161,8 +182,10 @@ def rows(b: Builder, g: Group):
     # the block's motion seen on the lever: v_J1 = v_J2 + omega x r + vs u,
     # a_J1 = a_J2 + eps x r - omega^2 r + as u + 2 omega vs n (Coriolis)
     ep, as_ = f"{{eps_{lb}}}", f"{{as_{J1}}}"
-    b.add(f"chk_v_g{i}", "m/s", f"проверка: v{J1} = v{J2} + omega x r + vs u", f"check: v{J1} = v{J2} + omega x r + vs u",
-          "check", f"ABS({b.p('vx', J1)}-({b.p('vx', J2)}-{w}*{{{dy}}}+{vs}*{c}))+ABS({b.p('vy', J1)}-({b.p('vy', J2)}+{w}*{{{dx}}}+{vs}*{s}))")
+    b.add(f"chk_v_g{i}", "m/s", f"проверка: v{J1} = v{J2} + omega x r + vs u",
+          f"check: v{J1} = v{J2} + omega x r + vs u",
+          "check",
+          f"ABS({b.p('vx', J1)}-({b.p('vx', J2)}-{w}*{{{dy}}}+{vs}*{c}))+ABS({b.p('vy', J1)}-({b.p('vy', J2)}+{w}*{{{dx}}}+{vs}*{s}))")
     b.add(f"chk_a_g{i}", "m/s^2", f"проверка: a{J1} = a{J2} + eps x r - omega^2 r + as u + 2 omega vs n",
           f"check: a{J1} = a{J2} + eps x r - omega^2 r + as u + 2 omega vs n", "check",
           f"ABS({b.p('ax', J1)}-({b.p('ax', J2)}-{ep}*{{{dy}}}-{w}^2*{{{dx}}}+{as_}*{c}-2*{w}*{vs}*{s}))"
@@ -211,14 +234,19 @@ def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
     # the lever acts on the block with P n through J1 (n = (-sin, cos)) and a couple
     # C = -MQ_a; the lever's moments about J2: (J1 - J2) x (-P n) - C + MQ_b = 0
     crs = f"(({b.p('x', J1)}-{b.p('x', J2)})*{c}+({b.p('y', J1)}-{b.p('y', J2)})*{s})"
-    b.add(f"Pn_g{i}", "N", f"давление кулисы {bl} на камень {a} по нормали к кулисе", f"push of lever {bl} on block {a} across the slot",
+    b.add(f"Pn_g{i}", "N", f"давление кулисы {bl} на камень {a} по нормали к кулисе",
+          f"push of lever {bl} on block {a} across the slot",
           "calc", f"({{MQ_{bl}}}+{{MQ_{a}}})/{crs}")
     P = f"{{Pn_g{i}}}"
-    k.reaction(tab, f"-{P}*(-{s})", f"-{P}*{c}", f"камня {a} на кулису {bl} (через {J1})", f"of block {a} on lever {bl} (through {J1})")
-    b.add(f"M_{tab}", "N m", f"момент реакции камня {a} на кулису {bl}", f"couple of block {a} on lever {bl}", "accepted", f"{{MQ_{a}}}")
-    k.reaction(t1, f"-{P}*(-{s})-{{Qx_{a}}}", f"-{P}*{c}-{{Qy_{a}}}", f"звена {o1} на камень {a} в {J1}", f"of link {o1} on block {a} at {J1}")
+    k.reaction(tab, f"-{P}*(-{s})", f"-{P}*{c}", f"камня {a} на кулису {bl} (через {J1})",
+               f"of block {a} on lever {bl} (through {J1})")
+    b.add(f"M_{tab}", "N m", f"момент реакции камня {a} на кулису {bl}", f"couple of block {a} on lever {bl}",
+          "accepted", f"{{MQ_{a}}}")
+    k.reaction(t1, f"-{P}*(-{s})-{{Qx_{a}}}", f"-{P}*{c}-{{Qy_{a}}}", f"звена {o1} на камень {a} в {J1}",
+               f"of link {o1} on block {a} at {J1}")
     k.equilibrium(a, J1, [(J1, *r1), (J1, f"(-{rab[0]})", f"(-{rab[1]})")], f"(-{{M_{tab}}})")
-    k.reaction(t2, f"{P}*(-{s})-{{Qx_{bl}}}", f"{P}*{c}-{{Qy_{bl}}}", f"звена {o2} на кулису {bl} в {J2}", f"of link {o2} on lever {bl} at {J2}")
+    k.reaction(t2, f"{P}*(-{s})-{{Qx_{bl}}}", f"{P}*{c}-{{Qy_{bl}}}", f"звена {o2} на кулису {bl} в {J2}",
+               f"of link {o2} on lever {bl} at {J2}")
     k.equilibrium(bl, J2, [(J1, *rab), (J2, f"{{Rx_{t2}}}", f"{{Ry_{t2}}}")], f"{{M_{tab}}}")
     k.loads[o2].append((J2, f"(-{{Rx_{t2}}})", f"(-{{Ry_{t2}}})"))
     k.loads[o1].append((J1, f"(-{r1[0]})", f"(-{r1[1]})"))
@@ -261,6 +289,13 @@ def loop(lib, g: Group, known, links):
 def side_ok(lib, g: Group, known, links, q, joints) -> bool:
     """The contract has s > 0: the slot points from J2 towards the block."""
     return q[1] > 0
+
+
+def discriminant(lib, g: Group, known, links):
+    """L_TEK^2 - e^2: 0 where the block passes over the kulisa's axis (offset 0)."""
+    (p1, _, _), (p2, _, _) = known[g.joints[0]], known[g.joints[1]]
+    off = lib.num(g.offset)
+    return (p1[0] - p2[0]) ** 2 + (p1[1] - p2[1]) ** 2 - off * off
 
 
 def unknowns(g: Group, sol) -> tuple[np.ndarray, np.ndarray]:

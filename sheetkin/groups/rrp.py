@@ -140,8 +140,10 @@ def input_rows(g: Group) -> list[InputRow]:
     (j1, n), la, i, gd = g.joints, g.links[0], g.index, g.guide
     out = [InputRow(f"L{la}", "m", f"длина шатуна {la} ({j1}{n})", f"length of coupler {la} ({j1}{n})", g.length, True)]
     if not gd.moving:
-        out += [InputRow(f"gx_g{i}", "m", f"направляющая ползуна {n}: x точки", f"slider {n}'s guide: x of a point", gd.point[0]),
-                InputRow(f"gy_g{i}", "m", f"направляющая ползуна {n}: y точки", f"slider {n}'s guide: y of a point", gd.point[1]),
+        out += [InputRow(f"gx_g{i}", "m", f"направляющая ползуна {n}: x точки", f"slider {n}'s guide: x of a point",
+                         gd.point[0]),
+                InputRow(f"gy_g{i}", "m", f"направляющая ползуна {n}: y точки", f"slider {n}'s guide: y of a point",
+                         gd.point[1]),
                 InputRow(f"gamma_g{i}", "deg", "угол наклона направляющей", "the guide's angle", gd.angle_deg)]
     else:
         out += [InputRow(f"gamma_g{i}", "deg", f"угол направляющей ползуна {n} к звену {gd.link}",
@@ -177,7 +179,8 @@ def _fixed_guide_rows(b: Builder, g: Group):
           f"-({b.p('x', J1)}-{gx})*SIN({gam})+({b.p('y', J1)}-{gy})*COS({gam})", guard=b.guard)
     b.add(al, "m", f"проекция {J1} на направляющую", f"{J1}'s foot on the guide", "calc",
           f"({b.p('x', J1)}-{gx})*COS({gam})+({b.p('y', J1)}-{gy})*SIN({gam})", guard=b.guard)
-    b.add(D, "m^2", "дискриминант L^2 - h^2 (< 0: группа не собирается)", "discriminant L^2 - h^2 (< 0: cannot assemble)",
+    b.add(D, "m^2", "дискриминант L^2 - h^2 (< 0: группа не собирается)",
+          "discriminant L^2 - h^2 (< 0: cannot assemble)",
           "calc", f"{L}^2-{{{h}}}^2", guard=b.guard)
     group_guard(b, g, D)
     for s, sign, ru, en in (("p", "+", "ветвь +1", "branch +1"), ("m", "-", "ветвь -1", "branch -1")):
@@ -196,11 +199,13 @@ def _fixed_guide_rows(b: Builder, g: Group):
     cos_sin_rows(b, la, "", "")
     cos_sin_rows(b, lb, "", "")
     ca, sa, ux, uy = f"{{cos_{la}}}", f"{{sin_{la}}}", f"{{cos_{lb}}}", f"{{sin_{lb}}}"
-    b.add(f"chk_acc_g{i}", "m", f"проверка принятых значений: {J1} + L e(phi) - ({gx}, {gy}) - s u".replace("{", "").replace("}", ""),
+    b.add(f"chk_acc_g{i}", "m",
+          f"проверка принятых значений: {J1} + L e(phi) - ({gx}, {gy}) - s u".replace("{", "").replace("}", ""),
           "check of the accepted values: J1 + L e(phi) - G - s u", "check",
           f"ABS({b.p('x', J1)}+{L}*{ca}-{gx}-{{{sN}}}*{ux})+ABS({b.p('y', J1)}+{L}*{sa}-{gy}-{{{sN}}}*{uy})")
     b.add(f"omega_{lb}", "rad/s", f"угловая скорость ползуна {lb}", f"angular velocity of slider {lb}", "accepted", "0")
-    b.add(f"eps_{lb}", "rad/s^2", f"угловое ускорение ползуна {lb}", f"angular acceleration of slider {lb}", "accepted", "0")
+    b.add(f"eps_{lb}", "rad/s^2", f"угловое ускорение ползуна {lb}", f"angular acceleration of slider {lb}",
+          "accepted", "0")
     # L omega e_perp(phi) - vs u = -v_J1: Cramer with m11 = -L sin, m12 = -ux, m21 = L cos, m22 = -uy
     det = f"Delta_g{i}"
     m = (f"(-{L}*{sa})", f"(-{ux})", f"({L}*{ca})", f"(-{uy})")
@@ -208,8 +213,11 @@ def _fixed_guide_rows(b: Builder, g: Group):
     b.add(f"det_g{i}", "", "cos(phi - gamma) (около 0: мёртвое положение)", "cos(phi - gamma) (near 0: toggle)", "calc",
           f"{{{det}}}/{L}")
     b1, b2 = f"(-{b.p('vx', J1)})", f"(-{b.p('vy', J1)})"
-    cramer_rows(b, m, det, ((f"omega_{la}", "rad/s", f"угловая скорость шатуна {la} (Крамер)", f"angular velocity of coupler {la} (Cramer)"),
-                            (f"vs_{N}", "m/s", f"скорость ползуна {N} вдоль направляющей", f"velocity of slider {N} along the guide")),
+    cramer_rows(b, m, det,
+                ((f"omega_{la}", "rad/s", f"угловая скорость шатуна {la} (Крамер)",
+                  f"angular velocity of coupler {la} (Cramer)"),
+                            (f"vs_{N}", "m/s", f"скорость ползуна {N} вдоль направляющей",
+                             f"velocity of slider {N} along the guide")),
                 (b1, b2), (f"chk_vsys_g{i}", "невязка системы для скоростей", "residual of the velocity system"))
     f1, f2 = f"f1_g{i}", f"f2_g{i}"
     wa = f"{{omega_{la}}}"
@@ -217,9 +225,12 @@ def _fixed_guide_rows(b: Builder, g: Group):
           f"-{b.p('ax', J1)}+{L}*{wa}^2*{ca}")
     b.add(f2, "m/s^2", "правая часть для ускорений f2", "right side of the acceleration system f2", "calc",
           f"-{b.p('ay', J1)}+{L}*{wa}^2*{sa}")
-    cramer_rows(b, m, det, ((f"eps_{la}", "rad/s^2", f"угловое ускорение шатуна {la}", f"angular acceleration of coupler {la}"),
-                            (f"as_{N}", "m/s^2", f"ускорение ползуна {N} вдоль направляющей", f"acceleration of slider {N} along the guide")),
-                (f"{{{f1}}}", f"{{{f2}}}"), (f"chk_asys_g{i}", "невязка системы для ускорений", "residual of the acceleration system"))
+    cramer_rows(b, m, det,
+                ((f"eps_{la}", "rad/s^2", f"угловое ускорение шатуна {la}", f"angular acceleration of coupler {la}"),
+                            (f"as_{N}", "m/s^2", f"ускорение ползуна {N} вдоль направляющей",
+                             f"acceleration of slider {N} along the guide")),
+                (f"{{{f1}}}", f"{{{f2}}}"),
+                (f"chk_asys_g{i}", "невязка системы для ускорений", "residual of the acceleration system"))
     b.rot[la] = (f"cos_{la}", f"sin_{la}", f"omega_{la}", f"eps_{la}")
     b.rot[lb] = (f"cos_{lb}", f"sin_{lb}", f"omega_{lb}", f"eps_{lb}")
     b.guard_of_link[la] = b.guard_of_link[lb] = b.guard
@@ -256,14 +267,18 @@ def _moving_guide_rows(b: Builder, g: Group):
     dx, dy = f"({b.p('x', J1)}-{b.p('x', G)})", f"({b.p('y', J1)}-{b.p('y', G)})"
     b.add(al, "m", f"{G}K: проекция {J1} на направляющую", f"{G}K: {J1}'s foot on the guide", "calc",
           f"{dx}*{U}+{dy}*{V}", guard=b.guard)
-    b.add(xK, "m", f"x_K: основание перпендикуляра из {J1} на прямую {G}{N}", f"x_K: foot of the perpendicular from {J1} on line {G}{N}",
+    b.add(xK, "m", f"x_K: основание перпендикуляра из {J1} на прямую {G}{N}",
+          f"x_K: foot of the perpendicular from {J1} on line {G}{N}",
           "calc", f"{b.p('x', G)}+{{{al}}}*{U}", guard=b.guard)
     b.add(yK, "m", "y_K", "y_K", "calc", f"{b.p('y', G)}+{{{al}}}*{V}", guard=b.guard)
-    b.add(h, "m", f"h: расстояние от {J1} до прямой {G}{N} (влево +)", f"h: distance of {J1} from line {G}{N} (left +)", "calc",
+    b.add(h, "m", f"h: расстояние от {J1} до прямой {G}{N} (влево +)",
+          f"h: distance of {J1} from line {G}{N} (left +)", "calc",
           f"-{dx}*{V}+{dy}*{U}", guard=b.guard)
-    b.add(f"chk_h_g{i}", "m", f"проверка: h^2 = (x_K - x{J1})^2 + (y_K - y{J1})^2", f"check: h^2 = (x_K - x{J1})^2 + (y_K - y{J1})^2",
+    b.add(f"chk_h_g{i}", "m", f"проверка: h^2 = (x_K - x{J1})^2 + (y_K - y{J1})^2",
+          f"check: h^2 = (x_K - x{J1})^2 + (y_K - y{J1})^2",
           "check", f"SQRT(({{{xK}}}-{b.p('x', J1)})^2+({{{yK}}}-{b.p('y', J1)})^2)-ABS({{{h}}})")
-    b.add(D, "m^2", "дискриминант L^2 - h^2 (< 0: группа не собирается)", "discriminant L^2 - h^2 (< 0: cannot assemble)",
+    b.add(D, "m^2", "дискриминант L^2 - h^2 (< 0: группа не собирается)",
+          "discriminant L^2 - h^2 (< 0: cannot assemble)",
           "calc", f"{L}^2-{{{h}}}^2")
     group_guard(b, g, D)
     for s, sign, ru, en in (("p", "+", "ветвь +1", "branch +1"), ("m", "-", "ветвь -1", "branch -1")):
@@ -274,11 +289,13 @@ def _moving_guide_rows(b: Builder, g: Group):
     b.section(f"accepted_g{i}", "Принятые значения", "Accepted values")
     sN = f"s_{N}"
     S = f"{{{sN}}}"
-    b.add(sN, "m", f"L_tek: положение камня {N} на кулисе от {G}", f"L_tek: block {N}'s place on the kulisa from {G}", "accepted",
+    b.add(sN, "m", f"L_tek: положение камня {N} на кулисе от {G}", f"L_tek: block {N}'s place on the kulisa from {G}",
+          "accepted",
           f"IF({{branch_g{i}}}=1,{{s_p_g{i}}},{{s_m_g{i}}})")
     b.add(f"phi_{la}", "deg", f"угол звена {la} ({J1}->{N})", f"angle of link {la} ({J1}->{N})", "accepted",
           f"MOD(DEGREES(ATAN2({b.p('x', G)}+{S}*{U}-{b.p('x', J1)},{b.p('y', G)}+{S}*{V}-{b.p('y', J1)})),360)")
-    b.add(f"phi_{lb}", "deg", f"угол камня {lb} (= phi_{k} + gamma)", f"angle of block {lb} (= phi_{k} + gamma)", "accepted",
+    b.add(f"phi_{lb}", "deg", f"угол камня {lb} (= phi_{k} + gamma)", f"angle of block {lb} (= phi_{k} + gamma)",
+          "accepted",
           f"MOD({{phi_{k}}}+{{gamma_g{i}}},360)")
     cos_sin_rows(b, la, "", "")
     ca, sa = f"{{cos_{la}}}", f"{{sin_{la}}}"
@@ -287,19 +304,25 @@ def _moving_guide_rows(b: Builder, g: Group):
     b.add(f"chk_acc_g{i}", "m", f"проверка принятых значений: {J1} + L e(phi) - {G} - L_tek u",
           f"check of the accepted values: {J1} + L e(phi) - {G} - L_tek u", "check",
           f"ABS({b.p('x', J1)}+{L}*{ca}-{b.p('x', G)}-{S}*{U})+ABS({b.p('y', J1)}+{L}*{sa}-{b.p('y', G)}-{S}*{V})")
-    b.add(f"omega_{lb}", "rad/s", f"угловая скорость камня {lb} (= кулисы {k})", f"angular velocity of block {lb} (= kulisa {k}'s)",
+    b.add(f"omega_{lb}", "rad/s", f"угловая скорость камня {lb} (= кулисы {k})",
+          f"angular velocity of block {lb} (= kulisa {k}'s)",
           "accepted", wk)
-    b.add(f"eps_{lb}", "rad/s^2", f"угловое ускорение камня {lb}", f"angular acceleration of block {lb}", "accepted", ek)
+    b.add(f"eps_{lb}", "rad/s^2", f"угловое ускорение камня {lb}", f"angular acceleration of block {lb}", "accepted",
+          ek)
     # L omega e'(phi) - vs u = v_G + s omega_k n - v_J1, n = (-uy, ux)
     det = f"Delta_g{i}"
     m = (f"(-{L}*{sa})", f"(-{U})", f"({L}*{ca})", f"(-{V})")
-    det_row(b, det, m, "m", "определитель: L cos(phi - phi_направляющей)", "determinant: L cos(phi - the guide's angle)")
+    det_row(b, det, m, "m", "определитель: L cos(phi - phi_направляющей)",
+            "determinant: L cos(phi - the guide's angle)")
     b.add(f"det_g{i}", "", "cos угла шатуна к направляющей (около 0: мёртвое положение)",
           "cos of the coupler's angle to the guide (near 0: toggle)", "calc", f"{{{det}}}/{L}")
     b1 = f"({b.p('vx', G)}-{S}*{wk}*{V}-{b.p('vx', J1)})"
     b2 = f"({b.p('vy', G)}+{S}*{wk}*{U}-{b.p('vy', J1)})"
-    cramer_rows(b, m, det, ((f"omega_{la}", "rad/s", f"угловая скорость звена {la} (Крамер)", f"angular velocity of link {la} (Cramer)"),
-                            (f"vs_{N}", "m/s", f"(L_tek)_t: скорость камня {N} по кулисе", f"(L_tek)_t: velocity of block {N} along the kulisa")),
+    cramer_rows(b, m, det,
+                ((f"omega_{la}", "rad/s", f"угловая скорость звена {la} (Крамер)",
+                  f"angular velocity of link {la} (Cramer)"),
+                            (f"vs_{N}", "m/s", f"(L_tek)_t: скорость камня {N} по кулисе",
+                             f"(L_tek)_t: velocity of block {N} along the kulisa")),
                 (b1, b2), (f"chk_vsys_g{i}", "невязка системы для скоростей", "residual of the velocity system"))
     f1, f2 = f"f1_g{i}", f"f2_g{i}"
     wa, vs = f"{{omega_{la}}}", f"{{vs_{N}}}"
@@ -309,20 +332,25 @@ def _moving_guide_rows(b: Builder, g: Group):
           f"{b.p('ax', G)}-{b.p('ax', J1)}+{L}*{wa}^2*{ca}-{S}*{wk}^2*{U}-{tn}*{V}")
     b.add(f2, "m/s^2", "правая часть f2", "right side f2", "calc",
           f"{b.p('ay', G)}-{b.p('ay', J1)}+{L}*{wa}^2*{sa}-{S}*{wk}^2*{V}+{tn}*{U}")
-    cramer_rows(b, m, det, ((f"eps_{la}", "rad/s^2", f"угловое ускорение звена {la}", f"angular acceleration of link {la}"),
-                            (f"as_{N}", "m/s^2", f"(L_tek)_tt: ускорение камня {N} по кулисе", f"(L_tek)_tt: acceleration of block {N} along the kulisa")),
-                (f"{{{f1}}}", f"{{{f2}}}"), (f"chk_asys_g{i}", "невязка системы для ускорений", "residual of the acceleration system"))
+    cramer_rows(b, m, det,
+                ((f"eps_{la}", "rad/s^2", f"угловое ускорение звена {la}", f"angular acceleration of link {la}"),
+                            (f"as_{N}", "m/s^2", f"(L_tek)_tt: ускорение камня {N} по кулисе",
+                             f"(L_tek)_tt: acceleration of block {N} along the kulisa")),
+                (f"{{{f1}}}", f"{{{f2}}}"),
+                (f"chk_asys_g{i}", "невязка системы для ускорений", "residual of the acceleration system"))
     b.rot[la] = (f"cos_{la}", f"sin_{la}", f"omega_{la}", f"eps_{la}")
     b.rot[lb] = (f"cos_{lb}", f"sin_{lb}", f"omega_{lb}", f"eps_{lb}")
     b.guard_of_link[la] = b.guard_of_link[lb] = b.guard
-    b.section(f"point_{N}", f"Камень {N}: движение вместе с кулисой и по ней", f"Block {N}: carried by the kulisa and sliding on it")
+    b.section(f"point_{N}", f"Камень {N}: движение вместе с кулисой и по ней",
+              f"Block {N}: carried by the kulisa and sliding on it")
     as_ = f"{{as_{N}}}"
     tu = f"({as_}-{S}*{wk}^2)"
     motion_rows(b, N, f"камня {N}", f"block {N}", f"{b.p('x', G)}+{S}*{U}", f"{b.p('y', G)}+{S}*{V}",
                 f"{b.p('vx', G)}+{vs}*{U}-{S}*{wk}*{V}", f"{b.p('vy', G)}+{vs}*{V}+{S}*{wk}*{U}",
                 f"{b.p('ax', G)}+{tu}*{U}-{tn}*{V}", f"{b.p('ay', G)}+{tu}*{V}+{tn}*{U}")
     distance_check(b, f"chk_{J1}{N}", J1, N, L, f"проверка: |{J1}{N}| - L{la}", f"check: |{J1}{N}| - L{la}")
-    b.add(f"chk_line_g{i}", "m", f"проверка: {N} на прямой {G}{N} кулисы {k}", f"check: {N} on the kulisa {k}'s line", "check",
+    b.add(f"chk_line_g{i}", "m", f"проверка: {N} на прямой {G}{N} кулисы {k}", f"check: {N} on the kulisa {k}'s line",
+          "check",
           f"-({{x_{N}}}-{b.p('x', G)})*{V}+({{y_{N}}}-{b.p('y', G)})*{U}")
     relative_velocity_check(b, N, J1)
     via_link_checks(b, N, J1, la, f"omega_{la}, eps_{la}")
@@ -384,12 +412,15 @@ def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
                       "m", (f"определитель: ({J1}-{N}).u (0, когда шатун поперёк направляющей)",
                             f"determinant: ({J1}-{N}).u (0 with the coupler across the guide)"),
                       f"звена {o1} на звено {a} в {J1}", f"of link {o1} on link {a} at {J1}")
-    k.reaction(tab, f"{r1[0]}+{{Qx_{a}}}", f"{r1[1]}+{{Qy_{a}}}", f"звена {a} на ползун {bl} в {N}", f"of link {a} on slider {bl} at {N}")
+    k.reaction(tab, f"{r1[0]}+{{Qx_{a}}}", f"{r1[1]}+{{Qy_{a}}}", f"звена {a} на ползун {bl} в {N}",
+               f"of link {a} on slider {bl} at {N}")
     tg = f"{gk}_{bl}"
     # the guide pushes across itself: -(R1 + Q).n n with n = (-uy, ux)
     qn = f"(({r1[0]}+{qx})*{uy}-({r1[1]}+{qy})*{ux})"
-    k.reaction(tg, f"-{qn}*{uy}", f"{qn}*{ux}", f"направляющей на ползун {bl} (через {N})", f"of the guide on slider {bl} (through {N})")
-    b.add(f"M_{tg}", "N m", f"момент реакции направляющей на ползун {bl}", f"couple of the guide on slider {bl}", "accepted",
+    k.reaction(tg, f"-{qn}*{uy}", f"{qn}*{ux}", f"направляющей на ползун {bl} (через {N})",
+               f"of the guide on slider {bl} (through {N})")
+    b.add(f"M_{tg}", "N m", f"момент реакции направляющей на ползун {bl}", f"couple of the guide on slider {bl}",
+          "accepted",
           f"-{{MQ_{bl}}}")
     k.equilibrium(a, N, [(J1, *r1), (N, f"(-{rab[0]})", f"(-{rab[1]})")], "")
     k.equilibrium(bl, N, [(N, *rab), (N, f"{{Rx_{tg}}}", f"{{Ry_{tg}}}")], f"{{M_{tg}}}")
@@ -453,6 +484,15 @@ def side_ok(lib, g: Group, known, links, q, joints) -> bool:
     nj = joints[g.joints[1]][0]
     v = (nj[0] - p1[0]) * lib.cos(th) + (nj[1] - p1[1]) * lib.sin(th)
     return (1 if v > 0 else -1) == g.branch
+
+
+def discriminant(lib, g: Group, known, links):
+    """L^2 - h^2, h the distance of J1 from the guide: 0 with the coupler across the guide."""
+    p1 = known[g.joints[0]][0]
+    (pg, _, _), (th, _, _) = _guide(lib, g, known, links)
+    h = -(p1[0] - pg[0]) * lib.sin(th) + (p1[1] - pg[1]) * lib.cos(th)
+    length = lib.num(g.length)
+    return length * length - h * h
 
 
 def unknowns(g: Group, sol) -> tuple[np.ndarray, np.ndarray]:

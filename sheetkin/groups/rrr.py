@@ -27,7 +27,8 @@ from ..rows import (Builder, InputRow, LoadRows, carried_rows, cos_sin_rows, cra
 KIND = "RRR"
 LECTURE = "ВВВ"
 SLIDES = "16-21"
-TITLE = ("шатун и коромысло (или два шатуна): три вращательные пары", "coupler and rocker (or two couplers): three revolute joints")
+TITLE = ("шатун и коромысло (или два шатуна): три вращательные пары",
+         "coupler and rocker (or two couplers): three revolute joints")
 KEYS = ("type", "links", "joints", "lengths", "branch")
 
 
@@ -113,8 +114,10 @@ def solve(g: Group, known: dict[str, Motion], rot: dict[int, Rotation], scale: f
 # --------------------------------------------------------------------------- the workbook
 def input_rows(g: Group) -> list[InputRow]:
     (j1, n, j2), (la, lb), i = g.joints, g.links, g.index
-    return [InputRow(f"L{la}", "m", f"длина звена {la} ({j1}{n})", f"length of link {la} ({j1}{n})", g.lengths[0], True),
-            InputRow(f"L{lb}", "m", f"длина звена {lb} ({n}{j2})", f"length of link {lb} ({n}{j2})", g.lengths[1], True),
+    return [InputRow(f"L{la}", "m", f"длина звена {la} ({j1}{n})", f"length of link {la} ({j1}{n})", g.lengths[0],
+                     True),
+            InputRow(f"L{lb}", "m", f"длина звена {lb} ({n}{j2})", f"length of link {lb} ({n}{j2})", g.lengths[1],
+                     True),
             InputRow(f"branch_g{i}", "", f"ветвь решения группы {i} (+1 или -1)",
                      f"solution branch of group {i} (+1 or -1)", g.branch)]
 
@@ -138,7 +141,8 @@ def rows(b: Builder, g: Group):
     b.add(F, "m", "F = (P^2 + Q^2 + L2^2 - L3^2) / (2 L2)", "F = (P^2 + Q^2 + L2^2 - L3^2) / (2 L2)", "calc",
           f"({{{P}}}^2+{{{Q}}}^2+{L2}^2-{L3}^2)/(2*{L2})", guard=b.guard)
     b.add(D, "m^2", "дискриминант P^2 + Q^2 - F^2 (< 0: группа не собирается)",
-          "discriminant P^2 + Q^2 - F^2 (< 0: cannot assemble)", "calc", f"{{{P}}}^2+{{{Q}}}^2-{{{F}}}^2", guard=b.guard)
+          "discriminant P^2 + Q^2 - F^2 (< 0: cannot assemble)", "calc", f"{{{P}}}^2+{{{Q}}}^2-{{{F}}}^2",
+          guard=b.guard)
     group_guard(b, g, D)
     for s, sign, ru, en in (("p", "+", "ветвь +1", "branch +1"), ("m", "-", "ветвь -1", "branch -1")):
         # tg(psi/2) = (Q +- sqrt(D)) / (P + F), written as ATAN2 so that P + F = 0 is no division
@@ -168,22 +172,33 @@ def rows(b: Builder, g: Group):
     # system (b) (slide 19): -L2 sin psi psi_t + L3 sin xi xi_t = vx_J2 - vx_J1; L2 cos psi psi_t - L3 cos xi xi_t = vy_J2 - vy_J1
     det = f"Delta_g{i}"
     m = (f"(-{L2}*{sa})", f"({L3}*{sb})", f"({L2}*{ca})", f"(-{L3}*{cb})")
-    det_row(b, det, m, "m^2", "определитель системы (b): L2 L3 sin(psi - xi)", "determinant of system (b): L2 L3 sin(psi - xi)")
-    b.add(f"det_g{i}", "", "sin угла передачи (около 0: мёртвое положение)", "sine of the transmission angle (near 0: toggle)",
+    det_row(b, det, m, "m^2", "определитель системы (b): L2 L3 sin(psi - xi)",
+            "determinant of system (b): L2 L3 sin(psi - xi)")
+    b.add(f"det_g{i}", "", "sin угла передачи (около 0: мёртвое положение)",
+          "sine of the transmission angle (near 0: toggle)",
           "calc", f"{{{det}}}/({L2}*{L3})")
     b1, b2 = f"({b.p('vx', J2)}-{b.p('vx', J1)})", f"({b.p('vy', J2)}-{b.p('vy', J1)})"
-    cramer_rows(b, m, det, ((f"omega_{la}", "rad/s", f"угловая скорость звена {la} (Крамер)", f"angular velocity of link {la} (Cramer)"),
-                            (f"omega_{lb}", "rad/s", f"угловая скорость звена {lb} (Крамер)", f"angular velocity of link {lb} (Cramer)")),
-                (b1, b2), (f"chk_vsys_g{i}", "невязка системы (b) для скоростей", "residual of the velocity system (b)"))
+    cramer_rows(b, m, det,
+                ((f"omega_{la}", "rad/s", f"угловая скорость звена {la} (Крамер)",
+                  f"angular velocity of link {la} (Cramer)"),
+                            (f"omega_{lb}", "rad/s", f"угловая скорость звена {lb} (Крамер)",
+                             f"angular velocity of link {lb} (Cramer)")),
+                (b1, b2),
+                (f"chk_vsys_g{i}", "невязка системы (b) для скоростей", "residual of the velocity system (b)"))
     f1, f2 = f"f1_g{i}", f"f2_g{i}"
     wa, wb = f"{{omega_{la}}}", f"{{omega_{lb}}}"
-    b.add(f1, "m/s^2", "правая часть для ускорений f1 (слайд 21)", "right side of the acceleration system f1 (slide 21)", "calc",
+    b.add(f1, "m/s^2", "правая часть для ускорений f1 (слайд 21)",
+          "right side of the acceleration system f1 (slide 21)", "calc",
           f"{b.p('ax', J2)}-{b.p('ax', J1)}+{L2}*{wa}^2*{ca}-{L3}*{wb}^2*{cb}")
-    b.add(f2, "m/s^2", "правая часть для ускорений f2 (слайд 21)", "right side of the acceleration system f2 (slide 21)", "calc",
+    b.add(f2, "m/s^2", "правая часть для ускорений f2 (слайд 21)",
+          "right side of the acceleration system f2 (slide 21)", "calc",
           f"{b.p('ay', J2)}-{b.p('ay', J1)}+{L2}*{wa}^2*{sa}-{L3}*{wb}^2*{sb}")
-    cramer_rows(b, m, det, ((f"eps_{la}", "rad/s^2", f"угловое ускорение звена {la}", f"angular acceleration of link {la}"),
-                            (f"eps_{lb}", "rad/s^2", f"угловое ускорение звена {lb}", f"angular acceleration of link {lb}")),
-                (f"{{{f1}}}", f"{{{f2}}}"), (f"chk_asys_g{i}", "невязка системы для ускорений", "residual of the acceleration system"))
+    cramer_rows(b, m, det,
+                ((f"eps_{la}", "rad/s^2", f"угловое ускорение звена {la}", f"angular acceleration of link {la}"),
+                            (f"eps_{lb}", "rad/s^2", f"угловое ускорение звена {lb}",
+                             f"angular acceleration of link {lb}")),
+                (f"{{{f1}}}", f"{{{f2}}}"),
+                (f"chk_asys_g{i}", "невязка системы для ускорений", "residual of the acceleration system"))
     b.rot[la] = (f"cos_{la}", f"sin_{la}", f"omega_{la}", f"eps_{la}")
     b.rot[lb] = (f"cos_{lb}", f"sin_{lb}", f"omega_{lb}", f"eps_{lb}")
     b.guard_of_link[la] = b.guard_of_link[lb] = b.guard
@@ -239,12 +254,15 @@ def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
     d2x, d2y = f"({b.p('x', J2)}-{b.p('x', N)})", f"({b.p('y', J2)}-{b.p('y', N)})"
     # moments about N: d1 x R1 = -MQ_a and d2 x R2 = -MQ_b with R2 = -(Q_a + Q_b) - R1
     qx, qy = f"({{Qx_{a}}}+{{Qx_{bl}}})", f"({{Qy_{a}}}+{{Qy_{bl}}})"
-    k.cramer_reaction(i, t1, (f"(-{d1y})", d1x, f"(-{d2y})", d2x), (f"(-{{MQ_{a}}})", f"({{MQ_{bl}}}-({d2x}*{qy}-{d2y}*{qx}))"),
+    k.cramer_reaction(i, t1, (f"(-{d1y})", d1x, f"(-{d2y})", d2x),
+                      (f"(-{{MQ_{a}}})", f"({{MQ_{bl}}}-({d2x}*{qy}-{d2y}*{qx}))"),
                       "m^2", (f"определитель: ({J1}-{N}) x ({J2}-{N}) (0 в мёртвом положении)",
                               f"determinant: ({J1}-{N}) x ({J2}-{N}) (0 at the toggle)"),
                       f"звена {o1} на звено {a} в {J1}", f"of link {o1} on link {a} at {J1}")
-    k.reaction(tab, f"{r1[0]}+{{Qx_{a}}}", f"{r1[1]}+{{Qy_{a}}}", f"звена {a} на звено {bl} в {N}", f"of link {a} on link {bl} at {N}")
-    k.reaction(t2, f"-{qx}-{r1[0]}", f"-{qy}-{r1[1]}", f"звена {o2} на звено {bl} в {J2}", f"of link {o2} on link {bl} at {J2}")
+    k.reaction(tab, f"{r1[0]}+{{Qx_{a}}}", f"{r1[1]}+{{Qy_{a}}}", f"звена {a} на звено {bl} в {N}",
+               f"of link {a} on link {bl} at {N}")
+    k.reaction(t2, f"-{qx}-{r1[0]}", f"-{qy}-{r1[1]}", f"звена {o2} на звено {bl} в {J2}",
+               f"of link {o2} on link {bl} at {J2}")
     k.equilibrium(a, N, [(J1, *r1), (N, f"(-{rab[0]})", f"(-{rab[1]})")], "")
     k.equilibrium(bl, N, [(N, *rab), (J2, f"{{Rx_{t2}}}", f"{{Ry_{t2}}}")], "")
     k.loads[o2].append((J2, f"(-{{Rx_{t2}}})", f"(-{{Ry_{t2}}})"))
@@ -297,6 +315,15 @@ def side_ok(lib, g: Group, known, links, q, joints) -> bool:
     n_ = joints[g.joints[1]][0]
     v = (p2[0] - p1[0]) * (n_[1] - p1[1]) - (p2[1] - p1[1]) * (n_[0] - p1[0])
     return (1 if v > 0 else -1) == g.branch
+
+
+def discriminant(lib, g: Group, known, links):
+    """P^2 + Q^2 - F^2 (constraint (a)): >= 0 where the group assembles, 0 at its toggle."""
+    (p1, _, _), (p2, _, _) = known[g.joints[0]], known[g.joints[2]]
+    l2, l3 = lib.num(g.lengths[0]), lib.num(g.lengths[1])
+    p, q = p2[0] - p1[0], p2[1] - p1[1]
+    f = (p * p + q * q + l2 * l2 - l3 * l3) / (2 * l2)
+    return p * p + q * q - f * f
 
 
 def unknowns(g: Group, sol) -> tuple[np.ndarray, np.ndarray]:
