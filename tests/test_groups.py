@@ -305,6 +305,11 @@ def _moved(scene, k: float, theta_deg: float, shift):
                 changes[f.name] = k * v
             elif f.name == "guide" and not v.moving:
                 changes[f.name] = dataclasses.replace(v, point=rot(v.point), angle_deg=v.angle_deg + theta_deg)
+            elif f.name == "guides":      # PRP
+                changes[f.name] = tuple(gd if gd.moving else dataclasses.replace(
+                    gd, point=rot(gd.point), angle_deg=gd.angle_deg + theta_deg) for gd in v)
+            elif f.name == "slot_angle_deg":      # RPP
+                changes[f.name] = v + theta_deg
         groups.append(dataclasses.replace(g, params=dataclasses.replace(p, **changes)))
     points = tuple(dataclasses.replace(q, along=k * q.along, across=k * q.across) for q in scene.points)
     crank = dataclasses.replace(scene.crank, length=k * scene.crank.length, phi0_deg=scene.crank.phi0_deg + theta_deg)
@@ -358,8 +363,10 @@ _values = st.recursive(_atoms, lambda inner: st.one_of(
 
 
 @settings(max_examples=150, deadline=None, database=None)
-@given(case=st.sampled_from(["rrp_two_rockers", "rpr_moving_axis", "rrr_fourbar"]),
-       key=st.sampled_from(["joints", "length", "lengths", "guide", "branch", "offset", "links", "type", "extra"]),
+@given(case=st.sampled_from(["rrp_two_rockers", "rpr_moving_axis", "rrr_fourbar", "prp_slider_on_coupler",
+                             "rpp_scotch_yoke"]),
+       key=st.sampled_from(["joints", "length", "lengths", "guide", "branch", "offset", "links", "type", "extra",
+                            "guides", "slot_angle_deg"]),
        value=_values, drop=st.booleans())
 def test_only_scene_errors_come_out_of_a_mangled_group(case, key, value, drop):
     """Any value (or none) for any key of the last group: a one-line SceneError, or a scene

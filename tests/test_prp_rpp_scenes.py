@@ -217,8 +217,8 @@ YOKE_GUIDE = 'guide          = { through = "O", angle_deg = 0.0 }   # the yoke\'
 
 
 @pytest.mark.parametrize("text, key, words", [
-    (FOUR.replace(PRP_GUIDES, ""), "guides", "missing"),
-    (FOUR.replace(PRP_GUIDES, 'guides = [{ through = "A", angle_deg = 0.0, link = 2 }]'), "guides", "two guides"),
+    (FOUR.replace(PRP_GUIDES, ""), "guides", "got nothing"),
+    (FOUR.replace(PRP_GUIDES, 'guides = [{ through = "A", angle_deg = 0.0, link = 2 }]'), "guides", "2 guides"),
     (FOUR.replace(PRP_GUIDES, 'guides = [{ through = "O", angle_deg = 0.0 }, { through = [0.1, 0.0], angle_deg = 90.0 }]'),
      "guides", "both guides are on the frame"),
     (FOUR.replace(PRP_GUIDES, 'guides = [{ through = "A", angle_deg = 0.0, link = 2 }, { through = [0.1, 0.0], angel = 9 }]'),
@@ -231,7 +231,9 @@ YOKE_GUIDE = 'guide          = { through = "O", angle_deg = 0.0 }   # the yoke\'
     (YOKE.replace("slot_angle_deg = 90.0", "slot_angle_deg = 180.0"), "slot_angle_deg", "runs along the guide"),
     (YOKE.replace('joints         = ["A", "K"]', 'joints = ["A", "A"]'), "joints", "must differ"),
     (YOKE.replace("slot_angle_deg = 90.0", "slot = 90.0"), "slot", ""),
-])
+], ids=["prp-no-guides", "prp-one-guide", "prp-both-on-frame", "prp-typo-in-guide", "prp-through-not-on-link",
+        "prp-guide-on-later-link", "rpp-guide-on-moving-link", "rpp-slot-along-guide", "rpp-same-joints",
+        "rpp-unknown-key"])
 def test_prp_and_rpp_mistakes_give_one_line_errors(text, key, words):
     with pytest.raises(SceneError) as err:
         parse_scene(text, "mistake.toml")

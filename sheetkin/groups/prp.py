@@ -24,7 +24,6 @@ c, s, omega, eps (the solver's Motion and Rotation).
 """
 from __future__ import annotations
 
-import copy
 import dataclasses
 from dataclasses import dataclass
 
@@ -54,22 +53,11 @@ class Params:
 
 def parse(tbl, frame) -> tuple[tuple[str, ...], Params]:
     joints = tbl.array("joints", 1, "name")
-    expected = "guides = [{through = ..., angle_deg = ..., link = ...}, {...}] (two guides)"
-    raw = tbl.data.get("guides", ...)
-    if raw is ...:
-        tbl.fail("guides", f"missing; expected {expected}")
-    if not isinstance(raw, list) or len(raw) != 2:
-        tbl.fail("guides", f"expected {expected}, got {raw!r}")
-    guides = []
-    for j, item in enumerate(raw):
-        # the groups' one guide parser, on a view of this table holding only guides[j]
-        view = copy.copy(tbl)
-        view.data = {f"guides[{j}]": item}
-        guides.append(view.guide(f"guides[{j}]", frame))
+    guides = tbl.guides("guides", 2, frame)
     if not guides[0].moving and not guides[1].moving:
         tbl.fail("guides", "both guides are on the frame: N could not move; put at least one "
                            "guide on a moving link (e.g. the coupler: {through = \"A\", angle_deg = 0, link = 2})")
-    return joints, Params(tuple(guides))
+    return joints, Params(guides)
 
 
 def needs(g: Group) -> list[str]:
@@ -455,6 +443,13 @@ def loop(lib, g: Group, known, links):
 def side_ok(lib, g: Group, known, links, q, joints) -> bool:
     """Two lines cross once: PRP has no branch."""
     return True
+
+
+def discriminant(lib, g: Group, known, links):
+    """sin^2(theta_b - theta_a): two lines always cross unless parallel, where it touches 0
+    (the toggle; PRP has no range edge)."""
+    (_, (ta, _, _)), (_, (tb, _, _)) = (_line(lib, gd, known, links) for gd in g.guides)
+    return lib.sin(tb - ta) ** 2
 
 
 def unknowns(g: Group, sol) -> tuple[np.ndarray, np.ndarray]:

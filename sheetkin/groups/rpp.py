@@ -328,6 +328,11 @@ def side_ok(lib, g: Group, known, links, q, joints) -> bool:
     return True
 
 
+def discriminant(lib, g: Group, known, links):
+    """sin^2(alpha - gamma): constant, positive for every scene the parser accepts."""
+    return lib.sin((lib.num(g.slot_angle_deg) - lib.num(g.guide.angle_deg)) * lib.pi() / 180) ** 2
+
+
 def unknowns(g: Group, sol) -> tuple[np.ndarray, np.ndarray]:
     j1, k = g.joints
     return sol.slides[k].s, sol.slides[j1].s
