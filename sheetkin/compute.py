@@ -1,7 +1,7 @@
 """The reference kinematics of a scene as a table: contract names, units, gaps, toggles.
 
 `compute(scene)` returns a pandas DataFrame, one row per crank position, columns named as
-in shared/spec/scene.md ("Output names"), followed by sheetkin's own extra columns:
+in docs/scene-format.md ("Output names"), followed by sheetkin's own extra columns:
   assembled       False where some group cannot assemble (only with allow_gaps=True)
   det_g<i>        group i's normalised Jacobian determinant (toggle measure)
   near_toggle     the groups (e.g. "1" or "1,2") whose |det| is below the threshold, else ""

@@ -1,4 +1,4 @@
-"""Scene files: parse and validate a TOML scene (the contract: shared/spec/scene.md).
+"""Scene files: parse and validate a TOML scene (the format: docs/scene-format.md).
 
 A scene is one planar linkage: frame points, the driving crank, the Assur groups (dyads)
 attached one after another, and points fixed on links. This module turns the file into

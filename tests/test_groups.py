@@ -18,6 +18,7 @@ a three-group chain):
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import openpyxl
@@ -30,6 +31,7 @@ from kinds import CASES, DYNAMICS
 from libreoffice import recalculate
 from sheetkin.bench import FLOAT, errors, method_newton, reference_mp
 from sheetkin.compute import AssemblyError
+from sheetkin.group import Guide
 from sheetkin.groups import KINDS, kind_of
 from sheetkin.scene import SceneError, parse_scene
 from sheetkin.workbook import write_workbook
@@ -40,6 +42,7 @@ SURFACE = ["KIND", "LECTURE", "SLIDES", "TITLE", "KEYS", "Params", "parse", "nee
            "carries", "sliders", "solve", "input_rows", "with_inputs", "rows", "pin_owner", "pairs", "reactions",
            "reaction_rows", "loop", "side_ok", "discriminant", "unknowns"]
 ANGLES = [0.0, 17.0, 95.5, 181.0, 263.25, 333.0]
+WORKBOOKS_DIR = Path(__file__).resolve().parents[1] / "workbooks"
 
 
 def scene_of(case: str):
@@ -297,18 +300,20 @@ def _moved(scene, k: float, theta_deg: float, shift):
     for g in scene.groups:
         p = g.params
         changes = {}
+        def guide(v):
+            return v if v.moving else dataclasses.replace(v, point=rot(v.point), angle_deg=v.angle_deg + theta_deg)
+
         for f in dataclasses.fields(p):
             v = getattr(p, f.name)
-            if f.name in ("lengths",):
+            if isinstance(v, Guide):
+                changes[f.name] = guide(v)
+            elif isinstance(v, tuple) and v and all(isinstance(x, Guide) for x in v):
+                changes[f.name] = tuple(guide(x) for x in v)
+            elif f.name in ("lengths",):
                 changes[f.name] = tuple(k * x for x in v)
             elif f.name in ("length", "offset"):
                 changes[f.name] = k * v
-            elif f.name == "guide" and not v.moving:
-                changes[f.name] = dataclasses.replace(v, point=rot(v.point), angle_deg=v.angle_deg + theta_deg)
-            elif f.name == "guides":      # PRP
-                changes[f.name] = tuple(gd if gd.moving else dataclasses.replace(
-                    gd, point=rot(gd.point), angle_deg=gd.angle_deg + theta_deg) for gd in v)
-            elif f.name == "slot_angle_deg":      # RPP
+            elif f.name.endswith("_deg"):          # an absolute angle (RPP's slot_angle_deg)
                 changes[f.name] = v + theta_deg
         groups.append(dataclasses.replace(g, params=dataclasses.replace(p, **changes)))
     points = tuple(dataclasses.replace(q, along=k * q.along, across=k * q.across) for q in scene.points)
@@ -403,3 +408,49 @@ def test_random_chains_of_moving_guides_and_axes(chain):
     check_loop(scene, angles, size=size)
     check_reference(scene, angles, tol=1e-8)
     check_derivatives(scene, angles)
+
+
+# --------------------------------------------------------------------------- the documentation
+def _doc_section(kind: str) -> str:
+    from pathlib import Path
+    text = (Path(__file__).resolve().parents[1] / "docs" / "scene-format.md").read_text(encoding="utf-8")
+    start = text.index(f"### {kind}")
+    end = text.find("\n### ", start + 1)
+    return text[start:end if end > 0 else None]
+
+
+@pytest.mark.parametrize("kind", list(KINDS))
+def test_every_kind_and_key_is_documented_for_students(kind):
+    """docs/scene-format.md has a section per kind that names every one of its keys and
+    its slides' output names."""
+    section = _doc_section(kind)
+    missing = [k for k in KINDS[kind].KEYS if f"`{k}" not in section and f"{k} " not in section]
+    assert not missing, f"docs/scene-format.md, {kind}: keys not documented: {missing}"
+
+
+# --------------------------------------------------------------------------- the validator
+@pytest.mark.parametrize("stem, inputs, broken", [
+    ("two_rockers_slotted", {"gamma_g2": 4.0, "L4": 0.31, "branch_g2": 1}, "vs_D"),
+    ("kulisa_moving_axis", {"e_g2": 0.02, "along_E": 0.22}, "omega_5"),
+])
+def test_validator_takes_a_students_variant_and_names_a_broken_row(tmp_path, stem, inputs, broken):
+    """A student's own inputs (the guide's angle on the moving rocker, a length, the
+    branch; the kulisa's offset and its moving axis) are a variant, not mistakes; a formula
+    broken in one column is named as the cause."""
+    import shutil
+
+    from sheetkin.validator import validate
+    from test_workbook import set_input
+    path = tmp_path / f"{stem}.xlsx"
+    shutil.copy(WORKBOOKS_DIR / f"{stem}.xlsx", path)
+    for name, value in inputs.items():
+        set_input(path, name, value)
+    report = validate(path)
+    assert report.ok, [w.name for w in report.wrong]
+    wb = openpyxl.load_workbook(path)
+    ws = wb.worksheets[0]
+    cell = ws.cell(rows_of(ws)[broken], 7)
+    cell.value = "=-(" + cell.value[1:] + ")"
+    wb.save(path)
+    report = validate(path)
+    assert not report.ok and [w.name for w in report.causes] == [broken]

@@ -1,7 +1,7 @@
 """The Assur group kinds: one module per kind, behind one explicit table.
 
 `KINDS` maps a scene's `type` to the module that knows everything about that kind (the
-contract's "Group types", shared/spec/scene.md). The scene parser, the solver, the
+contract's "Group types", docs/scene-format.md). The scene parser, the solver, the
 workbook writer, the dynamics (numpy and sheet), the bench and the validator iterate over
 a scene's groups and ask `kind_of(g)`; none of them tests a kind's name. Adding a kind is
 one new module here, one line in `KINDS`, its tests (tests/kinds.py) and a bundled scene.

@@ -267,8 +267,10 @@ def _moving_guide_rows(b: Builder, g: Group):
     dx, dy = f"({b.p('x', J1)}-{b.p('x', G)})", f"({b.p('y', J1)}-{b.p('y', G)})"
     b.add(al, "m", f"{G}K: проекция {J1} на направляющую", f"{G}K: {J1}'s foot on the guide", "calc",
           f"{dx}*{U}+{dy}*{V}", guard=b.guard)
-    b.add(xK, "m", f"x_K: основание перпендикуляра из {J1} на прямую {G}{N}",
-          f"x_K: foot of the perpendicular from {J1} on line {G}{N}",
+    b.add(xK, "m", f"x_K: основание перпендикуляра из {J1} на прямую {G}{N} (через cos и sin, не tg: "
+                   f"конечно и для вертикальной прямой)",
+          f"x_K: foot of the perpendicular from {J1} on line {G}{N} (by cos and sin, not tg: "
+          f"finite for a vertical line too)",
           "calc", f"{b.p('x', G)}+{{{al}}}*{U}", guard=b.guard)
     b.add(yK, "m", "y_K", "y_K", "calc", f"{b.p('y', G)}+{{{al}}}*{V}", guard=b.guard)
     b.add(h, "m", f"h: расстояние от {J1} до прямой {G}{N} (влево +)",
@@ -352,6 +354,17 @@ def _moving_guide_rows(b: Builder, g: Group):
     b.add(f"chk_line_g{i}", "m", f"проверка: {N} на прямой {G}{N} кулисы {k}", f"check: {N} on the kulisa {k}'s line",
           "check",
           f"-({{x_{N}}}-{b.p('x', G)})*{V}+({{y_{N}}}-{b.p('y', G)})*{U}")
+    # the lecture's L_tek^2 = (x_D - a)^2 + (y_D - b)^2 differentiated ("Два коромысла с
+    # кулисной парой - 3"): (N - G).(v_N - v_G) = L_tek (L_tek)_t and
+    # (N - G).(a_N - a_G) + |v_N - v_G|^2 = (L_tek)_t^2 + L_tek (L_tek)_tt, with G moving too
+    rx, ry = f"({{x_{N}}}-{b.p('x', G)})", f"({{y_{N}}}-{b.p('y', G)})"
+    wx, wy = f"({{vx_{N}}}-{b.p('vx', G)})", f"({{vy_{N}}}-{b.p('vy', G)})"
+    b.add(f"chk_Ltek_t_g{i}", "m^2/s", "проверка (L_tek)_t: (xD - a)(xD)_t + (yD - b)(yD)_t = L_tek (L_tek)_t",
+          "check of (L_tek)_t: (xD - a)(xD)_t + (yD - b)(yD)_t = L_tek (L_tek)_t", "check",
+          f"{rx}*{wx}+{ry}*{wy}-{S}*{vs}")
+    b.add(f"chk_Ltek_tt_g{i}", "m^2/s^2", "проверка (L_tek)_tt: производная предыдущего равенства",
+          "check of (L_tek)_tt: the derivative of the equation above", "check",
+          f"{rx}*({{ax_{N}}}-{b.p('ax', G)})+{ry}*({{ay_{N}}}-{b.p('ay', G)})+{wx}^2+{wy}^2-{vs}^2-{S}*{as_}")
     relative_velocity_check(b, N, J1)
     via_link_checks(b, N, J1, la, f"omega_{la}, eps_{la}")
     fd_checks(b, N)
