@@ -219,9 +219,11 @@ YOKE_GUIDE = 'guide          = { through = "O", angle_deg = 0.0 }   # the yoke\'
 @pytest.mark.parametrize("text, key, words", [
     (FOUR.replace(PRP_GUIDES, ""), "guides", "got nothing"),
     (FOUR.replace(PRP_GUIDES, 'guides = [{ through = "A", angle_deg = 0.0, link = 2 }]'), "guides", "2 guides"),
-    (FOUR.replace(PRP_GUIDES, 'guides = [{ through = "O", angle_deg = 0.0 }, { through = [0.1, 0.0], angle_deg = 90.0 }]'),
+    (FOUR.replace(PRP_GUIDES,
+                  'guides = [{ through = "O", angle_deg = 0.0 }, { through = [0.1, 0.0], angle_deg = 90.0 }]'),
      "guides", "both guides are on the frame"),
-    (FOUR.replace(PRP_GUIDES, 'guides = [{ through = "A", angle_deg = 0.0, link = 2 }, { through = [0.1, 0.0], angel = 9 }]'),
+    (FOUR.replace(PRP_GUIDES,
+                  'guides = [{ through = "A", angle_deg = 0.0, link = 2 }, { through = [0.1, 0.0], angel = 9 }]'),
      "guides[1]", "angel"),
     (FOUR.replace(PRP_GUIDES, 'guides = [{ through = "O1", angle_deg = 0.0, link = 2 }, { through = [0.1, 0.0] }]'),
      "guides[0].through", "not a point of link 2"),
@@ -258,7 +260,8 @@ def dyn_sheets(soffice, tmp_path_factory):
         made[stem] = (src / f"{stem}.xlsx", scene)
     out = recalculate([p for p, _ in made.values()], tmp_path_factory.mktemp("prp_rpp_recalculated"))
     import openpyxl
-    return {k: (openpyxl.load_workbook(out[p.resolve()], data_only=True).worksheets[0], s) for k, (p, s) in made.items()}
+    return {k: (openpyxl.load_workbook(out[p.resolve()], data_only=True).worksheets[0], s) for k, (p,
+                                                                                                   s) in made.items()}
 
 
 @pytest.mark.parametrize("stem", NEW)

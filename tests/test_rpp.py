@@ -50,7 +50,8 @@ def test_rpp_block_lies_on_the_slot_through_k_and_k_on_the_guide(c, y):
     k, sk, sj, disc, sine, slot = rpp.solve_rpp(j1, y[:2], y[2], y[3])
     assert abs(k.x + sj.s * slot.c - j1.x) + abs(k.y + sj.s * slot.s - j1.y) < 1e-12 * (1 + abs(sj.s))
     assert abs(-(k.x - y[0]) * math.sin(y[2]) + (k.y - y[1]) * math.cos(y[2])) < 1e-12 * (1 + abs(sk.s))
-    assert abs(k.vx + sj.vs * slot.c - j1.vx) + abs(k.vy + sj.vs * slot.s - j1.vy) < 1e-11 * (1 + abs(j1.vx) + abs(j1.vy))
+    residual = abs(k.vx + sj.vs * slot.c - j1.vx) + abs(k.vy + sj.vs * slot.s - j1.vy)
+    assert residual < 1e-11 * (1 + abs(j1.vx) + abs(j1.vy))
     assert disc > 0 and sine == pytest.approx(math.sin(y[3] - y[2]), abs=1e-15)
 
 
@@ -109,7 +110,8 @@ def test_rpp_kinetostatics_balances_power(c, y, loads):
     # power: nothing turns; the loads move with J1 (block) and K (yoke)
     p_loads = fax * j1.vx + fay * j1.vy + fbx * k.vx + fby * k.vy
     p_pin = -(r1[0] * j1.vx + r1[1] * j1.vy)     # what the group passes back to the crank
-    assert p_loads == pytest.approx(p_pin, abs=1e-9 * scale * (1 + abs(j1.vx) + abs(j1.vy)) / abs(math.sin(y[3] - y[2])))
+    assert p_loads == pytest.approx(p_pin,
+                                    abs=1e-9 * scale * (1 + abs(j1.vx) + abs(j1.vy)) / abs(math.sin(y[3] - y[2])))
 
 
 def test_rpp_toggle_measure_is_constant_and_free_of_size():

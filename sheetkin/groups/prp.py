@@ -204,7 +204,8 @@ def rows(b: Builder, g: Group):
           "конечно и для вертикальной прямой",
           "(3a) n cos(eta) = y cos(eta) - x sin(eta) of a point of line (2): n times cos(eta), finite for a "
           "vertical line too", "calc", f"{pa[1]}*COS({{{eta}}})-{pa[0]}*SIN({{{eta}}})", guard=b.guard)
-    b.add(th, "rad", "(1) наклон прямой (1) (направляющая 2), угол theta", "(1) slope of line (1) (guide 2), the angle theta",
+    b.add(th, "rad", "(1) наклон прямой (1) (направляющая 2), угол theta",
+          "(1) slope of line (1) (guide 2), the angle theta",
           "calc", th_f, guard=b.guard)
     b.add(mm, "m", "(1) m cos(theta) = y cos(theta) - x sin(theta) точки прямой (1)",
           "(1) m cos(theta) = y cos(theta) - x sin(theta) of a point of line (1)", "calc",
@@ -232,9 +233,11 @@ def rows(b: Builder, g: Group):
           f"{{{yL}}}*COS({{{th}}})-{{{xL}}}*SIN({{{th}}})-{{{mm}}}")
     b.section(f"accepted_g{i}", "Принятые значения", "Accepted values")
     s1, s2 = f"s_{N}", f"s2_{N}"
-    b.add(s1, "m", f"положение камня {N} вдоль направляющей 1 от её точки", f"travel of block {N} along guide 1 from its point",
+    b.add(s1, "m", f"положение камня {N} вдоль направляющей 1 от её точки",
+          f"travel of block {N} along guide 1 from its point",
           "accepted", f"({{{xL}}}-{pa[0]})*COS({{{eta}}})+({{{yL}}}-{pa[1]})*SIN({{{eta}}})")
-    b.add(s2, "m", f"положение ползуна {N} вдоль направляющей 2 от её точки", f"travel of slider {N} along guide 2 from its point",
+    b.add(s2, "m", f"положение ползуна {N} вдоль направляющей 2 от её точки",
+          f"travel of slider {N} along guide 2 from its point",
           "accepted", f"({{{xL}}}-{pb[0]})*COS({{{th}}})+({{{yL}}}-{pb[1]})*SIN({{{th}}})")
     b.add(f"phi_{la}", "deg", f"угол камня {la} (направляющая 1)", f"angle of block {la} (guide 1)", "accepted",
           f"MOD(DEGREES({{{eta}}}),360)")
@@ -270,7 +273,8 @@ def rows(b: Builder, g: Group):
     b.add(t1, "m/s^2", "2 vs omega1 + s eps1: кориолисово и касательное ускорения поперёк направляющей 1",
           "2 vs omega1 + s eps1: Coriolis and tangential terms across guide 1", "calc",
           f"2*{{vs_{N}}}*{wa}+{S1}*{ea}")
-    b.add(t2, "m/s^2", "2 vs2 omega2 + s2 eps2: то же для направляющей 2", "2 vs2 omega2 + s2 eps2: the same for guide 2",
+    b.add(t2, "m/s^2", "2 vs2 omega2 + s2 eps2: то же для направляющей 2",
+          "2 vs2 omega2 + s2 eps2: the same for guide 2",
           "calc", f"2*{{vs2_{N}}}*{wb}+{S2}*{eb}")
     T1, T2 = f"{{{t1}}}", f"{{{t2}}}"
     b.add(f1, "m/s^2", "правая часть для ускорений f1", "right side of the acceleration system f1", "calc",
@@ -281,7 +285,8 @@ def rows(b: Builder, g: Group):
                              f"acceleration of block {N} along guide 1"),
                             (f"as2_{N}", "m/s^2", f"ускорение ползуна {N} вдоль направляющей 2",
                              f"acceleration of slider {N} along guide 2")),
-                (f"{{{f1}}}", f"{{{f2}}}"), (f"chk_asys_g{i}", "невязка системы для ускорений", "residual of the acceleration system"))
+                (f"{{{f1}}}", f"{{{f2}}}"), (f"chk_asys_g{i}", "невязка системы для ускорений",
+                                             "residual of the acceleration system"))
     b.rot[la] = (f"cos_{la}", f"sin_{la}", f"omega_{la}", f"eps_{la}")
     b.rot[lb] = (f"cos_{lb}", f"sin_{lb}", f"omega_{lb}", f"eps_{lb}")
     b.guard_of_link[la] = b.guard_of_link[lb] = b.guard
@@ -292,8 +297,10 @@ def rows(b: Builder, g: Group):
                 f"{pa[2]}+{{vs_{N}}}*{ca}-{S1}*{wa}*{sa}", f"{pa[3]}+{{vs_{N}}}*{sa}+{S1}*{wa}*{ca}",
                 f"{pa[4]}+{tu}*{ca}-{T1}*{sa}", f"{pa[5]}+{tu}*{sa}+{T1}*{ca}")
     tu2 = f"({{as2_{N}}}-{S2}*{wb}^2)"
-    b.add(f"chk_v_{N}_g{i}", "m/s", f"проверка: скорость {N} через направляющую 2", f"check: velocity of {N} through guide 2",
-          "check", f"ABS({{vx_{N}}}-({pb[2]}+{{vs2_{N}}}*{cb}-{S2}*{wb}*{sb}))+ABS({{vy_{N}}}-({pb[3]}+{{vs2_{N}}}*{sb}+{S2}*{wb}*{cb}))")
+    b.add(f"chk_v_{N}_g{i}", "m/s", f"проверка: скорость {N} через направляющую 2",
+          f"check: velocity of {N} through guide 2",
+          "check", f"ABS({{vx_{N}}}-({pb[2]}+{{vs2_{N}}}*{cb}-{S2}*{wb}*{sb}))"
+                   f"+ABS({{vy_{N}}}-({pb[3]}+{{vs2_{N}}}*{sb}+{S2}*{wb}*{cb}))")
     b.add(f"chk_a_{N}_g{i}", "m/s^2", f"проверка: ускорение {N} через направляющую 2",
           f"check: acceleration of {N} through guide 2", "check",
           f"ABS({{ax_{N}}}-({pb[4]}+{tu2}*{cb}-{T2}*{sb}))+ABS({{ay_{N}}}-({pb[5]}+{tu2}*{sb}+{T2}*{cb}))")
@@ -357,7 +364,8 @@ def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
             "determinant: sin(theta - eta) (0: parallel guides)")
     b.add(qa, "N", "нормальная сила направляющей 1 на камень (Крамер)", "normal force of guide 1 on the block (Cramer)",
           "calc", f"({rhs[0]}*{m[3]}-{rhs[1]}*{m[1]})/{{{det}}}")
-    b.add(qb, "N", "нормальная сила направляющей 2 на ползун (Крамер)", "normal force of guide 2 on the slider (Cramer)",
+    b.add(qb, "N", "нормальная сила направляющей 2 на ползун (Крамер)",
+          "normal force of guide 2 on the slider (Cramer)",
           "calc", f"({m[0]}*{rhs[1]}-{m[2]}*{rhs[0]})/{{{det}}}")
     b.add(f"chk_Rsys_g{i}", "", "проверка: нормальные силы в их двух уравнениях",
           "check: the normal forces put back into their two equations", "check",
@@ -366,11 +374,13 @@ def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
     t1, tab, t2 = f"{ga.link}_{a}", f"{a}_{bl}", f"{gb.link}_{bl}"
     k.reaction(t1, f"-{{{qa}}}*{sa}", f"{{{qa}}}*{ca}", f"направляющей 1 (звено {ga.link}) на камень {a} (через {N})",
                f"of guide 1 (link {ga.link}) on block {a} (through {N})")
-    b.add(f"M_{t1}", "N m", f"момент реакции направляющей 1 на камень {a}", f"couple of guide 1 on block {a}", "accepted",
+    b.add(f"M_{t1}", "N m", f"момент реакции направляющей 1 на камень {a}", f"couple of guide 1 on block {a}",
+          "accepted",
           f"-{{MQ_{a}}}")
     k.reaction(tab, f"-{{{qa}}}*{sa}+{{Qx_{a}}}", f"{{{qa}}}*{ca}+{{Qy_{a}}}", f"камня {a} на ползун {bl} в {N}",
                f"of block {a} on slider {bl} at {N}")
-    k.equilibrium(a, N, [(N, f"{{Rx_{t1}}}", f"{{Ry_{t1}}}"), (N, f"(-{{Rx_{tab}}})", f"(-{{Ry_{tab}}})")], f"{{M_{t1}}}")
+    k.equilibrium(a, N, [(N, f"{{Rx_{t1}}}", f"{{Ry_{t1}}}"), (N, f"(-{{Rx_{tab}}})", f"(-{{Ry_{tab}}})")],
+                  f"{{M_{t1}}}")
     k.reaction(t2, f"-{{{qb}}}*{sb}", f"{{{qb}}}*{cb}", f"направляющей 2 (звено {gb.link}) на ползун {bl} (через {N})",
                f"of guide 2 (link {gb.link}) on slider {bl} (through {N})")
     b.add(f"M_{t2}", "N m", f"момент реакции направляющей 2 на ползун {bl}", f"couple of guide 2 on slider {bl}",

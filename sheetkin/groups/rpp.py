@@ -111,11 +111,14 @@ def solve(g: Group, known: dict[str, Motion], rot: dict[int, Rotation], scale: f
 # --------------------------------------------------------------------------- the workbook
 def input_rows(g: Group) -> list[InputRow]:
     i, (j1, k), gd = g.index, g.joints, g.guide
-    return [InputRow(f"gx_g{i}", "m", f"направляющая кулисы {g.links[1]}: x точки", f"kulisa {g.links[1]}'s guide: x of a point",
+    return [InputRow(f"gx_g{i}", "m", f"направляющая кулисы {g.links[1]}: x точки",
+                     f"kulisa {g.links[1]}'s guide: x of a point",
                      gd.point[0]),
-            InputRow(f"gy_g{i}", "m", f"направляющая кулисы {g.links[1]}: y точки", f"kulisa {g.links[1]}'s guide: y of a point",
+            InputRow(f"gy_g{i}", "m", f"направляющая кулисы {g.links[1]}: y точки",
+                     f"kulisa {g.links[1]}'s guide: y of a point",
                      gd.point[1]),
-            InputRow(f"gamma_g{i}", "deg", "угол наклона направляющей кулисы", "the kulisa's guide's angle", gd.angle_deg),
+            InputRow(f"gamma_g{i}", "deg", "угол наклона направляющей кулисы", "the kulisa's guide's angle",
+                     gd.angle_deg),
             InputRow(f"alpha_g{i}", "deg", f"угол паза кулисы (камень {j1})", f"the kulisa's slot angle (block {j1})",
                      g.slot_angle_deg)]
 
@@ -174,9 +177,11 @@ def rows(b: Builder, g: Group):
     cs, ss = f"{{cos_{la}}}", f"{{sin_{la}}}"
     b.add(f"chk_acc_g{i}", "m", f"проверка принятых значений: G + s_{K} u_g + s_{J1} u_s - {J1}",
           f"check of the accepted values: G + s_{K} u_g + s_{J1} u_s - {J1}", "check",
-          f"ABS({gx}+{{s_{K}}}*{ug[0]}+{{s_{J1}}}*{cs}-{b.p('x', J1)})+ABS({gy}+{{s_{K}}}*{ug[1]}+{{s_{J1}}}*{ss}-{b.p('y', J1)})")
+          f"ABS({gx}+{{s_{K}}}*{ug[0]}+{{s_{J1}}}*{cs}-{b.p('x', J1)})"
+          f"+ABS({gy}+{{s_{K}}}*{ug[1]}+{{s_{J1}}}*{ss}-{b.p('y', J1)})")
     for k, what in ((la, ("камня", "block")), (lb, ("кулисы", "kulisa"))):
-        b.add(f"omega_{k}", "rad/s", f"угловая скорость {what[0]} {k}", f"angular velocity of {what[1]} {k}", "accepted", "0")
+        b.add(f"omega_{k}", "rad/s", f"угловая скорость {what[0]} {k}", f"angular velocity of {what[1]} {k}",
+              "accepted", "0")
         b.add(f"eps_{k}", "rad/s^2", f"угловое ускорение {what[0]} {k}", f"angular acceleration of {what[1]} {k}",
               "accepted", "0")
     split(*systems[1])
@@ -187,7 +192,8 @@ def rows(b: Builder, g: Group):
     b.section(f"point_{K}", f"Точка {K} кулисы {lb} на её направляющей", f"Point {K} of kulisa {lb} on its guide")
     motion_rows(b, K, f"точки {K}", f"point {K}", f"{gx}+{{s_{K}}}*{ug[0]}", f"{gy}+{{s_{K}}}*{ug[1]}",
                 f"{{vs_{K}}}*{ug[0]}", f"{{vs_{K}}}*{ug[1]}", f"{{as_{K}}}*{ug[0]}", f"{{as_{K}}}*{ug[1]}")
-    b.add(f"chk_{J1}_g{i}", "m", f"проверка: {K} + s_{J1} u_s совпадает с {J1}", f"check: {K} + s_{J1} u_s is {J1}", "check",
+    b.add(f"chk_{J1}_g{i}", "m", f"проверка: {K} + s_{J1} u_s совпадает с {J1}", f"check: {K} + s_{J1} u_s is {J1}",
+          "check",
           f"ABS({{x_{K}}}+{{s_{J1}}}*{cs}-{b.p('x', J1)})+ABS({{y_{K}}}+{{s_{J1}}}*{ss}-{b.p('y', J1)})")
     b.add(f"chk_v_{J1}_g{i}", "m/s", f"проверка: скорость {K} + vs_{J1} u_s равна скорости {J1}",
           f"check: velocity of {K} + vs_{J1} u_s is {J1}'s", "check",
@@ -254,9 +260,11 @@ def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
     det, P, Q = f"Delta_R_g{i}", f"P_g{i}", f"Qg_g{i}"
     b.add(det, "", "определитель: sin(gamma - alpha)", "determinant: sin(gamma - alpha)", "calc",
           f"{m[0]}*{m[3]}-{m[1]}*{m[2]}")
-    b.add(P, "N", f"нормальная сила паза на камень {J1} (Крамер)", f"normal force of the slot on block {J1} (Cramer)", "calc",
+    b.add(P, "N", f"нормальная сила паза на камень {J1} (Крамер)", f"normal force of the slot on block {J1} (Cramer)",
+          "calc",
           f"({rhs[0]}*{m[3]}-{rhs[1]}*{m[1]})/{{{det}}}")
-    b.add(Q, "N", "нормальная сила направляющей на кулису (Крамер)", "normal force of the guide on the kulisa (Cramer)", "calc",
+    b.add(Q, "N", "нормальная сила направляющей на кулису (Крамер)",
+          "normal force of the guide on the kulisa (Cramer)", "calc",
           f"({m[0]}*{rhs[1]}-{m[2]}*{rhs[0]})/{{{det}}}")
     b.add(f"chk_Rsys_g{i}", "", "проверка: нормальные силы в их двух уравнениях",
           "check: the normal forces put back into their two equations", "check",
