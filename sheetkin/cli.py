@@ -210,10 +210,59 @@ def build_parser() -> argparse.ArgumentParser:
                     help="crank positions in the written scene (default 13)")
     cr.add_argument("--step-deg", type=_finite_float, default=30.0, metavar="DEG",
                     help="crank angle step in the written scene (default 30)")
+    _add_animate_parser(sub)
     w.add_argument("--check", action="store_true",
                    help="write nothing: exit 1 if an existing workbook differs from what would be "
                         "written (stale) or is missing")
     return parser
+
+
+def _add_animate_parser(sub):
+    a = sub.add_parser(
+        "animate", help="the mechanism over a revolution: a GIF or an offline HTML page",
+        description="Draw the mechanism at FRAMES positions over one crank revolution (from "
+                    "phi0, the way the crank turns): the frame with its ground signs and guides, "
+                    "every link as a segment (a polygon for a link with three or more points), "
+                    "sliders as blocks on their guides, the paths of the points, labels of "
+                    "joints and links, toggle positions and the parts of the revolution where a "
+                    "group cannot assemble. -o decides the format: .gif (matplotlib + Pillow), "
+                    ".html (one self-contained page with play/pause and a position slider) or "
+                    ".png (the first position).")
+    a.add_argument("scene", metavar="SCENE.toml", help="the scene file")
+    a.add_argument("-o", "--output", metavar="OUT", required=True,
+                   help="mechanism.gif, mechanism.html or mechanism.png")
+    a.add_argument("--frames", type=_positive_int, default=36, metavar="N",
+                   help="positions over the revolution (default 36, every 10 deg)")
+    a.add_argument("--fps", type=_positive_float, default=12.0, help="frames per second (default 12)")
+    a.add_argument("--size", type=_positive_int, default=320, metavar="PX",
+                   help="width of the drawing in pixels (default 320); the height follows at equal scale")
+    a.add_argument("--vectors", action="store_true",
+                   help="draw the points' velocity vectors (one scale for the whole revolution)")
+    a.add_argument("--no-labels", action="store_true", help="leave out the names of joints and links")
+    a.add_argument("--allow-gaps", action="store_true",
+                   help="draw a mechanism that cannot assemble somewhere on the revolution (those "
+                        "positions show the crank alone and say so) instead of failing")
+    a.add_argument("--toggle-threshold", type=_positive_float, default=TOGGLE_THRESHOLD, metavar="X",
+                   help=f"mark positions whose |det_g<i>| is below X (default {TOGGLE_THRESHOLD})")
+    a.add_argument("--progress", choices=["auto", "always", "never"], default="auto",
+                   help="frame counter on stderr while a GIF is written (auto: when stderr is a terminal)")
+
+
+def cmd_animate(args) -> int:
+    from .animate import FORMATS, animate, stderr_progress
+    scene = load_scene(args.scene)
+    if Path(args.output).suffix.lower() not in FORMATS:
+        raise SceneError(f"{args.output}: expected a file name ending in {', '.join(FORMATS)}")
+    show = args.progress == "always" or (args.progress == "auto" and sys.stderr.isatty())
+    pic = animate(scene, args.output, frames=args.frames, fps=args.fps, size=args.size,
+                  vectors=args.vectors, labels=not args.no_labels, allow_gaps=args.allow_gaps,
+                  toggle_threshold=args.toggle_threshold,
+                  progress=stderr_progress(args.output) if show else None)
+    print(f"{args.output}: {len(pic.frames)} positions", file=sys.stderr)
+    for note in pic.notes:
+        if not note.startswith("velocity"):
+            print(f"sheetkin: warning: {note}", file=sys.stderr)
+    return 0
 
 
 def _fmt(v, scale: float = 0.0) -> str:
@@ -510,7 +559,7 @@ def main(argv=None) -> int:
     try:
         return {"compute": cmd_compute, "workbook": cmd_workbook, "evaluate": cmd_evaluate,
                 "validate": cmd_validate, "bench": cmd_bench,
-                "synth": cmd_synth}[args.command](args)
+                "synth": cmd_synth, "animate": cmd_animate}[args.command](args)
     except SceneError as e:
         print(f"sheetkin: error: {e}", file=sys.stderr)
         return EXIT_INPUT

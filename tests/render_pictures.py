@@ -1,8 +1,10 @@
-"""Render the README's pictures: a page of the four-bar's workbook and its charts.
+"""Render every picture of the README: a page of the four-bar's workbook and its charts,
+and one animation per bundled mechanism (workbooks/*.toml).
 
     python tests/render_pictures.py [OUTDIR]      (default: workbooks/img)
 
-LibreOffice prints the recalculated workbook to PDF, pdftoppm turns pages into PNG.
+LibreOffice prints the recalculated workbook to PDF, pdftoppm turns pages into PNG;
+`sheetkin animate` draws the GIFs (36 frames, 320 px wide).
 Needs what tests/setup.sh installs.
 """
 from __future__ import annotations
@@ -25,8 +27,26 @@ def pdf_pages(pdf: Path) -> int:
     return int(next(line.split()[1] for line in out.splitlines() if line.startswith("Pages:")))
 
 
+def render_animations(outdir: Path) -> list[Path]:
+    """workbooks/NAME.toml -> OUTDIR/NAME.gif, as `sheetkin animate NAME.toml -o NAME.gif`."""
+    sys.path.insert(0, str(ROOT))
+    from sheetkin.cli import main
+    out = []
+    for scene in sorted((ROOT / "workbooks").glob("*.toml")):
+        gif = outdir / f"{scene.stem}.gif"
+        if main(["animate", str(scene), "-o", str(gif), "--frames", "36", "--size", "320",
+                 "--progress", "never"]) != 0:
+            raise SystemExit(f"render_pictures: sheetkin animate {scene} failed")
+        out.append(gif)
+    return out
+
+
 def render(outdir: Path) -> list[Path]:
     outdir.mkdir(parents=True, exist_ok=True)
+    return render_sheets(outdir) + render_animations(outdir)
+
+
+def render_sheets(outdir: Path) -> list[Path]:
     with tempfile.TemporaryDirectory() as tmp:
         pdf = render_pdf(ROOT / "workbooks" / "fourbar.xlsx", Path(tmp))
         last = pdf_pages(pdf)
