@@ -38,6 +38,7 @@ class Guide:
     angle_deg: float
     slider: str
     offset: float = 0.0
+    group: int = 0          # the group that defines it (the workbook's inputs gx_g<i>, ...)
 
 
 @dataclass(frozen=True)
@@ -110,13 +111,13 @@ def _rrp_parts(g: Group):
     (la, lb), (j1, n) = g.links, g.joints
     # a guide on a moving link (the groups refactor) names its link and a point of it
     guide = Guide(getattr(g, "guide_link", 0), getattr(g, "guide_through", None) or g.guide_point,
-                  g.guide_angle_deg, n)
+                  g.guide_angle_deg, n, group=g.index)
     return {la: (j1, n), lb: (n,)}, [guide], [Block(lb, n, guide)]
 
 
 def _rpr_parts(g: Group):
     (la, lb), (j1, j2) = g.links, g.joints
-    slot = Guide(lb, j2, 0.0, j1, g.offset)      # the slot: along phi_b, offset from J2
+    slot = Guide(lb, j2, 0.0, j1, g.offset, g.index)      # the slot: along phi_b, offset from J2
     return {la: (j1,), lb: (j2,)}, [slot], [Block(la, j1, slot)]
 
 

@@ -471,7 +471,7 @@ AGGREGATES = {
     "MAX": _agg_minmax("max", -np.inf), "COUNT": _agg_count, "SUMPRODUCT": _agg_sumproduct,
     "AND": _agg_logical(True), "OR": _agg_logical(False),
 }
-SPECIAL = {"IF", "IFERROR", "NOT", "PI", "ISNUMBER", "ISERROR", "ISTEXT"}
+SPECIAL = {"IF", "IFERROR", "NOT", "PI", "ISNUMBER", "ISERROR", "ISTEXT", "INDEX", "NA"}
 SUPPORTED = sorted(set(SCALAR_FUNCS) | set(AGGREGATES) | SPECIAL)
 
 
@@ -1076,6 +1076,10 @@ class _Context:
             v = self.eval(args[0], run)
             test = {"ISNUMBER": v.tag == NUM, "ISERROR": v.tag >= 10, "ISTEXT": v.tag == TEXT}[name]
             return Val(test.astype(float), np.full(v.shape, BOOL, np.int8))
+        if name == "NA":                          # the charts' gap: #N/A is not plotted
+            return _const("#N/A", len(run.cols))
+        if name == "INDEX":
+            return self.index(args, run)
         if name in SCALAR_FUNCS:
             return SCALAR_FUNCS[name](*(self.eval(a, run) for a in args))
         if name in AGGREGATES:
@@ -1086,6 +1090,34 @@ class _Context:
                       for a in args]
             return AGGREGATES[name](vals, ranges)
         return _const("#NAME?", len(run.cols))
+
+
+    def index(self, args, run: Run) -> Val:
+        """INDEX(range, i) of a one-row or one-column range, INDEX(range, r, c): one element
+        per cell of the run (the workbook's drawing picks a position's column this way);
+        an index outside the range is #REF!."""
+        arr = self.eval(args[0], run)
+        k0, R, C = arr.shape
+        nums = [_to_number(self.eval(a, run)) for a in args[1:3]]
+        if len(nums) == 1:
+            if R != 1 and C != 1:
+                return _const("#REF!", len(run.cols))
+            nums = [(np.ones((1, 1, 1)), np.zeros((1, 1, 1), np.int8)), nums[0]] if R == 1 else \
+                   [nums[0], (np.ones((1, 1, 1)), np.zeros((1, 1, 1), np.int8))]
+        (r, er), (c, ec) = nums
+        k = len(run.cols)
+        r = np.broadcast_to(np.trunc(r), (k, 1, 1)).reshape(k)
+        c = np.broadcast_to(np.trunc(c), (k, 1, 1)).reshape(k)
+        bad = (r < 1) | (r > R) | (c < 1) | (c > C) | ~np.isfinite(r) | ~np.isfinite(c)
+        ri = np.where(bad, 0, r - 1).astype(np.int64)
+        ci = np.where(bad, 0, c - 1).astype(np.int64)
+        cells = np.arange(k) if k0 == k else np.zeros(k, np.int64)
+        pick = (cells, ri, ci)
+        v = Val(arr.num[pick].reshape(k, 1, 1), arr.tag[pick].reshape(k, 1, 1).astype(np.int8),
+                None if arr.txt is None else np.asarray(arr.txt)[pick].reshape(k, 1, 1))
+        err = _error_of(np.broadcast_to(er, (k, 1, 1)), np.broadcast_to(ec, (k, 1, 1)),
+                        np.where(bad, REF, 0).astype(np.int8).reshape(k, 1, 1))
+        return _with_error(v, err)
 
 
 # --------------------------------------------------------------------------- results as tables

@@ -42,8 +42,45 @@ def render_animations(outdir: Path) -> list[Path]:
 
 
 def render(outdir: Path) -> list[Path]:
+    """The workbook's pictures (PNG)."""
     outdir.mkdir(parents=True, exist_ok=True)
-    return render_sheets(outdir) + render_animations(outdir)
+    return render_sheets(outdir) + [render_drawing(outdir)]
+
+
+def render_all(outdir: Path) -> list[Path]:
+    """Every picture of the README."""
+    return render(outdir) + render_animations(outdir)
+
+
+def _crop(png: Path, dst: Path, top: float = 0.0, bottom: float = 1.0, pad: int = 12) -> Path:
+    """Copy the non-white part of a band (fractions of the height) of a page image."""
+    from PIL import Image, ImageChops
+    im = Image.open(png).convert("RGB")
+    band = im.crop((0, int(top * im.height), im.width, int(bottom * im.height)))
+    box = ImageChops.difference(band, Image.new("RGB", band.size, "white")).getbbox()
+    if box:
+        band = band.crop((max(0, box[0] - pad), max(0, box[1] - pad),
+                          min(band.width, box[2] + pad), min(band.height, box[3] + pad)))
+    band.save(dst)
+    return dst
+
+
+def render_drawing(outdir: Path, position: int = 4) -> Path:
+    """The four-bar's workbook with the charts sheet's position cell set to `position`:
+    the top of its charts page (the live drawing and the trajectories)."""
+    sys.path.insert(0, str(ROOT))
+    import sheetkin
+    from sheetkin.workbook import build_workbook
+    scene_path = ROOT / "workbooks" / "fourbar.toml"
+    wb = build_workbook(sheetkin.load_scene(scene_path), scene_text=scene_path.read_text(encoding="utf-8"))
+    wb.worksheets[1]["B1"] = position
+    with tempfile.TemporaryDirectory() as tmp:
+        book = Path(tmp) / "fourbar-drawing.xlsx"
+        wb.save(book)
+        pdf = render_pdf(book, Path(tmp))
+        last = pdf_pages(pdf)
+        page = pdf_to_png(pdf, Path(tmp) / "drawing", dpi=170, first_page=last, last_page=last)[0]
+        return _crop(page, outdir / "fourbar-drawing.png", 0.0, 0.42)
 
 
 def render_sheets(outdir: Path) -> list[Path]:
@@ -59,5 +96,5 @@ def render_sheets(outdir: Path) -> list[Path]:
 
 
 if __name__ == "__main__":
-    for p in render(Path(sys.argv[1]) if len(sys.argv) > 1 else ROOT / "workbooks" / "img"):
+    for p in render_all(Path(sys.argv[1]) if len(sys.argv) > 1 else ROOT / "workbooks" / "img"):
         print(p)
