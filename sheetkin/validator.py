@@ -67,6 +67,9 @@ class Report:
     problems: list[str] = field(default_factory=list)         # unsupported functions ...
     positions: int = 0
     error: str | None = None         # unusable input: the one-line reason
+    # (i, phi_1) of each position column, as the sheet's rows i and phi_1 name it (the
+    # reference for the student's variant); the reports name positions this way
+    position_names: list[tuple[float, float]] = field(default_factory=list)
 
     @property
     def wrong(self) -> list[RowReport]:
@@ -232,6 +235,9 @@ def _validate(path: str, limits: Limits) -> Report:
     ref_names = {ref_book.sheets[ref_sheet].consts.get((r, 1)): r for r in range(5, ref_book.sheets[ref_sheet].max_row + 1)}
     report = Report(path, author=str(sh.consts.get((2, 1), "") or ""), title=str(sh.consts.get((1, 1), "") or ""),
                     positions=positions, problems=list(evaluated.problems))
+    report.position_names = [(ref_book.value(ref_sheet, ref_names["i"], FIRST_COL + k),
+                              ref_book.value(ref_sheet, ref_names["phi_1"], FIRST_COL + k)) for k in range(positions)]
+    report.variant_scene = student_scene    # not a field (not in to_dict): the report's picture
     ancestors = row_ancestors(student_scene)
     kinds = {r.name: r.kind for r in ref_rows}
     for row in ref_rows:

@@ -1,11 +1,12 @@
-"""Render every picture of the README: a page of the four-bar's workbook and its charts,
-and one animation per bundled mechanism (workbooks/*.toml).
+"""Render every picture of the README: a printed page of the four-bar's workbook, its
+charts page, the live drawing at position 4, one animation per bundled mechanism
+(workbooks/*.toml) and the validation report of a small class in Chromium.
 
-    python tests/render_pictures.py [OUTDIR]      (default: workbooks/img)
+    PYTHONPATH=. python tests/render_pictures.py [OUTDIR]      (default: workbooks/img)
 
 LibreOffice prints the recalculated workbook to PDF, pdftoppm turns pages into PNG;
-`sheetkin animate` draws the GIFs (36 frames, 320 px wide).
-Needs what tests/setup.sh installs.
+`sheetkin animate` draws the GIFs (36 frames, 320 px wide); headless Chromium (selenium)
+takes the report's screenshot. Needs what tests/setup.sh and the test extras install.
 """
 from __future__ import annotations
 
@@ -49,7 +50,41 @@ def render(outdir: Path) -> list[Path]:
 
 def render_all(outdir: Path) -> list[Path]:
     """Every picture of the README."""
-    return render(outdir) + render_animations(outdir)
+    return render(outdir) + render_animations(outdir) + [render_report(outdir)]
+
+
+def render_report(outdir: Path) -> Path:
+    """A validation report of a small class (tests/browser.py's demo_class) as headless
+    Chromium shows it, one student's details open."""
+    from browser import chrome, chromium_paths, demo_class
+    paths = chromium_paths()
+    if paths is None:
+        raise SystemExit("render_pictures: chromium, chromedriver and selenium are needed for the report "
+                         "(bash tests/setup.sh; pip install -e '.[test]')")
+    sys.path.insert(0, str(ROOT))
+    from selenium.webdriver.common.by import By
+
+    from sheetkin.cli import main
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = demo_class(Path(tmp) / "submissions")
+        html = Path(tmp) / "report.html"
+        import contextlib
+        import io
+        with contextlib.redirect_stdout(io.StringIO()):
+            main(["validate", str(folder), "--html", str(html), "--progress", "never"])
+        # the page names the files as given: show them relative to the class's folder
+        html.write_text(html.read_text(encoding="utf-8").replace(str(folder) + "/", ""), encoding="utf-8")
+        driver = chrome(*paths, width=1100, height=1150)
+        try:
+            driver.get(html.as_uri())
+            driver.find_elements(By.CSS_SELECTOR, "#summary th button")[3].click()      # by score
+            driver.find_element(By.LINK_TEXT, "Sidorov A.").click()
+            driver.execute_script("window.scrollTo(0, 0)")
+            out = outdir / "report.png"
+            driver.save_screenshot(str(out))
+        finally:
+            driver.quit()
+    return out
 
 
 def _crop(png: Path, dst: Path, top: float = 0.0, bottom: float = 1.0, pad: int = 12) -> Path:
