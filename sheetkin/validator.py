@@ -30,6 +30,7 @@ from .evaluator import Book, EvaluationError, evaluate_sheets
 from .xlsxread import Sheet, read_book
 from .scene import Scene, SceneError, parse_scene
 from .workbook import FIRST_COL, SCENE_SHEET, _rows, build_workbook
+from .workbook_charts import PATHS_SHEET
 from .xlsxsafe import Limits, UnusableWorkbook
 
 RTOL = 1e-9            # formulas: the same numbers up to rounding
@@ -291,7 +292,10 @@ def _validate(path: str, limits: Limits) -> Report:
 
 
 def _evaluate_student(raw) -> Book:
-    return evaluate_sheets(raw.path, raw.sheets, raw.order, raw.names, strict=False)
+    # the charts' hidden `paths` sheet (360 positions of the coordinates) is not graded and
+    # nothing on the kinematics sheet refers to it: leaving it out halves the work
+    sheets = {n: sh for n, sh in raw.sheets.items() if n != PATHS_SHEET}
+    return evaluate_sheets(raw.path, sheets, [n for n in raw.order if n in sheets], raw.names, strict=False)
 
 
 _REFERENCES: dict[str, Book] = {}
@@ -310,7 +314,7 @@ def _reference(scene: Scene) -> Book:
 
 
 def _build_reference(scene: Scene) -> Book:
-    wb = build_workbook(scene, scene_text="")
+    wb = build_workbook(scene, scene_text="", charts=False)
     sheets, order = {}, []
     for ws in wb.worksheets[:1]:
         sh = Sheet(ws.title, "visible")

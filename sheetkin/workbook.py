@@ -533,8 +533,10 @@ def _compile(rows: list[Row], first_row: int, last_col: str):
 
 
 def build_workbook(scene: Scene, *, lang: str = "ru", exercise: bool = False,
-                   scene_text: str | None = None) -> Workbook:
-    """The lecture's workbook for `scene` (see the module's docstring)."""
+                   scene_text: str | None = None, charts: bool = True) -> Workbook:
+    """The lecture's workbook for `scene` (see the module's docstring); charts=False leaves
+    out the charts sheet (and its hidden paths sheet): the validator's reference needs only
+    the kinematics sheet."""
     if lang not in _TEXT:
         raise ValueError(f"lang must be one of {', '.join(_TEXT)}, got {lang!r}")
     text = _TEXT[lang]
@@ -628,9 +630,10 @@ def build_workbook(scene: Scene, *, lang: str = "ru", exercise: bool = False,
     ws.freeze_panes = f"{cols[0]}5"
     from .workbook_print import setup_page      # widths, alignment, pages (sheetkin/workbook_print.py)
     setup_page(ws, rows, where, cols, FIRST_COL)
-    from .workbook_charts import SheetRows
-    _add_charts(wb, ws, scene, where, cols, lang,
-                SheetRows(ws, rows, where, templates, cols, marker, lang, exercise))
+    if charts:
+        from .workbook_charts import SheetRows
+        _add_charts(wb, ws, scene, where, cols, lang,
+                    SheetRows(ws, rows, where, templates, cols, marker, lang, exercise))
     _embed_scene(wb, scene, scene_text)
     return wb
 
