@@ -1,7 +1,6 @@
 """Reports of the validator: text for the terminal, JSON, and an HTML page."""
 from __future__ import annotations
 
-import html
 import json
 import math
 

@@ -28,9 +28,11 @@ import re
 from dataclasses import dataclass
 
 from openpyxl.chart import Reference, ScatterChart, Series
+from openpyxl.chart.axis import ChartLines
 from openpyxl.chart.data_source import NumFmt
 from openpyxl.chart.layout import Layout, ManualLayout
 from openpyxl.chart.marker import Marker
+from openpyxl.chart.shapes import GraphicalProperties
 from openpyxl.styles import Font, PatternFill
 from openpyxl.utils import get_column_letter, quote_sheetname
 from openpyxl.worksheet.datavalidation import DataValidation
@@ -243,7 +245,6 @@ def _chart(title: str, box, plot, legend: bool) -> ScatterChart:
         axis.numFmt = NumFmt(formatCode="0.0##", sourceLinked=False)
         axis.scaling.min, axis.scaling.max, axis.majorUnit = round(lo, 12), round(hi, 12), unit
     ch.x_axis.title, ch.y_axis.title = "x, m", "y, m"
-    from openpyxl.chart.axis import ChartLines
     ch.x_axis.majorGridlines = ChartLines()
     # (openpyxl writes the plot area's layout from chart.layout, not plot_area.layout)
     ch.layout = Layout(manualLayout=ManualLayout(layoutTarget="inner", xMode="edge", yMode="edge",
@@ -260,8 +261,6 @@ def _style(s: Series, color: str, width_pt: float = 0.0, marker: str = "none", d
     s.smooth = False
     s.marker = Marker(symbol=marker, size=5 if marker != "none" else None)
     if marker != "none":
-        s.marker.graphicalProperties = None
-        from openpyxl.chart.shapes import GraphicalProperties
         s.marker.graphicalProperties = GraphicalProperties(solidFill=fill or color)
         s.marker.graphicalProperties.line.solidFill = color
     if width_pt:
