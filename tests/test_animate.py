@@ -134,6 +134,14 @@ def test_gaps_and_toggles_are_marked(short):
     edge = 104.4775
     pic = drawing.picture(scene, [edge])
     assert "near a toggle (group 1)" in pic.captions[0]
+    # on the paths, the positions with |det_g1| below the threshold are circled: B there
+    fine = sheetkin.compute(scene, np.linspace(100.0, edge, 40), allow_gaps=True)
+    pic = drawing.picture(scene, [edge], fine=fine)
+    marks = [s for s in pic.background if s.role == "toggle"]
+    near = fine[fine["det_g1"].abs() < 0.01]
+    assert len(marks) == 2 * len(near) > 0                     # the group's moving joints A and B
+    assert np.allclose(marks[-1].xy[0], [near["x_B"].iloc[-1], near["y_B"].iloc[-1]])
+    assert any(n.startswith("group 1: |det_g1| < 0.01") for n in pic.notes)
 
 
 def test_gif_frames_size_and_scale(tmp_path):
