@@ -448,7 +448,7 @@ def _write(path, text):
         sys.stdout.write(text)
 
 
-SPREADSHEET_SUFFIXES = (".xlsx", ".xlsm", ".xltx", ".xltm", ".xls", ".ods")
+SPREADSHEET_SUFFIXES = (".xlsx", ".xlsm", ".xltx", ".xltm", ".xls", ".ods", ".fods")
 
 
 def _validation_files(paths: list[str]) -> list[Path]:

@@ -16,6 +16,12 @@ marked `pure` and take fast paths (no coercion, no error tags, references as vie
 value stores); any NaN or infinity sends an operation back to the general path, which
 names the error.
 
+Real files (see README, "What files the evaluator reads"): a defined name is a dependency of
+the formulas that use it (the references behind it, through names of names, join the run's
+references); a name scoped to a sheet shadows the workbook's; an array formula (CSE or a
+dynamic-array spill) is a run of its own that fills its whole range (_write_array); whole
+columns and rows end at the workbook's used range (_bound_whole).
+
 Values follow Excel: numbers, text, booleans, empty cells and the errors #NULL! #DIV/0!
 #VALUE! #REF! #NAME? #NUM! #N/A, which propagate per cell. Every value is an array of
 shape (cells, rows, cols): (k, 1, 1) for one value per cell of a run, (k, R, C) for a range.
@@ -33,13 +39,12 @@ import pandas as pd
 from openpyxl.formula.tokenizer import Token, Tokenizer
 from openpyxl.utils import column_index_from_string, get_column_letter
 
-from .xlsxread import _MAX_COL, Sheet, _Template, read_book
+from . import functions as fx
+from .functions import DIV0, ERROR_TEXT, ERRORS, NA, NAME, NULL, NUMERR, REF, VALUE  # noqa: F401
+from .xlsxread import _MAX_COL, _MAX_ROW, Sheet, _Template, read_book
 from .xlsxsafe import Limits
 
 NUM, BOOL, TEXT, EMPTY = 0, 1, 2, 3
-ERRORS = {"#NULL!": 10, "#DIV/0!": 11, "#VALUE!": 12, "#REF!": 13, "#NAME?": 14, "#NUM!": 15, "#N/A": 16}
-ERROR_TEXT = {v: k for k, v in ERRORS.items()}
-NULL, DIV0, VALUE, REF, NAME, NUMERR, NA = (ERRORS[k] for k in ERRORS)
 
 
 class EvaluationError(ValueError):
@@ -345,6 +350,8 @@ SCALAR_FUNCS = {
     "MOD": _binary(lambda a, b: a - b * np.floor(a / b), lambda a, b: np.where(b == 0, DIV0, 0)),
     "POWER": _binary(np.power, lambda a, b: np.where((a == 0) & (b < 0), DIV0, np.where((a == 0) & (b == 0), NUMERR, 0))),
     "ROUND": _binary(lambda x, n: _round(x, np.trunc(n))),
+    "INT": _unary(fx.int_), "FLOOR": _binary(fx.floor, fx.floor_check),
+    "CEILING": _binary(fx.ceiling, fx.ceiling_check),
 }
 
 
@@ -413,6 +420,16 @@ def _agg_minmax(fn, empty):
     return f
 
 
+def _agg_sumsq(args, ranges):
+    n, use, err = _values_of(args, ranges)
+    return _scalar(fx.sumsq(n, use), err)
+
+
+def _agg_product(args, ranges):
+    n, use, err = _values_of(args, ranges)
+    return _scalar(fx.product(n, use), err)
+
+
 def _agg_count(args, ranges):
     counts = None
     for v, is_range in zip(args, ranges):
@@ -470,8 +487,10 @@ AGGREGATES = {
     "SUM": _agg_sum, "AVERAGE": _agg_average, "MIN": _agg_minmax("min", np.inf),
     "MAX": _agg_minmax("max", -np.inf), "COUNT": _agg_count, "SUMPRODUCT": _agg_sumproduct,
     "AND": _agg_logical(True), "OR": _agg_logical(False),
+    "SUMSQ": _agg_sumsq, "PRODUCT": _agg_product,
 }
-SPECIAL = {"IF", "IFERROR", "NOT", "PI", "ISNUMBER", "ISERROR", "ISTEXT", "INDEX", "NA"}
+SPECIAL = {"IF", "IFERROR", "NOT", "PI", "ISNUMBER", "ISERROR", "ISTEXT", "TRUE", "FALSE", "TRUNC",
+           "INDEX", "CHOOSE", "ANCHORARRAY", "SINGLE", "NA", *fx.ROUNDING}
 SUPPORTED = sorted(set(SCALAR_FUNCS) | set(AGGREGATES) | SPECIAL)
 
 
@@ -532,9 +551,37 @@ def _operand_ref(text: str, host_r: int, host_c: int, names: dict):
         return Ref(sheet, a[0], a[1], b[0], b[1], a[2], a[3], b[2], b[3])
     if sheet is None and len(parts) == 1 and ref.upper() in names:
         return ("name", ref.upper())
-    if len(parts) == 2 or re.match(r"^\$?[A-Za-z]{1,3}$|^\$?\d+$", parts[0]):
-        raise ParseError(f"whole-row or whole-column references are not supported ({text})")
+    if len(parts) == 2:
+        whole = _whole(parts, host_r, host_c)
+        if whole is None:
+            raise ParseError(f"unsupported reference {text}")
+        return Ref(sheet, *whole)
     return ("name", ref.upper())
+
+
+_WHOLE_COL = re.compile(r"^(\$?)([A-Za-z]{1,3})$")
+_WHOLE_ROW = re.compile(r"^(\$?)(\d{1,7})$")
+
+
+def _whole(parts: list[str], host_r: int, host_c: int):
+    """A whole-column (A:C, $A:$A) or whole-row (2:2) reference as the range of every row
+    (column) of the sheet: r1 c1 r2 c2 and their absolute flags, like a Ref. The evaluator
+    bounds it by the workbook's used range (_bound_whole)."""
+    a, b = _WHOLE_COL.match(parts[0]), _WHOLE_COL.match(parts[1])
+    if a and b:
+        c1, c2 = column_index_from_string(a[2].upper()), column_index_from_string(b[2].upper())
+        if max(c1, c2) > _MAX_COL:
+            return None
+        return (1, c1 if a[1] else c1 - host_c, _MAX_ROW, c2 if b[1] else c2 - host_c,
+                True, bool(a[1]), True, bool(b[1]))
+    a, b = _WHOLE_ROW.match(parts[0]), _WHOLE_ROW.match(parts[1])
+    if a and b:
+        r1, r2 = int(a[2]), int(b[2])
+        if not (1 <= r1 <= _MAX_ROW and 1 <= r2 <= _MAX_ROW):
+            return None
+        return (r1 if a[1] else r1 - host_r, 1, r2 if b[1] else r2 - host_r, _MAX_COL,
+                bool(a[1]), True, bool(b[1]), True)
+    return None
 
 
 _PREC = {"=": 1, "<>": 1, "<": 1, ">": 1, "<=": 1, ">=": 1, "&": 2, "+": 3, "-": 3, "*": 4, "/": 4, "^": 5}
@@ -681,7 +728,8 @@ class Run:
     formula: str                      # the first cell's formula (without "=")
     tree: object = None
     error: str | None = None          # parse problem or unsupported function
-    refs: list | None = None          # the references of tree
+    refs: list | None = None          # the references of tree (and of the names it uses)
+    array: tuple | None = None        # an array formula's last cell (r2, c2); its anchor is the run
 
     @property
     def contiguous(self) -> bool:
@@ -712,9 +760,18 @@ class Book:
     cells: int = 0
 
     def value(self, sheet: str, r: int, c: int):
-        """The Python value of a cell: float, str, bool, None (empty) or an error text."""
+        """The value of any cell, row r and column c counted from 1 (B3 is r=3, c=2): a
+        float for a number (typed or computed), a str for text, a bool, an error text such as
+        '#DIV/0!', or None for an empty cell. A formula that refers to an empty cell holds 0,
+        as in Excel. KeyError names the sheets when `sheet` is not one of them."""
+        if sheet not in self.num:
+            match = [n for n in self.num if n.casefold() == str(sheet).casefold()]
+            if not match:
+                raise KeyError(f"{self.path}: no sheet {sheet!r}; sheets: {', '.join(self.order)}")
+            sheet = match[0]
         n, t = self.num[sheet], self.tag[sheet]
-        if r >= n.shape[0] or c >= n.shape[1]:
+        r, c = int(r), int(c)
+        if not (1 <= r < n.shape[0] and 1 <= c < n.shape[1]):
             return None
         tg = t[r, c]
         if tg == NUM:
@@ -781,7 +838,8 @@ def _group_runs(sheet: Sheet) -> list[Run]:
 
 
 def _split(run: Run) -> list[Run]:
-    return [Run(run.sheet, run.row, np.array([c]), run.formula, run.tree, run.error, run.refs) for c in run.cols]
+    return [Run(run.sheet, run.row, np.array([c]), run.formula, run.tree, run.error, run.refs, run.array)
+            for c in run.cols]
 
 
 def _target_block(run: Run, ref: Ref):
@@ -794,9 +852,11 @@ def _target_block(run: Run, ref: Ref):
 
 
 def evaluate(path: str | Path, *, strict: bool = True, limits: Limits = Limits()) -> Book:
-    """Evaluate every formula of an .xlsx workbook. With strict, an unsupported function
-    or an unparsable formula raises EvaluationError naming the cells; otherwise those
-    cells become #NAME? and the problem is listed in Book.problems."""
+    """Evaluate every formula of an .xlsx workbook (an .ods or .fods is converted by
+    LibreOffice first, see xlsxread.read_book); `Book.value(sheet, row, col)` then gives any
+    cell. With strict, an unsupported function or an unparsable formula raises
+    EvaluationError naming the cells; otherwise those cells become #NAME? and the problem is
+    listed in Book.problems."""
     raw = read_book(path, limits)
     return evaluate_sheets(raw.path, raw.sheets, raw.order, raw.names, strict=strict)
 
@@ -806,20 +866,24 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
     problems: list[str] = []
     runs: list[Run] = []
     for sh in sheets.values():
-        runs.extend(_group_runs(sh))
-    # parse each run once (its first cell)
-    name_refs = {}
-    for n, text in names.items():
-        try:
-            tree = parse_formula("=" + text, 1, 1, {})
-        except ParseError:
-            tree = ("const", "#NAME?")
-        name_refs[n.upper()] = tree               # names are case-insensitive
+        runs.extend(_array_runs(sh, _group_runs(sh)) if sh.arrays else _group_runs(sh))
+    # whole columns and rows (A:A, 2:2) end at the workbook's used range
+    bound = (max([sh.max_row for sh in sheets.values()] + [1]), max([sh.max_col for sh in sheets.values()] + [1]))
+    scopes = _name_scopes(names, sheets, bound)
+    name_refs = {**scopes[None], **{n: t for sc in scopes.values() for n, t in sc.items()}}
     names_key = frozenset(name_refs)
+    # parse each run once (its first cell)
     for run in runs:
         run.tree, run.error, run.refs = _parse_run(run.formula, run.row, int(run.cols[0]), name_refs, names_key)
         if run.error:
             problems.append(f"{run.where()}: {run.error}")
+        elif any(_is_whole(ref) for ref in run.refs):
+            run.tree = _bound_whole(run.tree, bound)
+            run.refs = refs_of(run.tree)
+        if run.tree is not None and _has_names(run.tree):
+            # a name is a dependency: what it refers to (through other names too) is
+            # computed before the formula that uses it
+            run.refs = run.refs + _name_deps(run.tree, run.sheet, scopes)
     if problems and strict:
         raise EvaluationError(f"{path}: " + "; ".join(problems[:10]) +
                               (f" (and {len(problems) - 10} more)" if len(problems) > 10 else ""))
@@ -840,7 +904,8 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
         for (r, c), v in sh.consts.items():
             _store(num[n], tag[n], txt[n], r, c, v)
     order_runs = _schedule(path, runs, dims, sheets)
-    ctx = _Context(num, tag, txt, name_refs)
+    ctx = _Context(num, tag, txt, scopes)
+    ctx.arrays = {n: sh.arrays for n, sh in sheets.items()}
     cells = 0
     with np.errstate(all="ignore"):
         for run in order_runs:
@@ -848,6 +913,9 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
             cells += k
             if run.error:
                 v = _const("#NAME?", k)
+            elif run.array is not None:
+                _write_array(ctx.eval(run.tree, run), run, num, tag, txt)
+                continue
             else:
                 v = ctx.eval(run.tree, run)
                 v = _as_cells(v, k)
@@ -858,6 +926,146 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
             if v.txt is not None:
                 txt[n][where] = v.txt[:, 0, 0]
     return Book(path, sheets, order, num, tag, txt, problems, len(order_runs), cells)
+
+
+# --------------------------------------------------------------------------- names, arrays, whole columns
+def _name_scopes(names: dict, sheets: dict[str, Sheet], bound) -> dict:
+    """Parsed defined names by scope: None for the workbook's, a sheet's name for the names
+    scoped to it (localSheetId). Names are case-insensitive; a name that cannot be read is
+    #NAME? where it is used."""
+    def parsed(table):
+        out = {}
+        for n, text in table.items():
+            try:
+                tree = parse_formula("=" + text.removeprefix("="), 1, 1, {})
+            except Exception:                 # ParseError, or the tokenizer's own errors
+                tree = ("const", "#NAME?")
+            out[n.upper()] = _bound_whole(tree, bound)
+        return out
+    scopes = {None: parsed(names)}
+    for n, sh in sheets.items():
+        scopes[n] = parsed(sh.names) if sh.names else {}
+    return scopes
+
+
+def _lookup(scopes: dict, sheet: str, name: str):
+    """A name's tree as a formula on `sheet` sees it: a name scoped to that sheet shadows the
+    workbook's name (Excel); None if neither exists."""
+    local = scopes.get(sheet)
+    if local and name in local:
+        return local[name]
+    return scopes[None].get(name)
+
+
+def _has_names(tree) -> bool:
+    kind = tree[0]
+    if kind == "name":
+        return True
+    if kind == "fn":
+        return any(_has_names(a) for a in tree[2])
+    if kind in ("neg", "pct"):
+        return _has_names(tree[1])
+    if kind == "bin":
+        return _has_names(tree[2]) or _has_names(tree[3])
+    return False
+
+
+def _names_in(tree, out: list):
+    kind = tree[0]
+    if kind == "name":
+        out.append(tree[1])
+    elif kind == "fn":
+        for a in tree[2]:
+            _names_in(a, out)
+    elif kind in ("neg", "pct"):
+        _names_in(tree[1], out)
+    elif kind == "bin":
+        _names_in(tree[2], out)
+        _names_in(tree[3], out)
+    return out
+
+
+def _name_deps(tree, sheet: str, scopes: dict) -> list[Ref]:
+    """The references behind the names a formula uses, through names of names (each name
+    followed once, so names that refer to each other end)."""
+    refs, seen, todo = [], set(), _names_in(tree, [])
+    while todo:
+        name = todo.pop()
+        if name in seen:
+            continue
+        seen.add(name)
+        target = _lookup(scopes, sheet, name)
+        if target is not None:
+            refs += refs_of(target)
+            _names_in(target, todo)
+    return refs
+
+
+def _is_whole(ref: Ref) -> bool:
+    return ((ref.r1_abs and ref.r2_abs and ref.r1 == 1 and ref.r2 == _MAX_ROW)
+            or (ref.c1_abs and ref.c2_abs and ref.c1 == 1 and ref.c2 == _MAX_COL))
+
+
+def _bound_whole(tree, bound: tuple[int, int]):
+    """The tree with whole columns (rows 1 to 1,048,576) and whole rows (columns A to XFD)
+    ending at the workbook's last used row (column): the same values, a store of the size
+    the file holds."""
+    kind = tree[0]
+    if kind == "ref":
+        ref = tree[1]
+        if not _is_whole(ref):
+            return tree
+        r2, c2 = ref.r2, ref.c2
+        if ref.r1_abs and ref.r2_abs and ref.r1 == 1 and ref.r2 == _MAX_ROW:
+            r2 = bound[0]
+        if ref.c1_abs and ref.c2_abs and ref.c1 == 1 and ref.c2 == _MAX_COL:
+            c2 = bound[1]
+        return ("ref", Ref(ref.sheet, ref.r1, ref.c1, r2, c2, ref.r1_abs, ref.c1_abs, ref.r2_abs, ref.c2_abs))
+    if kind == "fn":
+        return ("fn", tree[1], [_bound_whole(a, bound) for a in tree[2]])
+    if kind in ("neg", "pct"):
+        return (kind, _bound_whole(tree[1], bound))
+    if kind == "bin":
+        return ("bin", tree[1], _bound_whole(tree[2], bound), _bound_whole(tree[3], bound))
+    return tree
+
+
+def _array_runs(sheet: Sheet, runs: list[Run]) -> list[Run]:
+    """The runs with each array formula's anchor on its own, marked with its range."""
+    out = []
+    for run in runs:
+        if not any((run.row, int(c)) in sheet.arrays for c in run.cols):
+            out.append(run)
+            continue
+        for c in run.cols.tolist():           # each its own text: parsed from its own cell
+            out.append(Run(run.sheet, run.row, np.array([c]), sheet.formulas[(run.row, c)],
+                           array=sheet.arrays.get((run.row, c))))
+    return out
+
+
+def _write_array(v: Val, run: Run, num, tag, txt) -> None:
+    """An array formula's result into its range, as Excel fills it: element (i, j) in the
+    cell i rows and j columns from the anchor; a single row or column (or value) repeats
+    across the range; cells past the result's size are #N/A. A one-cell array formula holds
+    the top-left element ({=IFERROR(A10:B10,"x")} in one cell)."""
+    r0, c0 = run.row, int(run.cols[0])
+    r2, c2 = run.array
+    h, w = r2 - r0 + 1, c2 - c0 + 1
+    _, R, C = v.shape
+    i = np.arange(h)[:, None] if R > 1 else np.zeros((h, 1), np.int64)
+    j = np.arange(w)[None, :] if C > 1 else np.zeros((1, w), np.int64)
+    ii, jj = np.broadcast_arrays(np.minimum(i, R - 1), np.minimum(j, C - 1))
+    beyond = (np.broadcast_to(i, (h, w)) >= R) | (np.broadcast_to(j, (h, w)) >= C)
+    t = np.where(beyond, NA, v.tag[0][ii, jj]).astype(np.int8)
+    n = np.where(t == NUM, v.num[0][ii, jj], np.where(t == BOOL, v.num[0][ii, jj], 0.0))
+    empty = t == EMPTY                       # an empty element of an array is 0
+    t = np.where(empty, NUM, t).astype(np.int8)
+    block = (run.sheet, slice(r0, r2 + 1), slice(c0, c2 + 1))
+    num[block[0]][block[1:]] = n
+    tag[block[0]][block[1:]] = t
+    if v.txt is not None:
+        words = np.where(t == TEXT, np.asarray(v.txt[0], dtype=object)[ii, jj], None)
+        txt[block[0]][block[1:]] = words
 
 
 def _store(num, tag, txt, r, c, v):
@@ -892,6 +1100,10 @@ def _schedule(path, runs: list[Run], dims, sheets) -> list[Run]:
         for i, run in enumerate(runs):
             c0 = int(run.cols[0])
             owner[run.sheet][run.row, slice(c0, c0 + len(run.cols)) if run.contiguous else run.cols] = i
+        for i, run in enumerate(runs):
+            if run.array is not None:          # an array formula owns its whole range
+                block = owner[run.sheet][run.row:run.array[0] + 1, int(run.cols[0]):run.array[1] + 1]
+                block[block == -1] = i
         deps: list[set[int]] = []
         split = set()
         for i, run in enumerate(runs):
@@ -982,8 +1194,14 @@ def _parse_run(formula: str, row: int, col: int, names: dict, names_key) -> tupl
 
 
 class _Context:
-    def __init__(self, num, tag, txt, names):
-        self.num, self.tag, self.txt, self.names = num, tag, txt, names
+    def __init__(self, num, tag, txt, scopes):
+        self.num, self.tag, self.txt, self.scopes = num, tag, txt, scopes
+        self.open_names: set = set()          # the names being evaluated (a cycle: #REF!)
+        self.arrays: dict = {}                # sheet -> its array formulas (Sheet.arrays)
+
+    def name(self, name: str, run: Run):
+        """The tree a name stands for in a formula of run's sheet, or None."""
+        return _lookup(self.scopes, run.sheet, name)
 
     def ref(self, ref: Ref, run: Run) -> Val:
         sheet = ref.sheet or run.sheet
@@ -1037,10 +1255,16 @@ class _Context:
         if kind == "ref":
             return self.ref(node[1], run)
         if kind == "name":
-            tree = self.names.get(node[1])
+            tree = self.name(node[1], run)
             if tree is None:
                 return _const("#NAME?")
-            return self.eval(tree, run)
+            if node[1] in self.open_names:          # a name that refers back to itself
+                return _const("#REF!")
+            self.open_names.add(node[1])
+            try:
+                return self.eval(tree, run)
+            finally:
+                self.open_names.discard(node[1])
         if kind == "neg":
             return _arith("-", _const(0.0), self.eval(node[1], run))
         if kind == "pct":
@@ -1078,46 +1302,128 @@ class _Context:
             return Val(test.astype(float), np.full(v.shape, BOOL, np.int8))
         if name == "NA":                          # the charts' gap: #N/A is not plotted
             return _const("#N/A", len(run.cols))
+        if name in ("TRUE", "FALSE"):             # LibreOffice writes TRUE() and FALSE()
+            return _const(name == "TRUE") if not args else _const("#VALUE!", len(run.cols))
+        if name == "TRUNC":
+            return self.trunc(args, run)
         if name == "INDEX":
             return self.index(args, run)
+        if name == "CHOOSE":
+            return self.choose(args, run)
+        if name in fx.ROUNDING:
+            return self.rounding(name, args, run)
+        if name == "ANCHORARRAY":
+            return self.spill(args, run)
+        if name == "SINGLE":
+            return self.single(args, run)
         if name in SCALAR_FUNCS:
             return SCALAR_FUNCS[name](*(self.eval(a, run) for a in args))
         if name in AGGREGATES:
             vals = [self.eval(a, run) for a in args]
             # a reference, even to one cell or through a defined name, is read like a range:
             # text and booleans skipped
-            ranges = [a[0] == "ref" or (a[0] == "name" and self.names.get(a[1], ("",))[0] == "ref")
-                      for a in args]
+            ranges = [a[0] == "ref" or (a[0] == "name" and (self.name(a[1], run) or ("",))[0] == "ref")
+                      or (a[0] == "fn" and a[1] == "ANCHORARRAY") for a in args]
             return AGGREGATES[name](vals, ranges)
         return _const("#NAME?", len(run.cols))
 
 
+    def trunc(self, args, run: Run) -> Val:
+        if len(args) == 1:
+            return _unary(fx.trunc)(self.eval(args[0], run))
+        return _binary(fx.trunc)(self.eval(args[0], run), self.eval(args[1], run))
+
+    def rounding(self, name: str, args, run: Run) -> Val:
+        """FLOOR.MATH and kin: a number, then optional arguments with defaults."""
+        fn, defaults = fx.ROUNDING[name]
+        if not 1 <= len(args) <= fx.ROUNDING_ARITY[name]:
+            return _const("#VALUE!", len(run.cols))
+        vals = [self.eval(a, run) if a[0] != "missing" else _const(0.0) for a in args]
+        vals += [_const(d) for d in defaults[len(args) - 1:]]
+        nums, errs = zip(*(_to_number(v) for v in vals))
+        with np.errstate(all="ignore"):
+            r = fn(*np.broadcast_arrays(*nums))
+        return _result(r, _error_of(*errs))
+
+    def spill(self, args, run: Run) -> Val:
+        """Excel 365's E1# (written _xlfn.ANCHORARRAY(E1)): the range an array formula at E1
+        fills; #REF! where E1 holds no array formula."""
+        if len(args) != 1 or args[0][0] != "ref" or args[0][1].is_range:
+            return _const("#REF!", len(run.cols))
+        ref = args[0][1]
+        sheet = ref.sheet or run.sheet
+        r = ref.r1 if ref.r1_abs else run.row + ref.r1
+        cols = [ref.c1] if ref.c1_abs else [c + ref.c1 for c in run.cols.tolist()]
+        ends = [self.arrays.get(sheet, {}).get((r, c)) for c in cols]
+        if any(e is None for e in ends) or len({(e[0] - r, e[1] - c) for e, c in zip(ends, cols)}) != 1:
+            return _const("#REF!", len(run.cols))
+        (r2, c2), c = ends[0], cols[0]
+        block = Ref(sheet, r, c if ref.c1_abs else c - int(run.cols[0]), r2,
+                    c2 if ref.c1_abs else c2 - int(run.cols[0]), True, ref.c1_abs, True, ref.c1_abs)
+        return self.ref(block, run)
+
+    def single(self, args, run: Run) -> Val:
+        """Excel 365's @ (written _xlfn.SINGLE(...)), implicit intersection: of a range, the
+        cell in the formula's row (a column range) or column (a row range); of an array, its
+        first element; #VALUE! where the formula's row or column misses the range."""
+        if len(args) != 1:
+            return _const("#VALUE!", len(run.cols))
+        v = self.eval(args[0], run)
+        k0, R, C = v.shape
+        k = len(run.cols)
+        if (R, C) == (1, 1):
+            return v
+        if args[0][0] != "ref":
+            return Val(v.num[:, :1, :1], v.tag[:, :1, :1], None if v.txt is None else v.txt[:, :1, :1])
+        r1, _, c1, _ = _target_block(run, args[0][1])
+        i = np.full(k, run.row - r1) if R > 1 else np.zeros(k, np.int64)
+        j = (run.cols - c1) if C > 1 else np.zeros(k, np.int64)
+        bad = (i < 0) | (i >= R) | (j < 0) | (j >= C)
+        i, j = np.where(bad, 0, i), np.where(bad, 0, j)
+        cells = np.arange(k) if k0 == k else np.zeros(k, np.int64)
+        pick = (cells, i, j)
+        out = Val(v.num[pick].reshape(k, 1, 1), v.tag[pick].reshape(k, 1, 1).astype(np.int8),
+                  None if v.txt is None else np.asarray(v.txt)[pick].reshape(k, 1, 1))
+        return _with_error(out, np.where(bad, VALUE, 0).astype(np.int8).reshape(k, 1, 1))
+
+    def choose(self, args, run: Run) -> Val:
+        """CHOOSE(i, v1, v2, ...): the i-th value (per cell of the run)."""
+        i, err = _to_number(self.eval(args[0], run))
+        pos, bad = fx.choose_index(i, len(args) - 1)
+        err = _error_of(err, bad)
+        values = [self.eval(a, run) for a in args[1:]]
+        shape = np.broadcast_shapes(pos.shape, *(v.shape for v in values))
+        num = np.choose(np.broadcast_to(pos, shape), [np.broadcast_to(v.num, shape) for v in values])
+        tags = np.choose(np.broadcast_to(pos, shape), [np.broadcast_to(v.tag, shape) for v in values])
+        txt = None
+        if any(v.txt is not None for v in values):
+            txt = np.choose(np.broadcast_to(pos, shape), [np.broadcast_to(_texts(v), shape) for v in values])
+        return _with_error(Val(num, tags.astype(np.int8), txt), np.broadcast_to(err, shape))
+
     def index(self, args, run: Run) -> Val:
-        """INDEX(range, i) of a one-row or one-column range, INDEX(range, r, c): one element
-        per cell of the run (the workbook's drawing picks a position's column this way);
-        an index outside the range is #REF!."""
+        """INDEX(array, row, [column]): one element per cell of the run, or a whole row or
+        column where an index is 0."""
         arr = self.eval(args[0], run)
         k0, R, C = arr.shape
-        nums = [_to_number(self.eval(a, run)) for a in args[1:3]]
-        if len(nums) == 1:
-            if R != 1 and C != 1:
-                return _const("#REF!", len(run.cols))
-            nums = [(np.ones((1, 1, 1)), np.zeros((1, 1, 1), np.int8)), nums[0]] if R == 1 else \
-                   [nums[0], (np.ones((1, 1, 1)), np.zeros((1, 1, 1), np.int8))]
-        (r, er), (c, ec) = nums
-        k = len(run.cols)
-        r = np.broadcast_to(np.trunc(r), (k, 1, 1)).reshape(k)
-        c = np.broadcast_to(np.trunc(c), (k, 1, 1)).reshape(k)
-        bad = (r < 1) | (r > R) | (c < 1) | (c > C) | ~np.isfinite(r) | ~np.isfinite(c)
-        ri = np.where(bad, 0, r - 1).astype(np.int64)
-        ci = np.where(bad, 0, c - 1).astype(np.int64)
-        cells = np.arange(k) if k0 == k else np.zeros(k, np.int64)
-        pick = (cells, ri, ci)
-        v = Val(arr.num[pick].reshape(k, 1, 1), arr.tag[pick].reshape(k, 1, 1).astype(np.int8),
-                None if arr.txt is None else np.asarray(arr.txt)[pick].reshape(k, 1, 1))
-        err = _error_of(np.broadcast_to(er, (k, 1, 1)), np.broadcast_to(ec, (k, 1, 1)),
-                        np.where(bad, REF, 0).astype(np.int8).reshape(k, 1, 1))
-        return _with_error(v, err)
+        r, er = _to_number(self.eval(args[1], run)) if len(args) > 1 else (np.zeros((1, 1, 1)), np.zeros((1, 1, 1), np.int8))
+        c, ec = (_to_number(self.eval(args[2], run)) if len(args) > 2 and args[2][0] != "missing"
+                 else (None, np.zeros((1, 1, 1), np.int8)))
+        ri, ci, bad = fx.index_positions(R, C, r, c)
+        err = _error_of(er, ec, bad)
+        k = max(k0, err.shape[0])
+        ri, ci, err = (np.broadcast_to(x, (k, 1, 1)).reshape(k) for x in (ri, ci, err))
+        if (ri >= 0).all() and (ci >= 0).all():
+            cells = np.arange(k) if k0 == k else np.zeros(k, np.int64)
+            pick = (cells, ri, ci)
+            v = Val(arr.num[pick].reshape(k, 1, 1), arr.tag[pick].reshape(k, 1, 1).astype(np.int8),
+                    None if arr.txt is None else np.asarray(arr.txt)[pick].reshape(k, 1, 1))
+            return _with_error(v, err.reshape(k, 1, 1))
+        if k == 1:                               # a whole row or column of the array
+            rs = slice(None) if ri[0] < 0 else slice(ri[0], ri[0] + 1)
+            cs = slice(None) if ci[0] < 0 else slice(ci[0], ci[0] + 1)
+            v = Val(arr.num[:, rs, cs], arr.tag[:, rs, cs], None if arr.txt is None else arr.txt[:, rs, cs])
+            return _with_error(v, err.reshape(1, 1, 1))
+        return _const("#VALUE!", k)
 
 
 # --------------------------------------------------------------------------- results as tables

@@ -32,6 +32,7 @@ import openpyxl
 __all__ = [
     "soffice_path",
     "recalculate",
+    "convert_to_xlsx",
     "read_values",
     "is_error",
     "render_pdf",
@@ -126,6 +127,14 @@ def recalculate(paths: list[Path], outdir: Path, timeout: float = 300) -> dict[P
     output) if any file was not converted.
     """
     return _convert(paths, outdir, "xlsx:Calc MS Excel 2007 XML", "xlsx", timeout)
+
+
+def convert_to_xlsx(path: Path, outdir: Path, timeout: float = 120) -> Path:
+    """One spreadsheet (.ods, .fods, .xlsx ...) converted to .xlsx in `outdir`, every formula
+    recalculated, by a soffice run with its own temporary profile; killed after `timeout`
+    seconds (RuntimeError). Returns the .xlsx written."""
+    [(_, out)] = _convert([path], outdir, "xlsx:Calc MS Excel 2007 XML", "xlsx", timeout).items()
+    return out
 
 
 def read_values(path: Path, sheet: str | None = None) -> dict[str, object]:

@@ -256,7 +256,7 @@ def _validate(path: str, limits: Limits) -> Report:
             continue
         for k, (_, c) in enumerate(cells):
             got = evaluated.value(main, r, c)
-            typed = (r, c) not in sh.formulas
+            typed = not sh.computed(r, c)                 # a spilled cell is computed, not typed
             if not typed and evaluated.tag[main][r, c] == 14 and (r, c) in sh.cached:
                 got, rep.source = sh.cached[(r, c)], "cached"        # a formula we cannot evaluate
                 got = float(got) if isinstance(got, (int, float)) and not isinstance(got, bool) else got

@@ -24,6 +24,7 @@ from .xlsxsafe import Limits, UnusableWorkbook, open_package, sheet_parts
 _LETTERS = [""] + [get_column_letter(c) for c in range(1, 16385)]   # Excel's last column is XFD
 _COLUMN_INDEX = {letters: c for c, letters in enumerate(_LETTERS) if c}
 _MAX_COL = len(_LETTERS) - 1             # XFD
+_MAX_ROW = 1_048_576                      # Excel's last row
 
 
 @dataclass
@@ -33,8 +34,20 @@ class Sheet:
     consts: dict = field(default_factory=dict)    # (r, c) -> value (number, str, bool, error text)
     formulas: dict = field(default_factory=dict)  # (r, c) -> formula text (without "=")
     cached: dict = field(default_factory=dict)    # (r, c) -> cached value of a formula cell
-    max_row: int = 0
-    max_col: int = 0
+    max_row: int = 0                               # the used range: the last row and column
+    max_col: int = 0                               # of a cell that holds something
+    # array formulas (t="array": Ctrl+Shift+Enter, and Excel 365's dynamic-array spills):
+    # the anchor (r, c), which holds the formula, -> the last cell (r2, c2) of its range; the
+    # range's other cells hold no formula in the file, only the value saved (in `cached`)
+    arrays: dict = field(default_factory=dict)
+    names: dict = field(default_factory=dict)     # names scoped to this sheet (localSheetId)
+
+    def computed(self, r: int, c: int) -> bool:
+        """Whether the cell's value comes from a formula: its own, or an array formula's
+        whose range holds it (a spilled cell), as opposed to a typed value."""
+        if (r, c) in self.formulas:
+            return True
+        return any(r0 <= r <= r2 and c0 <= c <= c2 for (r0, c0), (r2, c2) in self.arrays.items())
 
 
 
@@ -61,6 +74,7 @@ def _read_tree(pkg, root, name: str, part: str, state: str, shared: list[str], l
     sh = Sheet(name, state)
     ns = root.tag[:root.tag.index("}") + 1] if root.tag.startswith("{") else ""
     shared_f: dict[str, _Shared] = {}
+    before_master: list = []
     f_tag, v_tag, is_tag, t_tag = f"{ns}f", f"{ns}v", f"{ns}is", f"{ns}t"
     col_of = _COLUMN_INDEX
     for c in root.iter(f"{ns}c"):
@@ -71,13 +85,6 @@ def _read_tree(pkg, root, name: str, part: str, state: str, shared: list[str], l
             raise UnusableWorkbook(pkg.path, f"a cell without a valid reference ({ref!r})",
                                    "cells named like A1", part=part)
         row = int(ref[len(letters):])
-        if row > limits.max_rows or col > limits.max_cols:
-            raise UnusableWorkbook(pkg.path, f"sheet '{name}' has a cell at {ref}",
-                                   f"at most {limits.max_rows} rows and {limits.max_cols} columns")
-        if row > sh.max_row:
-            sh.max_row = row
-        if col > sh.max_col:
-            sh.max_col = col
         f = v = inline = None
         for child in c:                    # one pass over <f>, <v>, <is>
             tag = child.tag
@@ -87,6 +94,15 @@ def _read_tree(pkg, root, name: str, part: str, state: str, shared: list[str], l
                 f = child
             elif tag == is_tag:
                 inline = child
+        if f is None and (v is None or not v.text) and inline is None:
+            continue                       # styled emptiness: no limit, not in the used range
+        if row > limits.max_rows or col > limits.max_cols:
+            raise UnusableWorkbook(pkg.path, f"sheet '{name}' has a cell at {ref}",
+                                   f"at most {limits.max_rows} rows and {limits.max_cols} columns")
+        if row > sh.max_row:
+            sh.max_row = row
+        if col > sh.max_col:
+            sh.max_col = col
         t = c.get("t", "n")
         vtext = v.text if v is not None else None
         try:
@@ -113,13 +129,58 @@ def _read_tree(pkg, root, name: str, part: str, state: str, shared: list[str], l
                     shared_f[si] = _Shared(text, row, col)
                 elif si in shared_f:
                     text = shared_f[si].at(row, col)
+                else:                      # before its master (a block the master is inside)
+                    before_master.append((si, row, col, value))
+                    continue
             if text:
                 sh.formulas[(row, col)] = text
+                if f.get("t") == "array":
+                    sh.arrays[(row, col)] = _array_end(f.get("ref"), row, col)
                 if value is not None:
                     sh.cached[(row, col)] = value
                 continue
         if value is not None:
             sh.consts[(row, col)] = value
+    for si, row, col, value in before_master:
+        text = shared_f[si].at(row, col) if si in shared_f else None
+        if text:
+            sh.formulas[(row, col)] = text
+            if value is not None:
+                sh.cached[(row, col)] = value
+        elif value is not None:
+            sh.consts[(row, col)] = value
+    return _finish(sh, pkg, limits)
+
+
+def _array_end(ref: str | None, row: int, col: int) -> tuple[int, int]:
+    """The last cell of an array formula's range (ref="B2:D4"), from its anchor B2; a
+    missing or unreadable ref is the anchor alone."""
+    last = (ref or "").split(":")[-1].replace("$", "")
+    letters = last.rstrip("0123456789")
+    c = _COLUMN_INDEX.get(letters.upper())
+    if c is None or not last[len(letters):].isdigit():
+        return row, col
+    return max(row, int(last[len(letters):])), max(col, c)
+
+
+def _finish(sh: Sheet, pkg, limits: Limits) -> Sheet:
+    """The cells of array ranges other than their anchors hold the anchor's values: what
+    the spreadsheet saved there moves from the constants to the cached values (the
+    evaluator computes them), and stays out of the formulas. An array range counts as
+    cells that hold something: past the limits, the file is refused."""
+    for (r, c), (r2, c2) in sh.arrays.items():
+        if r2 > limits.max_rows or c2 > limits.max_cols:
+            raise UnusableWorkbook(pkg.path, f"sheet '{sh.name}' has an array formula at "
+                                   f"{_LETTERS[c]}{r} over {_LETTERS[c]}{r}:{_LETTERS[c2]}{r2}",
+                                   f"at most {limits.max_rows} rows and {limits.max_cols} columns")
+        if (r2 - r + 1) * (c2 - c + 1) <= len(sh.consts):
+            cells = [(i, j) for i in range(r, r2 + 1) for j in range(c, c2 + 1)]
+        else:
+            cells = [k for k in sh.consts if r <= k[0] <= r2 and c <= k[1] <= c2]
+        for key in cells:
+            if key in sh.consts and key not in sh.formulas:
+                sh.cached[key] = sh.consts.pop(key)
+        sh.max_row, sh.max_col = max(sh.max_row, r2), max(sh.max_col, c2)
     return sh
 
 
@@ -157,6 +218,8 @@ _GROUPS = _CELLS.groups                                # letters, row, t, <f> at
 _HEAD = re.compile(rb"(?:\xef\xbb\xbf)?(?:<\?xml[^<>?]*+\?>)?[ \t\r\n]*+<worksheet[ \t\r\n>]")
 _SHARED = re.compile(rb'(?:^|[ \t\n])t="shared"')
 _SI = re.compile(rb'(?:^|[ \t\n])si="([^"]*)"')
+_ARRAY = re.compile(rb'(?:^|[ \t\n])t="array"')
+_REF = re.compile(rb'(?:^|[ \t\n])ref="([^"]*)"')
 _CHAR_REF = re.compile(rb"#[0-9]{1,7}|#x[0-9A-Fa-f]{1,6}")
 _NAMED = {b"amp": b"&", b"lt": b"<", b"gt": b">", b"quot": b'"', b"apos": b"'"}
 _COLUMN_BYTES = {letters.encode(): c for letters, c in _COLUMN_INDEX.items()}
@@ -243,10 +306,17 @@ def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits
     keys = list(zip(rows, cols))
     if len(set(keys)) != len(keys):
         raise _NotSimple                            # a cell listed twice
-    sh.max_row, sh.max_col = max(rows), max(cols)
+    # the used range and the limits: cells that hold something (a formula, a value), not
+    # styled emptiness (<c r="XFD9" s="3"/>: LibreOffice styles whole rows and columns)
+    held = [bool(f or a or v or i) for f, a, v, i in zip(ftexts, fattrs, vtexts, itexts)]
+    if all(held):
+        sh.max_row, sh.max_col = max(rows), max(cols)
+    else:
+        sh.max_row = max(compress(rows, held), default=0)
+        sh.max_col = max(compress(cols, held), default=0)
     if sh.max_row > limits.max_rows or sh.max_col > limits.max_cols:
-        for r, c, L, R in zip(rows, cols, letters, rownums):
-            if r > limits.max_rows or c > limits.max_cols:
+        for r, c, L, R, h in zip(rows, cols, letters, rownums, held):
+            if h and (r > limits.max_rows or c > limits.max_cols):
                 raise UnusableWorkbook(pkg.path, f"sheet '{name}' has a cell at {(L + R).decode()}",
                                        f"at most {limits.max_rows} rows and {limits.max_cols} columns")
     # formulas: the text of every <f> that has one, decoded in one pass
@@ -254,15 +324,23 @@ def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits
     if any(fattrs):
         # shared formulas (Excel, LibreOffice): the first cell <f t="shared" si=".."> has the
         # text, the block's other cells <f t="shared" si=".."/> are shifted from it
+        # (a block's master need not be its first cell: the masters are found first)
         masters: dict = {}
+        children = []
         for i in compress(range(len(keys)), fattrs):
             if not _SHARED.search(fattrs[i]):
+                if _ARRAY.search(fattrs[i]) and keys[i] in formulas:
+                    ref = _REF.search(fattrs[i])
+                    sh.arrays[keys[i]] = _array_end(ref and ref.group(1).decode("ascii"), *keys[i])
                 continue
             si = _SI.search(fattrs[i])
             si = si.group(1) if si else None
             if ftexts[i]:
                 masters[si] = _Shared(formulas[keys[i]], rows[i], cols[i])
-            elif si in masters:
+            else:
+                children.append((i, si))
+        for i, si in children:
+            if si in masters:
                 text = masters[si].at(rows[i], cols[i])
                 if text:
                     formulas[keys[i]] = text
@@ -286,7 +364,7 @@ def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits
         else:
             consts[key] = value
     sh.formulas = formulas
-    return sh
+    return _finish(sh, pkg, limits)
 
 
 def _value(t: bytes | None, v: bytes | None, inline: bytes | None, shared: list[str]):
@@ -306,10 +384,25 @@ def _value(t: bytes | None, v: bytes | None, inline: bytes | None, shared: list[
 
 
 # ----------------------------------------------------------------- formulas shifted along a row
+_SHEET_PREFIX = r"(?:'(?:[^']|'')+'|[^\W\d][\w.]*)!"
 _TEMPLATE_REF = re.compile(
     r'(?P<str>"(?:[^"]|"")*")'
-    r"|(?<![\w.$!'])(?P<sheet>(?:'(?:[^']|'')+'|[^\W\d][\w.]*)!)?(?P<cabs>\$?)(?P<col>[A-Z]{1,3})"
+    r"|(?<![\w.$!'])(?P<wsheet>" + _SHEET_PREFIX + r")?(?P<wca>\$?)(?P<wc1>[A-Z]{1,3}):(?P<wcb>\$?)(?P<wc2>[A-Z]{1,3})"
+    r"(?![\w(!])"                                               # a whole-column reference A:C
+    r"|(?<![\w.$!'])(?P<rsheet>" + _SHEET_PREFIX + r")?(?P<wra>\$?)(?P<wr1>\d+):(?P<wrb>\$?)(?P<wr2>\d+)"
+    r"(?![\w(.!])"                                              # a whole-row reference 2:5
+    r"|(?<![\w.$!'])(?P<sheet>" + _SHEET_PREFIX + r")?(?P<cabs>\$?)(?P<col>[A-Z]{1,3})"
     r"(?P<rabs>\$?)(?P<row>\d+)(?![\w(])")
+
+
+def _column_spans(m) -> list[tuple[int, int, str]]:
+    """The relative column letters of one match of _TEMPLATE_REF: (start, end, letters)."""
+    if m.group("col") is not None:
+        return [] if m.group("cabs") else [(m.start("col"), m.end("col"), m.group("col"))]
+    if m.group("wc1") is not None:
+        return [(m.start(g), m.end(g), m.group(g)) for a, g in (("wca", "wc1"), ("wcb", "wc2"))
+                if not m.group(a)]
+    return []
 
 
 class _Template:
@@ -320,14 +413,13 @@ class _Template:
         offsets: list[int] = []           # one placeholder per distinct column offset
         pieces, slots, last = [], [], 0   # literal text between the placeholders
         for m in _TEMPLATE_REF.finditer(formula):
-            if m.group("str") is not None or m.group("cabs"):
-                continue
-            o = column_index_from_string(m.group("col")) - host_c
-            if o not in offsets:
-                offsets.append(o)
-            pieces.append(formula[last:m.start("cabs")])
-            slots.append(offsets.index(o))
-            last = m.end("col")
+            for start, end, letters in _column_spans(m):
+                o = column_index_from_string(letters) - host_c
+                if o not in offsets:
+                    offsets.append(o)
+                pieces.append(formula[last:start])
+                slots.append(offsets.index(o))
+                last = end
         pieces.append(formula[last:])
         self.pieces, self.offsets = pieces, offsets
         self.text = "".join(p.replace("{", "{{").replace("}", "}}") + (f"{{{slots[i]}}}" if i < len(slots) else "")
@@ -378,9 +470,39 @@ class _Shared:
 
 
 def _shift_formula(formula: str, dr: int, dc: int) -> str:
-    from openpyxl.formula.translate import Translator
-    return Translator("=" + formula, origin="A1").translate_formula(
-        f"{get_column_letter(1 + dc)}{1 + dr}")[1:] if (dr >= 0 and dc >= 0) else formula
+    """The formula moved dr rows and dc columns (either may be negative: Excel writes a
+    block ref="Y142:AR153" whose master cell is not its top-left corner). Absolute parts
+    stay; a reference moved off the sheet becomes #REF!, as in Excel."""
+    def col(abs_, letters):
+        if abs_:
+            return abs_ + letters
+        c = _COLUMN_INDEX[letters] + dc
+        return _LETTERS[c] if 1 <= c <= _MAX_COL else None
+
+    def row(abs_, digits):
+        if abs_:
+            return abs_ + digits
+        r = int(digits) + dr
+        return str(r) if 1 <= r <= _MAX_ROW else None
+
+    def sub(m):
+        if m.group("str") is not None:
+            return m.group(0)
+        if m.group("col") is not None:
+            c, r = col(m.group("cabs"), m.group("col")), row(m.group("rabs"), m.group("row"))
+            return "#REF!" if c is None or r is None else (m.group("sheet") or "") + c + r
+        if m.group("wc1") is not None:
+            a, b = col(m.group("wca"), m.group("wc1")), col(m.group("wcb"), m.group("wc2"))
+            return "#REF!" if a is None or b is None else f"{m.group('wsheet') or ''}{a}:{b}"
+        a, b = row(m.group("wra"), m.group("wr1")), row(m.group("wrb"), m.group("wr2"))
+        return "#REF!" if a is None or b is None else f"{m.group('rsheet') or ''}{a}:{b}"
+
+    out = _TEMPLATE_REF.sub(sub, formula)
+    # a range one of whose ends left the sheet is #REF! as a whole
+    return _BROKEN_RANGE.sub("#REF!", out) if "#REF!" in out else out
+
+
+_BROKEN_RANGE = re.compile(r"#REF!:(?:#REF!|\$?[A-Z]{0,3}\$?\d*)|(?:\$?[A-Z]{1,3}\$?\d*|\$?\d+):#REF!")
 
 
 def _shared_strings(pkg) -> list[str]:
@@ -391,11 +513,23 @@ def _shared_strings(pkg) -> list[str]:
     return ["".join(t.text or "" for t in si.iter(f"{ns}t")) for si in root.iter(f"{ns}si")]
 
 
-def _defined_names(pkg) -> dict[str, str]:
-    root = pkg.xml("xl/workbook.xml")
+def _defined_names(pkg) -> tuple[dict[str, str], dict[int, dict[str, str]]]:
+    """The workbook's defined names: (workbook-scoped {name: text}, {sheet index: {name:
+    text}} for the names scoped to one sheet, localSheetId). Excel's own hidden names
+    (_xlnm.Print_Area ...) are kept: a formula cannot use them by that name anyway."""
+    root = pkg.xml(pkg.workbook_part or "xl/workbook.xml")
     ns = root.tag[:root.tag.index("}") + 1] if root.tag.startswith("{") else ""
-    return {d.get("name"): (d.text or "") for d in root.iter(f"{ns}definedName")
-            if d.get("localSheetId") is None}
+    glob: dict[str, str] = {}
+    local: dict[int, dict[str, str]] = {}
+    for d in root.iter(f"{ns}definedName"):
+        name, text, scope = d.get("name"), d.text or "", d.get("localSheetId")
+        if not name:
+            continue
+        if scope is None:
+            glob[name] = text
+        elif scope.strip().isdigit():
+            local.setdefault(int(scope), {})[name] = text
+    return glob, local
 
 
 # --------------------------------------------------------------------------- evaluation
@@ -409,14 +543,77 @@ class RawBook:
     names: dict[str, str]
 
 
-def read_book(path: str | Path, limits: Limits = Limits()) -> RawBook:
-    """Read an .xlsx safely (xlsxsafe): never modified, never trusted."""
+def read_book(path: str | Path, limits: Limits = Limits(), *, convert_timeout: float = 120) -> RawBook:
+    """Read an .xlsx safely (xlsxsafe): never modified, never trusted. An OpenDocument
+    spreadsheet (.ods, .fods) is converted to .xlsx by LibreOffice first (see
+    `_read_opendocument`)."""
+    if _opendocument(path):
+        return _read_opendocument(path, limits, convert_timeout)
+    return _read_xlsx(path, limits)
+
+
+# ----------------------------------------------------------------- OpenDocument (.ods, .fods)
+_ODS_MIME = b"application/vnd.oasis.opendocument.spreadsheet"
+
+
+def _opendocument(path) -> bool:
+    """Whether the file is an OpenDocument spreadsheet: a zip whose first member is its
+    mimetype (.ods, whatever the file is called), or flat XML (.fods)."""
+    p = Path(path)
+    try:
+        with open(p, "rb") as fh:
+            head = fh.read(4096)
+    except OSError:
+        return False                 # the gate says what is wrong with the path
+    if head.startswith(b"PK\x03\x04"):
+        return head[30:38] == b"mimetype" and _ODS_MIME in head[38:200]
+    return p.suffix.lower() == ".fods" or (b"<office:document" in head and _ODS_MIME in head)
+
+
+def _read_opendocument(path, limits: Limits, timeout: float) -> RawBook:
+    """LibreOffice (its own temporary profile, a time limit) converts a copy of the file
+    to .xlsx in a temporary folder, which is read like any .xlsx; the original is only
+    read. Without LibreOffice: refused, with the command that converts it."""
+    from . import libreoffice
+    import shutil
+    import tempfile
+    shown = str(path)
+    how = f"convert it to .xlsx: soffice --headless --convert-to xlsx {shown!r}"
+    size = Path(path).stat().st_size
+    if size > limits.max_file_bytes:
+        raise UnusableWorkbook(shown, f"an OpenDocument spreadsheet of {size} bytes",
+                               f"at most {limits.max_file_bytes} bytes")
+    if libreoffice.soffice_path() is None:
+        raise UnusableWorkbook(shown, "an OpenDocument spreadsheet, and LibreOffice (soffice) is not "
+                               "installed to read it", how)
+    with tempfile.TemporaryDirectory(prefix="sheetkin-ods-") as tmp:
+        src = Path(tmp) / "in"
+        src.mkdir()
+        copy = src / ("book" + (Path(path).suffix.lower() if Path(path).suffix.lower() in (".ods", ".fods")
+                                 else ".ods"))
+        shutil.copyfile(path, copy)
+        try:
+            out = libreoffice.convert_to_xlsx(copy, Path(tmp) / "out", timeout)
+        except (RuntimeError, OSError) as e:
+            reason = "timed out" if "timed out" in str(e) else "failed"
+            raise UnusableWorkbook(shown, f"LibreOffice's conversion to .xlsx {reason}", how) from None
+        try:
+            raw = _read_xlsx(out, limits)
+        except UnusableWorkbook as e:
+            raise UnusableWorkbook(shown, f"(converted to .xlsx by LibreOffice) {e.problem}", e.expected,
+                                   e.part) from None
+    raw.path = shown
+    return raw
+
+
+def _read_xlsx(path, limits: Limits) -> RawBook:
     pkg = open_package(path, limits)
     shared = _shared_strings(pkg)
-    names = _defined_names(pkg)
+    names, local = _defined_names(pkg)
     sheets, order = {}, []
-    for info in sheet_parts(pkg):
+    for i, info in enumerate(sheet_parts(pkg)):
         sheets[info.name] = _read_sheet(pkg, info.name, info.part, info.state, shared, limits)
+        sheets[info.name].names = local.get(i, {})
         order.append(info.name)
     return RawBook(str(path), sheets, order, names)
 

@@ -14,8 +14,9 @@ that lies about a part's size); encrypted entries; not a spreadsheet package (no
 external links (xl/externalLinks/ parts, externalLink relationships, any TargetMode="External"
 relationship other than a hyperlink); too many parts; too much uncompressed data or a zip-bomb
 compression ratio; any XML part with a DTD or entity declarations (entity bombs) or declared in
-an encoding other than UTF-8/UTF-16; a worksheet whose <dimension ref> exceeds the row/column
-limits.
+an encoding other than UTF-8/UTF-16. (A worksheet's <dimension ref> is only the writer's
+claim, A1:XFD1048576 for styled emptiness: the row/column limits apply to cells that hold
+something, which the reader counts with `check_dimension`'s limits.)
 
 Checks run cheapest first, so a zip bomb is refused before anything is inflated:
 
@@ -32,7 +33,7 @@ Checks run cheapest first, so a zip bomb is refused before anything is inflated:
    encoding but UTF-8 or UTF-16 (the standard's two; Python's expat would otherwise also
    read single-byte code pages, or fail on UTF-32 with a ValueError, not a ParseError);
 5. the content, parsed with defusedxml: macro-enabled content types, macro and external
-   relationships, the workbook's sheets and each worksheet's <dimension ref>.
+   relationships, the workbook's sheets.
 
 Once checks 1-4 passed, every part's real size and CRC equal what the zip's directory says,
 so any zip reader (zipfile, openpyxl) sees exactly the bytes that were checked. To make sure
@@ -52,8 +53,9 @@ max_ratio          200          uncompressed / compressed size of one part (zip-
                                 deflate's ceiling is about 1030x
 ratio_min_bytes    1 MB         max_ratio applies only to parts larger than this
 max_parts          2000         members in the zip (a generated workbook has about 20)
-max_rows           100,000      rows of one worksheet (its <dimension ref>, or counted by
-                                the caller while reading cells: `check_dimension`)
+max_rows           100,000      rows of one worksheet: the last row of a cell that holds
+                                something (counted by the reader; styled empty rows and
+                                the <dimension ref> do not count)
 max_cols           4,000        columns of one worksheet (likewise; LibreOffice's whole
                                 width is 1024, Excel's 16384)
 =================  ===========  ============================================================
@@ -572,11 +574,10 @@ def open_package(path, limits: Limits = Limits()) -> Package:
         pkg.workbook_part = pkg.find("xl/workbook.xml")
     else:
         fail("not a spreadsheet package (no workbook part)", expected_xlsx)
-    for sheet in sheet_parts(pkg):
-        if sheet.kind == "worksheet":
-            dim = sheet_dimension(pkg, sheet.part)
-            if dim is not None:
-                check_dimension(shown, sheet.name, dim[0], dim[1], limits)
+    # The sheets must resolve. Their <dimension ref> is not a limit: LibreOffice writes
+    # A1:XFD1048576 for a sheet whose empty rows and columns are styled to the end; the
+    # row/column limits apply to the cells that hold something (the reader counts them).
+    sheet_parts(pkg)
     return pkg
 
 

@@ -515,14 +515,20 @@ def test_duplicate_part_names(good, tmp_path):
     refused(p, "corrupt zip", "two parts with this name")
 
 
-def test_sheet_dimension_too_large(tmp_path):
+def test_a_cell_that_holds_something_past_the_limits_is_refused(tmp_path):
+    """The <dimension ref> is only the writer's claim (LibreOffice writes A1:XFD1048576 for
+    styled empty rows): the gate lets it through, the reader refuses a cell that holds
+    something past the limits."""
+    from sheetkin.xlsxread import read_book
     wb = openpyxl.Workbook()
     wb.active.title = "Лист1"
     wb.active["A1"] = 1
     wb.active["XFD1048576"] = 2  # two cells, a sheet claiming every row and column
     wb.save(tmp_path / "huge.xlsx")
-    refused(tmp_path / "huge.xlsx", "sheet 'Лист1'", "1048576 rows", "16384 columns",
-            "at most 100000 rows and 4000 columns")
+    open_package(tmp_path / "huge.xlsx")
+    with pytest.raises(UnusableWorkbook) as info:
+        read_book(tmp_path / "huge.xlsx")
+    assert_message(info.value, tmp_path / "huge.xlsx", "sheet 'Лист1'", "XFD1048576", "at most 100000 rows and 4000 columns")
 
 
 def test_check_dimension(tmp_path):
