@@ -46,6 +46,8 @@ import pandas as pd
 from .compute import TOGGLE_THRESHOLD, AssemblyError, assembly_gaps, failed_positions, solution_columns
 from .libreoffice import soffice_path
 from .scene import Scene, override_crank, parse_scene
+from .groups import kind_of
+from .motion import slide_names
 from .solver import solve
 
 FD_STEPS = tuple(10.0 ** -k for k in np.arange(1.0, 8.01, 0.5))     # rad, 1e-1 .. 1e-8
@@ -121,7 +123,7 @@ def quantity_names(scene: Scene) -> list[str]:
     for p in scene.moving_joints + [p.name for p in scene.points]:
         names += [f"{q}_{p}" for q in ("x", "y", "vx", "vy", "ax", "ay")]
     for p in scene.sliders:
-        names += [f"s_{p}", f"vs_{p}", f"as_{p}"]
+        names += list(slide_names(p))
     return names
 
 
@@ -162,112 +164,6 @@ def _carried(lib, origin, link, along, across):
             (ax + eps * dx - w * w * rx, ay + eps * dy - w * w * ry))
 
 
-def _loop(lib, g, known):
-    """Group g's vector loop-closure equation F(q) = 0 in its two unknowns q.
-
-    Returns F(q), J(q) = dF/dq, b_v(q) and b_a(q, q_t) with J q_t = b_v and J q_tt = b_a
-    (the first and second time derivatives of F = 0), and place(q, q_t, q_tt) giving the
-    group's new joint (or None), its links' (phi, omega, eps) and its slide (or None).
-    """
-    n = lib.num
-    if g.type == "RRR":
-        # J1 + L2 e(p2) = J2 + L3 e(p3); q = (p2, p3) the directions J1->N and J2->N
-        (p1, v1, a1), (p2, v2, a2) = known[g.joints[0]], known[g.joints[2]]
-        l2, l3 = n(g.lengths[0]), n(g.lengths[1])
-
-        def F(q):
-            (c2, s2), (c3, s3) = _e(lib, q[0]), _e(lib, q[1])
-            return [p1[0] + l2 * c2 - l3 * c3 - p2[0], p1[1] + l2 * s2 - l3 * s3 - p2[1]]
-
-        def J(q):
-            (c2, s2), (c3, s3) = _e(lib, q[0]), _e(lib, q[1])
-            return [[-l2 * s2, l3 * s3], [l2 * c2, -l3 * c3]]
-
-        def b_v(q):
-            return [v2[0] - v1[0], v2[1] - v1[1]]
-
-        def b_a(q, qt):
-            (c2, s2), (c3, s3) = _e(lib, q[0]), _e(lib, q[1])
-            w2, w3 = qt
-            return [a2[0] - a1[0] + l2 * w2 * w2 * c2 - l3 * w3 * w3 * c3,
-                    a2[1] - a1[1] + l2 * w2 * w2 * s2 - l3 * w3 * w3 * s3]
-
-        def place(q, qt, qtt):
-            la, lb = (q[0], qt[0], qtt[0]), (q[1], qt[1], qtt[1])
-            return _carried(lib, known[g.joints[0]], la, l2, n(0)), (la, lb), None
-    elif g.type == "RRP":
-        # J1 + L e(p2) = G + s u; q = (p2, s)
-        p1, v1, a1 = known[g.joints[0]]
-        length = n(g.lengths[0])
-        gam = n(g.guide_angle_deg) * lib.pi() / 180
-        ux, uy = _e(lib, gam)
-        gx, gy = n(g.guide_point[0]), n(g.guide_point[1])
-
-        def F(q):
-            c, s = _e(lib, q[0])
-            return [p1[0] + length * c - gx - q[1] * ux, p1[1] + length * s - gy - q[1] * uy]
-
-        def J(q):
-            c, s = _e(lib, q[0])
-            return [[-length * s, -ux], [length * c, -uy]]
-
-        def b_v(q):
-            return [-v1[0], -v1[1]]
-
-        def b_a(q, qt):
-            c, s = _e(lib, q[0])
-            return [-a1[0] + length * qt[0] ** 2 * c, -a1[1] + length * qt[0] ** 2 * s]
-
-        def place(q, qt, qtt):
-            joint = ((gx + q[1] * ux, gy + q[1] * uy), (qt[1] * ux, qt[1] * uy),
-                     (qtt[1] * ux, qtt[1] * uy))
-            return joint, ((q[0], qt[0], qtt[0]), (gam, n(0), n(0))), (q[1], qt[1], qtt[1])
-    else:
-        # J1 - J2 = s u(th) + off n(th); q = (th, s)
-        (p1, v1, a1), (p2, v2, a2) = known[g.joints[0]], known[g.joints[1]]
-        off = n(g.offset)
-
-        def F(q):
-            (c, s), (nc, ns) = _e(lib, q[0]), _ep(lib, q[0])
-            return [p1[0] - p2[0] - q[1] * c - off * nc, p1[1] - p2[1] - q[1] * s - off * ns]
-
-        def J(q):
-            (c, s), (nc, ns) = _e(lib, q[0]), _ep(lib, q[0])
-            return [[-(q[1] * nc - off * c), -c], [-(q[1] * ns - off * s), -s]]
-
-        def b_v(q):
-            return [v2[0] - v1[0], v2[1] - v1[1]]
-
-        def b_a(q, qt):
-            # d2(s u + off n)/dt2 = s_tt u + th_tt (s n - off u) + 2 s_t th_t n - s th_t^2 u - off th_t^2 n
-            (c, s), (nc, ns) = _e(lib, q[0]), _ep(lib, q[0])
-            w, vs = qt
-            return [a2[0] - a1[0] + 2 * vs * w * nc - q[1] * w * w * c - off * w * w * nc,
-                    a2[1] - a1[1] + 2 * vs * w * ns - q[1] * w * w * s - off * w * w * ns]
-
-        def place(q, qt, qtt):
-            lever = (q[0], qt[0], qtt[0])
-            return None, (lever, lever), (q[1], qt[1], qtt[1])
-    return F, J, b_v, b_a, place
-
-
-def _side(lib, g, known, q, joint) -> int:
-    """Which branch q is on, in the scene's terms: RRR the side of J1 -> J2 the new joint
-    lies on (+1 left); RRP +1 if N is ahead of the foot of the perpendicular from J1 along
-    the guide; RPR the sign of s (the contract has s >= 0, so always +1)."""
-    if g.type == "RRR":
-        (p1, _, _), (p2, _, _) = known[g.joints[0]], known[g.joints[2]]
-        n_ = joint[0]
-        v = (p2[0] - p1[0]) * (n_[1] - p1[1]) - (p2[1] - p1[1]) * (n_[0] - p1[0])
-    elif g.type == "RRP":
-        p1 = known[g.joints[0]][0]
-        ux, uy = _e(lib, lib.num(g.guide_angle_deg) * lib.pi() / 180)
-        v = (joint[0][0] - p1[0]) * ux + (joint[0][1] - p1[1]) * uy
-    else:
-        v = q[1]
-    return 1 if v > 0 else -1
-
-
 def _newton(lib, F, J, q, tol, max_iter):
     """Plain Newton from q; returns (q, converged). Converged: the last step was below
     tol * (1 + |q|) and the residual is small for the number type."""
@@ -290,12 +186,14 @@ def jacobian_sine(J) -> float:
     return (a * d - b * c) / norm if norm > 0 else 0.0
 
 
-def _walk(lib, scene: Scene, phi_deg: float, guesses: dict[int, list], tol: float, max_iter: int):
+def _walk(lib, scene: Scene, phi_deg: float, guesses: dict[int, list], tol: float, max_iter: int,
+          until: int | None = None):
     """Kinematics at one crank angle by the loop equations, placing the plan in order.
 
     guesses: group index -> starting q. Returns (values name -> number, q per group,
     problems: list of (group, "no convergence" | "branch jump"), the jacobian_sine of each
-    group's Jacobian at its answer).
+    group's Jacobian at its answer). With `until` = a group's index: stops before placing
+    that group and returns (known, links) as its loop equations take them.
     """
     n = lib.num
     crank = scene.crank
@@ -310,7 +208,10 @@ def _walk(lib, scene: Scene, phi_deg: float, guesses: dict[int, list], tol: floa
                                         n(item.along), n(item.across))
         else:
             g = item
-            F, J, b_v, b_a, place = _loop(lib, g, known)
+            if g.index == until:
+                return known, links
+            kind = kind_of(g)
+            F, J, b_v, b_a, place = kind.loop(lib, g, known, links)
             q, ok = _newton(lib, F, J, [n(x) for x in guesses[g.index]], tol, max_iter)
             if not ok:
                 problems.append((g, "no convergence"))
@@ -319,15 +220,13 @@ def _walk(lib, scene: Scene, phi_deg: float, guesses: dict[int, list], tol: floa
             sines[g.index] = jacobian_sine(Jq)
             qt = lib.solve(Jq, b_v(q))
             qtt = lib.solve(Jq, b_a(q, qt))
-            joint, (la, lb), slide = place(q, qt, qtt)
+            joints, (la, lb), group_slides = place(q, qt, qtt)
             qs[g.index] = q
-            if joint is not None:
-                known[g.joints[1]] = joint
-            if _side(lib, g, known, q, joint) != (g.branch if g.type != "RPR" else 1):
+            known.update(joints)
+            if not kind.side_ok(lib, g, known, links, q, joints):
                 problems.append((g, "branch jump"))
             links[g.links[0]], links[g.links[1]] = la, lb
-            if slide is not None:
-                slides[g.slider] = slide
+            slides.update(group_slides)
     values = {}
     deg = 180 / lib.pi()
     for k in scene.links:
@@ -338,8 +237,8 @@ def _walk(lib, scene: Scene, phi_deg: float, guesses: dict[int, list], tol: floa
         (x, y), (vx, vy), (ax, ay) = known[name]
         values.update({f"x_{name}": x, f"y_{name}": y, f"vx_{name}": vx, f"vy_{name}": vy,
                        f"ax_{name}": ax, f"ay_{name}": ay})
-    for name, (s, vs, as_) in slides.items():
-        values.update({f"s_{name}": s, f"vs_{name}": vs, f"as_{name}": as_})
+    for tag, triple in slides.items():
+        values.update(zip(slide_names(tag), triple))
     return values, qs, problems, sines
 
 
@@ -348,13 +247,7 @@ def _unknowns(scene: Scene, phi_deg) -> list[dict[int, list[float]]]:
     sol = solve(scene, phi_deg)
     out = [{} for _ in np.atleast_1d(phi_deg)]
     for g in scene.groups:
-        la, lb = g.links
-        if g.type == "RRR":
-            qa = np.arctan2(sol.links[la].s, sol.links[la].c)
-            qb = np.arctan2(sol.links[lb].s, sol.links[lb].c)
-        else:
-            qa = np.arctan2(sol.links[la].s, sol.links[la].c)
-            qb = sol.slides[g.slider].s
+        qa, qb = kind_of(g).unknowns(g, sol)
         for i, d in enumerate(out):
             d[g.index] = [float(qa[i]), float(qb[i])]
     return out
@@ -480,7 +373,7 @@ def fd_values(scene: Scene, phis, h: float) -> dict[str, np.ndarray]:
         values[f"phi_{k}"], values[f"omega_{k}"], values[f"eps_{k}"] = mid, w * d1, w * w * d2 + eps * d1
     coords = [(f"x_{p}", f"vx_{p}", f"ax_{p}") for p in scene.moving_joints + [p.name for p in scene.points]]
     coords += [(f"y_{p}", f"vy_{p}", f"ay_{p}") for p in scene.moving_joints + [p.name for p in scene.points]]
-    coords += [(f"s_{p}", f"vs_{p}", f"as_{p}") for p in scene.sliders]
+    coords += [slide_names(p) for p in scene.sliders]
     for x, v, a in coords:
         lo, mid, hi = np.split(cols[x], 3)
         d1, d2 = (hi - lo) / (2 * h), (hi - 2 * mid + lo) / (h * h)
@@ -786,7 +679,57 @@ STABILITY_COLUMNS = ["family", "d", "distance", "phi_deg", "method", "param", "s
                      "err_pos", "err_vel", "err_acc", "det", "silent"]
 FAMILY_TITLES = {"toggle": "towards a toggle (non-Grashof crank, edge of its range)",
                  "change-point": "towards a change point (s + l = p + q, links in line)",
-                 "gap-edge": "just outside the edge of a non-assembling interval"}
+                 "gap-edge": "just outside the edge of a non-assembling interval",
+                 "slider-toggle": "RRP: towards the coupler standing across its guide (edge of the range)",
+                 "slotted-toggle": "RRP on a moving guide (two rockers, slotted pair): rocker across the kulisa"}
+# families of the group kinds other than the four-bar's RRR: the scene, and the group whose
+# range ends in a toggle (approached from inside, as the "toggle" family)
+_KIND_FAMILIES = {
+    "slider-toggle": ("""\
+title = "Crank-slider with a short coupler: it stands across the guide at the edge of its range"
+[frame]
+O = [0.0, 0.0]
+[crank]
+pivot = "O"
+joint = "A"
+length = 0.25
+positions = 1
+omega = 10.0
+[[group]]
+type = "RRP"
+links = [2, 3]
+joints = ["A", "B"]
+length = 0.2
+guide = { through = [0.0, 0.05], angle_deg = 0.0 }
+branch = 1
+""", 1),
+    "slotted-toggle": ("""\
+title = "Two rockers with a slotted pair: rocker O2 D stands across the kulisa O1 B at the edge"
+[frame]
+O  = [0.0, 0.0]
+O1 = [0.0, -0.53]
+O2 = [-0.45, -0.2]
+[crank]
+pivot = "O"
+joint = "A"
+length = 0.14
+positions = 1
+omega = 20.0
+[[group]]
+type    = "RRR"
+links   = [2, 3]
+joints  = ["A", "B", "O1"]
+lengths = [0.5, 0.34]
+branch  = -1
+[[group]]
+type   = "RRP"
+links  = [4, 5]
+joints = ["O2", "D"]
+length = 0.3
+guide  = { through = "O1", angle_deg = 0.0, link = 3 }
+branch = -1
+""", 2),
+}
 
 _STABILITY_SCENE = """\
 title = "{title}"
@@ -816,7 +759,10 @@ branch = {branch}
 
 
 def stability_scene(family: str) -> Scene:
-    """The four-bar of a stability family ("toggle" and "gap-edge" share theirs)."""
+    """The four-bar of a stability family ("toggle" and "gap-edge" share theirs), or the
+    scene of a family of another group kind."""
+    if family in _KIND_FAMILIES:
+        return parse_scene(_KIND_FAMILIES[family][0], f"<stability {family}>")
     if family in ("toggle", "gap-edge"):
         kw = dict(title="Non-Grashof four-bar: the crank's range ends in a toggle",
                   frame=0.5, crank=0.25, coupler=0.375, rocker=0.25, branch=1)
@@ -857,10 +803,60 @@ def edge_angle_mp(scene: Scene, near_deg: float, dps: int = 50):
     return +root
 
 
+def _group_discriminant_mp(scene: Scene, index: int, phi, guesses):
+    """Group `index`'s discriminant at the crank angle phi (radians, mpf), the groups before
+    it placed by Newton on their loop equations in mpmath (kind.discriminant)."""
+    g = next(g for g in scene.groups if g.index == index)
+    tol = mpmath.mpf(10) ** (-(mpmath.mp.dps - 5))
+    known, links = _walk(MP, scene, phi * 180 / mpmath.pi, guesses, tol, 60, until=index)
+    return kind_of(g).discriminant(MP, g, known, links)
+
+
+def _kind_edge_mp(scene: Scene, index: int, dps: int = 50):
+    """The crank angle (radians, mpf) where group `index`'s range ends (its discriminant's
+    root at the start of the first non-assembling interval the float solver finds)."""
+    from .compute import assembly_gaps
+    gaps = assembly_gaps(scene, np.arange(0.0, 360.0, 1.0))
+    near = gaps[0].start_deg
+    guesses = _unknowns(scene, [near - 0.5])[0]
+    with mpmath.workdps(dps + 10):
+        root = mpmath.findroot(lambda t: _group_discriminant_mp(scene, index, t, guesses),
+                               mpmath.radians(near), tol=mpmath.mpf(10) ** (-dps - 5))
+    return +root
+
+
+def reference_by_continuation(scene: Scene, phi_deg_list, edge, dps: int = 50) -> dict[str, list]:
+    """reference_mp for crank angles approaching `edge` (rad, mpf) from below, in order of
+    decreasing distance: Newton in mpmath walked towards the edge by steps that halve the
+    distance, each started from the last answer (the other branch stays twice as far as
+    the step), from the float solver's answer 0.05 rad away; _REF_EXTRA_DPS guard digits."""
+    out = {name: [] for name in quantity_names(scene)}
+    with mpmath.workdps(dps + _REF_EXTRA_DPS):
+        tol = mpmath.mpf(10) ** (-(dps + 5))
+        d = mpmath.mpf("0.05")
+        guesses = _unknowns(scene, [float(mpmath.degrees(edge - d))])[0]
+        for phi in phi_deg_list:
+            target = edge - mpmath.radians(mpmath.mpf(float(phi)))
+            while True:
+                d = max(d / 2, target)
+                values, qs, problems, _ = _walk(MP, scene, mpmath.degrees(edge - d), guesses, tol, 60)
+                if problems:
+                    raise ArithmeticError(f"reference: {problems[0][0].label}: {problems[0][1]} "
+                                          f"at {float(d)!r} rad from the edge")
+                guesses = qs
+                if d == target:
+                    break
+            for name in out:
+                out[name].append(+values[name])
+    return out
+
+
 def _family_angles(family: str, scene: Scene, distances):
     """The exact singular angle (mpf, rad) and the float crank angles (deg) at the distances."""
     with mpmath.workdps(60):
-        if family == "change-point":
+        if family in _KIND_FAMILIES:
+            edge = _kind_edge_mp(scene, _KIND_FAMILIES[family][1])
+        elif family == "change-point":
             edge = +mpmath.pi                      # all links in line: crank pointing away from O1
         else:
             # the closed form only gives the start: cos phi = (r^2 + d^2 - (L2 + L3)^2) / (2 r d)
@@ -941,7 +937,8 @@ def fd_estimate(scene: Scene, phis) -> np.ndarray:
 def _stability_family(family: str, distances, threshold: float):
     scene = stability_scene(family)
     edge, phis, dist = _family_angles(family, scene, distances)
-    ref = reference_near_singular(scene, phis)
+    ref = (reference_by_continuation(scene, phis, edge) if family in _KIND_FAMILIES
+           else reference_near_singular(scene, phis))
     far = float(mpmath.degrees(edge - STABILITY_FAR))
     rows = []
 
@@ -1038,7 +1035,7 @@ def stability_warnings(table: pd.DataFrame, threshold: float = 1e-2) -> list[str
 
 
 def stability_study(out_dir, distances=STABILITY_DISTANCES, threshold: float | None = None):
-    """Run the three families, write out_dir/stability.csv and out_dir/stability.png.
+    """Run the families (FAMILY_TITLES), write out_dir/stability.csv and out_dir/stability.png.
 
     Returns (table, warnings, edges): a DataFrame with STABILITY_COLUMNS (err_* NaN where
     the method gave no number or no position exists; `silent` True where a method printed
@@ -1065,7 +1062,7 @@ _KIND_STYLES = {"err_pos": ("-", "o"), "err_vel": ("--", "s"), "err_acc": (":", 
 
 
 def plot_stability(table: pd.DataFrame, path) -> None:
-    """Three panels (the families): each method's error against the distance d, log-log,
+    """One panel per family (three a row): each method's error against the distance d, log-log,
     one line per method and quantity; a hollow marker where the method flagged the
     position; where it gave no number, a cross at the top with its status."""
     import matplotlib
@@ -1073,10 +1070,15 @@ def plot_stability(table: pd.DataFrame, path) -> None:
     import matplotlib.pyplot as plt
 
     fams = list(FAMILY_TITLES)
-    fig, axes = plt.subplots(1, len(fams), figsize=(6 * len(fams), 6), sharey=True)
+    ncols = min(3, len(fams))
+    nrows = -(-len(fams) // ncols)
+    fig, axes = plt.subplots(nrows, ncols, figsize=(6 * ncols, 6 * nrows), sharey=True, squeeze=False)
+    for ax in axes.flat[len(fams):]:
+        ax.set_visible(False)
+    axes = axes.flat[:len(fams)]
     clip = 1e8          # errors above are drawn here (wrong in every digit anyway)
     levels = {"solver": 1e10, "newton": 1e12, "fd": 1e14}    # rows of "no number" crosses
-    for ax, fam in zip(np.atleast_1d(axes), fams):
+    for ax, fam in zip(axes, fams):
         t = table[table["family"] == fam]
         for m, colour in _METHOD_COLOURS.items():
             tm = t[t["method"] == m]
@@ -1099,12 +1101,12 @@ def plot_stability(table: pd.DataFrame, path) -> None:
         ax.set_xlabel("distance d from the singular crank angle, rad")
         ax.invert_xaxis()
         ax.grid(True, which="major", alpha=0.3)
-    first = np.atleast_1d(axes)[0]
+    first = axes[0]
     first.set_ylabel(f"error against mpmath (scaled; >= {clip:.0e} drawn at the line)")
     fig.legend(*first.get_legend_handles_labels(), fontsize=8, ncol=9, loc="lower center")
     fig.suptitle("stability: error against distance to the singular position; hollow marker: "
                  "the method flagged it; x on top: no number (the status says why)", fontsize=10)
-    fig.tight_layout(rect=(0, 0.06, 1, 1))
+    fig.tight_layout(rect=(0, 0.06 / nrows, 1, 1))
     fig.savefig(path, dpi=100)
     plt.close(fig)
 

@@ -2,15 +2,20 @@
 `sheetkin bench SCENE.toml --out DIR`, `sheetkin synth crank-rocker ...`, ...
 
 Exit codes: 0 done, 1 `workbook --check` found a stale or missing workbook, 2 unusable
-input (a scene mistake, a bad option), 3 the mechanism cannot be assembled at some
-requested position (the message gives the intervals).
+input (a scene mistake, a bad option) or unwritable output (a full disk, a closed pipe, an
+output option naming an input file), 3 the mechanism cannot be assembled at some
+requested position (the message gives the intervals), 70 a bug (one line asking to report
+it; SHEETKIN_DEBUG=1 shows the traceback).
 Every error is one line on stderr; no traceback reaches the user.
 """
 from __future__ import annotations
 
 import argparse
+import io
 import json
 import math
+import os
+import re
 import shutil
 import sys
 from pathlib import Path
@@ -19,9 +24,12 @@ import numpy as np
 
 from . import __version__
 from .compute import TOGGLE_THRESHOLD, AssemblyError, assembly_gaps, compute, unit
-from .scene import SceneError, load_scene, override_crank
+from .scene import (MAX_MAGNITUDE, MAX_POSITIONS, WORKBOOK_MAX_POSITIONS, SceneError, key_line, load_scene,
+                    one_line, override_crank)
 
 EXIT_INPUT, EXIT_ASSEMBLY = 2, 3
+EXIT_INTERNAL = 70          # a bug (BSD's EX_SOFTWARE): one line, and a request to report it
+_NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-(inf|infinity|nan)$", re.I)
 
 
 def _finite_float(text: str) -> float:
@@ -31,6 +39,8 @@ def _finite_float(text: str) -> float:
         raise argparse.ArgumentTypeError(f"expected a number of degrees, got {text!r}") from None
     if not math.isfinite(v):
         raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
+    if abs(v) > MAX_MAGNITUDE:      # the scene's cap on numbers (README, "Scene files")
+        raise argparse.ArgumentTypeError(f"expected a magnitude of at most {MAX_MAGNITUDE:g}, got {text!r}")
     return v
 
 
@@ -41,6 +51,8 @@ def _positive_int(text: str) -> int:
         raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
     if v < 1:
         raise argparse.ArgumentTypeError(f"expected a number >= 1, got {text!r}")
+    if v > MAX_POSITIONS:
+        raise argparse.ArgumentTypeError(f"expected at most {MAX_POSITIONS:,}, got {text!r}")
     return v
 
 
@@ -54,6 +66,13 @@ def _positive_float(text: str) -> float:
 class _Parser(argparse.ArgumentParser):
     """argparse, but a mistake is one line (no usage block), as every sheetkin error."""
 
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        # argparse takes "-1e-07" for an option: its test for a negative number knows no
+        # exponent (`--at -1e-07` said "expected one argument"). No sheetkin option looks
+        # like a number, so every number-like token is a value.
+        self._negative_number_matcher = _NEGATIVE_NUMBER
+
     def error(self, message):
         self.exit(EXIT_INPUT, f"sheetkin: error: {message} (see '{self.prog} --help')\n")
 
@@ -62,15 +81,16 @@ def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(
         prog="sheetkin",
         description="Kinematic analysis of planar linkages in the spreadsheet workflow of "
-                    "Alyushin's course (MGGU).")
+                    "Alyushin's course (MGGU). Scene files (every key, group kind and output "
+                    "name): docs/scene-format.md in the repository.")
     parser.add_argument("--version", action="version", version=f"sheetkin {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     p = sub.add_parser(
         "compute", help="positions, velocities and accelerations of every link and point",
-        description="Compute the kinematics of a scene (see README, 'Scene files') at every "
+        description="Compute the kinematics of a scene (docs/scene-format.md) at every "
                     "crank position: link angles, angular velocities and accelerations; "
                     "coordinates, velocities and accelerations of every moving joint and point; "
-                    "slides of sliders. Names follow shared/spec/scene.md.")
+                    "slides of sliders. The scene format and the names: docs/scene-format.md.")
     p.add_argument("scene", metavar="SCENE.toml", help="the scene file")
     p.add_argument("--format", choices=["table", "csv", "json"], default="table",
                    help="table: one row per quantity, readable (default); csv: one row per "
@@ -367,11 +387,7 @@ def cmd_compute(args) -> int:
         text = format_json(df, warnings)
     else:
         text = format_table(df)
-    if args.output:
-        with open(args.output, "w", encoding="utf-8", newline="") as f:
-            f.write(text)
-    else:
-        sys.stdout.write(text)
+    _write(args.output, text)
     for w in warnings:
         print(f"sheetkin: warning: {w}", file=sys.stderr)
     return 0
@@ -391,6 +407,7 @@ def cmd_workbook(args) -> int:
         text = Path(path).read_text(encoding="utf-8-sig")
         if overrides:
             text, scene = override_crank(text, path, **overrides)
+        check_workbook_positions(scene, text, path, "positions" in overrides)
         out = Path(args.output) if args.output else Path(path).with_name(
             Path(path).stem + ("-exercise" if args.exercise else "") + ".xlsx")
         synthesis = parse_synthesis(text, path)
@@ -406,7 +423,7 @@ def cmd_workbook(args) -> int:
             if not out.exists():
                 print(f"sheetkin: {out}: missing (regenerate: sheetkin workbook {path})")
                 stale += 1
-            elif fingerprint(out) != fingerprint(wb):
+            elif existing_fingerprint(out) != fingerprint(wb):
                 print(f"sheetkin: {out}: stale, differs from {path} (regenerate: sheetkin workbook {path})")
                 stale += 1
             else:
@@ -414,16 +431,42 @@ def cmd_workbook(args) -> int:
             continue
         if out.suffix.lower() != ".xlsx":
             raise SceneError(f"{out}: expected a file name ending in .xlsx")
-        wb.save(out)
+        save_workbook(wb, out)
         print(f"{out}: {scene.crank.positions} positions, {len(scene.groups)} group(s), "
               f"{len(scene.points)} point(s)" + (", synthesis sheet" if synthesis else ""),
               file=sys.stderr)
     return 1 if stale else 0
 
 
+def check_workbook_positions(scene, text: str, path: str, from_option: bool) -> None:
+    """A workbook has one column per position after A-D: refuse more than a sheet holds
+    (Excel's 16,384 columns) with a line naming the scene's key (or the option)."""
+    n = scene.crank.positions
+    if n <= WORKBOOK_MAX_POSITIONS:
+        return
+    what = "--positions" if from_option else (f"{path}:{key_line(text, 'crank', 'positions') or '?'}: "
+                                              "[crank] key 'positions'")
+    raise SceneError(f"{what}: {n:,} positions need {n:,} columns, but a workbook holds at most "
+                     f"{WORKBOOK_MAX_POSITIONS:,} (Excel's 16,384 columns less A-D); `sheetkin compute` "
+                     f"takes up to {MAX_POSITIONS:,}")
+
+
+def existing_fingerprint(path) -> dict:
+    """fingerprint() of a workbook on disk, read through the input gate (xlsxsafe), as
+    `validate` reads: `workbook --check` may meet any file under that name."""
+    from .workbook import fingerprint
+    from .xlsxsafe import UnusableWorkbook, open_package
+    pkg = open_package(path)
+    try:
+        return fingerprint(io.BytesIO(pkg.data))
+    except Exception as e:        # openpyxl on a file that passed the gate but is not its shape
+        raise UnusableWorkbook(path, f"openpyxl cannot read it ({type(e).__name__}: {e})",
+                               "a workbook written by `sheetkin workbook`") from None
+
+
 def cmd_evaluate(args) -> int:
     from .evaluator import evaluate, rows_frame
-    book = evaluate(args.book)
+    book = _evaluate_one_line(evaluate, args.book)
     if args.sheet and args.sheet not in book.sheets:
         raise SceneError(f"{args.book}: no sheet {args.sheet!r}; sheets: {', '.join(book.order)}")
     df = rows_frame(book, args.sheet)
@@ -440,24 +483,106 @@ def cmd_evaluate(args) -> int:
     return 0
 
 
+def _evaluate_one_line(evaluate, path):
+    """evaluate(path), every failure one line: the evaluator's own errors (a cell's
+    problem with strict evaluation, a refused file) pass as they are; anything else (a bug
+    of ours, memory) becomes an EvaluationError naming the file, never a traceback."""
+    from .evaluator import EvaluationError
+    try:
+        return evaluate(path)
+    except (ValueError, OSError) as e:
+        if isinstance(e, OSError) or type(e).__module__.startswith("sheetkin."):
+            raise
+        raise EvaluationError(f"{path}: cannot be evaluated ({type(e).__name__}: {' '.join(str(e).split())[:200]}); "
+                              "please report this file to sheetkin's authors") from None
+    except Exception as e:      # noqa: BLE001 - RecursionError, MemoryError, a bug: one line, exit 2
+        raise EvaluationError(f"{path}: cannot be evaluated ({type(e).__name__}: {' '.join(str(e).split())[:200]}); "
+                              "please report this file to sheetkin's authors") from None
+
+
 def _write(path, text):
     if path:
-        with open(path, "w", encoding="utf-8", newline="") as f:
+        with _writing(path), open(path, "w", encoding="utf-8", newline="") as f:
             f.write(text)
     else:
         sys.stdout.write(text)
 
 
+def save_workbook(wb, path) -> None:
+    """Save an openpyxl workbook: built in memory first, then written in one go, so a
+    full disk is one line naming the file (openpyxl writing to the file itself leaves an
+    open zip whose clean-up prints a second error)."""
+    buf = io.BytesIO()
+    wb.save(buf)
+    with _writing(path), open(path, "wb") as f:
+        f.write(buf.getbuffer())
+
+
+class _writing:
+    """Context: an OSError while writing `path` (a full disk, /dev/full, no permission)
+    comes out naming the file; a write error has no file name of its own."""
+
+    def __init__(self, path):
+        self.path = str(path)
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, kind, e, tb):
+        if isinstance(e, OSError) and not isinstance(e, BrokenPipeError) and not e.filename:
+            raise OSError(e.errno, e.strerror or str(e), self.path) from None
+        return False
+
+
+# --------------------------------------------------------------------------- never overwrite input
+def _command_files(args) -> tuple[list[tuple[str, str]], list[str]]:
+    """(option, path) of every file the command writes, and the files it reads."""
+    out = [(opt, getattr(args, dest)) for opt, dest in
+           (("-o/--output", "output"), ("--html", "html"), ("--workbook", "workbook"))
+           if getattr(args, dest, None)]
+    if args.command == "bench" and args.out:
+        out += [("--out", str(Path(args.out) / f)) for f in
+                ("bench.csv", "bench.png", "stability.csv", "stability.png")]
+    inputs = [p for p in ([getattr(args, "scene", None), getattr(args, "book", None)] +
+                          list(getattr(args, "scenes", None) or [])) if p]
+    if args.command == "validate":
+        inputs += [str(f) for f in _validation_files(args.paths, strict=False)]
+    return out, inputs
+
+
+def _same_file(a: str, b: str) -> bool:
+    """The same file, also through symlinks and hard links (os.path.samefile)."""
+    try:
+        return os.path.samefile(a, b)
+    except OSError:          # one of them does not exist (yet): compare resolved names
+        return Path(a).resolve() == Path(b).resolve()
+
+
+def refuse_overwriting_inputs(args) -> None:
+    """Raise SceneError (one line) if an output option names an input file of the command,
+    or two outputs name one file: `evaluate b.xlsx -o b.xlsx` and `validate b.xlsx --html
+    b.xlsx` used to overwrite the student's workbook."""
+    outputs, inputs = _command_files(args)
+    for k, (opt, path) in enumerate(outputs):
+        for inp in inputs:
+            if os.path.lexists(path) and _same_file(path, inp):
+                raise SceneError(f"{path}: {opt} names the input file {inp}; refusing to overwrite it "
+                                 "(choose another output name)")
+        for opt2, other in outputs[k + 1:]:
+            if opt2 != opt and _same_file(path, other):
+                raise SceneError(f"{path}: both {opt} and {opt2} name this file; choose two names")
+
+
 SPREADSHEET_SUFFIXES = (".xlsx", ".xlsm", ".xltx", ".xltm", ".xls", ".ods", ".fods")
 
 
-def _validation_files(paths: list[str]) -> list[Path]:
+def _validation_files(paths: list[str], strict: bool = True) -> list[Path]:
     out = []
     for p in map(Path, paths):
         if p.is_dir():
             found = sorted(f for f in p.rglob("*") if f.suffix.lower() in SPREADSHEET_SUFFIXES
                            and not f.name.startswith("~$") and f.is_file())
-            if not found:
+            if not found and strict:
                 raise SceneError(f"{p}: no spreadsheet files (.xlsx) in this folder")
             out += found
         else:
@@ -470,6 +595,8 @@ def cmd_validate(args) -> int:
     from .validator import validate
     files = _validation_files(args.paths)
     show = args.progress == "always" or (args.progress == "auto" and sys.stderr.isatty() and len(files) > 1)
+    from .xlsxread import convert_opendocument     # a class's .ods files: one LibreOffice run
+    convert_opendocument(files, note=(lambda t: print(f"sheetkin: {t}", file=sys.stderr)) if show else None)
     reports = []
     for i, f in enumerate(files, 1):
         if show:
@@ -486,8 +613,7 @@ def cmd_validate(args) -> int:
     elif len(reports) > 1:
         sys.stdout.write("\n" + summary_table(reports))
     if args.html:
-        with open(args.html, "w", encoding="utf-8") as fh:
-            fh.write(html_report(reports))
+        _write(args.html, html_report(reports))
     if any(r.error for r in reports):
         return EXIT_INPUT
     return 0 if all(r.ok for r in reports) else 1
@@ -546,9 +672,9 @@ def cmd_synth(args) -> int:
         print(f"{args.output}: written (crank-rocker, theta = {mech.theta_deg:.6g} deg)",
               file=sys.stderr)
     if args.workbook:
-        from .synthesis import write_synthesis_workbook
-        write_synthesis_workbook(args.workbook, args.kw, args.l3, args.yd, args.gamma1_deg,
-                                 args.gamma2_deg, lang=args.lang)
+        from .synthesis import build_synthesis_workbook
+        save_workbook(build_synthesis_workbook(args.kw, args.l3, args.yd, args.gamma1_deg,
+                                               args.gamma2_deg, lang=args.lang), args.workbook)
         print(f"{args.workbook}: written (synthesis sheet)", file=sys.stderr)
     sys.stdout.write(text)
     return 0
@@ -557,27 +683,75 @@ def cmd_synth(args) -> int:
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     try:
-        return {"compute": cmd_compute, "workbook": cmd_workbook, "evaluate": cmd_evaluate,
+        return _run(args)
+    except BrokenPipeError:
+        # `sheetkin compute x.toml | head -1`: the reader left; say so once, no traceback
+        _detach_stdout()
+        print("sheetkin: error: stdout: the reader closed the pipe; output stopped", file=sys.stderr)
+        return EXIT_INPUT
+
+
+def _detach_stdout():
+    """Point stdout at /dev/null, so that the interpreter's last flush of the unwritable
+    stream raises nothing ("Exception ignored ... BrokenPipeError")."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError, AttributeError, io.UnsupportedOperation):
+        pass          # not a real file descriptor (a test's capture)
+
+
+def _run(args) -> int:
+    import warnings
+    # a safety net: numpy's floating-point warnings never reach the user (the computing
+    # functions run under np.errstate; this catches any that a thread would show)
+    warnings.filterwarnings("ignore", category=RuntimeWarning,
+                            message=r".*(overflow|invalid value|divide by zero|underflow) encountered")
+    try:
+        refuse_overwriting_inputs(args)
+        code = {"compute": cmd_compute, "workbook": cmd_workbook, "evaluate": cmd_evaluate,
                 "validate": cmd_validate, "bench": cmd_bench,
                 "synth": cmd_synth, "animate": cmd_animate}[args.command](args)
+        _flush_stdout()
+        return code
     except SceneError as e:
         print(f"sheetkin: error: {e}", file=sys.stderr)
         return EXIT_INPUT
     except AssemblyError as e:
         print(f"sheetkin: error: {getattr(args, 'scene', '')}: {e}", file=sys.stderr)
         return EXIT_ASSEMBLY
-    except OSError as e:
-        print(f"sheetkin: error: {e.filename or ''}: {e.strerror}", file=sys.stderr)
-        return EXIT_INPUT
-    except ValueError as e:
-        # UnusableWorkbook, EvaluationError and the like: their message is the one line
-        if type(e).__module__.startswith("sheetkin."):
-            print(f"sheetkin: error: {e}", file=sys.stderr)
-            return EXIT_INPUT
+    except BrokenPipeError:
         raise
+    except OSError as e:
+        name = e.filename or "stdout"     # a write error without a name: ours name their files
+        if not e.filename:
+            _detach_stdout()
+        print(one_line(f"sheetkin: error: {name}: {e.strerror or e}"), file=sys.stderr)
+        return EXIT_INPUT
+    except MemoryError:
+        print("sheetkin: error: out of memory; use fewer positions (or smaller files)", file=sys.stderr)
+        return EXIT_INPUT
     except KeyboardInterrupt:
         print("sheetkin: interrupted", file=sys.stderr)
         return 130
+    except Exception as e:
+        # UnusableWorkbook, EvaluationError and the like: their message is the one line
+        if isinstance(e, ValueError) and type(e).__module__.startswith("sheetkin."):
+            print(one_line(f"sheetkin: error: {e}", 2000), file=sys.stderr)
+            return EXIT_INPUT
+        if os.environ.get("SHEETKIN_DEBUG"):
+            raise
+        print(one_line(f"sheetkin: internal error: {type(e).__name__}: {e} (a bug in sheetkin "
+                       f"{__version__}: please report it with the command and its files; "
+                       "SHEETKIN_DEBUG=1 shows the traceback)", 2000), file=sys.stderr)
+        return EXIT_INTERNAL
+
+
+def _flush_stdout():
+    """Write out what is buffered now, while a failure (a closed pipe, a full disk) can
+    still be reported in one line."""
+    sys.stdout.flush()
 
 
 if __name__ == "__main__":

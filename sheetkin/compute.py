@@ -1,7 +1,7 @@
 """The reference kinematics of a scene as a table: contract names, units, gaps, toggles.
 
 `compute(scene)` returns a pandas DataFrame, one row per crank position, columns named as
-in shared/spec/scene.md ("Output names"), followed by sheetkin's own extra columns:
+in docs/scene-format.md ("Output names"), followed by sheetkin's own extra columns:
   assembled       False where some group cannot assemble (only with allow_gaps=True)
   det_g<i>        group i's normalised Jacobian determinant (toggle measure)
   near_toggle     the groups (e.g. "1" or "1,2") whose |det| is below the threshold, else ""
@@ -21,6 +21,7 @@ import pandas as pd
 
 from .dynamics import dynamics as solve_dynamics
 from .dynamics import dynamics_names
+from .motion import slide_names
 from .scene import Scene, load_scene
 from .solver import Solution, solve
 
@@ -35,6 +36,15 @@ CHUNK = 16384
 
 class AssemblyError(ValueError):
     """The mechanism cannot be assembled at some requested crank positions."""
+
+
+class NumericOverflow(ValueError):
+    """A result is not a finite number where the mechanism assembles and is not at a toggle
+    (the scene's numbers, within the scene caps, still overflow): one line, never `inf`."""
+
+
+class TooLarge(ValueError):
+    """The table would not fit in this machine's available memory."""
 
 
 @dataclass(frozen=True)
@@ -55,7 +65,7 @@ def column_names(scene: Scene) -> list[str]:
     for p in scene.moving_joints + [p.name for p in scene.points]:
         cols += [f"{q}_{p}" for q in ("x", "y", "vx", "vy", "v", "ax", "ay", "a")]
     for p in scene.sliders:
-        cols += [f"s_{p}", f"vs_{p}", f"as_{p}"]
+        cols += list(slide_names(p))
     return cols
 
 
@@ -73,7 +83,8 @@ _WHOLE_UNITS = {"T_t": "W", "U_t": "W", "P_ext": "W", "P_bal": "W", "balance": "
 
 
 def unit(column: str) -> str:
-    return _WHOLE_UNITS.get(column) or _UNITS.get(column.split("_", 1)[0], "")
+    # s2_N, vs2_N, as2_N (a group's second slide) have the units of s, vs, as
+    return _WHOLE_UNITS.get(column) or _UNITS.get(column.split("_", 1)[0].rstrip("0123456789"), "")
 
 
 def analog_name(column: str) -> str:
@@ -113,11 +124,10 @@ def solution_columns(scene: Scene, sol: Solution, out: dict | None = None) -> di
             put(f"{q}_{name}", value)
         _norm(m.vx, m.vy, out[f"v_{name}"])
         _norm(m.ax, m.ay, out[f"a_{name}"])
-    for name in scene.sliders:
-        sl = sol.slides[name]
-        put(f"s_{name}", sl.s)
-        put(f"vs_{name}", sl.vs)
-        put(f"as_{name}", sl.as_)
+    for tag in scene.sliders:
+        sl = sol.slides[tag]
+        for name, value in zip(slide_names(tag), (sl.s, sl.vs, sl.as_)):
+            put(name, value)
     return out
 
 
@@ -222,18 +232,51 @@ def table_names(scene: Scene, analogs: bool = False, dynamics: bool = False) -> 
     return names + [f"det_g{g.index}" for g in scene.groups]
 
 
+def available_memory() -> int | None:
+    """Bytes this process may still allocate (Linux MemAvailable), None if unknown."""
+    try:
+        with open("/proc/meminfo", encoding="ascii") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    return None
+
+
+def check_table_fits(scene: Scene, n: int, n_columns: int) -> None:
+    """Refuse (TooLarge, one line) a table of n positions x n_columns float64 that would
+    not fit in the memory available now: better than an allocation that the kernel kills
+    halfway (Linux overcommits, so np.empty itself seldom fails)."""
+    need = 8 * n * n_columns
+    have = available_memory()
+    if have is not None and need > 0.9 * have:
+        raise TooLarge(f"{scene.source}: {n:,} positions x {n_columns} columns need {need / 1e9:.1f} GB "
+                       f"in memory, {have / 1e9:.1f} GB are available; compute fewer positions at a "
+                       "time (e.g. split the crank angles with --at or phi0_deg/positions)")
+
+
+def _finite_positions(block: np.ndarray) -> np.ndarray:
+    """Per position (column of the chunk), True if every value in it is finite."""
+    return np.isfinite(block).all(axis=0)
+
+
 def solve_table(scene: Scene, phi_deg, *, analogs: bool = False, dynamics: bool = False,
-                threads: int | None = None):
+                threads: int | None = None, finite: np.ndarray | None = None):
     """Solve in cache-sized chunks (on `threads` threads) into one preallocated table.
 
     Returns (names, table, failed): table[j] is the column names[j] (see table_names);
     failed[i - 1] marks where group i cannot assemble. The analogs are the same solve
-    with omega = 1, epsilon = 0 (d/dphi and d2/dphi2).
+    with omega = 1, epsilon = 0 (d/dphi and d2/dphi2). With `finite` (a bool array, one
+    per position), each chunk marks there whether all its values are finite while they
+    are still in cache. numpy's floating-point warnings are off: NaN marks a group that
+    cannot assemble, inf a toggle, both reported by the callers in their own words.
     """
     _keep_temporaries_in_heap()
     phi = np.asarray(phi_deg, dtype=float).reshape(-1)
     n = phi.size
     names = table_names(scene, analogs, dynamics)
+    check_table_fits(scene, n, len(names))
     table = np.empty((len(names), n))
     failed = np.zeros((len(scene.groups), n), dtype=bool)
     row_of = {name: j for j, name in enumerate(names)}
@@ -241,6 +284,10 @@ def solve_table(scene: Scene, phi_deg, *, analogs: bool = False, dynamics: bool 
     analog_of = {analog_name(c): c for c in contract if c.split("_", 1)[0] in ANALOG_HEADS}
 
     def run(start: int, stop: int):
+        with np.errstate(all="ignore"):     # per thread: numpy's error state is thread-local
+            _run(start, stop)
+
+    def _run(start: int, stop: int):
         for a in range(start, stop, CHUNK):
             b = min(a + CHUNK, stop)
             sol = solve(scene, phi[a:b])
@@ -256,6 +303,8 @@ def solve_table(scene: Scene, phi_deg, *, analogs: bool = False, dynamics: bool 
                 q = solution_columns(scene, solve(scene, phi[a:b], omega=1.0, epsilon=0.0))
                 for name, base in analog_of.items():
                     np.copyto(table[row_of[name], a:b], q[base])
+            if finite is not None:
+                finite[a:b] = _finite_positions(table[:, a:b])
 
     threads = threads or min(2, os.cpu_count() or 1)
     if threads > 1 and n > 4 * CHUNK:
@@ -285,21 +334,51 @@ def compute(scene: Scene | str | Path, at=None, *, analogs: bool = False, allow_
     if dynamics and not scene.has_dynamics:
         raise ValueError(f"{scene.source}: no [[mass]] or [[force]] tables, so there is nothing for "
                          "the dynamics to compute (see the README: masses, forces, gravity)")
-    phi = np.asarray(scene.crank_angles_deg() if at is None else at, dtype=float).reshape(-1)
-    names, table, failed = solve_table(scene, phi, analogs=analogs, dynamics=dynamics)
+    c = scene.crank
+    # refused before anything is allocated (touching 1e8 fresh angles alone takes seconds)
+    check_table_fits(scene, c.positions if at is None else np.size(at),
+                     len(table_names(scene, analogs, dynamics)))
+    # the scene's angles as crank_angles_deg() gives them (the same float operations), without
+    # a Python list: 1e8 positions would be 3 GB of float objects
+    phi = (c.phi0_deg + np.arange(c.positions, dtype=float) * c.step_deg if at is None else
+           np.asarray(at, dtype=float).reshape(-1))
+    finite = np.ones(phi.size, dtype=bool)
+    names, table, failed = solve_table(scene, phi, analogs=analogs, dynamics=dynamics, finite=finite)
     fail = failed.any(axis=0)
+    n_det = len(scene.groups)
+    if not finite.all():
+        _undefined_at_toggles(scene, names, table, phi, ~finite & ~fail, toggle_threshold)
     if fail.any() and not allow_gaps:
         gaps = assembly_gaps(scene, phi)
         raise AssemblyError("; ".join(map(str, gaps)) +
                             f" ({int(fail.sum())} of {fail.size} positions; use --allow-gaps to keep the rest)")
     # the table's rows become the frame's columns without a copy (one float block)
     df = pd.DataFrame(table.T, columns=names, copy=False)
-    n_det = len(scene.groups)
     if fail.any():
         df.insert(len(names) - n_det, "assembled", ~fail)
     df["near_toggle"] = _near_toggle(table[len(names) - n_det:].T, fail, toggle_threshold)
     df.attrs["title"] = scene.title
     return df
+
+
+def _undefined_at_toggles(scene: Scene, names: list[str], table: np.ndarray, phi: np.ndarray,
+                          where: np.ndarray, threshold: float) -> None:
+    """Non-finite values at assembled positions (`where`): at a toggle (some group's |det|
+    below the threshold, flagged as near_toggle and warned about) the rates are undefined
+    and become NaN (an empty CSV cell, JSON null), never `inf`; anywhere else they are an
+    overflow, NumericOverflow naming the first column and crank angle."""
+    cols = np.flatnonzero(where)
+    dets = table[len(names) - len(scene.groups):][:, cols]
+    at_toggle = (~(np.abs(dets) >= threshold)).any(axis=0)
+    block = table[:, cols]
+    if not at_toggle.all():
+        k = int(np.flatnonzero(~at_toggle)[0])
+        j = int(np.flatnonzero(~np.isfinite(block[:, k]))[0])
+        raise NumericOverflow(f"{scene.source}: {names[j]} = {block[j, k]} at crank angle {phi[cols[k]]:g} "
+                              "deg: the result overflows double precision (the mechanism's numbers "
+                              "are too large or too small for each other)")
+    block[~np.isfinite(block)] = np.nan
+    table[:, cols] = block
 
 
 def _near_toggle(dets: np.ndarray, fail: np.ndarray, threshold: float) -> pd.Categorical:

@@ -23,6 +23,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .compute import assembly_gaps, compute
+from .group import Guide as SceneGuide
+from .groups import kind_of
 from .scene import Group, Scene
 
 FINE_POSITIONS = 360        # the paths: one point per degree of the crank
@@ -39,6 +41,8 @@ class Guide:
     slider: str
     offset: float = 0.0
     group: int = 0          # the group that defines it (the workbook's inputs gx_g<i>, ...)
+    foot_of: str | None = None   # a slot: the line through `slider` along phi_link, based at
+                                 # the foot of this point (the lever's pivot) on it
 
 
 @dataclass(frozen=True)
@@ -102,36 +106,43 @@ STYLES = {
 
 
 # --------------------------------------------------------------------------- structure
-def _rrr_parts(g: Group):
-    (la, lb), (j1, n, j2) = g.links, g.joints
-    return {la: (j1, n), lb: (n, j2)}, [], []
-
-
-def _rrp_parts(g: Group):
-    (la, lb), (j1, n) = g.links, g.joints
-    # a guide on a moving link (the groups refactor) names its link and a point of it
-    guide = Guide(getattr(g, "guide_link", 0), getattr(g, "guide_through", None) or g.guide_point,
-                  g.guide_angle_deg, n, group=g.index)
-    return {la: (j1, n), lb: (n,)}, [guide], [Block(lb, n, guide)]
-
-
-def _rpr_parts(g: Group):
-    (la, lb), (j1, j2) = g.links, g.joints
-    slot = Guide(lb, j2, 0.0, j1, g.offset, g.index)      # the slot: along phi_b, offset from J2
-    return {la: (j1,), lb: (j2,)}, [slot], [Block(la, j1, slot)]
-
-
-# Per kind: links -> their points, guides, blocks. The only kind-specific table here.
-_PARTS = {"RRR": _rrr_parts, "RRP": _rrp_parts, "RPR": _rpr_parts}
+def _scene_guides(params) -> list:
+    """The group.Guide objects among a kind's parameters (RRP's `guide`, PRP's `guides`)."""
+    out = []
+    for name in getattr(params, "__dataclass_fields__", {}):
+        v = getattr(params, name)
+        for item in (v if isinstance(v, tuple) else (v,)):
+            if isinstance(item, SceneGuide):
+                out.append(item)
+    return out
 
 
 def group_parts(g: Group):
-    """(members {link: points}, guides, blocks) of one group; a kind without an entry is
-    drawn by its joints alone (every joint on both links)."""
-    parts = getattr(g, "drawing_parts", None) or _PARTS.get(g.type)
-    if parts is None:
-        return {k: tuple(g.joints) for k in g.links}, [], []
-    return parts(g)
+    """(members {link: points}, guides, blocks) of one group, from the kind's own answers
+    (sheetkin.groups: carries, sliders) and its parameters, with no test of the kind:
+    a link that carries nothing but a slider's joint is a block, turned along its own angle
+    phi_k; a guide among the parameters is drawn through its point on its link, with the
+    block's joint sliding on it; a block on no such guide slides in a slot of the group's
+    other link (the kulisa), drawn through the block's joint along phi_k from the foot of
+    that link's joint."""
+    kind = kind_of(g)
+    carried = {k: tuple(v) for k, v in kind.carries(g).items()}
+    sliding = [t.split("_", 1)[1] if t.startswith("2_") else t for t in kind.sliders(g)]
+    blocks = [(k, pts[0]) for k, pts in carried.items() if len(pts) == 1 and pts[0] in sliding]
+    guides, out_blocks = [], []
+    explicit = _scene_guides(getattr(g, "params", None))
+    for n, (k, joint) in enumerate(blocks):
+        if n < len(explicit):
+            gd = explicit[n]
+            through = gd.point if gd.link == 0 and gd.point is not None else gd.through
+            guide = Guide(gd.link, through, gd.angle_deg, joint, group=g.index)
+        else:
+            other = next(x for x in g.links if x != k)
+            foot = next((p for p in carried.get(other, ()) if p != joint), None)
+            guide = Guide(k, joint, 0.0, joint, group=g.index, foot_of=foot)
+        guides.append(guide)
+        out_blocks.append(Block(k, joint, guide))
+    return carried, guides, out_blocks
 
 
 def structure(scene: Scene) -> Structure:
@@ -178,6 +189,10 @@ def guide_frame(scene: Scene, df, g: Guide):
     a = link_angle(df, g.link) + math.radians(g.angle_deg)
     u = np.column_stack([np.cos(a), np.sin(a)])
     nrm = np.column_stack([-u[:, 1], u[:, 0]])
+    if g.foot_of is not None:          # a slot: the foot of the lever's joint on the line
+        p = point_xy(scene, df, g.foot_of)
+        d = np.einsum("ij,ij->i", point_xy(scene, df, g.slider) - p, nrm)
+        return p + d[:, None] * nrm, u
     return point_xy(scene, df, g.through) + g.offset * nrm, u
 
 

@@ -29,41 +29,24 @@ Names (columns of `compute --dynamics`, rows of the workbook):
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 
-from .scene import Force, Group, Scene
-from .solver import Motion, Solution, cramer, inverse_det
-
-
-@dataclass(frozen=True)
-class Pair:
-    """A kinematic pair whose reaction is computed: the force of link i on link j."""
-    i: int
-    j: int
-    joint: str          # where the force acts (for a sliding pair: the slider's joint)
-    sliding: bool = False
-
-    @property
-    def tag(self) -> str:
-        return f"{self.i}_{self.j}"
-
+from .groups import kind_of
+from .motion import Loads, Motion, Pair
+from .scene import Force, Scene
+from .solver import Solution
 
 def point_owners(scene: Scene) -> dict[str, int]:
     """The link a later group is hinged to when it uses a point as its joint.
 
     Frame points belong to link 0, the crank's joint to the crank, a [[point]] to its link.
-    A dyad's new joint carries three links once a later group uses it; the pin is taken to
-    belong to the dyad's first link for RRR (the coupler) and to the slider for RRP.
+    A dyad's new joint carries three links once a later group uses it; each kind says which
+    of its links the pin belongs to (`pin_owner`: RRR the coupler, RRP the slider).
     """
     owner = {name: 0 for name in scene.frame}
     owner[scene.crank.joint] = 1
     for g in scene.groups:
-        if g.type == "RRR":
-            owner[g.joints[1]] = g.links[0]
-        elif g.type == "RRP":
-            owner[g.joints[1]] = g.links[1]
+        owner.update(kind_of(g).pin_owner(g))
     for p in scene.points:
         owner[p.name] = p.link
     return owner
@@ -74,14 +57,7 @@ def reaction_pairs(scene: Scene) -> list[Pair]:
     owner = point_owners(scene)
     pairs = [Pair(0, 1, scene.crank.pivot)]
     for g in scene.groups:
-        a, b = g.links
-        j1 = g.joints[0]
-        if g.type == "RRR":
-            pairs += [Pair(owner[j1], a, j1), Pair(a, b, g.joints[1]), Pair(owner[g.joints[2]], b, g.joints[2])]
-        elif g.type == "RRP":
-            pairs += [Pair(owner[j1], a, j1), Pair(a, b, g.joints[1]), Pair(0, b, g.joints[1], True)]
-        else:
-            pairs += [Pair(owner[j1], a, j1), Pair(a, b, j1, True), Pair(owner[g.joints[1]], b, g.joints[1])]
+        pairs += kind_of(g).pairs(g, owner)
     return pairs
 
 
@@ -111,27 +87,6 @@ def force_active(force: Force, phi_deg) -> np.ndarray:
     return ((phi - lo) % 360.0 <= hi - lo).astype(float)
 
 
-@dataclass
-class _Loads:
-    """Forces (x, y, fx, fy) and couples acting on one link, all arrays over positions."""
-    forces: list = field(default_factory=list)
-    couple: object = 0.0
-
-    def add(self, at: Motion, fx, fy):
-        self.forces.append((at.x, at.y, fx, fy))
-
-    def resultant(self):
-        return sum(f[2] for f in self.forces) + 0.0, sum(f[3] for f in self.forces) + 0.0
-
-    def moment(self, px, py):
-        """Moment about (px, py), counterclockwise positive."""
-        return self.couple + sum((x - px) * fy - (y - py) * fx for x, y, fx, fy in self.forces)
-
-
-def _cross(dx, dy, fx, fy):
-    return dx * fy - dy * fx
-
-
 def dynamics(scene: Scene, sol: Solution) -> dict[str, np.ndarray]:
     """Energies, inertia forces, joint reactions and the balancing moment at every position
     of a Solution (see the module's docstring for the names)."""
@@ -142,7 +97,7 @@ def dynamics(scene: Scene, sol: Solution) -> dict[str, np.ndarray]:
     gx, gy = scene.gravity
     gravity = bool(gx or gy)
     out: dict[str, np.ndarray] = {}
-    loads = {k: _Loads() for k in range(0, 2 + 2 * len(scene.groups))}   # 0: the frame
+    loads = {k: Loads() for k in range(0, 2 + 2 * len(scene.groups))}   # 0: the frame
     t_sum, u_sum, t_rate, u_rate = zero, zero, zero, zero
     for m in scene.masses:
         k, s, rot = m.link, sol.points.get(m.centre) or _frame_point(scene, m.centre, n), sol.links[m.link]
@@ -187,7 +142,7 @@ def dynamics(scene: Scene, sol: Solution) -> dict[str, np.ndarray]:
     # kinematics' rates do (compute flags those positions)
     with np.errstate(divide="ignore", invalid="ignore"):
         for g in reversed(scene.groups):
-            reactions.update(_group_reactions(g, known, sol, loads, owner))
+            reactions.update(kind_of(g).reactions(g, known, sol.links, loads, owner))
     # the crank: R_0_1 balances everything on it; the moment about the pivot gives M_bal
     o = known[scene.crank.pivot]
     fx, fy = loads[1].resultant()
@@ -208,58 +163,3 @@ def _frame_point(scene: Scene, name: str, shape) -> Motion:
     x, y = scene.frame[name]
     z = np.zeros(shape)
     return Motion(x + z, y + z, z, z, z, z)
-
-
-def _group_reactions(g: Group, known, sol: Solution, loads, owner) -> dict[str, tuple]:
-    """One dyad's reactions from its links' loads; adds what it exerts on earlier links to
-    their loads. Returns {pair tag: (Rx, Ry, couple or None)}, forces of i on j."""
-    a, b = g.links
-    la, lb = loads[a], loads[b]
-    fax, fay = la.resultant()
-    fbx, fby = lb.resultant()
-    fx, fy = fax + fbx, fay + fby
-    j1 = known[g.joints[0]]
-    if g.type == "RRR":
-        # a: R1 + X + Fa = 0, (J1 - N) x R1 + Ma(N) = 0; b: R2 - X + Fb = 0,
-        # (J2 - N) x R2 + Mb(N) = 0. With R2 = -F - R1 both moment equations are in R1.
-        nj, j2 = known[g.joints[1]], known[g.joints[2]]
-        d1x, d1y, d2x, d2y = j1.x - nj.x, j1.y - nj.y, j2.x - nj.x, j2.y - nj.y
-        m11, m12, m21, m22 = -d1y, d1x, -d2y, d2x
-        _, inv = inverse_det(m11, m12, m21, m22)     # zero at the toggle, as the kinematics'
-        r1x, r1y = cramer(m11, m12, m21, m22, -la.moment(nj.x, nj.y),
-                          lb.moment(nj.x, nj.y) - _cross(d2x, d2y, fx, fy), inv)
-        r2x, r2y = -fx - r1x, -fy - r1y
-        xx, xy = -r1x - fax, -r1y - fay           # force of b on a at N
-        loads[owner[g.joints[0]]].add(j1, -r1x, -r1y)
-        loads[owner[g.joints[2]]].add(j2, -r2x, -r2y)
-        return {f"{owner[g.joints[0]]}_{a}": (r1x, r1y, None), f"{a}_{b}": (-xx, -xy, None),
-                f"{owner[g.joints[2]]}_{b}": (r2x, r2y, None)}
-    if g.type == "RRP":
-        # a: R1 + X + Fa = 0, (J1 - N) x R1 + Ma(N) = 0; slider b: -X + Q n + Fb = 0 and its
-        # guide couple Mq = -Mb(N). Along the guide u: R1.u = -F.u (Q n has no u part).
-        nj = known[g.joints[1]]
-        gam = np.radians(g.guide_angle_deg)
-        ux, uy = np.cos(gam), np.sin(gam)
-        d1x, d1y = j1.x - nj.x, j1.y - nj.y
-        m11, m12, m21, m22 = ux, uy, -d1y, d1x
-        _, inv = inverse_det(m11, m12, m21, m22)     # zero when the coupler is across the guide
-        r1x, r1y = cramer(m11, m12, m21, m22, -(fx * ux + fy * uy), -la.moment(nj.x, nj.y), inv)
-        q = (r1x + fx) * uy - (r1y + fy) * ux     # -(R1 + F).n with n = (-uy, ux)
-        xx, xy = -r1x - fax, -r1y - fay
-        loads[owner[g.joints[0]]].add(j1, -r1x, -r1y)
-        return {f"{owner[g.joints[0]]}_{a}": (r1x, r1y, None), f"{a}_{b}": (-xx, -xy, None),
-                f"0_{b}": (-q * uy, q * ux, -lb.moment(nj.x, nj.y))}
-    # RPR: block a on J1, slotted lever b about J2, slot direction e, normal n. The lever
-    # acts on the block with P n through J1 and a couple C: block: R1 + P n + Fa = 0,
-    # C + Ma(J1) = 0; lever about J2: (J1 - J2) x (-P n) - C + Mb(J2) = 0, R2 - P n + Fb = 0.
-    j2 = known[g.joints[1]]
-    rot = sol.links[b]
-    nx, ny = -rot.s, rot.c
-    c = -la.moment(j1.x, j1.y)
-    p = (lb.moment(j2.x, j2.y) - c) / _cross(j1.x - j2.x, j1.y - j2.y, nx, ny)   # /s: 0 at the pivot
-    r1x, r1y = -p * nx - fax, -p * ny - fay
-    r2x, r2y = p * nx - fbx, p * ny - fby
-    loads[owner[g.joints[0]]].add(j1, -r1x, -r1y)
-    loads[owner[g.joints[1]]].add(j2, -r2x, -r2y)
-    return {f"{owner[g.joints[0]]}_{a}": (r1x, r1y, None), f"{a}_{b}": (-p * nx, -p * ny, -c),
-            f"{owner[g.joints[1]]}_{b}": (r2x, r2y, None)}

@@ -28,6 +28,7 @@ shape (cells, rows, cols): (k, 1, 1) for one value per cell of a run, (k, R, C) 
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 import re
 from dataclasses import dataclass
@@ -42,7 +43,7 @@ from openpyxl.utils import column_index_from_string, get_column_letter
 from . import functions as fx
 from .functions import DIV0, ERROR_TEXT, ERRORS, NA, NAME, NULL, NUMERR, REF, VALUE  # noqa: F401
 from .xlsxread import _MAX_COL, _MAX_ROW, Sheet, _Template, read_book
-from .xlsxsafe import Limits
+from .xlsxsafe import Limits, UnusableWorkbook, _show
 
 NUM, BOOL, TEXT, EMPTY = 0, 1, 2, 3
 
@@ -398,25 +399,58 @@ def _scalar(num, err) -> Val:
     return _result(num.reshape(-1, 1, 1), err.reshape(-1, 1, 1))
 
 
+def _one_block_for_all(args) -> bool:
+    """Whether an argument is one block shared by the cells of a run (an absolute range)
+    while others have a value per cell: then each argument is reduced on its own, never
+    copied once per cell (=SUM(A5,$A$1:$Z$9999) filled over 4000 columns)."""
+    k = max(v.shape[0] for v in args)
+    return k > 1 and any(v.shape[0] != k and v.num[0].size > 1 for v in args)
+
+
+def _by_argument(args, ranges, reduce):
+    """reduce(num, use) -> tuple of (k_i,) arrays, for each argument; with the first error."""
+    k = max(v.shape[0] for v in args)
+    parts, errs = [], []
+    for v, r in zip(args, ranges):
+        n, use, err = _values_of([v], [r])
+        parts.append(tuple(np.broadcast_to(x, (k,)) for x in reduce(n, use)))
+        errs.append(np.broadcast_to(err, (k,)))
+    return parts, _first_error(np.stack(errs, axis=1))
+
+
 def _agg_sum(args, ranges):
+    if _one_block_for_all(args):
+        parts, err = _by_argument(args, ranges, lambda n, use: (np.where(use, n, 0.0).sum(axis=1),))
+        return _scalar(sum(p[0] for p in parts), err)
     n, use, err = _values_of(args, ranges)
     return _scalar(np.where(use, n, 0.0).sum(axis=1), err)
 
 
 def _agg_average(args, ranges):
-    n, use, err = _values_of(args, ranges)
-    cnt = use.sum(axis=1)
+    if _one_block_for_all(args):
+        parts, err = _by_argument(args, ranges, lambda n, use: (np.where(use, n, 0.0).sum(axis=1), use.sum(axis=1)))
+        total, cnt = sum(p[0] for p in parts), sum(p[1] for p in parts)
+    else:
+        n, use, err = _values_of(args, ranges)
+        total, cnt = np.where(use, n, 0.0).sum(axis=1), use.sum(axis=1)
     with np.errstate(all="ignore"):
-        r = np.where(use, n, 0.0).sum(axis=1) / cnt
+        r = total / cnt
     return _scalar(r, np.where((err == 0) & (cnt == 0), DIV0, err))
 
 
 def _agg_minmax(fn, empty):
+    def reduce(n, use):
+        return getattr(np.where(use, n, empty), fn)(axis=1, initial=empty), use.any(axis=1)
+
     def f(args, ranges):
-        n, use, err = _values_of(args, ranges)
-        r = np.where(use, n, empty).__getattribute__(fn)(axis=1)
-        r = np.where(use.any(axis=1), r, 0.0)
-        return _scalar(r, err)
+        if _one_block_for_all(args):
+            parts, err = _by_argument(args, ranges, reduce)
+            r = getattr(np, "minimum" if fn == "min" else "maximum").reduce([p[0] for p in parts])
+            seen = np.logical_or.reduce([p[1] for p in parts])
+        else:
+            n, use, err = _values_of(args, ranges)
+            r, seen = reduce(n, use)
+        return _scalar(np.where(seen, r, 0.0), err)
     return f
 
 
@@ -517,7 +551,22 @@ class Ref:
 
 
 class ParseError(ValueError):
-    pass
+    """A formula that cannot be read; `code` is the error its cell gets."""
+
+    def __init__(self, message: str, code: str = "#NAME?"):
+        super().__init__(message)
+        self.code = code
+
+
+class Note(str):
+    """A cell's problem as one line of text (Book.notes); `code` is the error value the
+    cell gets (#NAME? for an unknown function, #VALUE! for a wrong number of arguments...)."""
+    code: str
+
+    def __new__(cls, text: str, code: str = "#NAME?"):
+        self = super().__new__(cls, " ".join(str(text).split("\n")))
+        self.code = code
+        return self
 
 
 def _split_sheet(text: str) -> tuple[str | None, str]:
@@ -537,10 +586,14 @@ def _cell(text: str, host_r: int, host_c: int):
         return None
     cabs, col, rabs, row = m.groups()
     r, c = int(row), column_index_from_string(col.upper())
+    if not (1 <= r <= 1048576 and c <= 16384):     # past Excel's grid: a name (Excel: #NAME?)
+        return None
     return (r if rabs else r - host_r, c if cabs else c - host_c, bool(rabs), bool(cabs))
 
 
 def _operand_ref(text: str, host_r: int, host_c: int, names: dict):
+    if text.upper().endswith("!#REF!"):     # Sheet1!#REF!: a reference to deleted cells
+        return ("const", "#REF!")
     sheet, ref = _split_sheet(text)
     parts = ref.split(":")
     if len(parts) > 2:
@@ -587,6 +640,61 @@ def _whole(parts: list[str], host_r: int, host_c: int):
 _PREC = {"=": 1, "<>": 1, "<": 1, ">": 1, "<=": 1, ">=": 1, "&": 2, "+": 3, "-": 3, "*": 4, "/": 4, "^": 5}
 
 
+# Excel's own limits for a formula (Microsoft, "Excel specifications and limits"): a cell
+# whose formula exceeds one gets an error and a note. They also keep the parser (recursive
+# descent, about 3 Python frames a level) and the evaluation (about 2) below Python's
+# recursion limit: a sum of 4000 terms is a left-leaning chain, walked iteratively.
+MAX_FORMULA_CHARS = 8192          # characters of a formula's text
+MAX_NESTING = 64                  # nested functions and parentheses (and runs of + - %)
+MAX_ARGS = 255                    # arguments of one function
+
+# arguments each function takes (min, max); a call outside them is #VALUE! and a note
+# (LibreOffice writes #VALUE! for =SIN(1,2)); functions not listed take 0..MAX_ARGS
+ARITY = {
+    **{f: (1, 1) for f in ("SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN", "SQRT", "RADIANS", "DEGREES",
+                           "ABS", "SIGN", "EXP", "LN", "LOG10", "NOT", "ISNUMBER", "ISERROR", "ISTEXT")},
+    **{f: (2, 2) for f in ("ATAN2", "MOD", "POWER", "ROUND", "IFERROR")},
+    **{f: (1, MAX_ARGS) for f in ("SUM", "AVERAGE", "MIN", "MAX", "COUNT", "SUMPRODUCT", "AND", "OR")},
+    "IF": (1, 3), "PI": (0, 0),
+    # Excel's arities of functions other branches add (harmless until they are supported)
+    "INT": (1, 1), "TRUNC": (1, 2), "FLOOR": (2, 2), "CEILING": (2, 2), "SUMSQ": (1, MAX_ARGS),
+    "PRODUCT": (1, MAX_ARGS), "INDEX": (2, 4), "CHOOSE": (2, MAX_ARGS), "TRUE": (0, 0), "FALSE": (0, 0),
+}
+
+
+def _check_limits(tokens: list) -> None:
+    """Refuse, before parsing, a formula nested deeper than MAX_NESTING levels (functions,
+    parentheses, array braces, and runs of prefix or postfix operators, which the parser
+    and the tree also nest)."""
+    depth = run = 0
+    for t in tokens:
+        typ = t.type
+        if typ in (Token.OP_PRE, Token.OP_POST):
+            run += 1
+            if depth + run > MAX_NESTING:
+                raise ParseError(f"nesting deeper than {MAX_NESTING} levels (Excel's limit)", "#VALUE!")
+            continue
+        run = 0
+        if t.subtype == Token.OPEN:
+            depth += 1
+            if depth > MAX_NESTING:
+                raise ParseError(f"nesting deeper than {MAX_NESTING} levels (Excel's limit)", "#VALUE!")
+        elif t.subtype == Token.CLOSE:
+            depth -= 1
+
+
+def arity_problem(tree) -> str | None:
+    """The first call with a wrong number of arguments, as a note, else None."""
+    for node in _nodes(tree):
+        if node[0] == "fn":
+            n = len(node[2])
+            lo, hi = ARITY.get(node[1], (0, MAX_ARGS))
+            if not lo <= n <= hi:
+                want = f"{lo}" if lo == hi else f"{lo} to {hi}"
+                return f"{node[1]} takes {want} argument{'s' if hi != 1 else ''}, not {n}"
+    return None
+
+
 _MANTISSA_E = re.compile(r"^(\d+\.?\d*|\.\d+)[Ee]$")
 
 
@@ -609,8 +717,17 @@ def _merge_exponents(tokens: list) -> list:
 
 
 def parse_formula(formula: str, host_r: int, host_c: int, names: dict):
-    """Expression tree of a formula (openpyxl's tokenizer, then precedence climbing)."""
-    tokens = _merge_exponents([t for t in Tokenizer(formula).items if t.type != Token.WSPACE])
+    """Expression tree of a formula (openpyxl's tokenizer, then precedence climbing).
+    Excel's limits are enforced first (see _check_limits), so the recursive descent and
+    every walk of the tree stay far from Python's recursion limit; anything unreadable is
+    a ParseError."""
+    if len(formula) > MAX_FORMULA_CHARS + 1:              # + 1: the "="
+        raise ParseError(f"longer than {MAX_FORMULA_CHARS} characters (Excel's limit)", "#VALUE!")
+    try:
+        tokens = _merge_exponents([t for t in Tokenizer(formula).items if t.type != Token.WSPACE])
+    except Exception as e:      # noqa: BLE001 - the tokenizer's own errors (TokenizerError, IndexError...)
+        raise ParseError(f"not a formula ({type(e).__name__}: {_show(e, 100)})") from None
+    _check_limits(tokens)
     pos = 0
 
     def peek():
@@ -630,7 +747,8 @@ def parse_formula(formula: str, host_r: int, host_c: int, names: dict):
             return postfix(node)
         if t.type == Token.OPERAND:
             if t.subtype == Token.NUMBER:
-                node = ("const", float(t.value))
+                x = float(t.value)
+                node = ("const", x if math.isfinite(x) else "#NUM!")   # =1e999: past the largest double
             elif t.subtype == Token.TEXT:
                 node = ("const", t.value[1:-1].replace('""', '"'))
             elif t.subtype == Token.LOGICAL:
@@ -693,29 +811,29 @@ def parse_formula(formula: str, host_r: int, host_c: int, names: dict):
     return tree
 
 
+def _nodes(tree):
+    """Every node of a tree, parents first, left to right; iterative (a 4000-term sum is a
+    tree 4000 deep)."""
+    stack = [tree]
+    while stack:
+        node = stack.pop()
+        yield node
+        kind = node[0]
+        if kind == "fn":
+            stack.extend(reversed(node[2]))
+        elif kind in ("neg", "pct"):
+            stack.append(node[1])
+        elif kind == "bin":
+            stack.append(node[3])
+            stack.append(node[2])
+
+
 def functions_of(tree) -> set[str]:
-    if tree[0] == "fn":
-        out = {tree[1]}
-        for a in tree[2]:
-            out |= functions_of(a)
-        return out
-    if tree[0] in ("neg", "pct"):
-        return functions_of(tree[1])
-    if tree[0] == "bin":
-        return functions_of(tree[2]) | functions_of(tree[3])
-    return set()
+    return {node[1] for node in _nodes(tree) if node[0] == "fn"}
 
 
 def refs_of(tree) -> list[Ref]:
-    if tree[0] == "ref":
-        return [tree[1]]
-    if tree[0] == "fn":
-        return [r for a in tree[2] for r in refs_of(a)]
-    if tree[0] in ("neg", "pct"):
-        return refs_of(tree[1])
-    if tree[0] == "bin":
-        return refs_of(tree[2]) + refs_of(tree[3])
-    return []
+    return [node[1] for node in _nodes(tree) if node[0] == "ref"]
 
 
 # --------------------------------------------------------------------------- reading
@@ -758,6 +876,11 @@ class Book:
     problems: list[str]               # unsupported functions, parse errors (cells set to #NAME?)
     runs: int = 0
     cells: int = 0
+
+    @property
+    def notes(self) -> list[str]:
+        """One line per cell problem ("Sheet!A1: what"): the problems, by another name."""
+        return self.problems
 
     def value(self, sheet: str, r: int, c: int):
         """The value of any cell, row r and column c counted from 1 (B3 is r=3, c=2): a
@@ -851,6 +974,219 @@ def _target_block(run: Run, ref: Ref):
     return min(r1, r2), max(r1, r2), np.minimum(c1, c2), np.maximum(c1, c2)
 
 
+# --------------------------------------------------------------------------- hostile input
+MAX_EVAL_DEPTH = 200     # levels of a formula with the names it uses expanded (~2 Python frames each)
+CHUNK_READS = 1 << 22    # cells a piece of a run reads at once, per relative range (about 70 MB)
+
+
+def _depth(tree, weights: dict | None = None) -> int:
+    """How deep evaluating a tree recurses: levels of functions, parentheses and operators
+    (a chain of + - ... leaning left counts once: _Context.eval walks it in a loop), plus
+    for each name the depth of the name's own formula (weights)."""
+    best, stack = 0, [(tree, 1)]
+    while stack:
+        node, d = stack.pop()
+        best = max(best, d)
+        kind = node[0]
+        if kind == "fn":
+            stack.extend((a, d + 1) for a in node[2])
+        elif kind in ("neg", "pct"):
+            stack.append((node[1], d + 1))
+        elif kind == "bin":
+            stack.append((node[2], d))
+            stack.append((node[3], d + 1))
+        elif kind == "name" and weights:
+            best = max(best, d + weights.get(node[1], 0))
+    return best
+
+
+def _names_used(tree) -> list[str]:
+    return [node[1] for node in _nodes(tree) if node[0] == "name"]
+
+
+def _check_names(name_refs: dict) -> dict[str, Note]:
+    """Defined names that cannot be evaluated, made constant errors (in place), with a note
+    each: unknown functions (#NAME?), wrong numbers of arguments (#VALUE!), names that
+    refer to each other in a circle or to themselves (#N/A, as LibreOffice gives), chains
+    of names deeper than MAX_EVAL_DEPTH (#VALUE!). Iterative: a chain of 10,000 names is
+    no recursion."""
+    notes: dict[str, Note] = {}
+    for n, tree in list(name_refs.items()):
+        bad = sorted(f for f in functions_of(tree) if f not in SUPPORTED)
+        wrong = None if bad else arity_problem(tree)
+        if bad or wrong:
+            code = "#NAME?" if bad else "#VALUE!"
+            notes[n] = Note(f"the name {n}: " + (f"unsupported function {', '.join(bad)}" if bad else wrong), code)
+            name_refs[n] = ("const", code)
+    uses = {n: [m for m in _names_used(t) if m in name_refs] for n, t in name_refs.items()}
+    state: dict[str, int] = {}          # 1 being visited, 2 done
+    weight: dict[str, int] = {}
+    for start in uses:
+        if start in state:
+            continue
+        state[start] = 1
+        path, stack = [start], [(start, iter(uses[start]))]
+        while stack:
+            n, it = stack[-1]
+            m = next(it, None)
+            if m is None:
+                stack.pop()
+                path.pop()
+                state[n] = 2
+                if n not in notes:
+                    weight[n] = _depth(name_refs[n], weight)
+                    if weight[n] > MAX_EVAL_DEPTH:
+                        notes[n] = Note(f"the name {n}: names within names nested deeper than "
+                                        f"{MAX_EVAL_DEPTH} levels", "#VALUE!")
+                        name_refs[n], weight[n] = ("const", "#VALUE!"), 1
+                continue
+            if state.get(m) == 1:                   # back to a name on the path: a circle
+                circle = path[path.index(m):]
+                text = " -> ".join(circle + [m])
+                for x in circle:
+                    notes[x] = Note(f"the names refer to each other in a circle ({_show(text, 200)}): #N/A", "#N/A")
+                    name_refs[x], weight[x] = ("const", "#N/A"), 1
+            elif m not in state:
+                state[m] = 1
+                path.append(m)
+                stack.append((m, iter(uses[m])))
+    return notes
+
+
+def _run_notes(run: Run, sheets: dict, name_refs: dict, name_notes: dict) -> list[str]:
+    """Notes for a run that parsed: a sheet that does not exist (#REF!), a name that could
+    not be evaluated, formulas nested too deep through names (the run becomes #VALUE!)."""
+    out = []
+    for ref in run.refs:
+        if ref.sheet is not None and ref.sheet not in sheets:
+            out.append(f"{run.where()}: refers to the sheet '{_show(ref.sheet, 60)}', which does not exist: #REF!")
+            break
+    used = [n for n in _names_used(run.tree) if n in name_refs] if run.tree is not None else []
+    for n in dict.fromkeys(used):
+        if n in name_notes:
+            out.append(f"{run.where()}: {name_notes[n]}")
+    if used and _depth(run.tree, _name_depths(name_refs)) > MAX_EVAL_DEPTH:
+        run.error = Note(f"nesting deeper than {MAX_EVAL_DEPTH} levels with its names", "#VALUE!")
+        out.append(f"{run.where()}: {run.error}")
+    return out
+
+
+_DEPTHS: dict = {}
+
+
+def _name_depths(name_refs: dict) -> dict:
+    """Each name's own depth (after _check_names, no name is deeper than MAX_EVAL_DEPTH),
+    kept for the last dict of names asked about."""
+    if _DEPTHS.get("of") is not name_refs:
+        _DEPTHS.clear()
+        _DEPTHS.update(of=name_refs, depths={n: _depth(t) for n, t in name_refs.items()})
+    return _DEPTHS["depths"]
+
+
+def _used_range(sh: Sheet) -> tuple[int, int]:
+    """(last row, last column) of the cells that hold something (styled empty cells do not count)."""
+    rows = cols = 0
+    for cells in (sh.consts, sh.formulas, getattr(sh, "dangling", {})):
+        if cells:
+            rows = max(rows, max(map(itemgetter(0), cells)))
+            cols = max(cols, max(map(itemgetter(1), cells)))
+    for r2, c2 in getattr(sh, "arrays", {}).values():     # an array formula's whole range
+        rows, cols = max(rows, r2), max(cols, c2)
+    return rows, cols
+
+
+def _store_dims(path: str, sheets: dict, limits: Limits) -> dict[str, list[int]]:
+    """The value stores' shapes: each sheet's used range (cell A1 is [1, 1]). Refused
+    (one line) when all sheets together span more than limits.max_used_cells."""
+    dims, total = {}, 0
+    for n, sh in sheets.items():
+        rows, cols = _used_range(sh)
+        dims[n] = [rows + 1, cols + 1]
+        total += rows * cols
+    if total > limits.max_used_cells:
+        n = max(dims, key=lambda x: dims[x][0] * dims[x][1])
+        rows, cols = dims[n][0] - 1, dims[n][1] - 1
+        raise UnusableWorkbook(path, f"its sheets' used ranges span {total:,} cells (sheet '{_show(n, 60)}' "
+                               f"A1:{get_column_letter(cols)}{rows}, {rows * cols:,})",
+                               f"expected at most {limits.max_used_cells:,} cells (rows x columns from A1 "
+                               "to the last cell that holds something): clear stray cells far from the table")
+    return dims
+
+
+def _ref_reads(run: Run, ref: Ref, dims: dict, k: int) -> tuple[int, int]:
+    """(cells read once for the run, cells read for each cell of the run) by one
+    reference, as _Context.ref reads it (small blocks whole, large ones clipped)."""
+    d = dims.get(ref.sheet or run.sheet)
+    if d is None:
+        return 0, 0
+    if not ref.is_range:
+        return 0, 1
+    r1, r2, c1, c2 = _span(run, ref)
+    clipped_rows = max(0, min(r2, d[0] - 1) - r1 + 1)
+    if k == 1 or (ref.c1_abs and ref.c2_abs):          # one block for the run
+        rows, cols = r2 - r1 + 1, c2 - c1 + 1
+        if rows * cols > PAD_CELLS:
+            rows, cols = clipped_rows, max(0, min(c2, d[1] - 1) - c1 + 1)
+        return rows * cols, 0
+    rows, width = r2 - r1 + 1, abs(ref.c2 - ref.c1) + 1  # a block per cell
+    if rows * width > PAD_CELLS:
+        rows, width = clipped_rows, min(width, max(0, d[1] - c1))
+    return 0, rows * width
+
+
+def _run_reads(run: Run, dims: dict, name_refs: dict) -> tuple[int, int]:
+    k = len(run.cols)
+    once = per_cell = 0
+    refs = list(run.refs or [])
+    if run.tree is not None:
+        for n in _names_used(run.tree):
+            if n in name_refs:
+                refs += refs_of(name_refs[n])
+    for ref in refs:
+        a, b = _ref_reads(run, ref, dims, k)
+        once, per_cell = once + a, per_cell + b
+    return once, per_cell
+
+
+def _check_reads(path: str, runs: list[Run], dims: dict, name_refs: dict, limits: Limits) -> None:
+    """Refuse (one line) a workbook whose formulas read more than limits.max_reads cells
+    in all (the evaluation's time is about proportional)."""
+    total = 0
+    for run in runs:
+        if run.error:
+            continue
+        once, per_cell = _run_reads(run, dims, name_refs)
+        total += once + per_cell * len(run.cols)
+        if total > limits.max_reads:
+            raise UnusableWorkbook(path, f"its formulas read more than {limits.max_reads:,} cells in all "
+                                   f"(at {run.where()}, among others)",
+                                   f"expected at most {limits.max_reads:,} (sheetkin's limit for a workbook)")
+
+
+def _check_formula_text(path: str, runs: list[Run], limits: Limits) -> None:
+    """Refuse (one line) a workbook with more formula text to parse than
+    limits.max_formula_chars (a run's formula counts once)."""
+    total = sum(len(run.formula) for run in runs)
+    if total > limits.max_formula_chars:
+        raise UnusableWorkbook(path, f"its formulas hold {total:,} characters of text to read (each formula "
+                               "once, a row of cells filled from a neighbour once)",
+                               f"expected at most {limits.max_formula_chars:,} (sheetkin's limit for a workbook)")
+
+
+def _chunks(run: Run, dims: dict, name_refs: dict) -> list[Run]:
+    """A run in pieces small enough that its relative ranges, read for every cell at once,
+    stay below CHUNK_READS cells (a row of =SUM(A1:A100000) filled right is read 1000
+    columns at a time, not 4000)."""
+    k = len(run.cols)
+    if k == 1 or run.error:
+        return [run]
+    per_cell = _run_reads(run, dims, name_refs)[1]
+    step = max(1, CHUNK_READS // max(per_cell, 1))
+    if step >= k:
+        return [run]
+    return [dataclasses.replace(run, cols=run.cols[i:i + step]) for i in range(0, k, step)]
+
+
 def evaluate(path: str | Path, *, strict: bool = True, limits: Limits = Limits()) -> Book:
     """Evaluate every formula of an .xlsx workbook (an .ods or .fods is converted by
     LibreOffice first, see xlsxread.read_book); `Book.value(sheet, row, col)` then gives any
@@ -858,18 +1194,20 @@ def evaluate(path: str | Path, *, strict: bool = True, limits: Limits = Limits()
     EvaluationError naming the cells; otherwise those cells become #NAME? and the problem is
     listed in Book.problems."""
     raw = read_book(path, limits)
-    return evaluate_sheets(raw.path, raw.sheets, raw.order, raw.names, strict=strict)
+    return evaluate_sheets(raw.path, raw.sheets, raw.order, raw.names, strict=strict, limits=limits)
 
 
 def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names: dict, *,
-                    strict: bool = True) -> Book:
+                    strict: bool = True, limits: Limits = Limits()) -> Book:
     problems: list[str] = []
     runs: list[Run] = []
     for sh in sheets.values():
         runs.extend(_array_runs(sh, _group_runs(sh)) if sh.arrays else _group_runs(sh))
+    _check_formula_text(path, runs, limits)
     # whole columns and rows (A:A, 2:2) end at the workbook's used range
     bound = (max([sh.max_row for sh in sheets.values()] + [1]), max([sh.max_col for sh in sheets.values()] + [1]))
-    scopes = _name_scopes(names, sheets, bound)
+    name_notes: dict = {}                         # scope -> {NAME: Note} of names that cannot be evaluated
+    scopes = _name_scopes(names, sheets, bound, name_notes)
     name_refs = {**scopes[None], **{n: t for sc in scopes.values() for n, t in sc.items()}}
     names_key = frozenset(name_refs)
     # parse each run once (its first cell)
@@ -877,74 +1215,103 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
         run.tree, run.error, run.refs = _parse_run(run.formula, run.row, int(run.cols[0]), name_refs, names_key)
         if run.error:
             problems.append(f"{run.where()}: {run.error}")
-        elif any(_is_whole(ref) for ref in run.refs):
-            run.tree = _bound_whole(run.tree, bound)
-            run.refs = refs_of(run.tree)
+        else:
+            if any(_is_whole(ref) for ref in run.refs):
+                run.tree = _bound_whole(run.tree, bound)
+                run.refs = refs_of(run.tree)
+            problems.extend(_run_notes(run, sheets, name_refs,
+                                       {**name_notes.get(None, {}), **name_notes.get(run.sheet, {})}))
         if run.tree is not None and _has_names(run.tree):
             # a name is a dependency: what it refers to (through other names too) is
             # computed before the formula that uses it
             run.refs = run.refs + _name_deps(run.tree, run.sheet, scopes)
+    for n, sh in sheets.items():
+        for (r, c), what in sh.dangling.items():
+            problems.append(f"{n}!{get_column_letter(c)}{r}: {what}: #N/A")
     if problems and strict:
         raise EvaluationError(f"{path}: " + "; ".join(problems[:10]) +
                               (f" (and {len(problems) - 10} more)" if len(problems) > 10 else ""))
-    # value stores, big enough for every cell and every reference
-    dims = {n: [sh.max_row + 1, sh.max_col + 1] for n, sh in sheets.items()}
-    for run in runs:
-        for ref in run.refs:
-            target = ref.sheet or run.sheet
-            if target not in dims:
-                continue
-            r1, r2, c1, c2 = _span(run, ref)
-            dims[target][0] = max(dims[target][0], r2 + 1)
-            dims[target][1] = max(dims[target][1], c2 + 1)
+    # value stores: the used range of each sheet (the cells that hold something); a
+    # reference past it reads as empty cells, a range is clipped to it (_Context.ref)
+    dims = _store_dims(path, sheets, limits)
     num = {n: np.zeros(d) for n, d in dims.items()}
     tag = {n: np.full(d, EMPTY, np.int8) for n, d in dims.items()}
     txt = {n: np.empty(d, dtype=object) for n, d in dims.items()}
     for n, sh in sheets.items():
         for (r, c), v in sh.consts.items():
             _store(num[n], tag[n], txt[n], r, c, v)
-    order_runs = _schedule(path, runs, dims, sheets)
+        for (r, c) in getattr(sh, "dangling", {}):
+            tag[n][r, c] = NA
+    _check_reads(path, runs, dims, name_refs, limits)      # before ordering: it scans the ranges too
+    order_runs = _schedule(path, runs, dims, sheets, strict=strict, problems=problems)
+    _check_reads(path, order_runs, dims, name_refs, limits)  # runs split into cells read more
     ctx = _Context(num, tag, txt, scopes)
     ctx.arrays = {n: sh.arrays for n, sh in sheets.items()}
     cells = 0
     with np.errstate(all="ignore"):
         for run in order_runs:
-            k = len(run.cols)
-            cells += k
-            if run.error:
-                v = _const("#NAME?", k)
-            elif run.array is not None:
-                _write_array(ctx.eval(run.tree, run), run, num, tag, txt)
-                continue
-            else:
-                v = ctx.eval(run.tree, run)
-                v = _as_cells(v, k)
-            n = run.sheet
-            where = (run.row, slice(int(run.cols[0]), int(run.cols[0]) + k)) if run.contiguous else (run.row, run.cols)
-            num[n][where] = v.num[:, 0, 0]
-            tag[n][where] = v.tag[:, 0, 0]
-            if v.txt is not None:
-                txt[n][where] = v.txt[:, 0, 0]
+            cells += len(run.cols)
+            for part in _chunks(run, dims, name_refs):
+                k = len(part.cols)
+                if part.error:
+                    v = _const(getattr(part.error, "code", "#NAME?"), k)
+                    if part.array is not None:          # the whole range holds the error
+                        _write_array(_const(getattr(part.error, "code", "#NAME?")), part, num, tag, txt)
+                        continue
+                else:
+                    try:
+                        if part.array is not None:
+                            _write_array(ctx.eval(part.tree, part), part, num, tag, txt)
+                            continue
+                        v = _as_cells(ctx.eval(part.tree, part), k)
+                    except (EvaluationError, UnusableWorkbook):
+                        raise
+                    except Exception as e:      # noqa: BLE001 - the cell's problem, not the process's
+                        note = f"{part.where()}: internal error of the evaluator ({type(e).__name__}: {_show(e, 120)}): #VALUE!"
+                        if strict:
+                            raise EvaluationError(f"{path}: {note}") from e
+                        problems.append(note)
+                        v = _const("#VALUE!", k)
+                n = part.sheet
+                where = (part.row, slice(int(part.cols[0]), int(part.cols[0]) + k)) if part.contiguous else (part.row, part.cols)
+                num[n][where] = v.num[:, 0, 0]
+                tag[n][where] = v.tag[:, 0, 0]
+                if v.txt is not None:
+                    txt[n][where] = v.txt[:, 0, 0]
     return Book(path, sheets, order, num, tag, txt, problems, len(order_runs), cells)
 
 
 # --------------------------------------------------------------------------- names, arrays, whole columns
-def _name_scopes(names: dict, sheets: dict[str, Sheet], bound) -> dict:
+def _name_scopes(names: dict, sheets: dict[str, Sheet], bound, notes: dict | None = None) -> dict:
     """Parsed defined names by scope: None for the workbook's, a sheet's name for the names
-    scoped to it (localSheetId). Names are case-insensitive; a name that cannot be read is
-    #NAME? where it is used."""
-    def parsed(table):
+    scoped to it (localSheetId). Names are case-insensitive. A name that cannot be read
+    (#VALUE!, as LibreOffice), or cannot be evaluated (_check_names: names in a circle,
+    unknown functions...) is a constant error where it is used, and notes[scope][NAME] says why."""
+    notes = {} if notes is None else notes
+
+    def parsed(table, scope):
         out = {}
         for n, text in table.items():
             try:
                 tree = parse_formula("=" + text.removeprefix("="), 1, 1, {})
-            except Exception:                 # ParseError, or the tokenizer's own errors
-                tree = ("const", "#NAME?")
+            except ParseError as e:
+                tree = ("const", "#VALUE!")
+                notes.setdefault(scope, {})[n.upper()] = Note(
+                    f"the name {_show(n, 60)} is not a formula (={_show(text, 60)}: {e})", "#VALUE!")
             out[n.upper()] = _bound_whole(tree, bound)
         return out
-    scopes = {None: parsed(names)}
+    scopes = {None: parsed(names, None)}
+    notes.setdefault(None, {}).update(_check_names(scopes[None]))
     for n, sh in sheets.items():
-        scopes[n] = parsed(sh.names) if sh.names else {}
+        scopes[n] = parsed(sh.names, n) if sh.names else {}
+        if scopes[n]:
+            # a sheet's names see the workbook's too: checked together, kept for the sheet
+            seen = {**scopes[None], **scopes[n]}
+            found = _check_names(seen)
+            for name in scopes[n]:
+                scopes[n][name] = seen[name]
+                if name in found:
+                    notes.setdefault(n, {})[name] = found[name]
     return scopes
 
 
@@ -958,30 +1325,11 @@ def _lookup(scopes: dict, sheet: str, name: str):
 
 
 def _has_names(tree) -> bool:
-    kind = tree[0]
-    if kind == "name":
-        return True
-    if kind == "fn":
-        return any(_has_names(a) for a in tree[2])
-    if kind in ("neg", "pct"):
-        return _has_names(tree[1])
-    if kind == "bin":
-        return _has_names(tree[2]) or _has_names(tree[3])
-    return False
+    return any(node[0] == "name" for node in _nodes(tree))
 
 
 def _names_in(tree, out: list):
-    kind = tree[0]
-    if kind == "name":
-        out.append(tree[1])
-    elif kind == "fn":
-        for a in tree[2]:
-            _names_in(a, out)
-    elif kind in ("neg", "pct"):
-        _names_in(tree[1], out)
-    elif kind == "bin":
-        _names_in(tree[2], out)
-        _names_in(tree[3], out)
+    out.extend(_names_used(tree))
     return out
 
 
@@ -1009,25 +1357,36 @@ def _is_whole(ref: Ref) -> bool:
 def _bound_whole(tree, bound: tuple[int, int]):
     """The tree with whole columns (rows 1 to 1,048,576) and whole rows (columns A to XFD)
     ending at the workbook's last used row (column): the same values, a store of the size
-    the file holds."""
-    kind = tree[0]
-    if kind == "ref":
-        ref = tree[1]
-        if not _is_whole(ref):
-            return tree
+    the file holds. Rebuilt iteratively (children before parents): no recursion."""
+    def fix(ref: Ref):
         r2, c2 = ref.r2, ref.c2
         if ref.r1_abs and ref.r2_abs and ref.r1 == 1 and ref.r2 == _MAX_ROW:
             r2 = bound[0]
         if ref.c1_abs and ref.c2_abs and ref.c1 == 1 and ref.c2 == _MAX_COL:
             c2 = bound[1]
         return ("ref", Ref(ref.sheet, ref.r1, ref.c1, r2, c2, ref.r1_abs, ref.c1_abs, ref.r2_abs, ref.c2_abs))
-    if kind == "fn":
-        return ("fn", tree[1], [_bound_whole(a, bound) for a in tree[2]])
-    if kind in ("neg", "pct"):
-        return (kind, _bound_whole(tree[1], bound))
-    if kind == "bin":
-        return ("bin", tree[1], _bound_whole(tree[2], bound), _bound_whole(tree[3], bound))
-    return tree
+
+    def children(node):
+        kind = node[0]
+        return node[2] if kind == "fn" else [node[1]] if kind in ("neg", "pct") else [node[2], node[3]]
+    done: list = []
+    stack = [(tree, False)]
+    while stack:
+        node, built = stack.pop()
+        kind = node[0]
+        if kind not in ("fn", "neg", "pct", "bin"):
+            done.append(fix(node[1]) if kind == "ref" and _is_whole(node[1]) else node)
+            continue
+        if not built:
+            stack.append((node, True))
+            stack.extend((c, False) for c in reversed(children(node)))
+            continue
+        n = len(children(node))
+        args = done[len(done) - n:]
+        del done[len(done) - n:]
+        done.append(("fn", node[1], args) if kind == "fn" else (kind, args[0]) if kind in ("neg", "pct")
+                    else ("bin", node[1], args[0], args[1]))
+    return done[0]
 
 
 def _array_runs(sheet: Sheet, runs: list[Run]) -> list[Run]:
@@ -1092,11 +1451,13 @@ def _as_cells(v: Val, k: int) -> Val:
     return v
 
 
-def _schedule(path, runs: list[Run], dims, sheets) -> list[Run]:
+def _schedule(path, runs: list[Run], dims, sheets, *, strict: bool = True, problems: list | None = None) -> list[Run]:
     """Runs in dependency order; runs on a cycle (or referring to themselves) are split
-    into single cells and ordered again; a cycle of single cells is circular."""
+    into single cells and ordered again; a cycle of single cells is circular: an
+    EvaluationError with strict, else those cells get #VALUE! (as LibreOffice writes its
+    Err:522) and a note naming them."""
     while True:
-        owner = {n: np.full(d, -1, np.int64) for n, d in dims.items()}
+        owner = {n: np.full(d, -1, np.int32) for n, d in dims.items()}
         for i, run in enumerate(runs):
             c0 = int(run.cols[0])
             owner[run.sheet][run.row, slice(c0, c0 + len(run.cols)) if run.contiguous else run.cols] = i
@@ -1108,7 +1469,7 @@ def _schedule(path, runs: list[Run], dims, sheets) -> list[Run]:
         split = set()
         for i, run in enumerate(runs):
             d = set()
-            for ref in run.refs:
+            for ref in (run.refs if not run.error else ()):
                 target = ref.sheet or run.sheet
                 if target not in owner:
                     continue
@@ -1151,8 +1512,14 @@ def _schedule(path, runs: list[Run], dims, sheets) -> list[Run]:
             runs = [r for i, run in enumerate(runs) for r in (_split(run) if i in keep else [run])]
             continue
         cells = sorted({runs[i].where() for i in stuck})
-        raise EvaluationError(f"{path}: circular reference among {', '.join(cells[:12])}"
-                              + (f" and {len(cells) - 12} more cells" if len(cells) > 12 else ""))
+        what = (f"circular reference among {', '.join(cells[:12])}"
+                + (f" and {len(cells) - 12} more cells" if len(cells) > 12 else ""))
+        if strict or problems is None:
+            raise EvaluationError(f"{path}: {what}")
+        problems.append(f"{cells[0]}: {what}: #VALUE!")
+        note = Note(what, "#VALUE!")
+        for i in set(stuck):
+            runs[i].error = note                # no inputs now: ordered first in the next pass
 
 
 def _span(run: Run, ref: Ref) -> tuple[int, int, int, int]:
@@ -1181,16 +1548,40 @@ def _parse_run(formula: str, row: int, col: int, names: dict, names_key) -> tupl
         tree = parse_formula("=" + formula, row, col, names)
         bad = sorted(f for f in functions_of(tree) if f not in SUPPORTED)
         if bad:
-            error = f"unsupported function{'s' if len(bad) > 1 else ''} {', '.join(bad)}"
+            error = Note(f"unsupported function{'s' if len(bad) > 1 else ''} {', '.join(bad)}")
+        elif (wrong := arity_problem(tree)) is not None:
+            error = Note(wrong, "#VALUE!")
     except ParseError as e:
-        error = f"cannot read the formula ={formula}: {e}"
-    except Exception as e:      # the tokenizer's own errors
-        error = f"cannot read the formula ={formula}: {e}"
+        error = Note(f"cannot read the formula ={_show(formula, 80)}: {e}", e.code)
     hit = (tree, error, refs_of(tree) if tree is not None else [])
     if len(_PARSED) > 100_000:
         _PARSED.clear()
     _PARSED[key] = hit
     return hit
+
+
+def _binary_op(op: str, a: Val, b: Val) -> Val:
+    try:
+        np.broadcast_shapes(a.shape, b.shape)
+    except ValueError:                      # ranges of different sizes (=A1:B2+A1:C3): #VALUE!
+        return _const("#VALUE!", max(a.shape[0], b.shape[0]))
+    if op in ("+", "-", "*", "/", "^"):
+        return _arith(op, a, b)
+    if op == "&":
+        return _concat(a, b)
+    return _compare(op, a, b)
+
+
+PAD_CELLS = 1 << 16      # a range up to this many cells keeps its shape past the used range
+
+
+def _rows_cols(r1: int, r2: int, c1: int, c2: int, nr: int, nc: int) -> tuple[np.ndarray, np.ndarray]:
+    """The rows and columns of a block that reaches past a store of nr x nc: all of them
+    when the block is small (PAD_CELLS: its shape is kept, the cells outside read as
+    empty), else clipped to the store (=SUM($A$1:$XFD$1048576) reads the used range)."""
+    if (r2 - r1 + 1) * (c2 - c1 + 1) > PAD_CELLS:
+        r2, c2 = min(r2, nr - 1), min(c2, nc - 1)
+    return np.arange(r1, r2 + 1), np.arange(c1, c2 + 1)
 
 
 class _Context:
@@ -1215,6 +1606,8 @@ class _Context:
             if r < 1 or c < 1:
                 return _const("#REF!", k)
             n = 1 if ref.c1_abs else k
+            if r >= self.tag[sheet].shape[0] or c + n > self.tag[sheet].shape[1]:
+                return self._gather(sheet, np.array([r]), (c + np.arange(n))[:, None])   # past the used range
             tag = self.tag[sheet][r, c:c + n].reshape(n, 1, 1)
             if not tag.any():
                 return Val(self.num[sheet][r, c:c + n].reshape(n, 1, 1), tag, None, NUM)
@@ -1227,6 +1620,10 @@ class _Context:
             r1, r2, c1, c2 = _span(run, ref)
             if r1 < 1 or c1 < 1:
                 return _const("#REF!", len(run.cols))
+            nr, nc = self.tag[sheet].shape
+            if r2 >= nr or c2 >= nc:                   # past the used range
+                rows, cols = _rows_cols(r1, r2, c1, c2, nr, nc)
+                return self._gather(sheet, rows, cols[None, :])
             tag = self.tag[sheet][None, r1:r2 + 1, c1:c2 + 1]
             if not tag.any():
                 return Val(self.num[sheet][None, r1:r2 + 1, c1:c2 + 1], tag, None, NUM)
@@ -1239,6 +1636,11 @@ class _Context:
             return _const("#REF!", len(run.cols))
         absolute = ref.c1_abs and ref.c2_abs
         width = int(c2[0] - c1[0]) + 1
+        nr, nc = self.tag[sheet].shape
+        if r2 >= nr or int(c1.max()) + width > nc:     # past the used range
+            rows, offsets = _rows_cols(r1, r2, 0, width - 1, nr, max(0, nc - int(c1.min())))
+            cols = (c1[:1] if absolute else c1)[:, None] + offsets[None, :]
+            return self._gather(sheet, rows, cols)
         cols = (c1[:1] if absolute else c1)[:, None] + np.arange(width)[None, :]   # (k, C)
         rows = np.arange(r1, r2 + 1)
         num = self.num[sheet][rows[:, None, None], cols[None, :, :]].transpose(1, 0, 2)
@@ -1247,6 +1649,17 @@ class _Context:
         if (tag == TEXT).any():
             txt = self.txt[sheet][rows[:, None, None], cols[None, :, :]].transpose(1, 0, 2)
         return Val(num, tag, txt)
+
+    def _gather(self, sheet: str, rows: np.ndarray, cols: np.ndarray) -> Val:
+        """Cells rows x cols[i] for each cell i of a run, shape (k, R, C); cells past the
+        store (the used range) read as empty."""
+        nr, nc = self.tag[sheet].shape
+        inside = (rows < nr)[None, :, None] & (cols < nc)[:, None, :]
+        idx = (np.where(rows < nr, rows, 0)[None, :, None], np.where(cols < nc, cols, 0)[:, None, :])
+        tag = np.where(inside, self.tag[sheet][idx], EMPTY).astype(np.int8)
+        num = np.where(inside, self.num[sheet][idx], 0.0)
+        txt = np.where(inside, self.txt[sheet][idx], None) if (tag == TEXT).any() else None
+        return Val(num, tag, txt, NUM if not tag.any() else -1)
 
     def eval(self, node, run: Run) -> Val:
         kind = node[0]
@@ -1270,12 +1683,15 @@ class _Context:
         if kind == "pct":
             return _arith("/", self.eval(node[1], run), _const(100.0))
         if kind == "bin":
-            op, a, b = node[1], self.eval(node[2], run), self.eval(node[3], run)
-            if op in ("+", "-", "*", "/", "^"):
-                return _arith(op, a, b)
-            if op == "&":
-                return _concat(a, b)
-            return _compare(op, a, b)
+            # a chain =A1+A2+...+A4000 leans left: walk its spine in a loop, not recursively
+            spine = []
+            while node[0] == "bin":
+                spine.append(node)
+                node = node[2]
+            a = self.eval(node, run)
+            for node in reversed(spine):
+                a = _binary_op(node[1], a, self.eval(node[3], run))
+            return a
         if kind == "missing":
             return _const(0.0)
         if kind == "fn":

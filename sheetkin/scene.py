@@ -1,4 +1,4 @@
-"""Scene files: parse and validate a TOML scene (the contract: shared/spec/scene.md).
+"""Scene files: parse and validate a TOML scene (the format: docs/scene-format.md).
 
 A scene is one planar linkage: frame points, the driving crank, the Assur groups (dyads)
 attached one after another, and points fixed on links. This module turns the file into
@@ -7,18 +7,21 @@ point. Every mistake raises SceneError with one line: file, line, key, what was 
 """
 from __future__ import annotations
 
+import heapq
 import math
 import re
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
-GROUP_TYPES = ("RRR", "RRP", "RPR")
+from .scenecaps import (MAX_DEPTH, MAX_MAGNITUDE, MAX_MESSAGE, MAX_POSITIONS, MAX_SCENE_BYTES,  # noqa: F401
+                        MAX_TEXT, WORKBOOK_MAX_POSITIONS, SceneError, check_values, load_toml, one_line,
+                        shown)
+from .group import Group, Guide
+from .groups import KINDS, kind_of
+from .motion import slide_names
+
+GROUP_TYPES = tuple(KINDS)
 NAME_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
-
-
-class SceneError(ValueError):
-    """A scene file that cannot be used; str() is one line naming file, line and key."""
 
 
 @dataclass(frozen=True)
@@ -31,33 +34,6 @@ class Crank:
     positions: int
     omega: float
     epsilon: float
-
-
-@dataclass(frozen=True)
-class Group:
-    """One Assur group (dyad). `index` counts groups from 1 in file order."""
-    index: int
-    type: str
-    links: tuple[int, int]
-    joints: tuple[str, ...]           # RRR: (J1, N, J2); RRP: (J1, N); RPR: (J1, J2)
-    lengths: tuple[float, ...]        # RRR: (|J1 N|, |N J2|); RRP: (|J1 N|,); RPR: ()
-    branch: int = 1
-    guide_point: tuple[float, float] | None = None   # RRP: the guide's `through` point
-    guide_angle_deg: float = 0.0
-    offset: float = 0.0               # RPR: slot line's distance from J2
-
-    @property
-    def new_joint(self) -> str | None:
-        return self.joints[1] if self.type in ("RRR", "RRP") else None
-
-    @property
-    def slider(self) -> str | None:
-        """Name of the point whose slide `s_*` this group defines (RRR defines none)."""
-        return {"RRP": self.joints[1], "RPR": self.joints[0]}.get(self.type)
-
-    @property
-    def label(self) -> str:
-        return f"group {self.index} ({self.type} {'-'.join(self.joints)})"
 
 
 @dataclass(frozen=True)
@@ -120,11 +96,12 @@ class Scene:
 
     @property
     def moving_joints(self) -> list[str]:
-        return [self.crank.joint] + [g.new_joint for g in self.groups if g.new_joint]
+        return [self.crank.joint] + [n for g in self.groups for n in kind_of(g).new_joints(g)]
 
     @property
     def sliders(self) -> list[str]:
-        return [g.slider for g in self.groups if g.slider]
+        """Slide tags in group order (sheetkin.motion.slide_names gives s_*, vs_*, as_*)."""
+        return [t for g in self.groups for t in kind_of(g).sliders(g)]
 
     def crank_angles_deg(self) -> list[float]:
         c = self.crank
@@ -180,19 +157,34 @@ class _Locator:
 class _Ctx:
     """Where we are in the file, to build one-line errors."""
 
-    def __init__(self, source: str, loc: _Locator):
-        self.source, self.loc = source, loc
+    def __init__(self, source: str, loc: _Locator | str):
+        # the locator is built on the first error only (its line scan is most of the cost
+        # of a long valid file): `loc` may be the scene's text
+        self.source, self._loc = source, loc
+
+    @property
+    def loc(self) -> _Locator:
+        if isinstance(self._loc, str):
+            self._loc = _Locator(self._loc)
+        return self._loc
 
     def fail(self, where: str, table: str | None, index: int, key: str | None, msg: str):
         no = self.loc.line(table, index, key)
         pos = f"{self.source}:{no}" if no else self.source
         what = f"{where} key '{key}'" if key else where
-        raise SceneError(f"{pos}: {what}: {msg}")
+        raise SceneError(one_line(f"{pos}: {what}: {msg}"))
 
 
 def _type_name(v) -> str:
     return {bool: "a boolean", int: "an integer", float: "a number", str: "a string",
             list: "an array", dict: "a table"}.get(type(v), type(v).__name__)
+
+
+_CHECKS = {
+    "a number": lambda x: isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x),
+    "an integer": lambda x: isinstance(x, int) and not isinstance(x, bool),
+    "a string": lambda x: isinstance(x, str),
+}
 
 
 class _Table:
@@ -219,16 +211,10 @@ class _Table:
                 self.fail(key, f"missing; expected {kind}")
             return default
         v = self.data[key]
-        check = {
-            "a number": lambda x: isinstance(x, (int, float)) and not isinstance(x, bool)
-            and math.isfinite(x),
-            "an integer": lambda x: isinstance(x, int) and not isinstance(x, bool),
-            "a string": lambda x: isinstance(x, str),
-        }[kind]
-        if not check(v):
+        if not _CHECKS[kind](v):
             if isinstance(v, float) and not math.isfinite(v):
-                self.fail(key, f"expected a finite number, got {v!r}")
-            self.fail(key, f"expected {kind}, got {_type_name(v)} {v!r}")
+                self.fail(key, f"expected a finite number, got {shown(v)}")
+            self.fail(key, f"expected {kind}, got {_type_name(v)} {shown(v)}")
         return float(v) if kind == "a number" else v
 
     def positive(self, key):
@@ -240,21 +226,33 @@ class _Table:
     def name(self, key):
         v = self.get(key, "a string")
         if not NAME_RE.match(v):
-            self.fail(key, f"expected a name of letters, digits and _ starting with a letter, got {v!r}")
+            self.fail(key, f"expected a name of letters, digits and _ starting with a letter, got {shown(v)}")
         return v
+
+    def guide(self, key, frame) -> Guide:
+        """The guide table `key` (see _parse_guide)."""
+        return _parse_guide(self, key, frame)
+
+    def guides(self, key, n, frame) -> tuple[Guide, ...]:
+        """An array of exactly n guide tables (PRP: `guides = [guide_a, guide_b]`)."""
+        v = self.data.get(key, ...)
+        if v is ... or not isinstance(v, list) or len(v) != n:
+            self.fail(key, f"expected an array of {n} guides {{through = ..., angle_deg = ..., link = ...}}, "
+                           f"got {'nothing' if v is ... else _type_name(v)}")
+        return tuple(_parse_guide(self, key, frame, i) for i in range(n))
 
     def array(self, key, n, kind):
         v = self.data.get(key, ...)
         if v is ...:
             self.fail(key, f"missing; expected an array of {n} {kind}s")
         if not isinstance(v, list) or len(v) != n:
-            self.fail(key, f"expected an array of {n} {kind}s, got {v!r}")
+            self.fail(key, f"expected an array of {n} {kind}s, got {shown(v)}")
         ok = {"number": lambda x: isinstance(x, (int, float)) and not isinstance(x, bool)
               and math.isfinite(x),
               "name": lambda x: isinstance(x, str) and bool(NAME_RE.match(x)),
               "integer": lambda x: isinstance(x, int) and not isinstance(x, bool)}[kind]
         if not all(ok(x) for x in v):
-            self.fail(key, f"expected an array of {n} {kind}s, got {v!r}")
+            self.fail(key, f"expected an array of {n} {kind}s, got {shown(v)}")
         return tuple(float(x) for x in v) if kind == "number" else tuple(v)
 
 
@@ -265,31 +263,36 @@ def load_scene(path: str | Path) -> Scene:
     try:
         text = path.read_text(encoding="utf-8-sig")   # tolerate Notepad's byte-order mark
     except FileNotFoundError:
-        raise SceneError(f"{path}: no such file") from None
+        raise SceneError(one_line(f"{path}: no such file")) from None
     except IsADirectoryError:
-        raise SceneError(f"{path}: is a directory, expected a scene .toml file") from None
+        raise SceneError(one_line(f"{path}: is a directory, expected a scene .toml file")) from None
     except UnicodeDecodeError:
-        raise SceneError(f"{path}: not a UTF-8 text file, expected a scene .toml file") from None
+        raise SceneError(one_line(f"{path}: not a UTF-8 text file, expected a scene .toml file")) from None
     except OSError as e:
-        raise SceneError(f"{path}: cannot read: {e.strerror}") from None
+        raise SceneError(one_line(f"{path}: cannot read: {e.strerror}")) from None
+    if len(text) > MAX_SCENE_BYTES:
+        raise SceneError(one_line(f"{path}: {len(text):,} characters; a scene file may hold at most "
+                                  f"{MAX_SCENE_BYTES:,} (a scene is a few KB)"))
     return parse_scene(text, str(path))
 
 
+def _fail_at(ctx: _Ctx, data: dict, path: tuple, msg: str):
+    """SceneError at a value's path in the document: [table] key, [[table]] #i key, or a
+    top-level key, located as the typed getters locate theirs."""
+    head = path[0]
+    keys = [k for k in path[1:] if isinstance(k, str)]
+    top = data.get(head)
+    if len(path) > 2 and isinstance(top, list) and isinstance(path[1], int) and isinstance(top[path[1]], dict):
+        ctx.fail(f"[[{head}]] #{path[1] + 1}", head, path[1], ".".join(map(str, path[2:3] + tuple(keys[1:2]))), msg)
+    if len(path) > 1 and isinstance(top, dict):
+        ctx.fail(f"[{head}]", head, 0, ".".join(keys[:2]), msg)
+    ctx.fail("scene", None, 0, head, msg)
+
+
 def parse_scene(text: str, source: str = "<scene>") -> Scene:
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as e:
-        m = re.search(r"\(at line (\d+), column (\d+)\)", str(e))
-        msg = re.sub(r"\s*\(at line \d+, column \d+\)", "", str(e))
-        where = f"{source}:{m.group(1)}" if m else source
-        if m and "overwrite" in msg.lower():
-            # tomllib says "Cannot overwrite a value": name the key written twice
-            line = text.splitlines()[int(m.group(1)) - 1]
-            k = re.match(r"^\s*\[*\s*([A-Za-z0-9_.\"-]+)", line)
-            if k:
-                raise SceneError(f"{where}: key '{k.group(1)}' is defined twice (not valid TOML)") from None
-        raise SceneError(f"{where}: not valid TOML: {msg}") from None
-    ctx = _Ctx(source, _Locator(text))
+    data = load_toml(text, source)
+    ctx = _Ctx(source, text)
+    check_values(data, lambda path, msg: _fail_at(ctx, data, path, msg))
     top = _Table(ctx, data, "scene", None)
     top.check_keys(["title", "author", "frame", "crank", "group", "point", "gravity", "mass",
                     "force", "synthesis"])
@@ -310,6 +313,7 @@ def parse_scene(text: str, source: str = "<scene>") -> Scene:
     groups = _parse_groups(ctx, data, frame, define)
     points = _parse_points(ctx, data, define)
     plan = _make_plan(ctx, frame, crank, groups, points)
+    _check_slides(ctx, groups)
     gravity = top.array("gravity", 2, "number") if "gravity" in data else (0.0, 0.0)
     on_link = link_joints(crank, groups)
     for p in points:
@@ -347,18 +351,16 @@ def _parse_crank(ctx, data, frame, define):
     joint = tbl.name("joint")
     define(tbl, "joint", joint, "the crank's joint")
     positions = tbl.get("positions", "an integer", 13)
-    if positions < 1:
-        tbl.fail("positions", f"expected an integer >= 1, got {positions}")
+    if not 1 <= positions <= MAX_POSITIONS:
+        tbl.fail("positions", f"expected an integer >= 1 and at most {MAX_POSITIONS:,} (the compute cap; a "
+                              f"workbook holds at most {WORKBOOK_MAX_POSITIONS:,}), got {positions:,}")
+    step = tbl.get("step_deg", "a number", 30.0)
+    if step == 0 and positions > 1:
+        tbl.fail("step_deg", f"expected a nonzero step: with step 0 all {positions} positions are "
+                             "the same crank angle (use positions = 1 for one angle)")
     return Crank(pivot, joint, tbl.positive("length"), tbl.get("phi0_deg", "a number", 0.0),
-                 tbl.get("step_deg", "a number", 30.0), positions, tbl.get("omega", "a number"),
+                 step, positions, tbl.get("omega", "a number"),
                  tbl.get("epsilon", "a number", 0.0))
-
-
-GROUP_KEYS = {
-    "RRR": ["type", "links", "joints", "lengths", "branch"],
-    "RRP": ["type", "links", "joints", "length", "guide", "branch"],
-    "RPR": ["type", "links", "joints", "offset"],
-}
 
 
 def _parse_groups(ctx, data, frame, define):
@@ -371,61 +373,72 @@ def _parse_groups(ctx, data, frame, define):
         if "type" not in tbl.data:
             tbl.fail("type", f"missing; expected one of {', '.join(GROUP_TYPES)}")
         kind = tbl.get("type", "a string")
-        if kind not in GROUP_TYPES:
+        if kind not in KINDS:
             tbl.fail("type", f"unknown group type '{kind}'; expected one of {', '.join(GROUP_TYPES)}")
-        tbl.check_keys(GROUP_KEYS[kind])
+        mod = KINDS[kind]
+        tbl.check_keys(mod.KEYS)
         links = tbl.array("links", 2, "integer")
         if links != (next_link, next_link + 1):
             tbl.fail("links", f"expected [{next_link}, {next_link + 1}] (links are numbered 0 frame, "
                               f"1 crank, then each group's links in file order), got {list(links)}")
         next_link += 2
-        njoints = 3 if kind == "RRR" else 2
-        joints = tbl.array("joints", njoints, "name")
-        kw = {}
-        if kind in ("RRR", "RRP"):
-            if joints[1] in (joints[0], joints[2] if kind == "RRR" else joints[0]):
-                tbl.fail("joints", f"the new joint '{joints[1]}' (second name) must differ from the "
-                                   f"known joint(s) it is attached to, got {list(joints)}")
-            define(tbl, "joints", joints[1], f"the new joint of group {i + 1}")
-            branch = tbl.get("branch", "an integer")
-            if branch not in (1, -1):
-                tbl.fail("branch", f"expected +1 or -1, got {branch}")
-            kw["branch"] = branch
-        if kind == "RRR":
-            lengths = tbl.array("lengths", 2, "number")
-            if min(lengths) <= 0:
-                tbl.fail("lengths", f"expected positive lengths in metres, got {list(lengths)}")
-        elif kind == "RRP":
-            lengths = (tbl.positive("length"),)
-            kw.update(_parse_guide(ctx, tbl, frame))
-        else:
-            lengths = ()
-            kw["offset"] = tbl.get("offset", "a number", 0.0)
-            if joints[0] == joints[1]:
-                tbl.fail("joints", f"expected two different points, got {list(joints)}")
-        groups.append(Group(i + 1, kind, links, joints, lengths, **kw))
+        joints, params = mod.parse(tbl, frame)
+        group = Group(i + 1, kind, links, joints, params)
+        for n in mod.new_joints(group):
+            define(tbl, "joints", n, f"the new joint of group {i + 1}")
+        groups.append(group)
     return groups
 
 
-def _parse_guide(ctx, tbl, frame):
-    expected = "guide = {through = FRAME_POINT or [x, y], angle_deg = ...}"
-    if "guide" not in tbl.data:
-        tbl.fail("guide", f"missing; expected {expected}")
-    if not isinstance(tbl.data["guide"], dict):
-        tbl.fail("guide", f"expected {expected}, got {_type_name(tbl.data['guide'])}")
-    guide = _Table(ctx, tbl.data["guide"], tbl.where, tbl.table, tbl.index)
-    guide.fail = lambda key, msg: tbl.fail(f"guide.{key}" if key else "guide", msg)
-    guide.check_keys(["through", "angle_deg"])
+def _check_slides(ctx, groups):
+    """One name, one quantity: two groups may not both define s_P."""
+    slides: dict[str, int] = {}
+    for g in groups:
+        for tag in kind_of(g).sliders(g):
+            if tag in slides:
+                ctx.fail(f"[[group]] #{g.index}", "group", g.index - 1, "joints",
+                         f"group {slides[tag]} already defines the slide of '{tag}' "
+                         f"({slide_names(tag)[0]}); a slider quantity is named once")
+            slides[tag] = g.index
+
+
+def _parse_guide(tbl: "_Table", key: str, frame, index: int | None = None) -> Guide:
+    """A guide `{through = POINT or [x, y], angle_deg = A, link = k}` (the contract's
+    "Group types"): on the frame (link 0, the default) `through` is a frame point or [x, y];
+    on a moving link k it names a point of link k (checked when the scene is planned).
+    With `index`, the index-th element of the array `key` (PRP's `guides`)."""
+    expected = "{through = POINT or [x, y], angle_deg = ..., link = k}"
+    value = tbl.data.get(key, ...)
+    where = key
+    if index is not None:
+        if not isinstance(value, list):
+            tbl.fail(key, f"expected an array of guides [{expected}, ...], got {_type_name(value)}")
+        value, where = value[index], f"{key}[{index}]"
+    if value is ...:
+        tbl.fail(key, f"missing; expected {key} = {expected}")
+    if not isinstance(value, dict):
+        tbl.fail(key, f"expected {where} = {expected}, got {_type_name(value)}")
+    guide = _Table(tbl.ctx, value, tbl.where, tbl.table, tbl.index)
+    guide.fail = lambda k, msg: tbl.fail(f"{where}.{k}" if k else where, msg)
+    guide.check_keys(["through", "angle_deg", "link"])
+    link = guide.get("link", "an integer", 0)
+    if link < 0:
+        guide.fail("link", f"expected 0 (the frame) or a moving link's number, got {link}")
+    angle = guide.get("angle_deg", "a number", 0.0)
     through = guide.data.get("through", ...)
     if through is ...:
-        guide.fail("through", "missing; expected a frame point's name or [x, y]")
+        guide.fail("through", "missing; expected a point's name" + (" or [x, y]" if link == 0 else ""))
     if isinstance(through, str):
-        if through not in frame:
-            guide.fail("through", f"expected a frame point ({', '.join(frame)}) or [x, y], got '{through}'")
-        point = frame[through]
-    else:
-        point = guide.array("through", 2, "number")
-    return {"guide_point": tuple(point), "guide_angle_deg": guide.get("angle_deg", "a number", 0.0)}
+        name = guide.name("through")
+        if link == 0:
+            if name not in frame:
+                guide.fail("through", f"expected a frame point ({', '.join(frame)}) or [x, y], got '{name}'")
+            return Guide(name, tuple(frame[name]), angle, 0)
+        return Guide(name, None, angle, link)
+    if link != 0:
+        guide.fail("through", f"a guide on moving link {link} passes through a point of that link: "
+                              f"expected its name, got {through!r}")
+    return Guide(None, tuple(guide.array("through", 2, "number")), angle, 0)
 
 
 def _parse_points(ctx, data, define):
@@ -517,13 +530,7 @@ def link_joints(crank: Crank, groups) -> dict[int, list[str]]:
     """The joints each moving link carries (where a point on it may be measured from)."""
     out = {1: [crank.pivot, crank.joint]}
     for g in groups:
-        a, b = g.links
-        if g.type == "RRR":
-            out[a], out[b] = [g.joints[0], g.joints[1]], [g.joints[2], g.joints[1]]
-        elif g.type == "RRP":
-            out[a], out[b] = [g.joints[0], g.joints[1]], [g.joints[1]]
-        else:   # RPR: the block carries J1, the kulisa turns about J2
-            out[a], out[b] = [g.joints[0]], [g.joints[1]]
+        out.update(kind_of(g).carries(g))
     return out
 
 
@@ -536,57 +543,97 @@ def _make_plan(ctx, frame, crank, groups, points):
     """
     on_link = link_joints(crank, groups)
     n_links = 1 + 2 * len(groups)
+    on_link_set = {k: set(v) for k, v in on_link.items()}
+    names_on = {}                    # link -> names of the points on it
+    for p in points:
+        names_on.setdefault(p.link, set()).add(p.name)
     for i, p in enumerate(points):
         if not 1 <= p.link <= n_links:
             ctx.fail(f"[[point]] #{i + 1}", "point", i, "link",
                      f"expected a moving link 1..{n_links}, got {p.link}")
         # checked before placement, so a bad `from` is blamed on the point, not on a
         # group that needs the point
-        allowed = on_link[p.link] + [q.name for q in points if q.link == p.link and q is not p]
         # (a point that its own link's group uses as a joint is circular: the group's
         # `joints` is the mistake, reported during placement below)
-        if p.origin not in allowed and p.name not in on_link[p.link]:
+        if not (p.origin in on_link_set[p.link] or (p.origin in names_on[p.link] and p.origin != p.name)
+                or p.name in on_link_set[p.link]):
+            allowed = on_link[p.link] + [q.name for q in points if q.link == p.link and q is not p]
             ctx.fail(f"[[point]] #{i + 1}", "point", i, "from",
                      f"expected a joint or point of link {p.link} ({', '.join(allowed)}), got '{p.origin}'")
     known = set(frame) | {crank.joint}
-    placed_links = {1}
     plan: list[tuple[str, object]] = [("crank", crank)]
-    pending = list(enumerate(points))
+    # Points go in the order of repeated passes over the file's points (a point whose
+    # `from` was placed earlier in the same pass goes in that pass, else in the next).
+    # Emulated with a heap of (pass, index) and, per (link, name), the points waiting
+    # for that name: linear in the number of points, as 20,000 of them must parse in
+    # well under a second (the passes themselves were quadratic).
+    waiting: dict[tuple[int, str], list[int]] = {}
+    by_link: dict[int, list[int]] = {}
+    for i, p in enumerate(points):
+        waiting.setdefault((p.link, p.origin), []).append(i)
+        by_link.setdefault(p.link, []).append(i)
+    placed = [False] * len(points)
 
-    def place_points():
-        progress = True
-        while progress:
-            progress = False
-            for item in list(pending):
-                i, p = item
-                if p.link in placed_links and p.origin in on_link[p.link]:
-                    plan.append(("point", p))
-                    known.add(p.name)
-                    on_link[p.link].append(p.name)
-                    pending.remove(item)
-                    progress = True
+    def place_points(new_links):
+        heap = [(1, i) for k in new_links for i in by_link.get(k, ())
+                if points[i].origin in on_link_set[k]]
+        heapq.heapify(heap)
+        while heap:
+            pass_no, i = heapq.heappop(heap)
+            p = points[i]
+            if placed[i]:
+                continue
+            placed[i] = True
+            plan.append(("point", p))
+            known.add(p.name)
+            on_link[p.link].append(p.name)
+            on_link_set[p.link].add(p.name)
+            for j in waiting.get((p.link, p.name), ()):
+                if not placed[j]:
+                    heapq.heappush(heap, (pass_no if j > i else pass_no + 1, j))
 
-    place_points()
+    place_points([1])
+    placer = {n: g for g in groups for n in kind_of(g).new_joints(g)}
+    placer.update({p.name: p for p in points})
     for g in groups:
-        inputs = [g.joints[0], g.joints[-1]] if g.type == "RRR" else (
-            [g.joints[0]] if g.type == "RRP" else list(g.joints))
-        for name in inputs:
+        kind = kind_of(g)
+        where = (f"[[group]] #{g.index}", "group", g.index - 1)
+        for name in kind.needs(g):
             if name not in known:
-                later = name in {q.new_joint for q in groups} or name in {p.name for p in points}
-                why = ("is placed only later; a group may use frame points, the crank's joint, "
-                       "joints of earlier groups and points on earlier links") if later else (
-                       "is not defined anywhere (no frame point, joint or [[point]] of that name)")
-                ctx.fail(f"[[group]] #{g.index}", "group", g.index - 1, "joints",
-                         f"'{name}' {why}")
+                ctx.fail(*where, "joints", f"'{name}' {_not_yet(name, g, placer)}")
+        for key, name, link in kind.on_links(g):
+            if link >= g.links[0]:
+                ctx.fail(*where, key.split(".")[0],
+                         f"link {link} is not placed before group {g.index} (its links are {list(g.links)}); "
+                         f"a guide may be on the frame (0), the crank (1) or an earlier group's link")
+            if name not in on_link.get(link, []):
+                ctx.fail(*where, key, f"'{name}' is not a point of link {link} "
+                                      f"(expected one of {', '.join(on_link.get(link, []))})")
         plan.append(("group", g))
-        if g.new_joint:
-            known.add(g.new_joint)
-        placed_links.update(g.links)
-        place_points()
+        known.update(kind.new_joints(g))
+        place_points(g.links)
+    pending = [(i, p) for i, p in enumerate(points) if not placed[i]]
     for i, p in pending:   # only points measured from each other in a circle remain
         ctx.fail(f"[[point]] #{i + 1}", "point", i, "from",
                  f"'{p.origin}' is measured, directly or through other points, from '{p.name}' itself")
     return tuple(plan)
+
+
+def key_line(text: str, table: str | None, key: str) -> int | None:
+    """Line number of `key` in [table] of a scene's text (for messages about a valid
+    scene's values, e.g. a workbook's column cap)."""
+    return _Locator(text).line(table, 0, key)
+
+
+def _not_yet(name: str, g: Group, placer: dict) -> str:
+    """Why a group cannot use `name` yet: naming what defines it later, or that nothing does."""
+    by = placer.get(name)
+    if by is None:
+        return "is not defined anywhere (no frame point, joint or [[point]] of that name)"
+    what = (f"{by.label}, later in the file" if isinstance(by, Group)
+            else f"[[point]] '{by.name}' on link {by.link}, known only after link {by.link} is placed")
+    return (f"is used by {g.label} before it is known: it is placed by {what}; a group may use "
+            "frame points, the crank's joint, joints of earlier groups and points on earlier links")
 
 
 def override_crank(text: str, source: str = "<scene>", **values) -> tuple[str, Scene]:

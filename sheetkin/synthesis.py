@@ -73,7 +73,7 @@ class CrankRocker:
 
     def scene_toml(self, omega: float = 10.0, positions: int = 13, step_deg: float = 30.0,
                    title: str | None = None) -> str:
-        """A scene (shared/spec/scene.md) ready for `compute` and `workbook`: frame O = (0, 0),
+        """A scene (docs/scene-format.md) ready for `compute` and `workbook`: frame O = (0, 0),
         D = (X_D, Y_D); crank O->A starting at phi1H (position 1 is the extended dead
         position); RRR group A-B-D on the branch that puts the rocker at gamma1 there; and the
         [synthesis] table with the given data."""

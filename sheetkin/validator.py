@@ -29,7 +29,8 @@ import numpy as np
 from .evaluator import Book, EvaluationError, evaluate_sheets
 from .xlsxread import Sheet, read_book
 from .scene import Scene, SceneError, parse_scene
-from .workbook import FIRST_COL, SCENE_SHEET, _rows, build_workbook
+from .groups import kind_of
+from .workbook import FIRST_COL, SCENE_SHEET, build_workbook, sheet_rows
 from .workbook_charts import PATHS_SHEET
 from .xlsxsafe import Limits, UnusableWorkbook
 
@@ -104,12 +105,15 @@ def _inputs(book: Book, sheet: str, names: dict[str, int]) -> dict[str, object]:
 
 def variant_scene(scene: Scene, inputs: dict[str, object], positions: int, where: dict[str, str]) -> Scene:
     """The scene with the student's input block: raises UnusableInput on a non-number."""
-    def num(name, default):
+    def num(name, default, choices=None):
         if name not in inputs:
             return default
         v = inputs[name]
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
             raise UnusableInput(f"input {name} ({where.get(name, '?')}): expected a number, got {v!r}")
+        if choices is not None and v not in choices:
+            raise UnusableInput(f"input {name} ({where.get(name, '?')}): expected "
+                                f"{' or '.join(f'{c:+g}' for c in choices)}, got {v:g}")
         return float(v)
 
     c = scene.crank
@@ -117,25 +121,7 @@ def variant_scene(scene: Scene, inputs: dict[str, object], positions: int, where
                                 step_deg=num("Delta_Fi", c.step_deg), positions=positions,
                                 omega=num("Fi_t0", c.omega), epsilon=num("Fi_tt0", c.epsilon))
     frame = {p: (num(f"x_{p}", x), num(f"y_{p}", y)) for p, (x, y) in scene.frame.items()}
-    groups = []
-    for g in scene.groups:
-        la, lb = g.links
-        kw = {}
-        if g.type == "RRR":
-            kw["lengths"] = (num(f"L{la}", g.lengths[0]), num(f"L{lb}", g.lengths[1]))
-        elif g.type == "RRP":
-            kw["lengths"] = (num(f"L{la}", g.lengths[0]),)
-            kw["guide_point"] = (num(f"gx_g{g.index}", g.guide_point[0]), num(f"gy_g{g.index}", g.guide_point[1]))
-            kw["guide_angle_deg"] = num(f"gamma_g{g.index}", g.guide_angle_deg)
-        else:
-            kw["offset"] = num(f"e_g{g.index}", g.offset)
-        if g.type in ("RRR", "RRP"):
-            b = num(f"branch_g{g.index}", g.branch)
-            if b not in (1.0, -1.0):
-                raise UnusableInput(f"input branch_g{g.index} ({where.get(f'branch_g{g.index}', '?')}): "
-                                    f"expected +1 or -1, got {b:g}")
-            kw["branch"] = int(b)
-        groups.append(dataclasses.replace(g, **kw))
+    groups = [kind_of(g).with_inputs(g, num) for g in scene.groups]
     points = tuple(dataclasses.replace(p, along=num(f"along_{p.name}", p.along),
                                        across=num(f"across_{p.name}", p.across)) for p in scene.points)
     by_index, by_name = {g.index: g for g in groups}, {p.name: p for p in points}
@@ -157,7 +143,7 @@ def variant_scene(scene: Scene, inputs: dict[str, object], positions: int, where
 # --------------------------------------------------------------------------- dependencies
 def row_ancestors(scene: Scene) -> dict[str, set[str]]:
     """For every row of the lecture's workbook, all rows it depends on (transitively)."""
-    rows = _rows(scene).rows
+    rows = sheet_rows(scene).rows
     ref = re.compile(r"\{(?:scale:)?([^{}@:]+)(?:@(?:prev|next))?\}")
     direct = {r.name: set(ref.findall(r.formula)) | ({r.guard} if r.guard else set()) for r in rows}
     out: dict[str, set[str]] = {}
@@ -207,6 +193,19 @@ def validate(path: str | Path, limits: Limits = Limits()) -> Report:
     except (UnusableWorkbook, UnusableInput, SceneError, EvaluationError) as e:
         msg = str(e)
         return Report(path, error=msg if msg.startswith(path) else f"{path}: {msg}")
+    except (KeyboardInterrupt, SystemExit):
+        raise
+    except BaseException as e:     # RecursionError, MemoryError, a bug: this file's error only
+        return Report(path, error=internal_error(path, e))
+
+
+def internal_error(path: str, e: BaseException) -> str:
+    """The one line for an unexpected exception while validating `path`: the batch goes
+    on, and the teacher learns that this is sheetkin's fault, not the student's."""
+    from . import __version__
+    what = " ".join(str(e).split())[:200]
+    return (f"{path}: internal error while validating ({type(e).__name__}{': ' + what if what else ''}); "
+            f"this is a bug in sheetkin {__version__}: please report it with this file")
 
 
 def _validate(path: str, limits: Limits) -> Report:
@@ -225,7 +224,7 @@ def _validate(path: str, limits: Limits) -> Report:
         if isinstance(v, str) and v and v not in names:
             names[v] = r
     # the variant: the student's input block and columns
-    ref_rows = _rows(scene).rows
+    ref_rows = sheet_rows(scene).rows
     input_names = {r.name for r in ref_rows if r.kind == "input"}
     where = {n: f"{main}!D{r}" for n, r in names.items()}
     inputs = _inputs(evaluated, main, {n: r for n, r in names.items() if n in input_names})

@@ -16,8 +16,8 @@
   An exercise workbook gets no `paths` sheet (it would hold the answers).
 
 Nothing here knows a group kind: the links' points, guides and blocks come from
-sheetkin.drawing.structure; the input cells of a guide are found by the workbook's row
-names (gx_g<i>, gy_g<i>, gamma_g<i>, e_g<i>) when present.
+sheetkin.drawing.structure; the input cells of a frame guide are found by the workbook's
+row names (gx_g<i>, gy_g<i>, gamma_g<i>) when present.
 Spin button: openpyxl cannot write form controls, so the position is a plain input cell
 with a data validation (whole number 1..N) instead.
 """
@@ -203,13 +203,18 @@ def _guide_cells(h: _Helper, c: _Cells, g, tag: str):
     th = h.scalar(f"{tag}: angle, deg", theta)
     ux = h.scalar(f"{tag}: cos", f"COS(RADIANS({th}))")
     uy = h.scalar(f"{tag}: sin", f"SIN(RADIANS({th}))")
+    if g.foot_of is not None:         # a slot: the foot of the lever's joint on the line
+        (px, py), (sx, sy) = c.xy(g.foot_of), c.xy(g.slider)
+        d = h.scalar(f"{tag}: slider's distance from the lever's joint", f"-({sx}-{px})*{uy}+({sy}-{py})*{ux}")
+        bx = h.scalar(f"{tag}: base x", f"{px}-{d}*{uy}")
+        by = h.scalar(f"{tag}: base y", f"{py}+{d}*{ux}")
+        return bx, by, ux, uy
     if isinstance(g.through, tuple) and c.input(f"gx_g{g.group}"):
         tx, ty = c.input(f"gx_g{g.group}"), c.input(f"gy_g{g.group}")
     else:
         tx, ty = c.xy(g.through)
-    e = c.input(f"e_g{g.group}") or _num(g.offset)
-    bx = h.scalar(f"{tag}: base x", f"{tx}-{e}*{uy}")
-    by = h.scalar(f"{tag}: base y", f"{ty}+{e}*{ux}")
+    bx = h.scalar(f"{tag}: base x", f"{tx}-{_num(g.offset)}*{uy}")
+    by = h.scalar(f"{tag}: base y", f"{ty}+{_num(g.offset)}*{ux}")
     return bx, by, ux, uy
 
 

@@ -6,9 +6,10 @@ check rows. Same names and the same equations as sheetkin.dynamics (the referenc
 from __future__ import annotations
 
 from .dynamics import point_owners
-from .workbook import _Builder, _cramer_rows, _det_row
+from .groups import kind_of
+from .rows import Builder, LoadRows
 
-def dynamics_inputs(b: _Builder):
+def dynamics_inputs(b: Builder):
     """Masses, moments of inertia, gravity and external loads (README: "Masses and forces")."""
     sc = b.scene
     if any(sc.gravity):
@@ -30,13 +31,13 @@ def dynamics_inputs(b: _Builder):
             b.input(f"to_{n}", "deg", f"{n} действует до угла кривошипа", f"{n} acts up to the crank angle", f.interval_deg[1])
 
 
-def _rates(b: _Builder, k: int) -> tuple[str, str]:
+def _rates(b: Builder, k: int) -> tuple[str, str]:
     """Angular velocity and acceleration of link k as references."""
     _, _, w, e = b.rot[k]
     return f"{{{w}}}", f"{{{e}}}"
 
 
-def energy_rows(b: _Builder):
+def energy_rows(b: Builder):
     """The lecture's energy analysis (seed 003): the centres of mass' energies, the
     d'Alembert inertia forces, the energies' rates of change, the power of external loads."""
     sc, gravity = b.scene, any(b.scene.gravity)
@@ -84,7 +85,7 @@ def energy_rows(b: _Builder):
         b.add("P_ext", "W", "мощность внешних сил и моментов", "power of the external forces and moments", "accepted", "+".join(powers))
 
 
-def _energy_totals(b: _Builder, t_rate: list[str], u_rate: list[str]):
+def _energy_totals(b: Builder, t_rate: list[str], u_rate: list[str]):
     """The mechanism's energies and their rates, with the checks of the rates."""
     sc, gravity = b.scene, any(b.scene.gravity)
     b.add("T", "J", "кинетическая энергия механизма", "kinetic energy of the mechanism", "accepted",
@@ -110,7 +111,7 @@ def _energy_totals(b: _Builder, t_rate: list[str], u_rate: list[str]):
               "({U_t}-{Fi_t}*({U@next}-{U@prev})/(2*{Delta_Fi_rad}))/{scale:U_t}")
 
 
-def kinetostatics_rows(b: _Builder):
+def kinetostatics_rows(b: Builder):
     """Joint reactions group by group from the last Assur group back to the crank (as
     sheetkin.dynamics; names Rx_i_j: the force of link i on link j), the balancing moment,
     and the energy balance the lecture demands."""
@@ -131,125 +132,17 @@ def kinetostatics_rows(b: _Builder):
             couples[f.link].append(f"{on}{{Mz_{f.name}}}")
     b.section("forces", "Динамический анализ: реакции в кинематических парах (кинетостатика групп Ассура)",
               "Dynamic analysis: joint reactions (kinetostatics of the Assur groups)")
-
-    def link_loads(k: int, ref: str):
-        """Rows Qx_k, Qy_k, MQ_k: the known loads on link k and their moment about ref; then
-        the check that takes the moment once more, about the origin."""
-        fx = "+".join(f for _, f, _ in loads[k]) or "0"
-        fy = "+".join(f for _, _, f in loads[k]) or "0"
-        mom = [f"({b.p('x', p)}-{b.p('x', ref)})*{y}-({b.p('y', p)}-{b.p('y', ref)})*{x}" for p, x, y in loads[k]]
-        b.add(f"Qx_{k}", "N", f"главный вектор известных нагрузок звена {k}, x", f"resultant of the known loads on link {k}, x", "calc", fx)
-        b.add(f"Qy_{k}", "N", f"главный вектор известных нагрузок звена {k}, y", f"resultant of the known loads on link {k}, y", "calc", fy)
-        b.add(f"MQ_{k}", "N m", f"их момент относительно {ref}", f"their moment about {ref}", "calc", "+".join(mom + couples[k]) or "0")
-        about_o = "+".join([f"{b.p('x', p)}*{y}-{b.p('y', p)}*{x}" for p, x, y in loads[k]] + couples[k]) or "0"
-        b.add(f"chk_MQ_{k}", "", f"проверка: момент нагрузок звена {k} относительно начала координат (относительная невязка)",
-              f"check: the moment of link {k}'s loads about the origin (relative)", "check",
-              f"({about_o}-({{MQ_{k}}}+{b.p('x', ref)}*{{Qy_{k}}}-{b.p('y', ref)}*{{Qx_{k}}}))/(1+ABS({{Qx_{k}}})+ABS({{Qy_{k}}})+ABS({{MQ_{k}}}))")
-
-    def magnitude(tag: str, ru: str, en: str):
-        b.add(f"R_{tag}", "N", f"модуль реакции {ru}", f"magnitude of the reaction {en}", "accepted", f"SQRT({{Rx_{tag}}}^2+{{Ry_{tag}}}^2)")
-
-    def reaction(tag: str, rx: str, ry: str, ru: str, en: str):
-        b.add(f"Rx_{tag}", "N", f"реакция {ru}, x", f"reaction {en}, x", "accepted", rx)
-        b.add(f"Ry_{tag}", "N", f"реакция {ru}, y", f"reaction {en}, y", "accepted", ry)
-        magnitude(tag, ru, en)
-
-    def cramer_reaction(i: int, tag: str, mat, rhs, det_unit: str, det_text: tuple[str, str], ru: str, en: str):
-        """The group's determinant, the reaction at J1 by Cramer's rule (lecture slide 20),
-        the check putting it back into its two equations, and its magnitude."""
-        det = f"Delta_R_g{i}"
-        _det_row(b, det, mat, det_unit, *det_text)
-        _cramer_rows(b, mat, det, ((f"Rx_{tag}", "N", f"реакция {ru} (Крамер), x", f"reaction {en} (Cramer), x"),
-                                   (f"Ry_{tag}", "N", f"реакция {ru} (Крамер), y", f"reaction {en} (Cramer), y")),
-                     rhs, (f"chk_Rsys_g{i}", "реакция в её двух уравнениях", "the reaction put back into its two equations"))
-        magnitude(tag, ru, en)
-
-    def equilibrium(k: int, ref: str, acting, couple: str):
-        """Check row: link k's three equilibrium equations with every reaction on it, the
-        moments taken about the origin (not about ref, where the loads were summed)."""
-        fx = "+".join([f"{{Qx_{k}}}"] + [x for _, x, _ in acting])
-        fy = "+".join([f"{{Qy_{k}}}"] + [y for _, _, y in acting])
-        mom = "+".join([f"{{MQ_{k}}}", f"{b.p('x', ref)}*{{Qy_{k}}}-{b.p('y', ref)}*{{Qx_{k}}}"]
-                       + [f"{b.p('x', p)}*{y}-{b.p('y', p)}*{x}" for p, x, y in acting] + ([couple] if couple else []))
-        size = "+".join(["1", f"ABS({{Qx_{k}}})", f"ABS({{Qy_{k}}})"] + [f"ABS({x})+ABS({y})" for _, x, y in acting])
-        b.add(f"chk_eq_{k}", "", f"проверка: равновесие звена {k} (силы и моменты, относительная невязка)",
-              f"check: equilibrium of link {k} (forces and moments, relative)", "check",
-              f"(ABS({fx})+ABS({fy})+ABS({mom}))/({size})")
-
+    k = LoadRows(b, loads, couples)
     for g in reversed(sc.groups):
-        i, (a, bl) = g.index, g.links
-        J1 = g.joints[0]
-        o1 = owner[J1]
-        b.section(f"forces_g{i}", f"Группа {i} ({g.type} {'-'.join(g.joints)}): реакции", f"Group {i} ({g.type} {'-'.join(g.joints)}): reactions")
-        t1, tab = f"{o1}_{a}", f"{a}_{bl}"
-        r1 = (f"{{Rx_{t1}}}", f"{{Ry_{t1}}}")
-        rab = (f"{{Rx_{tab}}}", f"{{Ry_{tab}}}")
-        if g.type == "RRR":
-            N, J2 = g.joints[1], g.joints[2]
-            o2 = owner[J2]
-            t2 = f"{o2}_{bl}"
-            link_loads(a, N)
-            link_loads(bl, N)
-            d1x, d1y = f"({b.p('x', J1)}-{b.p('x', N)})", f"({b.p('y', J1)}-{b.p('y', N)})"
-            d2x, d2y = f"({b.p('x', J2)}-{b.p('x', N)})", f"({b.p('y', J2)}-{b.p('y', N)})"
-            # moments about N: d1 x R1 = -MQ_a and d2 x R2 = -MQ_b with R2 = -(Q_a + Q_b) - R1
-            qx, qy = f"({{Qx_{a}}}+{{Qx_{bl}}})", f"({{Qy_{a}}}+{{Qy_{bl}}})"
-            cramer_reaction(i, t1, (f"(-{d1y})", d1x, f"(-{d2y})", d2x), (f"(-{{MQ_{a}}})", f"({{MQ_{bl}}}-({d2x}*{qy}-{d2y}*{qx}))"),
-                            "m^2", (f"определитель: ({J1}-{N}) x ({J2}-{N}) (0 в мёртвом положении)",
-                                    f"determinant: ({J1}-{N}) x ({J2}-{N}) (0 at the toggle)"),
-                            f"звена {o1} на звено {a} в {J1}", f"of link {o1} on link {a} at {J1}")
-            reaction(tab, f"{r1[0]}+{{Qx_{a}}}", f"{r1[1]}+{{Qy_{a}}}", f"звена {a} на звено {bl} в {N}", f"of link {a} on link {bl} at {N}")
-            reaction(t2, f"-{qx}-{r1[0]}", f"-{qy}-{r1[1]}", f"звена {o2} на звено {bl} в {J2}", f"of link {o2} on link {bl} at {J2}")
-            equilibrium(a, N, [(J1, *r1), (N, f"(-{rab[0]})", f"(-{rab[1]})")], "")
-            equilibrium(bl, N, [(N, *rab), (J2, f"{{Rx_{t2}}}", f"{{Ry_{t2}}}")], "")
-            loads[o2].append((J2, f"(-{{Rx_{t2}}})", f"(-{{Ry_{t2}}})"))
-        elif g.type == "RRP":
-            N = g.joints[1]
-            link_loads(a, N)
-            link_loads(bl, N)
-            ux, uy = f"COS(RADIANS({{gamma_g{i}}}))", f"SIN(RADIANS({{gamma_g{i}}}))"
-            d1x, d1y = f"({b.p('x', J1)}-{b.p('x', N)})", f"({b.p('y', J1)}-{b.p('y', N)})"
-            # along the guide: R1.u = -(Q_a + Q_b).u; moments of link a about N: d1 x R1 = -MQ_a
-            qx, qy = f"({{Qx_{a}}}+{{Qx_{bl}}})", f"({{Qy_{a}}}+{{Qy_{bl}}})"
-            cramer_reaction(i, t1, (ux, uy, f"(-{d1y})", d1x), (f"(-({qx}*{ux}+{qy}*{uy}))", f"(-{{MQ_{a}}})"),
-                            "m", (f"определитель: ({J1}-{N}).u (0, когда шатун поперёк направляющей)",
-                                  f"determinant: ({J1}-{N}).u (0 with the coupler across the guide)"),
-                            f"звена {o1} на звено {a} в {J1}", f"of link {o1} on link {a} at {J1}")
-            reaction(tab, f"{r1[0]}+{{Qx_{a}}}", f"{r1[1]}+{{Qy_{a}}}", f"звена {a} на ползун {bl} в {N}", f"of link {a} on slider {bl} at {N}")
-            tg = f"0_{bl}"
-            # the guide pushes across itself: -(R1 + Q).n n with n = (-uy, ux)
-            qn = f"(({r1[0]}+{qx})*{uy}-({r1[1]}+{qy})*{ux})"
-            reaction(tg, f"-{qn}*{uy}", f"{qn}*{ux}", f"направляющей на ползун {bl} (через {N})", f"of the guide on slider {bl} (through {N})")
-            b.add(f"M_{tg}", "N m", f"момент реакции направляющей на ползун {bl}", f"couple of the guide on slider {bl}", "accepted", f"-{{MQ_{bl}}}")
-            equilibrium(a, N, [(J1, *r1), (N, f"(-{rab[0]})", f"(-{rab[1]})")], "")
-            equilibrium(bl, N, [(N, *rab), (N, f"{{Rx_{tg}}}", f"{{Ry_{tg}}}")], f"{{M_{tg}}}")
-        else:
-            J2 = g.joints[1]
-            o2 = owner[J2]
-            t2 = f"{o2}_{bl}"
-            link_loads(a, J1)
-            link_loads(bl, J2)
-            c, s = f"{{cos_{bl}}}", f"{{sin_{bl}}}"
-            # the lever acts on the block with P n through J1 (n = (-sin, cos)) and a couple
-            # C = -MQ_a; the lever's moments about J2: (J1 - J2) x (-P n) - C + MQ_b = 0
-            cross = f"(({b.p('x', J1)}-{b.p('x', J2)})*{c}+({b.p('y', J1)}-{b.p('y', J2)})*{s})"
-            b.add(f"Pn_g{i}", "N", f"давление кулисы {bl} на камень {a} по нормали к кулисе", f"push of lever {bl} on block {a} across the slot",
-                  "calc", f"({{MQ_{bl}}}+{{MQ_{a}}})/{cross}")
-            P = f"{{Pn_g{i}}}"
-            reaction(tab, f"-{P}*(-{s})", f"-{P}*{c}", f"камня {a} на кулису {bl} (через {J1})", f"of block {a} on lever {bl} (through {J1})")
-            b.add(f"M_{tab}", "N m", f"момент реакции камня {a} на кулису {bl}", f"couple of block {a} on lever {bl}", "accepted", f"{{MQ_{a}}}")
-            reaction(t1, f"-{P}*(-{s})-{{Qx_{a}}}", f"-{P}*{c}-{{Qy_{a}}}", f"звена {o1} на камень {a} в {J1}", f"of link {o1} on block {a} at {J1}")
-            equilibrium(a, J1, [(J1, *r1), (J1, f"(-{rab[0]})", f"(-{rab[1]})")], f"(-{{M_{tab}}})")
-            reaction(t2, f"{P}*(-{s})-{{Qx_{bl}}}", f"{P}*{c}-{{Qy_{bl}}}", f"звена {o2} на кулису {bl} в {J2}", f"of link {o2} on lever {bl} at {J2}")
-            equilibrium(bl, J2, [(J1, *rab), (J2, f"{{Rx_{t2}}}", f"{{Ry_{t2}}}")], f"{{M_{tab}}}")
-            loads[o2].append((J2, f"(-{{Rx_{t2}}})", f"(-{{Ry_{t2}}})"))
-        loads[o1].append((J1, f"(-{r1[0]})", f"(-{r1[1]})"))
+        b.section(f"forces_g{g.index}", f"Группа {g.index} ({g.type} {'-'.join(g.joints)}): реакции",
+                  f"Group {g.index} ({g.type} {'-'.join(g.joints)}): reactions")
+        kind_of(g).reaction_rows(b, g, owner, k)
     c = sc.crank
     b.section("forces_crank", "Кривошип: реакция стойки и уравновешивающий момент", "The crank: the frame's reaction and the balancing moment")
-    link_loads(1, c.pivot)
-    reaction("0_1", "-{Qx_1}", "-{Qy_1}", f"стойки на кривошип в {c.pivot}", f"of the frame on the crank at {c.pivot}")
+    k.link_loads(1, c.pivot)
+    k.reaction("0_1", "-{Qx_1}", "-{Qy_1}", f"стойки на кривошип в {c.pivot}", f"of the frame on the crank at {c.pivot}")
     b.add("M_bal", "N m", "уравновешивающий момент на кривошипе (против часовой +)", "balancing moment on the crank (counterclockwise +)", "accepted", "-{MQ_1}")
-    equilibrium(1, c.pivot, [(c.pivot, "{Rx_0_1}", "{Ry_0_1}")], "{M_bal}")
+    k.equilibrium(1, c.pivot, [(c.pivot, "{Rx_0_1}", "{Ry_0_1}")], "{M_bal}")
     b.add("P_bal", "W", "мощность уравновешивающего момента M_bal Fi_t", "power of the balancing moment M_bal Fi_t", "accepted", "{M_bal}*{Fi_t}")
     terms = (["{P_bal}"] + (["{P_ext}"] if sc.forces else []) + (["-{U_t}"] if gravity and sc.masses else [])
              + (["-{T_t}"] if sc.masses else []))

@@ -11,7 +11,10 @@ the regex does not account for, goes through ElementTree (see _read_fast).
 from __future__ import annotations
 
 import gc
+import io
 import re
+import shutil
+import tempfile
 from dataclasses import dataclass, field
 from itertools import compress
 from pathlib import Path
@@ -41,6 +44,7 @@ class Sheet:
     # range's other cells hold no formula in the file, only the value saved (in `cached`)
     arrays: dict = field(default_factory=dict)
     names: dict = field(default_factory=dict)     # names scoped to this sheet (localSheetId)
+    dangling: dict = field(default_factory=dict)  # (r, c) -> why a shared formula's cell has no text
 
     def computed(self, r: int, c: int) -> bool:
         """Whether the cell's value comes from a formula: its own, or an array formula's
@@ -51,33 +55,77 @@ class Sheet:
 
 
 
-def _read_sheet(pkg, name: str, part: str, state: str, shared: list[str], limits: Limits) -> Sheet:
+def _read_sheet(pkg, name: str, part: str, state: str, shared: list[str], limits: Limits,
+                budget: int | None = None) -> Sheet:
+    """budget: cells that may still hold something (Limits.max_cells less the sheets before)."""
     if not part.lower().endswith(".xml"):           # only .xml parts were pre-scanned
-        return _read_tree(pkg, pkg.xml(part), name, part, state, shared, limits)
+        return _read_tree(pkg, pkg.xml(part), name, part, state, shared, limits, budget)
     data = pkg.read(part)
-    sh = _read_fast(pkg, data, name, state, shared, limits)
+    sh = _read_fast(pkg, data, name, state, shared, limits, budget)
     if sh is not None:
         return sh
-    # The C parser directly, not defusedxml's (which calls back into Python for every
-    # element, 4x slower here): safe because open_package refused every part that declares
-    # a DTD or an entity, the only way to an entity bomb or an external entity.
+    return _read_tree(pkg, _streamed(pkg, data, part), name, part, state, shared, limits, budget)
+
+
+def _streamed(pkg, data: bytes, part: str):
+    """(namespace, the <c> elements one by one) of a sheet part, each row cleared once read:
+    a 100 MB part never becomes a 1.5 GB element tree. The C parser directly, not
+    defusedxml's (which calls back into Python for every element, 4x slower here): safe
+    because open_package refused every part that declares a DTD or an entity, the only way
+    to an entity bomb or an external entity."""
+    def refuse(e):
+        return UnusableWorkbook(pkg.path, f"not well-formed XML ({e})", "a sheet saved by Excel or LibreOffice",
+                                part=part)
+    events = ElementTree.iterparse(io.BytesIO(data), events=("start", "end"))
     try:
-        root = ElementTree.fromstring(data)
-    except ElementTree.ParseError as e:
-        raise UnusableWorkbook(pkg.path, f"not well-formed XML ({e})", "a sheet saved by Excel or LibreOffice",
-                               part=part) from None
-    return _read_tree(pkg, root, name, part, state, shared, limits)
-
-
-def _read_tree(pkg, root, name: str, part: str, state: str, shared: list[str], limits: Limits) -> Sheet:
-    """The general path: every well-formed sheet, through an element tree."""
-    sh = Sheet(name, state)
+        _event, root = next(events)
+    except (ElementTree.ParseError, StopIteration) as e:
+        raise refuse(e) from None
     ns = root.tag[:root.tag.index("}") + 1] if root.tag.startswith("{") else ""
+    c_tag, row_tag = f"{ns}c", f"{ns}row"
+
+    def cells():
+        try:
+            for event, el in events:
+                if event == "end":
+                    if el.tag == c_tag:
+                        yield el
+                    elif el.tag == row_tag:
+                        el.clear()
+        except ElementTree.ParseError as e:
+            raise refuse(e) from None
+    return ns, cells()
+
+
+def _check_cells(pkg, name: str, sh: Sheet, limits: Limits, budget: int | None) -> None:
+    """Refuse a workbook in which more than limits.max_cells cells hold something (the
+    reader's memory, about 150-300 bytes a cell, is what this bounds)."""
+    held = len(sh.consts) + len(sh.formulas) + len(sh.dangling)
+    if held > (limits.max_cells if budget is None else budget):
+        raise UnusableWorkbook(pkg.path, f"more than {limits.max_cells:,} cells hold a value or a formula "
+                               f"(counted up to sheet '{name}')",
+                               f"expected at most {limits.max_cells:,} (sheetkin's limit for a workbook)")
+
+
+def _read_tree(pkg, root, name: str, part: str, state: str, shared: list[str], limits: Limits,
+               budget: int | None = None) -> Sheet:
+    """The general path: every well-formed sheet, through an element tree (root), or
+    streamed ((namespace, cells) from _streamed)."""
+    sh = Sheet(name, state)
+    if isinstance(root, tuple):
+        ns, cells = root
+    else:
+        ns = root.tag[:root.tag.index("}") + 1] if root.tag.startswith("{") else ""
+        cells = root.iter(f"{ns}c")
     shared_f: dict[str, _Shared] = {}
-    before_master: list = []
     f_tag, v_tag, is_tag, t_tag = f"{ns}f", f"{ns}v", f"{ns}is", f"{ns}t"
+    pending: list = []                     # shared-formula cells met before their master
     col_of = _COLUMN_INDEX
-    for c in root.iter(f"{ns}c"):
+    count = 0
+    for c in cells:
+        count += 1
+        if count % 65536 == 0:
+            _check_cells(pkg, name, sh, limits, budget)
         ref = c.get("r") or ""
         letters = ref.rstrip("0123456789")
         col = col_of.get(letters)
@@ -128,9 +176,15 @@ def _read_tree(pkg, root, name: str, part: str, state: str, shared: list[str], l
                 if text:
                     shared_f[si] = _Shared(text, row, col)
                 elif si in shared_f:
-                    text = shared_f[si].at(row, col)
-                else:                      # before its master (a block the master is inside)
-                    before_master.append((si, row, col, value))
+                    text = _shifted(sh, shared_f[si], row, col, si)
+                    if text is None:               # cannot be shifted: dangling
+                        if value is not None:
+                            sh.cached[(row, col)] = value
+                        continue
+                else:                      # before its master (a block the master is inside), or no master
+                    pending.append((row, col, si))
+                    if value is not None:
+                        sh.cached[(row, col)] = value
                     continue
             if text:
                 sh.formulas[(row, col)] = text
@@ -141,14 +195,8 @@ def _read_tree(pkg, root, name: str, part: str, state: str, shared: list[str], l
                 continue
         if value is not None:
             sh.consts[(row, col)] = value
-    for si, row, col, value in before_master:
-        text = shared_f[si].at(row, col) if si in shared_f else None
-        if text:
-            sh.formulas[(row, col)] = text
-            if value is not None:
-                sh.cached[(row, col)] = value
-        elif value is not None:
-            sh.consts[(row, col)] = value
+    _resolve_pending(sh, pending, shared_f, sh.formulas)
+    _check_cells(pkg, name, sh, limits, budget)
     return _finish(sh, pkg, limits)
 
 
@@ -182,6 +230,28 @@ def _finish(sh: Sheet, pkg, limits: Limits) -> Sheet:
                 sh.cached[key] = sh.consts.pop(key)
         sh.max_row, sh.max_col = max(sh.max_row, r2), max(sh.max_col, c2)
     return sh
+
+
+def _shifted(sh: Sheet, master: "_Shared", row: int, col: int, si) -> str | None:
+    """A shared formula's text at (row, col), or None and the cell marked dangling when
+    the master's text cannot be shifted (openpyxl's translator refuses it)."""
+    try:
+        return master.at(row, col)
+    except Exception as e:      # noqa: BLE001 - the cell's problem: evaluated as #N/A with a note
+        sh.dangling[(row, col)] = f"a shared formula (si={str(si)[:20]}) whose text cannot be shifted ({type(e).__name__})"
+        return None
+
+
+def _resolve_pending(sh: Sheet, pending: list, masters: dict, formulas: dict) -> None:
+    """Shared-formula cells listed before their master get its text now; those whose
+    master is missing are dangling (the evaluator gives them #N/A and a note, never the
+    value the file cached)."""
+    for row, col, si in pending:
+        text = _shifted(sh, masters[si], row, col, si) if si in masters else None
+        if text:
+            formulas[(row, col)] = text
+        elif (row, col) not in sh.dangling:
+            sh.dangling[(row, col)] = f"a shared formula (si={str(si)[:20]}) without its first cell, which holds the text"
 
 
 # ----------------------------------------------------------------- the fast path: one regex
@@ -263,23 +333,38 @@ def _text(b: bytes) -> str:
     return (_unescape(b) if b"&" in b else b).decode("utf-8")
 
 
-def _read_fast(pkg, data: bytes, name: str, state: str, shared: list[str], limits: Limits) -> Sheet | None:
-    """The cells of a sheet part in the simple shape (see _CELLS), else None."""
+_PIECE = 4 << 20        # bytes of <sheetData> split at a time (the split's lists cost ~10x)
+
+
+def _read_fast(pkg, data: bytes, name: str, state: str, shared: list[str], limits: Limits,
+               budget: int | None = None) -> Sheet | None:
+    """The cells of a sheet part in the simple shape (see _CELLS), else None. Read in
+    pieces of about _PIECE bytes ending at a </row>, so that the regex's lists stay small
+    whatever the part's size."""
     if not _HEAD.match(data):
         return None
     start, end = data.find(b"<sheetData>"), data.find(b"</sheetData>")
     if start < 0 or end < start or data.count(b"<sheetData") != 1:
         return None
-    region = data[start + 11:end]
-    if len(region.translate(None, _CONTROLS)) != len(region):
-        return None
     gc_was = gc.isenabled()
     gc.disable()                # tens of thousands of small tuples, none of them cyclic
     try:
-        parts = _CELLS.split(region)
-        if any(parts[::_GROUPS + 1]):
-            return None                             # bytes that no match accounts for
-        return _cells_of(pkg, parts, name, state, shared, limits)
+        sh, masters, pos = Sheet(name, state), {}, start + 11
+        while pos < end:                            # pieces of <sheetData>, never a copy of all of it
+            cut = end
+            if cut - pos > _PIECE:
+                cut = data.find(b"</row>", pos + _PIECE, end)
+                cut = end if cut < 0 else cut + 6
+            piece = data[pos:cut]
+            if len(piece.translate(None, _CONTROLS)) != len(piece):
+                return None
+            parts = _CELLS.split(piece)
+            if any(parts[::_GROUPS + 1]):
+                return None                         # bytes that no match accounts for
+            _cells_of(pkg, parts, name, state, shared, limits, into=sh, masters=masters)
+            _check_cells(pkg, name, sh, limits, budget)
+            pos = cut
+        return _finish(sh, pkg, limits)
     except UnusableWorkbook:
         raise
     except (_NotSimple, UnicodeDecodeError, ValueError, KeyError, IndexError):
@@ -289,7 +374,10 @@ def _read_fast(pkg, data: bytes, name: str, state: str, shared: list[str], limit
             gc.enable()
 
 
-def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits: Limits) -> Sheet:
+def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits: Limits,
+              into: Sheet | None = None, masters: dict | None = None) -> Sheet:
+    """The cells of one piece of <sheetData> (split by _CELLS), added to `into`; masters:
+    the shared formulas' first cells met so far (a block may span pieces)."""
     k = _GROUPS + 1
     columns = [parts[g::k] for g in range(1, k)]
     if columns[0] and columns[0][-1] is None and columns[0].count(None) == 1:
@@ -298,7 +386,7 @@ def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits
         keep = [x is not None for x in columns[0]]
         columns = [list(compress(x, keep)) for x in columns]
     letters, rownums, types, fattrs, ftexts, vtexts, itexts = columns
-    sh = Sheet(name, state)
+    sh = into if into is not None else Sheet(name, state)
     if not letters:
         return sh
     cols = list(map(_COLUMN_BYTES.__getitem__, letters))    # KeyError past XFD
@@ -310,10 +398,11 @@ def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits
     # styled emptiness (<c r="XFD9" s="3"/>: LibreOffice styles whole rows and columns)
     held = [bool(f or a or v or i) for f, a, v, i in zip(ftexts, fattrs, vtexts, itexts)]
     if all(held):
-        sh.max_row, sh.max_col = max(rows), max(cols)
+        last_row, last_col = max(rows), max(cols)
     else:
-        sh.max_row = max(compress(rows, held), default=0)
-        sh.max_col = max(compress(cols, held), default=0)
+        last_row = max(compress(rows, held), default=0)
+        last_col = max(compress(cols, held), default=0)
+    sh.max_row, sh.max_col = max(sh.max_row, last_row), max(sh.max_col, last_col)   # over the pieces
     if sh.max_row > limits.max_rows or sh.max_col > limits.max_cols:
         for r, c, L, R, h in zip(rows, cols, letters, rownums, held):
             if h and (r > limits.max_rows or c > limits.max_cols):
@@ -324,9 +413,10 @@ def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits
     if any(fattrs):
         # shared formulas (Excel, LibreOffice): the first cell <f t="shared" si=".."> has the
         # text, the block's other cells <f t="shared" si=".."/> are shifted from it
-        # (a block's master need not be its first cell: the masters are found first)
-        masters: dict = {}
-        children = []
+        # (a block's master need not be its first cell: the masters are found first; a
+        # block may span pieces of the sheet: `masters` holds those met so far)
+        masters = {} if masters is None else masters
+        children, pending = [], []
         for i in compress(range(len(keys)), fattrs):
             if not _SHARED.search(fattrs[i]):
                 if _ARRAY.search(fattrs[i]) and keys[i] in formulas:
@@ -334,16 +424,20 @@ def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits
                     sh.arrays[keys[i]] = _array_end(ref and ref.group(1).decode("ascii"), *keys[i])
                 continue
             si = _SI.search(fattrs[i])
-            si = si.group(1) if si else None
+            si = si.group(1).decode("utf-8", "replace") if si else None
             if ftexts[i]:
                 masters[si] = _Shared(formulas[keys[i]], rows[i], cols[i])
             else:
                 children.append((i, si))
         for i, si in children:
             if si in masters:
-                text = masters[si].at(rows[i], cols[i])
+                text = _shifted(sh, masters[si], rows[i], cols[i], si)
                 if text:
                     formulas[keys[i]] = text
+            else:
+                pending.append((rows[i], cols[i], si))
+        if pending:
+            _resolve_pending(sh, pending, masters, formulas)
         formulas = {key: formulas[key] for key in keys if key in formulas}     # document order
     # values: constants, and the values saved for formula cells
     with_value = compress(range(len(keys)), vtexts)
@@ -359,12 +453,12 @@ def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits
             if value is None:
                 continue
         key = keys[i]
-        if key in formulas:
+        if key in formulas or key in sh.dangling:
             cached[key] = value
         else:
             consts[key] = value
-    sh.formulas = formulas
-    return _finish(sh, pkg, limits)
+    sh.formulas.update(formulas)
+    return sh
 
 
 def _value(t: bytes | None, v: bytes | None, inline: bytes | None, shared: list[str]):
@@ -476,7 +570,7 @@ def _shift_formula(formula: str, dr: int, dc: int) -> str:
     def col(abs_, letters):
         if abs_:
             return abs_ + letters
-        c = _COLUMN_INDEX[letters] + dc
+        c = _COLUMN_INDEX.get(letters, _MAX_COL + 1) + dc      # past XFD: not a column
         return _LETTERS[c] if 1 <= c <= _MAX_COL else None
 
     def row(abs_, digits):
@@ -573,37 +667,97 @@ def _opendocument(path) -> bool:
 def _read_opendocument(path, limits: Limits, timeout: float) -> RawBook:
     """LibreOffice (its own temporary profile, a time limit) converts a copy of the file
     to .xlsx in a temporary folder, which is read like any .xlsx; the original is only
-    read. Without LibreOffice: refused, with the command that converts it."""
+    read. Without LibreOffice: refused, with the command that converts it. A file that
+    `convert_opendocument` converted already is read from its converted copy."""
     from . import libreoffice
-    import shutil
-    import tempfile
     shown = str(path)
     how = f"convert it to .xlsx: soffice --headless --convert-to xlsx {shown!r}"
     size = Path(path).stat().st_size
     if size > limits.max_file_bytes:
         raise UnusableWorkbook(shown, f"an OpenDocument spreadsheet of {size} bytes",
                                f"at most {limits.max_file_bytes} bytes")
+    done = _CONVERTED.get(_signature(path))
+    if done is not None and done.is_file():
+        return _read_converted(done, shown, limits)
     if libreoffice.soffice_path() is None:
         raise UnusableWorkbook(shown, "an OpenDocument spreadsheet, and LibreOffice (soffice) is not "
                                "installed to read it", how)
     with tempfile.TemporaryDirectory(prefix="sheetkin-ods-") as tmp:
         src = Path(tmp) / "in"
         src.mkdir()
-        copy = src / ("book" + (Path(path).suffix.lower() if Path(path).suffix.lower() in (".ods", ".fods")
-                                 else ".ods"))
+        copy = src / ("book" + _odf_suffix(path))
         shutil.copyfile(path, copy)
         try:
             out = libreoffice.convert_to_xlsx(copy, Path(tmp) / "out", timeout)
         except (RuntimeError, OSError) as e:
             reason = "timed out" if "timed out" in str(e) else "failed"
             raise UnusableWorkbook(shown, f"LibreOffice's conversion to .xlsx {reason}", how) from None
-        try:
-            raw = _read_xlsx(out, limits)
-        except UnusableWorkbook as e:
-            raise UnusableWorkbook(shown, f"(converted to .xlsx by LibreOffice) {e.problem}", e.expected,
-                                   e.part) from None
+        return _read_converted(out, shown, limits)
+
+
+def _read_converted(out: Path, shown: str, limits: Limits) -> RawBook:
+    try:
+        raw = _read_xlsx(out, limits)
+    except UnusableWorkbook as e:
+        raise UnusableWorkbook(shown, f"(converted to .xlsx by LibreOffice) {e.problem}", e.expected,
+                               e.part) from None
     raw.path = shown
     return raw
+
+
+def _odf_suffix(path) -> str:
+    return ".fods" if Path(path).suffix.lower() == ".fods" else ".ods"
+
+
+def _signature(path) -> tuple:
+    """A file as it is now: its resolved name, size and modification time."""
+    st = Path(path).stat()
+    return str(Path(path).resolve()), st.st_size, st.st_mtime_ns
+
+
+_CONVERTED: dict = {}      # _signature(original) -> its .xlsx made by convert_opendocument
+_BATCH_DIRS: list = []     # their temporary folders, removed when the process ends
+
+
+def convert_opendocument(paths, limits: Limits = Limits(), *, timeout_per_file: float = 60,
+                         note=None) -> int:
+    """Convert every OpenDocument spreadsheet among `paths` to .xlsx in ONE LibreOffice run
+    (its start-up is most of the time a file costs: a class's .ods files, 2-4 s each one
+    by one); read_book then reads the converted copies, as long as the originals do not
+    change. Copies are converted, in a temporary folder removed when the process ends.
+    If the run fails, nothing is kept: read_book converts each file alone (and says what
+    is wrong with it). `note(text)` is told before the run. Returns how many were converted."""
+    from . import libreoffice
+    todo = []
+    for p in paths:
+        try:
+            if _opendocument(p) and Path(p).stat().st_size <= limits.max_file_bytes:
+                todo.append(p)
+        except OSError:
+            continue
+    if len(todo) < 2 or libreoffice.soffice_path() is None:
+        return 0
+    if note is not None:
+        note(f"{len(todo)} OpenDocument spreadsheets: converting them to .xlsx with LibreOffice (one run)")
+    tmp = tempfile.TemporaryDirectory(prefix="sheetkin-ods-batch-")
+    _BATCH_DIRS.append(tmp)
+    src = Path(tmp.name) / "in"
+    src.mkdir()
+    copies = {}
+    for i, p in enumerate(todo):
+        copy = src / f"book{i}{_odf_suffix(p)}"
+        try:
+            shutil.copyfile(p, copy)
+        except OSError:
+            continue
+        copies[copy.resolve()] = (p, _signature(p))
+    try:
+        outputs = libreoffice.recalculate(list(copies), Path(tmp.name) / "out", 60 + timeout_per_file * len(copies))
+    except (RuntimeError, OSError, ValueError):
+        return 0
+    for copy, out in outputs.items():
+        _CONVERTED[copies[copy][1]] = out
+    return len(outputs)
 
 
 def _read_xlsx(path, limits: Limits) -> RawBook:
@@ -611,9 +765,12 @@ def _read_xlsx(path, limits: Limits) -> RawBook:
     shared = _shared_strings(pkg)
     names, local = _defined_names(pkg)
     sheets, order = {}, []
+    held = 0
     for i, info in enumerate(sheet_parts(pkg)):
-        sheets[info.name] = _read_sheet(pkg, info.name, info.part, info.state, shared, limits)
-        sheets[info.name].names = local.get(i, {})
+        sh = sheets[info.name] = _read_sheet(pkg, info.name, info.part, info.state, shared, limits,
+                                             limits.max_cells - held)
+        sh.names = local.get(i, {})
+        held += len(sh.consts) + len(sh.formulas) + len(sh.dangling)
         order.append(info.name)
     return RawBook(str(path), sheets, order, names)
 

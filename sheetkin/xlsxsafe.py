@@ -58,6 +58,16 @@ max_rows           100,000      rows of one worksheet: the last row of a cell th
                                 the <dimension ref> do not count)
 max_cols           4,000        columns of one worksheet (likewise; LibreOffice's whole
                                 width is 1024, Excel's 16384)
+max_cells          2,000,000    cells that hold a value or a formula, all sheets together
+                                (the cells as read cost ~150-300 bytes each)
+max_used_cells     10,000,000   the evaluator's cells: rows x columns from A1 to the last
+                                cell that holds something, all sheets together
+max_reads          400,000,000  cells the evaluator reads for all formulas together (a
+                                range clipped to the used range; its time is about this)
+max_formula_chars  2,000,000    characters of formula text the evaluator parses: one
+                                formula per run of cells filled from a neighbour, every
+                                other formula on its own (parsed trees are ~30 bytes a
+                                character)
 =================  ===========  ============================================================
 """
 from __future__ import annotations
@@ -115,6 +125,10 @@ class Limits:
     max_parts: int = 2000
     max_rows: int = 100_000
     max_cols: int = 4_000
+    max_cells: int = 2_000_000
+    max_used_cells: int = 10_000_000
+    max_reads: int = 400_000_000
+    max_formula_chars: int = 2_000_000
 
     def __post_init__(self):
         for field, value in vars(self).items():

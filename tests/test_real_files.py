@@ -14,6 +14,8 @@ from pathlib import Path
 
 import openpyxl
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from openpyxl.utils import get_column_letter
 
 import realfiles as rf
@@ -298,3 +300,48 @@ def test_an_array_range_past_the_limits_is_refused(tmp_path):
         read_book(path)
     msg = str(info.value)
     assert msg.startswith(str(path)) and "B1:B1048576" in msg and "at most 100000 rows" in msg
+
+
+def test_a_class_of_ods_files_is_converted_in_one_run(lo, tmp_path, monkeypatch, capsys):
+    """`sheetkin validate FOLDER` converts all the folder's .ods and .fods files in one
+    LibreOffice run (not one per file), and reads each from its converted copy."""
+    from sheetkin import libreoffice, xlsxread
+    from sheetkin.cli import main
+    folder = tmp_path / "class"
+    folder.mkdir()
+    b = lo["books"]["lo_functions"]
+    for i in range(3):
+        rf.ods(folder / f"s{i}.ods", b.source)
+    (folder / "s3.fods").write_bytes(b.source.read_bytes())
+    runs = []
+    convert = libreoffice._convert
+    monkeypatch.setattr(libreoffice, "_convert", lambda paths, *a, **k: runs.append(len(paths)) or convert(paths, *a, **k))
+    monkeypatch.setattr(xlsxread, "_CONVERTED", {})
+    assert main(["validate", str(folder), "--progress", "always"]) == 2      # no embedded scene: each one line
+    assert runs == [4]
+    out, err = capsys.readouterr()
+    assert "4 OpenDocument spreadsheets: converting them" in err
+    assert all(f"s{i}." in out for i in range(4)) and "no embedded scene" in out
+    for p in folder.iterdir():
+        assert agrees(evaluate(p).value("Calc", 5, 6), math.pi / 4)
+    assert runs == [4]                                   # read from the converted copies
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.lists(st.one_of(
+           st.builds(lambda ca, c, ra, r: f"{ca}{get_column_letter(c)}{ra}{r}", st.sampled_from(["", "$"]),
+                     st.integers(1, 16384), st.sampled_from(["", "$"]), st.integers(1, 1048576)),
+           st.builds(lambda a, b: f"{get_column_letter(a)}:{get_column_letter(b)}", st.integers(1, 16384),
+                     st.integers(1, 16384)),
+           st.sampled_from(['"A1"', "SUM(", ")", "+", ",", "dfi", "'My Sheet'!", "Data!", "LOG10(", "1.5", "ZZZ9"]),
+           st.text(max_size=3)), max_size=8).map("".join),
+       st.integers(-20, 20), st.integers(-20, 20))
+def test_shifting_a_shared_formula_there_and_back_is_the_identity(text, dr, dc):
+    """_shift_formula never raises; moved by (dr, dc) and back it is the text it was,
+    unless a reference left the sheet on the way (then it says #REF!)."""
+    from sheetkin.xlsxread import _shift_formula
+    there = _shift_formula(text, dr, dc)
+    assert isinstance(there, str)
+    back = _shift_formula(there, -dr, -dc)
+    if "#REF!" not in there:
+        assert back == text

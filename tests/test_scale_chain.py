@@ -50,8 +50,8 @@ def test_chain_assembles_and_keeps_constraints(n):
             nx, ny = _xy(df, scene, nn)
             x, y = _xy(df, scene, j1)
             assert np.max(np.abs(np.hypot(nx - x, ny - y) - g.lengths[0])) < 1e-12
-            gx, gy = g.guide_point
-            ux, uy = np.cos(np.radians(g.guide_angle_deg)), np.sin(np.radians(g.guide_angle_deg))
+            gx, gy = g.guide.point
+            ux, uy = np.cos(np.radians(g.guide.angle_deg)), np.sin(np.radians(g.guide.angle_deg))
             assert np.max(np.abs((nx - gx) * uy - (ny - gy) * ux)) < 1e-12     # on the guide
         else:   # RPR with no offset: J1 on the slot line through J2 at phi_b, |J2 J1| = s_J1
             j1, j2 = g.joints

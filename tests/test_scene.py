@@ -14,6 +14,7 @@ from pathlib import Path
 import pytest
 
 from sheetkin import Scene, SceneError, load_scene, parse_scene
+from sheetkin.groups import kind_of
 
 WORKBOOKS = Path(__file__).resolve().parents[1] / "workbooks"
 
@@ -400,7 +401,7 @@ def test_spec_fourbar_values(tmp_path):
     (g,) = scene.groups
     assert (g.index, g.type, g.links, g.joints, g.lengths, g.branch) == \
         (1, "RRR", (2, 3), ("A", "B", "O1"), (0.5, 0.34), -1)
-    assert g.new_joint == "B" and g.slider is None
+    assert kind_of(g).new_joints(g) == ["B"] and kind_of(g).sliders(g) == []
     assert g.label == "group 1 (RRR A-B-O1)"
     s2, s3 = scene.points
     assert (s2.name, s2.link, s2.origin, s2.along, s2.across) == ("S2", 2, "A", 0.39035, 0.0)
@@ -516,8 +517,8 @@ def test_guide_through_a_frame_point(tmp_path):
     text = mutate(SHAPER, "through = [0.0, 0.47]", 'through = "B"').replace(
         "angle_deg = 0.0", "angle_deg = 90.0")
     g2 = load_scene(write(tmp_path, text)).groups[1]
-    assert g2.guide_point == (0.0, 0.0) and g2.guide_angle_deg == 90.0
-    assert g2.slider == "D" and g2.new_joint == "D"
+    assert g2.guide.point == (0.0, 0.0) and g2.guide.angle_deg == 90.0 and g2.guide.link == 0
+    assert kind_of(g2).sliders(g2) == ["D"] and kind_of(g2).new_joints(g2) == ["D"]
 
 
 # ---- messages made clearer after review (each names the key and what is expected)

@@ -15,7 +15,7 @@ import mpmath
 import numpy as np
 import pytest
 
-from sheetkin.bench import (STABILITY_DISTANCES, SILENT_ERROR, _STABILITY_SCENE, _rrr_mp,
+from sheetkin.bench import (FAMILY_TITLES, STABILITY_DISTANCES, SILENT_ERROR, _STABILITY_SCENE, _rrr_mp,
                             edge_angle_mp, method_solver, reference_near_singular,
                             stability_scene, stability_study)
 from sheetkin.cli import main
@@ -209,12 +209,39 @@ def test_no_method_is_silently_wrong(study):
     assert (ok[["err_pos", "err_vel", "err_acc"]].max(axis=1) <= SILENT_ERROR).all()
 
 
+def test_other_kinds_edges_are_exact(study):
+    """The RRP families' edges, found by mpmath on the groups' discriminants, against
+    geometry written out here: the crank-slider's coupler (0.2) stands across its guide
+    (y = 0.05) when 0.05 - 0.25 sin(phi) = 0.2; the second rocker O2 D (0.3) stands across
+    the line O1 B of the four-bar's rocker, B from the mpmath reference."""
+    from sheetkin.bench import _family_angles, reference_mp
+    from sheetkin.scene import parse_scene
+    _, _, edges, _ = study
+    with mpmath.workdps(50):
+        edge, _, _ = _family_angles("slider-toggle", stability_scene("slider-toggle"), D)
+        # the scene's numbers are the floats 0.05, 0.2, 0.25, taken exactly
+        exact = mpmath.pi + mpmath.asin((mpmath.mpf(0.2) - mpmath.mpf(0.05)) / mpmath.mpf(0.25))
+        assert abs(edge - exact) < mpmath.mpf(10) ** -40
+    scene = stability_scene("slotted-toggle")
+    fourbar = parse_scene(_STABILITY_SCENE.format(title="x", frame=0.0, crank=0.14, coupler=0.5, rocker=0.34,
+                                                  branch=-1).replace("O1 = [0.0, 0.0]", "O1 = [0.0, -0.53]"))
+    ref = reference_mp(fourbar, [float(edges["slotted-toggle"])], dps=30)
+    bx, by = float(ref["x_B"][0]), float(ref["y_B"][0])
+    (ox, oy), (qx, qy) = scene.frame["O1"], scene.frame["O2"]
+    h = abs((bx - ox) * (qy - oy) - (by - oy) * (qx - ox)) / math.hypot(bx - ox, by - oy)
+    assert h == pytest.approx(0.3, abs=1e-12)
+    for fam in ("slider-toggle", "slotted-toggle"):
+        solver = rows(study[0], fam, "solver")
+        # the solver keeps its answers to the end, flagged once |det| < the threshold
+        assert set(solver["status"]) <= {"ok", "flagged"} and solver["status"].iloc[-1] == "flagged"
+
+
 # --------------------------------------------------------------------------- files, CLI
 def test_csv_and_png_written(study):
     table, _, _, out = study
     with open(out / "stability.csv", newline="") as f:
         got = list(csv.DictReader(f))
-    assert len(got) == 3 * 3 * len(D) == len(table)
+    assert len(got) == len(FAMILY_TITLES) * 3 * len(D) == len(table)
     assert list(got[0])[:7] == ["family", "d", "distance", "phi_deg", "method", "param", "status"]
     # the float angle's distance from the edge is the nominal one to 1e-6 of it
     for r in got:

@@ -1,0 +1,92 @@
+"""The Assur group kinds: one module per kind, behind one explicit table.
+
+`KINDS` maps a scene's `type` to the module that knows everything about that kind (the
+contract's "Group types", docs/scene-format.md). The scene parser, the solver, the
+workbook writer, the dynamics (numpy and sheet), the bench and the validator iterate over
+a scene's groups and ask `kind_of(g)`; none of them tests a kind's name. Adding a kind is
+one new module here, one line in `KINDS`, its tests (tests/kinds.py) and a bundled scene.
+
+Every kind module provides the same surface, under banners in this order:
+
+  # --- what it is
+  KIND = "RPR"               the scene's `type`
+  LECTURE = "ВПВ"            the course's code (section titles); SLIDES = "22-24"
+  TITLE = (ru, en)           one line in the course's words ("block on J1 in a kulisa ...")
+  KEYS = (...)               the allowed scene keys, "type" and "links" included
+
+  # --- scene keys
+  Params                     frozen dataclass of the kind's own fields (g.params; read
+                             through as g.branch, g.length, g.guide ...)
+  parse(tbl, frame) -> (joints, Params)
+        tbl is the [[group]] table (sheetkin.scene's typed getters: get, array, positive,
+        name, fail(key, msg), guide(key, frame) -> group.Guide); report every mistake with
+        tbl.fail (one line naming file, line, key). `type`, `links` are checked before.
+  needs(g) -> list[str]      points that must be known before the group is placed (J1,
+                             J2, a moving guide's `through`), in the order to report them
+  on_links(g) -> [(key, point, link)]  points that must belong to a given link (RRP: a
+                             moving guide's `through` is a point of the guide's link)
+  new_joints(g) -> list[str] joints the group places (RRR/RRP/PRP: N; RPP: K; RPR: none)
+  carries(g) -> {link: [joints]}  the joints on each of its two links ([[point]] `from`,
+                             [[mass]] `centre`, [[force]] `at` must be one of them)
+  sliders(g) -> list[str]    slide tags, named by motion.slide_names: "N" -> s_N, vs_N,
+                             as_N; "2_N" -> s2_N, vs2_N, as2_N
+
+  # --- positions, velocities, accelerations (numpy over crank positions)
+  solve(g, known, rot, scale) -> motion.GroupMotion
+        known: name -> Motion of every known point; rot: link -> Rotation of every placed
+        link (0 is motion.FRAME); scale: the crank's length. Closed form (the scene's
+        branch), then the Cramer systems (same matrix for velocities and accelerations).
+        GroupMotion(joints={N: Motion}, links={a: Rotation, b: Rotation},
+                    slides={tag: Slide}, disc, toggle); toggle = det / (its lengths), free
+                    of where the mechanism sits and of its size.
+
+  # --- the workbook (sheetkin.rows.Builder)
+  input_rows(g) -> list[rows.InputRow]   the group's editable inputs; InputRow.early: written
+                             with the lengths (before the frame points), else after them.
+                             Names: L{k} lengths, gx_g{i} gy_g{i} gamma_g{i} a guide,
+                             e_g{i} an offset, branch_g{i} the branch.
+  with_inputs(g, num) -> Group   the group rebuilt from a student's inputs (validator):
+                             num(name, default, choices=None) -> float
+  rows(b, g)                 the block in the lecture's order: intermediate rows (P_g{i} ...),
+                             the discriminant D_g{i} and rows.group_guard, every branch with
+                             its checks, "accepted values" (contract names), Cramer rows for
+                             velocities (Delta_g{i}, det_g{i}), f1_g{i}/f2_g{i}, Cramer rows for
+                             accelerations, the new joint's motion (rows.motion_rows) and
+                             checks (chk_*, at least one every 8 rows). Sets b.rot[a], b.rot[b]
+                             (cos, sin, omega, eps row names) and b.guard_of_link[a], [b].
+
+  # --- kinetostatics
+  pin_owner(g) -> {joint: link}   the link a later group hinges to at a new joint
+  pairs(g, owner) -> list[motion.Pair]   the pairs whose reactions it computes (J1 side,
+                             inner, J2 side); Pair(i, j, joint, sliding)
+  reactions(g, known, links, loads, owner) -> {tag: (Rx, Ry, couple or None)}   numpy;
+                             adds what it exerts on earlier links to `loads` (motion.Loads)
+  reaction_rows(b, g, owner, k)   the same in the sheet; k is a rows.LoadRows (link_loads,
+                             reaction, cramer_reaction, equilibrium, loads)
+
+  # --- loop equations (Newton, the 50-digit mpmath reference, property tests)
+  loop(lib, g, known, links) -> (F, J, b_v, b_a, place)
+        lib: bench.MP or bench.FLOAT (cos, sin, pi, num, solve ...); known: name ->
+        ((x, y), (vx, vy), (ax, ay)); links: k -> (phi, omega, eps). F(q) = 0 its vector
+        loop-closure equation in two unknowns q; J q_t = b_v(q); J q_tt = b_a(q, q_t);
+        place(q, q_t, q_tt) -> ({joint: motion tuple}, (link a, link b), {tag: (s, vs, as)})
+  side_ok(lib, g, known, links, q, joints) -> bool   q is on the scene's branch
+  discriminant(lib, g, known, links)   >= 0 where the group assembles, 0 at the edge of
+                             its range (the stability study finds that edge in mpmath)
+  unknowns(g, sol) -> (qa, qb)   the closed-form solution's q, arrays over positions
+"""
+from __future__ import annotations
+
+from . import rpr, rrp, rrr
+
+# explicit, in the contract's order; `grep RPR` finds every use (no discovery, no decorators)
+KINDS = {
+    "RRR": rrr,
+    "RRP": rrp,
+    "RPR": rpr,
+}
+
+
+def kind_of(g):
+    """The module of a group's kind (a Group, or its `type` string)."""
+    return KINDS[g if isinstance(g, str) else g.type]

@@ -1,0 +1,303 @@
+"""RPR (ВПВ): a block (камень) hinged at J1 slides in a kulisa b that turns about J2
+(slides 22-24: the crank-slotted-lever mechanism; J2 may itself move: the lecture's
+"kulisa with a moving axis", Направляющая с подвижной осью).
+
+Line through a point. The slot line passes at distance e (`offset`) from J2:
+    J1 - J2 = s u + e n,   u = e(theta), n = u turned +90 deg,
+unknowns theta = phi_a = phi_b and s = s_J1 = sqrt(|J1 - J2|^2 - e^2) (the seeds' L_TEK, S_AB,
+l31; s > 0). Velocities by Cramer: theta_t (s n - e u) + s_t u = v_J1 - v_J2; accelerations:
+the same matrix, the right side loses the Coriolis 2 s_t theta_t n and the centripetal
+-s theta_t^2 u - e theta_t^2 n. Toggle measure: s / L1 (the determinant is -s, a length,
+divided by the crank's: free of the mechanism's size and place; near 0 the block passes
+over the kulisa's axis and the slot's direction is undefined).
+"""
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..group import Group
+from ..motion import GroupMotion, Motion, Pair, Rotation, Slide, cramer, cross, inverse_det, sqrt_or_nan
+from ..rows import Builder, InputRow, LoadRows, cramer_rows, det_row, group_guard
+
+# --------------------------------------------------------------------------- what it is
+KIND = "RPR"
+LECTURE = "ВПВ"
+SLIDES = "22-24"
+TITLE = ("камень на J1 в кулисе, вращающейся вокруг J2 (ось неподвижна или движется)",
+         "block on J1 in a kulisa (slotted lever) turning about J2 (a fixed or a moving axis)")
+KEYS = ("type", "links", "joints", "offset")
+
+
+# --------------------------------------------------------------------------- scene keys
+@dataclass(frozen=True)
+class Params:
+    offset: float = 0.0      # the slot line's distance from J2 (to the left of J2 -> J1)
+
+
+def parse(tbl, frame) -> tuple[tuple[str, ...], Params]:
+    joints = tbl.array("joints", 2, "name")
+    offset = tbl.get("offset", "a number", 0.0)
+    if joints[0] == joints[1]:
+        tbl.fail("joints", f"expected two different points, got {list(joints)}")
+    return joints, Params(offset)
+
+
+def needs(g: Group) -> list[str]:
+    return list(g.joints)
+
+
+def on_links(g: Group) -> list[tuple[str, str, int]]:
+    return []
+
+
+def new_joints(g: Group) -> list[str]:
+    return []
+
+
+def carries(g: Group) -> dict[int, list[str]]:
+    (j1, j2), (a, b) = g.joints, g.links
+    return {a: [j1], b: [j2]}
+
+
+def sliders(g: Group) -> list[str]:
+    return [g.joints[0]]
+
+
+# --------------------------------------------------------------------------- positions and rates
+def solve_rpr(j1: Motion, j2: Motion, offset: float, scale: float):
+    """The kulisa's rotation, the block's slide, the discriminant, the toggle measure."""
+    e = offset
+    dx, dy = j1.x - j2.x, j1.y - j2.y
+    r2 = dx * dx + dy * dy
+    disc = np.where(r2 > 0, r2 - e * e, -1.0)   # J1 on J2 with no offset: slot undefined
+    s = sqrt_or_nan(disc)
+    c, sn = (s * dx + e * dy) / r2, (s * dy - e * dx) / r2
+    col1x, col1y = -s * sn - e * c, s * c - e * sn      # d/dtheta of (s u + e n)
+    det, inv = inverse_det(col1x, c, col1y, sn)
+    w, vs = cramer(col1x, c, col1y, sn, j1.vx - j2.vx, j1.vy - j2.vy, inv)
+    # bias: 2 s_t theta_t n - s theta_t^2 u - e theta_t^2 n
+    bn, bu = 2.0 * vs * w - e * w * w, -s * w * w
+    bx, by = bu * c - bn * sn, bu * sn + bn * c
+    eps, as_ = cramer(col1x, c, col1y, sn, j1.ax - j2.ax - bx, j1.ay - j2.ay - by, inv)
+    return Rotation(c, sn, w, eps), Slide(s, vs, as_), disc, -det / scale
+
+
+def solve(g: Group, known: dict[str, Motion], rot: dict[int, Rotation], scale: float) -> GroupMotion:
+    (j1, j2), (a, b) = g.joints, g.links
+    r, slide, disc, toggle = solve_rpr(known[j1], known[j2], g.offset, scale)
+    return GroupMotion({}, {a: r, b: r}, {j1: slide}, disc, toggle)
+
+
+# --------------------------------------------------------------------------- the workbook
+def input_rows(g: Group) -> list[InputRow]:
+    i, lb, j2 = g.index, g.links[1], g.joints[1]
+    return [InputRow(f"e_g{i}", "m", f"смещение оси кулисы {lb} от {j2}", f"offset of slot {lb} from {j2}", g.offset)]
+
+
+def with_inputs(g: Group, num) -> Group:
+    return dataclasses.replace(g, params=Params(num(f"e_g{g.index}", g.offset)))
+
+
+def rows(b: Builder, g: Group):
+    """Lecture slides 22-24: block on J1 in the slotted lever (kulisa) turning about J2.
+    J1 - J2 = s u + e n (u along the slot, n = u turned +90 deg). J2 may move (a kulisa
+    with a moving axis): its velocity and acceleration enter the right sides."""
+    i, (la, lb), (J1, J2) = g.index, g.links, g.joints
+    e = f"{{e_g{i}}}"
+    if J2 in b.frame:
+        b.section(f"group_{i}", f"Группа {i} (ВПВ: камень {J1} в кулисе, ось {J2}): слайды 22-24",
+                  f"Group {i} (RPR: block {J1} in the slotted lever about {J2}): slides 22-24")
+    else:   # the lecture's "Кулисные механизмы. Направляющая с подвижной осью"
+        b.section(f"group_{i}", f"Группа {i} (ВПВ: камень {J1} в кулисе с подвижной осью {J2}): "
+                                f"L_ТЕК^2 = (x{J2} - x{J1})^2 + (y{J2} - y{J1})^2, слайды 22-24",
+                  f"Group {i} (RPR: block {J1} in a kulisa with a moving axis {J2}): "
+                  f"L_TEK^2 = (x{J2} - x{J1})^2 + (y{J2} - y{J1})^2, slides 22-24")
+    dx, dy, r2, D = f"dx_g{i}", f"dy_g{i}", f"r2_g{i}", f"D_g{i}"
+    b.add(dx, "m", f"x{J1} - x{J2}", f"x{J1} - x{J2}", "calc", f"{b.p('x', J1)}-{b.p('x', J2)}", guard=b.guard)
+    b.add(dy, "m", f"y{J1} - y{J2}", f"y{J1} - y{J2}", "calc", f"{b.p('y', J1)}-{b.p('y', J2)}", guard=b.guard)
+    b.add(r2, "m^2", f"L_TEK^2 = |{J2}{J1}|^2", f"L_TEK^2 = |{J2}{J1}|^2", "calc", f"{{{dx}}}^2+{{{dy}}}^2",
+          guard=b.guard)
+    b.add(D, "m^2", "дискриминант L_TEK^2 - e^2 (< 0: группа не собирается)",
+          "discriminant L_TEK^2 - e^2 (< 0: cannot assemble)",
+          "calc", f"IF({{{r2}}}>0,{{{r2}}}-{e}^2,-1)", guard=b.guard)
+    group_guard(b, g, D)
+    b.section(f"accepted_g{i}", "Принятые значения", "Accepted values")
+    sJ = f"s_{J1}"
+    b.add(sJ, "m", f"положение камня {J1} вдоль кулисы (L_TEK при e = 0)",
+          f"block {J1}'s place along the slot (L_TEK when e = 0)",
+          "accepted", f"SQRT({{{D}}})")
+    cu, su = f"cu_g{i}", f"su_g{i}"
+    b.add(cu, "", "cos угла кулисы: (s dx + e dy) / L_TEK^2", "cos of the slot's angle: (s dx + e dy) / L_TEK^2",
+          "calc",
+          f"({{{sJ}}}*{{{dx}}}+{e}*{{{dy}}})/{{{r2}}}")
+    b.add(su, "", "sin угла кулисы: (s dy - e dx) / L_TEK^2", "sin of the slot's angle: (s dy - e dx) / L_TEK^2",
+          "calc",
+          f"({{{sJ}}}*{{{dy}}}-{e}*{{{dx}}})/{{{r2}}}")
+    b.add(f"chk_e_g{i}", "m", f"проверка: расстояние {J1} от оси кулисы - e",
+          f"check: distance of {J1} from the slot line - e", "check",
+          f"-{{{dx}}}*{{{su}}}+{{{dy}}}*{{{cu}}}-{e}")
+    b.add(f"phi_{lb}", "deg", f"угол кулисы {lb}", f"angle of the slotted lever {lb}", "accepted",
+          f"MOD(DEGREES(ATAN2({{{cu}}},{{{su}}})),360)")
+    b.add(f"phi_{la}", "deg", f"угол камня {la} (= углу кулисы)", f"angle of the block {la} (= the lever's)",
+          "accepted", f"{{phi_{lb}}}")
+    c, s = f"{{{cu}}}", f"{{{su}}}"
+    det = f"Delta_g{i}"
+    # unknowns theta_t, s_t: columns (-s sin - e cos, s cos - e sin) and (cos, sin); determinant -s
+    m11, m21 = f"(-{{{sJ}}}*{s}-{e}*{c})", f"({{{sJ}}}*{c}-{e}*{s})"
+    m = (m11, c, m21, s)
+    det_row(b, det, m, "m", "определитель: -s", "determinant: -s")
+    b.add(f"det_g{i}", "", "s / L1 (около 0: кулиса не определена)", "s / L1 (near 0: the slot is undefined)", "calc",
+          f"-{{{det}}}/{{L1}}")
+    b1, b2 = f"({b.p('vx', J1)}-{b.p('vx', J2)})", f"({b.p('vy', J1)}-{b.p('vy', J2)})"
+    cramer_rows(b, m, det,
+                ((f"omega_{lb}", "rad/s", f"угловая скорость кулисы {lb} (Крамер)",
+                  f"angular velocity of the lever {lb} (Cramer)"),
+                            (f"vs_{J1}", "m/s", f"относительная скорость камня {J1} вдоль кулисы",
+                             f"velocity of block {J1} along the slot")),
+                (b1, b2), (f"chk_vsys_g{i}", "невязка системы для скоростей", "residual of the velocity system"))
+    w, vs = f"{{omega_{lb}}}", f"{{vs_{J1}}}"
+    bx, by = f"bx_g{i}", f"by_g{i}"
+    # bias of the acceleration system: 2 s_t theta_t n (Coriolis) - s theta_t^2 u - e theta_t^2 n
+    b.add(bx, "m/s^2", "кориолисово и центростремительное: проекция на x", "Coriolis and centripetal terms, x", "calc",
+          f"-{{{sJ}}}*{w}^2*{c}-(2*{vs}*{w}-{e}*{w}^2)*{s}")
+    b.add(by, "m/s^2", "кориолисово и центростремительное: проекция на y", "Coriolis and centripetal terms, y", "calc",
+          f"-{{{sJ}}}*{w}^2*{s}+(2*{vs}*{w}-{e}*{w}^2)*{c}")
+    f1, f2 = f"({b.p('ax', J1)}-{b.p('ax', J2)}-{{{bx}}})", f"({b.p('ay', J1)}-{b.p('ay', J2)}-{{{by}}})"
+    cramer_rows(b, m, det,
+                ((f"eps_{lb}", "rad/s^2", f"угловое ускорение кулисы {lb}", f"angular acceleration of the lever {lb}"),
+                            (f"as_{J1}", "m/s^2", f"относительное ускорение камня {J1} вдоль кулисы",
+                             f"acceleration of block {J1} along the slot")),
+                (f1, f2), (f"chk_asys_g{i}", "невязка системы для ускорений", "residual of the acceleration system"))
+    b.add(f"omega_{la}", "rad/s", f"угловая скорость камня {la}", f"angular velocity of the block {la}", "accepted",
+          f"{{omega_{lb}}}")
+    b.add(f"eps_{la}", "rad/s^2", f"угловое ускорение камня {la}", f"angular acceleration of the block {la}",
+          "accepted", f"{{eps_{lb}}}")
+    b.add(f"cos_{lb}", "", f"cos угла кулисы {lb}", f"cos of lever {lb}'s angle", "calc", c)
+    b.add(f"sin_{lb}", "", f"sin угла кулисы {lb}", f"sin of lever {lb}'s angle", "calc", s)
+    b.rot[la] = b.rot[lb] = (f"cos_{lb}", f"sin_{lb}", f"omega_{lb}", f"eps_{lb}")
+    b.guard_of_link[la] = b.guard_of_link[lb] = b.guard
+    # the block's motion seen on the lever: v_J1 = v_J2 + omega x r + vs u,
+    # a_J1 = a_J2 + eps x r - omega^2 r + as u + 2 omega vs n (Coriolis)
+    ep, as_ = f"{{eps_{lb}}}", f"{{as_{J1}}}"
+    b.add(f"chk_v_g{i}", "m/s", f"проверка: v{J1} = v{J2} + omega x r + vs u",
+          f"check: v{J1} = v{J2} + omega x r + vs u",
+          "check",
+          f"ABS({b.p('vx', J1)}-({b.p('vx', J2)}-{w}*{{{dy}}}+{vs}*{c}))+ABS({b.p('vy', J1)}-({b.p('vy', J2)}+{w}*{{{dx}}}+{vs}*{s}))")
+    b.add(f"chk_a_g{i}", "m/s^2", f"проверка: a{J1} = a{J2} + eps x r - omega^2 r + as u + 2 omega vs n",
+          f"check: a{J1} = a{J2} + eps x r - omega^2 r + as u + 2 omega vs n", "check",
+          f"ABS({b.p('ax', J1)}-({b.p('ax', J2)}-{ep}*{{{dy}}}-{w}^2*{{{dx}}}+{as_}*{c}-2*{w}*{vs}*{s}))"
+          f"+ABS({b.p('ay', J1)}-({b.p('ay', J2)}+{ep}*{{{dx}}}-{w}^2*{{{dy}}}+{as_}*{s}+2*{w}*{vs}*{c}))")
+
+
+# --------------------------------------------------------------------------- kinetostatics
+def pin_owner(g: Group) -> dict[str, int]:
+    return {}
+
+
+def pairs(g: Group, owner: dict[str, int]) -> list[Pair]:
+    (j1, j2), (a, b) = g.joints, g.links
+    return [Pair(owner[j1], a, j1), Pair(a, b, j1, True), Pair(owner[j2], b, j2)]
+
+
+def reactions(g: Group, known, links, loads, owner) -> dict[str, tuple]:
+    """Block a on J1, kulisa b about J2, slot direction u, normal n. The kulisa acts on the
+    block with P n through J1 and a couple C: block: R1 + P n + Fa = 0, C + Ma(J1) = 0;
+    kulisa about J2: (J1 - J2) x (-P n) - C + Mb(J2) = 0, R2 - P n + Fb = 0."""
+    (J1, J2), (a, b) = g.joints, g.links
+    la, lb = loads[a], loads[b]
+    fax, fay = la.resultant()
+    fbx, fby = lb.resultant()
+    j1, j2 = known[J1], known[J2]
+    rot = links[b]
+    nx, ny = -rot.s, rot.c
+    c = -la.moment(j1.x, j1.y)
+    p = (lb.moment(j2.x, j2.y) - c) / cross(j1.x - j2.x, j1.y - j2.y, nx, ny)   # /s: 0 at the pivot
+    r1x, r1y = -p * nx - fax, -p * ny - fay
+    r2x, r2y = p * nx - fbx, p * ny - fby
+    loads[owner[J1]].add(j1, -r1x, -r1y)
+    loads[owner[J2]].add(j2, -r2x, -r2y)
+    return {f"{owner[J1]}_{a}": (r1x, r1y, None), f"{a}_{b}": (-p * nx, -p * ny, -c),
+            f"{owner[J2]}_{b}": (r2x, r2y, None)}
+
+
+def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
+    i, (a, bl), (J1, J2) = g.index, g.links, g.joints
+    o1, o2 = owner[J1], owner[J2]
+    t1, tab, t2 = f"{o1}_{a}", f"{a}_{bl}", f"{o2}_{bl}"
+    r1, rab = (f"{{Rx_{t1}}}", f"{{Ry_{t1}}}"), (f"{{Rx_{tab}}}", f"{{Ry_{tab}}}")
+    k.link_loads(a, J1)
+    k.link_loads(bl, J2)
+    c, s = f"{{cos_{bl}}}", f"{{sin_{bl}}}"
+    # the lever acts on the block with P n through J1 (n = (-sin, cos)) and a couple
+    # C = -MQ_a; the lever's moments about J2: (J1 - J2) x (-P n) - C + MQ_b = 0
+    crs = f"(({b.p('x', J1)}-{b.p('x', J2)})*{c}+({b.p('y', J1)}-{b.p('y', J2)})*{s})"
+    b.add(f"Pn_g{i}", "N", f"давление кулисы {bl} на камень {a} по нормали к кулисе",
+          f"push of lever {bl} on block {a} across the slot",
+          "calc", f"({{MQ_{bl}}}+{{MQ_{a}}})/{crs}")
+    P = f"{{Pn_g{i}}}"
+    k.reaction(tab, f"-{P}*(-{s})", f"-{P}*{c}", f"камня {a} на кулису {bl} (через {J1})",
+               f"of block {a} on lever {bl} (through {J1})")
+    b.add(f"M_{tab}", "N m", f"момент реакции камня {a} на кулису {bl}", f"couple of block {a} on lever {bl}",
+          "accepted", f"{{MQ_{a}}}")
+    k.reaction(t1, f"-{P}*(-{s})-{{Qx_{a}}}", f"-{P}*{c}-{{Qy_{a}}}", f"звена {o1} на камень {a} в {J1}",
+               f"of link {o1} on block {a} at {J1}")
+    k.equilibrium(a, J1, [(J1, *r1), (J1, f"(-{rab[0]})", f"(-{rab[1]})")], f"(-{{M_{tab}}})")
+    k.reaction(t2, f"{P}*(-{s})-{{Qx_{bl}}}", f"{P}*{c}-{{Qy_{bl}}}", f"звена {o2} на кулису {bl} в {J2}",
+               f"of link {o2} on lever {bl} at {J2}")
+    k.equilibrium(bl, J2, [(J1, *rab), (J2, f"{{Rx_{t2}}}", f"{{Ry_{t2}}}")], f"{{M_{tab}}}")
+    k.loads[o2].append((J2, f"(-{{Rx_{t2}}})", f"(-{{Ry_{t2}}})"))
+    k.loads[o1].append((J1, f"(-{r1[0]})", f"(-{r1[1]})"))
+
+
+# --------------------------------------------------------------------------- loop equations
+def loop(lib, g: Group, known, links):
+    """J1 - J2 = s u(th) + off n(th); q = (th, s)."""
+    (p1, v1, a1), (p2, v2, a2) = known[g.joints[0]], known[g.joints[1]]
+    off = lib.num(g.offset)
+
+    def _u(th):
+        c, s = lib.cos(th), lib.sin(th)
+        return c, s, -s, c
+
+    def F(q):
+        c, s, nc, ns = _u(q[0])
+        return [p1[0] - p2[0] - q[1] * c - off * nc, p1[1] - p2[1] - q[1] * s - off * ns]
+
+    def J(q):
+        c, s, nc, ns = _u(q[0])
+        return [[-(q[1] * nc - off * c), -c], [-(q[1] * ns - off * s), -s]]
+
+    def b_v(q):
+        return [v2[0] - v1[0], v2[1] - v1[1]]
+
+    def b_a(q, qt):
+        # d2(s u + off n)/dt2 = s_tt u + th_tt (s n - off u) + 2 s_t th_t n - s th_t^2 u - off th_t^2 n
+        c, s, nc, ns = _u(q[0])
+        w, vs = qt
+        return [a2[0] - a1[0] + 2 * vs * w * nc - q[1] * w * w * c - off * w * w * nc,
+                a2[1] - a1[1] + 2 * vs * w * ns - q[1] * w * w * s - off * w * w * ns]
+
+    def place(q, qt, qtt):
+        lever = (q[0], qt[0], qtt[0])
+        return {}, (lever, lever), {g.joints[0]: (q[1], qt[1], qtt[1])}
+    return F, J, b_v, b_a, place
+
+
+def side_ok(lib, g: Group, known, links, q, joints) -> bool:
+    """The contract has s > 0: the slot points from J2 towards the block."""
+    return q[1] > 0
+
+
+def discriminant(lib, g: Group, known, links):
+    """L_TEK^2 - e^2: 0 where the block passes over the kulisa's axis (offset 0)."""
+    (p1, _, _), (p2, _, _) = known[g.joints[0]], known[g.joints[1]]
+    off = lib.num(g.offset)
+    return (p1[0] - p2[0]) ** 2 + (p1[1] - p2[1]) ** 2 - off * off
+
+
+def unknowns(g: Group, sol) -> tuple[np.ndarray, np.ndarray]:
+    rb = sol.links[g.links[1]]
+    return np.arctan2(rb.s, rb.c), sol.slides[g.joints[0]].s

@@ -1,0 +1,513 @@
+"""RRP (ВВП): a coupler J1 N and a slider N on a guide (slides 13-15, 29-31; the lecture's
+"two rockers with a slotted pair" when the guide is on a moving link).
+
+Circle-line intersection. The guide is a straight line fixed on link k (the frame, k = 0, or
+a moving link: a kulisa), through its point G with direction u = e(phi_k + A). Constraint:
+    J1 + L e(phi_a) = G + s u,
+unknowns phi_a and s = s_N (N's travel from G along the guide, measured in the guide's own
+moving frame: the lecture's L_tek = |O1 D| for two rockers with a slotted pair). h, the
+signed distance of J1 from the guide, gives N = K +- sqrt(L^2 - h^2) u, K the foot of the
+perpendicular from J1 (the lecture's point K); branch +1 puts N ahead of K along u.
+Velocities (Cramer): L omega_a e'(phi_a) - vs u = v_G + s omega_k n - v_J1 (n = u turned +90
+deg); accelerations: the same matrix, the right side gains L omega_a^2 e(phi_a) and, for a
+moving guide, the Coriolis 2 vs omega_k n, s eps_k n and -s omega_k^2 u. Link b, the slider,
+turns with the guide: phi_b = phi_k + A. Toggle measure: det / L = cos(phi_a - phi_b), zero
+with the coupler across the guide.
+"""
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..group import Group, Guide
+from ..motion import (FRAME, GroupMotion, Motion, Pair, Rotation, Slide, cramer, fixed, inverse_det, on_line,
+                      sqrt_or_nan, turned)
+from ..rows import (Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, det_row, distance_check, fd_checks,
+                    group_guard, motion_rows, relative_velocity_check, via_link_checks)
+
+# --------------------------------------------------------------------------- what it is
+KIND = "RRP"
+LECTURE = "ВВП"
+SLIDES = "13-15, 29-31"
+TITLE = ("шатун и ползун на направляющей (неподвижной или на подвижном звене: два коромысла с кулисной парой)",
+         "coupler and slider on a guide (fixed, or on a moving link: two rockers with a slotted pair)")
+KEYS = ("type", "links", "joints", "length", "guide", "branch")
+
+
+# --------------------------------------------------------------------------- scene keys
+@dataclass(frozen=True)
+class Params:
+    length: float           # |J1 N|, the coupler (link a)
+    guide: Guide
+    branch: int             # +1: N ahead of the foot K of the perpendicular from J1
+
+    @property
+    def lengths(self) -> tuple[float]:
+        return (self.length,)
+
+    # the frame guide's point and angle (older API; None for a guide on a moving link)
+    @property
+    def guide_point(self):
+        return self.guide.point
+
+    @property
+    def guide_angle_deg(self) -> float:
+        return self.guide.angle_deg
+
+
+def parse(tbl, frame) -> tuple[tuple[str, ...], Params]:
+    joints = tbl.array("joints", 2, "name")
+    if joints[1] == joints[0]:
+        tbl.fail("joints", f"the new joint '{joints[1]}' (second name) must differ from the "
+                           f"known joint(s) it is attached to, got {list(joints)}")
+    branch = tbl.get("branch", "an integer")
+    if branch not in (1, -1):
+        tbl.fail("branch", f"expected +1 or -1, got {branch}")
+    length = tbl.positive("length")
+    return joints, Params(length, tbl.guide("guide", frame), branch)
+
+
+def needs(g: Group) -> list[str]:
+    return [g.joints[0]] + ([g.guide.through] if g.guide.moving else [])
+
+
+def on_links(g: Group) -> list[tuple[str, str, int]]:
+    """(key, point, link): a moving guide's `through` must be a point of its link."""
+    return [("guide.through", g.guide.through, g.guide.link)] if g.guide.moving else []
+
+
+def new_joints(g: Group) -> list[str]:
+    return [g.joints[1]]
+
+
+def carries(g: Group) -> dict[int, list[str]]:
+    (j1, n), (a, b) = g.joints, g.links
+    return {a: [j1, n], b: [n]}
+
+
+def sliders(g: Group) -> list[str]:
+    return [g.joints[1]]
+
+
+# --------------------------------------------------------------------------- positions and rates
+def guide_line(guide: Guide, known: dict[str, Motion], rot: dict[int, Rotation]) -> tuple[Motion, Rotation]:
+    """The guide's point G and direction u (with the rates of the link that carries it)."""
+    if not guide.moving:
+        a = np.radians(guide.angle_deg)
+        return fixed(*guide.point), Rotation(np.cos(a), np.sin(a), 0.0, 0.0)
+    return known[guide.through], turned(rot.get(guide.link, FRAME), guide.angle_deg)
+
+
+def solve_rrp(j1: Motion, length: float, origin: Motion, u: Rotation, branch: int):
+    """J1 + L e(phi) = G + s u: h, the signed distance of J1 from the guide, gives the
+    coupler's angle to the guide, sin(mu) = h / L (slides 13-15, 29); N lies sqrt(L^2 - h^2)
+    ahead (+1) or behind (-1) the foot K. Returns N, the coupler's rotation, the slide,
+    the discriminant and the toggle measure."""
+    ux, uy, wk, ek = u.c, u.s, u.omega, u.eps
+    dx, dy = j1.x - origin.x, j1.y - origin.y
+    along = dx * ux + dy * uy
+    h = -dx * uy + dy * ux                     # left of the guide is positive
+    disc = length * length - h * h
+    ahead = branch * sqrt_or_nan(disc)
+    s = along + ahead
+    c2, s2 = (ahead * ux + h * uy) / length, (ahead * uy - h * ux) / length
+    # velocities: L omega e_perp(phi) - vs u = v_G + s omega_k n - v_J1
+    m11, m12, m21, m22 = -length * s2, -ux, length * c2, -uy
+    det, inv = inverse_det(m11, m12, m21, m22)
+    w2, vs = cramer(m11, m12, m21, m22, origin.vx - s * wk * uy - j1.vx, origin.vy + s * wk * ux - j1.vy, inv)
+    # accelerations: + L omega^2 e(phi) and the moving guide's 2 vs omega_k n + s eps_k n - s omega_k^2 u
+    tn, tu = 2.0 * vs * wk + s * ek, -s * wk * wk
+    b1 = origin.ax - j1.ax + length * w2 * w2 * c2 + tu * ux - tn * uy
+    b2 = origin.ay - j1.ay + length * w2 * w2 * s2 + tu * uy + tn * ux
+    e2, as_ = cramer(m11, m12, m21, m22, b1, b2, inv)
+    slide = Slide(s, vs, as_)
+    return on_line(origin, u, slide), Rotation(c2, s2, w2, e2), slide, disc, det / length
+
+
+def solve(g: Group, known: dict[str, Motion], rot: dict[int, Rotation], scale: float) -> GroupMotion:
+    (j1, n), (a, b) = g.joints, g.links
+    origin, u = guide_line(g.guide, known, rot)
+    joint, ra, slide, disc, toggle = solve_rrp(known[j1], g.length, origin, u, g.branch)
+    zero = np.zeros_like(slide.s)
+    rb = Rotation(u.c + zero, u.s + zero, u.omega + zero, u.eps + zero)
+    return GroupMotion({n: joint}, {a: ra, b: rb}, {n: slide}, disc, toggle)
+
+
+# --------------------------------------------------------------------------- the workbook
+def input_rows(g: Group) -> list[InputRow]:
+    (j1, n), la, i, gd = g.joints, g.links[0], g.index, g.guide
+    out = [InputRow(f"L{la}", "m", f"длина шатуна {la} ({j1}{n})", f"length of coupler {la} ({j1}{n})", g.length, True)]
+    if not gd.moving:
+        out += [InputRow(f"gx_g{i}", "m", f"направляющая ползуна {n}: x точки", f"slider {n}'s guide: x of a point",
+                         gd.point[0]),
+                InputRow(f"gy_g{i}", "m", f"направляющая ползуна {n}: y точки", f"slider {n}'s guide: y of a point",
+                         gd.point[1]),
+                InputRow(f"gamma_g{i}", "deg", "угол наклона направляющей", "the guide's angle", gd.angle_deg)]
+    else:
+        out += [InputRow(f"gamma_g{i}", "deg", f"угол направляющей ползуна {n} к звену {gd.link}",
+                         f"angle of slider {n}'s guide to link {gd.link}", gd.angle_deg)]
+    return out + [InputRow(f"branch_g{i}", "", f"ветвь решения группы {i} (+1 или -1)",
+                           f"solution branch of group {i} (+1 or -1)", g.branch)]
+
+
+def with_inputs(g: Group, num) -> Group:
+    i, gd = g.index, g.guide
+    point = (num(f"gx_g{i}", gd.point[0]), num(f"gy_g{i}", gd.point[1])) if not gd.moving else None
+    guide = dataclasses.replace(gd, point=point, angle_deg=num(f"gamma_g{i}", gd.angle_deg))
+    return dataclasses.replace(g, params=Params(num(f"L{g.links[0]}", g.length), guide,
+                                                int(num(f"branch_g{i}", g.branch, choices=(1, -1)))))
+
+
+def rows(b: Builder, g: Group):
+    if g.guide.moving:
+        _moving_guide_rows(b, g)
+    else:
+        _fixed_guide_rows(b, g)
+
+
+def _fixed_guide_rows(b: Builder, g: Group):
+    """Lecture slides 13-15 and 29-31: coupler J1 N, slider N on the fixed guide G + s u."""
+    i, (la, lb), (J1, N) = g.index, g.links, g.joints
+    L = f"{{L{la}}}"
+    gx, gy, gam = f"{{gx_g{i}}}", f"{{gy_g{i}}}", f"RADIANS({{gamma_g{i}}})"
+    b.section(f"group_{i}", f"Группа {i} (ВВП {J1}{N}, ползун на направляющей): слайды 13-15, 29-31",
+              f"Group {i} (RRP {J1}{N}, slider on a fixed guide): slides 13-15, 29-31")
+    h, al, D = f"h_g{i}", f"along_g{i}", f"D_g{i}"
+    b.add(h, "m", f"расстояние от {J1} до направляющей (влево +)", f"distance of {J1} from the guide (left +)", "calc",
+          f"-({b.p('x', J1)}-{gx})*SIN({gam})+({b.p('y', J1)}-{gy})*COS({gam})", guard=b.guard)
+    b.add(al, "m", f"проекция {J1} на направляющую", f"{J1}'s foot on the guide", "calc",
+          f"({b.p('x', J1)}-{gx})*COS({gam})+({b.p('y', J1)}-{gy})*SIN({gam})", guard=b.guard)
+    b.add(D, "m^2", "дискриминант L^2 - h^2 (< 0: группа не собирается)",
+          "discriminant L^2 - h^2 (< 0: cannot assemble)",
+          "calc", f"{L}^2-{{{h}}}^2", guard=b.guard)
+    group_guard(b, g, D)
+    for s, sign, ru, en in (("p", "+", "ветвь +1", "branch +1"), ("m", "-", "ветвь -1", "branch -1")):
+        b.add(f"s_{s}_g{i}", "m", f"{ru}: s = проекция {sign} sqrt(D)", f"{en}: s = foot {sign} sqrt(D)", "calc",
+              f"{{{al}}}{sign}SQRT({{{D}}})")
+        b.add(f"chk_{s}_g{i}", "m", f"проверка {ru}: |{J1}{N}| - L{la}", f"check {en}: |{J1}{N}| - L{la}", "check",
+              f"SQRT(({gx}+{{s_{s}_g{i}}}*COS({gam})-{b.p('x', J1)})^2+({gy}+{{s_{s}_g{i}}}*SIN({gam})-{b.p('y', J1)})^2)-{L}")
+    b.section(f"accepted_g{i}", "Принятые значения", "Accepted values")
+    sN = f"s_{N}"
+    b.add(sN, "m", f"перемещение ползуна {N} вдоль направляющей", f"travel of slider {N} along the guide", "accepted",
+          f"IF({{branch_g{i}}}=1,{{s_p_g{i}}},{{s_m_g{i}}})")
+    b.add(f"phi_{la}", "deg", f"угол шатуна {la} ({J1}->{N})", f"angle of coupler {la} ({J1}->{N})", "accepted",
+          f"MOD(DEGREES(ATAN2({gx}+{{{sN}}}*COS({gam})-{b.p('x', J1)},{gy}+{{{sN}}}*SIN({gam})-{b.p('y', J1)})),360)")
+    b.add(f"phi_{lb}", "deg", f"угол ползуна {lb} (направляющая)", f"angle of slider {lb} (the guide)", "accepted",
+          f"MOD({{gamma_g{i}}},360)")
+    cos_sin_rows(b, la, "", "")
+    cos_sin_rows(b, lb, "", "")
+    ca, sa, ux, uy = f"{{cos_{la}}}", f"{{sin_{la}}}", f"{{cos_{lb}}}", f"{{sin_{lb}}}"
+    b.add(f"chk_acc_g{i}", "m",
+          f"проверка принятых значений: {J1} + L e(phi) - ({gx}, {gy}) - s u".replace("{", "").replace("}", ""),
+          "check of the accepted values: J1 + L e(phi) - G - s u", "check",
+          f"ABS({b.p('x', J1)}+{L}*{ca}-{gx}-{{{sN}}}*{ux})+ABS({b.p('y', J1)}+{L}*{sa}-{gy}-{{{sN}}}*{uy})")
+    b.add(f"omega_{lb}", "rad/s", f"угловая скорость ползуна {lb}", f"angular velocity of slider {lb}", "accepted", "0")
+    b.add(f"eps_{lb}", "rad/s^2", f"угловое ускорение ползуна {lb}", f"angular acceleration of slider {lb}",
+          "accepted", "0")
+    # L omega e_perp(phi) - vs u = -v_J1: Cramer with m11 = -L sin, m12 = -ux, m21 = L cos, m22 = -uy
+    det = f"Delta_g{i}"
+    m = (f"(-{L}*{sa})", f"(-{ux})", f"({L}*{ca})", f"(-{uy})")
+    det_row(b, det, m, "m", "определитель: L cos(phi - gamma)", "determinant: L cos(phi - gamma)")
+    b.add(f"det_g{i}", "", "cos(phi - gamma) (около 0: мёртвое положение)", "cos(phi - gamma) (near 0: toggle)", "calc",
+          f"{{{det}}}/{L}")
+    b1, b2 = f"(-{b.p('vx', J1)})", f"(-{b.p('vy', J1)})"
+    cramer_rows(b, m, det,
+                ((f"omega_{la}", "rad/s", f"угловая скорость шатуна {la} (Крамер)",
+                  f"angular velocity of coupler {la} (Cramer)"),
+                            (f"vs_{N}", "m/s", f"скорость ползуна {N} вдоль направляющей",
+                             f"velocity of slider {N} along the guide")),
+                (b1, b2), (f"chk_vsys_g{i}", "невязка системы для скоростей", "residual of the velocity system"))
+    f1, f2 = f"f1_g{i}", f"f2_g{i}"
+    wa = f"{{omega_{la}}}"
+    b.add(f1, "m/s^2", "правая часть для ускорений f1", "right side of the acceleration system f1", "calc",
+          f"-{b.p('ax', J1)}+{L}*{wa}^2*{ca}")
+    b.add(f2, "m/s^2", "правая часть для ускорений f2", "right side of the acceleration system f2", "calc",
+          f"-{b.p('ay', J1)}+{L}*{wa}^2*{sa}")
+    cramer_rows(b, m, det,
+                ((f"eps_{la}", "rad/s^2", f"угловое ускорение шатуна {la}", f"angular acceleration of coupler {la}"),
+                            (f"as_{N}", "m/s^2", f"ускорение ползуна {N} вдоль направляющей",
+                             f"acceleration of slider {N} along the guide")),
+                (f"{{{f1}}}", f"{{{f2}}}"),
+                (f"chk_asys_g{i}", "невязка системы для ускорений", "residual of the acceleration system"))
+    b.rot[la] = (f"cos_{la}", f"sin_{la}", f"omega_{la}", f"eps_{la}")
+    b.rot[lb] = (f"cos_{lb}", f"sin_{lb}", f"omega_{lb}", f"eps_{lb}")
+    b.guard_of_link[la] = b.guard_of_link[lb] = b.guard
+    b.section(f"point_{N}", f"Ползун {N}", f"Slider {N}")
+    s, vs, as_ = f"{{{sN}}}", f"{{vs_{N}}}", f"{{as_{N}}}"
+    motion_rows(b, N, f"ползуна {N}", f"slider {N}", f"{gx}+{s}*{ux}", f"{gy}+{s}*{uy}",
+                f"{vs}*{ux}", f"{vs}*{uy}", f"{as_}*{ux}", f"{as_}*{uy}")
+    distance_check(b, f"chk_{J1}{N}", J1, N, L, f"проверка: |{J1}{N}| - L{la}", f"check: |{J1}{N}| - L{la}")
+    relative_velocity_check(b, N, J1)
+    via_link_checks(b, N, J1, la, f"omega_{la}, eps_{la}")
+    fd_checks(b, N)
+
+
+def _moving_guide_rows(b: Builder, g: Group):
+    """The lecture's two rockers with a slotted pair ("Два коромысла с кулисной парой" 1-3):
+    the guide is the line O1 B of rocker k through G = O1; K is the foot of the perpendicular
+    from J1 = O2, h = |O2 K|, the block N = D slides along it, L_tek = s_N = G D. The lecture
+    writes the lines as y = b + tg(xi)(x - a), which a vertical guide makes infinite; these
+    rows use the guide's cos and sin instead (the same point K, h and D)."""
+    i, (la, lb), (J1, N) = g.index, g.links, g.joints
+    G, k = g.guide.through, g.guide.link
+    L = f"{{L{la}}}"
+    ck, sk, wk, ek = (f"{{{r}}}" for r in b.rot[k])
+    b.section(f"group_{i}", f"Группа {i} (ВВП {J1}{N}: камень {N} на кулисе {k}, два коромысла с кулисной парой)",
+              f"Group {i} (RRP {J1}{N}: block {N} on the kulisa {k}, two rockers with a slotted pair)")
+    ux, uy = f"ux_g{i}", f"uy_g{i}"
+    gam = f"RADIANS({{gamma_g{i}}})"
+    b.add(ux, "", f"cos угла направляющей: phi_{k} + gamma", f"cos of the guide's angle: phi_{k} + gamma", "calc",
+          f"{ck}*COS({gam})-{sk}*SIN({gam})", guard=b.guard)
+    b.add(uy, "", f"sin угла направляющей: phi_{k} + gamma", f"sin of the guide's angle: phi_{k} + gamma", "calc",
+          f"{sk}*COS({gam})+{ck}*SIN({gam})", guard=b.guard)
+    U, V = f"{{{ux}}}", f"{{{uy}}}"
+    al, xK, yK, h, D = f"along_g{i}", f"xK_g{i}", f"yK_g{i}", f"h_g{i}", f"D_g{i}"
+    dx, dy = f"({b.p('x', J1)}-{b.p('x', G)})", f"({b.p('y', J1)}-{b.p('y', G)})"
+    b.add(al, "m", f"{G}K: проекция {J1} на направляющую", f"{G}K: {J1}'s foot on the guide", "calc",
+          f"{dx}*{U}+{dy}*{V}", guard=b.guard)
+    b.add(xK, "m", f"x_K: основание перпендикуляра из {J1} на прямую {G}{N} (через cos и sin, не tg: "
+                   f"конечно и для вертикальной прямой)",
+          f"x_K: foot of the perpendicular from {J1} on line {G}{N} (by cos and sin, not tg: "
+          f"finite for a vertical line too)",
+          "calc", f"{b.p('x', G)}+{{{al}}}*{U}", guard=b.guard)
+    b.add(yK, "m", "y_K", "y_K", "calc", f"{b.p('y', G)}+{{{al}}}*{V}", guard=b.guard)
+    b.add(h, "m", f"h: расстояние от {J1} до прямой {G}{N} (влево +)",
+          f"h: distance of {J1} from line {G}{N} (left +)", "calc",
+          f"-{dx}*{V}+{dy}*{U}", guard=b.guard)
+    b.add(f"chk_h_g{i}", "m", f"проверка: h^2 = (x_K - x{J1})^2 + (y_K - y{J1})^2",
+          f"check: h^2 = (x_K - x{J1})^2 + (y_K - y{J1})^2",
+          "check", f"SQRT(({{{xK}}}-{b.p('x', J1)})^2+({{{yK}}}-{b.p('y', J1)})^2)-ABS({{{h}}})")
+    b.add(D, "m^2", "дискриминант L^2 - h^2 (< 0: группа не собирается)",
+          "discriminant L^2 - h^2 (< 0: cannot assemble)",
+          "calc", f"{L}^2-{{{h}}}^2")
+    group_guard(b, g, D)
+    for s, sign, ru, en in (("p", "+", "ветвь +1", "branch +1"), ("m", "-", "ветвь -1", "branch -1")):
+        b.add(f"s_{s}_g{i}", "m", f"{ru}: L_tek = {G}K {sign} sqrt(D)", f"{en}: L_tek = {G}K {sign} sqrt(D)", "calc",
+              f"{{{al}}}{sign}SQRT({{{D}}})")
+        b.add(f"chk_{s}_g{i}", "m", f"проверка {ru}: |{J1}{N}| - L{la}", f"check {en}: |{J1}{N}| - L{la}", "check",
+              f"SQRT(({b.p('x', G)}+{{s_{s}_g{i}}}*{U}-{b.p('x', J1)})^2+({b.p('y', G)}+{{s_{s}_g{i}}}*{V}-{b.p('y', J1)})^2)-{L}")
+    b.section(f"accepted_g{i}", "Принятые значения", "Accepted values")
+    sN = f"s_{N}"
+    S = f"{{{sN}}}"
+    b.add(sN, "m", f"L_tek: положение камня {N} на кулисе от {G}", f"L_tek: block {N}'s place on the kulisa from {G}",
+          "accepted",
+          f"IF({{branch_g{i}}}=1,{{s_p_g{i}}},{{s_m_g{i}}})")
+    b.add(f"phi_{la}", "deg", f"угол звена {la} ({J1}->{N})", f"angle of link {la} ({J1}->{N})", "accepted",
+          f"MOD(DEGREES(ATAN2({b.p('x', G)}+{S}*{U}-{b.p('x', J1)},{b.p('y', G)}+{S}*{V}-{b.p('y', J1)})),360)")
+    b.add(f"phi_{lb}", "deg", f"угол камня {lb} (= phi_{k} + gamma)", f"angle of block {lb} (= phi_{k} + gamma)",
+          "accepted",
+          f"MOD({{phi_{k}}}+{{gamma_g{i}}},360)")
+    cos_sin_rows(b, la, "", "")
+    ca, sa = f"{{cos_{la}}}", f"{{sin_{la}}}"
+    b.add(f"cos_{lb}", "", f"cos угла камня {lb}", f"cos of block {lb}'s angle", "calc", U)
+    b.add(f"sin_{lb}", "", f"sin угла камня {lb}", f"sin of block {lb}'s angle", "calc", V)
+    b.add(f"chk_acc_g{i}", "m", f"проверка принятых значений: {J1} + L e(phi) - {G} - L_tek u",
+          f"check of the accepted values: {J1} + L e(phi) - {G} - L_tek u", "check",
+          f"ABS({b.p('x', J1)}+{L}*{ca}-{b.p('x', G)}-{S}*{U})+ABS({b.p('y', J1)}+{L}*{sa}-{b.p('y', G)}-{S}*{V})")
+    b.add(f"omega_{lb}", "rad/s", f"угловая скорость камня {lb} (= кулисы {k})",
+          f"angular velocity of block {lb} (= kulisa {k}'s)",
+          "accepted", wk)
+    b.add(f"eps_{lb}", "rad/s^2", f"угловое ускорение камня {lb}", f"angular acceleration of block {lb}", "accepted",
+          ek)
+    # L omega e'(phi) - vs u = v_G + s omega_k n - v_J1, n = (-uy, ux)
+    det = f"Delta_g{i}"
+    m = (f"(-{L}*{sa})", f"(-{U})", f"({L}*{ca})", f"(-{V})")
+    det_row(b, det, m, "m", "определитель: L cos(phi - phi_направляющей)",
+            "determinant: L cos(phi - the guide's angle)")
+    b.add(f"det_g{i}", "", "cos угла шатуна к направляющей (около 0: мёртвое положение)",
+          "cos of the coupler's angle to the guide (near 0: toggle)", "calc", f"{{{det}}}/{L}")
+    b1 = f"({b.p('vx', G)}-{S}*{wk}*{V}-{b.p('vx', J1)})"
+    b2 = f"({b.p('vy', G)}+{S}*{wk}*{U}-{b.p('vy', J1)})"
+    cramer_rows(b, m, det,
+                ((f"omega_{la}", "rad/s", f"угловая скорость звена {la} (Крамер)",
+                  f"angular velocity of link {la} (Cramer)"),
+                            (f"vs_{N}", "m/s", f"(L_tek)_t: скорость камня {N} по кулисе",
+                             f"(L_tek)_t: velocity of block {N} along the kulisa")),
+                (b1, b2), (f"chk_vsys_g{i}", "невязка системы для скоростей", "residual of the velocity system"))
+    f1, f2 = f"f1_g{i}", f"f2_g{i}"
+    wa, vs = f"{{omega_{la}}}", f"{{vs_{N}}}"
+    tn = f"(2*{vs}*{wk}+{S}*{ek})"
+    b.add(f1, "m/s^2", "правая часть f1 (с кориолисовым ускорением 2 vs omega_k)",
+          "right side f1 (with the Coriolis term 2 vs omega_k)", "calc",
+          f"{b.p('ax', G)}-{b.p('ax', J1)}+{L}*{wa}^2*{ca}-{S}*{wk}^2*{U}-{tn}*{V}")
+    b.add(f2, "m/s^2", "правая часть f2", "right side f2", "calc",
+          f"{b.p('ay', G)}-{b.p('ay', J1)}+{L}*{wa}^2*{sa}-{S}*{wk}^2*{V}+{tn}*{U}")
+    cramer_rows(b, m, det,
+                ((f"eps_{la}", "rad/s^2", f"угловое ускорение звена {la}", f"angular acceleration of link {la}"),
+                            (f"as_{N}", "m/s^2", f"(L_tek)_tt: ускорение камня {N} по кулисе",
+                             f"(L_tek)_tt: acceleration of block {N} along the kulisa")),
+                (f"{{{f1}}}", f"{{{f2}}}"),
+                (f"chk_asys_g{i}", "невязка системы для ускорений", "residual of the acceleration system"))
+    b.rot[la] = (f"cos_{la}", f"sin_{la}", f"omega_{la}", f"eps_{la}")
+    b.rot[lb] = (f"cos_{lb}", f"sin_{lb}", f"omega_{lb}", f"eps_{lb}")
+    b.guard_of_link[la] = b.guard_of_link[lb] = b.guard
+    b.section(f"point_{N}", f"Камень {N}: движение вместе с кулисой и по ней",
+              f"Block {N}: carried by the kulisa and sliding on it")
+    as_ = f"{{as_{N}}}"
+    tu = f"({as_}-{S}*{wk}^2)"
+    motion_rows(b, N, f"камня {N}", f"block {N}", f"{b.p('x', G)}+{S}*{U}", f"{b.p('y', G)}+{S}*{V}",
+                f"{b.p('vx', G)}+{vs}*{U}-{S}*{wk}*{V}", f"{b.p('vy', G)}+{vs}*{V}+{S}*{wk}*{U}",
+                f"{b.p('ax', G)}+{tu}*{U}-{tn}*{V}", f"{b.p('ay', G)}+{tu}*{V}+{tn}*{U}")
+    distance_check(b, f"chk_{J1}{N}", J1, N, L, f"проверка: |{J1}{N}| - L{la}", f"check: |{J1}{N}| - L{la}")
+    b.add(f"chk_line_g{i}", "m", f"проверка: {N} на прямой {G}{N} кулисы {k}", f"check: {N} on the kulisa {k}'s line",
+          "check",
+          f"-({{x_{N}}}-{b.p('x', G)})*{V}+({{y_{N}}}-{b.p('y', G)})*{U}")
+    # the lecture's L_tek^2 = (x_D - a)^2 + (y_D - b)^2 differentiated ("Два коромысла с
+    # кулисной парой - 3"): (N - G).(v_N - v_G) = L_tek (L_tek)_t and
+    # (N - G).(a_N - a_G) + |v_N - v_G|^2 = (L_tek)_t^2 + L_tek (L_tek)_tt, with G moving too
+    rx, ry = f"({{x_{N}}}-{b.p('x', G)})", f"({{y_{N}}}-{b.p('y', G)})"
+    wx, wy = f"({{vx_{N}}}-{b.p('vx', G)})", f"({{vy_{N}}}-{b.p('vy', G)})"
+    b.add(f"chk_Ltek_t_g{i}", "m^2/s", "проверка (L_tek)_t: (xD - a)(xD)_t + (yD - b)(yD)_t = L_tek (L_tek)_t",
+          "check of (L_tek)_t: (xD - a)(xD)_t + (yD - b)(yD)_t = L_tek (L_tek)_t", "check",
+          f"{rx}*{wx}+{ry}*{wy}-{S}*{vs}")
+    b.add(f"chk_Ltek_tt_g{i}", "m^2/s^2", "проверка (L_tek)_tt: производная предыдущего равенства",
+          "check of (L_tek)_tt: the derivative of the equation above", "check",
+          f"{rx}*({{ax_{N}}}-{b.p('ax', G)})+{ry}*({{ay_{N}}}-{b.p('ay', G)})+{wx}^2+{wy}^2-{vs}^2-{S}*{as_}")
+    relative_velocity_check(b, N, J1)
+    via_link_checks(b, N, J1, la, f"omega_{la}, eps_{la}")
+    fd_checks(b, N)
+
+
+# --------------------------------------------------------------------------- kinetostatics
+def pin_owner(g: Group) -> dict[str, int]:
+    """A later group hinged at N is taken to hinge on the slider (link b)."""
+    return {g.joints[1]: g.links[1]}
+
+
+def pairs(g: Group, owner: dict[str, int]) -> list[Pair]:
+    (j1, n), (a, b) = g.joints, g.links
+    return [Pair(owner[j1], a, j1), Pair(a, b, n), Pair(g.guide.link, b, n, True)]
+
+
+def reactions(g: Group, known, links, loads, owner) -> dict[str, tuple]:
+    """a: R1 + X + Fa = 0, (J1 - N) x R1 + Ma(N) = 0; slider b: -X + Q n + Fb = 0 and the
+    guide's couple Mq = -Mb(N). Along the guide u: R1.u = -F.u (Q n has no u part). The
+    link that carries the guide (k) takes -Q n at N and -Mq."""
+    (J1, N), (a, b) = g.joints, g.links
+    la, lb = loads[a], loads[b]
+    fax, fay = la.resultant()
+    fbx, fby = lb.resultant()
+    fx, fy = fax + fbx, fay + fby
+    j1, nj = known[J1], known[N]
+    ux, uy = links[b].c, links[b].s          # the slider turns with its guide
+    d1x, d1y = j1.x - nj.x, j1.y - nj.y
+    m11, m12, m21, m22 = ux, uy, -d1y, d1x
+    _, inv = inverse_det(m11, m12, m21, m22)     # zero when the coupler is across the guide
+    r1x, r1y = cramer(m11, m12, m21, m22, -(fx * ux + fy * uy), -la.moment(nj.x, nj.y), inv)
+    q = (r1x + fx) * uy - (r1y + fy) * ux     # -(R1 + F).n with n = (-uy, ux)
+    xx, xy = -r1x - fax, -r1y - fay
+    mq = -lb.moment(nj.x, nj.y)
+    loads[owner[J1]].add(j1, -r1x, -r1y)
+    k = g.guide.link
+    loads[k].add(nj, q * uy, -q * ux)
+    loads[k].couple = loads[k].couple - mq
+    return {f"{owner[J1]}_{a}": (r1x, r1y, None), f"{a}_{b}": (-xx, -xy, None),
+            f"{k}_{b}": (-q * uy, q * ux, mq)}
+
+
+def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
+    i, (a, bl), (J1, N) = g.index, g.links, g.joints
+    o1, gk = owner[J1], g.guide.link
+    t1, tab = f"{o1}_{a}", f"{a}_{bl}"
+    r1, rab = (f"{{Rx_{t1}}}", f"{{Ry_{t1}}}"), (f"{{Rx_{tab}}}", f"{{Ry_{tab}}}")
+    k.link_loads(a, N)
+    k.link_loads(bl, N)
+    if g.guide.moving:
+        ux, uy = f"{{cos_{bl}}}", f"{{sin_{bl}}}"
+    else:
+        ux, uy = f"COS(RADIANS({{gamma_g{i}}}))", f"SIN(RADIANS({{gamma_g{i}}}))"
+    d1x, d1y = f"({b.p('x', J1)}-{b.p('x', N)})", f"({b.p('y', J1)}-{b.p('y', N)})"
+    # along the guide: R1.u = -(Q_a + Q_b).u; moments of link a about N: d1 x R1 = -MQ_a
+    qx, qy = f"({{Qx_{a}}}+{{Qx_{bl}}})", f"({{Qy_{a}}}+{{Qy_{bl}}})"
+    k.cramer_reaction(i, t1, (ux, uy, f"(-{d1y})", d1x), (f"(-({qx}*{ux}+{qy}*{uy}))", f"(-{{MQ_{a}}})"),
+                      "m", (f"определитель: ({J1}-{N}).u (0, когда шатун поперёк направляющей)",
+                            f"determinant: ({J1}-{N}).u (0 with the coupler across the guide)"),
+                      f"звена {o1} на звено {a} в {J1}", f"of link {o1} on link {a} at {J1}")
+    k.reaction(tab, f"{r1[0]}+{{Qx_{a}}}", f"{r1[1]}+{{Qy_{a}}}", f"звена {a} на ползун {bl} в {N}",
+               f"of link {a} on slider {bl} at {N}")
+    tg = f"{gk}_{bl}"
+    # the guide pushes across itself: -(R1 + Q).n n with n = (-uy, ux)
+    qn = f"(({r1[0]}+{qx})*{uy}-({r1[1]}+{qy})*{ux})"
+    k.reaction(tg, f"-{qn}*{uy}", f"{qn}*{ux}", f"направляющей на ползун {bl} (через {N})",
+               f"of the guide on slider {bl} (through {N})")
+    b.add(f"M_{tg}", "N m", f"момент реакции направляющей на ползун {bl}", f"couple of the guide on slider {bl}",
+          "accepted",
+          f"-{{MQ_{bl}}}")
+    k.equilibrium(a, N, [(J1, *r1), (N, f"(-{rab[0]})", f"(-{rab[1]})")], "")
+    k.equilibrium(bl, N, [(N, *rab), (N, f"{{Rx_{tg}}}", f"{{Ry_{tg}}}")], f"{{M_{tg}}}")
+    if g.guide.moving:     # the kulisa k carries the guide: the block pushes back on it
+        k.loads[gk].append((N, f"(-{{Rx_{tg}}})", f"(-{{Ry_{tg}}})"))
+        k.couples[gk].append(f"(-{{M_{tg}}})")
+    k.loads[o1].append((J1, f"(-{r1[0]})", f"(-{r1[1]})"))
+
+
+# --------------------------------------------------------------------------- loop equations
+def _guide(lib, g: Group, known, links):
+    """The guide's point (position, velocity, acceleration) and its angle with rates."""
+    n, gd = lib.num, g.guide
+    a = n(gd.angle_deg) * lib.pi() / 180
+    if not gd.moving:
+        z = (n(0), n(0))
+        return ((n(gd.point[0]), n(gd.point[1])), z, z), (a, n(0), n(0))
+    phi, w, eps = links[gd.link]
+    return known[gd.through], (phi + a, w, eps)
+
+
+def loop(lib, g: Group, known, links):
+    """J1 + L e(p2) = G + s u(th); q = (p2, s); th = phi_k + A turns with link k."""
+    p1, v1, a1 = known[g.joints[0]]
+    (pg, vg, ag), (th, w, eps) = _guide(lib, g, known, links)
+    length = lib.num(g.length)
+    ux, uy = lib.cos(th), lib.sin(th)
+    nx, ny = -uy, ux
+
+    def F(q):
+        c, s = lib.cos(q[0]), lib.sin(q[0])
+        return [p1[0] + length * c - pg[0] - q[1] * ux, p1[1] + length * s - pg[1] - q[1] * uy]
+
+    def J(q):
+        c, s = lib.cos(q[0]), lib.sin(q[0])
+        return [[-length * s, -ux], [length * c, -uy]]
+
+    def b_v(q):
+        return [vg[0] + q[1] * w * nx - v1[0], vg[1] + q[1] * w * ny - v1[1]]
+
+    def b_a(q, qt):
+        c, s = lib.cos(q[0]), lib.sin(q[0])
+        tn, tu = 2 * qt[1] * w + q[1] * eps, -q[1] * w * w
+        return [ag[0] - a1[0] + length * qt[0] ** 2 * c + tu * ux + tn * nx,
+                ag[1] - a1[1] + length * qt[0] ** 2 * s + tu * uy + tn * ny]
+
+    def place(q, qt, qtt):
+        s, vs, as_ = q[1], qt[1], qtt[1]
+        tn, tu = 2 * vs * w + s * eps, as_ - s * w * w
+        joint = ((pg[0] + s * ux, pg[1] + s * uy),
+                 (vg[0] + vs * ux + s * w * nx, vg[1] + vs * uy + s * w * ny),
+                 (ag[0] + tu * ux + tn * nx, ag[1] + tu * uy + tn * ny))
+        return {g.joints[1]: joint}, ((q[0], qt[0], qtt[0]), (th, w, eps)), {g.joints[1]: (s, vs, as_)}
+    return F, J, b_v, b_a, place
+
+
+def side_ok(lib, g: Group, known, links, q, joints) -> bool:
+    """+1 if N is ahead of the foot of the perpendicular from J1, along the guide."""
+    p1 = known[g.joints[0]][0]
+    _, (th, _, _) = _guide(lib, g, known, links)
+    nj = joints[g.joints[1]][0]
+    v = (nj[0] - p1[0]) * lib.cos(th) + (nj[1] - p1[1]) * lib.sin(th)
+    return (1 if v > 0 else -1) == g.branch
+
+
+def discriminant(lib, g: Group, known, links):
+    """L^2 - h^2, h the distance of J1 from the guide: 0 with the coupler across the guide."""
+    p1 = known[g.joints[0]][0]
+    (pg, _, _), (th, _, _) = _guide(lib, g, known, links)
+    h = -(p1[0] - pg[0]) * lib.sin(th) + (p1[1] - pg[1]) * lib.cos(th)
+    length = lib.num(g.length)
+    return length * length - h * h
+
+
+def unknowns(g: Group, sol) -> tuple[np.ndarray, np.ndarray]:
+    ra = sol.links[g.links[0]]
+    return np.arctan2(ra.s, ra.c), sol.slides[g.joints[1]].s

@@ -1,0 +1,331 @@
+"""RRR (ВВВ): a coupler and a rocker, or two couplers, three revolute joints (slides 16-21).
+
+Circle-circle intersection. The group J1 - N - J2 hangs between two known points J1, J2:
+link a = J1 N (length L2), link b = J2 N (length L3). Constraint (a):
+    J1 + L2 e(psi) = J2 + L3 e(xi),
+unknowns psi = phi_a (J1 -> N) and xi = phi_b (J2 -> N). With P = xJ2 - xJ1, Q = yJ2 - yJ1,
+F = (P^2 + Q^2 + L2^2 - L3^2) / (2 L2): tg(psi/2) = (Q +- sqrt(P^2 + Q^2 - F^2)) / (P + F)
+(branch +1: N left of the directed line J1 -> J2). Velocities, system (b) (slide 19):
+    -L2 sin psi psi_t + L3 sin xi xi_t = vx_J2 - vx_J1,  L2 cos psi psi_t - L3 cos xi xi_t = ...
+solved by Cramer (slide 20); accelerations: the same matrix, the right side f1, f2 gains the
+centripetal terms (slide 21). Toggle measure: det / (L2 L3) = sin(psi - xi), the sine of the
+transmission angle.
+"""
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..group import Group
+from ..motion import GroupMotion, Motion, Pair, Rotation, carried_point, cramer, cross, inverse_det, sqrt_or_nan
+from ..rows import (Builder, InputRow, LoadRows, carried_rows, cos_sin_rows, cramer_rows, det_row, distance_check,
+                    fd_checks, group_guard, relative_velocity_check, via_link_checks)
+
+# --------------------------------------------------------------------------- what it is
+KIND = "RRR"
+LECTURE = "ВВВ"
+SLIDES = "16-21"
+TITLE = ("шатун и коромысло (или два шатуна): три вращательные пары",
+         "coupler and rocker (or two couplers): three revolute joints")
+KEYS = ("type", "links", "joints", "lengths", "branch")
+
+
+# --------------------------------------------------------------------------- scene keys
+@dataclass(frozen=True)
+class Params:
+    lengths: tuple[float, float]      # |J1 N| (link a), |N J2| (link b)
+    branch: int                       # +1: N left of the directed line J1 -> J2
+
+
+def parse(tbl, frame) -> tuple[tuple[str, ...], Params]:
+    joints = tbl.array("joints", 3, "name")
+    if joints[1] in (joints[0], joints[2]):
+        tbl.fail("joints", f"the new joint '{joints[1]}' (second name) must differ from the "
+                           f"known joint(s) it is attached to, got {list(joints)}")
+    branch = tbl.get("branch", "an integer")
+    if branch not in (1, -1):
+        tbl.fail("branch", f"expected +1 or -1, got {branch}")
+    lengths = tbl.array("lengths", 2, "number")
+    if min(lengths) <= 0:
+        tbl.fail("lengths", f"expected positive lengths in metres, got {list(lengths)}")
+    return joints, Params(lengths, branch)
+
+
+def needs(g: Group) -> list[str]:
+    return [g.joints[0], g.joints[2]]
+
+
+def on_links(g: Group) -> list[tuple[str, str, int]]:
+    return []
+
+
+def new_joints(g: Group) -> list[str]:
+    return [g.joints[1]]
+
+
+def carries(g: Group) -> dict[int, list[str]]:
+    (j1, n, j2), (a, b) = g.joints, g.links
+    return {a: [j1, n], b: [j2, n]}
+
+
+def sliders(g: Group) -> list[str]:
+    return []
+
+
+# --------------------------------------------------------------------------- positions and rates
+def solve_rrr(j1: Motion, j2: Motion, l2: float, l3: float, branch: int):
+    """Constraint (a) in closed form, then systems (b) and (c) by Cramer. The half-angle
+    root (Q + root) / (P + F) equals (F - P) / (Q - root) (their product is (F - P)/(P + F));
+    we take whichever form has no cancellation, so it never degenerates to 0/0.
+    Returns N, rotations of J1->N (psi) and J2->N (xi), the discriminant, sin(psi - xi)."""
+    p, q = j2.x - j1.x, j2.y - j1.y
+    f = (p * p + q * q + l2 * l2 - l3 * l3) / (2.0 * l2)
+    disc = p * p + q * q - f * f
+    root = branch * sqrt_or_nan(disc)
+    num1, den1 = q + root, p + f          # the lecture's form
+    num2, den2 = f - p, q - root          # the same root, rationalised
+    first = num1 * num1 + den1 * den1 >= num2 * num2 + den2 * den2
+    num, den = np.where(first, num1, num2), np.where(first, den1, den2)
+    # sin and cos from tg(psi/2) = num/den (lecture: sin = 2t/(1+t^2), cos = (1-t^2)/(1+t^2))
+    h = num * num + den * den
+    c2, s2 = (den * den - num * num) / h, 2.0 * num * den / h
+    # cos xi = (L2 cos psi - P) / L3, sin xi = (L2 sin psi - Q) / L3 (system (a))
+    c3, s3 = (l2 * c2 - p) / l3, (l2 * s2 - q) / l3
+    # velocities, system (b): -L2 sin psi psi_t + L3 sin xi xi_t = vx_J2 - vx_J1, ...
+    m11, m12, m21, m22 = -l2 * s2, l3 * s3, l2 * c2, -l3 * c3
+    det, inv = inverse_det(m11, m12, m21, m22)
+    w2, w3 = cramer(m11, m12, m21, m22, j2.vx - j1.vx, j2.vy - j1.vy, inv)
+    # accelerations: same matrix; right side gains the centripetal terms (lecture f1, f2)
+    b1 = j2.ax - j1.ax + l2 * w2 * w2 * c2 - l3 * w3 * w3 * c3
+    b2 = j2.ay - j1.ay + l2 * w2 * w2 * s2 - l3 * w3 * w3 * s3
+    e2, e3 = cramer(m11, m12, m21, m22, b1, b2, inv)
+    rot2, rot3 = Rotation(c2, s2, w2, e2), Rotation(c3, s3, w3, e3)
+    return carried_point(j1, rot2, l2, 0.0), rot2, rot3, disc, det / (l2 * l3)
+
+
+def solve(g: Group, known: dict[str, Motion], rot: dict[int, Rotation], scale: float) -> GroupMotion:
+    (j1, n, j2), (a, b) = g.joints, g.links
+    joint, ra, rb, disc, toggle = solve_rrr(known[j1], known[j2], *g.lengths, g.branch)
+    return GroupMotion({n: joint}, {a: ra, b: rb}, {}, disc, toggle)
+
+
+# --------------------------------------------------------------------------- the workbook
+def input_rows(g: Group) -> list[InputRow]:
+    (j1, n, j2), (la, lb), i = g.joints, g.links, g.index
+    return [InputRow(f"L{la}", "m", f"длина звена {la} ({j1}{n})", f"length of link {la} ({j1}{n})", g.lengths[0],
+                     True),
+            InputRow(f"L{lb}", "m", f"длина звена {lb} ({n}{j2})", f"length of link {lb} ({n}{j2})", g.lengths[1],
+                     True),
+            InputRow(f"branch_g{i}", "", f"ветвь решения группы {i} (+1 или -1)",
+                     f"solution branch of group {i} (+1 or -1)", g.branch)]
+
+
+def with_inputs(g: Group, num) -> Group:
+    la, lb = g.links
+    lengths = (num(f"L{la}", g.lengths[0]), num(f"L{lb}", g.lengths[1]))
+    branch = int(num(f"branch_g{g.index}", g.branch, choices=(1, -1)))
+    return dataclasses.replace(g, params=Params(lengths, branch))
+
+
+def rows(b: Builder, g: Group):
+    """Lecture slides 16-21, generalised to a moving J2: J1 + L2 e(psi) = J2 + L3 e(xi)."""
+    i, (la, lb), (J1, N, J2) = g.index, g.links, g.joints
+    L2, L3 = f"{{L{la}}}", f"{{L{lb}}}"
+    b.section(f"group_{i}", f"Группа {i} (ВВВ {J1}{N}{J2}): кинематические связи, слайды 16-21",
+              f"Group {i} (RRR {J1}{N}{J2}): kinematic constraints, slides 16-21")
+    P, Q, F, D = f"P_g{i}", f"Q_g{i}", f"F_g{i}", f"D_g{i}"
+    b.add(P, "m", f"P = x{J2} - x{J1}", f"P = x{J2} - x{J1}", "calc", f"{b.p('x', J2)}-{b.p('x', J1)}", guard=b.guard)
+    b.add(Q, "m", f"Q = y{J2} - y{J1}", f"Q = y{J2} - y{J1}", "calc", f"{b.p('y', J2)}-{b.p('y', J1)}", guard=b.guard)
+    b.add(F, "m", "F = (P^2 + Q^2 + L2^2 - L3^2) / (2 L2)", "F = (P^2 + Q^2 + L2^2 - L3^2) / (2 L2)", "calc",
+          f"({{{P}}}^2+{{{Q}}}^2+{L2}^2-{L3}^2)/(2*{L2})", guard=b.guard)
+    b.add(D, "m^2", "дискриминант P^2 + Q^2 - F^2 (< 0: группа не собирается)",
+          "discriminant P^2 + Q^2 - F^2 (< 0: cannot assemble)", "calc", f"{{{P}}}^2+{{{Q}}}^2-{{{F}}}^2",
+          guard=b.guard)
+    group_guard(b, g, D)
+    for s, sign, ru, en in (("p", "+", "ветвь +1", "branch +1"), ("m", "-", "ветвь -1", "branch -1")):
+        # tg(psi/2) = (Q +- sqrt(D)) / (P + F), written as ATAN2 so that P + F = 0 is no division
+        b.add(f"psi_{s}_g{i}", "rad", f"{ru}: psi = 2 arctg((Q {sign} sqrt(D)) / (P + F))",
+              f"{en}: psi = 2 atan((Q {sign} sqrt(D)) / (P + F))",
+              "calc", f"2*ATAN2({{{P}}}+{{{F}}},{{{Q}}}{sign}SQRT({{{D}}}))")
+        b.add(f"xi_{s}_g{i}", "rad", f"{ru}: xi из cos xi = (L2 cos psi - P)/L3, sin xi = (L2 sin psi - Q)/L3",
+              f"{en}: xi from cos xi = (L2 cos psi - P)/L3, sin xi = (L2 sin psi - Q)/L3",
+              "calc", f"ATAN2({L2}*COS({{psi_{s}_g{i}}})-{{{P}}},{L2}*SIN({{psi_{s}_g{i}}})-{{{Q}}})")
+        for axis, fn in (("x", "COS"), ("y", "SIN")):
+            b.add(f"chk_{axis}_{s}_g{i}", "m",
+                  f"проверка {ru}: {axis}{J1} + L2 {fn.lower()} psi - L3 {fn.lower()} xi - {axis}{J2}",
+                  f"check {en}: {axis}{J1} + L2 {fn.lower()} psi - L3 {fn.lower()} xi - {axis}{J2}", "check",
+                  f"{b.p(axis, J1)}+{L2}*{fn}({{psi_{s}_g{i}}})-{L3}*{fn}({{xi_{s}_g{i}}})-{b.p(axis, J2)}")
+    b.section(f"accepted_g{i}", "Принятые значения", "Accepted values")
+    br = f"{{branch_g{i}}}"
+    b.add(f"phi_{la}", "deg", f"угол звена {la} ({J1}->{N})", f"angle of link {la} ({J1}->{N})", "accepted",
+          f"MOD(DEGREES(IF({br}=1,{{psi_p_g{i}}},{{psi_m_g{i}}})),360)")
+    b.add(f"phi_{lb}", "deg", f"угол звена {lb} ({J2}->{N})", f"angle of link {lb} ({J2}->{N})", "accepted",
+          f"MOD(DEGREES(IF({br}=1,{{xi_p_g{i}}},{{xi_m_g{i}}})),360)")
+    cos_sin_rows(b, la, "", "")
+    cos_sin_rows(b, lb, "", "")
+    ca, sa, cb, sb = f"{{cos_{la}}}", f"{{sin_{la}}}", f"{{cos_{lb}}}", f"{{sin_{lb}}}"
+    b.add(f"chk_acc_g{i}", "m", "проверка принятых значений: невязка системы (a)",
+          "check of the accepted values: residual of system (a)", "check",
+          f"ABS({b.p('x', J1)}+{L2}*{ca}-{L3}*{cb}-{b.p('x', J2)})+ABS({b.p('y', J1)}+{L2}*{sa}-{L3}*{sb}-{b.p('y', J2)})")
+    # system (b) (slide 19): -L2 sin psi psi_t + L3 sin xi xi_t = vx_J2 - vx_J1; L2 cos psi psi_t - L3 cos xi xi_t = vy_J2 - vy_J1
+    det = f"Delta_g{i}"
+    m = (f"(-{L2}*{sa})", f"({L3}*{sb})", f"({L2}*{ca})", f"(-{L3}*{cb})")
+    det_row(b, det, m, "m^2", "определитель системы (b): L2 L3 sin(psi - xi)",
+            "determinant of system (b): L2 L3 sin(psi - xi)")
+    b.add(f"det_g{i}", "", "sin угла передачи (около 0: мёртвое положение)",
+          "sine of the transmission angle (near 0: toggle)",
+          "calc", f"{{{det}}}/({L2}*{L3})")
+    b1, b2 = f"({b.p('vx', J2)}-{b.p('vx', J1)})", f"({b.p('vy', J2)}-{b.p('vy', J1)})"
+    cramer_rows(b, m, det,
+                ((f"omega_{la}", "rad/s", f"угловая скорость звена {la} (Крамер)",
+                  f"angular velocity of link {la} (Cramer)"),
+                            (f"omega_{lb}", "rad/s", f"угловая скорость звена {lb} (Крамер)",
+                             f"angular velocity of link {lb} (Cramer)")),
+                (b1, b2),
+                (f"chk_vsys_g{i}", "невязка системы (b) для скоростей", "residual of the velocity system (b)"))
+    f1, f2 = f"f1_g{i}", f"f2_g{i}"
+    wa, wb = f"{{omega_{la}}}", f"{{omega_{lb}}}"
+    b.add(f1, "m/s^2", "правая часть для ускорений f1 (слайд 21)",
+          "right side of the acceleration system f1 (slide 21)", "calc",
+          f"{b.p('ax', J2)}-{b.p('ax', J1)}+{L2}*{wa}^2*{ca}-{L3}*{wb}^2*{cb}")
+    b.add(f2, "m/s^2", "правая часть для ускорений f2 (слайд 21)",
+          "right side of the acceleration system f2 (slide 21)", "calc",
+          f"{b.p('ay', J2)}-{b.p('ay', J1)}+{L2}*{wa}^2*{sa}-{L3}*{wb}^2*{sb}")
+    cramer_rows(b, m, det,
+                ((f"eps_{la}", "rad/s^2", f"угловое ускорение звена {la}", f"angular acceleration of link {la}"),
+                            (f"eps_{lb}", "rad/s^2", f"угловое ускорение звена {lb}",
+                             f"angular acceleration of link {lb}")),
+                (f"{{{f1}}}", f"{{{f2}}}"),
+                (f"chk_asys_g{i}", "невязка системы для ускорений", "residual of the acceleration system"))
+    b.rot[la] = (f"cos_{la}", f"sin_{la}", f"omega_{la}", f"eps_{la}")
+    b.rot[lb] = (f"cos_{lb}", f"sin_{lb}", f"omega_{lb}", f"eps_{lb}")
+    b.guard_of_link[la] = b.guard_of_link[lb] = b.guard
+    carried_rows(b, N, la, J1, L2, "0", f"шарнира {N}", f"hinge {N}")
+    distance_check(b, f"chk_{J1}{N}", J1, N, L2, f"проверка: |{J1}{N}| - L{la}", f"check: |{J1}{N}| - L{la}")
+    distance_check(b, f"chk_{N}{J2}", N, J2, L3, f"проверка: |{N}{J2}| - L{lb}", f"check: |{N}{J2}| - L{lb}")
+    relative_velocity_check(b, N, J2)
+    via_link_checks(b, N, J2, lb, f"omega_{lb}, eps_{lb}")
+    fd_checks(b, N)
+
+
+# --------------------------------------------------------------------------- kinetostatics
+def pin_owner(g: Group) -> dict[str, int]:
+    """A later group hinged at N is taken to hinge on the coupler (link a)."""
+    return {g.joints[1]: g.links[0]}
+
+
+def pairs(g: Group, owner: dict[str, int]) -> list[Pair]:
+    (j1, n, j2), (a, b) = g.joints, g.links
+    return [Pair(owner[j1], a, j1), Pair(a, b, n), Pair(owner[j2], b, j2)]
+
+
+def reactions(g: Group, known, links, loads, owner) -> dict[str, tuple]:
+    """a: R1 + X + Fa = 0, (J1 - N) x R1 + Ma(N) = 0; b: R2 - X + Fb = 0,
+    (J2 - N) x R2 + Mb(N) = 0. With R2 = -F - R1 both moment equations are in R1."""
+    (J1, N, J2), (a, b) = g.joints, g.links
+    la, lb = loads[a], loads[b]
+    fax, fay = la.resultant()
+    fbx, fby = lb.resultant()
+    fx, fy = fax + fbx, fay + fby
+    j1, nj, j2 = known[J1], known[N], known[J2]
+    d1x, d1y, d2x, d2y = j1.x - nj.x, j1.y - nj.y, j2.x - nj.x, j2.y - nj.y
+    m11, m12, m21, m22 = -d1y, d1x, -d2y, d2x
+    _, inv = inverse_det(m11, m12, m21, m22)     # zero at the toggle, as the kinematics'
+    r1x, r1y = cramer(m11, m12, m21, m22, -la.moment(nj.x, nj.y),
+                      lb.moment(nj.x, nj.y) - cross(d2x, d2y, fx, fy), inv)
+    r2x, r2y = -fx - r1x, -fy - r1y
+    xx, xy = -r1x - fax, -r1y - fay           # force of b on a at N
+    loads[owner[J1]].add(j1, -r1x, -r1y)
+    loads[owner[J2]].add(j2, -r2x, -r2y)
+    return {f"{owner[J1]}_{a}": (r1x, r1y, None), f"{a}_{b}": (-xx, -xy, None),
+            f"{owner[J2]}_{b}": (r2x, r2y, None)}
+
+
+def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
+    i, (a, bl), (J1, N, J2) = g.index, g.links, g.joints
+    o1, o2 = owner[J1], owner[J2]
+    t1, tab, t2 = f"{o1}_{a}", f"{a}_{bl}", f"{o2}_{bl}"
+    r1, rab = (f"{{Rx_{t1}}}", f"{{Ry_{t1}}}"), (f"{{Rx_{tab}}}", f"{{Ry_{tab}}}")
+    k.link_loads(a, N)
+    k.link_loads(bl, N)
+    d1x, d1y = f"({b.p('x', J1)}-{b.p('x', N)})", f"({b.p('y', J1)}-{b.p('y', N)})"
+    d2x, d2y = f"({b.p('x', J2)}-{b.p('x', N)})", f"({b.p('y', J2)}-{b.p('y', N)})"
+    # moments about N: d1 x R1 = -MQ_a and d2 x R2 = -MQ_b with R2 = -(Q_a + Q_b) - R1
+    qx, qy = f"({{Qx_{a}}}+{{Qx_{bl}}})", f"({{Qy_{a}}}+{{Qy_{bl}}})"
+    k.cramer_reaction(i, t1, (f"(-{d1y})", d1x, f"(-{d2y})", d2x),
+                      (f"(-{{MQ_{a}}})", f"({{MQ_{bl}}}-({d2x}*{qy}-{d2y}*{qx}))"),
+                      "m^2", (f"определитель: ({J1}-{N}) x ({J2}-{N}) (0 в мёртвом положении)",
+                              f"determinant: ({J1}-{N}) x ({J2}-{N}) (0 at the toggle)"),
+                      f"звена {o1} на звено {a} в {J1}", f"of link {o1} on link {a} at {J1}")
+    k.reaction(tab, f"{r1[0]}+{{Qx_{a}}}", f"{r1[1]}+{{Qy_{a}}}", f"звена {a} на звено {bl} в {N}",
+               f"of link {a} on link {bl} at {N}")
+    k.reaction(t2, f"-{qx}-{r1[0]}", f"-{qy}-{r1[1]}", f"звена {o2} на звено {bl} в {J2}",
+               f"of link {o2} on link {bl} at {J2}")
+    k.equilibrium(a, N, [(J1, *r1), (N, f"(-{rab[0]})", f"(-{rab[1]})")], "")
+    k.equilibrium(bl, N, [(N, *rab), (J2, f"{{Rx_{t2}}}", f"{{Ry_{t2}}}")], "")
+    k.loads[o2].append((J2, f"(-{{Rx_{t2}}})", f"(-{{Ry_{t2}}})"))
+    k.loads[o1].append((J1, f"(-{r1[0]})", f"(-{r1[1]})"))
+
+
+# --------------------------------------------------------------------------- loop equations
+def _e(lib, a):
+    return lib.cos(a), lib.sin(a)
+
+
+def loop(lib, g: Group, known, links):
+    """J1 + L2 e(p2) = J2 + L3 e(p3); q = (p2, p3) the directions J1->N and J2->N."""
+    (p1, v1, a1), (p2, v2, a2) = known[g.joints[0]], known[g.joints[2]]
+    n = lib.num
+    l2, l3 = n(g.lengths[0]), n(g.lengths[1])
+
+    def F(q):
+        (c2, s2), (c3, s3) = _e(lib, q[0]), _e(lib, q[1])
+        return [p1[0] + l2 * c2 - l3 * c3 - p2[0], p1[1] + l2 * s2 - l3 * s3 - p2[1]]
+
+    def J(q):
+        (c2, s2), (c3, s3) = _e(lib, q[0]), _e(lib, q[1])
+        return [[-l2 * s2, l3 * s3], [l2 * c2, -l3 * c3]]
+
+    def b_v(q):
+        return [v2[0] - v1[0], v2[1] - v1[1]]
+
+    def b_a(q, qt):
+        (c2, s2), (c3, s3) = _e(lib, q[0]), _e(lib, q[1])
+        w2, w3 = qt
+        return [a2[0] - a1[0] + l2 * w2 * w2 * c2 - l3 * w3 * w3 * c3,
+                a2[1] - a1[1] + l2 * w2 * w2 * s2 - l3 * w3 * w3 * s3]
+
+    def place(q, qt, qtt):
+        la, lb = (q[0], qt[0], qtt[0]), (q[1], qt[1], qtt[1])
+        (c2, s2) = _e(lib, q[0])
+        # N = J1 + L2 e(p2), carried by link a (slide 7)
+        nx, ny = -s2, c2
+        pos = (p1[0] + l2 * c2, p1[1] + l2 * s2)
+        vel = (v1[0] + qt[0] * l2 * nx, v1[1] + qt[0] * l2 * ny)
+        acc = (a1[0] + qtt[0] * l2 * nx - qt[0] ** 2 * l2 * c2, a1[1] + qtt[0] * l2 * ny - qt[0] ** 2 * l2 * s2)
+        return {g.joints[1]: (pos, vel, acc)}, (la, lb), {}
+    return F, J, b_v, b_a, place
+
+
+def side_ok(lib, g: Group, known, links, q, joints) -> bool:
+    """The side of J1 -> J2 the new joint lies on (+1 left) is the scene's branch."""
+    (p1, _, _), (p2, _, _) = known[g.joints[0]], known[g.joints[2]]
+    n_ = joints[g.joints[1]][0]
+    v = (p2[0] - p1[0]) * (n_[1] - p1[1]) - (p2[1] - p1[1]) * (n_[0] - p1[0])
+    return (1 if v > 0 else -1) == g.branch
+
+
+def discriminant(lib, g: Group, known, links):
+    """P^2 + Q^2 - F^2 (constraint (a)): >= 0 where the group assembles, 0 at its toggle."""
+    (p1, _, _), (p2, _, _) = known[g.joints[0]], known[g.joints[2]]
+    l2, l3 = lib.num(g.lengths[0]), lib.num(g.lengths[1])
+    p, q = p2[0] - p1[0], p2[1] - p1[1]
+    f = (p * p + q * q + l2 * l2 - l3 * l3) / (2 * l2)
+    return p * p + q * q - f * f
+
+
+def unknowns(g: Group, sol) -> tuple[np.ndarray, np.ndarray]:
+    ra, rb = sol.links[g.links[0]], sol.links[g.links[1]]
+    return np.arctan2(ra.s, ra.c), np.arctan2(rb.s, rb.c)
