@@ -67,6 +67,7 @@ CASES = {
     "shaper": ((WB / "shaper.toml").read_text(), 7, {}),
     "crank_slider": ((WB / "crank_slider.toml").read_text(), 10, {"L1": 0.09}),
     "slotted_lever": ((WB / "slotted_lever.toml").read_text(), 2, {}),
+    "two_rockers_slotted": ((WB / "two_rockers_slotted.toml").read_text(), 5, {}),   # a moving guide
     "gap": (SHORT, 6, {}),            # position 6 (150 deg) cannot assemble
 }
 
@@ -102,7 +103,7 @@ def _changed(key):
     return scene, pos
 
 
-@pytest.mark.parametrize("key", ["fourbar", "shaper", "crank_slider", "slotted_lever"])
+@pytest.mark.parametrize("key", ["fourbar", "shaper", "crank_slider", "slotted_lever", "two_rockers_slotted"])
 def test_drawing_follows_position_and_lengths(books, key):
     wb, _ = books[key]
     cs = wb.worksheets[1]
