@@ -11,7 +11,7 @@ import pytest
 
 import sheetkin
 from libreoffice import render_pdf
-from sheetkin.workbook import _rows, write_workbook
+from sheetkin.workbook import sheet_rows, write_workbook
 from sheetkin.workbook_print import POSITIONS_PER_PAGE
 
 WB = Path(__file__).resolve().parent.parent / "workbooks"
@@ -53,6 +53,6 @@ def test_descriptions_print_whole(pages):
     column's edge); wrapped rows were given the height of their lines."""
     scene, texts = pages
     words = set(" ".join(texts).split())
-    for row in _rows(scene).rows:
+    for row in sheet_rows(scene).rows:
         for w in (row.ru.split() if row.kind != "section" else []):
             assert w in words, (row.name, w)
