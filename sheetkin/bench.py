@@ -61,6 +61,7 @@ FAMILIES = {"x": ("pos", "m"), "y": ("pos", "m"), "s": ("pos", "m"), "phi": ("po
             "omega": ("vel", "rad/s"),
             "ax": ("acc", "m/s^2"), "ay": ("acc", "m/s^2"), "as": ("acc", "m/s^2"),
             "eps": ("acc", "rad/s^2")}
+FAMILIES.update({"s2": FAMILIES["s"], "vs2": FAMILIES["vs"], "as2": FAMILIES["as"]})   # PRP's s2_N, vs2_N, as2_N
 # flagged: how many positions the method's own checks flag (the solver's |det|, Newton's
 # singular Jacobian, the finite differences' step doubling), flagged_deg: their crank angles;
 # est_vel, est_acc: the finite differences' step-doubling estimate (empty for the others)

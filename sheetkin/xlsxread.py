@@ -570,7 +570,7 @@ def _shift_formula(formula: str, dr: int, dc: int) -> str:
     def col(abs_, letters):
         if abs_:
             return abs_ + letters
-        c = _COLUMN_INDEX.get(letters, _MAX_COL + 1) + dc      # past XFD: not a column
+        c = _COLUMN_INDEX[letters] + dc
         return _LETTERS[c] if 1 <= c <= _MAX_COL else None
 
     def row(abs_, digits):
@@ -582,6 +582,8 @@ def _shift_formula(formula: str, dr: int, dc: int) -> str:
     def sub(m):
         if m.group("str") is not None:
             return m.group(0)
+        if any(g is not None and g not in _COLUMN_INDEX for g in (m.group("col"), m.group("wc1"), m.group("wc2"))):
+            return m.group(0)                 # past XFD (ZZZ9): a name, not a reference
         if m.group("col") is not None:
             c, r = col(m.group("cabs"), m.group("col")), row(m.group("rabs"), m.group("row"))
             return "#REF!" if c is None or r is None else (m.group("sheet") or "") + c + r
@@ -727,6 +729,13 @@ def convert_opendocument(paths, limits: Limits = Limits(), *, timeout_per_file: 
     change. Copies are converted, in a temporary folder removed when the process ends.
     If the run fails, nothing is kept: read_book converts each file alone (and says what
     is wrong with it). `note(text)` is told before the run. Returns how many were converted."""
+    try:
+        return _convert_batch(paths, limits, timeout_per_file, note)
+    except Exception:       # noqa: BLE001 - an optimisation only: each file is then converted alone
+        return 0
+
+
+def _convert_batch(paths, limits: Limits, timeout_per_file: float, note) -> int:
     from . import libreoffice
     todo = []
     for p in paths:

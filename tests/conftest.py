@@ -5,8 +5,15 @@ import os
 import shutil
 
 import pytest
+from hypothesis import settings
 
 from libreoffice import SETUP_HINT, soffice_path
+
+# Under CI the property tests draw the same examples every run (a red CI names a real
+# failure, reproducible with CI=true); elsewhere they explore new examples each run.
+settings.register_profile("ci", derandomize=True, print_blob=True)
+if os.environ.get("CI", "").lower() not in ("", "0", "false", "no"):
+    settings.load_profile("ci")
 
 
 def _require(path: str | None, hint: str) -> str:

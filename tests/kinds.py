@@ -16,6 +16,13 @@ def bundled(stem: str) -> str:
     return (WORKBOOKS / f"{stem}.toml").read_text(encoding="utf-8")
 
 
+def kinematics(stem: str) -> str:
+    """A bundled scene without its [[mass]] and [[force]] tables (they come last)."""
+    text = bundled(stem)
+    cut = min(i for i in (text.find("\n[[mass]]"), text.find("\n[[force]]"), len(text)) if i >= 0)
+    return text[:cut] + "\n"
+
+
 def _crank(text: str, **values) -> str:
     """The scene with some [crank] values replaced (the bundled scenes' epsilon is 0: a
     nonzero one exercises every eps term)."""
@@ -72,6 +79,10 @@ CASES = {
     "rpr_slotted_lever": ("RPR", bundled("slotted_lever")),
     "rpr_moving_axis": ("RPR", _crank(bundled("kulisa_moving_axis"), epsilon=-20.0)),
     "chain_three_groups": ("RRP", CHAIN),
+    # PRP and RPP (branch groups-new): the bundled scenes without their masses and forces
+    "prp_slider_on_coupler": ("PRP", _crank(kinematics("slider_on_coupler"), epsilon=25.0)),
+    "rpp_scotch_yoke": ("RPP", _crank(kinematics("scotch_yoke"), epsilon=-15.0)),
+    "prp_rpp_chain": ("PRP", _crank(kinematics("three_group_chain"), epsilon=12.0)),
 }
 
 

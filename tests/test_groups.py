@@ -368,8 +368,10 @@ _values = st.recursive(_atoms, lambda inner: st.one_of(
 
 
 @settings(max_examples=150, deadline=None, database=None)
-@given(case=st.sampled_from(["rrp_two_rockers", "rpr_moving_axis", "rrr_fourbar"]),
-       key=st.sampled_from(["joints", "length", "lengths", "guide", "branch", "offset", "links", "type", "extra"]),
+@given(case=st.sampled_from(["rrp_two_rockers", "rpr_moving_axis", "rrr_fourbar", "prp_slider_on_coupler",
+                             "rpp_scotch_yoke"]),
+       key=st.sampled_from(["joints", "length", "lengths", "guide", "branch", "offset", "links", "type", "extra",
+                            "guides", "slot_angle_deg"]),
        value=_values, drop=st.booleans())
 def test_only_scene_errors_come_out_of_a_mangled_group(case, key, value, drop):
     """Any value (or none) for any key of the last group: a one-line SceneError, or a scene
@@ -430,6 +432,9 @@ def test_every_kind_and_key_is_documented_for_students(kind):
 @pytest.mark.parametrize("stem, inputs, broken", [
     ("two_rockers_slotted", {"gamma_g2": 4.0, "L4": 0.31, "branch_g2": 1}, "vs_D"),
     ("kulisa_moving_axis", {"e_g2": 0.02, "along_E": 0.22}, "omega_5"),
+    ("slider_on_coupler", {"gamma2_g2": 80.0, "gx2_g2": -0.12}, "vs2_L"),     # PRP: the fixed guide
+    ("scotch_yoke", {"alpha_g1": 75.0, "gy_g1": 0.01}, "vs_A"),              # RPP: slot and guide
+    ("three_group_chain", {"gamma1_g3": 10.0, "gamma2_g3": 40.0, "alpha_g2": 55.0}, "as2_N"),
 ])
 def test_validator_takes_a_students_variant_and_names_a_broken_row(tmp_path, stem, inputs, broken):
     """A student's own inputs (the guide's angle on the moving rocker, a length, the

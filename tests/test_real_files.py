@@ -14,7 +14,7 @@ from pathlib import Path
 
 import openpyxl
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from openpyxl.utils import get_column_letter
 
@@ -328,6 +328,8 @@ def test_a_class_of_ods_files_is_converted_in_one_run(lo, tmp_path, monkeypatch,
 
 
 @settings(max_examples=300, deadline=None)
+@example("ZZZ9+A1", 0, -1)                  # past XFD: a name, left alone
+@example("A1:B2+$C$3+D:E+2:3", -1, -1)
 @given(st.lists(st.one_of(
            st.builds(lambda ca, c, ra, r: f"{ca}{get_column_letter(c)}{ra}{r}", st.sampled_from(["", "$"]),
                      st.integers(1, 16384), st.sampled_from(["", "$"]), st.integers(1, 1048576)),

@@ -113,7 +113,7 @@ CASES = [
          [r"'RRX'|\bRRX\b", r"\bRRR\b", r"\bRRP\b", r"\bRPR\b"]),
     case("unknown type", F, 'type    = "RRR"', 'type    = "rrr"', "type",
          [r"\brrr\b", r"\bRRR\b", r"\bRRP\b", r"\bRPR\b"]),
-    case("unknown type", S, 'type   = "RRP"', 'type   = "PRP"', "type",
+    case("unknown type", S, 'type   = "RRP"', 'type   = "PPP"', "type",
          [r"\bPRP\b", r"\bRRR\b", r"\bRRP\b", r"\bRPR\b"]),
     # ---- a joint or point used before it is known
     case("used before known", S, 'joints = ["A", "B"]', 'joints = ["A", "C"]', "joints",

@@ -77,13 +77,15 @@ Every kind module provides the same surface, under banners in this order:
 """
 from __future__ import annotations
 
-from . import rpr, rrp, rrr
+from . import prp, rpp, rpr, rrp, rrr
 
 # explicit, in the contract's order; `grep RPR` finds every use (no discovery, no decorators)
 KINDS = {
     "RRR": rrr,
     "RRP": rrp,
     "RPR": rpr,
+    "PRP": prp,
+    "RPP": rpp,
 }
 
 

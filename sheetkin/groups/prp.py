@@ -1,0 +1,467 @@
+"""PRP (ПВП): two blocks hinged together at N, each sliding on its own guide.
+
+The lecture's "slider on the coupler with a fixed guide" (seed 003, "КУЛИСНАЯ ПАРА С
+ПОЛЗУШКОЙ НА ШАТУНЕ И ФИКСИРОВАННОЙ НАПРАВЛЯЮЩЕЙ", equations (1)-(7)): N is the point L
+where two straight lines cross, line (1) y = m + x tg(theta) (the fixed guide) and line (2)
+y = n + x tg(eta) (the coupler AB, tg(eta) by (4), n by (3a)); x_L, y_L by (7).
+A guide may sit on the frame or on a moving link k (a kulisa): it passes through a point P
+of link k and its direction is phi_k + A.
+
+Constraint (the vector form of (5a), (5b)):  N = P_a + s1 u_a = P_b + s2 u_b,
+two unknowns s1 = s_N (along guides[0]) and s2 = s2_N (along guides[1]); the 2x2 matrix
+[u_a, -u_b] has the determinant -sin(theta_b - theta_a), so Cramer's rule gives s1, s2 and,
+differentiated once and twice in time, the relative velocities and accelerations:
+    u_a vs1 - u_b vs2 = v_Pb - v_Pa - s1 w_a n_a + s2 w_b n_b,
+    u_a as1 - u_b as2 = a_Pb - a_Pa - (2 vs1 w_a + s1 e_a) n_a + s1 w_a^2 u_a
+                                    + (2 vs2 w_b + s2 e_b) n_b - s2 w_b^2 u_b,
+with n = u turned +90 deg and (w, e) the rates of the link carrying the guide (2 vs w n is
+the Coriolis term). Toggle measure: sin(theta_b - theta_a), the sine of the angle between
+the two lines: free of position and size; zero when the guides are parallel (no N).
+
+The functions below take and return plain numbers or numpy arrays (vectorised over crank
+positions); `through` is a point with x, y, vx, vy, ax, ay and `guide` a direction with
+c, s, omega, eps (the solver's Motion and Rotation).
+"""
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..group import Group, Guide
+from ..motion import FRAME, GroupMotion, Motion, Pair, Rotation, Slide, cramer, fixed, inverse_det, turned
+from ..rows import Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, det_row, fd_checks, motion_rows
+
+# --------------------------------------------------------------------------- what it is
+KIND = "PRP"
+LECTURE = "ПВП"
+SLIDES = "ползушка на шатуне и фиксированная направляющая, (1)-(7)"
+TITLE = ("два камня, шарнирно связанные в N, каждый на своей направляющей (ползушка на шатуне "
+         "и фиксированная направляющая)",
+         "two blocks hinged together at N, each sliding on its own guide (a slider on the coupler "
+         "with a fixed guide)")
+KEYS = ("type", "links", "joints", "guides")
+
+
+# --------------------------------------------------------------------------- scene keys
+@dataclass(frozen=True)
+class Params:
+    guides: tuple[Guide, Guide]     # guides[0]: block a's line (the lecture's (2), the coupler);
+                                    # guides[1]: block b's line (the lecture's (1), fixed)
+
+
+def parse(tbl, frame) -> tuple[tuple[str, ...], Params]:
+    joints = tbl.array("joints", 1, "name")
+    guides = tbl.guides("guides", 2, frame)
+    if not guides[0].moving and not guides[1].moving:
+        tbl.fail("guides", "both guides are on the frame: N could not move; put at least one "
+                           "guide on a moving link (e.g. the coupler: {through = \"A\", angle_deg = 0, link = 2})")
+    return joints, Params(guides)
+
+
+def needs(g: Group) -> list[str]:
+    return [gd.through for gd in g.guides if gd.moving]
+
+
+def on_links(g: Group) -> list[tuple[str, str, int]]:
+    """(key, point, link): a moving guide's `through` must be a point of its link."""
+    return [(f"guides[{j}].through", gd.through, gd.link) for j, gd in enumerate(g.guides) if gd.moving]
+
+
+def new_joints(g: Group) -> list[str]:
+    return [g.joints[0]]
+
+
+def carries(g: Group) -> dict[int, list[str]]:
+    a, b = g.links
+    return {a: [g.joints[0]], b: [g.joints[0]]}
+
+
+def sliders(g: Group) -> list[str]:
+    """s_N along guides[0], s2_N along guides[1] (the contract)."""
+    return [g.joints[0], f"2_{g.joints[0]}"]
+
+
+# --------------------------------------------------------------------------- positions and rates
+def guide_line(gd: Guide, known: dict[str, Motion], rot: dict[int, Rotation]) -> tuple[Motion, Rotation]:
+    """A guide's point P and direction u = e(phi_k + A), with the rates of the link k that
+    carries it (the frame's: none)."""
+    if not gd.moving:
+        a = np.radians(gd.angle_deg)
+        return fixed(*gd.point), Rotation(np.cos(a), np.sin(a), 0.0, 0.0)
+    return known[gd.through], turned(rot.get(gd.link, FRAME), gd.angle_deg)
+
+
+def solve_prp(pa: Motion, ga: Rotation, pb: Motion, gb: Rotation):
+    """N, the two slides (s_N along guide a, s2_N along guide b), the discriminant
+    (negative where the guides are parallel) and the toggle measure sin(theta_b - theta_a)."""
+    m11, m12, m21, m22 = ga.c, -gb.c, ga.s, -gb.s
+    det, inv = inverse_det(m11, m12, m21, m22)
+    s1, s2 = cramer(m11, m12, m21, m22, pb.x - pa.x, pb.y - pa.y, inv)
+    nax, nay, nbx, nby = -ga.s, ga.c, -gb.s, gb.c
+    wa, ea, wb, eb = ga.omega, ga.eps, gb.omega, gb.eps
+    # velocities: the guides' turning moves the crossing point along the other line
+    b1 = pb.vx - pa.vx - s1 * wa * nax + s2 * wb * nbx
+    b2 = pb.vy - pa.vy - s1 * wa * nay + s2 * wb * nby
+    vs1, vs2 = cramer(m11, m12, m21, m22, b1, b2, inv)
+    # accelerations: same matrix; Coriolis 2 vs w n, tangential s e n, centripetal -s w^2 u
+    ta, tb = 2.0 * vs1 * wa + s1 * ea, 2.0 * vs2 * wb + s2 * eb
+    ra, rb = s1 * wa * wa, s2 * wb * wb
+    b1 = pb.ax - pa.ax - ta * nax + ra * ga.c + tb * nbx - rb * gb.c
+    b2 = pb.ay - pa.ay - ta * nay + ra * ga.s + tb * nby - rb * gb.s
+    as1, as2 = cramer(m11, m12, m21, m22, b1, b2, inv)
+    joint = Motion(pa.x + s1 * ga.c, pa.y + s1 * ga.s,
+                   pa.vx + vs1 * ga.c + s1 * wa * nax, pa.vy + vs1 * ga.s + s1 * wa * nay,
+                   pa.ax + as1 * ga.c + ta * nax - ra * ga.c, pa.ay + as1 * ga.s + ta * nay - ra * ga.s)
+    sine = -det + np.zeros(np.shape(s1))
+    disc = np.where(sine != 0, sine * sine, -1.0)
+    return joint, Slide(s1, vs1, as1), Slide(s2, vs2, as2), disc, sine
+
+
+def solve(g: Group, known: dict[str, Motion], rot: dict[int, Rotation], scale: float) -> GroupMotion:
+    (n,), (a, b) = g.joints, g.links
+    (pa, ua), (pb, ub) = (guide_line(gd, known, rot) for gd in g.guides)
+    joint, sa, sb, disc, sine = solve_prp(pa, ua, pb, ub)
+    zero = np.zeros_like(sa.s)
+    ra = Rotation(ua.c + zero, ua.s + zero, ua.omega + zero, ua.eps + zero)
+    rb = Rotation(ub.c + zero, ub.s + zero, ub.omega + zero, ub.eps + zero)
+    return GroupMotion({n: joint}, {a: ra, b: rb}, {n: sa, f"2_{n}": sb}, disc, sine)
+
+
+# --------------------------------------------------------------------------- the lecture's form
+def lecture_intersection(xa, ya, eta, m_cos, theta):
+    """x_L, y_L by the lecture's (3a), (7), multiplied through by cos(theta) cos(eta).
+
+    The lecture writes line (2) through A as y = n + x tg(eta) with n = y_A - x_A tg(eta)
+    (3a), line (1) as y = m + x tg(theta), and x_L = (n - m)/(tg theta - tg eta),
+    y_L = (n tg theta - m tg eta)/(tg theta - tg eta) (7). A vertical line makes tg
+    infinite; with n' = n cos(eta) = y_A cos(eta) - x_A sin(eta) and m' = m cos(theta)
+    (the lines' signed distances from the origin) the same formulas read
+        x_L = (n' cos theta - m' cos eta) / sin(theta - eta),
+        y_L = (n' sin theta - m' sin eta) / sin(theta - eta),
+    finite for every pair of non-parallel lines. Returns (n', x_L, y_L).
+    """
+    n_cos = ya * np.cos(eta) - xa * np.sin(eta)
+    d = np.sin(theta - eta)
+    return n_cos, (n_cos * np.cos(theta) - m_cos * np.cos(eta)) / d, \
+        (n_cos * np.sin(theta) - m_cos * np.sin(eta)) / d
+
+
+# --------------------------------------------------------------------------- the workbook
+def input_rows(g: Group) -> list[InputRow]:
+    i, (n,) = g.index, g.joints
+    out = []
+    for j, gd in enumerate(g.guides, 1):
+        which = (f"направляющая {j} камня {'a' if j == 1 else 'b'} (узел {n})",
+                 f"guide {j} of block {'a' if j == 1 else 'b'} (joint {n})")
+        if gd.moving:
+            out.append(InputRow(f"gamma{j}_g{i}", "deg", f"{which[0]}: угол к звену {gd.link}",
+                                f"{which[1]}: angle to link {gd.link}", gd.angle_deg))
+        else:
+            out += [InputRow(f"gx{j}_g{i}", "m", f"{which[0]}: x точки", f"{which[1]}: x of a point", gd.point[0]),
+                    InputRow(f"gy{j}_g{i}", "m", f"{which[0]}: y точки", f"{which[1]}: y of a point", gd.point[1]),
+                    InputRow(f"gamma{j}_g{i}", "deg", f"{which[0]}: угол наклона", f"{which[1]}: its angle",
+                             gd.angle_deg)]
+    return out
+
+
+def with_inputs(g: Group, num) -> Group:
+    i, guides = g.index, []
+    for j, gd in enumerate(g.guides, 1):
+        point = None if gd.moving else (num(f"gx{j}_g{i}", gd.point[0]), num(f"gy{j}_g{i}", gd.point[1]))
+        guides.append(dataclasses.replace(gd, point=point, angle_deg=num(f"gamma{j}_g{i}", gd.angle_deg)))
+    return dataclasses.replace(g, params=Params(tuple(guides)))
+
+
+def _line_refs(b: Builder, g: Group, j: int):
+    """Formula pieces of guide j (1 or 2): its point's x y vx vy ax ay, its direction
+    (radians) and the omega, eps it turns with."""
+    i, gd = g.index, g.guides[j - 1]
+    gam = f"RADIANS({{gamma{j}_g{i}}})"
+    if not gd.moving:
+        return (f"{{gx{j}_g{i}}}", f"{{gy{j}_g{i}}}", "0", "0", "0", "0"), gam, "0", "0"
+    ck, sk, wk, ek = (f"{{{r}}}" for r in b.rot[gd.link])
+    P = gd.through
+    return tuple(b.p(q, P) for q in ("x", "y", "vx", "vy", "ax", "ay")), f"ATAN2({ck},{sk})+{gam}", wk, ek
+
+
+def rows(b: Builder, g: Group):
+    """The lecture's slider on the coupler with a fixed guide, equations (1)-(7): line (2)
+    is guides[0] (the coupler AB: tg eta by (4), n by (3a)), line (1) is guides[1]
+    (y = m + x tg theta); N = L by (7). Every tangent is multiplied out (see
+    lecture_intersection), so vertical lines stay finite; the rows say so."""
+    i, (la, lb), (N,) = g.index, g.links, g.joints
+    (pa, eta_f, wa_f, ea_f), (pb, th_f, wb_f, eb_f) = _line_refs(b, g, 1), _line_refs(b, g, 2)
+    b.section(f"group_{i}", f"Группа {i} (ПВП {N}): ползушка на шатуне и фиксированная направляющая, уравнения (1)-(7)",
+              f"Group {i} (PRP {N}): slider on the coupler with a fixed guide, equations (1)-(7)")
+    eta, nn, th, mm, D = f"eta_g{i}", f"n_g{i}", f"theta_g{i}", f"m_g{i}", f"D_g{i}"
+    b.add(eta, "rad", "(4) наклон прямой (2) (направляющая 1): tg eta = (yB - yA)/(xB - xA) записан углом eta, "
+          "чтобы вертикальная прямая (tg = бесконечность) оставалась конечной",
+          "(4) slope of line (2) (guide 1): tg eta = (yB - yA)/(xB - xA) kept as the angle eta, so that a "
+          "vertical line (infinite tg) stays finite", "calc", eta_f, guard=b.guard)
+    b.add(nn, "m", "(3a) n cos(eta) = y cos(eta) - x sin(eta) точки прямой (2): n, умноженное на cos(eta), "
+          "конечно и для вертикальной прямой",
+          "(3a) n cos(eta) = y cos(eta) - x sin(eta) of a point of line (2): n times cos(eta), finite for a "
+          "vertical line too", "calc", f"{pa[1]}*COS({{{eta}}})-{pa[0]}*SIN({{{eta}}})", guard=b.guard)
+    b.add(th, "rad", "(1) наклон прямой (1) (направляющая 2), угол theta",
+          "(1) slope of line (1) (guide 2), the angle theta",
+          "calc", th_f, guard=b.guard)
+    b.add(mm, "m", "(1) m cos(theta) = y cos(theta) - x sin(theta) точки прямой (1)",
+          "(1) m cos(theta) = y cos(theta) - x sin(theta) of a point of line (1)", "calc",
+          f"{pb[1]}*COS({{{th}}})-{pb[0]}*SIN({{{th}}})", guard=b.guard)
+    b.add(D, "", "(7) знаменатель tg theta - tg eta, умноженный на cos theta cos eta: sin(theta - eta) "
+          "(0: прямые параллельны, группа не собирается)",
+          "(7) denominator tg theta - tg eta times cos theta cos eta: sin(theta - eta) (0: parallel lines, "
+          "cannot assemble)", "calc", f"SIN({{{th}}}-{{{eta}}})", guard=b.guard)
+    prev = b.guard
+    b.add(f"asm_g{i}", "", f"группа {i} собирается (прямые не параллельны)", f"group {i} assembles (the lines cross)",
+          "guard", f"AND({{{prev}}},{{{D}}}<>0)" if prev else f"{{{D}}}<>0")
+    b.guard = f"asm_g{i}"
+    xL, yL = f"xL_g{i}", f"yL_g{i}"
+    b.add(xL, "m", "(7) x_L = (n - m)/(tg theta - tg eta), умножено на cos theta cos eta: "
+          "(n cos eta cos theta - m cos theta cos eta)/sin(theta - eta)",
+          "(7) x_L = (n - m)/(tg theta - tg eta), times cos theta cos eta: "
+          "(n cos eta cos theta - m cos theta cos eta)/sin(theta - eta)", "calc",
+          f"({{{nn}}}*COS({{{th}}})-{{{mm}}}*COS({{{eta}}}))/{{{D}}}")
+    b.add(yL, "m", "(7) y_L = (n tg theta - m tg eta)/(tg theta - tg eta), умножено на cos theta cos eta",
+          "(7) y_L = (n tg theta - m tg eta)/(tg theta - tg eta), times cos theta cos eta", "calc",
+          f"({{{nn}}}*SIN({{{th}}})-{{{mm}}}*SIN({{{eta}}}))/{{{D}}}")
+    b.add(f"chk_5a_g{i}", "m", "проверка (5a): L на прямой (2)", "check (5a): L on line (2)", "check",
+          f"{{{yL}}}*COS({{{eta}}})-{{{xL}}}*SIN({{{eta}}})-{{{nn}}}")
+    b.add(f"chk_5b_g{i}", "m", "проверка (5b): L на прямой (1)", "check (5b): L on line (1)", "check",
+          f"{{{yL}}}*COS({{{th}}})-{{{xL}}}*SIN({{{th}}})-{{{mm}}}")
+    b.section(f"accepted_g{i}", "Принятые значения", "Accepted values")
+    s1, s2 = f"s_{N}", f"s2_{N}"
+    b.add(s1, "m", f"положение камня {N} вдоль направляющей 1 от её точки",
+          f"travel of block {N} along guide 1 from its point",
+          "accepted", f"({{{xL}}}-{pa[0]})*COS({{{eta}}})+({{{yL}}}-{pa[1]})*SIN({{{eta}}})")
+    b.add(s2, "m", f"положение ползуна {N} вдоль направляющей 2 от её точки",
+          f"travel of slider {N} along guide 2 from its point",
+          "accepted", f"({{{xL}}}-{pb[0]})*COS({{{th}}})+({{{yL}}}-{pb[1]})*SIN({{{th}}})")
+    b.add(f"phi_{la}", "deg", f"угол камня {la} (направляющая 1)", f"angle of block {la} (guide 1)", "accepted",
+          f"MOD(DEGREES({{{eta}}}),360)")
+    b.add(f"phi_{lb}", "deg", f"угол ползуна {lb} (направляющая 2)", f"angle of slider {lb} (guide 2)", "accepted",
+          f"MOD(DEGREES({{{th}}}),360)")
+    cos_sin_rows(b, la, "", "")
+    cos_sin_rows(b, lb, "", "")
+    ca, sa, cb, sb = f"{{cos_{la}}}", f"{{sin_{la}}}", f"{{cos_{lb}}}", f"{{sin_{lb}}}"
+    S1, S2 = f"{{{s1}}}", f"{{{s2}}}"
+    b.add(f"chk_acc_g{i}", "m", "проверка принятых значений: P1 + s u1 - P2 - s2 u2",
+          "check of the accepted values: P1 + s u1 - P2 - s2 u2", "check",
+          f"ABS({pa[0]}+{S1}*{ca}-{pb[0]}-{S2}*{cb})+ABS({pa[1]}+{S1}*{sa}-{pb[1]}-{S2}*{sb})")
+    for k, w, e, what in ((la, wa_f, ea_f, ("камня", "block")), (lb, wb_f, eb_f, ("ползуна", "slider"))):
+        b.add(f"omega_{k}", "rad/s", f"угловая скорость {what[0]} {k} (вместе с направляющей)",
+              f"angular velocity of {what[1]} {k} (turns with its guide)", "accepted", w)
+        b.add(f"eps_{k}", "rad/s^2", f"угловое ускорение {what[0]} {k}", f"angular acceleration of {what[1]} {k}",
+              "accepted", e)
+    wa, ea, wb, eb = f"{{omega_{la}}}", f"{{eps_{la}}}", f"{{omega_{lb}}}", f"{{eps_{lb}}}"
+    # u1 vs - u2 vs2 = v_P2 - v_P1 - s w1 n1 + s2 w2 n2 (n = u turned +90 deg)
+    det = f"Delta_g{i}"
+    m = (ca, f"(-{cb})", sa, f"(-{sb})")
+    det_row(b, det, m, "", "определитель: -sin(theta - eta)", "determinant: -sin(theta - eta)")
+    b.add(f"det_g{i}", "", "sin(theta - eta): синус угла между направляющими (около 0: мёртвое положение)",
+          "sin(theta - eta): sine of the angle between the guides (near 0: toggle)", "calc", f"-{{{det}}}")
+    v1 = f"({pb[2]}-{pa[2]}+{S1}*{wa}*{sa}-{S2}*{wb}*{sb})"
+    v2 = f"({pb[3]}-{pa[3]}-{S1}*{wa}*{ca}+{S2}*{wb}*{cb})"
+    cramer_rows(b, m, det, ((f"vs_{N}", "m/s", f"скорость камня {N} вдоль направляющей 1 (Крамер)",
+                             f"velocity of block {N} along guide 1 (Cramer)"),
+                            (f"vs2_{N}", "m/s", f"скорость ползуна {N} вдоль направляющей 2 (Крамер)",
+                             f"velocity of slider {N} along guide 2 (Cramer)")),
+                (v1, v2), (f"chk_vsys_g{i}", "невязка системы для скоростей", "residual of the velocity system"))
+    f1, f2, t1, t2 = f"f1_g{i}", f"f2_g{i}", f"t1_g{i}", f"t2_g{i}"
+    b.add(t1, "m/s^2", "2 vs omega1 + s eps1: кориолисово и касательное ускорения поперёк направляющей 1",
+          "2 vs omega1 + s eps1: Coriolis and tangential terms across guide 1", "calc",
+          f"2*{{vs_{N}}}*{wa}+{S1}*{ea}")
+    b.add(t2, "m/s^2", "2 vs2 omega2 + s2 eps2: то же для направляющей 2",
+          "2 vs2 omega2 + s2 eps2: the same for guide 2",
+          "calc", f"2*{{vs2_{N}}}*{wb}+{S2}*{eb}")
+    T1, T2 = f"{{{t1}}}", f"{{{t2}}}"
+    b.add(f1, "m/s^2", "правая часть для ускорений f1", "right side of the acceleration system f1", "calc",
+          f"{pb[4]}-{pa[4]}+{T1}*{sa}+{S1}*{wa}^2*{ca}-{T2}*{sb}-{S2}*{wb}^2*{cb}")
+    b.add(f2, "m/s^2", "правая часть для ускорений f2", "right side of the acceleration system f2", "calc",
+          f"{pb[5]}-{pa[5]}-{T1}*{ca}+{S1}*{wa}^2*{sa}+{T2}*{cb}-{S2}*{wb}^2*{sb}")
+    cramer_rows(b, m, det, ((f"as_{N}", "m/s^2", f"ускорение камня {N} вдоль направляющей 1",
+                             f"acceleration of block {N} along guide 1"),
+                            (f"as2_{N}", "m/s^2", f"ускорение ползуна {N} вдоль направляющей 2",
+                             f"acceleration of slider {N} along guide 2")),
+                (f"{{{f1}}}", f"{{{f2}}}"), (f"chk_asys_g{i}", "невязка системы для ускорений",
+                                             "residual of the acceleration system"))
+    b.rot[la] = (f"cos_{la}", f"sin_{la}", f"omega_{la}", f"eps_{la}")
+    b.rot[lb] = (f"cos_{lb}", f"sin_{lb}", f"omega_{lb}", f"eps_{lb}")
+    b.guard_of_link[la] = b.guard_of_link[lb] = b.guard
+    b.section(f"point_{N}", f"Шарнир {N} = точка L: движение с направляющей 1 и по ней",
+              f"Hinge {N} = the point L: carried by guide 1 and sliding on it")
+    tu = f"({{as_{N}}}-{S1}*{wa}^2)"
+    motion_rows(b, N, f"шарнира {N}", f"hinge {N}", f"{{{xL}}}", f"{{{yL}}}",
+                f"{pa[2]}+{{vs_{N}}}*{ca}-{S1}*{wa}*{sa}", f"{pa[3]}+{{vs_{N}}}*{sa}+{S1}*{wa}*{ca}",
+                f"{pa[4]}+{tu}*{ca}-{T1}*{sa}", f"{pa[5]}+{tu}*{sa}+{T1}*{ca}")
+    tu2 = f"({{as2_{N}}}-{S2}*{wb}^2)"
+    b.add(f"chk_v_{N}_g{i}", "m/s", f"проверка: скорость {N} через направляющую 2",
+          f"check: velocity of {N} through guide 2",
+          "check", f"ABS({{vx_{N}}}-({pb[2]}+{{vs2_{N}}}*{cb}-{S2}*{wb}*{sb}))"
+                   f"+ABS({{vy_{N}}}-({pb[3]}+{{vs2_{N}}}*{sb}+{S2}*{wb}*{cb}))")
+    b.add(f"chk_a_{N}_g{i}", "m/s^2", f"проверка: ускорение {N} через направляющую 2",
+          f"check: acceleration of {N} through guide 2", "check",
+          f"ABS({{ax_{N}}}-({pb[4]}+{tu2}*{cb}-{T2}*{sb}))+ABS({{ay_{N}}}-({pb[5]}+{tu2}*{sb}+{T2}*{cb}))")
+    fd_checks(b, N)
+
+
+# --------------------------------------------------------------------------- kinetostatics
+def reaction_forces(fa, fb, ma_n, mb_n, ga: Rotation, gb: Rotation):
+    """The group's pair forces from its links' loads (pure arithmetic over arrays).
+
+    fa, fb: resultant loads (x, y) on blocks a and b; ma_n, mb_n: their moments about N.
+    Guide k_a acts on block a with Qa n_a through N and a couple Ca; guide k_b on block b
+    with Qb n_b and Cb; block b on block a with X at N. Block a: Qa n_a + X + Fa = 0,
+    Ca + Ma(N) = 0; block b: Qb n_b - X + Fb = 0, Cb + Mb(N) = 0. The sum gives
+    Qa n_a + Qb n_b = -(Fa + Fb): Cramer with the determinant sin(theta_b - theta_a),
+    zero (no answer) exactly where the kinematics has its toggle.
+    Returns (Qa n_a, Ca), (Qb n_b, Cb), X: forces as (x, y) pairs.
+    """
+    nax, nay, nbx, nby = -ga.s, ga.c, -gb.s, gb.c
+    _, inv = inverse_det(nax, nbx, nay, nby)
+    qa, qb = cramer(nax, nbx, nay, nby, -(fa[0] + fb[0]), -(fa[1] + fb[1]), inv)
+    xx, xy = -qa * nax - fa[0], -qa * nay - fa[1]
+    return ((qa * nax, qa * nay), -ma_n), ((qb * nbx, qb * nby), -mb_n), (xx, xy)
+
+
+def pin_owner(g: Group) -> dict[str, int]:
+    """A later group hinged at N is taken to hinge on block a (guides[0]'s block)."""
+    return {g.joints[0]: g.links[0]}
+
+
+def pairs(g: Group, owner: dict[str, int]) -> list[Pair]:
+    (n,), (a, b), (ga, gb) = g.joints, g.links, g.guides
+    return [Pair(ga.link, a, n, True), Pair(a, b, n), Pair(gb.link, b, n, True)]
+
+
+def reactions(g: Group, known, links, loads, owner) -> dict[str, tuple]:
+    """reaction_forces on the two blocks' loads; the links that carry the guides take the
+    guides' forces back at N (and the couples)."""
+    (n,), (a, b), (ga, gb) = g.joints, g.links, g.guides
+    nj = known[n]
+    (qa, ca), (qb, cb), x = reaction_forces(loads[a].resultant(), loads[b].resultant(),
+                                            loads[a].moment(nj.x, nj.y), loads[b].moment(nj.x, nj.y),
+                                            links[a], links[b])
+    for gd, q, c in ((ga, qa, ca), (gb, qb, cb)):
+        loads[gd.link].add(nj, -q[0], -q[1])
+        loads[gd.link].couple = loads[gd.link].couple - c
+    return {f"{ga.link}_{a}": (qa[0], qa[1], ca), f"{a}_{b}": (-x[0], -x[1], None),
+            f"{gb.link}_{b}": (qb[0], qb[1], cb)}
+
+
+def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
+    """The same in the sheet: Qa n_a + Qb n_b = -(Q_a + Q_b) by Cramer, then the pairs."""
+    i, (a, bl), (N,), (ga, gb) = g.index, g.links, g.joints, g.guides
+    k.link_loads(a, N)
+    k.link_loads(bl, N)
+    ca, sa, cb, sb = f"{{cos_{a}}}", f"{{sin_{a}}}", f"{{cos_{bl}}}", f"{{sin_{bl}}}"
+    m = (f"(-{sa})", f"(-{sb})", ca, cb)
+    rhs = (f"(-({{Qx_{a}}}+{{Qx_{bl}}}))", f"(-({{Qy_{a}}}+{{Qy_{bl}}}))")
+    det, qa, qb = f"Delta_R_g{i}", f"Qa_g{i}", f"Qb_g{i}"
+    det_row(b, det, m, "", "определитель: sin(theta - eta) (0: направляющие параллельны)",
+            "determinant: sin(theta - eta) (0: parallel guides)")
+    b.add(qa, "N", "нормальная сила направляющей 1 на камень (Крамер)", "normal force of guide 1 on the block (Cramer)",
+          "calc", f"({rhs[0]}*{m[3]}-{rhs[1]}*{m[1]})/{{{det}}}")
+    b.add(qb, "N", "нормальная сила направляющей 2 на ползун (Крамер)",
+          "normal force of guide 2 on the slider (Cramer)",
+          "calc", f"({m[0]}*{rhs[1]}-{m[2]}*{rhs[0]})/{{{det}}}")
+    b.add(f"chk_Rsys_g{i}", "", "проверка: нормальные силы в их двух уравнениях",
+          "check: the normal forces put back into their two equations", "check",
+          f"(ABS({m[0]}*{{{qa}}}+{m[1]}*{{{qb}}}-{rhs[0]})+ABS({m[2]}*{{{qa}}}+{m[3]}*{{{qb}}}-{rhs[1]}))"
+          f"/(1+ABS({{Qx_{a}}})+ABS({{Qy_{a}}})+ABS({{Qx_{bl}}})+ABS({{Qy_{bl}}}))")
+    t1, tab, t2 = f"{ga.link}_{a}", f"{a}_{bl}", f"{gb.link}_{bl}"
+    k.reaction(t1, f"-{{{qa}}}*{sa}", f"{{{qa}}}*{ca}", f"направляющей 1 (звено {ga.link}) на камень {a} (через {N})",
+               f"of guide 1 (link {ga.link}) on block {a} (through {N})")
+    b.add(f"M_{t1}", "N m", f"момент реакции направляющей 1 на камень {a}", f"couple of guide 1 on block {a}",
+          "accepted",
+          f"-{{MQ_{a}}}")
+    k.reaction(tab, f"-{{{qa}}}*{sa}+{{Qx_{a}}}", f"{{{qa}}}*{ca}+{{Qy_{a}}}", f"камня {a} на ползун {bl} в {N}",
+               f"of block {a} on slider {bl} at {N}")
+    k.equilibrium(a, N, [(N, f"{{Rx_{t1}}}", f"{{Ry_{t1}}}"), (N, f"(-{{Rx_{tab}}})", f"(-{{Ry_{tab}}})")],
+                  f"{{M_{t1}}}")
+    k.reaction(t2, f"-{{{qb}}}*{sb}", f"{{{qb}}}*{cb}", f"направляющей 2 (звено {gb.link}) на ползун {bl} (через {N})",
+               f"of guide 2 (link {gb.link}) on slider {bl} (through {N})")
+    b.add(f"M_{t2}", "N m", f"момент реакции направляющей 2 на ползун {bl}", f"couple of guide 2 on slider {bl}",
+          "accepted", f"-{{MQ_{bl}}}")
+    k.equilibrium(bl, N, [(N, f"{{Rx_{tab}}}", f"{{Ry_{tab}}}"), (N, f"{{Rx_{t2}}}", f"{{Ry_{t2}}}")], f"{{M_{t2}}}")
+    for gd, t in ((ga, t1), (gb, t2)):
+        if gd.moving:      # the link that carries the guide: the block pushes back on it
+            k.loads[gd.link].append((N, f"(-{{Rx_{t}}})", f"(-{{Ry_{t}}})"))
+            k.couples[gd.link].append(f"(-{{M_{t}}})")
+
+
+# --------------------------------------------------------------------------- loop equations
+def loop_lines(lib, pa, guide_a, pb, guide_b):
+    """The loop-closure equation F(q) = P_a + s1 u_a - P_b - s2 u_b = 0 in q = (s1, s2),
+    for any number type `lib` (mpmath or float, sheetkin.bench). pa, pb: ((x, y), (vx, vy),
+    (ax, ay)); guide_*: (theta, omega, eps) of the guide's direction.
+    Returns F, J, b_v, b_a, place as bench's loops do; place gives N, the two links'
+    (theta, omega, eps) and the two slides (s, vs, as)."""
+    (p1, v1, a1), (p2, v2, a2) = pa, pb
+    (ta, wa, ea), (tb, wb, eb) = guide_a, guide_b
+    ua, ub = (lib.cos(ta), lib.sin(ta)), (lib.cos(tb), lib.sin(tb))
+    na, nb = (-ua[1], ua[0]), (-ub[1], ub[0])
+
+    def F(q):
+        return [p1[i] + q[0] * ua[i] - p2[i] - q[1] * ub[i] for i in (0, 1)]
+
+    def J(q):
+        return [[ua[0], -ub[0]], [ua[1], -ub[1]]]
+
+    def b_v(q):
+        return [v2[i] - v1[i] - q[0] * wa * na[i] + q[1] * wb * nb[i] for i in (0, 1)]
+
+    def b_a(q, qt):
+        return [a2[i] - a1[i] - (2 * qt[0] * wa + q[0] * ea) * na[i] + q[0] * wa * wa * ua[i]
+                + (2 * qt[1] * wb + q[1] * eb) * nb[i] - q[1] * wb * wb * ub[i] for i in (0, 1)]
+
+    def place(q, qt, qtt):
+        pos = tuple(p1[i] + q[0] * ua[i] for i in (0, 1))
+        vel = tuple(v1[i] + qt[0] * ua[i] + q[0] * wa * na[i] for i in (0, 1))
+        acc = tuple(a1[i] + qtt[0] * ua[i] + (2 * qt[0] * wa + q[0] * ea) * na[i]
+                    - q[0] * wa * wa * ua[i] for i in (0, 1))
+        slides = ((q[0], qt[0], qtt[0]), (q[1], qt[1], qtt[1]))
+        return (pos, vel, acc), (guide_a, guide_b), slides
+    return F, J, b_v, b_a, place
+
+
+def _line(lib, gd: Guide, known, links):
+    """A guide's point (position, velocity, acceleration) and (angle, omega, eps)."""
+    n = lib.num
+    a = n(gd.angle_deg) * lib.pi() / 180
+    if not gd.moving:
+        z = (n(0), n(0))
+        return ((n(gd.point[0]), n(gd.point[1])), z, z), (a, n(0), n(0))
+    phi, w, eps = links[gd.link]
+    return known[gd.through], (phi + a, w, eps)
+
+
+def loop(lib, g: Group, known, links):
+    """P1 + s u1 = P2 + s2 u2 (loop_lines) with the scene's guides; q = (s_N, s2_N)."""
+    n = g.joints[0]
+    F, J, b_v, b_a, place_lines = loop_lines(lib, *_line(lib, g.guides[0], known, links),
+                                             *_line(lib, g.guides[1], known, links))
+
+    def place(q, qt, qtt):
+        joint, rots, (sa, sb) = place_lines(q, qt, qtt)
+        return {n: joint}, rots, {n: sa, f"2_{n}": sb}
+    return F, J, b_v, b_a, place
+
+
+def side_ok(lib, g: Group, known, links, q, joints) -> bool:
+    """Two lines cross once: PRP has no branch."""
+    return True
+
+
+def discriminant(lib, g: Group, known, links):
+    """sin^2(theta_b - theta_a): two lines always cross unless parallel, where it touches 0
+    (the toggle; PRP has no range edge)."""
+    (_, (ta, _, _)), (_, (tb, _, _)) = (_line(lib, gd, known, links) for gd in g.guides)
+    return lib.sin(tb - ta) ** 2
+
+
+def unknowns(g: Group, sol) -> tuple[np.ndarray, np.ndarray]:
+    n = g.joints[0]
+    return sol.slides[n].s, sol.slides[f"2_{n}"].s
