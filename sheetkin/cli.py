@@ -249,10 +249,142 @@ def build_parser() -> argparse.ArgumentParser:
                     help="crank positions in the written scene (default 13)")
     cr.add_argument("--step-deg", type=_finite_float, default=30.0, metavar="DEG",
                     help="crank angle step in the written scene (default 30)")
+    _add_animate_parser(sub)
     w.add_argument("--check", action="store_true",
                    help="write nothing: exit 1 if an existing workbook differs from what would be "
                         "written (stale) or is missing")
     return parser
+
+
+def _add_animate_parser(sub):
+    a = sub.add_parser(
+        "animate", help="the mechanism over a revolution: a GIF or an offline HTML page",
+        description="Draw the mechanism at FRAMES positions over one crank revolution (from "
+                    "phi0, the way the crank turns): the frame with its ground signs and guides, "
+                    "every link as a segment (a polygon for a link with three or more points), "
+                    "sliders as blocks on their guides, the paths of the points, labels of "
+                    "joints and links, toggle positions and the parts of the revolution where a "
+                    "group cannot assemble. -o decides the format: .gif (matplotlib + Pillow), "
+                    ".html (one self-contained page with play/pause and a position slider) or "
+                    ".png (the first position).")
+    a.add_argument("scene", metavar="SCENE.toml", help="the scene file")
+    a.add_argument("-o", "--output", metavar="OUT", required=True,
+                   help="mechanism.gif, mechanism.html or mechanism.png")
+    a.add_argument("--frames", type=_positive_int, default=36, metavar="N",
+                   help="positions over the revolution (default 36, every 10 deg)")
+    a.add_argument("--fps", type=_positive_float, default=12.0, help="frames per second (default 12)")
+    a.add_argument("--size", type=_positive_int, default=320, metavar="PX",
+                   help="width of the drawing in pixels (default 320); the height follows at equal scale")
+    a.add_argument("--vectors", action="store_true",
+                   help="draw the points' velocity vectors (one scale for the whole revolution)")
+    a.add_argument("--no-labels", action="store_true", help="leave out the names of joints and links")
+    a.add_argument("--allow-gaps", action="store_true",
+                   help="draw a mechanism that cannot assemble somewhere on the revolution (those "
+                        "positions show the crank alone and say so) instead of failing")
+    a.add_argument("--toggle-threshold", type=_positive_float, default=TOGGLE_THRESHOLD, metavar="X",
+                   help=f"mark positions whose |det_g<i>| is below X (default {TOGGLE_THRESHOLD})")
+    a.add_argument("--progress", choices=["auto", "always", "never"], default="auto",
+                   help="frame counter on stderr while a GIF is written (auto: when stderr is a terminal)")
+
+
+def cmd_animate(args) -> int:
+    from .animate import FORMATS, animate, stderr_progress
+    scene = load_scene(args.scene)
+    if Path(args.output).suffix.lower() not in FORMATS:
+        raise SceneError(f"{args.output}: expected a file name ending in {', '.join(FORMATS)}")
+    show = args.progress == "always" or (args.progress == "auto" and sys.stderr.isatty())
+    pic = animate(scene, args.output, frames=args.frames, fps=args.fps, size=args.size,
+                  vectors=args.vectors, labels=not args.no_labels, allow_gaps=args.allow_gaps,
+                  toggle_threshold=args.toggle_threshold,
+                  progress=stderr_progress(args.output) if show else None)
+    print(f"{args.output}: {len(pic.frames)} positions", file=sys.stderr)
+    for note in pic.notes:
+        if not note.startswith("velocity"):
+            print(f"sheetkin: warning: {note}", file=sys.stderr)
+    return 0
+
+
+def _fmt(v, scale: float = 0.0) -> str:
+    """Six significant digits; round-off noise (below 1e-12 of the row's largest) shows as 0."""
+    if isinstance(v, str):
+        return v
+    if v is None or (isinstance(v, float) and math.isnan(v)):
+        return "-"
+    if isinstance(v, (bool, np.bool_)):
+        return "yes" if v else "NO"
+    if abs(v) <= 1e-12 * scale:
+        v = 0.0
+    return f"{v + 0.0:.6g}"
+
+
+def _row(values) -> list[str]:
+    nums = [abs(v) for v in values if isinstance(v, float) and math.isfinite(v)]
+    scale = max(nums, default=0.0)
+    return [_fmt(v, scale) for v in values]
+
+
+def format_table(df, width: int | None = None) -> str:
+    """Quantities as rows, positions as columns (like the lecture's workbook), paged to width."""
+    width = width or shutil.get_terminal_size((120, 24)).columns
+    names = [c for c in df.columns if c != "phi_1"]
+    label_w = max(len(c) for c in df.columns) + 2
+    unit_w = max(len(unit(c)) for c in df.columns) + 2
+    col_w = 13
+    per_page = max(1, (width - label_w - unit_w) // col_w)
+    lines = [df.attrs.get("title", "")] if df.attrs.get("title") else []
+    for start in range(0, len(df), per_page):
+        page = df.iloc[start:start + per_page]
+        lines.append("")
+        lines.append("phi_1".ljust(label_w) + "deg".ljust(unit_w) +
+                     "".join(t.rjust(col_w) for t in _row(list(page["phi_1"]))))
+        lines.append("-" * (label_w + unit_w + col_w * len(page)))
+        for name in names:
+            lines.append(name.ljust(label_w) + unit(name).ljust(unit_w) +
+                         "".join(t.rjust(col_w) for t in _row(list(page[name]))))
+    return "\n".join(lines) + "\n"
+
+
+def format_json(df, warnings: list[str]) -> str:
+    records = [{k: (None if isinstance(v, float) and math.isnan(v) else
+                    (bool(v) if isinstance(v, (bool, np.bool_)) else v))
+                for k, v in row.items()} for row in df.to_dict(orient="records")]
+    return json.dumps({"title": df.attrs.get("title", ""),
+                       "units": {c: unit(c) for c in df.columns if unit(c)},
+                       "warnings": warnings, "positions": records}, indent=1) + "\n"
+
+
+def _toggle_warnings(df) -> list[str]:
+    out = []
+    flagged = df[df["near_toggle"] != ""]
+    if len(flagged):
+        groups = sorted({g for s in flagged["near_toggle"] for g in s.split(",")}, key=int)
+        for g in groups:
+            at = flagged[flagged["near_toggle"].str.split(",").apply(lambda s: g in s)]["phi_1"]
+            shown = ", ".join(f"{v:g}" for v in at.iloc[:8]) + (" ..." if len(at) > 8 else "")
+            out.append(f"group {g} is near a toggle position (|det_g{g}| small: velocities and "
+                       f"accelerations lose accuracy) at crank angles {shown} deg")
+    return out
+
+
+BALANCE_TOL = 1e-9
+
+
+def _balance_warnings(df) -> list[str]:
+    """Positions where the energy balance misses by more than 1e-9 of its terms' size: next
+    to a toggle the reactions grow without bound and lose their digits."""
+    terms = [df[c].abs() for c in ("P_bal", "P_ext", "U_t", "T_t") if c in df]
+    rel = df["balance"].abs() / (sum(terms) + 1e-300)
+    out = []
+    assembled = df["assembled"] if "assembled" in df else True
+    for bad, what in ((rel > BALANCE_TOL, f"the energy balance misses by up to {rel.max():.1e} of its terms"),
+                      (~np.isfinite(rel) & assembled, "the reactions and M_bal are undefined (a toggle: "
+                                                      "the group's determinant is 0)")):
+        angles = df["phi_1"][bad]
+        if not angles.empty:
+            listed = ", ".join(f"{a:g}" for a in angles.iloc[:8]) + (", ..." if len(angles) > 8 else "")
+            out.append(f"{what} at crank angles {listed} deg (near a toggle the reactions grow "
+                       "without bound and lose their digits)")
+    return out
 
 
 def cmd_compute(args) -> int:
@@ -601,7 +733,7 @@ def _run(args) -> int:
         refuse_overwriting_inputs(args)
         code = {"compute": cmd_compute, "workbook": cmd_workbook, "evaluate": cmd_evaluate,
                 "validate": cmd_validate, "bench": cmd_bench,
-                "synth": cmd_synth}[args.command](args)
+                "synth": cmd_synth, "animate": cmd_animate}[args.command](args)
         _flush_stdout()
         return code
     except SceneError as e:

@@ -524,7 +524,7 @@ AGGREGATES = {
     "SUMSQ": _agg_sumsq, "PRODUCT": _agg_product,
 }
 SPECIAL = {"IF", "IFERROR", "NOT", "PI", "ISNUMBER", "ISERROR", "ISTEXT", "TRUE", "FALSE", "TRUNC",
-           "INDEX", "CHOOSE", "ANCHORARRAY", "SINGLE", *fx.ROUNDING}
+           "INDEX", "CHOOSE", "ANCHORARRAY", "SINGLE", "NA", *fx.ROUNDING}
 SUPPORTED = sorted(set(SCALAR_FUNCS) | set(AGGREGATES) | SPECIAL)
 
 
@@ -1716,6 +1716,8 @@ class _Context:
             v = self.eval(args[0], run)
             test = {"ISNUMBER": v.tag == NUM, "ISERROR": v.tag >= 10, "ISTEXT": v.tag == TEXT}[name]
             return Val(test.astype(float), np.full(v.shape, BOOL, np.int8))
+        if name == "NA":                          # the charts' gap: #N/A is not plotted
+            return _const("#N/A", len(run.cols))
         if name in ("TRUE", "FALSE"):             # LibreOffice writes TRUE() and FALSE()
             return _const(name == "TRUE") if not args else _const("#VALUE!", len(run.cols))
         if name == "TRUNC":

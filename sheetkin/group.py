@@ -41,7 +41,8 @@ class Group:
         params = self.__dict__.get("params")
         if params is not None and not name.startswith("__") and hasattr(params, name):
             return getattr(params, name)
-        raise AttributeError(f"{self.type} group has no field {name!r}")
+        # self.__dict__, never self.type: while unpickling (a process pool) the fields are not set yet
+        raise AttributeError(f"{self.__dict__.get('type', '?')} group has no field {name!r}")
 
     @property
     def label(self) -> str:

@@ -1,10 +1,10 @@
 """Reports of the validator: text for the terminal, JSON, and an HTML page."""
 from __future__ import annotations
 
-import html
 import json
 import math
 
+from .report_html import position_list, position_name
 from .validator import Report
 
 
@@ -24,9 +24,9 @@ def text_report(rep: Report) -> str:
     lines.append(f"  {correct} rows correct, {len(rep.wrong)} wrong, {len(rep.missing)} missing or empty"
                  + ("  -> all correct" if rep.ok else ""))
     for r in rep.causes:
-        lines.append(f"  likely cause: {r.name} (row {r.row}, {r.source}): wrong from position {r.first_wrong}"
-                     f" (expected {_num(r.expected)}, got {_num(r.got)}); wrong at positions "
-                     f"{_positions(r.wrong_cells)}; largest error {_num(r.max_error)}")
+        lines.append(f"  likely cause: {r.name} (row {r.row}, {r.source}): wrong from {position_name(rep, r.first_wrong)}"
+                     f" (expected {_num(r.expected)}, got {_num(r.got)}); wrong at "
+                     f"{position_list(rep, r.wrong_cells)}; largest error {_num(r.max_error)}")
     dependents = [r for r in rep.wrong if not r.cause]
     for cause in rep.causes:
         deps = [r.name for r in dependents if cause.name in r.because_of]
@@ -44,18 +44,6 @@ def text_report(rep: Report) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _positions(cells: list[int]) -> str:
-    """1, 2, 3, 7 -> '1-3, 7'."""
-    out, start = [], None
-    for i, c in enumerate(cells):
-        if start is None:
-            start = c
-        if i + 1 == len(cells) or cells[i + 1] != c + 1:
-            out.append(f"{start}" if start == c else f"{start}-{c}")
-            start = None
-    return ", ".join(out)
-
-
 def summary_table(reports: list[Report]) -> str:
     rows = [("file", "student", "result", "wrong", "missing", "first cause")]
     for r in reports:
@@ -68,6 +56,19 @@ def summary_table(reports: list[Report]) -> str:
     return "\n".join("  ".join(x[i].ljust(widths[i]) for i in range(len(x))).rstrip() for x in rows) + "\n"
 
 
+def _named_positions(rep: Report) -> dict:
+    """to_dict(), each row's wrong positions also named as the sheet names them: wrong_i,
+    first_wrong_i and first_wrong_phi_1 (wrong_cells, first_wrong: 1-based column counts)."""
+    d = rep.to_dict()
+    names = getattr(rep, "position_names", None) or []
+    for row in d.get("rows", []):
+        cells = row.get("wrong_cells") or []
+        row["wrong_i"] = [names[k - 1][0] for k in cells if 0 < k <= len(names)]
+        k = row.get("first_wrong")
+        row["first_wrong_i"], row["first_wrong_phi_1"] = (names[k - 1] if k and 0 < k <= len(names) else (None, None))
+    return d
+
+
 def json_report(reports: list[Report]) -> str:
     def clean(o):
         if isinstance(o, float) and not math.isfinite(o):
@@ -77,53 +78,11 @@ def json_report(reports: list[Report]) -> str:
         if isinstance(o, list):
             return [clean(v) for v in o]
         return o
-    return json.dumps(clean({"reports": [r.to_dict() for r in reports],
+    return json.dumps(clean({"reports": [_named_positions(r) for r in reports],
                              "all_correct": all(r.ok for r in reports)}), indent=1, ensure_ascii=False) + "\n"
 
 
-_CSS = """body{font-family:sans-serif;margin:1.5em}table{border-collapse:collapse;margin:.5em 0}
-td,th{border:1px solid #bbb;padding:2px 6px;font-size:90%;text-align:right}th{background:#eee}
-td.name{text-align:left}.wrong{background:#ffc7ce}.ok{background:#c6efce}.cause{font-weight:bold}
-.unusable{color:#9c0006}h2{margin-top:1.5em}"""
-
-
 def html_report(reports: list[Report]) -> str:
-    e = html.escape
-    out = [f"<!doctype html><html><head><meta charset='utf-8'><title>sheetkin validation</title>"
-           f"<style>{_CSS}</style></head><body><h1>sheetkin: validation of {len(reports)} workbook(s)</h1>",
-           "<table><tr><th>file</th><th>student</th><th>result</th><th>wrong rows</th><th>first cause</th></tr>"]
-    for r in reports:
-        res = "unusable" if r.error else ("correct" if r.ok else "mistakes")
-        cls = "wrong" if res != "correct" else "ok"
-        out.append(f"<tr><td class='name'><a href='#{e(r.path)}'>{e(r.path)}</a></td><td class='name'>{e(r.author)}</td>"
-                   f"<td class='{cls}'>{res}</td><td>{len(r.wrong)}</td>"
-                   f"<td class='name'>{e(r.causes[0].name) if r.causes else ''}</td></tr>")
-    out.append("</table>")
-    for r in reports:
-        out.append(f"<h2 id='{e(r.path)}'>{e(r.path)}</h2>")
-        if r.error:
-            out.append(f"<p class='unusable'>Unusable: {e(r.error)}</p>")
-            continue
-        out.append(f"<p>{e(r.author)} {e(r.title)}: {sum(x.status == 'correct' for x in r.rows)} rows correct, "
-                   f"{len(r.wrong)} wrong, {len(r.missing)} missing or empty.</p>")
-        bad = [x for x in r.rows if x.status != "correct"]
-        if bad:
-            out.append("<table><tr><th>row</th><th>status</th>" +
-                       "".join(f"<th>{k}</th>" for k in range(1, r.positions + 1)) + "<th>note</th></tr>")
-            for x in bad:
-                cells = "".join(f"<td class='{'wrong' if k in x.wrong_cells else 'ok'}'></td>"
-                                for k in range(1, r.positions + 1))
-                note = ("likely cause" if x.cause else
-                        f"depends on {', '.join(x.because_of)}" if x.because_of else "")
-                if x.status == "wrong":
-                    note += f"; first: expected {_num(x.expected)}, got {_num(x.got)}"
-                out.append(f"<tr><td class='name{' cause' if x.cause else ''}'>{e(x.name)}</td><td>{x.status}</td>"
-                           f"{cells}<td class='name'>{e(note)}</td></tr>")
-            out.append("</table>")
-        for title, items in (("Check rows of the sheet that fail", r.failing_checks),
-                             ("Formula and saved value disagree", r.cache_mismatch),
-                             ("Cannot evaluate", r.problems)):
-            if items:
-                out.append(f"<p>{title}:</p><ul>" + "".join(f"<li>{e(i)}</li>" for i in items) + "</ul>")
-    out.append("</body></html>\n")
-    return "\n".join(out)
+    """One offline page: sortable summary, per-student details, pictures (report_html.py)."""
+    from .report_html import html_page
+    return html_page(reports)

@@ -31,6 +31,7 @@ from .xlsxread import Sheet, read_book
 from .scene import Scene, SceneError, parse_scene
 from .groups import kind_of
 from .workbook import FIRST_COL, SCENE_SHEET, build_workbook, sheet_rows
+from .workbook_charts import PATHS_SHEET
 from .xlsxsafe import Limits, UnusableWorkbook
 
 RTOL = 1e-9            # formulas: the same numbers up to rounding
@@ -68,6 +69,9 @@ class Report:
     problems: list[str] = field(default_factory=list)         # unsupported functions ...
     positions: int = 0
     error: str | None = None         # unusable input: the one-line reason
+    # (i, phi_1) of each position column, as the sheet's rows i and phi_1 name it (the
+    # reference for the student's variant); the reports name positions this way
+    position_names: list[tuple[float, float]] = field(default_factory=list)
 
     @property
     def wrong(self) -> list[RowReport]:
@@ -231,6 +235,9 @@ def _validate(path: str, limits: Limits) -> Report:
     ref_names = {ref_book.sheets[ref_sheet].consts.get((r, 1)): r for r in range(5, ref_book.sheets[ref_sheet].max_row + 1)}
     report = Report(path, author=str(sh.consts.get((2, 1), "") or ""), title=str(sh.consts.get((1, 1), "") or ""),
                     positions=positions, problems=list(evaluated.problems))
+    report.position_names = [(ref_book.value(ref_sheet, ref_names["i"], FIRST_COL + k),
+                              ref_book.value(ref_sheet, ref_names["phi_1"], FIRST_COL + k)) for k in range(positions)]
+    report.variant_scene = student_scene    # not a field (not in to_dict): the report's picture
     ancestors = row_ancestors(student_scene)
     kinds = {r.name: r.kind for r in ref_rows}
     for row in ref_rows:
@@ -284,7 +291,10 @@ def _validate(path: str, limits: Limits) -> Report:
 
 
 def _evaluate_student(raw) -> Book:
-    return evaluate_sheets(raw.path, raw.sheets, raw.order, raw.names, strict=False)
+    # the charts' hidden `paths` sheet (360 positions of the coordinates) is not graded and
+    # nothing on the kinematics sheet refers to it: leaving it out halves the work
+    sheets = {n: sh for n, sh in raw.sheets.items() if n != PATHS_SHEET}
+    return evaluate_sheets(raw.path, sheets, [n for n in raw.order if n in sheets], raw.names, strict=False)
 
 
 # The reference of a variant is the workbook sheetkin generates for it, evaluated. Only the
@@ -339,7 +349,7 @@ def _template_sheet(scene: Scene) -> tuple[Sheet, dict[str, int]]:
 def _build_reference(scene: Scene, evaluate: bool = True):
     """The generated workbook of the scene: evaluated (a Book), or its first Sheet (and
     title) unevaluated. Building it takes ~0.1-0.3 s (openpyxl): done once per structure."""
-    wb = build_workbook(scene, scene_text="")
+    wb = build_workbook(scene, scene_text="", charts=False)
     sheets, order = {}, []
     for ws in wb.worksheets[:1]:
         sh = Sheet(ws.title, "visible")

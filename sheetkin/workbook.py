@@ -177,8 +177,10 @@ def _compile(rows: list[Row], first_row: int, last_col: str):
 
 
 def build_workbook(scene: Scene, *, lang: str = "ru", exercise: bool = False,
-                   scene_text: str | None = None) -> Workbook:
-    """The lecture's workbook for `scene` (see the module's docstring)."""
+                   scene_text: str | None = None, charts: bool = True) -> Workbook:
+    """The lecture's workbook for `scene` (see the module's docstring); charts=False leaves
+    out the charts sheet (and its hidden paths sheet): the validator's reference needs only
+    the kinematics sheet."""
     if lang not in _TEXT:
         raise ValueError(f"lang must be one of {', '.join(_TEXT)}, got {lang!r}")
     text = _TEXT[lang]
@@ -269,26 +271,22 @@ def build_workbook(scene: Scene, *, lang: str = "ru", exercise: bool = False,
     ws["D3"].font = SECTION_FONT
     ws.conditional_formatting.add("D3", FormulaRule(formula=[f'D3="{text["pass"]}"'], fill=GREEN))
     ws.conditional_formatting.add("D3", FormulaRule(formula=[f'D3<>"{text["pass"]}"'], fill=RED))
-    ws.column_dimensions["A"].width = 16
-    ws.column_dimensions["B"].width = 8
-    ws.column_dimensions["C"].width = 46
-    ws.column_dimensions["D"].width = 16
-    for c in cols:
-        ws.column_dimensions[c].width = 12
     ws.freeze_panes = f"{cols[0]}5"
-    # printing (and LibreOffice's PDF): landscape, the sheet's width on one page
-    ws.page_setup.orientation = "landscape"
-    ws.page_setup.paperSize = ws.PAPERSIZE_A4
-    ws.sheet_properties.pageSetUpPr.fitToPage = True
-    ws.page_setup.fitToWidth, ws.page_setup.fitToHeight = 1, 0
-    _add_charts(wb, ws, scene, where, cols, lang)
+    from .workbook_print import setup_page      # widths, alignment, pages (sheetkin/workbook_print.py)
+    setup_page(ws, rows, where, cols, FIRST_COL)
+    if charts:
+        from .workbook_charts import SheetRows
+        _add_charts(wb, ws, scene, where, cols, lang,
+                    SheetRows(ws, rows, where, templates, cols, marker, lang, exercise))
     _embed_scene(wb, scene, scene_text)
     return wb
 
 
-def _add_charts(wb, ws, scene: Scene, where, cols, lang):
-    """Trajectories (y against x), speeds and accelerations against the crank angle,
+def _add_charts(wb, ws, scene: Scene, where, cols, lang, rows_info):
+    """The mechanism at a chosen position and the trajectories, to scale
+    (sheetkin/workbook_charts.py); speeds and accelerations against the crank angle,
     angular velocities of the links."""
+    from .workbook_charts import add_drawing_charts
     cs = wb.create_sheet(SHEET_TITLES[lang][1])
     cs.page_setup.orientation = "landscape"
     cs.sheet_properties.pageSetUpPr.fitToPage = True
@@ -296,9 +294,8 @@ def _add_charts(wb, ws, scene: Scene, where, cols, lang):
     row_ref = lambda name: Reference(ws, min_col=first, max_col=last, min_row=where[name], max_row=where[name])
     points = scene.moving_joints + [p.name for p in scene.points]
     ru = lang == "ru"
+    top = add_drawing_charts(wb, cs, scene, rows_info)
     specs = [
-        ("Траектории точек" if ru else "Trajectories of points", "x, m", "y, m",
-         [(f"x_{p}", f"y_{p}", p) for p in points]),
         ("Скорости точек" if ru else "Speeds of points", "phi_1, deg", "v, m/s",
          [("phi_1", f"v_{p}", f"v_{p}") for p in points]),
         ("Ускорения точек" if ru else "Accelerations of points", "phi_1, deg", "a, m/s^2",
@@ -325,7 +322,8 @@ def _add_charts(wb, ws, scene: Scene, where, cols, lang):
             s.marker.symbol = "circle"
             s.smooth = False
             ch.series.append(s)
-        cs.add_chart(ch, f"{'A' if k % 2 == 0 else 'K'}{1 + (k // 2) * 20}")
+        cs.add_chart(ch, f"{'A' if k % 2 == 0 else 'K'}{top + (k // 2) * 20}")
+    cs.print_area = f"A1:T{top + ((len(specs) + 1) // 2) * 20}"    # the charts, not the helper cells
 
 
 def _text_cell(cell, text: str) -> None:

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Installs what the tests need besides Python packages, from Debian packages:
 #   LibreOffice Calc headless (soffice): recalculates the workbooks sheetkin writes;
-#   poppler-utils (pdftoppm): renders the README pictures.
-# Idempotent and a quick no-op when both are on PATH. Needs root and apt-get (Debian/Ubuntu).
+#   poppler-utils (pdftoppm, pdftotext): renders and reads the printed pages;
+#   chromium and chromium-driver: the HTML report tested in a real browser (selenium).
+# Idempotent and a quick no-op when all are on PATH. Needs root and apt-get (Debian/Ubuntu).
 # Usage: bash tests/setup.sh
 set -euo pipefail
 
@@ -10,14 +11,18 @@ me="tests/setup.sh"
 pkgs=()
 command -v soffice >/dev/null 2>&1 || pkgs+=(libreoffice-calc-nogui)
 command -v pdftoppm >/dev/null 2>&1 || pkgs+=(poppler-utils)
+{ command -v chromium >/dev/null 2>&1 || command -v chromium-browser >/dev/null 2>&1; } || pkgs+=(chromium)
+command -v chromedriver >/dev/null 2>&1 || pkgs+=(chromium-driver)
 
 if [ "${#pkgs[@]}" -eq 0 ]; then
-    echo "$me: nothing to do, soffice ($(command -v soffice)) and pdftoppm ($(command -v pdftoppm)) are installed"
+    echo "$me: nothing to do, soffice ($(command -v soffice)), pdftoppm ($(command -v pdftoppm))," \
+         "chromium and chromedriver ($(command -v chromedriver)) are installed"
     exit 0
 fi
 if ! command -v apt-get >/dev/null 2>&1; then
     echo "$me: ERROR: need ${pkgs[*]} but apt-get is not available;" \
-         "install LibreOffice Calc (soffice on PATH) and poppler-utils (pdftoppm) yourself" >&2
+         "install LibreOffice Calc (soffice on PATH), poppler-utils (pdftoppm), Chromium and its" \
+         "chromedriver yourself" >&2
     exit 1
 fi
 if [ "$(id -u)" -ne 0 ]; then
@@ -33,7 +38,7 @@ if ! { apt-get update -qq && apt-get install -y -qq --no-install-recommends "${p
     echo "$me: ERROR: apt-get install ${pkgs[*]} failed (output above)" >&2
     exit 1
 fi
-for exe in soffice pdftoppm; do
+for exe in soffice pdftoppm chromedriver; do
     if ! command -v "$exe" >/dev/null 2>&1; then
         echo "$me: ERROR: installed ${pkgs[*]} but $exe is still not on PATH ($PATH)" >&2
         exit 1

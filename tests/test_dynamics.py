@@ -539,7 +539,7 @@ def test_dynamics_charts_reference_the_rows():
     scene = sheetkin.load_scene(WORKBOOKS / "shaper_dynamics.toml")
     wb = build_workbook(scene)
     charts = fingerprint(wb)["charts"]
-    assert len(charts) == 6
+    assert len(charts) == 7          # with the mechanism drawn at a chosen position
     rows = rows_of(wb.worksheets[0])
     flat = " ".join(" ".join(c) for c in charts)
     for name in ["M_bal", "P_bal", "P_ext", "T_t"] + [f"R_{p.tag}" for p in reaction_pairs(scene)]:

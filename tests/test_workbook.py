@@ -331,7 +331,7 @@ def test_scene_is_embedded(tmp_path):
 def test_charts():
     scene = sheetkin.load_scene(WORKBOOKS / "fourbar.toml")
     charts = fingerprint(build_workbook(scene))["charts"]
-    assert len(charts) == 4
+    assert len(charts) == 5          # the mechanism, trajectories, speeds, accelerations, omegas
     ws = build_workbook(scene).worksheets[0]
     rows = rows_of(ws)
     flat = " ".join(" ".join(c) for c in charts)
@@ -374,7 +374,8 @@ def test_workbook_command_options(tmp_path, capsys):
 
 
 def test_readme_pictures_render(soffice, pdftoppm, tmp_path):
-    """tests/render_pictures.py (the README's pictures) works: two PNG pages of real size."""
+    """tests/render_pictures.py (the README's pictures) works: PNG pages of real size (the
+    animations are tested in test_animate.py)."""
     from render_pictures import render
     for png in render(tmp_path):
         data = png.read_bytes()
