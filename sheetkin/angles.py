@@ -17,6 +17,7 @@ import numpy as np
 
 from .compute import AngleRange
 from .scene import SceneError
+from .scenecaps import one_line
 
 # --range and --at-file refuse more positions than this: 1e8 positions is ~40 GB of CSV
 MAX_POSITIONS = 100_000_000
@@ -125,7 +126,7 @@ def _csv_column(path: Path, lines: list[str], first: int, column: str | None) ->
     if want not in header:
         shown = ", ".join(header[:12]) + (" ..." if len(header) > 12 else "")
         hint = "" if column else "; name one as FILE:COLUMN"
-        raise SceneError(f"{path}:{first + 1}: no column {want!r} in the header ({shown}){hint}")
+        raise SceneError(one_line(f"{path}:{first + 1}: no column {want!r} in the header ({shown}){hint}"))
     j = header.index(want)
     out = []
     for k, row in enumerate(rows):
