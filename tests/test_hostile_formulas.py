@@ -24,7 +24,7 @@ from openpyxl.utils import get_column_letter
 from openpyxl.utils.cell import column_index_from_string, coordinate_from_string
 from openpyxl.workbook.defined_name import DefinedName
 
-from sheetkin import evaluator, xlsxread
+from sheetkin import evaluator, evaluator_limits, xlsxread
 from sheetkin.cli import main
 from sheetkin.evaluator import MAX_EVAL_DEPTH, MAX_FORMULA_CHARS, MAX_NESTING, EvaluationError, evaluate
 from sheetkin.xlsxsafe import Limits, UnusableWorkbook
@@ -334,7 +334,7 @@ def test_a_run_read_in_pieces_equals_the_run_at_once(tmp_path, monkeypatch):
     wb.save(tmp_path / "runs.xlsx")
     whole = evaluate(tmp_path / "runs.xlsx")
     assert whole.runs == 2
-    monkeypatch.setattr(evaluator, "CHUNK_READS", 500)
+    monkeypatch.setattr(evaluator_limits, "CHUNK_READS", 500)
     pieces = evaluate(tmp_path / "runs.xlsx")
     a = np.array([[whole.value("Calc", r, c) for c in range(1, 50)] for r in (42, 43)])
     b = np.array([[pieces.value("Calc", r, c) for c in range(1, 50)] for r in (42, 43)])

@@ -1,0 +1,501 @@
+"""Formula values, and what operators and functions do with them: the evaluator's Val
+(numbers, text, booleans, empty cells and Excel's errors, one value per cell of a run),
+the coercions, the operators, the scalar functions and the aggregates, and the list of
+functions the evaluator supports (SUPPORTED).
+
+Values follow Excel: numbers, text, booleans, empty cells and the errors #NULL! #DIV/0!
+#VALUE! #REF! #NAME? #NUM! #N/A, which propagate per cell. Every value is an array of
+shape (cells, rows, cols): (k, 1, 1) for one value per cell of a run, (k, R, C) for a range.
+
+Separate from evaluator.py (reading a workbook, ordering and running its formulas) because
+these are the semantics of single values, checked cell by cell against Excel and
+LibreOffice, and need nothing of the workbook. functions.py holds the numeric kernels (plain
+float arrays, error codes); this module wraps them with the coercions and the error
+propagation. It imports functions.py, never the reverse, and nothing of the evaluator.
+"""
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+
+from . import functions as fx
+from .functions import DIV0, ERRORS, NUMERR, VALUE
+
+NUM, BOOL, TEXT, EMPTY = 0, 1, 2, 3
+
+
+# --------------------------------------------------------------------------- values
+class Val:
+    """A value per cell of a run: num float64 (k, R, C); tag int8, NUM BOOL TEXT EMPTY or
+    an error code; txt an object array of str where tag == TEXT (or None); pure NUM or BOOL
+    when every tag is that one, else -1 (the fast paths: no coercion, no error to carry).
+    The tags of a pure value are made only when asked for."""
+    __slots__ = ("num", "_tag", "txt", "pure")
+
+    def __init__(self, num: np.ndarray, tag: np.ndarray | None, txt: np.ndarray | None = None, pure: int = -1):
+        self.num, self._tag, self.txt, self.pure = num, tag, txt, pure
+
+    @property
+    def tag(self) -> np.ndarray:
+        if self._tag is None:
+            self._tag = np.full(self.num.shape, self.pure, np.int8)
+        return self._tag
+
+    @property
+    def shape(self):
+        return self.num.shape
+
+
+def _pure(num: np.ndarray, kind: int = NUM) -> Val:
+    """A result known to be all numbers (or all booleans), without errors."""
+    return Val(num, None, None, kind)
+
+
+_CONSTS: dict = {}
+
+
+def _const(value, k=1) -> Val:
+    if k == 1 and type(value) in (bool, float, int):
+        key = (type(value), value)
+        v = _CONSTS.get(key)
+        if v is None:
+            v = _const_new(value, 1)
+            v.pure = BOOL if type(value) is bool else NUM
+            v.num.setflags(write=False)
+            v.tag.setflags(write=False)
+            if len(_CONSTS) < 10000:
+                _CONSTS[key] = v
+        return v
+    return _const_new(value, k)
+
+
+def _const_new(value, k) -> Val:
+    if isinstance(value, bool):
+        return Val(np.full((k, 1, 1), float(value)), np.full((k, 1, 1), BOOL, np.int8))
+    if isinstance(value, (int, float)):
+        return Val(np.full((k, 1, 1), float(value)), np.zeros((k, 1, 1), np.int8))
+    if isinstance(value, str) and value in ERRORS:
+        return Val(np.zeros((k, 1, 1)), np.full((k, 1, 1), ERRORS[value], np.int8))
+    txt = np.empty((k, 1, 1), dtype=object)
+    txt[...] = value
+    return Val(np.zeros((k, 1, 1)), np.full((k, 1, 1), TEXT, np.int8), txt)
+
+
+def _error_of(*tags) -> np.ndarray:
+    """The first error among the operands (Excel reports the leftmost), else 0."""
+    out = np.zeros(np.broadcast_shapes(*(t.shape for t in tags)), np.int8)
+    for t in reversed(tags):
+        out = np.where(t >= 10, t, out)
+    return out
+
+
+def _texts(v: Val) -> np.ndarray:
+    return v.txt if v.txt is not None else np.full(v.shape, None, dtype=object)
+
+
+_NUMERIC_TEXT = re.compile(r"^\s*[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?\s*$")
+
+
+def _to_number(v: Val):
+    """Arithmetic coercion: numbers, booleans; empty is 0; numeric text converts;
+    other text is #VALUE!. Returns (num, error tags)."""
+    num, err = v.num, np.where(v.tag >= 10, v.tag, 0).astype(np.int8)
+    text = v.tag == TEXT
+    if text.any():
+        num = num.copy()
+        for idx in zip(*np.nonzero(text)):
+            t = str(v.txt[idx])
+            if _NUMERIC_TEXT.match(t):          # not Python's float(): "1_000", "inf" are not numbers
+                num[idx] = float(t)
+            else:
+                err[idx] = VALUE
+    return num, err
+
+
+def _result(num, err) -> Val:
+    """A numeric result; NaN or infinity where no error is set yet becomes #NUM!."""
+    bad = (err == 0) & ~np.isfinite(num)
+    tag = np.where(bad, NUMERR, err).astype(np.int8)
+    return Val(np.where(tag == 0, num, 0.0), tag, None, -1 if tag.any() else NUM)
+
+
+def _to_bool(v: Val):
+    """Logical coercion (IF, AND...): numbers non-zero, booleans, empty FALSE; text #VALUE!."""
+    if v.pure != -1:
+        return v.num != 0, np.zeros(v.shape, np.int8)
+    err = np.where(v.tag >= 10, v.tag, np.where(v.tag == TEXT, VALUE, 0)).astype(np.int8)
+    return v.num != 0, err
+
+
+def _number_text(x: float) -> str:
+    """A number as Excel's general format shows it in text (=2&"" is "2")."""
+    if x == int(x) and abs(x) < 1e15:
+        return str(int(x))
+    s = f"{x:.15g}"
+    if "e" in s:
+        mant, exp = s.split("e")
+        s = f"{mant}E{int(exp):+03d}".replace("E+", "E+")
+    return s
+
+
+def _to_text(v: Val) -> tuple[np.ndarray, np.ndarray]:
+    out = np.empty(v.shape, dtype=object)
+    for idx in np.ndindex(v.shape):
+        t = v.tag[idx]
+        out[idx] = (v.txt[idx] if t == TEXT else "" if t == EMPTY else
+                    ("TRUE" if v.num[idx] else "FALSE") if t == BOOL else _number_text(v.num[idx]))
+    return out, np.where(v.tag >= 10, v.tag, 0).astype(np.int8)
+
+
+# --------------------------------------------------------------------------- operators
+_OPS = {"+": np.add, "-": np.subtract, "*": np.multiply, "/": np.divide, "^": np.power}
+
+
+def _arith(op: str, a: Val, b: Val) -> Val:
+    if a.pure != -1 and b.pure != -1:            # numbers, booleans (1, 0): no coercion, no errors
+        with np.errstate(all="ignore"):
+            r = _OPS[op](a.num, b.num)
+        # x/0, 0^-1 and overflow give NaN or infinity, and so a sum that is not finite (a
+        # sum that overflows only sends finite values the general way): that path names the error
+        if math.isfinite(r.sum()) and (op != "^" or not ((a.num == 0) & (b.num == 0)).any()):
+            return _pure(r)
+    an, ae = _to_number(a)
+    bn, be = _to_number(b)
+    err = _error_of(ae, be)
+    with np.errstate(all="ignore"):
+        if op == "+":
+            r = an + bn
+        elif op == "-":
+            r = an - bn
+        elif op == "*":
+            r = an * bn
+        elif op == "/":
+            r = an / bn
+            err = np.where((err == 0) & (bn == 0), DIV0, err).astype(np.int8)
+        else:   # "^"
+            r = np.power(an, bn)
+            err = np.where((err == 0) & (an == 0) & (bn < 0), DIV0, err).astype(np.int8)
+            err = np.where((err == 0) & (an == 0) & (bn == 0), NUMERR, err).astype(np.int8)   # Excel: 0^0
+    return _result(r, err)
+
+
+def _rank(tag):
+    """Excel's order of types in comparisons: numbers < text < booleans."""
+    return np.where(tag == TEXT, 1, np.where(tag == BOOL, 2, 0))
+
+
+def _compare(op: str, a: Val, b: Val) -> Val:
+    if a.pure == NUM and b.pure == NUM:          # the general path's arithmetic, without tags
+        an, bn = a.num, b.num
+        with np.errstate(all="ignore"):
+            d = an - bn
+            near = np.abs(d) <= 4 * np.finfo(float).eps * np.maximum(np.abs(an), np.abs(bn))
+        diff = np.where(near, 0.0, np.sign(d))
+        return _pure(_COMPARE[op](diff, 0).astype(float), BOOL)
+    shape = np.broadcast_shapes(a.shape, b.shape)
+    at, bt = np.broadcast_to(a.tag, shape), np.broadcast_to(b.tag, shape)
+    # an empty cell takes the other side's type (0, "" or FALSE)
+    at_eff = np.where(at == EMPTY, np.where(bt == EMPTY, NUM, bt), at)
+    bt_eff = np.where(bt == EMPTY, at_eff, bt)
+    an, bn = np.broadcast_to(a.num, shape), np.broadcast_to(b.num, shape)
+    ra, rb = _rank(at_eff), _rank(bt_eff)
+    # numbers compare as Excel shows them, to about 15 significant digits (=0.1+0.2=0.3 is TRUE)
+    with np.errstate(all="ignore"):
+        d = an - bn
+        near = np.abs(d) <= 4 * np.finfo(float).eps * np.maximum(np.abs(an), np.abs(bn))
+    diff = np.where(ra != rb, np.sign(ra - rb).astype(float), np.where(near, 0.0, np.sign(d)))
+    text = (at_eff == TEXT) & (bt_eff == TEXT)
+    if text.any():
+        ta, tb = np.broadcast_to(_texts(a), shape), np.broadcast_to(_texts(b), shape)
+        diff = diff.copy()
+        for idx in zip(*np.nonzero(text)):
+            x = "" if at[idx] == EMPTY else str(ta[idx]).casefold()
+            y = "" if bt[idx] == EMPTY else str(tb[idx]).casefold()
+            diff[idx] = (x > y) - (x < y)
+    res = {"=": diff == 0, "<>": diff != 0, "<": diff < 0, ">": diff > 0,
+           "<=": diff <= 0, ">=": diff >= 0}[op]
+    err = _error_of(at, bt)
+    return Val(np.where(err == 0, res.astype(float), 0.0), np.where(err == 0, BOOL, err).astype(np.int8))
+
+
+_COMPARE = {"=": np.equal, "<>": np.not_equal, "<": np.less, ">": np.greater,
+            "<=": np.less_equal, ">=": np.greater_equal}
+
+
+def _concat(a: Val, b: Val) -> Val:
+    ta, ea = _to_text(a)
+    tb, eb = _to_text(b)
+    shape = np.broadcast_shapes(ta.shape, tb.shape)
+    ta, tb = np.broadcast_to(ta, shape), np.broadcast_to(tb, shape)
+    out = np.empty(shape, dtype=object)
+    for idx in np.ndindex(shape):
+        out[idx] = ta[idx] + tb[idx]
+    err = _error_of(ea, eb)
+    return Val(np.zeros(shape), np.where(err == 0, TEXT, err).astype(np.int8), out)
+
+
+def _select(cond: np.ndarray, a: Val, b: Val) -> Val:
+    if a.pure == b.pure != -1:
+        return _pure(np.where(cond, a.num, b.num), a.pure)
+    shape = np.broadcast_shapes(cond.shape, a.shape, b.shape)
+    txt = None
+    if a.txt is not None or b.txt is not None:
+        txt = np.where(cond, np.broadcast_to(_texts(a), shape), np.broadcast_to(_texts(b), shape))
+    return Val(np.where(cond, a.num, b.num), np.where(cond, a.tag, b.tag).astype(np.int8), txt)
+
+
+def _with_error(v: Val, err: np.ndarray) -> Val:
+    if not err.any():
+        return v
+    shape = np.broadcast_shapes(v.shape, err.shape)
+    return Val(np.where(err != 0, 0.0, v.num), np.where(err != 0, err, v.tag).astype(np.int8),
+               None if v.txt is None else np.broadcast_to(v.txt, shape))
+
+
+# --------------------------------------------------------------------------- functions
+def _unary(fn, domain=None):
+    def f(x: Val) -> Val:
+        if x.pure != -1:
+            with np.errstate(all="ignore"):
+                r = fn(x.num)
+            if math.isfinite(r.sum()) and (domain is None or domain(x.num).all()):
+                return _pure(r)
+        n, err = _to_number(x)
+        with np.errstate(all="ignore"):
+            r = fn(n)
+            if domain is not None:
+                err = np.where((err == 0) & ~domain(n), NUMERR, err).astype(np.int8)
+        return _result(r, err)
+    return f
+
+
+def _binary(fn, check=None):
+    def f(a: Val, b: Val) -> Val:
+        if a.pure != -1 and b.pure != -1:
+            with np.errstate(all="ignore"):
+                r = fn(a.num, b.num)
+                if math.isfinite(r.sum()) and (check is None or not np.any(check(a.num, b.num))):
+                    return _pure(r)
+        an, ae = _to_number(a)
+        bn, be = _to_number(b)
+        err = _error_of(ae, be)
+        with np.errstate(all="ignore"):
+            r = fn(an, bn)
+            if check is not None:
+                err = np.where(err == 0, check(an, bn), err).astype(np.int8)
+        return _result(r, err)
+    return f
+
+
+def _round(x, n):
+    """Excel's ROUND: half away from zero, on the number as its 15 significant digits show
+    it (=ROUND(1.005, 2) is 1.01, although the binary 1.005 is a little less)."""
+    from decimal import ROUND_HALF_UP, Decimal, InvalidOperation
+    x, n = np.broadcast_arrays(np.asarray(x, float), np.asarray(n, float))
+    out = np.empty(x.shape)
+    for idx in np.ndindex(x.shape):
+        v, d = x[idx], int(n[idx])
+        if not math.isfinite(v):
+            out[idx] = v
+            continue
+        try:
+            out[idx] = float(Decimal(f"{v:.15g}").quantize(Decimal(1).scaleb(-d), rounding=ROUND_HALF_UP))
+        except InvalidOperation:          # more digits than the number has: unchanged
+            out[idx] = v if d > 0 else 0.0
+    return out
+
+
+def _TRIG_OK(x):
+    return np.abs(x) < 134217728.0
+
+
+SCALAR_FUNCS = {
+    # Excel refuses trigonometry of |x| >= 2^27 (#NUM!): too few digits are left for the angle
+    "SIN": _unary(np.sin, _TRIG_OK), "COS": _unary(np.cos, _TRIG_OK), "TAN": _unary(np.tan, _TRIG_OK),
+    "ASIN": _unary(np.arcsin, lambda x: np.abs(x) <= 1), "ACOS": _unary(np.arccos, lambda x: np.abs(x) <= 1),
+    "ATAN": _unary(np.arctan), "SQRT": _unary(np.sqrt, lambda x: x >= 0),
+    "RADIANS": _unary(np.radians), "DEGREES": _unary(np.degrees), "ABS": _unary(np.abs),
+    "SIGN": _unary(np.sign), "EXP": _unary(np.exp), "LN": _unary(np.log, lambda x: x > 0),
+    "LOG10": _unary(np.log10, lambda x: x > 0),
+    # Excel's ATAN2 takes (x, y); ATAN2(0, 0) is #DIV/0!
+    "ATAN2": _binary(lambda x, y: np.arctan2(y, x), lambda x, y: np.where((x == 0) & (y == 0), DIV0, 0)),
+    "MOD": _binary(lambda a, b: a - b * np.floor(a / b), lambda a, b: np.where(b == 0, DIV0, 0)),
+    "POWER": _binary(np.power, lambda a, b: np.where((a == 0) & (b < 0), DIV0, np.where((a == 0) & (b == 0), NUMERR, 0))),
+    "ROUND": _binary(lambda x, n: _round(x, np.trunc(n))),
+    "INT": _unary(fx.int_), "FLOOR": _binary(fx.floor, fx.floor_check),
+    "CEILING": _binary(fx.ceiling, fx.ceiling_check),
+}
+
+
+def _values_of(args: list[Val], ranges: list[bool], *, numbers_only_in_ranges=True):
+    """The numbers an aggregate sees: in ranges only numbers (text, booleans, empty
+    cells skipped); direct arguments coerced. Returns (num, use mask, first error), each
+    with the per-cell axis first, concatenated over the other axes."""
+    if all(v.pure == NUM for v in args):         # numbers only: every one counts, no errors
+        k = max(v.shape[0] for v in args)
+        nums = [v.num.reshape(k, -1) if v.shape[0] == k else
+                np.broadcast_to(v.num.reshape(v.shape[0], -1), (k, v.num[0].size)) for v in args]
+        n = nums[0] if len(nums) == 1 else np.concatenate(nums, axis=1)
+        return n, np.ones(n.shape, bool), np.zeros(k, np.int8)
+    nums, uses, errs = [], [], []
+    for v, is_range in zip(args, ranges):
+        k = v.shape[0]
+        if is_range:
+            use = v.tag == NUM if numbers_only_in_ranges else (v.tag == NUM) | (v.tag == BOOL)
+            err = np.where(v.tag >= 10, v.tag, 0)
+            n = v.num
+        else:
+            n, err = _to_number(v)
+            use = v.tag != EMPTY
+        nums.append(n.reshape(k, -1))
+        uses.append(use.reshape(k, -1))
+        errs.append(err.reshape(k, -1))
+    k = max(x.shape[0] for x in nums)
+    nums = np.concatenate([np.broadcast_to(x, (k, x.shape[1])) for x in nums], axis=1)
+    uses = np.concatenate([np.broadcast_to(x, (k, x.shape[1])) for x in uses], axis=1)
+    errs = np.concatenate([np.broadcast_to(x, (k, x.shape[1])) for x in errs], axis=1)
+    return nums, uses, _first_error(errs)
+
+
+def _first_error(errs: np.ndarray) -> np.ndarray:
+    """Per row of a (k, n) array of error tags: the first non-zero one (Excel reports the
+    first error it meets), else 0."""
+    if errs.shape[1] == 0:
+        return np.zeros(errs.shape[0], np.int8)
+    idx = np.argmax(errs != 0, axis=1)
+    return errs[np.arange(errs.shape[0]), idx].astype(np.int8)
+
+
+def _scalar(num, err) -> Val:
+    return _result(num.reshape(-1, 1, 1), err.reshape(-1, 1, 1))
+
+
+def _one_block_for_all(args) -> bool:
+    """Whether an argument is one block shared by the cells of a run (an absolute range)
+    while others have a value per cell: then each argument is reduced on its own, never
+    copied once per cell (=SUM(A5,$A$1:$Z$9999) filled over 4000 columns)."""
+    k = max(v.shape[0] for v in args)
+    return k > 1 and any(v.shape[0] != k and v.num[0].size > 1 for v in args)
+
+
+def _by_argument(args, ranges, reduce):
+    """reduce(num, use) -> tuple of (k_i,) arrays, for each argument; with the first error."""
+    k = max(v.shape[0] for v in args)
+    parts, errs = [], []
+    for v, r in zip(args, ranges):
+        n, use, err = _values_of([v], [r])
+        parts.append(tuple(np.broadcast_to(x, (k,)) for x in reduce(n, use)))
+        errs.append(np.broadcast_to(err, (k,)))
+    return parts, _first_error(np.stack(errs, axis=1))
+
+
+def _agg_sum(args, ranges):
+    if _one_block_for_all(args):
+        parts, err = _by_argument(args, ranges, lambda n, use: (np.where(use, n, 0.0).sum(axis=1),))
+        return _scalar(sum(p[0] for p in parts), err)
+    n, use, err = _values_of(args, ranges)
+    return _scalar(np.where(use, n, 0.0).sum(axis=1), err)
+
+
+def _agg_average(args, ranges):
+    if _one_block_for_all(args):
+        parts, err = _by_argument(args, ranges, lambda n, use: (np.where(use, n, 0.0).sum(axis=1), use.sum(axis=1)))
+        total, cnt = sum(p[0] for p in parts), sum(p[1] for p in parts)
+    else:
+        n, use, err = _values_of(args, ranges)
+        total, cnt = np.where(use, n, 0.0).sum(axis=1), use.sum(axis=1)
+    with np.errstate(all="ignore"):
+        r = total / cnt
+    return _scalar(r, np.where((err == 0) & (cnt == 0), DIV0, err))
+
+
+def _agg_minmax(fn, empty):
+    def reduce(n, use):
+        return getattr(np.where(use, n, empty), fn)(axis=1, initial=empty), use.any(axis=1)
+
+    def f(args, ranges):
+        if _one_block_for_all(args):
+            parts, err = _by_argument(args, ranges, reduce)
+            r = getattr(np, "minimum" if fn == "min" else "maximum").reduce([p[0] for p in parts])
+            seen = np.logical_or.reduce([p[1] for p in parts])
+        else:
+            n, use, err = _values_of(args, ranges)
+            r, seen = reduce(n, use)
+        return _scalar(np.where(seen, r, 0.0), err)
+    return f
+
+
+def _agg_sumsq(args, ranges):
+    n, use, err = _values_of(args, ranges)
+    return _scalar(fx.sumsq(n, use), err)
+
+
+def _agg_product(args, ranges):
+    n, use, err = _values_of(args, ranges)
+    return _scalar(fx.product(n, use), err)
+
+
+def _agg_count(args, ranges):
+    counts = None
+    for v, is_range in zip(args, ranges):
+        if is_range:
+            hit = v.tag == NUM
+        else:                               # typed: numbers, booleans and numeric text count
+            hit = (v.tag == NUM) | (v.tag == BOOL)
+            if (v.tag == TEXT).any():
+                hit = hit | np.vectorize(lambda t, x: t == TEXT and bool(_NUMERIC_TEXT.match(str(x))),
+                                         otypes=[bool])(v.tag, _texts(v))
+        c = hit.reshape(v.shape[0], -1).sum(axis=1)
+        counts = c if counts is None else counts + c
+    return Val(counts.astype(float).reshape(-1, 1, 1), np.zeros((counts.size, 1, 1), np.int8), None, NUM)
+
+
+def _agg_sumproduct(args, ranges):
+    if len({v.shape[1:] for v in args}) > 1:      # arrays of different sizes
+        return _const("#VALUE!", max(v.shape[0] for v in args))
+    prod, err = None, None
+    for v in args:
+        n = np.where(v.tag == NUM, v.num, np.where(v.tag == BOOL, 0.0, 0.0))
+        e = np.where(v.tag >= 10, v.tag, 0).astype(np.int8)
+        prod = n if prod is None else prod * n
+        err = e if err is None else _error_of(err, e)
+    k = prod.shape[0]
+    return _scalar(prod.reshape(k, -1).sum(axis=1), _first_error(err.reshape(k, -1)))
+
+
+def _agg_logical(all_: bool):
+    def f(args, ranges):
+        acc, seen, err = None, None, None
+        for v, is_range in zip(args, ranges):
+            k = v.shape[0]
+            if is_range:
+                use = (v.tag == NUM) | (v.tag == BOOL)
+                e = np.where(v.tag >= 10, v.tag, 0).astype(np.int8)
+                b = v.num != 0
+            else:
+                b, e = _to_bool(v)
+                use = v.tag != EMPTY
+            b, use, e = b.reshape(k, -1), use.reshape(k, -1), e.reshape(k, -1)
+            part = np.where(use, b, all_).all(axis=1) if all_ else np.where(use, b, False).any(axis=1)
+            acc = part if acc is None else (acc & part if all_ else acc | part)
+            s = use.any(axis=1)
+            seen = s if seen is None else seen | s
+            first = _first_error(e)
+            err = first if err is None else _error_of(err, first)
+        err = np.where((err == 0) & ~seen, VALUE, err).astype(np.int8)
+        return Val(np.where(err == 0, acc.astype(float), 0.0).reshape(-1, 1, 1),
+                   np.where(err == 0, BOOL, err).astype(np.int8).reshape(-1, 1, 1))
+    return f
+
+
+AGGREGATES = {
+    "SUM": _agg_sum, "AVERAGE": _agg_average, "MIN": _agg_minmax("min", np.inf),
+    "MAX": _agg_minmax("max", -np.inf), "COUNT": _agg_count, "SUMPRODUCT": _agg_sumproduct,
+    "AND": _agg_logical(True), "OR": _agg_logical(False),
+    "SUMSQ": _agg_sumsq, "PRODUCT": _agg_product,
+}
+SPECIAL = {"IF", "IFERROR", "NOT", "PI", "ISNUMBER", "ISERROR", "ISTEXT", "TRUE", "FALSE", "TRUNC",
+           "INDEX", "CHOOSE", "ANCHORARRAY", "SINGLE", "NA", *fx.ROUNDING}
+SUPPORTED = sorted(set(SCALAR_FUNCS) | set(AGGREGATES) | SPECIAL)
