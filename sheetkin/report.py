@@ -44,13 +44,22 @@ def text_report(rep: Report) -> str:
     return "\n".join(lines) + "\n"
 
 
-def summary_table(reports: list[Report]) -> str:
+def summary_table(reports: list[Report], copies: dict | None = None) -> str:
+    """The class at a glance; then the possible copies (sheetkin/copies.py), if any."""
+    text = _table(reports)
+    pairs = sorted({(min(i, j), max(i, j)): why for i, found in (copies or {}).items() for j, why in found}.items())
+    for (i, j), why in pairs:
+        text += f"possible copy: {reports[i].path} and {reports[j].path}: {why}\n"
+    return text
+
+
+def _table(reports: list[Report]) -> str:
     rows = [("file", "student", "result", "wrong", "missing", "first cause")]
     for r in reports:
         if r.error:
             rows.append((r.path, "", "unusable", "", "", r.error[len(r.path) + 2:][:60]))
         else:
-            rows.append((r.path, r.author, "correct" if r.ok else "mistakes", str(len(r.wrong)),
+            rows.append((r.path, getattr(r, "student", "") or r.author, "correct" if r.ok else "mistakes", str(len(r.wrong)),
                          str(len(r.missing)), r.causes[0].name if r.causes else ""))
     widths = [max(len(x[i]) for x in rows) for i in range(len(rows[0]))]
     return "\n".join("  ".join(x[i].ljust(widths[i]) for i in range(len(x))).rstrip() for x in rows) + "\n"
@@ -82,7 +91,7 @@ def json_report(reports: list[Report]) -> str:
                              "all_correct": all(r.ok for r in reports)}), indent=1, ensure_ascii=False) + "\n"
 
 
-def html_report(reports: list[Report]) -> str:
+def html_report(reports: list[Report], copies: dict | None = None) -> str:
     """One offline page: sortable summary, per-student details, pictures (report_html.py)."""
     from .report_html import html_page
-    return html_page(reports)
+    return html_page(reports, copies)

@@ -26,6 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .copies import submission_marks
 from .evaluator import Book, EvaluationError, evaluate_sheets
 from .xlsxread import Sheet, read_book
 from .scene import Scene, SceneError, parse_scene
@@ -287,6 +288,10 @@ def _validate(path: str, limits: Limits) -> Report:
     report.cache_mismatch = _cache_mismatches(evaluated, main, {r for n, r in names.items() if n.startswith("phi_")})
     report.failing_checks = [n for n, r in names.items() if n.startswith(("chk", "fd_"))
                              and kinds.get(n) in ("check", "fdcheck") and evaluated.value(main, r, 4) not in (0.0, None)]
+    # not fields (not in to_dict): the raw cells copy detection compares (sheetkin/copies.py),
+    # and how many check rows the sheet has (grades: checks passing / total)
+    report.marks = submission_marks(sh, {r.name: r.row for r in report.rows if r.row is not None}, FIRST_COL, positions)
+    report.checks_total = sum(kinds.get(n) in ("check", "fdcheck") for n in names)
     return report
 
 

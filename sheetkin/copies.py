@@ -1,0 +1,155 @@
+"""Possible copies among a class's workbooks: what two submissions share that honest work
+on two variants would not.
+
+Every honest student writes the lecture's formulas (seed 003), so identical *correct*
+formulas are expected and say nothing. What does signal a copy:
+1. byte-identical files;
+2. the same typed numbers (no formula) in the same computed cells, where the number is
+   wrong in at least one of the two books: a number that is right for one variant and
+   sits, typed, in another variant's book (a copy with the copier's given data typed in),
+   or the same wrong number in both. At least COPY_TYPED_CELLS such cells (one number can
+   agree by chance; a copied row brings a whole row of them);
+3. the same wrong formula: a row that is the student's own mistake in both books (a likely
+   cause, or locally wrong) whose formulas are identical once written relative to their
+   cell (the same text in every column, as dragging makes it).
+Honest students on different variants share only right formulas and typed numbers that
+are right in both books (e.g. phi_1, which the variants share): never flagged.
+
+`submission_marks` runs inside the validation (sheetkin/validator.py) on the raw cells;
+`possible_copies` compares the reports of a class.
+"""
+from __future__ import annotations
+
+import hashlib
+import re
+from collections import defaultdict
+
+COPY_TYPED_CELLS = 3       # shared typed numbers (wrong in one book at least) that flag a copy
+
+# a cell reference (A1, $B$7) outside a string and not a function's name (LOG10( is a call)
+_REF = re.compile(r'(?P<str>"[^"]*")|(?<![A-Za-z0-9_.$!])(?P<cabs>\$?)(?P<col>[A-Za-z]{1,3})'
+                  r'(?P<rabs>\$?)(?P<row>\d+)(?![A-Za-z0-9_(])')
+
+
+def _column_number(letters: str) -> int:
+    n = 0
+    for ch in letters.upper():
+        n = 26 * n + ord(ch) - 64
+    return n
+
+
+def relative_formula(formula: str, row: int, col: int) -> str:
+    """The formula with its references written relative to its cell (R[-3]C[0]; absolute
+    parts kept: R7C4), upper case, without spaces: the same text in every column of a
+    row filled by dragging, and in every book with the same layout."""
+    def sub(m):
+        if m.group("str") is not None:
+            return m.group(0)
+        c, r = _column_number(m.group("col")), int(m.group("row"))
+        rr = f"R{r}" if m.group("rabs") else f"R[{r - row}]"
+        cc = f"C{c}" if m.group("cabs") else f"C[{c - col}]"
+        return rr + cc
+    return _REF.sub(sub, "".join(formula.split())).upper()
+
+
+def submission_marks(sheet, rows: dict[str, int], first_col: int, positions: int) -> dict:
+    """What copy detection needs from a student's sheet (an xlsxread.Sheet): `typed`:
+    {(row name, position 1..n): number} of the numbers typed in computed rows, and
+    `formulas`: {row name: digest of the row's relative formulas}."""
+    typed, formulas = {}, {}
+    for name, r in rows.items():
+        texts = []
+        for k in range(positions):
+            c = first_col + k
+            f = sheet.formulas.get((r, c))
+            if f is not None:
+                texts.append(relative_formula(f, r, c))
+                continue
+            v = sheet.consts.get((r, c))
+            if isinstance(v, (int, float)) and not isinstance(v, bool):
+                typed[(name, k + 1)] = float(v)
+        if texts:
+            formulas[name] = hashlib.sha256("\n".join(texts).encode()).hexdigest()[:16]
+    return {"typed": typed, "formulas": formulas}
+
+
+def file_digest(path) -> str | None:
+    """sha256 of the file's bytes; None when it cannot be read (an unusable submission)."""
+    h = hashlib.sha256()
+    try:
+        with open(path, "rb") as f:
+            for block in iter(lambda: f.read(1 << 20), b""):
+                h.update(block)
+    except OSError:
+        return None
+    return h.hexdigest()
+
+
+def _own_mistakes(rep) -> set[str]:
+    """Rows that are the student's own mistake: locally wrong (issue 13, localjudge), or,
+    where rows are not judged locally, the likely causes."""
+    rows = rep.rows
+    if any(getattr(r, "local", "") for r in rows):
+        return {r.name for r in rows if getattr(r, "local", "") == "wrong"}
+    return {r.name for r in rows if r.cause}
+
+
+def _wrong_cells(rep) -> set[tuple[str, int]]:
+    return {(r.name, k) for r in rep.rows for k in r.wrong_cells}
+
+
+def possible_copies(reports, digests: list | None = None) -> dict[int, list[tuple[int, str]]]:
+    """{index of a report: [(index of the other report, why), ...]} for every pair that
+    looks copied (the module's rules), both ways. digests: file_digest of each report's
+    file (computed here when not given)."""
+    if digests is None:
+        digests = [None if r.error else file_digest(r.path) for r in reports]
+    why: dict[tuple[int, int], list[str]] = defaultdict(list)
+    by_digest = defaultdict(list)
+    for i, d in enumerate(digests):
+        if d:
+            by_digest[d].append(i)
+    for same in by_digest.values():
+        for a in range(len(same)):
+            for b in same[a + 1:]:
+                why[same[a], b].append("byte-identical files")
+    # the same typed number at the same cell: index by (row, position, value)
+    typed_at = defaultdict(list)
+    formula_at = defaultdict(list)
+    wrong = []
+    for i, rep in enumerate(reports):
+        marks = getattr(rep, "marks", None)
+        wrong.append(_wrong_cells(rep) if marks else set())
+        if not marks or rep.error:
+            continue
+        for (name, k), v in marks["typed"].items():
+            typed_at[name, k, v].append(i)
+        own = _own_mistakes(rep)
+        for name, digest in marks["formulas"].items():
+            if name in own:
+                formula_at[name, digest].append(i)
+    shared_typed = defaultdict(int)
+    for (name, k, _), idx in typed_at.items():
+        if len(idx) < 2 or not any((name, k) in wrong[i] for i in idx):
+            continue                      # right in every book that has it: no evidence
+        for a in range(len(idx)):
+            for b in idx[a + 1:]:
+                i, j = idx[a], b
+                if (name, k) in wrong[i] or (name, k) in wrong[j]:
+                    shared_typed[i, j] += 1
+    for (i, j), n in shared_typed.items():
+        if n >= COPY_TYPED_CELLS:
+            why[i, j].append(f"{n} identical typed numbers, wrong for one variant at least")
+    shared_formulas = defaultdict(list)
+    for (name, _), idx in formula_at.items():
+        for a in range(len(idx)):
+            for b in idx[a + 1:]:
+                shared_formulas[idx[a], b].append(name)
+    for (i, j), names in shared_formulas.items():
+        why[i, j].append(f"the same wrong formula in {', '.join(sorted(names))}")
+    out: dict[int, list[tuple[int, str]]] = defaultdict(list)
+    for (i, j), reasons in sorted(why.items()):
+        text = "; ".join(reasons)
+        out[i].append((j, text))
+        out[j].append((i, text))
+    return dict(out)
