@@ -10,8 +10,9 @@ formulas are expected and say nothing. What does signal a copy:
    or the same wrong number in both. At least COPY_TYPED_CELLS such cells (one number can
    agree by chance; a copied row brings a whole row of them);
 3. the same wrong formula: a row that is the student's own mistake in both books (a likely
-   cause, or locally wrong) whose formulas are identical once written relative to their
-   cell (the same text in every column, as dragging makes it).
+   cause, or locally wrong) whose formulas are not the lecture's (the reference workbook's)
+   and are identical once written relative to their cell (the same text in every column,
+   as dragging makes it).
 Honest students on different variants share only right formulas and typed numbers that
 are right in both books (e.g. phi_1, which the variants share): never flagged.
 
@@ -52,24 +53,32 @@ def relative_formula(formula: str, row: int, col: int) -> str:
     return _REF.sub(sub, "".join(formula.split())).upper()
 
 
-def submission_marks(sheet, rows: dict[str, int], first_col: int, positions: int) -> dict:
+def _row_formulas(sheet, r: int, first_col: int, positions: int) -> list[str | None]:
+    return [None if (f := sheet.formulas.get((r, first_col + k))) is None else relative_formula(f, r, first_col + k)
+            for k in range(positions)]
+
+
+def submission_marks(sheet, rows: dict[str, int], first_col: int, positions: int,
+                     reference=None, ref_rows: dict[str, int] | None = None) -> dict:
     """What copy detection needs from a student's sheet (an xlsxread.Sheet): `typed`:
     {(row name, position 1..n): number} of the numbers typed in computed rows, and
-    `formulas`: {row name: digest of the row's relative formulas}."""
+    `formulas`: {row name: digest of the row's relative formulas} of the rows whose
+    formulas are not the lecture's (the reference sheet's, at ref_rows): the lecture's
+    formulas are everybody's."""
     typed, formulas = {}, {}
     for name, r in rows.items():
-        texts = []
         for k in range(positions):
-            c = first_col + k
-            f = sheet.formulas.get((r, c))
-            if f is not None:
-                texts.append(relative_formula(f, r, c))
-                continue
-            v = sheet.consts.get((r, c))
-            if isinstance(v, (int, float)) and not isinstance(v, bool):
+            v = sheet.consts.get((r, first_col + k))
+            if isinstance(v, (int, float)) and not isinstance(v, bool) and (r, first_col + k) not in sheet.formulas:
                 typed[(name, k + 1)] = float(v)
-        if texts:
-            formulas[name] = hashlib.sha256("\n".join(texts).encode()).hexdigest()[:16]
+        texts = _row_formulas(sheet, r, first_col, positions)
+        if not any(texts):
+            continue
+        if reference is not None and name in (ref_rows or {}):
+            lecture = _row_formulas(reference, ref_rows[name], first_col, positions)
+            if all(t is None or t == l for t, l in zip(texts, lecture)):
+                continue
+        formulas[name] = hashlib.sha256("\n".join(t or "" for t in texts).encode()).hexdigest()[:16]
     return {"typed": typed, "formulas": formulas}
 
 

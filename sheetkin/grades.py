@@ -130,7 +130,10 @@ def read_class_list(path: str) -> ClassList:
         raise GradesError(f"{path}: --class-list: not UTF-8 text (byte {e.start}); save it as CSV UTF-8") from None
     first = text.split("\n", 1)[0]
     delim = max((",", ";", "\t"), key=first.count)
-    rows = list(csv.reader(io.StringIO(text), delimiter=delim))
+    try:
+        rows = list(csv.reader(io.StringIO(text), delimiter=delim))
+    except csv.Error as e:
+        raise GradesError(f"{path}: --class-list: not a CSV file this reads ({e})") from None
     if not rows:
         raise GradesError(f"{path}: --class-list: empty; expected a header and one line per student")
     head = [h.strip().casefold() for h in rows[0]]
@@ -210,8 +213,12 @@ def check_writable(path: str) -> None:
         raise OSError(2, "No such file or directory (the folder does not exist)", path)
     if os.path.isdir(path):
         raise OSError(21, "Is a directory", path)
-    if not os.access(folder, os.W_OK) or (os.path.exists(path) and not os.access(path, os.W_OK)):
+    exists = os.path.exists(path)
+    if exists and not os.access(path, os.W_OK):
         raise OSError(13, "Permission denied", path)
+    # a regular file is written beside its final name, in its folder (a device as it is)
+    if (not exists or os.path.isfile(path)) and not os.access(folder, os.W_OK):
+        raise OSError(13, "Permission denied (its folder is read-only)", path)
 
 
 def write_grades(path: str, data: bytes) -> None:
