@@ -5,10 +5,11 @@ Every honest student writes the lecture's formulas (seed 003), so identical *cor
 formulas are expected and say nothing. What does signal a copy:
 1. byte-identical files;
 2. the same typed numbers (no formula) in the same computed cells, where the number is
-   wrong in at least one of the two books: a number that is right for one variant and
-   sits, typed, in another variant's book (a copy with the copier's given data typed in),
-   or the same wrong number in both. At least COPY_TYPED_CELLS such cells (one number can
-   agree by chance; a copied row brings a whole row of them);
+   wrong in at least one of the two books, or the two books' given data (as typed) differ
+   in what the row depends on: a number that is right for one variant and sits, typed, in
+   another variant's book (a copy with the copier's given data typed in), or the same
+   wrong number in both. At least COPY_TYPED_CELLS such cells (one number can agree by
+   chance; a copied row brings a whole row of them);
 3. the same wrong formula: a row that is the student's own mistake in both books (a likely
    cause, or locally wrong) whose formulas are not the lecture's (the reference workbook's)
    and are identical once written relative to their cell (the same text in every column,
@@ -59,12 +60,14 @@ def _row_formulas(sheet, r: int, first_col: int, positions: int) -> list[str | N
 
 
 def submission_marks(sheet, rows: dict[str, int], first_col: int, positions: int,
-                     reference=None, ref_rows: dict[str, int] | None = None) -> dict:
+                     reference=None, ref_rows: dict[str, int] | None = None,
+                     inputs: dict | None = None, ancestors: dict | None = None) -> dict:
     """What copy detection needs from a student's sheet (an xlsxread.Sheet): `typed`:
-    {(row name, position 1..n): number} of the numbers typed in computed rows, and
-    `formulas`: {row name: digest of the row's relative formulas} of the rows whose
-    formulas are not the lecture's (the reference sheet's, at ref_rows): the lecture's
-    formulas are everybody's."""
+    {(row name, position 1..n): number} of the numbers typed in computed rows; `formulas`:
+    {row name: digest of the row's relative formulas} of the rows whose formulas are not
+    the lecture's (the reference sheet's, at ref_rows): the lecture's formulas are
+    everybody's; `inputs`: the given data as typed, and `depends`: {row name with a typed
+    number: the given data it depends on} (from `ancestors`, the validator's)."""
     typed, formulas = {}, {}
     for name, r in rows.items():
         for k in range(positions):
@@ -79,7 +82,9 @@ def submission_marks(sheet, rows: dict[str, int], first_col: int, positions: int
             if all(t is None or t == l for t, l in zip(texts, lecture)):
                 continue
         formulas[name] = hashlib.sha256("\n".join(t or "" for t in texts).encode()).hexdigest()[:16]
-    return {"typed": typed, "formulas": formulas}
+    inputs = {n: v for n, v in (inputs or {}).items() if isinstance(v, (int, float, str)) and not isinstance(v, bool)}
+    depends = {n: sorted((ancestors or {}).get(n, set()) & inputs.keys()) for n in {n for n, _ in typed}}
+    return {"typed": typed, "formulas": formulas, "inputs": inputs, "depends": depends}
 
 
 def file_digest(path) -> str | None:
@@ -105,6 +110,14 @@ def _own_mistakes(rep) -> set[str]:
 
 def _wrong_cells(rep) -> set[tuple[str, int]]:
     return {(r.name, k) for r in rep.rows for k in r.wrong_cells}
+
+
+def _given_differ(a, b, row: str) -> bool:
+    """Whether the two books' given data (as typed) differ in what `row` depends on: the
+    same number cannot then be right in both."""
+    ma, mb = a.marks, b.marks
+    return any(ma["inputs"].get(n) != mb["inputs"].get(n)
+               for n in set(ma["depends"].get(row, ())) | set(mb["depends"].get(row, ())))
 
 
 def possible_copies(reports, digests: list | None = None) -> dict[int, list[tuple[int, str]]]:
@@ -139,12 +152,10 @@ def possible_copies(reports, digests: list | None = None) -> dict[int, list[tupl
                 formula_at[name, digest].append(i)
     shared_typed = defaultdict(int)
     for (name, k, _), idx in typed_at.items():
-        if len(idx) < 2 or not any((name, k) in wrong[i] for i in idx):
-            continue                      # right in every book that has it: no evidence
         for a in range(len(idx)):
-            for b in idx[a + 1:]:
-                i, j = idx[a], b
-                if (name, k) in wrong[i] or (name, k) in wrong[j]:
+            for j in idx[a + 1:]:
+                i = idx[a]
+                if (name, k) in wrong[i] or (name, k) in wrong[j] or _given_differ(reports[i], reports[j], name):
                     shared_typed[i, j] += 1
     for (i, j), n in shared_typed.items():
         if n >= COPY_TYPED_CELLS:

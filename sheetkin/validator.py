@@ -291,7 +291,7 @@ def _validate(path: str, limits: Limits) -> Report:
     # not fields (not in to_dict): the raw cells copy detection compares (sheetkin/copies.py),
     # and how many check rows the sheet has (grades: checks passing / total)
     report.marks = submission_marks(sh, {r.name: r.row for r in report.rows if r.row is not None}, FIRST_COL, positions,
-                                    ref_book.sheets[ref_sheet], ref_names)
+                                    ref_book.sheets[ref_sheet], ref_names, inputs, ancestors)
     report.checks_total = sum(kinds.get(n) in ("check", "fdcheck") for n in names)
     return report
 
