@@ -14,8 +14,14 @@ formulas are expected and say nothing. What does signal a copy:
    cause, or locally wrong) whose formulas are not the lecture's (the reference workbook's)
    and are identical once written relative to their cell (the same text in every column,
    as dragging makes it).
+4. the same name in the student's cell (a copy whose name was left, or a student handing
+   in twice);
+5. the same issued variant (its id, embedded by `sheetkin variants`) in two books, its
+   given data changed in one: a book taken from its owner, the copier's data typed in.
 Honest students on different variants share only right formulas and typed numbers that
-are right in both books (e.g. phi_1, which the variants share): never flagged.
+are right in both books (e.g. phi_1, which the variants share): never flagged. A copy
+re-saved by a spreadsheet program, its name changed, every formula the lecture's and no
+number typed, leaves nothing to find.
 
 `submission_marks` runs inside the validation (sheetkin/validator.py) on the raw cells;
 `possible_copies` compares the reports of a class.
@@ -112,12 +118,42 @@ def _wrong_cells(rep) -> set[tuple[str, int]]:
     return {(r.name, k) for r in rep.rows for k in r.wrong_cells}
 
 
+def _given_of(rep, row: str) -> tuple:
+    """The given data (as typed) that `row` depends on in this book."""
+    m = rep.marks
+    return tuple((n, m["inputs"].get(n)) for n in m["depends"].get(row, ()))
+
+
 def _given_differ(a, b, row: str) -> bool:
     """Whether the two books' given data (as typed) differ in what `row` depends on: the
     same number cannot then be right in both."""
     ma, mb = a.marks, b.marks
     return any(ma["inputs"].get(n) != mb["inputs"].get(n)
                for n in set(ma["depends"].get(row, ())) | set(mb["depends"].get(row, ())))
+
+
+def _same_identity(reports, why) -> None:
+    """The same name typed in the student's cell of two files (a copy whose name was left,
+    or one student handing in twice); the same issued book (variant id) handed in twice,
+    its given data retyped in one (a book taken from its owner, the copier's data typed)."""
+    by_name, by_variant = defaultdict(list), defaultdict(list)
+    for i, rep in enumerate(reports):
+        if rep.error:
+            continue
+        name = " ".join(str(getattr(rep, "student", "") or "").casefold().split())
+        if name:
+            by_name[name].append(i)
+        if getattr(rep, "variant", ""):
+            by_variant[rep.variant].append(i)
+    for idx in by_name.values():
+        for a in range(len(idx)):
+            for j in idx[a + 1:]:
+                why[idx[a], j].append("the same student name")
+    for variant, idx in by_variant.items():
+        for a in range(len(idx)):
+            for j in idx[a + 1:]:
+                if getattr(reports[idx[a]], "given_changed", None) or getattr(reports[j], "given_changed", None):
+                    why[idx[a], j].append(f"the same issued variant {variant}, its given data changed in one")
 
 
 def possible_copies(reports, digests: list | None = None) -> dict[int, list[tuple[int, str]]]:
@@ -152,6 +188,9 @@ def possible_copies(reports, digests: list | None = None) -> dict[int, list[tupl
                 formula_at[name, digest].append(i)
     shared_typed = defaultdict(int)
     for (name, k, _), idx in typed_at.items():
+        if len(idx) < 2 or (not any((name, k) in wrong[i] for i in idx)
+                            and len({_given_of(reports[i], name) for i in idx}) == 1):
+            continue          # right in every book, on the same given data: a class on one variant
         for a in range(len(idx)):
             for j in idx[a + 1:]:
                 i = idx[a]
@@ -160,6 +199,7 @@ def possible_copies(reports, digests: list | None = None) -> dict[int, list[tupl
     for (i, j), n in shared_typed.items():
         if n >= COPY_TYPED_CELLS:
             why[i, j].append(f"{n} identical typed numbers, wrong for one variant at least")
+    _same_identity(reports, why)
     shared_formulas = defaultdict(list)
     for (name, _), idx in formula_at.items():
         for a in range(len(idx)):

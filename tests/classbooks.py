@@ -11,9 +11,9 @@ import sheetkin
 from scenes import FOURBAR
 from sheetkin.workbook import write_workbook
 
-# four variants of the spec's four-bar: the crank's length differs (the teacher's variants
+# five variants of the spec's four-bar: the crank's length differs (the teacher's variants
 # would differ in more; one given value is enough to make every computed row differ)
-VARIANT_L1 = {"v1": 0.14, "v2": 0.15, "v3": 0.13, "v4": 0.16}
+VARIANT_L1 = {"v1": 0.14, "v2": 0.15, "v3": 0.13, "v4": 0.16, "v5": 0.12}
 
 
 def variant_text(l1: float) -> str:

@@ -1,7 +1,7 @@
 """A class, end to end (issue 13): variants -> students' books filled in and saved by
 LibreOffice -> validate (with the roster) -> grades.csv and the HTML report.
 
-Eight students on four variants: two honest, a sign error, a rounded number typed over a
+Eight students on five variants: two honest, a sign error, a rounded number typed over a
 formula, changed given data, a byte-for-byte copy, a copy of typed numbers with another
 variant's given data typed in, and a copy of a wrong formula. All books are saved by one
 LibreOffice run, as a student's spreadsheet program would save them."""
@@ -53,7 +53,7 @@ def retype_given(book: Path):
 def students_books(issued: dict[str, tuple[Path, Path]], folder: Path) -> Path:
     """The class's books (before saving), in `folder`."""
     folder.mkdir(parents=True, exist_ok=True)
-    v1, v2, v3, v4 = list(issued)[:4]
+    v1, v2, v3, v4, v5 = list(issued)[:5]
     om = row_values(issued[v4][1], "omega_2")
 
     def book(name, v, change=None):
@@ -65,7 +65,7 @@ def students_books(issued: dict[str, tuple[Path, Path]], folder: Path) -> Path:
     book("petrova", v2)
     book("sidorov", v3, flip_sign("omega_3"))
     book("kuznetsov", v4, type_numbers("omega_2", om))
-    book("smirnov", v1, changed_l1)
+    book("smirnov", v5, changed_l1)
     # kuznetsov's book, v2's given data typed in; sidorov's book, v1's given data typed in
     book("copier_typed", v4, both(type_numbers("omega_2", om), retype_given(issued[v2][0])))
     book("copier_formula", v3, both(flip_sign("omega_3"), retype_given(issued[v1][0])))
@@ -122,7 +122,7 @@ def check_class(grades: dict[str, dict], page: str, with_identity: bool) -> None
 
 
 def test_class_loop_with_books_made_here(tmp_path, soffice, capsys):
-    """The loop with variants made here (four crank lengths of the four-bar): runs before
+    """The loop with variants made here (five crank lengths of the four-bar): runs before
     `sheetkin variants` exists, and keeps testing the grades without it."""
     issued = issue_variants(tmp_path / "issued")
     saved = save_by_libreoffice(students_books(issued, tmp_path / "filled"), tmp_path / "submitted")
@@ -151,9 +151,9 @@ def _issued_books(folder: Path) -> dict[str, tuple[Path, Path]]:
 @pytest.mark.skipif(not _has_command("variants"), reason="`sheetkin variants` (issue 13, branch issued) not merged yet")
 def test_class_loop_with_variants(tmp_path, soffice, capsys):
     issued_dir = tmp_path / "issued"
-    assert main(["variants", str(WORKBOOKS / "fourbar.toml"), "-n", "4", "--out", str(issued_dir), "--seed", "1"]) == 0
+    assert main(["variants", str(WORKBOOKS / "fourbar.toml"), "-n", "5", "--out", str(issued_dir), "--seed", "1"]) == 0
     issued = _issued_books(issued_dir)
-    assert len(issued) == 4
+    assert len(issued) == 5
     saved = save_by_libreoffice(students_books(issued, tmp_path / "filled"), tmp_path / "submitted")
     class_list = tmp_path / "class.csv"
     class_list.write_text("First name,Last name,Email address\n" + "".join(

@@ -305,3 +305,16 @@ def test_typed_numbers_of_another_variant_flagged_even_when_right_for_the_issued
     got = pairs((names, reports, possible_copies(reports)))
     assert got[frozenset(("kuznetsov", "copier_typed"))] == "13 identical typed numbers, wrong for one variant at least"
     assert frozenset(("ivanov", "petrova")) not in got
+
+
+def test_same_name_and_same_issued_book_with_changed_data_flagged():
+    changed = [{"name": "L1", "cell": "D6", "issued": 0.14, "got": 0.15}]
+    reps = [report(student="Иванов Иван", variant="v01"), report(student="иванов  иван", variant="v02"),
+            report(student="Петров", variant="v03"), report(student="Сидоров", variant="v03"),
+            report(student="Орлов", variant="v04"), report(student="Волков", variant="v04", given_changed=changed),
+            Report("bad.xlsx", error="bad.xlsx: unusable")]
+    for k, r in enumerate(reps):
+        r.path, r.marks = f"f{k}.xlsx", {"typed": {}, "formulas": {}, "inputs": {}, "depends": {}}
+    got = {(i, j): why for i, found in possible_copies(reps, [None] * len(reps)).items() for j, why in found if i < j}
+    assert got == {(0, 1): "the same student name",
+                   (4, 5): "the same issued variant v04, its given data changed in one"}
