@@ -283,6 +283,8 @@ def test_cli_grades(klass, tmp_path, capsys):
     (["--class-list", "{tmp}/c.csv"], "give --grades GRADES.csv too"),
     (["--grades", "{tmp}/g.csv", "--class-list", "{tmp}/missing.csv"], "missing.csv"),
     (["--grades", "{tmp}/g.csv", "--class-list", "{book}"], "not UTF-8"),
+    (["--grades", "{tmp}/g.csv", "--html", "{tmp}/g.csv"], "both --html and --grades name this file"),
+    (["--grades", "/dev/full"], "/dev/full: No space left on device"),
 ])
 def test_cli_grades_mistakes_are_one_line(klass, tmp_path, capsys, args, says):
     book = klass[1][0].path
@@ -318,3 +320,28 @@ def test_same_name_and_same_issued_book_with_changed_data_flagged():
     got = {(i, j): why for i, found in possible_copies(reps, [None] * len(reps)).items() for j, why in found if i < j}
     assert got == {(0, 1): "the same student name",
                    (4, 5): "the same issued variant v04, its given data changed in one"}
+
+
+def test_copy_rules_on_made_up_marks():
+    """Three books share five typed numbers and an unusual formula: only the pairs where
+    the numbers are wrong in one book (or the given data differ) and the formula is a
+    mistake in both are flagged."""
+    def book(k, wrong=(), cause=False, l1=0.14):
+        rep = report(student=f"s{k}")
+        rep.path = f"b{k}.xlsx"
+        rep.rows.append(RowReport("omega_2", 40, "wrong" if wrong or cause else "correct", wrong_cells=list(wrong),
+                                  cause=cause))
+        rep.marks = {"typed": {("omega_2", p): -2.54 + p for p in range(1, 6)}, "formulas": {"omega_2": "abc"},
+                     "inputs": {"L1": l1}, "depends": {"omega_2": ["L1"]}}
+        return rep
+
+    def flagged(reps):
+        return {(i, j): why for i, found in possible_copies(reps, [None] * len(reps)).items()
+                for j, why in found if i < j}
+    got = flagged([book(0), book(1), book(2, wrong=range(1, 6))])
+    assert got == {(0, 2): "5 identical typed numbers, wrong for one variant at least",
+                   (1, 2): "5 identical typed numbers, wrong for one variant at least"}
+    assert flagged([book(0), book(1, l1=0.15)]) == {(0, 1): "5 identical typed numbers, wrong for one variant at least"}
+    assert flagged([book(0, wrong=[1, 2]), book(1)]) == {}                     # 2 < COPY_TYPED_CELLS
+    got = flagged([book(0, cause=True), book(1, cause=True), book(2)])
+    assert got == {(0, 1): "the same wrong formula in omega_2"}
