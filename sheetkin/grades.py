@@ -184,7 +184,7 @@ def grade_lines(reports, copies: dict, class_list: ClassList | None = None,
                       safe_text(getattr(rep, "variant", "") or ""), safe_text(rep.path),
                       "" if rep.error else str(correct), "" if rep.error else str(total),
                       "" if passing is None else str(passing), "" if checks is None else str(checks),
-                      "yes" if given_changed(rep, accept_changed) else "no",
+                      "yes" if given_changed(rep) else "no",             # a fact, accepted or not
                       safe_text(causes_text(rep)), safe_text(copy_text(reports, i, copies)),
                       f"{score(rep, accept_changed):.1f}"])
     warnings = []
