@@ -59,7 +59,7 @@ def _table(reports: list[Report]) -> str:
         if r.error:
             rows.append((r.path, "", "unusable", "", "", r.error[len(r.path) + 2:][:60]))
         else:
-            rows.append((r.path, getattr(r, "student", "") or r.author, "correct" if r.ok else "mistakes", str(len(r.wrong)),
+            rows.append((r.path, r.author, "correct" if r.ok else "mistakes", str(len(r.wrong)),
                          str(len(r.missing)), r.causes[0].name if r.causes else ""))
     widths = [max(len(x[i]) for x in rows) for i in range(len(rows[0]))]
     return "\n".join("  ".join(x[i].ljust(widths[i]) for i in range(len(x))).rstrip() for x in rows) + "\n"
