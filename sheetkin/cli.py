@@ -535,42 +535,6 @@ def _validation_files(paths: list[str], strict: bool = True) -> list[Path]:
     return out
 
 
-def cmd_validate(args) -> int:
-    from .batch import validate_many
-    from .report import html_report, json_report, summary_table, text_report
-    files = _validation_files(args.paths)
-    class_list = _grades_first(args)
-    show = args.progress == "always" or (args.progress == "auto" and sys.stderr.isatty() and len(files) > 1)
-    from .xlsxread import convert_opendocument     # a class's .ods files: one LibreOffice run
-    convert_opendocument(files, note=(lambda t: print(f"sheetkin: {t}", file=sys.stderr)) if show else None)
-    # (converted before the pool starts: forked workers inherit the conversions)
-
-    def progress(done, f):
-        bar = int(30 * done / len(files))
-        sys.stderr.write(f"\r[{'#' * bar}{'.' * (30 - bar)}] {done}/{len(files)} {f.name[:40]:<40}")
-        sys.stderr.flush()
-    reports = []
-    for rep in validate_many(files, args.jobs, progress if show else None):
-        reports.append(rep)
-        if not args.json:
-            sys.stdout.write(text_report(rep))
-    if show:
-        sys.stderr.write("\n")
-    from .copies import possible_copies
-    copies = possible_copies(reports) if len(reports) > 1 else {}
-    if args.json:
-        sys.stdout.write(json_report(reports))
-    elif len(reports) > 1:
-        sys.stdout.write("\n" + summary_table(reports, copies))
-    if args.html:
-        _write(args.html, html_report(reports, copies))
-    if args.grades:
-        _write_grades(args, reports, copies, class_list)
-    if any(r.error for r in reports):
-        return EXIT_INPUT
-    return 0 if all(r.ok for r in reports) else 1
-
-
 def _grades_first(args):
     """Before validating: --grades' folder writable, the class list read (its mistakes are
     one line now, not after the class is validated); returns the class list or None."""
@@ -591,6 +555,42 @@ def _write_grades(args, reports, copies, class_list) -> None:
     print(f"{args.grades}: {len(lines) - 1} submission(s) graded", file=sys.stderr)
     for w in warnings:
         print(f"sheetkin: warning: {args.grades}: {w}", file=sys.stderr)
+
+
+def cmd_validate(args) -> int:
+    from .batch import validate_many
+    from .report import copies_lines, html_report, json_report, summary_table, text_report
+    files = _validation_files(args.paths)
+    class_list = _grades_first(args)
+    show = args.progress == "always" or (args.progress == "auto" and sys.stderr.isatty() and len(files) > 1)
+    from .xlsxread import convert_opendocument     # a class's .ods files: one LibreOffice run
+    convert_opendocument(files, note=(lambda t: print(f"sheetkin: {t}", file=sys.stderr)) if show else None)
+    # (converted before the pool starts: forked workers inherit the conversions)
+
+    def progress(done, f):
+        bar = int(30 * done / len(files))
+        sys.stderr.write(f"\r[{'#' * bar}{'.' * (30 - bar)}] {done}/{len(files)} {f.name[:40]:<40}")
+        sys.stderr.flush()
+    reports = []
+    for rep in validate_many(files, args.jobs, progress if show else None):
+        reports.append(rep)
+        if not args.json:
+            sys.stdout.write(text_report(rep))
+    from .copies import possible_copies
+    copies = possible_copies(reports) if len(reports) > 1 else {}
+    if show:
+        sys.stderr.write("\n")
+    if args.json:
+        sys.stdout.write(json_report(reports))
+    elif len(reports) > 1:
+        sys.stdout.write("\n" + summary_table(reports) + copies_lines(reports, copies))
+    if args.html:
+        _write(args.html, html_report(reports, copies))
+    if args.grades:
+        _write_grades(args, reports, copies, class_list)
+    if any(r.error for r in reports):
+        return EXIT_INPUT
+    return 0 if all(r.ok for r in reports) else 1
 
 
 def cmd_bench(args) -> int:

@@ -44,16 +44,7 @@ def text_report(rep: Report) -> str:
     return "\n".join(lines) + "\n"
 
 
-def summary_table(reports: list[Report], copies: dict | None = None) -> str:
-    """The class at a glance; then the possible copies (sheetkin/copies.py), if any."""
-    text = _table(reports)
-    pairs = sorted({(min(i, j), max(i, j)): why for i, found in (copies or {}).items() for j, why in found}.items())
-    for (i, j), why in pairs:
-        text += f"possible copy: {reports[i].path} and {reports[j].path}: {why}\n"
-    return text
-
-
-def _table(reports: list[Report]) -> str:
+def summary_table(reports: list[Report]) -> str:
     rows = [("file", "student", "result", "wrong", "missing", "first cause")]
     for r in reports:
         if r.error:
@@ -95,3 +86,9 @@ def html_report(reports: list[Report], copies: dict | None = None) -> str:
     """One offline page: sortable summary, per-student details, pictures (report_html.py)."""
     from .report_html import html_page
     return html_page(reports, copies)
+
+
+def copies_lines(reports: list[Report], copies: dict) -> str:
+    """After the summary table: each possible copy (sheetkin/copies.py), a pair a line."""
+    pairs = sorted({(min(i, j), max(i, j)): why for i, found in copies.items() for j, why in found}.items())
+    return "".join(f"possible copy: {reports[i].path} and {reports[j].path}: {why}\n" for (i, j), why in pairs)

@@ -26,7 +26,6 @@ from pathlib import Path
 
 import numpy as np
 
-from .copies import submission_marks
 from .evaluator import Book, EvaluationError, evaluate_sheets
 from .xlsxread import Sheet, read_book
 from .scene import Scene, SceneError, parse_scene
@@ -34,6 +33,7 @@ from .groups import kind_of
 from .workbook import FIRST_COL, SCENE_SHEET, build_workbook, sheet_rows
 from .workbook_charts import PATHS_SHEET
 from .xlsxsafe import Limits, UnusableWorkbook
+from .copies import submission_marks      # the raw cells copy detection compares
 
 RTOL = 1e-9            # formulas: the same numbers up to rounding
 ATOL = 1e-9
