@@ -241,6 +241,13 @@ def _validate(path: str, limits: Limits) -> Report:
     report.variant_scene = student_scene    # not a field (not in to_dict): the report's picture
     ancestors = row_ancestors(student_scene)
     kinds = {r.name: r.kind for r in ref_rows}
+    # not fields (not in to_dict): the raw cells copy detection compares (sheetkin/copies.py),
+    # and how many check rows the sheet has (grades: checks passing / total)
+    computed = {r.name: names[r.name] for r in ref_rows
+                if r.kind in ("calc", "accepted", "guard") and r.name != "i" and r.name in names}
+    report.marks = submission_marks(sh, computed, FIRST_COL, positions, ref_book.sheets[ref_sheet], ref_names,
+                                    inputs, ancestors)
+    report.checks_total = sum(kinds.get(n) in ("check", "fdcheck") for n in names)
     for row in ref_rows:
         if row.kind not in ("calc", "accepted", "guard") or row.name in ("i",):
             continue
@@ -288,11 +295,6 @@ def _validate(path: str, limits: Limits) -> Report:
     report.cache_mismatch = _cache_mismatches(evaluated, main, {r for n, r in names.items() if n.startswith("phi_")})
     report.failing_checks = [n for n, r in names.items() if n.startswith(("chk", "fd_"))
                              and kinds.get(n) in ("check", "fdcheck") and evaluated.value(main, r, 4) not in (0.0, None)]
-    # not fields (not in to_dict): the raw cells copy detection compares (sheetkin/copies.py),
-    # and how many check rows the sheet has (grades: checks passing / total)
-    report.marks = submission_marks(sh, {r.name: r.row for r in report.rows if r.row is not None}, FIRST_COL, positions,
-                                    ref_book.sheets[ref_sheet], ref_names, inputs, ancestors)
-    report.checks_total = sum(kinds.get(n) in ("check", "fdcheck") for n in names)
     return report
 
 
