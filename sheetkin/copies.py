@@ -10,10 +10,9 @@ formulas are expected and say nothing. What does signal a copy:
    another variant's book (a copy with the copier's given data typed in), or the same
    wrong number in both. At least COPY_TYPED_CELLS such cells (one number can agree by
    chance; a copied row brings a whole row of them);
-3. the same wrong formula: a row that is the student's own mistake in both books (a likely
-   cause, or locally wrong) whose formulas are not the lecture's (the reference workbook's)
-   and are identical once written relative to their cell (the same text in every column,
-   as dragging makes it).
+3. the same wrong formula: a row wrong in both books whose formulas are not the lecture's
+   (the reference workbook's) and are identical once written relative to their cell (the
+   same text in every column, as dragging makes it).
 4. the same name in the student's cell (a copy whose name was left, or a student handing
    in twice);
 5. the same issued variant (its id, embedded by `sheetkin variants`) in two books, its
@@ -105,13 +104,12 @@ def file_digest(path) -> str | None:
     return h.hexdigest()
 
 
-def _own_mistakes(rep) -> set[str]:
-    """Rows that are the student's own mistake: locally wrong (issue 13, localjudge), or,
-    where rows are not judged locally, the likely causes."""
-    rows = rep.rows
-    if any(getattr(r, "local", "") for r in rows):
-        return {r.name for r in rows if getattr(r, "local", "") == "wrong"}
-    return {r.name for r in rows if r.cause}
+def _wrong_rows(rep) -> set[str]:
+    """Rows wrong (against the reference) or locally wrong (on the student's own upstream
+    values: issue 13, localjudge). Not only the likely causes: graded against the issued
+    variant, a copier's retyped given data make the first rows the causes and the copied
+    wrong formula one that depends on them."""
+    return {r.name for r in rep.rows if r.status == "wrong" or getattr(r, "local", "") == "wrong"}
 
 
 def _wrong_cells(rep) -> set[tuple[str, int]]:
@@ -182,9 +180,9 @@ def possible_copies(reports, digests: list | None = None) -> dict[int, list[tupl
             continue
         for (name, k), v in marks["typed"].items():
             typed_at[name, k, v].append(i)
-        own = _own_mistakes(rep)
+        bad = _wrong_rows(rep)
         for name, digest in marks["formulas"].items():
-            if name in own:
+            if name in bad:
                 formula_at[name, digest].append(i)
     shared_typed = defaultdict(int)
     for (name, k, _), idx in typed_at.items():

@@ -220,7 +220,7 @@ def test_rules_mutated_flag_honest_students(klass):
     reports = copy.deepcopy(reports)
     for rep in reports:
         for r in rep.rows:
-            r.wrong_cells, r.cause = list(range(1, 14)), True   # everything 'wrong'
+            r.wrong_cells, r.cause, r.status = list(range(1, 14)), True, "wrong"   # everything wrong
     got = pairs((names, reports, possible_copies(reports)))
     assert got[frozenset(("ivanov", "petrova"))].startswith("13 identical typed numbers")   # phi_1
     assert frozenset(("petrova", "orlov")) not in got        # the lecture's formulas are left out ...
