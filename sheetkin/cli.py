@@ -171,6 +171,14 @@ def build_parser() -> argparse.ArgumentParser:
                    help=".xlsx files, or folders searched for them (recursively)")
     v.add_argument("--json", action="store_true", help="print the reports as JSON")
     v.add_argument("--html", metavar="REPORT.html", help="also write a readable HTML page")
+    v.add_argument("--grades", metavar="GRADES.csv",
+                   help="also write one line per submission: student, group, variant, file, rows "
+                        "correct, checks passing, given data changed, likely causes, possible copies "
+                        "and a score (README: Running a class); a CSV file Moodle's gradebook imports")
+    v.add_argument("--class-list", metavar="STUDENTS.csv",
+                   help="with --grades: the class as Moodle exports it (First name, Last name, Email "
+                        "address or ID number); fills grades.csv's identifier column by the name each "
+                        "student typed in their workbook")
     v.add_argument("--progress", choices=["auto", "always", "never"], default="auto",
                    help="progress bar on stderr for several files (auto: when stderr is a terminal)")
     v.add_argument("--jobs", type=_positive_int, metavar="N",
@@ -474,12 +482,13 @@ class _writing:
 def _command_files(args) -> tuple[list[tuple[str, str]], list[str]]:
     """(option, path) of every file the command writes, and the files it reads."""
     out = [(opt, getattr(args, dest)) for opt, dest in
-           (("-o/--output", "output"), ("--html", "html"), ("--workbook", "workbook"))
+           (("-o/--output", "output"), ("--html", "html"), ("--workbook", "workbook"), ("--grades", "grades"))
            if getattr(args, dest, None)]
     if args.command == "bench" and args.out:
         out += [("--out", str(Path(args.out) / f)) for f in
                 ("bench.csv", "bench.png", "stability.csv", "stability.png")]
-    inputs = [p for p in ([getattr(args, "scene", None), getattr(args, "book", None)] +
+    inputs = [p for p in ([getattr(args, "scene", None), getattr(args, "book", None),
+                           getattr(args, "class_list", None)] +
                           list(getattr(args, "scenes", None) or [])) if p]
     if args.command == "validate":
         inputs += [str(f) for f in _validation_files(args.paths, strict=False)]
@@ -526,10 +535,33 @@ def _validation_files(paths: list[str], strict: bool = True) -> list[Path]:
     return out
 
 
+def _grades_first(args):
+    """Before validating: --grades' folder writable, the class list read (its mistakes are
+    one line now, not after the class is validated); returns the class list or None."""
+    if args.class_list and not args.grades:
+        raise SceneError("--class-list fills grades.csv's identifier column: give --grades GRADES.csv too")
+    if not args.grades:
+        return None
+    from .grades import check_writable, read_class_list
+    check_writable(args.grades)
+    return read_class_list(args.class_list) if args.class_list else None
+
+
+def _write_grades(args, reports, copies, class_list) -> None:
+    from .grades import grade_lines, grades_csv, write_grades
+    lines, warnings = grade_lines(reports, copies, class_list,
+                                  accept_changed=bool(getattr(args, "accept_changed_inputs", False)))
+    write_grades(args.grades, grades_csv(lines))
+    print(f"{args.grades}: {len(lines) - 1} submission(s) graded", file=sys.stderr)
+    for w in warnings:
+        print(f"sheetkin: warning: {args.grades}: {w}", file=sys.stderr)
+
+
 def cmd_validate(args) -> int:
     from .batch import validate_many
-    from .report import html_report, json_report, summary_table, text_report
+    from .report import copies_lines, html_report, json_report, summary_table, text_report
     files = _validation_files(args.paths)
+    class_list = _grades_first(args)
     show = args.progress == "always" or (args.progress == "auto" and sys.stderr.isatty() and len(files) > 1)
     from .xlsxread import convert_opendocument     # a class's .ods files: one LibreOffice run
     convert_opendocument(files, note=(lambda t: print(f"sheetkin: {t}", file=sys.stderr)) if show else None)
@@ -544,14 +576,18 @@ def cmd_validate(args) -> int:
         reports.append(rep)
         if not args.json:
             sys.stdout.write(text_report(rep))
+    from .copies import possible_copies
+    copies = possible_copies(reports) if len(reports) > 1 else {}
     if show:
         sys.stderr.write("\n")
     if args.json:
         sys.stdout.write(json_report(reports))
     elif len(reports) > 1:
-        sys.stdout.write("\n" + summary_table(reports))
+        sys.stdout.write("\n" + summary_table(reports) + copies_lines(reports, copies))
     if args.html:
-        _write(args.html, html_report(reports))
+        _write(args.html, html_report(reports, copies))
+    if args.grades:
+        _write_grades(args, reports, copies, class_list)
     if any(r.error for r in reports):
         return EXIT_INPUT
     return 0 if all(r.ok for r in reports) else 1

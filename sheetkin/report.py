@@ -82,7 +82,13 @@ def json_report(reports: list[Report]) -> str:
                              "all_correct": all(r.ok for r in reports)}), indent=1, ensure_ascii=False) + "\n"
 
 
-def html_report(reports: list[Report]) -> str:
+def html_report(reports: list[Report], copies: dict | None = None) -> str:
     """One offline page: sortable summary, per-student details, pictures (report_html.py)."""
     from .report_html import html_page
-    return html_page(reports)
+    return html_page(reports, copies)
+
+
+def copies_lines(reports: list[Report], copies: dict) -> str:
+    """After the summary table: each possible copy (sheetkin/copies.py), a pair a line."""
+    pairs = sorted({(min(i, j), max(i, j)): why for i, found in copies.items() for j, why in found}.items())
+    return "".join(f"possible copy: {reports[i].path} and {reports[j].path}: {why}\n" for (i, j), why in pairs)

@@ -8,8 +8,9 @@ first position where the likely cause goes wrong. Positions are named as the she
 them: its row `i` and the crank angle phi_1. Everything (style, script, pictures) is in
 the file; nothing is fetched.
 
-Fields that the validator may not have (variant, score, student, group, seal, checks: the
-class helper's issue 13) are shown when present (getattr with a default).
+Fields that the validator may not have (variant, student, group, given data changed, seal:
+issue 13) are shown when present (getattr with a default). The score is the one grades.csv
+gives (sheetkin/grades.py); possible copies (sheetkin/copies.py) link to each other.
 """
 from __future__ import annotations
 
@@ -46,8 +47,8 @@ document.querySelectorAll("#summary th button").forEach((btn, col) => {
     rows.forEach(r => body.appendChild(r));
   });
 });
-// a student's name in the table opens their details
-document.querySelectorAll("#summary a[data-open]").forEach(a => {
+// a student's name (in the table, or as a possible copy) opens their details
+document.querySelectorAll("a[data-open]").forEach(a => {
   a.addEventListener("click", () => { document.getElementById(a.dataset.open).open = true; });
 });
 """
@@ -83,13 +84,32 @@ def position_list(rep: Report, cells: list[int]) -> str:
 
 
 def score(rep: Report) -> float | None:
-    """The validator's score when it gives one, else the share of rows correct (%)."""
-    s = getattr(rep, "score", None)
-    if s is not None:
-        return float(s)
-    if rep.error or not rep.rows:
+    """The score of grades.csv (sheetkin/grades.py); None for an unusable file (the
+    table shows no number, and the reason)."""
+    if rep.error:
         return None
-    return 100.0 * sum(r.status == "correct" for r in rep.rows) / len(rep.rows)
+    from .grades import score as grade_score
+    return grade_score(rep)
+
+
+def _given_changed(ch) -> str:
+    """'L1 (D6): 0.14 -> 0.05' from the validator's {"name", "cell", "issued", "got"}."""
+    if not isinstance(ch, dict):
+        return str(ch)
+    cell = f" ({ch['cell']})" if ch.get("cell") else ""
+    return f"{ch.get('name', '?')}{cell}: {_num(ch.get('issued'))} -> {_num(ch.get('got'))}"
+
+
+def _copy_links(reports, k: int, copies: dict, with_reason: bool) -> str:
+    """Links to the submissions report k may be copied from (or to)."""
+    e = html.escape
+    out = []
+    for j, why in copies.get(k, []):
+        other = reports[j]
+        name = getattr(other, "student", "") or other.author or other.path
+        out.append(f"<a href='#{_anchor(other, j)}' data-open='{_anchor(other, j)}'>{e(name)}</a>"
+                   + (f" ({e(other.path)}: {e(why)})" if with_reason else ""))
+    return ", ".join(out)
 
 
 def _anchor(rep: Report, k: int) -> str:
@@ -116,7 +136,7 @@ def _picture(rep: Report) -> str:
         return f"<p class='note'>(no picture: {html.escape(str(exc))})</p>"
 
 
-def _summary_row(rep: Report, k: int) -> str:
+def _summary_row(rep: Report, k: int, copy: str = "") -> str:
     e = html.escape
     who = getattr(rep, "student", "") or rep.author
     group = getattr(rep, "group", "")
@@ -126,16 +146,19 @@ def _summary_row(rep: Report, k: int) -> str:
     sc = score(rep)
     causes = ", ".join(c.name for c in rep.causes) if not rep.error else (rep.error[len(rep.path) + 2:][:80])
     missing = ", ".join(r.name for r in rep.missing)
+    if getattr(rep, "given_changed", None):
+        causes = "given data changed" + (f"; {causes}" if causes else "")
     return (f"<tr><td><a href='#{_anchor(rep, k)}' data-open='{_anchor(rep, k)}'>{e(who or rep.path)}</a></td>"
             f"<td>{e(group)}</td><td>{e(str(variant))}</td>"
             f"<td class='num' data-sort='{'' if sc is None else f'{sc:.3f}'}'>{'' if sc is None else f'{sc:.0f}'}</td>"
             f"<td class='{cls}' data-sort='{ {'correct': 0, 'mistakes': 1, 'unusable': 2}[res] }'>{res}</td>"
             f"<td class='num'>{'' if rep.error else len(rep.wrong)}</td>"
             f"<td>{e(causes)}</td><td class='num' data-sort='{len(rep.missing)}'>{len(rep.missing) or ''}"
-            f"{' (' + e(missing[:80]) + ')' if missing else ''}</td><td>{e(rep.path)}</td></tr>")
+            f"{' (' + e(missing[:80]) + ')' if missing else ''}</td><td class='{'wrong' if copy else ''}'>{copy}</td>"
+            f"<td>{e(rep.path)}</td></tr>")
 
 
-def _details(rep: Report, k: int) -> list[str]:
+def _details(rep: Report, k: int, copy: str = "") -> list[str]:
     e = html.escape
     who = getattr(rep, "student", "") or rep.author or rep.path
     res = "unusable" if rep.error else ("all correct" if rep.ok else f"{len(rep.wrong)} wrong, {len(rep.missing)} missing")
@@ -145,12 +168,20 @@ def _details(rep: Report, k: int) -> list[str]:
         out.append(f"<p class='unusable'>Unusable: {e(rep.error)}</p></details>")
         return out
     out.append(f"<div class='pic'>{_picture(rep)}</div>")
-    for label, attr in (("variant", "variant"), ("graded against", "graded_against"), ("seal", "seal")):
+    for label, attr in (("student", "student"), ("group", "group"), ("variant", "variant"),
+                        ("graded against", "graded_against"), ("seal", "seal")):
         v = getattr(rep, attr, None)
         if v:
             out.append(f"<p class='note'>{label}: {e(str(v))}</p>")
-    for ch in getattr(rep, "given_changed", None) or []:
-        out.append(f"<p class='wrong'>given data changed: {e(str(ch))}</p>")
+    changed = getattr(rep, "given_changed", None) or []
+    if changed:
+        out.append("<p class='wrong'>given data changed: " + e(", ".join(_given_changed(c) for c in changed))
+                   + "</p>")
+    if copy:
+        out.append(f"<p class='wrong'>possible copy of: {copy}</p>")
+    sc = score(rep)
+    if sc is not None:
+        out.append(f"<p>score {sc:.1f} (README: Running a class, Grades)</p>")
     out.append(f"<p>{sum(x.status == 'correct' for x in rep.rows)} rows correct, {len(rep.wrong)} wrong, "
                f"{len(rep.missing)} missing or empty.</p>")
     for c in rep.causes:
@@ -186,8 +217,9 @@ def _details(rep: Report, k: int) -> list[str]:
     return out
 
 
-def html_page(reports: list[Report]) -> str:
+def html_page(reports: list[Report], copies: dict | None = None) -> str:
     correct = sum(r.ok for r in reports)
+    copies = copies or {}
     out = ["<!doctype html><html lang='en'><head><meta charset='utf-8'>"
            "<link rel='icon' href='data:,'><title>sheetkin validation</title>"
            f"<style>{_CSS}</style></head><body>",
@@ -198,10 +230,10 @@ def html_page(reports: list[Report]) -> str:
            "<table id='summary'><thead><tr>" + "".join(
                f"<th><button type='button'>{h}</button></th>" for h in
                ("student", "group", "variant", "score", "result", "wrong rows", "likely causes",
-                "missing rows", "file")) + "</tr></thead><tbody>"]
-    out += [_summary_row(r, k) for k, r in enumerate(reports)]
+                "missing rows", "possible copy of", "file")) + "</tr></thead><tbody>"]
+    out += [_summary_row(r, k, _copy_links(reports, k, copies, False)) for k, r in enumerate(reports)]
     out.append("</tbody></table>")
     for k, r in enumerate(reports):
-        out += _details(r, k)
+        out += _details(r, k, _copy_links(reports, k, copies, True))
     out.append(f"<script>{_SCRIPT}</script></body></html>\n")
     return "\n".join(out)

@@ -33,6 +33,7 @@ from .groups import kind_of
 from .workbook import FIRST_COL, SCENE_SHEET, build_workbook, sheet_rows
 from .workbook_charts import PATHS_SHEET
 from .xlsxsafe import Limits, UnusableWorkbook
+from .copies import submission_marks      # the raw cells copy detection compares
 
 RTOL = 1e-9            # formulas: the same numbers up to rounding
 ATOL = 1e-9
@@ -240,6 +241,13 @@ def _validate(path: str, limits: Limits) -> Report:
     report.variant_scene = student_scene    # not a field (not in to_dict): the report's picture
     ancestors = row_ancestors(student_scene)
     kinds = {r.name: r.kind for r in ref_rows}
+    # not fields (not in to_dict): the raw cells copy detection compares (sheetkin/copies.py),
+    # and how many check rows the sheet has (grades: checks passing / total)
+    computed = {r.name: names[r.name] for r in ref_rows
+                if r.kind in ("calc", "accepted", "guard") and r.name != "i" and r.name in names}
+    report.marks = submission_marks(sh, computed, FIRST_COL, positions, ref_book.sheets[ref_sheet], ref_names,
+                                    inputs, ancestors)
+    report.checks_total = sum(kinds.get(n) in ("check", "fdcheck") for n in names)
     for row in ref_rows:
         if row.kind not in ("calc", "accepted", "guard") or row.name in ("i",):
             continue
