@@ -5,6 +5,7 @@ import json
 import math
 
 from .report_html import position_list, position_name
+from .issued import changed_line
 from .validator import Report
 
 
@@ -20,6 +21,7 @@ def text_report(rep: Report) -> str:
         return f"{head}: UNUSABLE: {rep.error}\n"
     who = ", ".join(x for x in (rep.author, rep.title) if x)
     lines = [f"{head}" + (f" ({who})" if who else "") + f", {rep.positions} positions"]
+    lines += issued_lines(rep)
     correct = sum(r.status == "correct" for r in rep.rows)
     lines.append(f"  {correct} rows correct, {len(rep.wrong)} wrong, {len(rep.missing)} missing or empty"
                  + ("  -> all correct" if rep.ok else ""))
@@ -42,6 +44,24 @@ def text_report(rep: Report) -> str:
     for p in rep.problems[:5]:
         lines.append(f"  cannot evaluate: {p} (the saved values were used)")
     return "\n".join(lines) + "\n"
+
+
+def issued_lines(rep: Report) -> list[str]:
+    """Issue 13: the given data changed and the seal, first and prominently; then who
+    filled it in and the variant."""
+    out = []
+    if rep.given_changed:
+        how = ("graded against the student's own inputs (--accept-changed-inputs)" if rep.accepted_changes
+               else "FAIL; graded against the issued variant")
+        out.append(f"  !! {changed_line(rep.given_changed)} ({how})")
+    if rep.seal and rep.seal != "ok":
+        out.append(f"  !! {rep.seal}")
+    who = ", ".join(f"{k} {v}" for k, v in (("student", rep.student), ("group", rep.group),
+                                           ("variant", rep.variant)) if v)
+    if who:
+        out.append(f"  {who}" + (", seal ok" if rep.seal == "ok" else ""))
+    out += [f"  note: {n}" for n in rep.notes]
+    return out
 
 
 def summary_table(reports: list[Report]) -> str:
