@@ -325,7 +325,7 @@ def file_names(vid: str) -> dict[str, str]:
 
 
 def write_variants(variants: list[Variant], out: str | Path, *, force: bool = False, lang: str = "ru",
-                   note=None) -> Path:
+                   charts: bool = True, note=None) -> Path:
     """Write the variants' scenes, exercise and key workbooks, roster.csv and (if there is
     none) the teacher's key in `out`. Refuses to overwrite a file unless force; an existing
     key is kept (the books already handed out stay checkable). Returns the roster's path."""
@@ -351,7 +351,8 @@ def write_variants(variants: list[Variant], out: str | Path, *, force: bool = Fa
         _atomic(out / files["scene"], v.text)
         mark = (v.id, seal(key, v.id, v.text))
         for which, exercise in (("exercise", True), ("key", False)):
-            wb = build_workbook(v.scene, lang=lang, exercise=exercise, scene_text=v.text, issued=mark)
+            wb = build_workbook(v.scene, lang=lang, exercise=exercise, scene_text=v.text, issued=mark,
+                                charts=charts)
             _atomic_book(out / files[which], wb)
         rows.append((v.id, files, given_values(v.scene)))
         if note:
