@@ -230,3 +230,52 @@ def test_help_documents_the_command(capsys):
 def test_vary_names_are_the_input_blocks(capsys):
     with pytest.raises(SceneError, match="valid: L1, L2, L3, x_O, y_O, x_O1, y_O1, along_S2"):
         ranges(parameters(text_of("fourbar.toml")), ["Lx=1..2"])
+
+
+DRAG_LINK = """title = "Double crank (drag link): the frame is the shortest link"
+[frame]
+O  = [0.0, 0.0]
+O1 = [0.1, 0.0]
+[crank]
+pivot = "O"
+joint = "A"
+length = 0.25
+phi0_deg = 0.0
+step_deg = 30.0
+positions = 13
+omega = 10.0
+epsilon = 0.0
+[[group]]
+type = "RRR"
+links = [2, 3]
+joints = ["A", "B", "O1"]
+lengths = [0.3, 0.28]
+branch = 1
+"""
+
+
+def test_a_double_crank_is_not_turned_into_a_crank_rocker():
+    """With the crank shorter than the frame (L1 < 0.08 here) the drag link becomes a
+    crank-rocker: it assembles everywhere, but link 3 rocks instead of turning. Such
+    candidates are drawn (the range allows them, and their |det| passes 0.1) and refused."""
+    rocker = parse_scene(DRAG_LINK.replace("length = 0.25", "length = 0.03"))
+    from sheetkin.variants import assess
+    assert assess(parse_scene(DRAG_LINK), 0.1) == ("", (1, 1, 1))
+    assert assess(rocker, 0.1) == ("", (1, 0, 0))              # the coupler does not turn either
+    vs = make_variants(DRAG_LINK, "drag.toml", 8, 2, ["L1=0.02..0.3"], min_det=0.1)
+    for v in vs:
+        sc = v.scene
+        assert sc.crank.length > 0.1, v.id                     # the frame stays the shortest link
+        links = [sc.crank.length, *sc.groups[0].lengths, 0.1]
+        assert min(links) + max(links) <= sum(links) - min(links) - max(links)
+
+
+def test_wide_ranges_keep_grashof():
+    """L1 up to 0.4 would make the four-bar a non-Grashof triple rocker (s + l > p + q from
+    L1 = 0.31): no such variant is kept."""
+    vs = make_variants(text_of("fourbar.toml"), "fourbar.toml", 8, 1, ["L1=0.05..0.4", "L3=0.2..0.6"])
+    for v in vs:
+        sc = v.scene
+        links = [sc.crank.length, *sc.groups[0].lengths, 0.53 * (given_values(sc)["y_O1"] / -0.53)]
+        assert min(links) == sc.crank.length
+        assert min(links) + max(links) <= sum(links) - min(links) - max(links), v.id
