@@ -300,8 +300,13 @@ def _add_animate_parser(sub):
                    help="frame counter on stderr while a GIF is written (auto: when stderr is a terminal)")
 
 
+# sheetkin.variants' BAND, MIN_DET, MARGIN, TRIES, REVOLUTION_DEG, without importing openpyxl
+# for --help (tests/test_variants.py checks they are equal)
+VARIANTS_DEFAULTS = (0.10, 0.25, 0.10, 200, 1.0)
+
+
 def _add_variants_parser(sub):
-    from .variants import BAND, MARGIN, MIN_DET, REVOLUTION_DEG, TRIES    # no numpy: constants only
+    BAND, MIN_DET, MARGIN, TRIES, REVOLUTION_DEG = VARIANTS_DEFAULTS
     x = sub.add_parser(
         "variants", help="N distinct variants of a scheme for a class: exercise and key workbooks, roster.csv",
         description="Make N variants of the scheme for N students. By default every length, "
@@ -545,6 +550,7 @@ def _command_files(args) -> tuple[list[tuple[str, str]], list[str]]:
                           list(getattr(args, "scenes", None) or [])) if p]
     if args.command == "validate":
         inputs += [str(f) for f in _validation_files(args.paths, strict=False)]
+        inputs += [p for p in (args.roster, args.key) if p]
     return out, inputs
 
 

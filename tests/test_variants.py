@@ -279,3 +279,9 @@ def test_wide_ranges_keep_grashof():
         links = [sc.crank.length, *sc.groups[0].lengths, 0.53 * (given_values(sc)["y_O1"] / -0.53)]
         assert min(links) == sc.crank.length
         assert min(links) + max(links) <= sum(links) - min(links) - max(links), v.id
+
+
+def test_help_constants_are_the_modules():
+    from sheetkin import cli, variants
+    assert cli.VARIANTS_DEFAULTS == (variants.BAND, variants.MIN_DET, variants.MARGIN, variants.TRIES,
+                                     variants.REVOLUTION_DEG)
