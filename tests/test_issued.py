@@ -12,6 +12,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from realbooks import row_numbers
 from sheetkin.cli import main
 from sheetkin.issued import (KEY_FILE, Options, RosterError, changed_line, parse_roster, read_key,
                              read_roster, seal)
@@ -39,22 +40,13 @@ def issued(tmp_path_factory):
     return out
 
 
-def rows_of(ws) -> dict[str, int]:
-    out = {}
-    for r in range(1, ws.max_row + 1):
-        v = ws.cell(r, 1).value
-        if isinstance(v, str) and v not in out:
-            out[v] = r
-    return out
-
-
 def edited(src: Path, dst: Path, inputs: dict | None = None, scene_line: tuple[str, str] | None = None,
            drop_id: bool = False) -> Path:
     """A copy of `src` with input cells (by row name) set, a line of the hidden scene sheet
     replaced, or the variant id removed: what a student could do with openpyxl or by hand."""
     wb = openpyxl.load_workbook(src)
     ws = wb.worksheets[0]
-    at = rows_of(ws)
+    at = row_numbers(ws)
     for name, v in (inputs or {}).items():
         ws.cell(at[name], 4).value = v
     sc = wb["scene"]
@@ -83,7 +75,7 @@ def test_changed_given_data_fail_and_are_graded_against_the_issued_variant(issue
                   {"L1": 0.05, "Fi_t0": 1, "student": "Иванов Иван", "group": "ГИ-21"})
     rep = validate(book, options=opts(issued))
     assert [(c["name"], c["issued"], c["got"]) for c in rep.given_changed] == [("L1", l1, 0.05), ("Fi_t0", 20.0, 1.0)]
-    assert rep.given_changed[0]["cell"].endswith(f"!D{rows_of(openpyxl.load_workbook(book).worksheets[0])['L1']}")
+    assert rep.given_changed[0]["cell"].endswith(f"!D{row_numbers(openpyxl.load_workbook(book).worksheets[0])['L1']}")
     assert not rep.ok and rep.seal == "ok" and rep.variant == "fourbar-01"
     assert (rep.student, rep.group) == ("Иванов Иван", "ГИ-21") and rep.author == "sheetkin example"
     # graded against the issued variant: the crank's rows now disagree with it
@@ -235,7 +227,7 @@ def test_books_saved_by_libreoffice_validate_with_the_roster(issued, tmp_path, s
         for c in row:
             if isinstance(c.value, str) and c.value.startswith("="):
                 fws.cell(c.row, c.column).value = c.value
-    at = rows_of(fws)
+    at = row_numbers(fws)
     fws.cell(at["student"], 4).value = "Петров Пётр"
     fws.cell(at["group"], 4).value = "101"
     filled.save(src / "filled.xlsx")

@@ -271,7 +271,7 @@ def test_readme_value_example_holds():
 
 
 def test_fourbar_row_as_one_array_formula_grades_correct(tmp_path):
-    """A student who fills row Fi with ONE array formula over E30:Q30 (its other cells hold
+    """A student who fills row Fi with ONE array formula over E32:Q32 (its other cells hold
     no formula in the file) is graded correct, and the row counts as formulas, not typed."""
     from openpyxl.worksheet.formula import ArrayFormula
     wb = openpyxl.load_workbook(ROOT / "workbooks" / "fourbar.xlsx")

@@ -16,6 +16,7 @@ import numpy as np
 import openpyxl
 import pytest
 
+from realbooks import row_numbers
 from sheetkin.cli import main
 from sheetkin.issued import KEY_FILE, given_values
 from sheetkin.scene import SceneError, load_scene, parse_scene
@@ -150,12 +151,7 @@ def written(tmp_path_factory):
 
 
 def _column_d(ws) -> dict[str, object]:
-    out = {}
-    for r in range(5, ws.max_row + 1):
-        n = ws.cell(r, 1).value
-        if isinstance(n, str) and n not in out:
-            out[n] = ws.cell(r, 4).value
-    return out
+    return {n: ws.cell(r, 4).value for n, r in row_numbers(ws).items()}
 
 
 def test_roster_equals_the_books_input_blocks(written):
