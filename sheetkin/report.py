@@ -70,7 +70,12 @@ def summary_table(reports: list[Report]) -> str:
         if r.error:
             rows.append((r.path, "", "unusable", "", "", r.error[len(r.path) + 2:][:60]))
         else:
-            rows.append((r.path, r.author, "correct" if r.ok else "mistakes", str(len(r.wrong)),
+            # the student's own cells (A2, the author, is the scheme's, not the student's)
+            who = ", ".join(x for x in (getattr(r, "student", ""), getattr(r, "group", "")) if x)
+            result = ("correct" if r.ok else "data changed" if getattr(r, "given_changed", None)
+                      and not getattr(r, "accepted_changes", False) else "seal broken"
+                      if getattr(r, "seal", "") not in ("", "ok") else "mistakes")
+            rows.append((r.path, who, result, str(len(r.wrong)),
                          str(len(r.missing)), r.causes[0].name if r.causes else ""))
     widths = [max(len(x[i]) for x in rows) for i in range(len(rows[0]))]
     return "\n".join("  ".join(x[i].ljust(widths[i]) for i in range(len(x))).rstrip() for x in rows) + "\n"

@@ -44,6 +44,7 @@ BAND = 0.10                 # default range: the scene's value +- 10 %
 MIN_DET = 0.25              # |det| at every position; RRR: transmission angle >= 14.5 deg
 MARGIN = 0.10               # of a value's range: two variants differ by this in some value
 TRIES = 200                 # candidates drawn per variant asked for
+MAX_VARIANTS = 1000         # a class, or a whole year's; not a million workbooks by a typo
 REVOLUTION_DEG = 1.0        # the full-turn check's step
 STEPS = {"m": 0.001, "deg": 1.0, "rad/s": 0.1, "rad/s^2": 0.1}   # the grid a teacher prints
 SIGNIFICANT = 3             # other units (kg, N, kg m^2): three significant digits
@@ -147,8 +148,9 @@ def _set(data, path, value):
 def parameters(text: str, source: str = "<scene>") -> list[Param]:
     """The scene file's numbers that are given data of the workbook, in input-block order."""
     data = load_toml(text, source)
-    base = given_values(parse_scene(text, source))
-    units = {r.name: r.unit for r in sheet_rows(parse_scene(text, source)).rows if r.kind == "input"}
+    scene = parse_scene(text, source)
+    base = given_values(scene)
+    units = {r.name: r.unit for r in sheet_rows(scene).rows if r.kind == "input"}
     found = []
     for path, v in _leaves(data):
         if path[0] == "synthesis":
@@ -258,6 +260,8 @@ def make_variants(text: str, source: str, n: int, seed: int, vary: list[str] = (
                   min_det: float = MIN_DET) -> list[Variant]:
     """N acceptable, distinct variants of the scene `text` (the module's docstring), or a
     SceneError (one line) saying why there are fewer."""
+    if n > MAX_VARIANTS:
+        raise SceneError(f"-n {n}: at most {MAX_VARIANTS} variants at a time (two workbooks each)")
     scene = parse_scene(text, source)
     reason, turns = assess(scene, min_det)
     if reason:

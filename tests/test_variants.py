@@ -18,9 +18,10 @@ import pytest
 
 from realbooks import row_numbers
 from sheetkin.cli import main
-from sheetkin.issued import KEY_FILE, given_values
+from sheetkin.issued import KEY_FILE, Options, given_values, read_key, read_roster
 from sheetkin.scene import SceneError, load_scene, parse_scene
 from sheetkin.solver import solve
+from sheetkin.validator import validate
 from sheetkin.variants import BAND, MIN_DET, make_variants, parameters, ranges, write_variants
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -203,7 +204,8 @@ def test_same_seed_same_files_and_no_overwriting(written, tmp_path, capsys):
 
 def test_every_bundled_scene_writes_its_books(tmp_path):
     """Two variants of every bundled scene written out: scenes that parse to the roster's
-    values, books that open, one of each per variant."""
+    values, one exercise and one key book per variant; the key book validates as all
+    correct against the roster (every group kind's variant sheet agrees with the solver)."""
     for p in SCENES:
         vs = make_variants(p.read_text(encoding="utf-8"), str(p), 2, seed=5)
         roster = write_variants(vs, tmp_path / p.stem, charts=False)
@@ -214,6 +216,10 @@ def test_every_bundled_scene_writes_its_books(tmp_path):
             sc = parse_scene((tmp_path / p.stem / r["scene"]).read_text(encoding="utf-8"))
             assert all(float(r[n]) == v for n, v in given_values(sc).items())
             assert (tmp_path / p.stem / r["exercise"]).stat().st_size > 0
+        # the first key book is right against its roster row, sealed under the key
+        opts = Options(read_roster(roster), read_key(tmp_path / p.stem / KEY_FILE))
+        rep = validate(tmp_path / p.stem / rows[0]["key"], options=opts)
+        assert rep.ok and rep.seal == "ok" and rep.variant == rows[0]["variant"], (p.name, rep.error)
 
 
 def test_help_documents_the_command(capsys):
