@@ -4,7 +4,6 @@ embedded scene, the seal of the hidden scene sheet, the student's own identity c
 saved by LibreOffice still validates with the roster."""
 from __future__ import annotations
 
-import shutil
 from pathlib import Path
 
 import openpyxl
