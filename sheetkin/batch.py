@@ -11,7 +11,7 @@ import os
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
-from .validator import Report, validate
+from .validator import Report, validate as _validate_one
 
 
 def default_jobs() -> int:
@@ -19,10 +19,12 @@ def default_jobs() -> int:
 
 
 def validate_many(paths: list[Path], jobs: int | None = None,
-                  progress: Callable[[int, Path], None] | None = None) -> Iterator[Report]:
+                  progress: Callable[[int, Path], None] | None = None, options=None) -> Iterator[Report]:
     """Yield validate(path) for every path, in order. jobs: processes (default: one per
     core); 1, or a single file, validates in this process. progress(done, path) is called
-    before each report is yielded."""
+    before each report is yielded. options: issued.Options (roster, key, ...)."""
+    from functools import partial
+    validate = partial(_validate_one, options=options)
     jobs = min(jobs or default_jobs(), len(paths)) or 1
     if jobs == 1:
         for i, p in enumerate(paths, 1):

@@ -185,6 +185,18 @@ def build_parser() -> argparse.ArgumentParser:
                    help="validate in N processes (default: one per core, here "
                         f"{os.cpu_count() or 1}); 1: in this process. Reports come "
                         "in the order of the files either way")
+    v.add_argument("--roster", metavar="roster.csv",
+                   help="the issued variants (written by `sheetkin variants`): each book's input "
+                        "block is compared with its variant's row (found by the variant id in the "
+                        "book); a changed given value is reported first, fails the book, and its "
+                        "rows are graded against the issued values. Without --roster an issued "
+                        "book is checked against the scene embedded in it")
+    v.add_argument("--key", metavar="FILE",
+                   help="the teacher's key file (default: .sheetkin-key next to --roster): checks "
+                        "each issued book's seal, so an edited hidden scene sheet is reported")
+    v.add_argument("--accept-changed-inputs", action="store_true",
+                   help="grade each book against the student's own input block even where it "
+                        "differs from the issued variant (still reported, no longer a failure)")
     b = sub.add_parser(
         "bench", help="time and accuracy of each way of computing a scene",
         description="For each method (the closed-form solver; Newton on the loop-closure "
@@ -258,6 +270,7 @@ def build_parser() -> argparse.ArgumentParser:
     cr.add_argument("--step-deg", type=_finite_float, default=30.0, metavar="DEG",
                     help="crank angle step in the written scene (default 30)")
     _add_animate_parser(sub)
+    _add_variants_parser(sub)
     w.add_argument("--check", action="store_true",
                    help="write nothing: exit 1 if an existing workbook differs from what would be "
                         "written (stale) or is missing")
@@ -293,6 +306,60 @@ def _add_animate_parser(sub):
                    help=f"mark positions whose |det_g<i>| is below X (default {TOGGLE_THRESHOLD})")
     a.add_argument("--progress", choices=["auto", "always", "never"], default="auto",
                    help="frame counter on stderr while a GIF is written (auto: when stderr is a terminal)")
+
+
+# sheetkin.variants' BAND, MIN_DET, MARGIN, TRIES, REVOLUTION_DEG, without importing openpyxl
+# for --help (tests/test_variants.py checks they are equal)
+VARIANTS_DEFAULTS = (0.10, 0.25, 0.10, 200, 1.0)
+
+
+def _add_variants_parser(sub):
+    BAND, MIN_DET, MARGIN, TRIES, REVOLUTION_DEG = VARIANTS_DEFAULTS
+    x = sub.add_parser(
+        "variants", help="N distinct variants of a scheme for a class: exercise and key workbooks, roster.csv",
+        description="Make N variants of the scheme for N students. By default every length, "
+                    "coordinate and offset (the input rows in metres) whose scene value is not zero "
+                    f"varies within +-{BAND:.0%} of it, rounded to the millimetre; --vary sets a "
+                    "range for any given value of the scene. A variant is kept when every group "
+                    "assembles at every position of the sheet and over a whole revolution "
+                    f"({REVOLUTION_DEG:g} deg apart: the crank turns fully), every link keeps its kind "
+                    "of motion (turns or rocks: a crank-rocker stays a crank-rocker), every group's "
+                    f"|det| (toggle measure) is >= --min-det at all those positions, and it differs from "
+                    f"every other variant in some given value by {MARGIN:.0%} of that value's range "
+                    "(at least one grid step). Writes in DIR, per variant ID: ID.toml (its scene), "
+                    "ID-exercise.xlsx (computed rows empty, student and group cells blank), "
+                    "ID-key.xlsx (the answer key); and roster.csv (variant, exercise, key, scene, "
+                    f"then every given value) and the teacher's key {'.sheetkin-key'} (kept if it exists; "
+                    "never put in a workbook: `validate --roster` uses it to check the books' seals). "
+                    f"Refuses, with one line, a scheme with fewer than N acceptable variants in {TRIES}*N "
+                    "tries.")
+    x.add_argument("scene", metavar="SCENE.toml", help="the scheme's scene file")
+    x.add_argument("-n", type=_positive_int, default=30, metavar="N", help="number of variants (default 30)")
+    x.add_argument("--out", metavar="DIR", required=True, help="folder for the variants (created if missing)")
+    x.add_argument("--seed", type=int, metavar="S",
+                   help="random seed: the same seed gives byte-identical scenes and roster.csv "
+                        "(default: a random one, printed)")
+    x.add_argument("--vary", metavar="NAME=LO..HI", action="append", default=[],
+                   help="range of a given value, named as in the input block (L1, L2, x_D, Fi_t0, "
+                        "gamma_g2 ...), instead of the default band; repeatable; e.g. --vary L2=0.45..0.55")
+    x.add_argument("--min-det", type=_positive_float, default=MIN_DET, metavar="X",
+                   help=f"least |det| of every group at every position (default {MIN_DET:g}: for RRR "
+                        "the transmission angle stays above 14.5 deg)")
+    x.add_argument("--lang", choices=["ru", "en"], default="ru", help="language of the workbooks (default ru)")
+    x.add_argument("--force", action="store_true", help="overwrite files already in DIR")
+
+
+def cmd_variants(args) -> int:
+    import secrets
+    from .variants import make_variants, write_variants
+    load_scene(args.scene)                       # one line naming file, line and key
+    text = Path(args.scene).read_text(encoding="utf-8-sig")
+    seed = args.seed if args.seed is not None else secrets.randbelow(10 ** 6)
+    variants = make_variants(text, args.scene, args.n, seed, args.vary, args.min_det)
+    roster = write_variants(variants, args.out, force=args.force, lang=args.lang)
+    print(f"{args.out}: {len(variants)} variants of {args.scene} (seed {seed}: --seed {seed} makes the "
+          f"same again); {roster}; the key {Path(args.out) / '.sheetkin-key'} stays with you", file=sys.stderr)
+    return 0
 
 
 def cmd_animate(args) -> int:
@@ -492,6 +559,7 @@ def _command_files(args) -> tuple[list[tuple[str, str]], list[str]]:
                           list(getattr(args, "scenes", None) or [])) if p]
     if args.command == "validate":
         inputs += [str(f) for f in _validation_files(args.paths, strict=False)]
+        inputs += [p for p in (args.roster, args.key) if p]
     return out, inputs
 
 
@@ -571,8 +639,9 @@ def cmd_validate(args) -> int:
         bar = int(30 * done / len(files))
         sys.stderr.write(f"\r[{'#' * bar}{'.' * (30 - bar)}] {done}/{len(files)} {f.name[:40]:<40}")
         sys.stderr.flush()
+    options, keyless = _issued_options(args)
     reports = []
-    for rep in validate_many(files, args.jobs, progress if show else None):
+    for rep in validate_many(files, args.jobs, progress if show else None, options):
         reports.append(rep)
         if not args.json:
             sys.stdout.write(text_report(rep))
@@ -580,6 +649,8 @@ def cmd_validate(args) -> int:
     copies = possible_copies(reports) if len(reports) > 1 else {}
     if show:
         sys.stderr.write("\n")
+    if keyless and any(r.variant for r in reports):
+        print(f"sheetkin: note: {keyless}", file=sys.stderr)
     if args.json:
         sys.stdout.write(json_report(reports))
     elif len(reports) > 1:
@@ -591,6 +662,20 @@ def cmd_validate(args) -> int:
     if any(r.error for r in reports):
         return EXIT_INPUT
     return 0 if all(r.ok for r in reports) else 1
+
+
+def _issued_options(args):
+    """issued.Options from --roster, --key, --accept-changed-inputs, and the one-line note
+    to give when there is no key (seals not checked)."""
+    from .issued import KEY_FILE, Options, read_key, read_roster
+    roster = read_roster(args.roster) if args.roster else None
+    key_path = args.key or (Path(args.roster).parent / KEY_FILE if args.roster else None)
+    key = None
+    if args.key or (key_path and key_path.exists()):
+        key = read_key(key_path)
+    keyless = "" if key else ("no key (--key FILE, or .sheetkin-key next to --roster): the scene "
+                              "sheets' seals are not checked")
+    return Options(roster, key, args.accept_changed_inputs), keyless
 
 
 def cmd_bench(args) -> int:
@@ -686,7 +771,7 @@ def _run(args) -> int:
         refuse_overwriting_inputs(args)
         code = {"compute": cmd_compute, "workbook": cmd_workbook, "evaluate": cmd_evaluate,
                 "validate": cmd_validate, "bench": cmd_bench,
-                "synth": cmd_synth, "animate": cmd_animate}[args.command](args)
+                "synth": cmd_synth, "animate": cmd_animate, "variants": cmd_variants}[args.command](args)
         _flush_stdout()
         return code
     except SceneError as e:

@@ -5,6 +5,7 @@ import json
 import math
 
 from .report_html import position_list, position_name
+from .issued import changed_line
 from .validator import Report
 
 
@@ -20,6 +21,7 @@ def text_report(rep: Report) -> str:
         return f"{head}: UNUSABLE: {rep.error}\n"
     who = ", ".join(x for x in (rep.author, rep.title) if x)
     lines = [f"{head}" + (f" ({who})" if who else "") + f", {rep.positions} positions"]
+    lines += issued_lines(rep)
     correct = sum(r.status == "correct" for r in rep.rows)
     lines.append(f"  {correct} rows correct, {len(rep.wrong)} wrong, {len(rep.missing)} missing or empty"
                  + ("  -> all correct" if rep.ok else ""))
@@ -44,13 +46,36 @@ def text_report(rep: Report) -> str:
     return "\n".join(lines) + "\n"
 
 
+def issued_lines(rep: Report) -> list[str]:
+    """Issue 13: the given data changed and the seal, first and prominently; then who
+    filled it in and the variant."""
+    out = []
+    if rep.given_changed:
+        how = ("graded against the student's own inputs (--accept-changed-inputs)" if rep.accepted_changes
+               else "FAIL; graded against the issued variant")
+        out.append(f"  !! {changed_line(rep.given_changed)} ({how})")
+    if rep.seal and rep.seal != "ok":
+        out.append(f"  !! {rep.seal}")
+    who = ", ".join(f"{k} {v}" for k, v in (("student", rep.student), ("group", rep.group),
+                                           ("variant", rep.variant)) if v)
+    if who:
+        out.append(f"  {who}" + (", seal ok" if rep.seal == "ok" else ""))
+    out += [f"  note: {n}" for n in rep.notes]
+    return out
+
+
 def summary_table(reports: list[Report]) -> str:
     rows = [("file", "student", "result", "wrong", "missing", "first cause")]
     for r in reports:
         if r.error:
             rows.append((r.path, "", "unusable", "", "", r.error[len(r.path) + 2:][:60]))
         else:
-            rows.append((r.path, r.author, "correct" if r.ok else "mistakes", str(len(r.wrong)),
+            # the student's own cells (A2, the author, is the scheme's, not the student's)
+            who = ", ".join(x for x in (getattr(r, "student", ""), getattr(r, "group", "")) if x)
+            result = ("correct" if r.ok else "data changed" if getattr(r, "given_changed", None)
+                      and not getattr(r, "accepted_changes", False) else "seal broken"
+                      if getattr(r, "seal", "") not in ("", "ok") else "mistakes")
+            rows.append((r.path, who, result, str(len(r.wrong)),
                          str(len(r.missing)), r.causes[0].name if r.causes else ""))
     widths = [max(len(x[i]) for x in rows) for i in range(len(rows[0]))]
     return "\n".join("  ".join(x[i].ljust(widths[i]) for i in range(len(x))).rstrip() for x in rows) + "\n"

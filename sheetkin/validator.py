@@ -26,6 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
+from . import issued
 from .evaluator import Book, EvaluationError, evaluate_sheets
 from .xlsxread import Sheet, read_book
 from .scene import Scene, SceneError, parse_scene
@@ -73,6 +74,15 @@ class Report:
     # (i, phi_1) of each position column, as the sheet's rows i and phi_1 name it (the
     # reference for the student's variant); the reports name positions this way
     position_names: list[tuple[float, float]] = field(default_factory=list)
+    # issue 13: who filled it in (their own input rows; A2 is the scheme's author), the
+    # issued variant, the given data the student changed, the scene sheet's seal (issued.py)
+    student: str = ""
+    group: str = ""
+    variant: str = ""
+    given_changed: list[dict] = field(default_factory=list)
+    seal: str = ""                   # "" not checked | "ok" | why it fails
+    accepted_changes: bool = False   # --accept-changed-inputs: graded on the student's inputs
+    notes: list[str] = field(default_factory=list)
 
     @property
     def wrong(self) -> list[RowReport]:
@@ -88,7 +98,8 @@ class Report:
 
     @property
     def ok(self) -> bool:
-        return self.error is None and not self.wrong and not self.missing
+        return (self.error is None and not self.wrong and not self.missing
+                and (not self.given_changed or self.accepted_changes) and self.seal in ("", "ok"))
 
     def to_dict(self) -> dict:
         d = dataclasses.asdict(self)
@@ -186,11 +197,12 @@ def _close(got, exp, name: str, typed: bool):
 
 
 # --------------------------------------------------------------------------- validation
-def validate(path: str | Path, limits: Limits = Limits()) -> Report:
-    """Validate one workbook; unusable input comes back as Report.error, not an exception."""
+def validate(path: str | Path, limits: Limits = Limits(), options: issued.Options | None = None) -> Report:
+    """Validate one workbook; unusable input comes back as Report.error, not an exception.
+    options: the roster, the teacher's key, --accept-changed-inputs (sheetkin/issued.py)."""
     path = str(path)
     try:
-        return _validate(path, limits)
+        return _validate(path, limits, options)
     except (UnusableWorkbook, UnusableInput, SceneError, EvaluationError) as e:
         msg = str(e)
         return Report(path, error=msg if msg.startswith(path) else f"{path}: {msg}")
@@ -209,13 +221,14 @@ def internal_error(path: str, e: BaseException) -> str:
             f"this is a bug in sheetkin {__version__}: please report it with this file")
 
 
-def _validate(path: str, limits: Limits) -> Report:
+def _validate(path: str, limits: Limits, options: issued.Options | None = None) -> Report:
     book = read_book(path, limits)
     if SCENE_SHEET not in book.sheets:
         raise UnusableInput(f"{path}: no embedded scene (hidden sheet '{SCENE_SHEET}'); "
                             "expected a workbook made by `sheetkin workbook`")
     lines = [book.sheets[SCENE_SHEET].consts.get((r, 1), "") for r in range(1, book.sheets[SCENE_SHEET].max_row + 1)]
-    scene = parse_scene("\n".join(str(x) for x in lines) + "\n", f"{path} (embedded scene)")
+    scene_text = "\n".join(str(x) for x in lines) + "\n"
+    scene = parse_scene(scene_text, f"{path} (embedded scene)")
     main = book.order[0]
     sh = book.sheets[main]
     evaluated = _evaluate_student(book)
@@ -230,12 +243,19 @@ def _validate(path: str, limits: Limits) -> Report:
     where = {n: f"{main}!D{r}" for n, r in names.items()}
     inputs = _inputs(evaluated, main, {n: r for n, r in names.items() if n in input_names})
     positions = max([c for (rr, c) in list(sh.formulas) + list(sh.consts) if rr >= 5 and c >= FIRST_COL] or [FIRST_COL]) - FIRST_COL + 1
-    student_scene = variant_scene(scene, inputs, positions, where)
+    # the given data: graded against the issued variant unless the changes are accepted
+    given = issued.check_given(scene, scene_text, book.sheets[SCENE_SHEET].consts, inputs, where, options)
+    accept = bool(options and options.accept_changed)
+    student_scene = variant_scene(scene, inputs if accept else {**inputs, **given.issued}, positions, where)
     ref_book = _reference(student_scene)
     ref_sheet = ref_book.order[0]
     ref_names = {ref_book.sheets[ref_sheet].consts.get((r, 1)): r for r in range(5, ref_book.sheets[ref_sheet].max_row + 1)}
     report = Report(path, author=str(sh.consts.get((2, 1), "") or ""), title=str(sh.consts.get((1, 1), "") or ""),
-                    positions=positions, problems=list(evaluated.problems))
+                    positions=positions, problems=list(evaluated.problems),
+                    student=_text(evaluated.value(main, names["student"], 4)) if "student" in names else "",
+                    group=_text(evaluated.value(main, names["group"], 4)) if "group" in names else "",
+                    variant=given.variant, given_changed=given.changed, seal=given.seal,
+                    accepted_changes=accept, notes=given.notes)
     report.position_names = [(ref_book.value(ref_sheet, ref_names["i"], FIRST_COL + k),
                               ref_book.value(ref_sheet, ref_names["phi_1"], FIRST_COL + k)) for k in range(positions)]
     report.variant_scene = student_scene    # not a field (not in to_dict): the report's picture
@@ -296,6 +316,15 @@ def _validate(path: str, limits: Limits) -> Report:
     report.failing_checks = [n for n, r in names.items() if n.startswith(("chk", "fd_"))
                              and kinds.get(n) in ("check", "fdcheck") and evaluated.value(main, r, 4) not in (0.0, None)]
     return report
+
+
+def _text(v) -> str:
+    """A typed identity cell as text (a group typed as a number: 101.0 -> "101")."""
+    if v is None or isinstance(v, bool):
+        return ""
+    if isinstance(v, float):
+        return str(int(v)) if v.is_integer() and abs(v) < 1e15 else repr(v)
+    return " ".join(str(v).split())[:200]
 
 
 def _evaluate_student(raw) -> Book:

@@ -38,6 +38,7 @@ from .workbook_dynamics import dynamics_inputs, energy_rows, kinetostatics_rows
 
 FIRST_COL = 5                      # column E: the first crank position
 SCENE_SHEET = "scene"              # hidden sheet holding the scene's TOML text
+ISSUED_LABELS = ("variant", "seal")  # scene sheet B1:B2, values in C1:C2 (sheetkin variants)
 # Central differences only where the step allows: their error, h^2/6 of the third
 # derivative, is within Tol_FD = 1% of a row's scale at 3 deg for every bundled mechanism,
 # but not at 4-5 deg for the quick-return ones (slotted lever, shaper).
@@ -45,6 +46,9 @@ FD_MAX_STEP_DEG = 3.0
 MARKERS = {"ru": "не собирается", "en": "cannot assemble"}
 SHEET_TITLES = {"ru": ("Кинематика", "Графики"), "en": ("Kinematics", "Charts")}
 
+# the student's identity rows, first in the input block (name, ru, en)
+IDENTITY_ROWS = (("student", "студент: фамилия, имя", "student: family name, first name"),
+                 ("group", "учебная группа", "the student's group"))
 INPUT_FILL = PatternFill("solid", fgColor="FFF2CC")
 ACCEPTED_FILL = PatternFill("solid", fgColor="DDEBF7")
 SECTION_FONT = Font(bold=True)
@@ -58,6 +62,10 @@ def sheet_rows(scene: Scene) -> Builder:
     b = Builder(scene)
     c = scene.crank
     b.section("input", "Исходные данные (можно изменять)", "Input data (editable)")
+    # who filled the sheet in: the student's own cells (A2 is the scheme's author), text,
+    # blank as issued; the validator reports them (Report.student, Report.group)
+    for name, ru, en in IDENTITY_ROWS:
+        b.input(name, "", ru, en, None)
     b.input("L1", "m", f"длина кривошипа {c.pivot}{c.joint}", f"crank length {c.pivot}{c.joint}", c.length)
     for g in scene.groups:
         for r in kind_of(g).input_rows(g):
@@ -177,10 +185,12 @@ def _compile(rows: list[Row], first_row: int, last_col: str):
 
 
 def build_workbook(scene: Scene, *, lang: str = "ru", exercise: bool = False,
-                   scene_text: str | None = None, charts: bool = True) -> Workbook:
+                   scene_text: str | None = None, charts: bool = True,
+                   issued: tuple[str, str] | None = None) -> Workbook:
     """The lecture's workbook for `scene` (see the module's docstring); charts=False leaves
     out the charts sheet (and its hidden paths sheet): the validator's reference needs only
-    the kinematics sheet."""
+    the kinematics sheet. issued = (variant id, seal): a variant made by `sheetkin
+    variants`, recorded beside the embedded scene (sheetkin/issued.py reads them back)."""
     if lang not in _TEXT:
         raise ValueError(f"lang must be one of {', '.join(_TEXT)}, got {lang!r}")
     text = _TEXT[lang]
@@ -219,6 +229,8 @@ def build_workbook(scene: Scene, *, lang: str = "ru", exercise: bool = False,
         ws.cell(r, 3, row.ru if lang == "ru" else row.en)
         if row.kind == "input":
             ws.cell(r, 4, row.value).fill = INPUT_FILL
+            if row.value is None:               # the identity rows: text, whatever is typed
+                ws.cell(r, 4).number_format = "@"
             continue
         if row.kind == "derived":
             if not exercise:
@@ -278,7 +290,7 @@ def build_workbook(scene: Scene, *, lang: str = "ru", exercise: bool = False,
         from .workbook_charts import SheetRows
         _add_charts(wb, ws, scene, where, cols, lang,
                     SheetRows(ws, rows, where, templates, cols, marker, lang, exercise))
-    _embed_scene(wb, scene, scene_text)
+    _embed_scene(wb, scene, scene_text, issued)
     return wb
 
 
@@ -334,9 +346,10 @@ def _text_cell(cell, text: str) -> None:
     cell.data_type = "s"
 
 
-def _embed_scene(wb, scene: Scene, scene_text: str | None):
+def _embed_scene(wb, scene: Scene, scene_text: str | None, issued: tuple[str, str] | None = None):
     """The scene travels inside the workbook (a hidden sheet), so the file alone is enough
-    to evaluate and validate it later."""
+    to evaluate and validate it later. An issued variant's id and seal go in C1, C2
+    (labels in B1, B2), beside the scene's lines in column A."""
     if scene_text is None:
         try:
             scene_text = Path(scene.source).read_text(encoding="utf-8-sig")
@@ -346,6 +359,10 @@ def _embed_scene(wb, scene: Scene, scene_text: str | None):
     ws.sheet_state = "hidden"
     for k, line in enumerate(scene_text.splitlines(), 1):
         ws.cell(k, 1, line if line else None).data_type = "s"
+    if issued:
+        for r, (label, value) in enumerate(zip(ISSUED_LABELS, issued), 1):
+            _text_cell(ws.cell(r, 2), label)
+            _text_cell(ws.cell(r, 3), value)
     wb.properties.subject = f"sheetkin workbook; the scene is in the hidden sheet '{SCENE_SHEET}'"
 
 

@@ -375,17 +375,29 @@ def differential_book(d: Path) -> tuple[Path, list[tuple[str, int, int]]]:
     return path, cells
 
 
+def row_numbers(ws) -> dict[str, int]:
+    """Row of every name in column A of a generated sheet (the first of each name): tests
+    find rows by name, so new input rows do not break them."""
+    out: dict[str, int] = {}
+    for r in range(1, ws.max_row + 1):
+        v = ws.cell(r, 1).value
+        if isinstance(v, str) and v not in out:
+            out[v] = r
+    return out
+
+
 def fourbar_with_name(path: Path) -> Path:
-    """workbooks/fourbar.xlsx as a student wrote it: row Fi is =RADIANS($D$18)+E28*dfi with
-    dfi a defined name of Delta_Fi_rad (D22, itself a formula)."""
+    """workbooks/fourbar.xlsx as a student wrote it: row Fi is =RADIANS($D$<Fi0>)+E<i>*dfi
+    with dfi a defined name of Delta_Fi_rad (itself a formula); rows found by name."""
     wb = openpyxl.load_workbook(ROOT / "workbooks" / "fourbar.xlsx")
     ws = wb.worksheets[0]
-    row = next(r for r in range(1, ws.max_row + 1) if ws.cell(r, 1).value == "Fi")
-    assert ws.cell(22, 1).value == "Delta_Fi_rad" and str(ws["D22"].value).startswith("=")
+    at = row_numbers(ws)
+    row, dfi = at["Fi"], at["Delta_Fi_rad"]
+    assert str(ws[f"D{dfi}"].value).startswith("=")
     from openpyxl.workbook.defined_name import DefinedName
-    wb.defined_names["dfi"] = DefinedName("dfi", attr_text=f"'{ws.title}'!$D$22")
+    wb.defined_names["dfi"] = DefinedName("dfi", attr_text=f"'{ws.title}'!$D${dfi}")
     for c in range(5, ws.max_column + 1):
         if ws.cell(row, c).value is not None:
-            ws.cell(row, c, f"=RADIANS($D$18)+{get_column_letter(c)}28*dfi")
+            ws.cell(row, c, f"=RADIANS($D${at['Fi0']})+{get_column_letter(c)}{at['i']}*dfi")
     wb.save(path)
     return path

@@ -467,10 +467,10 @@ def test_batch_reports_every_file(tmp_path, capsys, monkeypatch, book):
     crash = _copy(book, folder / "crash.xlsx")
     real = validator_module._validate
 
-    def crashing(path, limits):
+    def crashing(path, *args):
         if Path(path).name == crash.name:
             raise RecursionError("maximum recursion depth exceeded")
-        return real(path, limits)
+        return real(path, *args)
     monkeypatch.setattr(validator_module, "_validate", crashing)
     code, out, err = run(capsys, "validate", folder, "--json", "--progress", "never")
     reports = {Path(r["path"]).name: r for r in json.loads(out)["reports"]} if out.startswith("{") \

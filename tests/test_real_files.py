@@ -20,7 +20,8 @@ from openpyxl.utils import get_column_letter
 
 import realfiles as rf
 from libreoffice import is_error, recalculate
-from realbooks import BUILDERS, FUNCTIONS, ROOT, Book, differential_book, fourbar_with_name, generated_formulas
+from realbooks import (BUILDERS, FUNCTIONS, ROOT, Book, differential_book, fourbar_with_name, generated_formulas,
+                       row_numbers)
 from realfiles import cell
 from sheetkin.evaluator import ERRORS, evaluate
 from sheetkin.validator import validate
@@ -270,7 +271,7 @@ def test_readme_value_example_holds():
 
 
 def test_fourbar_row_as_one_array_formula_grades_correct(tmp_path):
-    """A student who fills row Fi with ONE array formula over E30:Q30 (its other cells hold
+    """A student who fills row Fi with ONE array formula over E32:Q32 (its other cells hold
     no formula in the file) is graded correct, and the row counts as formulas, not typed."""
     from openpyxl.worksheet.formula import ArrayFormula
     wb = openpyxl.load_workbook(ROOT / "workbooks" / "fourbar.xlsx")
@@ -280,7 +281,9 @@ def test_fourbar_row_as_one_array_formula_grades_correct(tmp_path):
     span = f"E{row}:{get_column_letter(last)}{row}"
     for c in range(5, last + 1):
         ws.cell(row, c).value = None
-    ws[f"E{row}"] = ArrayFormula(span, f"=RADIANS($D$18)+E28:{get_column_letter(last)}28*$D$22")
+    at = row_numbers(ws)
+    ws[f"E{row}"] = ArrayFormula(span, f"=RADIANS($D${at['Fi0']})+E{at['i']}:{get_column_letter(last)}{at['i']}"
+                                       f"*$D${at['Delta_Fi_rad']}")
     wb.save(tmp_path / "array_row.xlsx")
     report = validate(tmp_path / "array_row.xlsx")
     assert report.error is None, report.error
