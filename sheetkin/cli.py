@@ -574,7 +574,7 @@ def cmd_bench(args) -> int:
 
 
 def _cmd_stability(args) -> int:
-    from .bench import format_stability, stability_study
+    from .stability import format_stability, stability_study
     if args.scene is not None:
         print("sheetkin: error: bench --stability builds its own scenes: give no SCENE.toml",
               file=sys.stderr)

@@ -15,9 +15,10 @@ import mpmath
 import numpy as np
 import pytest
 
-from sheetkin.bench import (FAMILY_TITLES, STABILITY_DISTANCES, SILENT_ERROR, _STABILITY_SCENE, _rrr_mp,
-                            edge_angle_mp, method_solver, reference_near_singular,
-                            stability_scene, stability_study)
+from sheetkin.bench import SILENT_ERROR, method_solver
+from sheetkin.groups.rrr import FOURBAR as _STABILITY_SCENE
+from sheetkin.stability import (FAMILY_TITLES, STABILITY_DISTANCES, edge_mp, family, family_cases,
+                                reference_near_singular, stability_scene, stability_study)
 from sheetkin.cli import main
 from sheetkin.compute import TOGGLE_THRESHOLD, AssemblyError, compute
 from sheetkin.scene import override_crank
@@ -32,8 +33,18 @@ def study(tmp_path_factory):
     return table, warnings, edges, out
 
 
-def rows(table, family, method):
-    t = table[(table["family"] == family) & (table["method"] == method)]
+def _rrr_mp(scene, phi):
+    """(crank joint A, its frame point O1, L2, L3) of a one-dyad scene in mpmath at the crank
+    angle phi (radians, an mpf): the closed form below is this test's, not the package's."""
+    c, g = scene.crank, scene.groups[0]
+    ox, oy = (mpmath.mpf(v) for v in scene.frame[c.pivot])
+    ax, ay = ox + mpmath.mpf(c.length) * mpmath.cos(phi), oy + mpmath.mpf(c.length) * mpmath.sin(phi)
+    jx, jy = (mpmath.mpf(v) for v in scene.frame[g.joints[2]])
+    return (ax, ay), (jx, jy), mpmath.mpf(g.lengths[0]), mpmath.mpf(g.lengths[1])
+
+
+def rows(table, fam, method):
+    t = table[(table["family"] == fam) & (table["method"] == method)]
     assert list(t["d"]) == D
     return t
 
@@ -61,7 +72,7 @@ def test_scenes_are_exact_binary_fractions():
 def test_edge_angle_is_the_discriminant_root():
     scene = stability_scene("toggle")
     with mpmath.workdps(50):
-        edge = edge_angle_mp(scene, 108.0)
+        edge = edge_mp(scene, family("toggle"))
         exact = mpmath.acos(mpmath.mpf(-0.3125))     # (r^2 + d^2 - (L2 + L3)^2) / (2 r d)
         assert abs(edge - exact) < mpmath.mpf(10) ** -45
 
@@ -71,8 +82,8 @@ def test_reference_agrees_with_differentiating_the_closed_form():
     derivatives (mpmath.diff, 60 digits) of B's closed-form position."""
     scene = stability_scene("toggle")
     with mpmath.workdps(60):
-        phi = float(mpmath.degrees(edge_angle_mp(scene, 108.0) - mpmath.mpf("1e-6")))
-        ref = reference_near_singular(scene, [phi])
+        phi = float(mpmath.degrees(edge_mp(scene, family("toggle")) - mpmath.mpf("1e-6")))
+        ref = reference_near_singular(scene, family("toggle"), [phi])
 
         def xb(t_deg):
             (ax, ay), (jx, jy), l2, l3 = _rrr_mp(scene, t_deg * mpmath.pi / 180)
@@ -214,11 +225,11 @@ def test_other_kinds_edges_are_exact(study):
     geometry written out here: the crank-slider's coupler (0.2) stands across its guide
     (y = 0.05) when 0.05 - 0.25 sin(phi) = 0.2; the second rocker O2 D (0.3) stands across
     the line O1 B of the four-bar's rocker, B from the mpmath reference."""
-    from sheetkin.bench import _family_angles, reference_mp
+    from sheetkin.bench import reference_mp
     from sheetkin.scene import parse_scene
     _, _, edges, _ = study
     with mpmath.workdps(50):
-        edge, _, _ = _family_angles("slider-toggle", stability_scene("slider-toggle"), D)
+        edge, _, _ = family_cases(family("slider-toggle"), D)
         # the scene's numbers are the floats 0.05, 0.2, 0.25, taken exactly
         exact = mpmath.pi + mpmath.asin((mpmath.mpf(0.2) - mpmath.mpf(0.05)) / mpmath.mpf(0.25))
         assert abs(edge - exact) < mpmath.mpf(10) ** -40

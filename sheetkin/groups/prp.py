@@ -29,7 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..group import Group, Guide
+from ..group import Family, Group, Guide
 from ..motion import FRAME, GroupMotion, Motion, Pair, Rotation, Slide, cramer, fixed, inverse_det, turned
 from ..rows import Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, det_row, fd_checks, motion_rows
 
@@ -465,3 +465,42 @@ def discriminant(lib, g: Group, known, links):
 def unknowns(g: Group, sol) -> tuple[np.ndarray, np.ndarray]:
     n = g.joints[0]
     return sol.slides[n].s, sol.slides[f"2_{n}"].s
+
+
+def parallel(lib, g: Group, known, links):
+    """sin(theta_b - theta_a), signed: its simple root is where the two lines turn parallel
+    (the stability study's edge; the discriminant, its square, touches 0 there)."""
+    (_, (ta, _, _)), (_, (tb, _, _)) = (_line(lib, gd, known, links) for gd in g.guides)
+    return lib.sin(tb - ta)
+
+
+# --------------------------------------------------------------------------- stability families
+# Two lines always cross unless parallel: PRP has no edge of a range. Its failure is the
+# coupler's line turning parallel to the fixed guide: N runs off to infinity (s ~ 1/d,
+# vs ~ 1/d^2, as ~ 1/d^3) and the toggle measure sin(theta - eta) -> 0 like d. Past it
+# the group assembles again, N coming back from the other side.
+STABILITY = (
+    Family("parallel-lines", "PRP: the coupler's line turning parallel to the fixed guide (N runs off)", """\
+title = "Slider on the coupler of a crank-slider, a fixed guide at 20 deg that the coupler reaches"
+[frame]
+O = [0.0, 0.0]
+[crank]
+pivot = "O"
+joint = "A"
+length = 0.25
+positions = 1
+omega = 10.0
+[[group]]
+type = "RRP"
+links = [2, 3]
+joints = ["A", "B"]
+length = 0.5
+guide = { through = "O", angle_deg = 0.0 }
+branch = 1
+[[group]]
+type   = "PRP"
+links  = [4, 5]
+joints = ["L"]
+guides = [{ through = "A", angle_deg = 0.0, link = 2 }, { through = [0.0, 0.25], angle_deg = 20.0 }]
+""", 2, parallel, near_deg=220.0),
+)

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..group import Group, Guide
+from ..group import Family, Group, Guide
 from ..motion import GroupMotion, Motion, Pair, Rotation, Slide, cramer, inverse_det
 from ..rows import Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, fd_checks, motion_rows
 
@@ -344,3 +344,32 @@ def discriminant(lib, g: Group, known, links):
 def unknowns(g: Group, sol) -> tuple[np.ndarray, np.ndarray]:
     j1, k = g.joints
     return sol.slides[k].s, sol.slides[j1].s
+
+
+# --------------------------------------------------------------------------- stability families
+# The Scotch yoke's toggle measure sin(alpha - gamma) is constant over the cycle: no crank
+# angle is singular. What degenerates is the scene: the slot turned towards the direction
+# of the yoke's guide, K runs off along it (s_K ~ 1/d, and so its rates). The family varies
+# slot_angle_deg towards the guide's 30 deg (not along an axis, so the determinant
+# cos(gamma) sin(alpha) - sin(gamma) cos(alpha) loses digits to cancellation as in a real
+# scene) at one crank angle; within PARALLEL the parser refuses the scene.
+STABILITY = (
+    Family("parallel-slot", "RPP (Scotch yoke): the slot turned towards its guide's direction (K runs off)", """\
+title = "Scotch yoke whose slot nearly runs along the yoke's guide"
+[frame]
+O = [0.0, 0.0]
+[crank]
+pivot = "O"
+joint = "A"
+length = 0.25
+phi0_deg = 100.0
+positions = 1
+omega = 10.0
+[[group]]
+type           = "RPP"
+links          = [2, 3]
+joints         = ["A", "K"]
+slot_angle_deg = {value}
+guide          = { through = "O", angle_deg = 30.0 }
+""", 1, 30.0, vary="slot_angle_deg"),
+)

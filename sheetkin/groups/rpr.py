@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..group import Group
+from ..group import Family, Group
 from ..motion import GroupMotion, Motion, Pair, Rotation, Slide, cramer, cross, inverse_det, sqrt_or_nan
 from ..rows import Builder, InputRow, LoadRows, cramer_rows, det_row, group_guard
 
@@ -301,3 +301,30 @@ def discriminant(lib, g: Group, known, links):
 def unknowns(g: Group, sol) -> tuple[np.ndarray, np.ndarray]:
     rb = sol.links[g.links[1]]
     return np.arctan2(rb.s, rb.c), sol.slides[g.joints[0]].s
+
+
+# --------------------------------------------------------------------------- stability families
+# A slot offset from the kulisa's axis (e = 0.375) that the crank (0.25, the axis 0.5 away)
+# cannot always reach: where |J1 - J2| = e the block stands at the foot of the perpendicular
+# from J2 to the slot (s = L_TEK -> 0, the discriminant L_TEK^2 - e^2 -> 0 and the toggle
+# measure s / L1 -> 0 like sqrt(d)); beyond it the group does not assemble. Binary lengths:
+# the edge cos(phi) = -0.6875 holds in floats.
+STABILITY = (
+    Family("kulisa-edge", "RPR: a slot offset from the kulisa's axis, towards the edge of its range (s -> 0)", """\
+title = "Slotted lever with an offset slot: the crank cannot always reach it"
+[frame]
+O  = [0.0, 0.0]
+C  = [-0.5, 0.0]
+[crank]
+pivot = "O"
+joint = "A"
+length = 0.25
+positions = 1
+omega = 10.0
+[[group]]
+type   = "RPR"
+links  = [2, 3]
+joints = ["A", "C"]
+offset = 0.375
+""", 1, discriminant),
+)

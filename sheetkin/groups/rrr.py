@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..group import Group
+from ..group import Family, Group
 from ..motion import GroupMotion, Motion, Pair, Rotation, carried_point, cramer, cross, inverse_det, sqrt_or_nan
 from ..rows import (Builder, InputRow, LoadRows, carried_rows, cos_sin_rows, cramer_rows, det_row, distance_check,
                     fd_checks, group_guard, relative_velocity_check, via_link_checks)
@@ -329,3 +329,69 @@ def discriminant(lib, g: Group, known, links):
 def unknowns(g: Group, sol) -> tuple[np.ndarray, np.ndarray]:
     ra, rb = sol.links[g.links[0]], sol.links[g.links[1]]
     return np.arctan2(ra.s, ra.c), np.arctan2(rb.s, rb.c)
+
+
+def closed_q(lib, g: Group, known, links):
+    """q = (psi, xi) by the circles' intersection written for any number type (the
+    reference's start where the branches meet: at a change point Newton cannot tell them
+    apart); None where the circles do not meet."""
+    (ax, ay), _, _ = known[g.joints[0]]
+    (jx, jy), _, _ = known[g.joints[2]]
+    l2, l3 = lib.num(g.lengths[0]), lib.num(g.lengths[1])
+    px, py = jx - ax, jy - ay
+    r = lib.sqrt(px * px + py * py)
+    a = (r * r + l2 * l2 - l3 * l3) / (2 * r)          # along J1 -> J2
+    h2 = l2 * l2 - a * a
+    if h2 < 0:
+        return None
+    h = lib.sqrt(h2) * g.branch                        # left of J1 -> J2: +
+    ux, uy = px / r, py / r
+    nx, ny = ax + a * ux - h * uy, ay + a * uy + h * ux
+    return [lib.atan2(ny - ay, nx - ax), lib.atan2(ny - jy, nx - jx)]
+
+
+# --------------------------------------------------------------------------- stability families
+# Four-bars with every length a binary fraction, so the float scene IS the mechanism studied
+# (0.45 + 0.25 != 0.7 in binary would move a change point by ~1e-8 rad, or open a gap there).
+FOURBAR = """\
+title = "{title}"
+author = "sheetkin stability study"
+
+[frame]
+O  = [0.0, 0.0]
+O1 = [{frame!r}, 0.0]
+
+[crank]
+pivot = "O"
+joint = "A"
+length = {crank!r}
+phi0_deg = 0.0
+step_deg = 30.0
+positions = 1
+omega = 10.0
+epsilon = 0.0
+
+[[group]]
+type = "RRR"
+links = [2, 3]
+joints = ["A", "B", "O1"]
+lengths = [{coupler!r}, {rocker!r}]
+branch = {branch}
+"""
+_NON_GRASHOF = FOURBAR.format(title="Non-Grashof four-bar: the crank's range ends in a toggle",
+                              frame=0.5, crank=0.25, coupler=0.375, rocker=0.25, branch=1)
+STABILITY = (
+    # non-Grashof (s + l = 0.75 > p + q = 0.625): at the edge of the crank's range coupler
+    # and rocker stand in line, the dyad's toggle (P^2 + Q^2 - F^2 -> 0, sin(psi - xi) -> 0)
+    Family("toggle", "towards a toggle (non-Grashof crank, edge of its range)", _NON_GRASHOF, 1,
+           discriminant, start=closed_q),
+    # Grashof sum equal (s + l = 0.625 = p + q): at 180 deg all four links are in line and
+    # the two branches meet (the discriminant touches 0 from above)
+    Family("change-point", "towards a change point (s + l = p + q, links in line)",
+           FOURBAR.format(title="Change-point four-bar: s + l = p + q", frame=0.5, crank=0.125,
+                          coupler=0.375, rocker=0.25, branch=1), 1, 180.0, start=closed_q),
+    # the toggle seen from the far side, where no real position exists: the right answer
+    # is a refusal
+    Family("gap-edge", "just outside the edge of a non-assembling interval", _NON_GRASHOF, 1,
+           discriminant, side=1, start=closed_q),
+)
