@@ -44,7 +44,7 @@ import pandas as pd
 
 from .compute import TOGGLE_THRESHOLD, AssemblyError, assembly_gaps, failed_positions, solution_columns
 from .libreoffice import soffice_path
-from .scene import Scene, override_crank, parse_scene
+from .scene import Scene, override_crank
 from .groups import kind_of
 from .motion import slide_names
 from .solver import solve
