@@ -365,7 +365,8 @@ def test_csv_and_png_written(study):
 def test_cli_stability(tmp_path, capsys, monkeypatch):
     # the command runs the study's own function: one family is enough here (the study
     # fixture runs them all)
-    monkeypatch.setattr("sheetkin.stability.families", lambda: [family("toggle")])
+    toggle = family("toggle")
+    monkeypatch.setattr("sheetkin.stability.families", lambda: [toggle])
     assert main(["bench", "--stability", "--out", str(tmp_path)]) == 0
     out, err = capsys.readouterr()
     assert out.split()[:4] == ["family", "d", "method", "status"]
