@@ -30,6 +30,9 @@ Every kind module provides the same surface, under banners in this order:
                              [[mass]] `centre`, [[force]] `at` must be one of them)
   sliders(g) -> list[str]    slide tags, named by motion.slide_names: "N" -> s_N, vs_N,
                              as_N; "2_N" -> s2_N, vs2_N, as2_N
+  fourbar(g, crank_joint, frame) -> (coupler, rocker, pivot, branch) or None   the four-bar
+                             the group closes with the crank (seed 002's synthesis designs
+                             its lengths; only an RRR from the crank's joint to a frame point)
 
   # --- positions, velocities, accelerations (numpy over crank positions)
   solve(g, known, rot, scale) -> motion.GroupMotion

@@ -83,6 +83,11 @@ def sliders(g: Group) -> list[str]:
     return [g.joints[0], f"2_{g.joints[0]}"]
 
 
+def fourbar(g: Group, crank_joint: str, frame) -> None:
+    """Not a four-bar's dyad (only an RRR closes one with the crank: sheetkin.synthesis)."""
+    return None
+
+
 # --------------------------------------------------------------------------- positions and rates
 def guide_line(gd: Guide, known: dict[str, Motion], rot: dict[int, Rotation]) -> tuple[Motion, Rotation]:
     """A guide's point P and direction u = e(phi_k + A), with the rates of the link k that

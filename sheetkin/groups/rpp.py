@@ -80,6 +80,11 @@ def sliders(g: Group) -> list[str]:
     return [g.joints[1], g.joints[0]]
 
 
+def fourbar(g: Group, crank_joint: str, frame) -> None:
+    """Not a four-bar's dyad (only an RRR closes one with the crank: sheetkin.synthesis)."""
+    return None
+
+
 # --------------------------------------------------------------------------- positions and rates
 def toggle(gamma_rad: float, alpha_rad: float) -> float:
     """sin(alpha - gamma): the sine of the angle between the slot and b's guide."""

@@ -66,6 +66,11 @@ def sliders(g: Group) -> list[str]:
     return [g.joints[0]]
 
 
+def fourbar(g: Group, crank_joint: str, frame) -> None:
+    """Not a four-bar's dyad (only an RRR closes one with the crank: sheetkin.synthesis)."""
+    return None
+
+
 # --------------------------------------------------------------------------- positions and rates
 def solve_rpr(j1: Motion, j2: Motion, offset: float, scale: float):
     """The kulisa's rotation, the block's slide, the discriminant, the toggle measure."""

@@ -91,6 +91,11 @@ def sliders(g: Group) -> list[str]:
     return [g.joints[1]]
 
 
+def fourbar(g: Group, crank_joint: str, frame) -> None:
+    """Not a four-bar's dyad (only an RRR closes one with the crank: sheetkin.synthesis)."""
+    return None
+
+
 # --------------------------------------------------------------------------- positions and rates
 def guide_line(guide: Guide, known: dict[str, Motion], rot: dict[int, Rotation]) -> tuple[Motion, Rotation]:
     """The guide's point G and direction u (with the rates of the link that carries it)."""

@@ -74,6 +74,15 @@ def sliders(g: Group) -> list[str]:
     return []
 
 
+def fourbar(g: Group, crank_joint: str, frame) -> tuple[float, float, str, int] | None:
+    """(coupler, rocker, the rocker's frame pivot, branch) if the group closes a four-bar
+    with the crank (J1 the crank's joint, J2 a frame point), the mechanism whose lengths
+    seed 002's synthesis designs (sheetkin.synthesis); else None."""
+    if g.joints[0] == crank_joint and g.joints[2] in frame:
+        return g.lengths[0], g.lengths[1], g.joints[2], g.branch
+    return None
+
+
 # --------------------------------------------------------------------------- positions and rates
 def solve_rrr(j1: Motion, j2: Motion, l2: float, l3: float, branch: int):
     """Constraint (a) in closed form, then systems (b) and (c) by Cramer. The half-angle
