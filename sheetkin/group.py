@@ -84,3 +84,12 @@ class Family:
     side: int = -1
     start: object = None
     vary: str | None = None
+
+
+def crank_scene(title: str, groups: str, frame: str = "O = [0.0, 0.0]", length: float = 0.25,
+                omega: float = 10.0, phi0_deg: float = 0.0) -> str:
+    """A family's scene (TOML): a crank O A of `length` at one position phi0_deg, the frame
+    points (TOML lines, O included) and the groups' tables."""
+    return (f'title = "{title}"\nauthor = "sheetkin stability study"\n[frame]\n{frame}\n'
+            f'[crank]\npivot = "O"\njoint = "A"\nlength = {length!r}\nphi0_deg = {phi0_deg!r}\n'
+            f'positions = 1\nomega = {omega!r}\n{groups}')

@@ -29,7 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..group import Family, Group, Guide
+from ..group import Family, Group, Guide, crank_scene
 from ..motion import FRAME, GroupMotion, Motion, Pair, Rotation, Slide, cramer, fixed, inverse_det, turned
 from ..rows import Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, det_row, fd_checks, motion_rows
 
@@ -485,16 +485,8 @@ def parallel(lib, g: Group, known, links):
 # vs ~ 1/d^2, as ~ 1/d^3) and the toggle measure sin(theta - eta) -> 0 like d. Past it
 # the group assembles again, N coming back from the other side.
 STABILITY = (
-    Family("parallel-lines", "PRP: the coupler's line turning parallel to the fixed guide (N runs off)", """\
-title = "Slider on the coupler of a crank-slider, a fixed guide at 20 deg that the coupler reaches"
-[frame]
-O = [0.0, 0.0]
-[crank]
-pivot = "O"
-joint = "A"
-length = 0.25
-positions = 1
-omega = 10.0
+    Family("parallel-lines", "PRP: the coupler's line turning parallel to the fixed guide (N runs off)",
+           crank_scene("Slider on the coupler of a crank-slider, a fixed guide at 20 deg that the coupler reaches", """\
 [[group]]
 type = "RRP"
 links = [2, 3]
@@ -507,5 +499,5 @@ type   = "PRP"
 links  = [4, 5]
 joints = ["L"]
 guides = [{ through = "A", angle_deg = 0.0, link = 2 }, { through = [0.0, 0.25], angle_deg = 20.0 }]
-""", 2, parallel, near_deg=220.0),
+"""), 2, parallel, near_deg=220.0),
 )

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..group import Family, Group, Guide
+from ..group import Family, Group, Guide, crank_scene
 from ..motion import GroupMotion, Motion, Pair, Rotation, Slide, cramer, inverse_det
 from ..rows import Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, fd_checks, motion_rows
 
@@ -359,22 +359,13 @@ def unknowns(g: Group, sol) -> tuple[np.ndarray, np.ndarray]:
 # cos(gamma) sin(alpha) - sin(gamma) cos(alpha) loses digits to cancellation as in a real
 # scene) at one crank angle; within PARALLEL the parser refuses the scene.
 STABILITY = (
-    Family("parallel-slot", "RPP (Scotch yoke): the slot turned towards its guide's direction (K runs off)", """\
-title = "Scotch yoke whose slot nearly runs along the yoke's guide"
-[frame]
-O = [0.0, 0.0]
-[crank]
-pivot = "O"
-joint = "A"
-length = 0.25
-phi0_deg = 100.0
-positions = 1
-omega = 10.0
+    Family("parallel-slot", "RPP (Scotch yoke): the slot turned towards its guide's direction (K runs off)",
+           crank_scene("Scotch yoke whose slot nearly runs along the yoke's guide", """\
 [[group]]
 type           = "RPP"
 links          = [2, 3]
 joints         = ["A", "K"]
 slot_angle_deg = {value}
 guide          = { through = "O", angle_deg = 30.0 }
-""", 1, 30.0, vary="slot_angle_deg"),
+""", phi0_deg=100.0), 1, 30.0, vary="slot_angle_deg"),
 )

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..group import Family, Group
+from ..group import Family, Group, crank_scene
 from ..motion import GroupMotion, Motion, Pair, Rotation, Slide, cramer, cross, inverse_det, sqrt_or_nan
 from ..rows import Builder, InputRow, LoadRows, cramer_rows, det_row, group_guard
 
@@ -315,21 +315,14 @@ def unknowns(g: Group, sol) -> tuple[np.ndarray, np.ndarray]:
 # measure s / L1 -> 0 like sqrt(d)); beyond it the group does not assemble. Binary lengths:
 # the edge cos(phi) = -0.6875 holds in floats.
 STABILITY = (
-    Family("kulisa-edge", "RPR: a slot offset from the kulisa's axis, towards the edge of its range (s -> 0)", """\
-title = "Slotted lever with an offset slot: the crank cannot always reach it"
-[frame]
-O  = [0.0, 0.0]
-C  = [-0.5, 0.0]
-[crank]
-pivot = "O"
-joint = "A"
-length = 0.25
-positions = 1
-omega = 10.0
+    Family("kulisa-edge", "RPR: a slot offset from the kulisa's axis, towards the edge of its range (s -> 0)",
+           crank_scene("Slotted lever with an offset slot: the crank cannot always reach it", """\
 [[group]]
 type   = "RPR"
 links  = [2, 3]
 joints = ["A", "C"]
 offset = 0.375
-""", 1, discriminant),
+""", frame="""\
+O  = [0.0, 0.0]
+C  = [-0.5, 0.0]"""), 1, discriminant),
 )

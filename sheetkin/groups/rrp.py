@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..group import Family, Group, Guide
+from ..group import Family, Group, Guide, crank_scene
 from ..motion import (FRAME, GroupMotion, Motion, Pair, Rotation, Slide, cramer, fixed, inverse_det, on_line,
                       sqrt_or_nan, turned)
 from ..rows import (Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, det_row, distance_check, fd_checks,
@@ -522,16 +522,8 @@ def unknowns(g: Group, sol) -> tuple[np.ndarray, np.ndarray]:
 # Both ranges end where the coupler stands across its guide (L^2 - h^2 -> 0, the toggle
 # measure cos(phi - gamma) -> 0), approached from inside, as the four-bar's toggle.
 STABILITY = (
-    Family("slider-toggle", "RRP: towards the coupler standing across its guide (edge of the range)", """\
-title = "Crank-slider with a short coupler: it stands across the guide at the edge of its range"
-[frame]
-O = [0.0, 0.0]
-[crank]
-pivot = "O"
-joint = "A"
-length = 0.25
-positions = 1
-omega = 10.0
+    Family("slider-toggle", "RRP: towards the coupler standing across its guide (edge of the range)",
+           crank_scene("Crank-slider with a short coupler: it stands across the guide at the edge of its range", """\
 [[group]]
 type = "RRP"
 links = [2, 3]
@@ -539,19 +531,9 @@ joints = ["A", "B"]
 length = 0.2
 guide = { through = [0.0, 0.05], angle_deg = 0.0 }
 branch = 1
-""", 1, discriminant),
-    Family("slotted-toggle", "RRP on a moving guide (two rockers, slotted pair): rocker across the kulisa", """\
-title = "Two rockers with a slotted pair: rocker O2 D stands across the kulisa O1 B at the edge"
-[frame]
-O  = [0.0, 0.0]
-O1 = [0.0, -0.53]
-O2 = [-0.45, -0.2]
-[crank]
-pivot = "O"
-joint = "A"
-length = 0.14
-positions = 1
-omega = 20.0
+"""), 1, discriminant),
+    Family("slotted-toggle", "RRP on a moving guide (two rockers, slotted pair): rocker across the kulisa",
+           crank_scene("Two rockers with a slotted pair: rocker O2 D stands across the kulisa O1 B at the edge", """\
 [[group]]
 type    = "RRR"
 links   = [2, 3]
@@ -565,5 +547,8 @@ joints = ["O2", "D"]
 length = 0.3
 guide  = { through = "O1", angle_deg = 0.0, link = 3 }
 branch = -1
-""", 2, discriminant),
+""", frame="""\
+O  = [0.0, 0.0]
+O1 = [0.0, -0.53]
+O2 = [-0.45, -0.2]""", length=0.14, omega=20.0), 2, discriminant),
 )
