@@ -114,6 +114,27 @@ def turned(rot: Rotation, angle_deg: float) -> Rotation:
     return Rotation(rot.c * ca - rot.s * sa, rot.s * ca + rot.c * sa, rot.omega, rot.eps)
 
 
+def guide_line(gd, known: dict, rot: dict) -> tuple[Motion, Rotation]:
+    """A guide's (group.Guide) point P and direction u = e(phi_k + A), with the rates of
+    the link k that carries it (the frame's: none); RRP and PRP place their blocks on it."""
+    if not gd.moving:
+        a = np.radians(gd.angle_deg)
+        return fixed(*gd.point), Rotation(np.cos(a), np.sin(a), 0.0, 0.0)
+    return known[gd.through], turned(rot.get(gd.link, FRAME), gd.angle_deg)
+
+
+def guide_loop(lib, gd, known: dict, links: dict):
+    """The same for the loop equations, in any number type `lib` (sheetkin.bench's MP or
+    FLOAT): the guide's point ((x, y), (vx, vy), (ax, ay)) and (angle, omega, eps)."""
+    n = lib.num
+    a = n(gd.angle_deg) * lib.pi() / 180
+    if not gd.moving:
+        z = (n(0), n(0))
+        return ((n(gd.point[0]), n(gd.point[1])), z, z), (a, n(0), n(0))
+    phi, w, eps = links[gd.link]
+    return known[gd.through], (phi + a, w, eps)
+
+
 FRAME = Rotation(1.0, 0.0, 0.0, 0.0)   # link 0: phi_0 = 0, at rest
 
 

@@ -30,7 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..group import Family, Group, Guide, crank_scene
-from ..motion import FRAME, GroupMotion, Motion, Pair, Rotation, Slide, cramer, fixed, inverse_det, turned
+from ..motion import GroupMotion, Motion, Pair, Rotation, Slide, cramer, guide_line, guide_loop, inverse_det
 from ..rows import Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, det_row, fd_checks, motion_rows
 
 # --------------------------------------------------------------------------- what it is
@@ -89,15 +89,6 @@ def fourbar(g: Group, crank_joint: str, frame) -> None:
 
 
 # --------------------------------------------------------------------------- positions and rates
-def guide_line(gd: Guide, known: dict[str, Motion], rot: dict[int, Rotation]) -> tuple[Motion, Rotation]:
-    """A guide's point P and direction u = e(phi_k + A), with the rates of the link k that
-    carries it (the frame's: none)."""
-    if not gd.moving:
-        a = np.radians(gd.angle_deg)
-        return fixed(*gd.point), Rotation(np.cos(a), np.sin(a), 0.0, 0.0)
-    return known[gd.through], turned(rot.get(gd.link, FRAME), gd.angle_deg)
-
-
 def solve_prp(pa: Motion, ga: Rotation, pb: Motion, gb: Rotation):
     """N, the two slides (s_N along guide a, s2_N along guide b), the discriminant
     (negative where the guides are parallel) and the toggle measure sin(theta_b - theta_a)."""
@@ -432,22 +423,11 @@ def loop_lines(lib, pa, guide_a, pb, guide_b):
     return F, J, b_v, b_a, place
 
 
-def _line(lib, gd: Guide, known, links):
-    """A guide's point (position, velocity, acceleration) and (angle, omega, eps)."""
-    n = lib.num
-    a = n(gd.angle_deg) * lib.pi() / 180
-    if not gd.moving:
-        z = (n(0), n(0))
-        return ((n(gd.point[0]), n(gd.point[1])), z, z), (a, n(0), n(0))
-    phi, w, eps = links[gd.link]
-    return known[gd.through], (phi + a, w, eps)
-
-
 def loop(lib, g: Group, known, links):
     """P1 + s u1 = P2 + s2 u2 (loop_lines) with the scene's guides; q = (s_N, s2_N)."""
     n = g.joints[0]
-    F, J, b_v, b_a, place_lines = loop_lines(lib, *_line(lib, g.guides[0], known, links),
-                                             *_line(lib, g.guides[1], known, links))
+    F, J, b_v, b_a, place_lines = loop_lines(lib, *guide_loop(lib, g.guides[0], known, links),
+                                             *guide_loop(lib, g.guides[1], known, links))
 
     def place(q, qt, qtt):
         joint, rots, (sa, sb) = place_lines(q, qt, qtt)
@@ -463,7 +443,7 @@ def side_ok(lib, g: Group, known, links, q, joints) -> bool:
 def discriminant(lib, g: Group, known, links):
     """sin^2(theta_b - theta_a): two lines always cross unless parallel, where it touches 0
     (the toggle; PRP has no range edge)."""
-    (_, (ta, _, _)), (_, (tb, _, _)) = (_line(lib, gd, known, links) for gd in g.guides)
+    (_, (ta, _, _)), (_, (tb, _, _)) = (guide_loop(lib, gd, known, links) for gd in g.guides)
     return lib.sin(tb - ta) ** 2
 
 
@@ -475,7 +455,7 @@ def unknowns(g: Group, sol) -> tuple[np.ndarray, np.ndarray]:
 def parallel(lib, g: Group, known, links):
     """sin(theta_b - theta_a), signed: its simple root is where the two lines turn parallel
     (the stability study's edge; the discriminant, its square, touches 0 there)."""
-    (_, (ta, _, _)), (_, (tb, _, _)) = (_line(lib, gd, known, links) for gd in g.guides)
+    (_, (ta, _, _)), (_, (tb, _, _)) = (guide_loop(lib, gd, known, links) for gd in g.guides)
     return lib.sin(tb - ta)
 
 

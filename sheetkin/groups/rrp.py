@@ -22,8 +22,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..group import Family, Group, Guide, crank_scene
-from ..motion import (FRAME, GroupMotion, Motion, Pair, Rotation, Slide, cramer, fixed, inverse_det, on_line,
-                      sqrt_or_nan, turned)
+from ..motion import (GroupMotion, Motion, Pair, Rotation, Slide, cramer, guide_line, guide_loop, inverse_det,
+                      on_line, sqrt_or_nan)
 from ..rows import (Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, det_row, distance_check, fd_checks,
                     group_guard, motion_rows, relative_velocity_check, via_link_checks)
 
@@ -97,14 +97,6 @@ def fourbar(g: Group, crank_joint: str, frame) -> None:
 
 
 # --------------------------------------------------------------------------- positions and rates
-def guide_line(guide: Guide, known: dict[str, Motion], rot: dict[int, Rotation]) -> tuple[Motion, Rotation]:
-    """The guide's point G and direction u (with the rates of the link that carries it)."""
-    if not guide.moving:
-        a = np.radians(guide.angle_deg)
-        return fixed(*guide.point), Rotation(np.cos(a), np.sin(a), 0.0, 0.0)
-    return known[guide.through], turned(rot.get(guide.link, FRAME), guide.angle_deg)
-
-
 def solve_rrp(j1: Motion, length: float, origin: Motion, u: Rotation, branch: int):
     """J1 + L e(phi) = G + s u: h, the signed distance of J1 from the guide, gives the
     coupler's angle to the guide, sin(mu) = h / L (slides 13-15, 29); N lies sqrt(L^2 - h^2)
@@ -449,21 +441,10 @@ def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
 
 
 # --------------------------------------------------------------------------- loop equations
-def _guide(lib, g: Group, known, links):
-    """The guide's point (position, velocity, acceleration) and its angle with rates."""
-    n, gd = lib.num, g.guide
-    a = n(gd.angle_deg) * lib.pi() / 180
-    if not gd.moving:
-        z = (n(0), n(0))
-        return ((n(gd.point[0]), n(gd.point[1])), z, z), (a, n(0), n(0))
-    phi, w, eps = links[gd.link]
-    return known[gd.through], (phi + a, w, eps)
-
-
 def loop(lib, g: Group, known, links):
     """J1 + L e(p2) = G + s u(th); q = (p2, s); th = phi_k + A turns with link k."""
     p1, v1, a1 = known[g.joints[0]]
-    (pg, vg, ag), (th, w, eps) = _guide(lib, g, known, links)
+    (pg, vg, ag), (th, w, eps) = guide_loop(lib, g.guide, known, links)
     length = lib.num(g.length)
     ux, uy = lib.cos(th), lib.sin(th)
     nx, ny = -uy, ux
@@ -498,7 +479,7 @@ def loop(lib, g: Group, known, links):
 def side_ok(lib, g: Group, known, links, q, joints) -> bool:
     """+1 if N is ahead of the foot of the perpendicular from J1, along the guide."""
     p1 = known[g.joints[0]][0]
-    _, (th, _, _) = _guide(lib, g, known, links)
+    _, (th, _, _) = guide_loop(lib, g.guide, known, links)
     nj = joints[g.joints[1]][0]
     v = (nj[0] - p1[0]) * lib.cos(th) + (nj[1] - p1[1]) * lib.sin(th)
     return (1 if v > 0 else -1) == g.branch
@@ -507,7 +488,7 @@ def side_ok(lib, g: Group, known, links, q, joints) -> bool:
 def discriminant(lib, g: Group, known, links):
     """L^2 - h^2, h the distance of J1 from the guide: 0 with the coupler across the guide."""
     p1 = known[g.joints[0]][0]
-    (pg, _, _), (th, _, _) = _guide(lib, g, known, links)
+    (pg, _, _), (th, _, _) = guide_loop(lib, g.guide, known, links)
     h = -(p1[0] - pg[0]) * lib.sin(th) + (p1[1] - pg[1]) * lib.cos(th)
     length = lib.num(g.length)
     return length * length - h * h
