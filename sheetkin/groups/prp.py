@@ -31,7 +31,8 @@ import numpy as np
 
 from ..group import Family, Group, Guide, crank_scene
 from ..motion import GroupMotion, Motion, Pair, Rotation, Slide, cramer, guide_line, guide_loop, inverse_det
-from ..rows import Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, det_row, fd_checks, motion_rows
+from ..rows import (Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, det_row, fd_checks, motion_rows,
+                    residual)
 
 # --------------------------------------------------------------------------- what it is
 KIND = "PRP"
@@ -264,7 +265,7 @@ def rows(b: Builder, g: Group):
                              f"velocity of block {N} along guide 1 (Cramer)"),
                             (f"vs2_{N}", "m/s", f"скорость ползуна {N} вдоль направляющей 2 (Крамер)",
                              f"velocity of slider {N} along guide 2 (Cramer)")),
-                (v1, v2), (f"chk_vsys_g{i}", "невязка системы для скоростей", "residual of the velocity system"))
+                (v1, v2), residual(i, "v"))
     f1, f2, t1, t2 = f"f1_g{i}", f"f2_g{i}", f"t1_g{i}", f"t2_g{i}"
     b.add(t1, "m/s^2", "2 vs omega1 + s eps1: кориолисово и касательное ускорения поперёк направляющей 1",
           "2 vs omega1 + s eps1: Coriolis and tangential terms across guide 1", "calc",
@@ -281,11 +282,8 @@ def rows(b: Builder, g: Group):
                              f"acceleration of block {N} along guide 1"),
                             (f"as2_{N}", "m/s^2", f"ускорение ползуна {N} вдоль направляющей 2",
                              f"acceleration of slider {N} along guide 2")),
-                (f"{{{f1}}}", f"{{{f2}}}"), (f"chk_asys_g{i}", "невязка системы для ускорений",
-                                             "residual of the acceleration system"))
-    b.rot[la] = (f"cos_{la}", f"sin_{la}", f"omega_{la}", f"eps_{la}")
-    b.rot[lb] = (f"cos_{lb}", f"sin_{lb}", f"omega_{lb}", f"eps_{lb}")
-    b.guard_of_link[la] = b.guard_of_link[lb] = b.guard
+                (f"{{{f1}}}", f"{{{f2}}}"), residual(i, "a"))
+    b.place_links(la, lb)
     b.section(f"point_{N}", f"Шарнир {N} = точка L: движение с направляющей 1 и по ней",
               f"Hinge {N} = the point L: carried by guide 1 and sliding on it")
     tu = f"({{as_{N}}}-{S1}*{wa}^2)"

@@ -191,9 +191,7 @@ def rows(b: Builder, g: Group):
               "accepted", "0")
     split(*systems[1])
     split(*systems[2])
-    b.rot[la] = (f"cos_{la}", f"sin_{la}", f"omega_{la}", f"eps_{la}")
-    b.rot[lb] = (f"cos_{lb}", f"sin_{lb}", f"omega_{lb}", f"eps_{lb}")
-    b.guard_of_link[la] = b.guard_of_link[lb] = b.guard
+    b.place_links(la, lb)
     b.section(f"point_{K}", f"Точка {K} кулисы {lb} на её направляющей", f"Point {K} of kulisa {lb} on its guide")
     motion_rows(b, K, f"точки {K}", f"point {K}", f"{gx}+{{s_{K}}}*{ug[0]}", f"{gy}+{{s_{K}}}*{ug[1]}",
                 f"{{vs_{K}}}*{ug[0]}", f"{{vs_{K}}}*{ug[1]}", f"{{as_{K}}}*{ug[0]}", f"{{as_{K}}}*{ug[1]}")

@@ -20,7 +20,7 @@ import numpy as np
 
 from ..group import Family, Group, crank_scene
 from ..motion import GroupMotion, Motion, Pair, Rotation, Slide, cramer, cross, inverse_det, sqrt_or_nan
-from ..rows import Builder, InputRow, LoadRows, cramer_rows, det_row, group_guard
+from ..rows import Builder, InputRow, LoadRows, cramer_rows, det_row, group_guard, residual
 
 # --------------------------------------------------------------------------- what it is
 KIND = "RPR"
@@ -162,7 +162,7 @@ def rows(b: Builder, g: Group):
                   f"angular velocity of the lever {lb} (Cramer)"),
                             (f"vs_{J1}", "m/s", f"относительная скорость камня {J1} вдоль кулисы",
                              f"velocity of block {J1} along the slot")),
-                (b1, b2), (f"chk_vsys_g{i}", "невязка системы для скоростей", "residual of the velocity system"))
+                (b1, b2), residual(i, "v"))
     w, vs = f"{{omega_{lb}}}", f"{{vs_{J1}}}"
     bx, by = f"bx_g{i}", f"by_g{i}"
     # bias of the acceleration system: 2 s_t theta_t n (Coriolis) - s theta_t^2 u - e theta_t^2 n
@@ -175,15 +175,14 @@ def rows(b: Builder, g: Group):
                 ((f"eps_{lb}", "rad/s^2", f"угловое ускорение кулисы {lb}", f"angular acceleration of the lever {lb}"),
                             (f"as_{J1}", "m/s^2", f"относительное ускорение камня {J1} вдоль кулисы",
                              f"acceleration of block {J1} along the slot")),
-                (f1, f2), (f"chk_asys_g{i}", "невязка системы для ускорений", "residual of the acceleration system"))
+                (f1, f2), residual(i, "a"))
     b.add(f"omega_{la}", "rad/s", f"угловая скорость камня {la}", f"angular velocity of the block {la}", "accepted",
           f"{{omega_{lb}}}")
     b.add(f"eps_{la}", "rad/s^2", f"угловое ускорение камня {la}", f"angular acceleration of the block {la}",
           "accepted", f"{{eps_{lb}}}")
     b.add(f"cos_{lb}", "", f"cos угла кулисы {lb}", f"cos of lever {lb}'s angle", "calc", c)
     b.add(f"sin_{lb}", "", f"sin угла кулисы {lb}", f"sin of lever {lb}'s angle", "calc", s)
-    b.rot[la] = b.rot[lb] = (f"cos_{lb}", f"sin_{lb}", f"omega_{lb}", f"eps_{lb}")
-    b.guard_of_link[la] = b.guard_of_link[lb] = b.guard
+    b.place_links(la, lb, rot=(f"cos_{lb}", f"sin_{lb}", f"omega_{lb}", f"eps_{lb}"))
     # the block's motion seen on the lever: v_J1 = v_J2 + omega x r + vs u,
     # a_J1 = a_J2 + eps x r - omega^2 r + as u + 2 omega vs n (Coriolis)
     ep, as_ = f"{{eps_{lb}}}", f"{{as_{J1}}}"

@@ -25,7 +25,7 @@ from ..group import Family, Group, Guide, crank_scene
 from ..motion import (GroupMotion, Motion, Pair, Rotation, Slide, cramer, guide_line, guide_loop, inverse_det,
                       on_line, sqrt_or_nan)
 from ..rows import (Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, det_row, distance_check, fd_checks,
-                    group_guard, motion_rows, relative_velocity_check, via_link_checks)
+                    group_guard, motion_rows, relative_velocity_check, residual, via_link_checks)
 
 # --------------------------------------------------------------------------- what it is
 KIND = "RRP"
@@ -215,7 +215,7 @@ def _fixed_guide_rows(b: Builder, g: Group):
                   f"angular velocity of coupler {la} (Cramer)"),
                             (f"vs_{N}", "m/s", f"скорость ползуна {N} вдоль направляющей",
                              f"velocity of slider {N} along the guide")),
-                (b1, b2), (f"chk_vsys_g{i}", "невязка системы для скоростей", "residual of the velocity system"))
+                (b1, b2), residual(i, "v"))
     f1, f2 = f"f1_g{i}", f"f2_g{i}"
     wa = f"{{omega_{la}}}"
     b.add(f1, "m/s^2", "правая часть для ускорений f1", "right side of the acceleration system f1", "calc",
@@ -227,10 +227,8 @@ def _fixed_guide_rows(b: Builder, g: Group):
                             (f"as_{N}", "m/s^2", f"ускорение ползуна {N} вдоль направляющей",
                              f"acceleration of slider {N} along the guide")),
                 (f"{{{f1}}}", f"{{{f2}}}"),
-                (f"chk_asys_g{i}", "невязка системы для ускорений", "residual of the acceleration system"))
-    b.rot[la] = (f"cos_{la}", f"sin_{la}", f"omega_{la}", f"eps_{la}")
-    b.rot[lb] = (f"cos_{lb}", f"sin_{lb}", f"omega_{lb}", f"eps_{lb}")
-    b.guard_of_link[la] = b.guard_of_link[lb] = b.guard
+                residual(i, "a"))
+    b.place_links(la, lb)
     b.section(f"point_{N}", f"Ползун {N}", f"Slider {N}")
     s, vs, as_ = f"{{{sN}}}", f"{{vs_{N}}}", f"{{as_{N}}}"
     motion_rows(b, N, f"ползуна {N}", f"slider {N}", f"{gx}+{s}*{ux}", f"{gy}+{s}*{uy}",
@@ -322,7 +320,7 @@ def _moving_guide_rows(b: Builder, g: Group):
                   f"angular velocity of link {la} (Cramer)"),
                             (f"vs_{N}", "m/s", f"(L_tek)_t: скорость камня {N} по кулисе",
                              f"(L_tek)_t: velocity of block {N} along the kulisa")),
-                (b1, b2), (f"chk_vsys_g{i}", "невязка системы для скоростей", "residual of the velocity system"))
+                (b1, b2), residual(i, "v"))
     f1, f2 = f"f1_g{i}", f"f2_g{i}"
     wa, vs = f"{{omega_{la}}}", f"{{vs_{N}}}"
     tn = f"(2*{vs}*{wk}+{S}*{ek})"
@@ -336,10 +334,8 @@ def _moving_guide_rows(b: Builder, g: Group):
                             (f"as_{N}", "m/s^2", f"(L_tek)_tt: ускорение камня {N} по кулисе",
                              f"(L_tek)_tt: acceleration of block {N} along the kulisa")),
                 (f"{{{f1}}}", f"{{{f2}}}"),
-                (f"chk_asys_g{i}", "невязка системы для ускорений", "residual of the acceleration system"))
-    b.rot[la] = (f"cos_{la}", f"sin_{la}", f"omega_{la}", f"eps_{la}")
-    b.rot[lb] = (f"cos_{lb}", f"sin_{lb}", f"omega_{lb}", f"eps_{lb}")
-    b.guard_of_link[la] = b.guard_of_link[lb] = b.guard
+                residual(i, "a"))
+    b.place_links(la, lb)
     b.section(f"point_{N}", f"Камень {N}: движение вместе с кулисой и по ней",
               f"Block {N}: carried by the kulisa and sliding on it")
     as_ = f"{{as_{N}}}"

@@ -21,7 +21,7 @@ import numpy as np
 from ..group import Family, Group
 from ..motion import GroupMotion, Motion, Pair, Rotation, carried_point, cramer, cross, inverse_det, sqrt_or_nan
 from ..rows import (Builder, InputRow, LoadRows, carried_rows, cos_sin_rows, cramer_rows, det_row, distance_check,
-                    fd_checks, group_guard, relative_velocity_check, via_link_checks)
+                    fd_checks, group_guard, relative_velocity_check, residual, via_link_checks)
 
 # --------------------------------------------------------------------------- what it is
 KIND = "RRR"
@@ -207,10 +207,8 @@ def rows(b: Builder, g: Group):
                             (f"eps_{lb}", "rad/s^2", f"угловое ускорение звена {lb}",
                              f"angular acceleration of link {lb}")),
                 (f"{{{f1}}}", f"{{{f2}}}"),
-                (f"chk_asys_g{i}", "невязка системы для ускорений", "residual of the acceleration system"))
-    b.rot[la] = (f"cos_{la}", f"sin_{la}", f"omega_{la}", f"eps_{la}")
-    b.rot[lb] = (f"cos_{lb}", f"sin_{lb}", f"omega_{lb}", f"eps_{lb}")
-    b.guard_of_link[la] = b.guard_of_link[lb] = b.guard
+                residual(i, "a"))
+    b.place_links(la, lb)
     carried_rows(b, N, la, J1, L2, "0", f"шарнира {N}", f"hinge {N}")
     distance_check(b, f"chk_{J1}{N}", J1, N, L2, f"проверка: |{J1}{N}| - L{la}", f"check: |{J1}{N}| - L{la}")
     distance_check(b, f"chk_{N}{J2}", N, J2, L3, f"проверка: |{N}{J2}| - L{lb}", f"check: |{N}{J2}| - L{lb}")
