@@ -29,7 +29,7 @@ import mpmath
 import numpy as np
 import pandas as pd
 
-from .bench import (FAMILIES, FLOAT, FLOOR, LOSE, MP, NEWTON_MAX_ITER, NEWTON_TOL, SILENT_ERROR, _unknowns, _walk,
+from .bench import (FAMILIES, FLOAT, FLOOR, LOSE, MP, NEWTON_MAX_ITER, NEWTON_TOL, SILENT_ERROR, _best_time, _unknowns, _walk,
                     errors, fd_unsure, fd_values, newton_singular, quantity_names, step_doubling,
                     unsure)
 from .compute import TOGGLE_THRESHOLD, assembly_gaps, failed_positions, solution_columns
@@ -47,7 +47,8 @@ _REF_EXTRA_DPS = 30         # the reference's guard digits: the singular point c
 # the jacobian_sine of its own answer; fd: not a determinant but its step-doubling
 # estimate); varies: "crank angle" or the scene key the family varies, value_deg its value
 STABILITY_COLUMNS = ["family", "d", "distance", "phi_deg", "method", "param", "status",
-                     "err_pos", "err_vel", "err_acc", "det", "silent", "varies", "value_deg"]
+                     "err_pos", "err_vel", "err_acc", "det", "silent", "varies", "value_deg", "seconds"]
+STABILITY_REPEATS = 3       # seconds: the best of this many runs at each distance
 FAMILY_TITLES = {f.name: f.title for f in families()}
 CRANK = "crank angle"
 
@@ -235,17 +236,18 @@ def _finite(values: dict) -> bool:
 def newton_walk(walk, threshold: float):
     """Newton on the loop equations at each (scene, crank angle) of `walk` in turn, each
     started from the last answer (the first from the closed-form solver's), as
-    bench.method_newton: (values or None, status, jacobian_sine) per point. Status:
+    bench.method_newton: (values or None, status, jacobian_sine, seconds) per point. Status:
     refused (no scene), diverged, branch jump, nan, flagged (|jacobian_sine| < threshold:
     newton_singular) or ok."""
     guess, out = None, []
     for scene, phi in walk:
         if scene is None:
-            out.append((None, "refused", np.nan))
+            out.append((None, "refused", np.nan, np.nan))
             continue
         if guess is None:
             guess = dict(_unknowns(scene, [phi])[0])
-        values, qs, problems, sines = _walk(FLOAT, scene, phi, guess, NEWTON_TOL, NEWTON_MAX_ITER)
+        (values, qs, problems, sines), t = _best_time(
+            lambda: _walk(FLOAT, scene, phi, dict(guess), NEWTON_TOL, NEWTON_MAX_ITER), STABILITY_REPEATS)
         guess.update(qs)
         sine = min(sines.values(), key=abs) if values and sines else np.nan
         if problems:
@@ -256,7 +258,7 @@ def newton_walk(walk, threshold: float):
             status = "flagged"
         else:
             status = "ok"
-        out.append((values, status, sine))
+        out.append((values, status, sine, t))
     return out
 
 
@@ -267,7 +269,7 @@ def _stability_family(f: Family, distances, threshold: float):
     varies = CRANK if f.vary is None else f.vary
     rows = []
 
-    def add(i, method, param, status, values, det=np.nan):
+    def add(i, method, param, status, values, det=np.nan, seconds=np.nan):
         exists = ref[i] is not None
         if not exists or values is None or status in ("refused", "diverged", "nan"):
             err = {"err_pos": np.nan, "err_vel": np.nan, "err_acc": np.nan}
@@ -280,7 +282,8 @@ def _stability_family(f: Family, distances, threshold: float):
         _, phi, value, dist = cases[i]
         rows.append({"family": f.name, "d": distances[i], "distance": dist, "phi_deg": phi,
                      "method": method, "param": param, "status": status, **err,
-                     "det": det, "silent": bool(silent), "varies": varies, "value_deg": value})
+                     "det": det, "silent": bool(silent), "varies": varies, "value_deg": value,
+                     "seconds": seconds})
 
     # Newton walks from STABILITY_FAR rad away towards (and, from beyond, past) the edge,
     # each position warm-started from the last converged one
@@ -301,19 +304,20 @@ def _stability_family(f: Family, distances, threshold: float):
             for method in ("solver", "newton", "fd"):
                 add(i, method, "", "refused", None)
             continue
-        sv, sfail, sdet = _solver_at(scene, [phi])
+        (sv, sfail, sdet), t = _best_time(lambda: _solver_at(scene, [phi]), STABILITY_REPEATS)
         st = ("refused" if sfail[0] else "nan" if not _finite(sv) else
               "flagged" if sdet[0] < threshold else "ok")
-        add(i, "solver", "", st, sv, sdet[0])
+        add(i, "solver", "", st, sv, sdet[0], t)
         # Newton's own toggle measure (jacobian_sine) and flag, as the main bench's
-        values, st, sine = newton[pick[i]]
-        add(i, "newton", f"from {STABILITY_FAR:g} rad", st, values, sine)
+        values, st, sine, t = newton[pick[i]]
+        add(i, "newton", f"from {STABILITY_FAR:g} rad", st, values, sine, t)
         # finite differences cannot tell by themselves; the bench can, from the solver's
         # toggle measure and from the step doubled (fd_estimate)
-        fv, fest = _fd_at(scene, [phi]), fd_estimate(scene, [phi])
+        fv, t = _best_time(lambda: _fd_at(scene, [phi]), STABILITY_REPEATS)
+        fest = fd_estimate(scene, [phi])
         st = ("refused" if not _finite(fv) else "flagged" if sdet[0] < threshold else
               "unsure" if unsure(fest)[0] else "ok")
-        add(i, "fd", "h=1e-05/3e-04", st, fv, fest[0])
+        add(i, "fd", "h=1e-05/3e-04", st, fv, fest[0], t)
     return rows, edge
 
 
@@ -429,7 +433,7 @@ def plot_stability(table: pd.DataFrame, path) -> None:
     fig.legend(*first.get_legend_handles_labels(), fontsize=8, ncol=9, loc="lower center")
     fig.suptitle("stability: error against distance to the singular position; hollow marker: "
                  "the method flagged it; x on top: no number (the status says why)", fontsize=10)
-    fig.tight_layout(rect=(0, 0.06 / nrows, 1, 1))
+    fig.tight_layout(rect=(0, 0.06 / nrows, 1, 1 - 0.03 / nrows))
     fig.savefig(path, dpi=100)
     plt.close(fig)
 
@@ -438,10 +442,11 @@ def format_stability(table: pd.DataFrame) -> str:
     """The study's table for a terminal."""
     w = max([len("family")] + [len(f) for f in table["family"]]) + 2
     lines = [f"{'family':<{w}}{'d':>8}  {'method':<8}{'status':<12}{'err_pos':>10}{'err_vel':>10}"
-             f"{'err_acc':>10}{'|det|':>10}"]
+             f"{'err_acc':>10}{'|det|':>10}{'s/pos':>10}"]
     for r in table.itertuples(index=False):
         e = [f"{v:10.1e}" if np.isfinite(v) else f"{'-':>10}" for v in (r.err_pos, r.err_vel, r.err_acc)]
         det = f"{abs(r.det):10.1e}" if np.isfinite(r.det) else f"{'':>10}"
+        sec = f"{r.seconds:10.1e}" if np.isfinite(r.seconds) else f"{'':>10}"
         lines.append(f"{r.family:<{w}}{r.d:>8.0e}  {r.method:<8}{r.status + ('!' if r.silent else ''):<12}"
-                     f"{''.join(e)}{det}")
+                     f"{''.join(e)}{det}{sec}")
     return "\n".join(lines) + "\n"

@@ -453,3 +453,9 @@ def test_every_kind_and_chain_of_kinds(name, data):
     check_loop(scene, angles, size=size)
     check_reference(scene, angles, tol=1e-8)
     check_derivatives(scene, angles)
+
+
+def test_every_kind_has_a_strategy():
+    """Adding a kind adds its random instances (README, "Adding a group")."""
+    from sheetkin.groups import KINDS as REGISTRY
+    assert set(REGISTRY) <= set(STRATEGIES)

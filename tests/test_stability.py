@@ -354,7 +354,7 @@ def test_csv_and_png_written(study):
         got = list(csv.DictReader(f))
     assert len(got) == len(FAMILY_TITLES) * 3 * len(D) == len(table)
     assert list(got[0]) == ["family", "d", "distance", "phi_deg", "method", "param", "status", "err_pos",
-                            "err_vel", "err_acc", "det", "silent", "varies", "value_deg"]
+                            "err_vel", "err_acc", "det", "silent", "varies", "value_deg", "seconds"]
     # the float angle's distance from the edge is the nominal one to 1e-6 of it
     for r in got:
         assert float(r["distance"]) == pytest.approx(float(r["d"]), rel=1e-5)
