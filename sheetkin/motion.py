@@ -183,5 +183,18 @@ class Loads:
         return self.couple + sum((x - px) * fy - (y - py) * fx for x, y, fx, fy in self.forces)
 
 
+def resultants(loads: dict, a: int, b: int):
+    """The resultant loads (x, y) on a group's links a and b, and their sum."""
+    fa, fb = loads[a].resultant(), loads[b].resultant()
+    return fa, fb, (fa[0] + fb[0], fa[1] + fb[1])
+
+
+def hinge(loads: dict, owner: int, link: int, at: Motion, r) -> tuple[str, tuple]:
+    """The revolute pair at `at` through which link `owner` acts on `link` with the force r:
+    the owner takes -r there (action and reaction). Returns its tag and (Rx, Ry, no couple)."""
+    loads[owner].add(at, -r[0], -r[1])
+    return f"{owner}_{link}", (r[0], r[1], None)
+
+
 def cross(dx, dy, fx, fy):
     return dx * fy - dy * fx

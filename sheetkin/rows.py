@@ -226,6 +226,13 @@ class LoadRows:
               f"({about_o}-({{MQ_{k}}}+{b.p('x', ref)}*{{Qy_{k}}}-{b.p('y', ref)}*{{Qx_{k}}}))"
               f"/(1+ABS({{Qx_{k}}})+ABS({{Qy_{k}}})+ABS({{MQ_{k}}}))")
 
+    def opposite(self, link: int, at: str, tag: str, couple: bool = False):
+        """Link `link` exerts the reaction `tag` at `at`: it takes the opposite force there
+        (and, with `couple`, the opposite couple M_tag) when its own group is balanced."""
+        self.loads[link].append((at, f"(-{{Rx_{tag}}})", f"(-{{Ry_{tag}}})"))
+        if couple:
+            self.couples[link].append(f"(-{{M_{tag}}})")
+
     def magnitude(self, tag: str, ru: str, en: str):
         self.b.add(f"R_{tag}", "N", f"модуль реакции {ru}", f"magnitude of the reaction {en}", "accepted",
                    f"SQRT({{Rx_{tag}}}^2+{{Ry_{tag}}}^2)")

@@ -382,8 +382,7 @@ def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
     k.equilibrium(bl, N, [(N, f"{{Rx_{tab}}}", f"{{Ry_{tab}}}"), (N, f"{{Rx_{t2}}}", f"{{Ry_{t2}}}")], f"{{M_{t2}}}")
     for gd, t in ((ga, t1), (gb, t2)):
         if gd.moving:      # the link that carries the guide: the block pushes back on it
-            k.loads[gd.link].append((N, f"(-{{Rx_{t}}})", f"(-{{Ry_{t}}})"))
-            k.couples[gd.link].append(f"(-{{M_{t}}})")
+            k.opposite(gd.link, N, t, couple=True)
 
 
 # --------------------------------------------------------------------------- loop equations

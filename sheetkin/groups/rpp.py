@@ -289,7 +289,7 @@ def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
           f"-{{MQ_{a}}}-{{MQ_{bl}}}+{{{P}}}*({dx}*{cs}+{dy}*{ss})")
     k.equilibrium(bl, K, [(J1, f"{{Rx_{tab}}}", f"{{Ry_{tab}}}"), (K, f"{{Rx_{t0}}}", f"{{Ry_{t0}}}")],
                   f"{{M_{tab}}}+{{M_{t0}}}")
-    k.loads[o1].append((J1, f"(-{{Rx_{t1}}})", f"(-{{Ry_{t1}}})"))
+    k.opposite(o1, J1, t1)
 
 
 # --------------------------------------------------------------------------- loop equations

@@ -19,7 +19,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..group import Family, Group, crank_scene
-from ..motion import GroupMotion, Motion, Pair, Rotation, Slide, cramer, cross, inverse_det, sqrt_or_nan
+from ..motion import (GroupMotion, Motion, Pair, Rotation, Slide, cramer, cross, hinge, inverse_det, resultants,
+                      sqrt_or_nan)
 from ..rows import Builder, InputRow, LoadRows, cramer_rows, det_row, group_guard, residual
 
 # --------------------------------------------------------------------------- what it is
@@ -212,8 +213,7 @@ def reactions(g: Group, known, links, loads, owner) -> dict[str, tuple]:
     kulisa about J2: (J1 - J2) x (-P n) - C + Mb(J2) = 0, R2 - P n + Fb = 0."""
     (J1, J2), (a, b) = g.joints, g.links
     la, lb = loads[a], loads[b]
-    fax, fay = la.resultant()
-    fbx, fby = lb.resultant()
+    (fax, fay), (fbx, fby), _ = resultants(loads, a, b)
     j1, j2 = known[J1], known[J2]
     rot = links[b]
     nx, ny = -rot.s, rot.c
@@ -221,10 +221,8 @@ def reactions(g: Group, known, links, loads, owner) -> dict[str, tuple]:
     p = (lb.moment(j2.x, j2.y) - c) / cross(j1.x - j2.x, j1.y - j2.y, nx, ny)   # /s: 0 at the pivot
     r1x, r1y = -p * nx - fax, -p * ny - fay
     r2x, r2y = p * nx - fbx, p * ny - fby
-    loads[owner[J1]].add(j1, -r1x, -r1y)
-    loads[owner[J2]].add(j2, -r2x, -r2y)
-    return {f"{owner[J1]}_{a}": (r1x, r1y, None), f"{a}_{b}": (-p * nx, -p * ny, -c),
-            f"{owner[J2]}_{b}": (r2x, r2y, None)}
+    return dict([hinge(loads, owner[J1], a, j1, (r1x, r1y)), (f"{a}_{b}", (-p * nx, -p * ny, -c)),
+                 hinge(loads, owner[J2], b, j2, (r2x, r2y))])
 
 
 def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
@@ -252,8 +250,8 @@ def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
     k.reaction(t2, f"{P}*(-{s})-{{Qx_{bl}}}", f"{P}*{c}-{{Qy_{bl}}}", f"звена {o2} на кулису {bl} в {J2}",
                f"of link {o2} on lever {bl} at {J2}")
     k.equilibrium(bl, J2, [(J1, *rab), (J2, f"{{Rx_{t2}}}", f"{{Ry_{t2}}}")], f"{{M_{tab}}}")
-    k.loads[o2].append((J2, f"(-{{Rx_{t2}}})", f"(-{{Ry_{t2}}})"))
-    k.loads[o1].append((J1, f"(-{r1[0]})", f"(-{r1[1]})"))
+    k.opposite(o2, J2, t2)
+    k.opposite(o1, J1, t1)
 
 
 # --------------------------------------------------------------------------- loop equations

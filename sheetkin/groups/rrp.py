@@ -22,8 +22,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..group import Family, Group, Guide, crank_scene
-from ..motion import (GroupMotion, Motion, Pair, Rotation, Slide, cramer, guide_line, guide_loop, inverse_det,
-                      on_line, sqrt_or_nan)
+from ..motion import (GroupMotion, Motion, Pair, Rotation, Slide, cramer, guide_line, guide_loop, hinge, inverse_det,
+                      on_line, resultants, sqrt_or_nan)
 from ..rows import (Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, det_row, distance_check, fd_checks,
                     group_guard, motion_rows, relative_velocity_check, residual, via_link_checks)
 
@@ -380,9 +380,7 @@ def reactions(g: Group, known, links, loads, owner) -> dict[str, tuple]:
     link that carries the guide (k) takes -Q n at N and -Mq."""
     (J1, N), (a, b) = g.joints, g.links
     la, lb = loads[a], loads[b]
-    fax, fay = la.resultant()
-    fbx, fby = lb.resultant()
-    fx, fy = fax + fbx, fay + fby
+    (fax, fay), _, (fx, fy) = resultants(loads, a, b)
     j1, nj = known[J1], known[N]
     ux, uy = links[b].c, links[b].s          # the slider turns with its guide
     d1x, d1y = j1.x - nj.x, j1.y - nj.y
@@ -390,14 +388,13 @@ def reactions(g: Group, known, links, loads, owner) -> dict[str, tuple]:
     _, inv = inverse_det(m11, m12, m21, m22)     # zero when the coupler is across the guide
     r1x, r1y = cramer(m11, m12, m21, m22, -(fx * ux + fy * uy), -la.moment(nj.x, nj.y), inv)
     q = (r1x + fx) * uy - (r1y + fy) * ux     # -(R1 + F).n with n = (-uy, ux)
-    xx, xy = -r1x - fax, -r1y - fay
     mq = -lb.moment(nj.x, nj.y)
-    loads[owner[J1]].add(j1, -r1x, -r1y)
+    j1_pair = hinge(loads, owner[J1], a, j1, (r1x, r1y))
     k = g.guide.link
     loads[k].add(nj, q * uy, -q * ux)
     loads[k].couple = loads[k].couple - mq
-    return {f"{owner[J1]}_{a}": (r1x, r1y, None), f"{a}_{b}": (-xx, -xy, None),
-            f"{k}_{b}": (-q * uy, q * ux, mq)}
+    # a on b at N: R1 + Fa (link a's balance)
+    return dict([j1_pair, (f"{a}_{b}", (r1x + fax, r1y + fay, None)), (f"{k}_{b}", (-q * uy, q * ux, mq))])
 
 
 def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
@@ -431,9 +428,8 @@ def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
     k.equilibrium(a, N, [(J1, *r1), (N, f"(-{rab[0]})", f"(-{rab[1]})")], "")
     k.equilibrium(bl, N, [(N, *rab), (N, f"{{Rx_{tg}}}", f"{{Ry_{tg}}}")], f"{{M_{tg}}}")
     if g.guide.moving:     # the kulisa k carries the guide: the block pushes back on it
-        k.loads[gk].append((N, f"(-{{Rx_{tg}}})", f"(-{{Ry_{tg}}})"))
-        k.couples[gk].append(f"(-{{M_{tg}}})")
-    k.loads[o1].append((J1, f"(-{r1[0]})", f"(-{r1[1]})"))
+        k.opposite(gk, N, tg, couple=True)
+    k.opposite(o1, J1, t1)
 
 
 # --------------------------------------------------------------------------- loop equations

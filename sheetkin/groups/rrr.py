@@ -19,7 +19,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..group import Family, Group
-from ..motion import GroupMotion, Motion, Pair, Rotation, carried_point, cramer, cross, inverse_det, sqrt_or_nan
+from ..motion import (GroupMotion, Motion, Pair, Rotation, carried_point, cramer, cross, hinge, inverse_det, resultants,
+                      sqrt_or_nan)
 from ..rows import (Builder, InputRow, LoadRows, carried_rows, cos_sin_rows, cramer_rows, det_row, distance_check,
                     fd_checks, group_guard, relative_velocity_check, residual, via_link_checks)
 
@@ -233,9 +234,7 @@ def reactions(g: Group, known, links, loads, owner) -> dict[str, tuple]:
     (J2 - N) x R2 + Mb(N) = 0. With R2 = -F - R1 both moment equations are in R1."""
     (J1, N, J2), (a, b) = g.joints, g.links
     la, lb = loads[a], loads[b]
-    fax, fay = la.resultant()
-    fbx, fby = lb.resultant()
-    fx, fy = fax + fbx, fay + fby
+    (fax, fay), _, (fx, fy) = resultants(loads, a, b)
     j1, nj, j2 = known[J1], known[N], known[J2]
     d1x, d1y, d2x, d2y = j1.x - nj.x, j1.y - nj.y, j2.x - nj.x, j2.y - nj.y
     m11, m12, m21, m22 = -d1y, d1x, -d2y, d2x
@@ -243,11 +242,9 @@ def reactions(g: Group, known, links, loads, owner) -> dict[str, tuple]:
     r1x, r1y = cramer(m11, m12, m21, m22, -la.moment(nj.x, nj.y),
                       lb.moment(nj.x, nj.y) - cross(d2x, d2y, fx, fy), inv)
     r2x, r2y = -fx - r1x, -fy - r1y
-    xx, xy = -r1x - fax, -r1y - fay           # force of b on a at N
-    loads[owner[J1]].add(j1, -r1x, -r1y)
-    loads[owner[J2]].add(j2, -r2x, -r2y)
-    return {f"{owner[J1]}_{a}": (r1x, r1y, None), f"{a}_{b}": (-xx, -xy, None),
-            f"{owner[J2]}_{b}": (r2x, r2y, None)}
+    # a on b at N: R1 + Fa (link a's balance)
+    return dict([hinge(loads, owner[J1], a, j1, (r1x, r1y)), (f"{a}_{b}", (r1x + fax, r1y + fay, None)),
+                 hinge(loads, owner[J2], b, j2, (r2x, r2y))])
 
 
 def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
@@ -272,8 +269,8 @@ def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
                f"of link {o2} on link {bl} at {J2}")
     k.equilibrium(a, N, [(J1, *r1), (N, f"(-{rab[0]})", f"(-{rab[1]})")], "")
     k.equilibrium(bl, N, [(N, *rab), (J2, f"{{Rx_{t2}}}", f"{{Ry_{t2}}}")], "")
-    k.loads[o2].append((J2, f"(-{{Rx_{t2}}})", f"(-{{Ry_{t2}}})"))
-    k.loads[o1].append((J1, f"(-{r1[0]})", f"(-{r1[1]})"))
+    k.opposite(o2, J2, t2)
+    k.opposite(o1, J1, t1)
 
 
 # --------------------------------------------------------------------------- loop equations
