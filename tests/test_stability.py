@@ -327,6 +327,23 @@ def test_prp_crossing_point_runs_off_like_1_over_d(study):
     assert k[3:] == pytest.approx(np.full(len(k) - 3, k[-1]), rel=1e-3)
 
 
+def test_newtons_no_convergence_where_lines_turn_parallel_is_its_step_test():
+    """The Scotch yoke's equations are linear: Newton's answer is right after one step, but
+    its step test (NEWTON_TOL of |q|) cannot be met once the condition number is ~1/d: at
+    1e-4 and 1e-6 rad it reports no convergence; with a test of 1e-10 the same iterations
+    stop, on the solver's answer."""
+    from sheetkin.bench import FLOAT, NEWTON_MAX_ITER, NEWTON_TOL, _unknowns, _walk
+    _, _, cases = family_cases(family("parallel-slot"), [1e-4, 1e-6])
+    for scene, phi, _, _ in cases:
+        start = _unknowns(scene, [phi])[0]
+        assert _walk(FLOAT, scene, phi, dict(start), NEWTON_TOL, NEWTON_MAX_ITER)[2][0][1] == "no convergence"
+        values, _, problems, _ = _walk(FLOAT, scene, phi, dict(start), 1e-10, NEWTON_MAX_ITER)
+        assert not problems
+        df = compute(scene, at=[phi])
+        for name in ("x_K", "s_K", "vs_K", "as_A"):
+            assert values[name] == pytest.approx(df[name].iloc[0], rel=1e-9), name
+
+
 def test_scotch_yoke_family_varies_the_slot_and_the_parser_refuses_it_at_last(study):
     """RPP's toggle measure does not depend on the crank angle: the family varies
     slot_angle_deg at one crank angle, and within 1e-9 rad of the guide the scene is
