@@ -216,11 +216,12 @@ def build_parser() -> argparse.ArgumentParser:
     b.add_argument("--out", metavar="DIR", required=True,
                    help="folder for bench.csv and bench.png (stability.csv, stability.png)")
     b.add_argument("--stability", action="store_true",
-                   help="instead of a scene, the stability study: four-bars built in code walked "
-                        "towards a toggle, a change point (s + l = p + q) and just past the edge "
-                        "of a non-assembling interval, 1e-2..1e-10 rad away; each method's error "
-                        "and status (ok, flagged, refused, diverged, branch jump, NaN) at each "
-                        "distance; writes DIR/stability.csv and DIR/stability.png")
+                   help="instead of a scene, the stability study: each group kind's own scenes "
+                        "walked towards where it degenerates (a toggle, a change point, just past "
+                        "the edge of a non-assembling interval, two lines turning parallel), "
+                        "1e-2..1e-10 rad away; each method's error, time and status (ok, flagged, "
+                        "refused, diverged, branch jump, NaN) at each distance; writes "
+                        "DIR/stability.csv and DIR/stability.png")
     b.add_argument("--positions", type=_positive_int, metavar="N",
                    help="N crank positions over one revolution from phi0 (default: the scene's)")
     b.add_argument("--no-libreoffice", action="store_true",
@@ -695,7 +696,7 @@ def cmd_bench(args) -> int:
 
 
 def _cmd_stability(args) -> int:
-    from .bench import format_stability, stability_study
+    from .stability import format_stability, stability_study
     if args.scene is not None:
         print("sheetkin: error: bench --stability builds its own scenes: give no SCENE.toml",
               file=sys.stderr)

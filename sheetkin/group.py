@@ -47,3 +47,49 @@ class Group:
     @property
     def label(self) -> str:
         return f"group {self.index} ({self.type} {'-'.join(self.joints)})"
+
+
+@dataclass(frozen=True)
+class Family:
+    """One family of `sheetkin bench --stability` (sheetkin.stability), declared by the kind
+    module whose failure it approaches (its STABILITY tuple): a scene walked towards the
+    place where the kind's closed form and Newton degenerate, at distances d (rad).
+
+    name, title   the family's key and one line saying what degenerates;
+    scene         TOML text; a family that varies a scene key instead of the crank angle
+                  holds `{value}` where that key's value (degrees) goes;
+    group         the index of the group that fails (the groups before it are placed as
+                  usual);
+    edge          what vanishes there: a function (lib, g, known, links) -> number of the
+                  kind module whose simple root in the crank angle is the singular position
+                  (the discriminant at the edge of a range, the sine of two lines' angle
+                  ...), found by mpmath; or the singular value in degrees, exactly;
+    near_deg      where mpmath's root finder starts (None: at the start of the first crank
+                  interval where the float solver cannot assemble);
+    side          -1: approached from below (edge - d); +1: from beyond (edge + d, where
+                  no position may exist: Newton walks there from the points inside);
+    start         None: the reference walks Newton in mpmath towards the edge from 0.05
+                  rad away; else a function (lib, g, known, links) -> q or None giving the
+                  group's closed form in mpmath at each distance (where the branches meet,
+                  as at a change point, a walk cannot tell them apart; None: no position);
+    vary          the scene key varied (its value edge + side * d, in degrees) at the
+                  scene's one crank angle, or None: the crank angle is varied.
+    """
+    name: str
+    title: str
+    scene: str
+    group: int
+    edge: object
+    near_deg: float | None = None
+    side: int = -1
+    start: object = None
+    vary: str | None = None
+
+
+def crank_scene(title: str, groups: str, frame: str = "O = [0.0, 0.0]", length: float = 0.25,
+                omega: float = 10.0, phi0_deg: float = 0.0) -> str:
+    """A family's scene (TOML): a crank O A of `length` at one position phi0_deg, the frame
+    points (TOML lines, O included) and the groups' tables."""
+    return (f'title = "{title}"\nauthor = "sheetkin stability study"\n[frame]\n{frame}\n'
+            f'[crank]\npivot = "O"\njoint = "A"\nlength = {length!r}\nphi0_deg = {phi0_deg!r}\n'
+            f'positions = 1\nomega = {omega!r}\n{groups}')

@@ -114,6 +114,27 @@ def turned(rot: Rotation, angle_deg: float) -> Rotation:
     return Rotation(rot.c * ca - rot.s * sa, rot.s * ca + rot.c * sa, rot.omega, rot.eps)
 
 
+def guide_line(gd, known: dict, rot: dict) -> tuple[Motion, Rotation]:
+    """A guide's (group.Guide) point P and direction u = e(phi_k + A), with the rates of
+    the link k that carries it (the frame's: none); RRP and PRP place their blocks on it."""
+    if not gd.moving:
+        a = np.radians(gd.angle_deg)
+        return fixed(*gd.point), Rotation(np.cos(a), np.sin(a), 0.0, 0.0)
+    return known[gd.through], turned(rot.get(gd.link, FRAME), gd.angle_deg)
+
+
+def guide_loop(lib, gd, known: dict, links: dict):
+    """The same for the loop equations, in any number type `lib` (sheetkin.bench's MP or
+    FLOAT): the guide's point ((x, y), (vx, vy), (ax, ay)) and (angle, omega, eps)."""
+    n = lib.num
+    a = n(gd.angle_deg) * lib.pi() / 180
+    if not gd.moving:
+        z = (n(0), n(0))
+        return ((n(gd.point[0]), n(gd.point[1])), z, z), (a, n(0), n(0))
+    phi, w, eps = links[gd.link]
+    return known[gd.through], (phi + a, w, eps)
+
+
 FRAME = Rotation(1.0, 0.0, 0.0, 0.0)   # link 0: phi_0 = 0, at rest
 
 
@@ -160,6 +181,19 @@ class Loads:
     def moment(self, px, py):
         """Moment about (px, py), counterclockwise positive."""
         return self.couple + sum((x - px) * fy - (y - py) * fx for x, y, fx, fy in self.forces)
+
+
+def resultants(loads: dict, a: int, b: int):
+    """The resultant loads (x, y) on a group's links a and b, and their sum."""
+    fa, fb = loads[a].resultant(), loads[b].resultant()
+    return fa, fb, (fa[0] + fb[0], fa[1] + fb[1])
+
+
+def hinge(loads: dict, owner: int, link: int, at: Motion, r) -> tuple[str, tuple]:
+    """The revolute pair at `at` through which link `owner` acts on `link` with the force r:
+    the owner takes -r there (action and reaction). Returns its tag and (Rx, Ry, no couple)."""
+    loads[owner].add(at, -r[0], -r[1])
+    return f"{owner}_{link}", (r[0], r[1], None)
 
 
 def cross(dx, dy, fx, fy):

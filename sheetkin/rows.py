@@ -61,6 +61,21 @@ class Builder:
     def input(self, name, unit, ru, en, value):
         self.add(name, unit, ru, en, kind="input", value=value)
 
+    def place_links(self, *links, rot=None):
+        """Later groups read link k's direction and rates from the rows cos_k, sin_k,
+        omega_k, eps_k (or `rot`, the same four for every link given), valid where this
+        group assembles (its guard)."""
+        for k in links:
+            self.rot[k] = rot or (f"cos_{k}", f"sin_{k}", f"omega_{k}", f"eps_{k}")
+            self.guard_of_link[k] = self.guard
+
+
+def residual(i: int, what: str) -> tuple[str, str, str]:
+    """cramer_rows' check row of group i's velocity ("v") or acceleration ("a") system."""
+    if what == "v":
+        return f"chk_vsys_g{i}", "невязка системы для скоростей", "residual of the velocity system"
+    return f"chk_asys_g{i}", "невязка системы для ускорений", "residual of the acceleration system"
+
 
 
 def motion_rows(b: Builder, n: str, ru: str, en: str, x: str, y: str, vx: str, vy: str, ax: str, ay: str):
@@ -210,6 +225,13 @@ class LoadRows:
               f"check: the moment of link {k}'s loads about the origin (relative)", "check",
               f"({about_o}-({{MQ_{k}}}+{b.p('x', ref)}*{{Qy_{k}}}-{b.p('y', ref)}*{{Qx_{k}}}))"
               f"/(1+ABS({{Qx_{k}}})+ABS({{Qy_{k}}})+ABS({{MQ_{k}}}))")
+
+    def opposite(self, link: int, at: str, tag: str, couple: bool = False):
+        """Link `link` exerts the reaction `tag` at `at`: it takes the opposite force there
+        (and, with `couple`, the opposite couple M_tag) when its own group is balanced."""
+        self.loads[link].append((at, f"(-{{Rx_{tag}}})", f"(-{{Ry_{tag}}})"))
+        if couple:
+            self.couples[link].append(f"(-{{M_{tag}}})")
 
     def magnitude(self, tag: str, ru: str, en: str):
         self.b.add(f"R_{tag}", "N", f"модуль реакции {ru}", f"magnitude of the reaction {en}", "accepted",

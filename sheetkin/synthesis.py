@@ -261,12 +261,19 @@ def parse_synthesis(text: str, source: str = "<scene>") -> dict[str, float] | No
         synthesize_crank_rocker(**values)
     except SynthesisError as e:
         tbl.fail(e.key, str(e) if e.key else f"no crank-rocker for these data: {e}")
-    g = scene.groups[0] if scene.groups else None
-    if not (g and g.type == "RRR" and g.joints[0] == scene.crank.joint
-            and g.joints[2] in scene.frame):
+    if fourbar_dyad(scene) is None:
         tbl.fail(None, "the data are a crank-rocker four-bar's, but the scene's first group is not "
                        f"an RRR dyad from the crank's joint {scene.crank.joint} to a frame point")
     return values
+
+
+def fourbar_dyad(scene):
+    """(coupler, rocker, the rocker's frame pivot, branch) of the four-bar the scene's first
+    group closes with the crank (its kind's `fourbar`), or None: the synthesis sheet refers
+    to that group."""
+    from .groups import kind_of
+    g = scene.groups[0] if scene.groups else None
+    return kind_of(g).fourbar(g, scene.crank.joint, scene.frame) if g else None
 
 
 def scene_mismatches(scene, data: dict[str, float], tol: float = 1e-9) -> list[str]:
@@ -275,14 +282,14 @@ def scene_mismatches(scene, data: dict[str, float], tol: float = 1e-9) -> list[s
     it with the kinematics sheet fail there. Empty for a scene written by `synth -o`."""
     m = synthesize_crank_rocker(**data)
     g, o = scene.groups[0], scene.crank.pivot
-    d = g.joints[2]
+    l2, l3, d, branch = fourbar_dyad(scene)
     (ox, oy), (dx, dy) = scene.frame[o], scene.frame[d]
     pairs = [(f"L1 = {scene.crank.length:.9g}", scene.crank.length, "l1", m.l1),
-             (f"L{g.links[0]} = {g.lengths[0]:.9g}", g.lengths[0], "l2", m.l2),
-             (f"L{g.links[1]} = {g.lengths[1]:.9g}", g.lengths[1], "l3", m.l3),
+             (f"L{g.links[0]} = {l2:.9g}", l2, "l2", m.l2),
+             (f"L{g.links[1]} = {l3:.9g}", l3, "l3", m.l3),
              (f"x_{d} - x_{o} = {dx - ox:.9g}", dx - ox, "X_D", m.X_D),
              (f"y_{d} - y_{o} = {dy - oy:.9g}", dy - oy, "Y_D", m.yd),
-             (f"branch = {g.branch:+d}", g.branch, "branch", m.branch)]
+             (f"branch = {branch:+d}", branch, "branch", m.branch)]
     return [f"{have_text} but the synthesis gives {name} = {want:.9g}"
             for have_text, have, name, want in pairs if not abs(have - want) <= tol]
 
@@ -632,7 +639,7 @@ def add_scene_synthesis_sheet(wb, scene, data: dict[str, float], lang: str = "ru
 
     kin = wb.worksheets[0]
     g = scene.groups[0]
-    o, d = scene.crank.pivot, g.joints[2]
+    o, d = scene.crank.pivot, fourbar_dyad(scene)[2]
     names = {"L1": "L1", "L2": f"L{g.links[0]}", "L3": f"L{g.links[1]}", "x_O": f"x_{o}",
              "y_O": f"y_{o}", "x_D": f"x_{d}", "y_D": f"y_{d}", "branch": f"branch_g{g.index}"}
     found = {}

@@ -4,10 +4,25 @@ about a moving axis, chains), shared by tests/test_groups.py and the other test 
 CASES: id -> (kind under test, scene text). Every kind in sheetkin.groups.KINDS has at
 least one case (test_groups checks it); DYNAMICS adds masses and loads to every case so the
 kinetostatics of each kind is checked by the energy balance.
+
+The checks both the cases (tests/test_groups.py) and the random instances of every kind
+and chain (tests/strategies.py, tests/test_properties.py) go through, each kind's next to
+the others: check_geometry (kept distances, points on their lines, loop closure, written
+out here from the contract), check_loop (the kinds' loop equations and Cramer residuals at
+the closed form), check_reference (the mpmath solution), check_derivatives (8th-order
+finite differences).
 """
 from __future__ import annotations
 
+import math
 from pathlib import Path
+
+import numpy as np
+import pytest
+
+import sheetkin
+from sheetkin.bench import FLOAT, reference_mp
+from sheetkin.groups import kind_of
 
 WORKBOOKS = Path(__file__).resolve().parents[1] / "workbooks"
 
@@ -93,7 +108,6 @@ def _mass(link, m, J, centre) -> str:
 def with_loads(text: str) -> str:
     """The scene with gravity, a mass on every moving link (at one of its joints) and an
     external force and moment on the last link: every reaction then carries load."""
-    import sheetkin
     scene = sheetkin.parse_scene(text)
     from sheetkin.scene import link_joints
     on = link_joints(scene.crank, scene.groups)
@@ -110,65 +124,191 @@ def with_loads(text: str) -> str:
 DYNAMICS = {key: (kind, with_loads(text)) for key, (kind, text) in CASES.items()}
 
 
-# --------------------------------------------------------------------------- random chains
-def random_chains():
-    """Hypothesis strategy: a random assemblable four-bar (tests/test_properties.py) extended
-    by a random chain of the generalised groups: an RRP on a guide of its rocker (two
-    rockers with a slotted pair), an RPR about a point E of the rocker (a kulisa with a
-    moving axis), or both with the RRP's guide on that kulisa. Every added group assembles
-    over the whole revolution, away from its toggle (|det| >= 0.5). Returns
-    (scene text, crank angles, length scale)."""
-    import math
+# --------------------------------------------------------------------------- checks
+def _xy(scene, df, name):
+    """A point's positions over the rows of `df` (a frame point's repeated)."""
+    if name in scene.frame:
+        return np.tile(np.asarray(scene.frame[name], dtype=float)[:, None], len(df))
+    return np.vstack([df[f"x_{name}"].to_numpy(), df[f"y_{name}"].to_numpy()])
 
-    import numpy as np
-    from hypothesis import strategies as st
 
-    import sheetkin
-    from test_properties import fl, fourbars
+def _dir(df, k):
+    """Link k's direction e(phi_k) over the rows (the frame's: (1, 0))."""
+    phi = np.radians(df[f"phi_{k}"].to_numpy()) if k else np.zeros(len(df))
+    return np.vstack([np.cos(phi), np.sin(phi)])
 
-    @st.composite
-    def build(draw):
-        m = draw(fourbars())
-        S = m.size
-        text = m.toml
-        revolution = np.arange(0.0, 360.0, 1.0)
-        what = draw(st.sampled_from(["slotted", "moving_axis", "both"]))
 
-        def line_distances(text, through, k, angle_deg, point):
-            """|h| of `point` from the line through `through` at phi_k + A, over a revolution."""
-            sol = sheetkin.solve(sheetkin.parse_scene(text), revolution)
-            g = sol.points.get(through)
-            gx, gy = (g.x, g.y) if g is not None else sheetkin.parse_scene(text).frame[through]
-            r = sol.links[k]
-            th = np.arctan2(r.s, r.c) + math.radians(angle_deg)
-            return np.abs(-(point[0] - gx) * np.sin(th) + (point[1] - gy) * np.cos(th))
+def _turn(u, deg):
+    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
+    return np.vstack([u[0] * c - u[1] * s, u[0] * s + u[1] * c])
 
-        def add_rrp(text, links, through, k):
-            O = m.frame["O"]
-            p = O + S * np.array([draw(st.floats(-2.0, 2.0)), draw(st.floats(-2.0, 2.0))])
-            A = draw(st.floats(-90.0, 90.0))
-            text = text.replace("[crank]", f"Q{k} = [{fl(p[0])}, {fl(p[1])}]\n\n[crank]", 1)
-            h = line_distances(text, through, k, A, p)
-            L = float(h.max()) / draw(st.floats(0.1, 0.85)) + 1e-3 * S
-            return text + (f'\n[[group]]\ntype = "RRP"\nlinks = [{links[0]}, {links[1]}]\njoints = ["Q{k}", "N{k}"]\n'
-                           f"length = {fl(L)}\nguide = {{ through = \"{through}\", angle_deg = {fl(A)}, link = {k} }}\n"
-                           f"branch = {draw(st.sampled_from([-1, 1]))}\n")
 
-        def add_rpr(text):
-            along, across = S * draw(st.floats(0.2, 1.5)), S * draw(st.floats(-0.5, 0.5))
-            text += f'\n[[point]]\nname = "E"\nlink = 3\nfrom = "O1"\nalong = {fl(along)}\nacross = {fl(across)}\n'
-            sol = sheetkin.solve(sheetkin.parse_scene(text), revolution)
-            d = np.hypot(sol.points["A"].x - sol.points["E"].x, sol.points["A"].y - sol.points["E"].y)
-            from hypothesis import assume
-            assume(d.min() > 0.05 * S)
-            off = draw(st.sampled_from([0.0, 0.3, -0.5])) * float(d.min())
-            return text + (f'\n[[group]]\ntype = "RPR"\nlinks = [4, 5]\njoints = ["A", "E"]\noffset = {fl(off)}\n')
+def _guide_line(scene, df, gd):
+    """A guide's point and unit direction over the rows, from the contract: through a point
+    of link k (or a point on the frame) at phi_k + angle_deg."""
+    p = _xy(scene, df, gd.through) if gd.moving else np.tile(np.asarray(gd.point, dtype=float)[:, None], len(df))
+    return p, _turn(_dir(df, gd.link), gd.angle_deg)
 
-        if what == "slotted":
-            text = add_rrp(text, (4, 5), "O1", 3)
-        elif what == "moving_axis":
-            text = add_rpr(text)
-        else:
-            text = add_rrp(add_rpr(text), (6, 7), "E", 5)
-        return text, m.angles, S
-    return build()
+
+def _cross(u, v):
+    return u[0] * v[1] - u[1] * v[0]
+
+
+def _rrr(scene, df, g, close):
+    j1, n, j2 = (_xy(scene, df, p) for p in g.joints)
+    la, lb = g.links
+    close(np.hypot(*(n - j1)), g.lengths[0], "|J1 N| = L2")
+    close(np.hypot(*(n - j2)), g.lengths[1], "|N J2| = L3")
+    close(n, j1 + g.lengths[0] * _dir(df, la), "N = J1 + L2 e(phi_a)")
+    close(n, j2 + g.lengths[1] * _dir(df, lb), "N = J2 + L3 e(phi_b)")
+    assert np.all(np.sign(_cross(j2 - j1, n - j1)) == g.branch), f"{g.label}: N on the other side of J1 -> J2"
+
+
+def _rrp(scene, df, g, close):
+    j1, n = (_xy(scene, df, p) for p in g.joints)
+    p, u = _guide_line(scene, df, g.guide)
+    close(np.hypot(*(n - j1)), g.length, "|J1 N| = L")
+    close(n, j1 + g.length * _dir(df, g.links[0]), "N = J1 + L e(phi_a)")
+    close(_dir(df, g.links[1]), u, "the slider turns with its guide")
+    close(n, p + df[f"s_{g.joints[1]}"].to_numpy() * u, "N = G + s_N u: on its guide")
+    assert np.all(np.sign(np.sum((n - j1) * u, axis=0)) == g.branch), f"{g.label}: N behind the foot from J1"
+
+
+def _rpr(scene, df, g, close):
+    j1, j2 = (_xy(scene, df, p) for p in g.joints)
+    u = _dir(df, g.links[1])
+    s = df[f"s_{g.joints[0]}"].to_numpy()
+    assert np.all(s > 0), f"{g.label}: s <= 0"
+    close(_dir(df, g.links[0]), u, "block and kulisa turn together")
+    close(j1 - j2, s * u + g.offset * _turn(u, 90.0), "J1 - J2 = s u + e n: the slot line is e from J2")
+
+
+def _prp(scene, df, g, close):
+    (n,) = g.joints
+    nn = _xy(scene, df, n)
+    for j, (gd, tag, k) in enumerate(zip(g.guides, (f"s_{n}", f"s2_{n}"), g.links)):
+        p, u = _guide_line(scene, df, gd)
+        close(nn, p + df[tag].to_numpy() * u, f"N = P{j + 1} + {tag} u{j + 1}: on guide {j + 1}")
+        close(_dir(df, k), u, f"block {k} turns with guide {j + 1}")
+
+
+def _rpp(scene, df, g, close):
+    j1, k = (_xy(scene, df, p) for p in g.joints)
+    p, ug = _guide_line(scene, df, g.guide)
+    us = _turn(_dir(df, 0), g.slot_angle_deg)
+    close(k, p + df[f"s_{g.joints[1]}"].to_numpy() * ug, "K = G + s_K u_g: on the yoke's guide")
+    close(j1, k + df[f"s_{g.joints[0]}"].to_numpy() * us, "J1 = K + s_J1 u_s: in the slot")
+    for link in g.links:
+        close(_dir(df, link), us, "block and yoke keep the slot's direction")
+
+
+GEOMETRY = {"RRR": _rrr, "RRP": _rrp, "RPR": _rpr, "PRP": _prp, "RPP": _rpp}
+
+
+def check_geometry(scene, angles, size=None):
+    """Each group's kept distances, points on their lines and its loop closed, and every
+    [[point]] at its along/across place, written out from the contract (not the kinds'
+    code), at the crank angles."""
+    df = sheetkin.compute(scene, at=list(angles))
+    size = size or max([1.0] + [abs(c) for p in scene.frame.values() for c in p])
+    tol = 1e-12 * size
+
+    for g in scene.groups:
+        def close(got, want, what, g=g):
+            err = float(np.max(np.abs(np.asarray(got) - np.asarray(want)), initial=0.0))
+            assert err <= max(tol, 1e-12), f"{g.label}: {what}: off by {err:.3e}"
+        GEOMETRY[g.type](scene, df, g, close)
+    c = _xy(scene, df, scene.crank.pivot)
+    assert np.allclose(_xy(scene, df, scene.crank.joint), c + scene.crank.length * _dir(df, 1), atol=tol)
+    for p in scene.points:
+        u = _dir(df, p.link)
+        want = _xy(scene, df, p.origin) + p.along * u + p.across * _turn(u, 90.0)
+        assert np.allclose(_xy(scene, df, p.name), want, atol=tol), f"point {p.name}"
+
+
+def _float_known(scene, sol, i):
+    """The solver's point motions and link rotations at position i, as the loop equations
+    take them (tuples of floats)."""
+    known = {n: ((x, y), (0.0, 0.0), (0.0, 0.0)) for n, (x, y) in scene.frame.items()}
+    for n, m in sol.points.items():
+        f = lambda a: float(np.broadcast_to(a, sol.phi1_deg.shape)[i])
+        known[n] = ((f(m.x), f(m.y)), (f(m.vx), f(m.vy)), (f(m.ax), f(m.ay)))
+    links = {}
+    for k, r in sol.links.items():
+        f = lambda a: float(np.broadcast_to(a, sol.phi1_deg.shape)[i])
+        links[k] = (math.atan2(f(r.s), f(r.c)), f(r.omega), f(r.eps))
+    return known, links
+
+
+def check_loop(scene, angles, size=None):
+    """Each group's loop equations hold at the closed form; their derivatives, solved here
+    by numpy, give the closed form's (Cramer's) rates, joints, links and slides."""
+    ANGLES = list(angles)
+    sol = sheetkin.solve(scene, ANGLES)
+    size = size or max([1.0] + [abs(c) for p in scene.frame.values() for c in p])
+    w = abs(scene.crank.omega) + 1.0
+    for g in scene.groups:
+        kind = kind_of(g)
+        qa, qb = kind.unknowns(g, sol)
+        for i in range(len(ANGLES)):
+            known, links = _float_known(scene, sol, i)
+            F, J, b_v, b_a, place = kind.loop(FLOAT, g, known, links)
+            q = [float(qa[i]), float(qb[i])]
+            assert np.max(np.abs(F(q))) <= 1e-13 * size, (g.label, ANGLES[i], F(q))
+            # the loop's differentiated equations J q_t = b_v, J q_tt = b_a, solved here by
+            # numpy, give the closed form's (Cramer's) rates, joints, links and slides
+            qt = np.linalg.solve(J(q), b_v(q))
+            qtt = np.linalg.solve(J(q), b_a(q, list(qt)))
+            joints, (ra, rb), group_slides = place(q, list(qt), list(qtt))
+            tol = dict(rtol=1e-9, atol=1e-10 * size * w * w)
+            for name, (p, v, a) in joints.items():
+                assert np.allclose([*p, *v, *a], [*known[name][0], *known[name][1], *known[name][2]], **tol), \
+                    (g.label, name, ANGLES[i])
+            for k, r in zip(g.links, (ra, rb)):
+                assert math.cos(r[0] - links[k][0]) == pytest.approx(1.0, abs=1e-12), (g.label, k)
+                assert np.allclose(r[1:], links[k][1:], **tol), (g.label, k, r, links[k])
+            for tag, triple in group_slides.items():
+                sl = sol.slides[tag]
+                assert np.allclose(triple, [sl.s[i], sl.vs[i], sl.as_[i]], **tol), (g.label, tag)
+
+
+def check_reference(scene, angles, tol=1e-9):
+    """The 30-digit mpmath solution of the loop equations equals compute."""
+    ref = reference_mp(scene, list(angles), dps=30)
+    df = sheetkin.compute(scene, at=list(angles))
+    for name, values in ref.items():
+        got, want = df[name].to_numpy(), np.array([float(v) for v in values])
+        d = np.abs(got - want)
+        if name.startswith("phi_"):
+            d = np.minimum(d, 360.0 - d)
+        assert np.all(d <= tol * np.maximum(1.0, np.abs(want))), (name, got, want)
+
+
+D1 = (4 / 5, -1 / 5, 4 / 105, -1 / 280)           # 8th-order central differences
+D2 = (8 / 5, -1 / 5, 8 / 315, -1 / 560)
+
+
+def check_derivatives(scene, angles):
+    """v = omega dx/dphi, a = omega^2 d2x/dphi2 + eps dx/dphi (positions do not depend on the
+    crank's rates); 8th-order differences at h = 1e-3 rad are good to ~1e-12."""
+    w, eps = scene.crank.omega, scene.crank.epsilon
+    h = 1e-3
+    phis = np.array(angles)
+    frames = {o: sheetkin.compute(scene, at=list(phis + math.degrees(o * h))) for o in range(-4, 5)}
+    names = [c for c in sheetkin.column_names(scene) if c.split("_")[0] in ("x", "y", "s", "phi") and c != "phi_1"]
+    size = max(1.0, max(float(frames[0][c].abs().max()) for c in names if not c.startswith("phi")))
+    for col in names:
+        head, tail = col.split("_", 1)
+        f = {o: fr[col].to_numpy() for o, fr in frames.items()}
+        if head == "phi":                 # radians, unwrapped about the centre
+            f = {o: np.radians(f[0]) + np.radians((v - f[0] + 180.0) % 360.0 - 180.0) for o, v in f.items()}
+        d1 = sum(c * (f[k + 1] - f[-k - 1]) for k, c in enumerate(D1)) / h
+        d2 = sum(c * (f[k + 1] + f[-k - 1] - 2 * f[0]) for k, c in enumerate(D2)) / (h * h)
+        vel = {"x": "vx", "y": "vy", "s": "vs", "phi": "omega"}[head] + "_" + tail
+        acc = {"x": "ax", "y": "ay", "s": "as", "phi": "eps"}[head] + "_" + tail
+        v, a = frames[0][vel].to_numpy(), frames[0][acc].to_numpy()
+        assert np.max(np.abs(v - w * d1)) <= 1e-8 * size * (abs(w) + 1), (col, v, w * d1)
+        assert np.max(np.abs(a - (w * w * d2 + eps * d1))) <= 1e-5 * size * (w * w + abs(eps) + 1), \
+            (col, a, w * w * d2 + eps * d1)
+
+

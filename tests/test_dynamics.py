@@ -33,7 +33,7 @@ from sheetkin.dynamics import dynamics, dynamics_names, force_active, reaction_p
 from sheetkin.scene import SceneError, parse_scene
 from sheetkin.solver import solve
 from sheetkin.workbook import write_workbook
-from test_properties import KINDS, MECHANISMS
+from strategies import KINDS, MECHANISMS
 from test_workbook import OFFSET_CHAIN, SIX_BAR, rows_of, row_values, set_input
 
 WORKBOOKS = Path(__file__).resolve().parents[1] / "workbooks"

@@ -27,7 +27,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import sheetkin
-from kinds import CASES, DYNAMICS
+from kinds import CASES, DYNAMICS, check_derivatives, check_geometry, check_loop, check_reference
 from libreoffice import recalculate
 from sheetkin.bench import FLOAT, errors, method_newton, reference_mp
 from sheetkin.compute import AssemblyError
@@ -40,7 +40,7 @@ from test_workbook import compare_accepted, rows_of
 
 SURFACE = ["KIND", "LECTURE", "SLIDES", "TITLE", "KEYS", "Params", "parse", "needs", "on_links", "new_joints",
            "carries", "sliders", "solve", "input_rows", "with_inputs", "rows", "pin_owner", "pairs", "reactions",
-           "reaction_rows", "loop", "side_ok", "discriminant", "unknowns"]
+           "reaction_rows", "loop", "side_ok", "discriminant", "unknowns", "fourbar", "STABILITY"]
 ANGLES = [0.0, 17.0, 95.5, 181.0, 263.25, 333.0]
 WORKBOOKS_DIR = Path(__file__).resolve().parents[1] / "workbooks"
 
@@ -71,90 +71,15 @@ def test_an_unknown_type_lists_every_kind():
 
 
 # --------------------------------------------------------------------------- closed form
-def _float_known(scene, sol, i):
-    """The solver's point motions and link rotations at position i, as the loop equations
-    take them (tuples of floats)."""
-    known = {n: ((x, y), (0.0, 0.0), (0.0, 0.0)) for n, (x, y) in scene.frame.items()}
-    for n, m in sol.points.items():
-        f = lambda a: float(np.broadcast_to(a, sol.phi1_deg.shape)[i])
-        known[n] = ((f(m.x), f(m.y)), (f(m.vx), f(m.vy)), (f(m.ax), f(m.ay)))
-    links = {}
-    for k, r in sol.links.items():
-        f = lambda a: float(np.broadcast_to(a, sol.phi1_deg.shape)[i])
-        links[k] = (math.atan2(f(r.s), f(r.c)), f(r.omega), f(r.eps))
-    return known, links
-
-
 @pytest.mark.parametrize("case", list(CASES))
 def test_loop_equations_and_cramer_residuals_vanish_at_the_closed_form(case):
     check_loop(scene_of(case), ANGLES)
 
 
-def check_loop(scene, angles, size=None):
-    """Each group's loop equations hold at the closed form; their derivatives, solved here
-    by numpy, give the closed form's (Cramer's) rates, joints, links and slides."""
-    ANGLES = list(angles)
-    sol = sheetkin.solve(scene, ANGLES)
-    size = size or max([1.0] + [abs(c) for p in scene.frame.values() for c in p])
-    w = abs(scene.crank.omega) + 1.0
-    for g in scene.groups:
-        kind = kind_of(g)
-        qa, qb = kind.unknowns(g, sol)
-        for i in range(len(ANGLES)):
-            known, links = _float_known(scene, sol, i)
-            F, J, b_v, b_a, place = kind.loop(FLOAT, g, known, links)
-            q = [float(qa[i]), float(qb[i])]
-            assert np.max(np.abs(F(q))) <= 1e-13 * size, (g.label, ANGLES[i], F(q))
-            # the loop's differentiated equations J q_t = b_v, J q_tt = b_a, solved here by
-            # numpy, give the closed form's (Cramer's) rates, joints, links and slides
-            qt = np.linalg.solve(J(q), b_v(q))
-            qtt = np.linalg.solve(J(q), b_a(q, list(qt)))
-            joints, (ra, rb), group_slides = place(q, list(qt), list(qtt))
-            tol = dict(rtol=1e-9, atol=1e-10 * size * w * w)
-            for name, (p, v, a) in joints.items():
-                assert np.allclose([*p, *v, *a], [*known[name][0], *known[name][1], *known[name][2]], **tol), \
-                    (g.label, name, ANGLES[i])
-            for k, r in zip(g.links, (ra, rb)):
-                assert math.cos(r[0] - links[k][0]) == pytest.approx(1.0, abs=1e-12), (g.label, k)
-                assert np.allclose(r[1:], links[k][1:], **tol), (g.label, k, r, links[k])
-            for tag, triple in group_slides.items():
-                sl = sol.slides[tag]
-                assert np.allclose(triple, [sl.s[i], sl.vs[i], sl.as_[i]], **tol), (g.label, tag)
-
-
 @pytest.mark.parametrize("case", list(CASES))
 def test_distances_are_kept_and_sliders_stay_on_their_lines(case):
-    """Written out here from the contract, not from the kinds' code."""
-    scene = scene_of(case)
-    df = sheetkin.compute(scene, at=ANGLES)
-    xy = lambda n: (np.array([scene.frame[n][0]] * len(df)), np.array([scene.frame[n][1]] * len(df))) \
-        if n in scene.frame else (df[f"x_{n}"].to_numpy(), df[f"y_{n}"].to_numpy())
-    for g in scene.groups:
-        la, lb = g.links
-        if g.type == "RRR":
-            (j1, n, j2) = g.joints
-            for a, b, length in ((j1, n, g.lengths[0]), (n, j2, g.lengths[1])):
-                assert np.allclose(np.hypot(*(np.subtract(xy(a), xy(b)))), length, atol=1e-12)
-        elif g.type == "RRP":
-            j1, n = g.joints
-            assert np.allclose(np.hypot(*(np.subtract(xy(j1), xy(n)))), g.length, atol=1e-12)
-            # N = G + s_N u, u at phi_b = phi_k + A
-            G = xy(g.guide.through) if g.guide.moving else (np.full(len(df), g.guide.point[0]),
-                                                            np.full(len(df), g.guide.point[1]))
-            th = np.radians(df[f"phi_{lb}"].to_numpy())
-            base = np.radians(df[f"phi_{g.guide.link}"].to_numpy()) if g.guide.moving else 0.0
-            assert np.allclose(np.cos(th - base - np.radians(g.guide.angle_deg)), 1.0, atol=1e-12)
-            s = df[f"s_{n}"].to_numpy()
-            assert np.allclose(G[0] + s * np.cos(th), xy(n)[0], atol=1e-12)
-            assert np.allclose(G[1] + s * np.sin(th), xy(n)[1], atol=1e-12)
-        elif g.type == "RPR":
-            j1, j2 = g.joints
-            th = np.radians(df[f"phi_{lb}"].to_numpy())
-            d = np.subtract(xy(j1), xy(j2))
-            s = df[f"s_{j1}"].to_numpy()
-            assert np.all(s > 0)
-            assert np.allclose(d[0], s * np.cos(th) - g.offset * np.sin(th), atol=1e-12)
-            assert np.allclose(d[1], s * np.sin(th) + g.offset * np.cos(th), atol=1e-12)
+    """Written out in tests/kinds.py from the contract, not from the kinds' code."""
+    check_geometry(scene_of(case), ANGLES)
 
 
 # --------------------------------------------------------------------------- independent solutions
@@ -169,49 +94,9 @@ def test_mpmath_reference_and_newton_equal_compute(case):
     assert max(errors(newton.values, reference_mp(scene, steps, dps=20)).values()) < 1e-10
 
 
-def check_reference(scene, angles, tol=1e-9):
-    """The 30-digit mpmath solution of the loop equations equals compute."""
-    ref = reference_mp(scene, list(angles), dps=30)
-    df = sheetkin.compute(scene, at=list(angles))
-    for name, values in ref.items():
-        got, want = df[name].to_numpy(), np.array([float(v) for v in values])
-        d = np.abs(got - want)
-        if name.startswith("phi_"):
-            d = np.minimum(d, 360.0 - d)
-        assert np.all(d <= tol * np.maximum(1.0, np.abs(want))), (name, got, want)
-
-
-D1 = (4 / 5, -1 / 5, 4 / 105, -1 / 280)           # 8th-order central differences
-D2 = (8 / 5, -1 / 5, 8 / 315, -1 / 560)
-
-
 @pytest.mark.parametrize("case", list(CASES))
 def test_velocities_and_accelerations_are_derivatives_of_the_positions(case):
     check_derivatives(scene_of(case), ANGLES)
-
-
-def check_derivatives(scene, angles):
-    """v = omega dx/dphi, a = omega^2 d2x/dphi2 + eps dx/dphi (positions do not depend on the
-    crank's rates); 8th-order differences at h = 1e-3 rad are good to ~1e-12."""
-    w, eps = scene.crank.omega, scene.crank.epsilon
-    h = 1e-3
-    phis = np.array(angles)
-    frames = {o: sheetkin.compute(scene, at=list(phis + math.degrees(o * h))) for o in range(-4, 5)}
-    names = [c for c in sheetkin.column_names(scene) if c.split("_")[0] in ("x", "y", "s", "phi") and c != "phi_1"]
-    size = max(1.0, max(float(frames[0][c].abs().max()) for c in names if not c.startswith("phi")))
-    for col in names:
-        head, tail = col.split("_", 1)
-        f = {o: fr[col].to_numpy() for o, fr in frames.items()}
-        if head == "phi":                 # radians, unwrapped about the centre
-            f = {o: np.radians(f[0]) + np.radians((v - f[0] + 180.0) % 360.0 - 180.0) for o, v in f.items()}
-        d1 = sum(c * (f[k + 1] - f[-k - 1]) for k, c in enumerate(D1)) / h
-        d2 = sum(c * (f[k + 1] + f[-k - 1] - 2 * f[0]) for k, c in enumerate(D2)) / (h * h)
-        vel = {"x": "vx", "y": "vy", "s": "vs", "phi": "omega"}[head] + "_" + tail
-        acc = {"x": "ax", "y": "ay", "s": "as", "phi": "eps"}[head] + "_" + tail
-        v, a = frames[0][vel].to_numpy(), frames[0][acc].to_numpy()
-        assert np.max(np.abs(v - w * d1)) <= 1e-8 * size * (abs(w) + 1), (col, v, w * d1)
-        assert np.max(np.abs(a - (w * w * d2 + eps * d1))) <= 1e-5 * size * (w * w + abs(eps) + 1), \
-            (col, a, w * w * d2 + eps * d1)
 
 
 # --------------------------------------------------------------------------- kinetostatics
@@ -391,23 +276,6 @@ def test_only_scene_errors_come_out_of_a_mangled_group(case, key, value, drop):
         sheetkin.compute(scene)
     except AssemblyError:
         pass
-
-
-# --------------------------------------------------------------------------- random chains
-from kinds import random_chains  # noqa: E402
-
-
-@settings(max_examples=30, deadline=None, database=None)
-@given(chain=random_chains())
-def test_random_chains_of_moving_guides_and_axes(chain):
-    """Random four-bars extended by an RRP on a guide of the rocker, an RPR about a moving
-    point of the rocker, or both (the RRP's guide on the RPR's kulisa): loop equations and
-    Cramer residuals, the mpmath reference, and finite differences."""
-    text, angles, size = chain
-    scene = parse_scene(text, "random.toml")
-    check_loop(scene, angles, size=size)
-    check_reference(scene, angles, tol=1e-8)
-    check_derivatives(scene, angles)
 
 
 # --------------------------------------------------------------------------- the documentation

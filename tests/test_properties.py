@@ -1,7 +1,15 @@
 """Property-based tests of sheetkin's kinematics over random assemblable mechanisms.
 
-Three families of one-dyad mechanisms are generated as scene TOML text (shared/spec/scene.md)
-and fed through the public API (`parse_scene`, `compute`):
+Every kind and chains of kinds (test_every_kind_and_chain_of_kinds): tests/strategies.py
+draws random assemblable instances of each of the five kinds (RRR, RRP, RPR, PRP, RPP), of
+four-bars extended by guides on moving links and kulisas about moving axes, and of chains of
+two or three groups of any kinds; each goes through tests/kinds.py's checks: kept
+distances, points on their lines and loop closure written out from the contract, the
+kinds' loop equations and Cramer residuals, the 30-digit mpmath solution, and 8th-order
+finite differences of the positions.
+
+In more depth, three families of one-dyad mechanisms (tests/strategies.py) are fed through
+the public API (`parse_scene`, `compute`):
 
   * crank + RRR dyad (four-bar), built from a prescribed transmission-angle range so that it
     assembles over the whole revolution and stays away from toggle;
@@ -29,7 +37,6 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -38,6 +45,9 @@ from hypothesis import given, note, settings
 from hypothesis import strategies as st
 
 import sheetkin
+from kinds import check_derivatives, check_geometry, check_loop, check_reference
+from strategies import (KINDS, MECHANISMS, STRATEGIES, Mechanism, angle_diff, contract_columns, cross, e, e_perp,
+                        signs)
 
 WORKBOOKS = Path(__file__).resolve().parent.parent / "workbooks"
 
@@ -51,28 +61,7 @@ NEWTON_POS_TOL = 1e-10    # (e) positions
 NEWTON_RATE_TOL = 1e-9    # (e) velocities and accelerations
 
 
-# --------------------------------------------------------------------------- plane vectors
-def e(phi):
-    """Unit vector at angle phi (radians)."""
-    return np.array([np.cos(phi), np.sin(phi)])
-
-
-def e_perp(phi):
-    """e(phi) turned +90 deg, i.e. d e(phi) / d phi."""
-    return np.array([-np.sin(phi), np.cos(phi)])
-
-
-def cross(a, b):
-    """z-component of a x b: positive when b points to the left of a."""
-    return a[0] * b[1] - a[1] * b[0]
-
-
-def angle_diff(a, b):
-    """a - b wrapped to (-pi, pi], so that 359.9 deg and 0.1 deg are close."""
-    d = np.asarray(a) - np.asarray(b)
-    return np.arctan2(np.sin(d), np.cos(d))
-
-
+# --------------------------------------------------------------------------- assertions
 def assert_abs(got, expected, atol, what):
     """max |got - expected| <= atol."""
     got, expected = np.asarray(got, dtype=float), np.asarray(expected, dtype=float)
@@ -89,207 +78,6 @@ def assert_close(got, expected, rel, char_scale, what):
     assert np.all(np.isfinite(got)), f"{what}: non-finite value {got}"
     assert err <= rel * scale, (f"{what}: off by {err:.3e} = {err / scale:.3e} of its scale "
                                 f"{scale:.3e} (allowed {rel:g}); got {got}, expected {expected}")
-
-
-# --------------------------------------------------------------------------- mechanisms
-@dataclass
-class PointSpec:
-    """A [[point]]: `along` the link's direction from `origin`, `across` to its left."""
-    name: str
-    link: int
-    origin: str
-    along: float
-    across: float
-
-
-@dataclass
-class Mechanism:
-    """One random mechanism: crank O-A (link 1) and one dyad (links 2, 3).
-
-    Joint names are fixed: crank pivot O, crank joint A; RRR: A-B-O1; RRP: coupler A-B,
-    slider B on the guide through G; RPR: block on A, slotted lever about O1.
-    """
-    kind: str                       # "RRR", "RRP" or "RPR"
-    frame: dict                     # name -> np.array([x, y])
-    L1: float
-    omega: float
-    epsilon: float
-    group: dict                     # the dyad's parameters (see the strategies)
-    points: list
-    angles: list                    # crank angles to test, degrees
-    size: float                     # length scale for relative tolerances
-
-    @property
-    def toml(self) -> str:
-        return scene_toml(self)
-
-    def scene(self):
-        return sheetkin.parse_scene(self.toml, source=f"<random {self.kind}>")
-
-    @property
-    def new_joints(self):
-        return ["B"] if self.kind in ("RRR", "RRP") else []
-
-    @property
-    def sliders(self):
-        return {"RRR": [], "RRP": ["B"], "RPR": ["A"]}[self.kind]
-
-    @property
-    def omega_scale(self):
-        return abs(self.omega)
-
-    @property
-    def eps_scale(self):
-        return self.omega ** 2 + abs(self.epsilon)
-
-
-def fl(x) -> str:
-    """A float as TOML: Python's repr is the shortest round-trip form and valid TOML."""
-    return repr(float(x))
-
-
-def scene_toml(m: Mechanism) -> str:
-    out = [f'title = "random {m.kind}"', "", "[frame]"]
-    out += [f"{name} = [{fl(p[0])}, {fl(p[1])}]" for name, p in m.frame.items()]
-    out += ["", "[crank]", 'pivot = "O"', 'joint = "A"', f"length = {fl(m.L1)}",
-            "phi0_deg = 0.0", "step_deg = 30.0", "positions = 13",
-            f"omega = {fl(m.omega)}", f"epsilon = {fl(m.epsilon)}",
-            "", "[[group]]", f'type = "{m.kind}"', "links = [2, 3]"]
-    g = m.group
-    if m.kind == "RRR":
-        out += ['joints = ["A", "B", "O1"]', f"lengths = [{fl(g['L2'])}, {fl(g['L3'])}]",
-                f"branch = {g['branch']}"]
-    elif m.kind == "RRP":
-        through = '"G"' if g["named_guide"] else f"[{fl(g['G'][0])}, {fl(g['G'][1])}]"
-        out += ['joints = ["A", "B"]', f"length = {fl(g['L'])}",
-                f"guide = {{ through = {through}, angle_deg = {fl(g['gamma_deg'])} }}",
-                f"branch = {g['branch']}"]
-    else:
-        out += ['joints = ["A", "O1"]']
-        if g["write_offset"]:          # else the spec's default offset 0 is exercised
-            out += [f"offset = {fl(g['offset'])}"]
-    for p in m.points:
-        out += ["", "[[point]]", f'name = "{p.name}"', f"link = {p.link}", f'from = "{p.origin}"',
-                f"along = {fl(p.along)}", f"across = {fl(p.across)}"]
-    return "\n".join(out) + "\n"
-
-
-def contract_columns(m: Mechanism) -> list[str]:
-    """The spec's output columns, in the spec's order, written out independently."""
-    cols = ["phi_1"] + [f"{q}_{k}" for k in (2, 3) for q in ("phi", "omega", "eps")]
-    for p in ["A"] + m.new_joints + [p.name for p in m.points]:
-        cols += [f"{q}_{p}" for q in ("x", "y", "vx", "vy", "v", "ax", "ay", "a")]
-    for p in m.sliders:
-        cols += [f"{q}_{p}" for q in ("s", "vs", "as")]
-    return cols
-
-
-# --------------------------------------------------------------------------- strategies
-sizes = st.floats(-2.0, 1.0).map(lambda t: 10.0 ** t)      # 1 cm .. 10 m
-signs = st.sampled_from([-1, 1])
-
-
-def signed(lo, hi):
-    return st.tuples(signs, st.floats(lo, hi)).map(lambda t: t[0] * t[1])
-
-
-crank_angles = st.lists(st.floats(-360.0, 720.0), min_size=1, max_size=4)
-omegas = signed(0.5, 50.0)
-epsilons = signed(0.5, 500.0)          # never zero: the epsilon terms must be exercised
-
-
-def draw_point(draw, name, link, origins, S):
-    return PointSpec(name, link, draw(st.sampled_from(origins)),
-                     S * draw(st.floats(-1.5, 1.5)), S * draw(st.floats(-1.5, 1.5)))
-
-
-def mechanism_size(frame, lengths, points):
-    return max([abs(c) for p in frame.values() for c in p] + list(lengths)
-               + [abs(p.along) + abs(p.across) for p in points])
-
-
-@st.composite
-def fourbars(draw):
-    """Crank + RRR dyad assembling over the whole revolution.
-
-    Construction: with coupler L2 and rocker L3 fixed, the diagonal d = |A O1| and the
-    transmission angle mu (at B) are tied by d^2 = L2^2 + L3^2 - 2 L2 L3 cos(mu). Choosing
-    the range [mu_min, mu_max] inside [25, 155] deg fixes d_min, d_max; the crank sweeps
-    d = |A O1| over [D - L1, D + L1], so D = (d_min + d_max)/2, L1 = (d_max - d_min)/2. The
-    dyad then assembles at every crank angle with sin(mu) >= sin 25 deg (well-conditioned,
-    both branches far apart).
-    """
-    S = draw(sizes)
-    L2 = S
-    L3 = S * draw(st.floats(0.4, 2.5))
-    mu_min = draw(st.floats(25.0, 80.0))
-    mu_max = draw(st.floats(mu_min + 15.0, 155.0))
-
-    def diagonal(mu_deg):
-        return math.sqrt(L2 * L2 + L3 * L3 - 2.0 * L2 * L3 * math.cos(math.radians(mu_deg)))
-
-    d_min, d_max = diagonal(mu_min), diagonal(mu_max)
-    D, L1 = 0.5 * (d_min + d_max), 0.5 * (d_max - d_min)
-    O = S * np.array([draw(st.floats(-3.0, 3.0)), draw(st.floats(-3.0, 3.0))])
-    O1 = O + D * e(draw(st.floats(0.0, 2.0 * math.pi)))
-    frame = {"O": O, "O1": O1}
-    points = [draw_point(draw, "P2", 2, ["A", "B"], S), draw_point(draw, "P3", 3, ["O1", "B"], S)]
-    return Mechanism("RRR", frame, L1, draw(omegas), draw(epsilons),
-                     {"L2": L2, "L3": L3, "branch": draw(signs), "mu": (mu_min, mu_max)},
-                     points, draw(crank_angles), mechanism_size(frame, [L1, L2, L3, D], points))
-
-
-@st.composite
-def crank_sliders(draw):
-    """Crank + RRP dyad on a guide through G at a random angle, offset from the crank pivot.
-
-    h(A), the signed distance of A from the guide, stays within |h(O)| + L1; a coupler
-    L = (|h(O)| + L1) / rho with rho <= 0.85 keeps |h| / L <= 0.85, so it always assembles
-    and the coupler never stands perpendicular to the guide.
-    """
-    S = draw(sizes)
-    L1 = S
-    O = S * np.array([draw(st.floats(-3.0, 3.0)), draw(st.floats(-3.0, 3.0))])
-    gamma_deg = draw(st.floats(-180.0, 360.0))
-    u, n = e(math.radians(gamma_deg)), e_perp(math.radians(gamma_deg))
-    h_O = S * draw(st.floats(-1.5, 1.5))            # O lies h_O to the left of the guide
-    G = O - h_O * n + S * draw(st.floats(-2.0, 2.0)) * u
-    L = (abs(h_O) + L1) / draw(st.floats(0.15, 0.85))
-    named = draw(st.booleans())                     # through = "G" (frame point) or [x, y]
-    frame = {"O": O, "G": G} if named else {"O": O}
-    points = [draw_point(draw, "P2", 2, ["A", "B"], S), draw_point(draw, "P3", 3, ["B"], S)]
-    size = mechanism_size({"O": O, "G": G}, [L1, L], points)
-    return Mechanism("RRP", frame, L1, draw(omegas), draw(epsilons),
-                     {"L": L, "G": G, "gamma_deg": gamma_deg, "branch": draw(signs),
-                      "named_guide": named},
-                     points, draw(crank_angles), size)
-
-
-@st.composite
-def slotted_levers(draw):
-    """Crank + RPR dyad: block on A slides in a lever turning about O1.
-
-    L1 < D gives an oscillating lever, L1 > D a rotating one; |A O1| never drops below
-    r_min = |D - L1| >= 0.2 max(D, L1), and the slot offset stays below 0.8 r_min, so the
-    slide s = sqrt(|A O1|^2 - offset^2) stays well away from zero.
-    """
-    S = draw(sizes)
-    D = S
-    L1 = D * draw(st.one_of(st.floats(0.1, 0.8), st.floats(1.25, 3.0)))
-    r_min = abs(D - L1)
-    offset = draw(st.one_of(st.just(0.0), signed(0.05, 0.8).map(lambda r: r * r_min)))
-    O = S * np.array([draw(st.floats(-3.0, 3.0)), draw(st.floats(-3.0, 3.0))])
-    O1 = O + D * e(draw(st.floats(0.0, 2.0 * math.pi)))
-    frame = {"O": O, "O1": O1}
-    points = [draw_point(draw, "P2", 2, ["A"], S), draw_point(draw, "P3", 3, ["O1"], S)]
-    write_offset = offset != 0.0 or draw(st.booleans())
-    return Mechanism("RPR", frame, L1, draw(omegas), draw(epsilons),
-                     {"offset": offset, "write_offset": write_offset},
-                     points, draw(crank_angles), mechanism_size(frame, [L1, D], points))
-
-
-MECHANISMS = {"RRR": fourbars(), "RRP": crank_sliders(), "RPR": slotted_levers()}
-KINDS = list(MECHANISMS)
 
 
 def draw_mechanism(data, kind) -> Mechanism:
@@ -649,3 +437,25 @@ def test_link_angle_just_below_zero_reads_0():
     phi3 = sheetkin.compute(sheetkin.parse_scene(text, "<guide at 360>"), at=[30.0])["phi_3"].iloc[0]
     assert 0.0 <= phi3 < 360.0, f"phi_3 = {phi3!r}"
     assert_abs(angle_diff(math.radians(phi3), 0.0), 0.0, 1e-13, "phi_3 is the guide angle")
+
+
+# --------------------------------------------------------------------------- every kind, chains
+@pytest.mark.parametrize("name", list(STRATEGIES))
+@settings(max_examples=25, deadline=None, database=None)
+@given(data=st.data())
+def test_every_kind_and_chain_of_kinds(name, data):
+    """Random assemblable instances of each kind and chains of kinds (tests/strategies.py)
+    against tests/kinds.py's independent checks."""
+    text, angles, size = data.draw(STRATEGIES[name], label="mechanism")
+    note(f"scene:\n{text}\ncrank angles: {angles}")
+    scene = sheetkin.parse_scene(text, f"<random {name}>")
+    check_geometry(scene, angles, size)
+    check_loop(scene, angles, size=size)
+    check_reference(scene, angles, tol=1e-8)
+    check_derivatives(scene, angles)
+
+
+def test_every_kind_has_a_strategy():
+    """Adding a kind adds its random instances (README, "Adding a group")."""
+    from sheetkin.groups import KINDS as REGISTRY
+    assert set(REGISTRY) <= set(STRATEGIES)

@@ -1,9 +1,11 @@
-"""`sheetkin bench --stability` (issue #5, items 2-3): each method walked towards a toggle,
-a change point and just past the edge of a non-assembling interval, 1e-2 .. 1e-10 rad away.
+"""`sheetkin bench --stability` (issue #5, items 2-3; issue #12: a family for every kind):
+each method walked towards a toggle, a change point, just past the edge of a non-assembling
+interval, the edge of an RPR's range and two lines turning parallel (PRP, RPP), 1e-2 ..
+1e-10 rad away.
 
 What is pinned here is what the methods actually do there (measured against the mpmath
 reference), and that every failure is reported: no method shows unflagged numbers that are
-wrong. Fast: one run of the study (about 2 s), no LibreOffice.
+wrong. Fast: one run of the study (about 5 s), no LibreOffice.
 """
 from __future__ import annotations
 
@@ -15,12 +17,14 @@ import mpmath
 import numpy as np
 import pytest
 
-from sheetkin.bench import (FAMILY_TITLES, STABILITY_DISTANCES, SILENT_ERROR, _STABILITY_SCENE, _rrr_mp,
-                            edge_angle_mp, method_solver, reference_near_singular,
-                            stability_scene, stability_study)
+from sheetkin.bench import SILENT_ERROR, method_solver
+from sheetkin.groups.rrr import FOURBAR as _STABILITY_SCENE
+from sheetkin.stability import (FAMILY_TITLES, STABILITY_DISTANCES, edge_mp, family, family_cases,
+                                reference_near_singular, stability_scene, stability_study)
 from sheetkin.cli import main
 from sheetkin.compute import TOGGLE_THRESHOLD, AssemblyError, compute
 from sheetkin.scene import override_crank
+from sheetkin.scenecaps import SceneError
 
 D = list(STABILITY_DISTANCES)
 
@@ -32,8 +36,18 @@ def study(tmp_path_factory):
     return table, warnings, edges, out
 
 
-def rows(table, family, method):
-    t = table[(table["family"] == family) & (table["method"] == method)]
+def _rrr_mp(scene, phi):
+    """(crank joint A, its frame point O1, L2, L3) of a one-dyad scene in mpmath at the crank
+    angle phi (radians, an mpf): the closed form below is this test's, not the package's."""
+    c, g = scene.crank, scene.groups[0]
+    ox, oy = (mpmath.mpf(v) for v in scene.frame[c.pivot])
+    ax, ay = ox + mpmath.mpf(c.length) * mpmath.cos(phi), oy + mpmath.mpf(c.length) * mpmath.sin(phi)
+    jx, jy = (mpmath.mpf(v) for v in scene.frame[g.joints[2]])
+    return (ax, ay), (jx, jy), mpmath.mpf(g.lengths[0]), mpmath.mpf(g.lengths[1])
+
+
+def rows(table, fam, method):
+    t = table[(table["family"] == fam) & (table["method"] == method)]
     assert list(t["d"]) == D
     return t
 
@@ -61,7 +75,7 @@ def test_scenes_are_exact_binary_fractions():
 def test_edge_angle_is_the_discriminant_root():
     scene = stability_scene("toggle")
     with mpmath.workdps(50):
-        edge = edge_angle_mp(scene, 108.0)
+        edge = edge_mp(scene, family("toggle"))
         exact = mpmath.acos(mpmath.mpf(-0.3125))     # (r^2 + d^2 - (L2 + L3)^2) / (2 r d)
         assert abs(edge - exact) < mpmath.mpf(10) ** -45
 
@@ -71,8 +85,8 @@ def test_reference_agrees_with_differentiating_the_closed_form():
     derivatives (mpmath.diff, 60 digits) of B's closed-form position."""
     scene = stability_scene("toggle")
     with mpmath.workdps(60):
-        phi = float(mpmath.degrees(edge_angle_mp(scene, 108.0) - mpmath.mpf("1e-6")))
-        ref = reference_near_singular(scene, [phi])
+        phi = float(mpmath.degrees(edge_mp(scene, family("toggle")) - mpmath.mpf("1e-6")))
+        ref = reference_near_singular(scene, family("toggle"), [phi])
 
         def xb(t_deg):
             (ax, ay), (jx, jy), l2, l3 = _rrr_mp(scene, t_deg * mpmath.pi / 180)
@@ -214,11 +228,11 @@ def test_other_kinds_edges_are_exact(study):
     geometry written out here: the crank-slider's coupler (0.2) stands across its guide
     (y = 0.05) when 0.05 - 0.25 sin(phi) = 0.2; the second rocker O2 D (0.3) stands across
     the line O1 B of the four-bar's rocker, B from the mpmath reference."""
-    from sheetkin.bench import _family_angles, reference_mp
+    from sheetkin.bench import reference_mp
     from sheetkin.scene import parse_scene
     _, _, edges, _ = study
     with mpmath.workdps(50):
-        edge, _, _ = _family_angles("slider-toggle", stability_scene("slider-toggle"), D)
+        edge, _, _ = family_cases(family("slider-toggle"), D)
         # the scene's numbers are the floats 0.05, 0.2, 0.25, taken exactly
         exact = mpmath.pi + mpmath.asin((mpmath.mpf(0.2) - mpmath.mpf(0.05)) / mpmath.mpf(0.25))
         assert abs(edge - exact) < mpmath.mpf(10) ** -40
@@ -236,13 +250,128 @@ def test_other_kinds_edges_are_exact(study):
         assert set(solver["status"]) <= {"ok", "flagged"} and solver["status"].iloc[-1] == "flagged"
 
 
+# --------------------------------------------------------------------------- every kind
+def test_every_kind_has_a_family_on_its_own_group():
+    """Each kind module declares at least one family (its STABILITY), and each family's
+    failing group is of that kind: the study reaches every kind through the registry."""
+    from sheetkin.groups import KINDS
+    names = [f.name for kind in KINDS.values() for f in kind.STABILITY]
+    assert len(names) == len(set(names)) == len(FAMILY_TITLES)
+    for kind in KINDS.values():
+        assert kind.STABILITY
+        for f in kind.STABILITY:
+            scene = stability_scene(f.name)
+            assert next(g for g in scene.groups if g.index == f.group).type == kind.KIND
+
+
+def test_new_kinds_edges_are_exact(study):
+    """The edges found by mpmath on the kinds' own functions, against geometry written out
+    here. RPR: |A - C| = e, 0.0625 + 0.25 + 0.25 cos(phi) = 0.375^2, cos(phi) = -0.6875.
+    PRP: the crank-slider's coupler (sin eta = -0.25 sin(phi) / 0.5) at the fixed guide's
+    20 deg. RPP: the slot at the guide's 30 deg."""
+    _, _, edges, _ = study
+    with mpmath.workdps(50):
+        kulisa, _, _ = family_cases(family("kulisa-edge"), D)
+        assert abs(kulisa - mpmath.acos(mpmath.mpf("-0.6875"))) < mpmath.mpf(10) ** -40
+        lines, _, _ = family_cases(family("parallel-lines"), D)
+        exact = mpmath.pi + mpmath.asin(2 * mpmath.sin(mpmath.radians(20)))
+        assert abs(lines - exact) < mpmath.mpf(10) ** -40
+    assert edges["parallel-slot"] == 30
+
+
+def test_new_kinds_toggle_measure_vanishes_at_the_edge(study):
+    """The solver's and Newton's toggle measures go to 0 at the singular position: like
+    sqrt(d) at the RPR's range edge (s / L1), like d where two lines turn parallel (PRP:
+    sin(theta - eta), RPP: sin(alpha - gamma))."""
+    table = study[0]
+    det = rows(table, "kulisa-edge", "solver")["det"].abs().to_numpy()
+    assert det[2] / det[4] == pytest.approx(10, rel=0.01) and det[-1] < 2e-5
+    for fam, last in (("parallel-lines", 9), ("parallel-slot", 7)):
+        det = rows(table, fam, "solver")["det"].abs().to_numpy()[:last]
+        assert det[:-1] / det[1:] == pytest.approx(np.full(last - 1, 10.0), rel=0.01)
+        newton = rows(table, fam, "newton")
+        ok = newton["status"].isin(["ok", "flagged"]).to_numpy()[:last]
+        assert newton["det"].abs().to_numpy()[:last][ok] == pytest.approx(det[ok], rel=1e-6)
+
+
+def test_new_kinds_closed_form_loses_at_most_eps_over_d(study):
+    """The closed form's error, relative to the quantities' size, stays at round-off far
+    from the failure and grows no faster than eps / d towards it (the rates too: N and K
+    running off, their speeds grow like 1/d^2 and still keep that relative accuracy)."""
+    table = study[0]
+    for fam in ("kulisa-edge", "parallel-lines", "parallel-slot"):
+        t = rows(table, fam, "solver")
+        got = t[t["status"] != "refused"]
+        d = got["d"].to_numpy()
+        err = got[["err_pos", "err_vel", "err_acc"]].max(axis=1).to_numpy()
+        assert np.isfinite(err).all() and err[0] < 1e-13, fam
+        assert (err * d < 1e-15).all(), (fam, err * d)
+        # Newton, where it gives a number, is no better: the same conditioning
+        n = rows(table, fam, "newton")
+        n = n[n["status"].isin(["ok", "flagged"])]
+        assert (n[["err_pos", "err_vel", "err_acc"]].max(axis=1) * n["d"] < 1e-14).all(), fam
+    # the RPR behaves as the four-bar's toggle: flagged from 1e-5 rad on
+    assert list(rows(table, "kulisa-edge", "solver")["status"]) == ["ok"] * 3 + ["flagged"] * 6
+    # two lines nearly parallel: flagged from the first distance (|det| = 0.39 d)
+    assert set(rows(table, "parallel-lines", "solver")["status"]) == {"flagged"}
+
+
+def test_prp_crossing_point_runs_off_like_1_over_d(study):
+    """N = L goes to infinity as the coupler's line turns parallel to the fixed guide: |s_L| d
+    tends to a constant (the solver, away from the last distances' round-off)."""
+    t = rows(study[0], "parallel-lines", "solver")
+    scene = stability_scene("parallel-lines")
+    s = compute(scene, at=list(t["phi_deg"]))["s_L"].abs().to_numpy()
+    k = s * t["distance"].to_numpy()
+    assert s[-1] > 1e9
+    assert k[3:] == pytest.approx(np.full(len(k) - 3, k[-1]), rel=1e-3)
+
+
+def test_newtons_no_convergence_where_lines_turn_parallel_is_its_step_test():
+    """The Scotch yoke's equations are linear: Newton's answer is right after one step, but
+    its step test (NEWTON_TOL of |q|) cannot be met once the condition number is ~1/d: at
+    1e-4 and 1e-6 rad it reports no convergence; with a test of 1e-10 the same iterations
+    stop, on the solver's answer."""
+    from sheetkin.bench import FLOAT, NEWTON_MAX_ITER, NEWTON_TOL, _unknowns, _walk
+    _, _, cases = family_cases(family("parallel-slot"), [1e-4, 1e-6])
+    for scene, phi, _, _ in cases:
+        start = _unknowns(scene, [phi])[0]
+        assert _walk(FLOAT, scene, phi, dict(start), NEWTON_TOL, NEWTON_MAX_ITER)[2][0][1] == "no convergence"
+        values, _, problems, _ = _walk(FLOAT, scene, phi, dict(start), 1e-10, NEWTON_MAX_ITER)
+        assert not problems
+        df = compute(scene, at=[phi])
+        for name in ("x_K", "s_K", "vs_K", "as_A"):
+            assert values[name] == pytest.approx(df[name].iloc[0], rel=1e-9), name
+
+
+def test_scotch_yoke_family_varies_the_slot_and_the_parser_refuses_it_at_last(study):
+    """RPP's toggle measure does not depend on the crank angle: the family varies
+    slot_angle_deg at one crank angle, and within 1e-9 rad of the guide the scene is
+    refused (by every method: there is no scene), said with the slot angles."""
+    table, warnings, _, out = study
+    t = table[table["family"] == "parallel-slot"]
+    assert set(t["varies"]) == {"slot_angle_deg"} and set(t["phi_deg"]) == {100.0}
+    solver = rows(table, "parallel-slot", "solver")
+    assert solver["value_deg"].to_numpy() == pytest.approx(30 - np.degrees(D), abs=1e-12)
+    assert list(solver["status"]) == ["flagged"] * 7 + ["refused"] * 2
+    for method in ("newton", "fd"):
+        assert list(rows(table, "parallel-slot", method)["status"])[7:] == ["refused"] * 2
+    w = warning(warnings, "solver (parallel-slot): cannot assemble at slot_angle_deg ")
+    assert named_distances(w) == [1e-9, 1e-10] and w.endswith("deg (refused)")
+    with pytest.raises(SceneError, match="slot_angle_deg.*runs along the guide"):
+        stability_scene("parallel-slot", float(solver["value_deg"].iloc[-1]))
+    crank = table[table["family"] == "toggle"]
+    assert set(crank["varies"]) == {"crank angle"} and (crank["value_deg"] == crank["phi_deg"]).all()
+
+
 # --------------------------------------------------------------------------- files, CLI
 def test_csv_and_png_written(study):
     table, _, _, out = study
     with open(out / "stability.csv", newline="") as f:
         got = list(csv.DictReader(f))
     assert len(got) == len(FAMILY_TITLES) * 3 * len(D) == len(table)
-    assert list(got[0])[:7] == ["family", "d", "distance", "phi_deg", "method", "param", "status"]
+    assert list(got[0]) == ["family", "d", "distance", "phi_deg", "method", "param", "status", "err_pos",
+                            "err_vel", "err_acc", "det", "silent", "varies", "value_deg", "seconds"]
     # the float angle's distance from the edge is the nominal one to 1e-6 of it
     for r in got:
         assert float(r["distance"]) == pytest.approx(float(r["d"]), rel=1e-5)
@@ -250,7 +379,11 @@ def test_csv_and_png_written(study):
     assert png[:8] == b"\x89PNG\r\n\x1a\n" and len(png) > 30_000
 
 
-def test_cli_stability(tmp_path, capsys):
+def test_cli_stability(tmp_path, capsys, monkeypatch):
+    # the command runs the study's own function: one family is enough here (the study
+    # fixture runs them all)
+    toggle = family("toggle")
+    monkeypatch.setattr("sheetkin.stability.families", lambda: [toggle])
     assert main(["bench", "--stability", "--out", str(tmp_path)]) == 0
     out, err = capsys.readouterr()
     assert out.split()[:4] == ["family", "d", "method", "status"]

@@ -30,6 +30,9 @@ Every kind module provides the same surface, under banners in this order:
                              [[mass]] `centre`, [[force]] `at` must be one of them)
   sliders(g) -> list[str]    slide tags, named by motion.slide_names: "N" -> s_N, vs_N,
                              as_N; "2_N" -> s2_N, vs2_N, as2_N
+  fourbar(g, crank_joint, frame) -> (coupler, rocker, pivot, branch) or None   the four-bar
+                             the group closes with the crank (seed 002's synthesis designs
+                             its lengths; only an RRR from the crank's joint to a frame point)
 
   # --- positions, velocities, accelerations (numpy over crank positions)
   solve(g, known, rot, scale) -> motion.GroupMotion
@@ -74,6 +77,12 @@ Every kind module provides the same surface, under banners in this order:
   discriminant(lib, g, known, links)   >= 0 where the group assembles, 0 at the edge of
                              its range (the stability study finds that edge in mpmath)
   unknowns(g, sol) -> (qa, qb)   the closed-form solution's q, arrays over positions
+
+  # --- stability families (sheetkin bench --stability)
+  STABILITY = (group.Family(...), ...)   scenes walked towards where the kind degenerates
+                             (a toggle, the edge of its range, two lines turning parallel):
+                             what the family varies and the function whose root is its
+                             singular position; sheetkin.stability runs them all
 """
 from __future__ import annotations
 
@@ -92,3 +101,8 @@ KINDS = {
 def kind_of(g):
     """The module of a group's kind (a Group, or its `type` string)."""
     return KINDS[g if isinstance(g, str) else g.type]
+
+
+def families() -> list:
+    """The stability study's families (group.Family), each kind's STABILITY in KINDS order."""
+    return [f for kind in KINDS.values() for f in kind.STABILITY]

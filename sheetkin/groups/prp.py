@@ -29,9 +29,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..group import Group, Guide
-from ..motion import FRAME, GroupMotion, Motion, Pair, Rotation, Slide, cramer, fixed, inverse_det, turned
-from ..rows import Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, det_row, fd_checks, motion_rows
+from ..group import Family, Group, Guide, crank_scene
+from ..motion import GroupMotion, Motion, Pair, Rotation, Slide, cramer, guide_line, guide_loop, inverse_det
+from ..rows import (Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, det_row, fd_checks, motion_rows,
+                    residual)
 
 # --------------------------------------------------------------------------- what it is
 KIND = "PRP"
@@ -83,16 +84,12 @@ def sliders(g: Group) -> list[str]:
     return [g.joints[0], f"2_{g.joints[0]}"]
 
 
+def fourbar(g: Group, crank_joint: str, frame) -> None:
+    """Not a four-bar's dyad (only an RRR closes one with the crank: sheetkin.synthesis)."""
+    return None
+
+
 # --------------------------------------------------------------------------- positions and rates
-def guide_line(gd: Guide, known: dict[str, Motion], rot: dict[int, Rotation]) -> tuple[Motion, Rotation]:
-    """A guide's point P and direction u = e(phi_k + A), with the rates of the link k that
-    carries it (the frame's: none)."""
-    if not gd.moving:
-        a = np.radians(gd.angle_deg)
-        return fixed(*gd.point), Rotation(np.cos(a), np.sin(a), 0.0, 0.0)
-    return known[gd.through], turned(rot.get(gd.link, FRAME), gd.angle_deg)
-
-
 def solve_prp(pa: Motion, ga: Rotation, pb: Motion, gb: Rotation):
     """N, the two slides (s_N along guide a, s2_N along guide b), the discriminant
     (negative where the guides are parallel) and the toggle measure sin(theta_b - theta_a)."""
@@ -268,7 +265,7 @@ def rows(b: Builder, g: Group):
                              f"velocity of block {N} along guide 1 (Cramer)"),
                             (f"vs2_{N}", "m/s", f"скорость ползуна {N} вдоль направляющей 2 (Крамер)",
                              f"velocity of slider {N} along guide 2 (Cramer)")),
-                (v1, v2), (f"chk_vsys_g{i}", "невязка системы для скоростей", "residual of the velocity system"))
+                (v1, v2), residual(i, "v"))
     f1, f2, t1, t2 = f"f1_g{i}", f"f2_g{i}", f"t1_g{i}", f"t2_g{i}"
     b.add(t1, "m/s^2", "2 vs omega1 + s eps1: кориолисово и касательное ускорения поперёк направляющей 1",
           "2 vs omega1 + s eps1: Coriolis and tangential terms across guide 1", "calc",
@@ -285,11 +282,8 @@ def rows(b: Builder, g: Group):
                              f"acceleration of block {N} along guide 1"),
                             (f"as2_{N}", "m/s^2", f"ускорение ползуна {N} вдоль направляющей 2",
                              f"acceleration of slider {N} along guide 2")),
-                (f"{{{f1}}}", f"{{{f2}}}"), (f"chk_asys_g{i}", "невязка системы для ускорений",
-                                             "residual of the acceleration system"))
-    b.rot[la] = (f"cos_{la}", f"sin_{la}", f"omega_{la}", f"eps_{la}")
-    b.rot[lb] = (f"cos_{lb}", f"sin_{lb}", f"omega_{lb}", f"eps_{lb}")
-    b.guard_of_link[la] = b.guard_of_link[lb] = b.guard
+                (f"{{{f1}}}", f"{{{f2}}}"), residual(i, "a"))
+    b.place_links(la, lb)
     b.section(f"point_{N}", f"Шарнир {N} = точка L: движение с направляющей 1 и по ней",
               f"Hinge {N} = the point L: carried by guide 1 and sliding on it")
     tu = f"({{as_{N}}}-{S1}*{wa}^2)"
@@ -388,8 +382,7 @@ def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
     k.equilibrium(bl, N, [(N, f"{{Rx_{tab}}}", f"{{Ry_{tab}}}"), (N, f"{{Rx_{t2}}}", f"{{Ry_{t2}}}")], f"{{M_{t2}}}")
     for gd, t in ((ga, t1), (gb, t2)):
         if gd.moving:      # the link that carries the guide: the block pushes back on it
-            k.loads[gd.link].append((N, f"(-{{Rx_{t}}})", f"(-{{Ry_{t}}})"))
-            k.couples[gd.link].append(f"(-{{M_{t}}})")
+            k.opposite(gd.link, N, t, couple=True)
 
 
 # --------------------------------------------------------------------------- loop equations
@@ -427,22 +420,11 @@ def loop_lines(lib, pa, guide_a, pb, guide_b):
     return F, J, b_v, b_a, place
 
 
-def _line(lib, gd: Guide, known, links):
-    """A guide's point (position, velocity, acceleration) and (angle, omega, eps)."""
-    n = lib.num
-    a = n(gd.angle_deg) * lib.pi() / 180
-    if not gd.moving:
-        z = (n(0), n(0))
-        return ((n(gd.point[0]), n(gd.point[1])), z, z), (a, n(0), n(0))
-    phi, w, eps = links[gd.link]
-    return known[gd.through], (phi + a, w, eps)
-
-
 def loop(lib, g: Group, known, links):
     """P1 + s u1 = P2 + s2 u2 (loop_lines) with the scene's guides; q = (s_N, s2_N)."""
     n = g.joints[0]
-    F, J, b_v, b_a, place_lines = loop_lines(lib, *_line(lib, g.guides[0], known, links),
-                                             *_line(lib, g.guides[1], known, links))
+    F, J, b_v, b_a, place_lines = loop_lines(lib, *guide_loop(lib, g.guides[0], known, links),
+                                             *guide_loop(lib, g.guides[1], known, links))
 
     def place(q, qt, qtt):
         joint, rots, (sa, sb) = place_lines(q, qt, qtt)
@@ -458,10 +440,41 @@ def side_ok(lib, g: Group, known, links, q, joints) -> bool:
 def discriminant(lib, g: Group, known, links):
     """sin^2(theta_b - theta_a): two lines always cross unless parallel, where it touches 0
     (the toggle; PRP has no range edge)."""
-    (_, (ta, _, _)), (_, (tb, _, _)) = (_line(lib, gd, known, links) for gd in g.guides)
+    (_, (ta, _, _)), (_, (tb, _, _)) = (guide_loop(lib, gd, known, links) for gd in g.guides)
     return lib.sin(tb - ta) ** 2
 
 
 def unknowns(g: Group, sol) -> tuple[np.ndarray, np.ndarray]:
     n = g.joints[0]
     return sol.slides[n].s, sol.slides[f"2_{n}"].s
+
+
+def parallel(lib, g: Group, known, links):
+    """sin(theta_b - theta_a), signed: its simple root is where the two lines turn parallel
+    (the stability study's edge; the discriminant, its square, touches 0 there)."""
+    (_, (ta, _, _)), (_, (tb, _, _)) = (guide_loop(lib, gd, known, links) for gd in g.guides)
+    return lib.sin(tb - ta)
+
+
+# --------------------------------------------------------------------------- stability families
+# Two lines always cross unless parallel: PRP has no edge of a range. Its failure is the
+# coupler's line turning parallel to the fixed guide: N runs off to infinity (s ~ 1/d,
+# vs ~ 1/d^2, as ~ 1/d^3) and the toggle measure sin(theta - eta) -> 0 like d. Past it
+# the group assembles again, N coming back from the other side.
+STABILITY = (
+    Family("parallel-lines", "PRP: the coupler's line turning parallel to the fixed guide (N runs off)",
+           crank_scene("Slider on the coupler of a crank-slider, a fixed guide at 20 deg that the coupler reaches", """\
+[[group]]
+type = "RRP"
+links = [2, 3]
+joints = ["A", "B"]
+length = 0.5
+guide = { through = "O", angle_deg = 0.0 }
+branch = 1
+[[group]]
+type   = "PRP"
+links  = [4, 5]
+joints = ["L"]
+guides = [{ through = "A", angle_deg = 0.0, link = 2 }, { through = [0.0, 0.25], angle_deg = 20.0 }]
+"""), 2, parallel, near_deg=220.0),
+)

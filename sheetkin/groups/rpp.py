@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..group import Group, Guide
+from ..group import Family, Group, Guide, crank_scene
 from ..motion import GroupMotion, Motion, Pair, Rotation, Slide, cramer, inverse_det
 from ..rows import Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, fd_checks, motion_rows
 
@@ -78,6 +78,11 @@ def carries(g: Group) -> dict[int, list[str]]:
 def sliders(g: Group) -> list[str]:
     """s_K along b's guide, s_J1 along the slot from K (the contract)."""
     return [g.joints[1], g.joints[0]]
+
+
+def fourbar(g: Group, crank_joint: str, frame) -> None:
+    """Not a four-bar's dyad (only an RRR closes one with the crank: sheetkin.synthesis)."""
+    return None
 
 
 # --------------------------------------------------------------------------- positions and rates
@@ -186,9 +191,7 @@ def rows(b: Builder, g: Group):
               "accepted", "0")
     split(*systems[1])
     split(*systems[2])
-    b.rot[la] = (f"cos_{la}", f"sin_{la}", f"omega_{la}", f"eps_{la}")
-    b.rot[lb] = (f"cos_{lb}", f"sin_{lb}", f"omega_{lb}", f"eps_{lb}")
-    b.guard_of_link[la] = b.guard_of_link[lb] = b.guard
+    b.place_links(la, lb)
     b.section(f"point_{K}", f"Точка {K} кулисы {lb} на её направляющей", f"Point {K} of kulisa {lb} on its guide")
     motion_rows(b, K, f"точки {K}", f"point {K}", f"{gx}+{{s_{K}}}*{ug[0]}", f"{gy}+{{s_{K}}}*{ug[1]}",
                 f"{{vs_{K}}}*{ug[0]}", f"{{vs_{K}}}*{ug[1]}", f"{{as_{K}}}*{ug[0]}", f"{{as_{K}}}*{ug[1]}")
@@ -286,7 +289,7 @@ def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
           f"-{{MQ_{a}}}-{{MQ_{bl}}}+{{{P}}}*({dx}*{cs}+{dy}*{ss})")
     k.equilibrium(bl, K, [(J1, f"{{Rx_{tab}}}", f"{{Ry_{tab}}}"), (K, f"{{Rx_{t0}}}", f"{{Ry_{t0}}}")],
                   f"{{M_{tab}}}+{{M_{t0}}}")
-    k.loads[o1].append((J1, f"(-{{Rx_{t1}}})", f"(-{{Ry_{t1}}})"))
+    k.opposite(o1, J1, t1)
 
 
 # --------------------------------------------------------------------------- loop equations
@@ -344,3 +347,23 @@ def discriminant(lib, g: Group, known, links):
 def unknowns(g: Group, sol) -> tuple[np.ndarray, np.ndarray]:
     j1, k = g.joints
     return sol.slides[k].s, sol.slides[j1].s
+
+
+# --------------------------------------------------------------------------- stability families
+# The Scotch yoke's toggle measure sin(alpha - gamma) is constant over the cycle: no crank
+# angle is singular. What degenerates is the scene: the slot turned towards the direction
+# of the yoke's guide, K runs off along it (s_K ~ 1/d, and so its rates). The family varies
+# slot_angle_deg towards the guide's 30 deg (not along an axis, so the determinant
+# cos(gamma) sin(alpha) - sin(gamma) cos(alpha) loses digits to cancellation as in a real
+# scene) at one crank angle; within PARALLEL the parser refuses the scene.
+STABILITY = (
+    Family("parallel-slot", "RPP (Scotch yoke): the slot turned towards its guide's direction (K runs off)",
+           crank_scene("Scotch yoke whose slot nearly runs along the yoke's guide", """\
+[[group]]
+type           = "RPP"
+links          = [2, 3]
+joints         = ["A", "K"]
+slot_angle_deg = {value}
+guide          = { through = "O", angle_deg = 30.0 }
+""", phi0_deg=100.0), 1, 30.0, vary="slot_angle_deg"),
+)

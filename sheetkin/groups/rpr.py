@@ -18,9 +18,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..group import Group
-from ..motion import GroupMotion, Motion, Pair, Rotation, Slide, cramer, cross, inverse_det, sqrt_or_nan
-from ..rows import Builder, InputRow, LoadRows, cramer_rows, det_row, group_guard
+from ..group import Family, Group, crank_scene
+from ..motion import (GroupMotion, Motion, Pair, Rotation, Slide, cramer, cross, hinge, inverse_det, resultants,
+                      sqrt_or_nan)
+from ..rows import Builder, InputRow, LoadRows, cramer_rows, det_row, group_guard, residual
 
 # --------------------------------------------------------------------------- what it is
 KIND = "RPR"
@@ -64,6 +65,11 @@ def carries(g: Group) -> dict[int, list[str]]:
 
 def sliders(g: Group) -> list[str]:
     return [g.joints[0]]
+
+
+def fourbar(g: Group, crank_joint: str, frame) -> None:
+    """Not a four-bar's dyad (only an RRR closes one with the crank: sheetkin.synthesis)."""
+    return None
 
 
 # --------------------------------------------------------------------------- positions and rates
@@ -157,7 +163,7 @@ def rows(b: Builder, g: Group):
                   f"angular velocity of the lever {lb} (Cramer)"),
                             (f"vs_{J1}", "m/s", f"относительная скорость камня {J1} вдоль кулисы",
                              f"velocity of block {J1} along the slot")),
-                (b1, b2), (f"chk_vsys_g{i}", "невязка системы для скоростей", "residual of the velocity system"))
+                (b1, b2), residual(i, "v"))
     w, vs = f"{{omega_{lb}}}", f"{{vs_{J1}}}"
     bx, by = f"bx_g{i}", f"by_g{i}"
     # bias of the acceleration system: 2 s_t theta_t n (Coriolis) - s theta_t^2 u - e theta_t^2 n
@@ -170,15 +176,14 @@ def rows(b: Builder, g: Group):
                 ((f"eps_{lb}", "rad/s^2", f"угловое ускорение кулисы {lb}", f"angular acceleration of the lever {lb}"),
                             (f"as_{J1}", "m/s^2", f"относительное ускорение камня {J1} вдоль кулисы",
                              f"acceleration of block {J1} along the slot")),
-                (f1, f2), (f"chk_asys_g{i}", "невязка системы для ускорений", "residual of the acceleration system"))
+                (f1, f2), residual(i, "a"))
     b.add(f"omega_{la}", "rad/s", f"угловая скорость камня {la}", f"angular velocity of the block {la}", "accepted",
           f"{{omega_{lb}}}")
     b.add(f"eps_{la}", "rad/s^2", f"угловое ускорение камня {la}", f"angular acceleration of the block {la}",
           "accepted", f"{{eps_{lb}}}")
     b.add(f"cos_{lb}", "", f"cos угла кулисы {lb}", f"cos of lever {lb}'s angle", "calc", c)
     b.add(f"sin_{lb}", "", f"sin угла кулисы {lb}", f"sin of lever {lb}'s angle", "calc", s)
-    b.rot[la] = b.rot[lb] = (f"cos_{lb}", f"sin_{lb}", f"omega_{lb}", f"eps_{lb}")
-    b.guard_of_link[la] = b.guard_of_link[lb] = b.guard
+    b.place_links(la, lb, rot=(f"cos_{lb}", f"sin_{lb}", f"omega_{lb}", f"eps_{lb}"))
     # the block's motion seen on the lever: v_J1 = v_J2 + omega x r + vs u,
     # a_J1 = a_J2 + eps x r - omega^2 r + as u + 2 omega vs n (Coriolis)
     ep, as_ = f"{{eps_{lb}}}", f"{{as_{J1}}}"
@@ -208,8 +213,7 @@ def reactions(g: Group, known, links, loads, owner) -> dict[str, tuple]:
     kulisa about J2: (J1 - J2) x (-P n) - C + Mb(J2) = 0, R2 - P n + Fb = 0."""
     (J1, J2), (a, b) = g.joints, g.links
     la, lb = loads[a], loads[b]
-    fax, fay = la.resultant()
-    fbx, fby = lb.resultant()
+    (fax, fay), (fbx, fby), _ = resultants(loads, a, b)
     j1, j2 = known[J1], known[J2]
     rot = links[b]
     nx, ny = -rot.s, rot.c
@@ -217,10 +221,8 @@ def reactions(g: Group, known, links, loads, owner) -> dict[str, tuple]:
     p = (lb.moment(j2.x, j2.y) - c) / cross(j1.x - j2.x, j1.y - j2.y, nx, ny)   # /s: 0 at the pivot
     r1x, r1y = -p * nx - fax, -p * ny - fay
     r2x, r2y = p * nx - fbx, p * ny - fby
-    loads[owner[J1]].add(j1, -r1x, -r1y)
-    loads[owner[J2]].add(j2, -r2x, -r2y)
-    return {f"{owner[J1]}_{a}": (r1x, r1y, None), f"{a}_{b}": (-p * nx, -p * ny, -c),
-            f"{owner[J2]}_{b}": (r2x, r2y, None)}
+    return dict([hinge(loads, owner[J1], a, j1, (r1x, r1y)), (f"{a}_{b}", (-p * nx, -p * ny, -c)),
+                 hinge(loads, owner[J2], b, j2, (r2x, r2y))])
 
 
 def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
@@ -248,8 +250,8 @@ def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
     k.reaction(t2, f"{P}*(-{s})-{{Qx_{bl}}}", f"{P}*{c}-{{Qy_{bl}}}", f"звена {o2} на кулису {bl} в {J2}",
                f"of link {o2} on lever {bl} at {J2}")
     k.equilibrium(bl, J2, [(J1, *rab), (J2, f"{{Rx_{t2}}}", f"{{Ry_{t2}}}")], f"{{M_{tab}}}")
-    k.loads[o2].append((J2, f"(-{{Rx_{t2}}})", f"(-{{Ry_{t2}}})"))
-    k.loads[o1].append((J1, f"(-{r1[0]})", f"(-{r1[1]})"))
+    k.opposite(o2, J2, t2)
+    k.opposite(o1, J1, t1)
 
 
 # --------------------------------------------------------------------------- loop equations
@@ -301,3 +303,23 @@ def discriminant(lib, g: Group, known, links):
 def unknowns(g: Group, sol) -> tuple[np.ndarray, np.ndarray]:
     rb = sol.links[g.links[1]]
     return np.arctan2(rb.s, rb.c), sol.slides[g.joints[0]].s
+
+
+# --------------------------------------------------------------------------- stability families
+# A slot offset from the kulisa's axis (e = 0.375) that the crank (0.25, the axis 0.5 away)
+# cannot always reach: where |J1 - J2| = e the block stands at the foot of the perpendicular
+# from J2 to the slot (s = L_TEK -> 0, the discriminant L_TEK^2 - e^2 -> 0 and the toggle
+# measure s / L1 -> 0 like sqrt(d)); beyond it the group does not assemble. Binary lengths:
+# the edge cos(phi) = -0.6875 holds in floats.
+STABILITY = (
+    Family("kulisa-edge", "RPR: a slot offset from the kulisa's axis, towards the edge of its range (s -> 0)",
+           crank_scene("Slotted lever with an offset slot: the crank cannot always reach it", """\
+[[group]]
+type   = "RPR"
+links  = [2, 3]
+joints = ["A", "C"]
+offset = 0.375
+""", frame="""\
+O  = [0.0, 0.0]
+C  = [-0.5, 0.0]"""), 1, discriminant),
+)

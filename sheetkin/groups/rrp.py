@@ -21,11 +21,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..group import Group, Guide
-from ..motion import (FRAME, GroupMotion, Motion, Pair, Rotation, Slide, cramer, fixed, inverse_det, on_line,
-                      sqrt_or_nan, turned)
+from ..group import Family, Group, Guide, crank_scene
+from ..motion import (GroupMotion, Motion, Pair, Rotation, Slide, cramer, guide_line, guide_loop, hinge, inverse_det,
+                      on_line, resultants, sqrt_or_nan)
 from ..rows import (Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, det_row, distance_check, fd_checks,
-                    group_guard, motion_rows, relative_velocity_check, via_link_checks)
+                    group_guard, motion_rows, relative_velocity_check, residual, via_link_checks)
 
 # --------------------------------------------------------------------------- what it is
 KIND = "RRP"
@@ -91,15 +91,12 @@ def sliders(g: Group) -> list[str]:
     return [g.joints[1]]
 
 
+def fourbar(g: Group, crank_joint: str, frame) -> None:
+    """Not a four-bar's dyad (only an RRR closes one with the crank: sheetkin.synthesis)."""
+    return None
+
+
 # --------------------------------------------------------------------------- positions and rates
-def guide_line(guide: Guide, known: dict[str, Motion], rot: dict[int, Rotation]) -> tuple[Motion, Rotation]:
-    """The guide's point G and direction u (with the rates of the link that carries it)."""
-    if not guide.moving:
-        a = np.radians(guide.angle_deg)
-        return fixed(*guide.point), Rotation(np.cos(a), np.sin(a), 0.0, 0.0)
-    return known[guide.through], turned(rot.get(guide.link, FRAME), guide.angle_deg)
-
-
 def solve_rrp(j1: Motion, length: float, origin: Motion, u: Rotation, branch: int):
     """J1 + L e(phi) = G + s u: h, the signed distance of J1 from the guide, gives the
     coupler's angle to the guide, sin(mu) = h / L (slides 13-15, 29); N lies sqrt(L^2 - h^2)
@@ -218,7 +215,7 @@ def _fixed_guide_rows(b: Builder, g: Group):
                   f"angular velocity of coupler {la} (Cramer)"),
                             (f"vs_{N}", "m/s", f"скорость ползуна {N} вдоль направляющей",
                              f"velocity of slider {N} along the guide")),
-                (b1, b2), (f"chk_vsys_g{i}", "невязка системы для скоростей", "residual of the velocity system"))
+                (b1, b2), residual(i, "v"))
     f1, f2 = f"f1_g{i}", f"f2_g{i}"
     wa = f"{{omega_{la}}}"
     b.add(f1, "m/s^2", "правая часть для ускорений f1", "right side of the acceleration system f1", "calc",
@@ -230,10 +227,8 @@ def _fixed_guide_rows(b: Builder, g: Group):
                             (f"as_{N}", "m/s^2", f"ускорение ползуна {N} вдоль направляющей",
                              f"acceleration of slider {N} along the guide")),
                 (f"{{{f1}}}", f"{{{f2}}}"),
-                (f"chk_asys_g{i}", "невязка системы для ускорений", "residual of the acceleration system"))
-    b.rot[la] = (f"cos_{la}", f"sin_{la}", f"omega_{la}", f"eps_{la}")
-    b.rot[lb] = (f"cos_{lb}", f"sin_{lb}", f"omega_{lb}", f"eps_{lb}")
-    b.guard_of_link[la] = b.guard_of_link[lb] = b.guard
+                residual(i, "a"))
+    b.place_links(la, lb)
     b.section(f"point_{N}", f"Ползун {N}", f"Slider {N}")
     s, vs, as_ = f"{{{sN}}}", f"{{vs_{N}}}", f"{{as_{N}}}"
     motion_rows(b, N, f"ползуна {N}", f"slider {N}", f"{gx}+{s}*{ux}", f"{gy}+{s}*{uy}",
@@ -325,7 +320,7 @@ def _moving_guide_rows(b: Builder, g: Group):
                   f"angular velocity of link {la} (Cramer)"),
                             (f"vs_{N}", "m/s", f"(L_tek)_t: скорость камня {N} по кулисе",
                              f"(L_tek)_t: velocity of block {N} along the kulisa")),
-                (b1, b2), (f"chk_vsys_g{i}", "невязка системы для скоростей", "residual of the velocity system"))
+                (b1, b2), residual(i, "v"))
     f1, f2 = f"f1_g{i}", f"f2_g{i}"
     wa, vs = f"{{omega_{la}}}", f"{{vs_{N}}}"
     tn = f"(2*{vs}*{wk}+{S}*{ek})"
@@ -339,10 +334,8 @@ def _moving_guide_rows(b: Builder, g: Group):
                             (f"as_{N}", "m/s^2", f"(L_tek)_tt: ускорение камня {N} по кулисе",
                              f"(L_tek)_tt: acceleration of block {N} along the kulisa")),
                 (f"{{{f1}}}", f"{{{f2}}}"),
-                (f"chk_asys_g{i}", "невязка системы для ускорений", "residual of the acceleration system"))
-    b.rot[la] = (f"cos_{la}", f"sin_{la}", f"omega_{la}", f"eps_{la}")
-    b.rot[lb] = (f"cos_{lb}", f"sin_{lb}", f"omega_{lb}", f"eps_{lb}")
-    b.guard_of_link[la] = b.guard_of_link[lb] = b.guard
+                residual(i, "a"))
+    b.place_links(la, lb)
     b.section(f"point_{N}", f"Камень {N}: движение вместе с кулисой и по ней",
               f"Block {N}: carried by the kulisa and sliding on it")
     as_ = f"{{as_{N}}}"
@@ -387,9 +380,7 @@ def reactions(g: Group, known, links, loads, owner) -> dict[str, tuple]:
     link that carries the guide (k) takes -Q n at N and -Mq."""
     (J1, N), (a, b) = g.joints, g.links
     la, lb = loads[a], loads[b]
-    fax, fay = la.resultant()
-    fbx, fby = lb.resultant()
-    fx, fy = fax + fbx, fay + fby
+    (fax, fay), _, (fx, fy) = resultants(loads, a, b)
     j1, nj = known[J1], known[N]
     ux, uy = links[b].c, links[b].s          # the slider turns with its guide
     d1x, d1y = j1.x - nj.x, j1.y - nj.y
@@ -397,14 +388,13 @@ def reactions(g: Group, known, links, loads, owner) -> dict[str, tuple]:
     _, inv = inverse_det(m11, m12, m21, m22)     # zero when the coupler is across the guide
     r1x, r1y = cramer(m11, m12, m21, m22, -(fx * ux + fy * uy), -la.moment(nj.x, nj.y), inv)
     q = (r1x + fx) * uy - (r1y + fy) * ux     # -(R1 + F).n with n = (-uy, ux)
-    xx, xy = -r1x - fax, -r1y - fay
     mq = -lb.moment(nj.x, nj.y)
-    loads[owner[J1]].add(j1, -r1x, -r1y)
+    j1_pair = hinge(loads, owner[J1], a, j1, (r1x, r1y))
     k = g.guide.link
     loads[k].add(nj, q * uy, -q * ux)
     loads[k].couple = loads[k].couple - mq
-    return {f"{owner[J1]}_{a}": (r1x, r1y, None), f"{a}_{b}": (-xx, -xy, None),
-            f"{k}_{b}": (-q * uy, q * ux, mq)}
+    # a on b at N: R1 + Fa (link a's balance)
+    return dict([j1_pair, (f"{a}_{b}", (r1x + fax, r1y + fay, None)), (f"{k}_{b}", (-q * uy, q * ux, mq))])
 
 
 def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
@@ -438,27 +428,15 @@ def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
     k.equilibrium(a, N, [(J1, *r1), (N, f"(-{rab[0]})", f"(-{rab[1]})")], "")
     k.equilibrium(bl, N, [(N, *rab), (N, f"{{Rx_{tg}}}", f"{{Ry_{tg}}}")], f"{{M_{tg}}}")
     if g.guide.moving:     # the kulisa k carries the guide: the block pushes back on it
-        k.loads[gk].append((N, f"(-{{Rx_{tg}}})", f"(-{{Ry_{tg}}})"))
-        k.couples[gk].append(f"(-{{M_{tg}}})")
-    k.loads[o1].append((J1, f"(-{r1[0]})", f"(-{r1[1]})"))
+        k.opposite(gk, N, tg, couple=True)
+    k.opposite(o1, J1, t1)
 
 
 # --------------------------------------------------------------------------- loop equations
-def _guide(lib, g: Group, known, links):
-    """The guide's point (position, velocity, acceleration) and its angle with rates."""
-    n, gd = lib.num, g.guide
-    a = n(gd.angle_deg) * lib.pi() / 180
-    if not gd.moving:
-        z = (n(0), n(0))
-        return ((n(gd.point[0]), n(gd.point[1])), z, z), (a, n(0), n(0))
-    phi, w, eps = links[gd.link]
-    return known[gd.through], (phi + a, w, eps)
-
-
 def loop(lib, g: Group, known, links):
     """J1 + L e(p2) = G + s u(th); q = (p2, s); th = phi_k + A turns with link k."""
     p1, v1, a1 = known[g.joints[0]]
-    (pg, vg, ag), (th, w, eps) = _guide(lib, g, known, links)
+    (pg, vg, ag), (th, w, eps) = guide_loop(lib, g.guide, known, links)
     length = lib.num(g.length)
     ux, uy = lib.cos(th), lib.sin(th)
     nx, ny = -uy, ux
@@ -493,7 +471,7 @@ def loop(lib, g: Group, known, links):
 def side_ok(lib, g: Group, known, links, q, joints) -> bool:
     """+1 if N is ahead of the foot of the perpendicular from J1, along the guide."""
     p1 = known[g.joints[0]][0]
-    _, (th, _, _) = _guide(lib, g, known, links)
+    _, (th, _, _) = guide_loop(lib, g.guide, known, links)
     nj = joints[g.joints[1]][0]
     v = (nj[0] - p1[0]) * lib.cos(th) + (nj[1] - p1[1]) * lib.sin(th)
     return (1 if v > 0 else -1) == g.branch
@@ -502,7 +480,7 @@ def side_ok(lib, g: Group, known, links, q, joints) -> bool:
 def discriminant(lib, g: Group, known, links):
     """L^2 - h^2, h the distance of J1 from the guide: 0 with the coupler across the guide."""
     p1 = known[g.joints[0]][0]
-    (pg, _, _), (th, _, _) = _guide(lib, g, known, links)
+    (pg, _, _), (th, _, _) = guide_loop(lib, g.guide, known, links)
     h = -(p1[0] - pg[0]) * lib.sin(th) + (p1[1] - pg[1]) * lib.cos(th)
     length = lib.num(g.length)
     return length * length - h * h
@@ -511,3 +489,39 @@ def discriminant(lib, g: Group, known, links):
 def unknowns(g: Group, sol) -> tuple[np.ndarray, np.ndarray]:
     ra = sol.links[g.links[0]]
     return np.arctan2(ra.s, ra.c), sol.slides[g.joints[1]].s
+
+
+# --------------------------------------------------------------------------- stability families
+# Both ranges end where the coupler stands across its guide (L^2 - h^2 -> 0, the toggle
+# measure cos(phi - gamma) -> 0), approached from inside, as the four-bar's toggle.
+STABILITY = (
+    Family("slider-toggle", "RRP: towards the coupler standing across its guide (edge of the range)",
+           crank_scene("Crank-slider with a short coupler: it stands across the guide at the edge of its range", """\
+[[group]]
+type = "RRP"
+links = [2, 3]
+joints = ["A", "B"]
+length = 0.2
+guide = { through = [0.0, 0.05], angle_deg = 0.0 }
+branch = 1
+"""), 1, discriminant),
+    Family("slotted-toggle", "RRP on a moving guide (two rockers, slotted pair): rocker across the kulisa",
+           crank_scene("Two rockers with a slotted pair: rocker O2 D stands across the kulisa O1 B at the edge", """\
+[[group]]
+type    = "RRR"
+links   = [2, 3]
+joints  = ["A", "B", "O1"]
+lengths = [0.5, 0.34]
+branch  = -1
+[[group]]
+type   = "RRP"
+links  = [4, 5]
+joints = ["O2", "D"]
+length = 0.3
+guide  = { through = "O1", angle_deg = 0.0, link = 3 }
+branch = -1
+""", frame="""\
+O  = [0.0, 0.0]
+O1 = [0.0, -0.53]
+O2 = [-0.45, -0.2]""", length=0.14, omega=20.0), 2, discriminant),
+)

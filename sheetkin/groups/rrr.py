@@ -18,10 +18,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..group import Group
-from ..motion import GroupMotion, Motion, Pair, Rotation, carried_point, cramer, cross, inverse_det, sqrt_or_nan
+from ..group import Family, Group
+from ..motion import (GroupMotion, Motion, Pair, Rotation, carried_point, cramer, cross, hinge, inverse_det, resultants,
+                      sqrt_or_nan)
 from ..rows import (Builder, InputRow, LoadRows, carried_rows, cos_sin_rows, cramer_rows, det_row, distance_check,
-                    fd_checks, group_guard, relative_velocity_check, via_link_checks)
+                    fd_checks, group_guard, relative_velocity_check, residual, via_link_checks)
 
 # --------------------------------------------------------------------------- what it is
 KIND = "RRR"
@@ -72,6 +73,15 @@ def carries(g: Group) -> dict[int, list[str]]:
 
 def sliders(g: Group) -> list[str]:
     return []
+
+
+def fourbar(g: Group, crank_joint: str, frame) -> tuple[float, float, str, int] | None:
+    """(coupler, rocker, the rocker's frame pivot, branch) if the group closes a four-bar
+    with the crank (J1 the crank's joint, J2 a frame point), the mechanism whose lengths
+    seed 002's synthesis designs (sheetkin.synthesis); else None."""
+    if g.joints[0] == crank_joint and g.joints[2] in frame:
+        return g.lengths[0], g.lengths[1], g.joints[2], g.branch
+    return None
 
 
 # --------------------------------------------------------------------------- positions and rates
@@ -198,10 +208,8 @@ def rows(b: Builder, g: Group):
                             (f"eps_{lb}", "rad/s^2", f"угловое ускорение звена {lb}",
                              f"angular acceleration of link {lb}")),
                 (f"{{{f1}}}", f"{{{f2}}}"),
-                (f"chk_asys_g{i}", "невязка системы для ускорений", "residual of the acceleration system"))
-    b.rot[la] = (f"cos_{la}", f"sin_{la}", f"omega_{la}", f"eps_{la}")
-    b.rot[lb] = (f"cos_{lb}", f"sin_{lb}", f"omega_{lb}", f"eps_{lb}")
-    b.guard_of_link[la] = b.guard_of_link[lb] = b.guard
+                residual(i, "a"))
+    b.place_links(la, lb)
     carried_rows(b, N, la, J1, L2, "0", f"шарнира {N}", f"hinge {N}")
     distance_check(b, f"chk_{J1}{N}", J1, N, L2, f"проверка: |{J1}{N}| - L{la}", f"check: |{J1}{N}| - L{la}")
     distance_check(b, f"chk_{N}{J2}", N, J2, L3, f"проверка: |{N}{J2}| - L{lb}", f"check: |{N}{J2}| - L{lb}")
@@ -226,9 +234,7 @@ def reactions(g: Group, known, links, loads, owner) -> dict[str, tuple]:
     (J2 - N) x R2 + Mb(N) = 0. With R2 = -F - R1 both moment equations are in R1."""
     (J1, N, J2), (a, b) = g.joints, g.links
     la, lb = loads[a], loads[b]
-    fax, fay = la.resultant()
-    fbx, fby = lb.resultant()
-    fx, fy = fax + fbx, fay + fby
+    (fax, fay), _, (fx, fy) = resultants(loads, a, b)
     j1, nj, j2 = known[J1], known[N], known[J2]
     d1x, d1y, d2x, d2y = j1.x - nj.x, j1.y - nj.y, j2.x - nj.x, j2.y - nj.y
     m11, m12, m21, m22 = -d1y, d1x, -d2y, d2x
@@ -236,11 +242,9 @@ def reactions(g: Group, known, links, loads, owner) -> dict[str, tuple]:
     r1x, r1y = cramer(m11, m12, m21, m22, -la.moment(nj.x, nj.y),
                       lb.moment(nj.x, nj.y) - cross(d2x, d2y, fx, fy), inv)
     r2x, r2y = -fx - r1x, -fy - r1y
-    xx, xy = -r1x - fax, -r1y - fay           # force of b on a at N
-    loads[owner[J1]].add(j1, -r1x, -r1y)
-    loads[owner[J2]].add(j2, -r2x, -r2y)
-    return {f"{owner[J1]}_{a}": (r1x, r1y, None), f"{a}_{b}": (-xx, -xy, None),
-            f"{owner[J2]}_{b}": (r2x, r2y, None)}
+    # a on b at N: R1 + Fa (link a's balance)
+    return dict([hinge(loads, owner[J1], a, j1, (r1x, r1y)), (f"{a}_{b}", (r1x + fax, r1y + fay, None)),
+                 hinge(loads, owner[J2], b, j2, (r2x, r2y))])
 
 
 def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
@@ -265,8 +269,8 @@ def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
                f"of link {o2} on link {bl} at {J2}")
     k.equilibrium(a, N, [(J1, *r1), (N, f"(-{rab[0]})", f"(-{rab[1]})")], "")
     k.equilibrium(bl, N, [(N, *rab), (J2, f"{{Rx_{t2}}}", f"{{Ry_{t2}}}")], "")
-    k.loads[o2].append((J2, f"(-{{Rx_{t2}}})", f"(-{{Ry_{t2}}})"))
-    k.loads[o1].append((J1, f"(-{r1[0]})", f"(-{r1[1]})"))
+    k.opposite(o2, J2, t2)
+    k.opposite(o1, J1, t1)
 
 
 # --------------------------------------------------------------------------- loop equations
@@ -329,3 +333,69 @@ def discriminant(lib, g: Group, known, links):
 def unknowns(g: Group, sol) -> tuple[np.ndarray, np.ndarray]:
     ra, rb = sol.links[g.links[0]], sol.links[g.links[1]]
     return np.arctan2(ra.s, ra.c), np.arctan2(rb.s, rb.c)
+
+
+def closed_q(lib, g: Group, known, links):
+    """q = (psi, xi) by the circles' intersection written for any number type (the
+    reference's start where the branches meet: at a change point Newton cannot tell them
+    apart); None where the circles do not meet."""
+    (ax, ay), _, _ = known[g.joints[0]]
+    (jx, jy), _, _ = known[g.joints[2]]
+    l2, l3 = lib.num(g.lengths[0]), lib.num(g.lengths[1])
+    px, py = jx - ax, jy - ay
+    r = lib.sqrt(px * px + py * py)
+    a = (r * r + l2 * l2 - l3 * l3) / (2 * r)          # along J1 -> J2
+    h2 = l2 * l2 - a * a
+    if h2 < 0:
+        return None
+    h = lib.sqrt(h2) * g.branch                        # left of J1 -> J2: +
+    ux, uy = px / r, py / r
+    nx, ny = ax + a * ux - h * uy, ay + a * uy + h * ux
+    return [lib.atan2(ny - ay, nx - ax), lib.atan2(ny - jy, nx - jx)]
+
+
+# --------------------------------------------------------------------------- stability families
+# Four-bars with every length a binary fraction, so the float scene IS the mechanism studied
+# (0.45 + 0.25 != 0.7 in binary would move a change point by ~1e-8 rad, or open a gap there).
+FOURBAR = """\
+title = "{title}"
+author = "sheetkin stability study"
+
+[frame]
+O  = [0.0, 0.0]
+O1 = [{frame!r}, 0.0]
+
+[crank]
+pivot = "O"
+joint = "A"
+length = {crank!r}
+phi0_deg = 0.0
+step_deg = 30.0
+positions = 1
+omega = 10.0
+epsilon = 0.0
+
+[[group]]
+type = "RRR"
+links = [2, 3]
+joints = ["A", "B", "O1"]
+lengths = [{coupler!r}, {rocker!r}]
+branch = {branch}
+"""
+_NON_GRASHOF = FOURBAR.format(title="Non-Grashof four-bar: the crank's range ends in a toggle",
+                              frame=0.5, crank=0.25, coupler=0.375, rocker=0.25, branch=1)
+STABILITY = (
+    # non-Grashof (s + l = 0.75 > p + q = 0.625): at the edge of the crank's range coupler
+    # and rocker stand in line, the dyad's toggle (P^2 + Q^2 - F^2 -> 0, sin(psi - xi) -> 0)
+    Family("toggle", "towards a toggle (non-Grashof crank, edge of its range)", _NON_GRASHOF, 1,
+           discriminant, start=closed_q),
+    # Grashof sum equal (s + l = 0.625 = p + q): at 180 deg all four links are in line and
+    # the two branches meet (the discriminant touches 0 from above)
+    Family("change-point", "towards a change point (s + l = p + q, links in line)",
+           FOURBAR.format(title="Change-point four-bar: s + l = p + q", frame=0.5, crank=0.125,
+                          coupler=0.375, rocker=0.25, branch=1), 1, 180.0, start=closed_q),
+    # the toggle seen from the far side, where no real position exists: the right answer
+    # is a refusal
+    Family("gap-edge", "just outside the edge of a non-assembling interval", _NON_GRASHOF, 1,
+           discriminant, side=1, start=closed_q),
+)
