@@ -93,6 +93,20 @@ def _energy_totals(b: Builder, t_rate: list[str], u_rate: list[str]):
     if gravity:
         b.add("U", "J", "потенциальная энергия механизма", "potential energy of the mechanism", "accepted",
               "+".join(f"{{U_{m.link}}}" for m in sc.masses))
+    # the totals once more from the links' speeds and heights, not from the T_k, U_k rows
+    # (free of the step; relative to the terms' sizes, as the energies may be near 0)
+    t_terms = [f"{{m_{m.link}}}*{v}^2/2+{{J_{m.link}}}*{_rates(b, m.link)[0]}^2/2"
+               for m in sc.masses for v in [f"{{v_{m.centre}}}" if m.centre not in b.frame else "0"]]
+    b.add("chk_T", "", "проверка: T = сумма m v^2/2 + J omega^2/2 по модулям скоростей (относительная невязка)",
+          "check: T = sum of m v^2/2 + J omega^2/2 from the speeds (relative)", "check",
+          f"({{T}}-({'+'.join(t_terms)}))/(ABS({{T}})+{'+'.join(t_terms)}+1E-300)")
+    if gravity:
+        u_terms = [f"{{m_{m.link}}}*({{g_x}}*{b.p('x', m.centre)}+{{g_y}}*{b.p('y', m.centre)})" for m in sc.masses]
+        each = "+".join(f"ABS({{U_{m.link}}}+{t})" for m, t in zip(sc.masses, u_terms))
+        size = "+".join(f"ABS({t})" for t in u_terms)
+        b.add("chk_U", "", "проверка: U_k = -m_k g.r_S и U = сумма U_k (относительная невязка)",
+              "check: U_k = -m_k g.r_S and U = the sum of U_k (relative)", "check",
+              f"(ABS({{U}}+({'+'.join(u_terms)}))+{each})/({size}+1E-300)")
     b.add("T_t", "W", "скорость изменения кинетической энергии: сумма m v.a + J omega eps", "rate of change of the kinetic energy: sum of m v.a + J omega eps",
           "accepted", "+".join(t_rate))
     if gravity:

@@ -31,7 +31,8 @@ import numpy as np
 
 from ..group import Group, Guide
 from ..motion import FRAME, GroupMotion, Motion, Pair, Rotation, Slide, cramer, fixed, inverse_det, turned
-from ..rows import Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, det_row, fd_checks, motion_rows
+from ..rows import (Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, det_row, fd_checks, motion_rows,
+                    turns_with_check)
 
 # --------------------------------------------------------------------------- what it is
 KIND = "PRP"
@@ -255,6 +256,11 @@ def rows(b: Builder, g: Group):
               f"angular velocity of {what[1]} {k} (turns with its guide)", "accepted", w)
         b.add(f"eps_{k}", "rad/s^2", f"угловое ускорение {what[0]} {k}", f"angular acceleration of {what[1]} {k}",
               "accepted", e)
+    turns_with_check(b, f"chk_rot_g{i}", [(f"phi_{la}", f"COS({{{eta}}})", f"SIN({{{eta}}})"),
+                                          (f"phi_{lb}", f"COS({{{th}}})", f"SIN({{{th}}})")],
+                     [(f"omega_{la}", wa_f), (f"eps_{la}", ea_f), (f"omega_{lb}", wb_f), (f"eps_{lb}", eb_f)],
+                     f"камень {la} и ползун {lb} повёрнуты и вращаются вместе со своими направляющими",
+                     f"block {la} and slider {lb} point along and turn with their guides")
     wa, ea, wb, eb = f"{{omega_{la}}}", f"{{eps_{la}}}", f"{{omega_{lb}}}", f"{{eps_{lb}}}"
     # u1 vs - u2 vs2 = v_P2 - v_P1 - s w1 n1 + s2 w2 n2 (n = u turned +90 deg)
     det = f"Delta_g{i}"
