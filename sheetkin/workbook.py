@@ -27,10 +27,10 @@ from pathlib import Path
 from openpyxl import Workbook, load_workbook
 from openpyxl.chart import Reference, ScatterChart, Series
 from openpyxl.chart.data_source import NumFmt
-from openpyxl.formatting.rule import FormulaRule
 from openpyxl.styles import Font, PatternFill
 from openpyxl.utils import get_column_letter
 
+from .checks import GREEN, RED, colour_check_row, status_formula, write_summary  # noqa: F401 (synthesis uses the colours)
 from .groups import kind_of
 from .rows import (Builder, Row, carried_rows, distance_check, fd_checks, local_position_check, motion_rows,
                    via_link_checks)
@@ -49,8 +49,6 @@ SHEET_TITLES = {"ru": ("Кинематика", "Графики"), "en": ("Kinema
 INPUT_FILL = PatternFill("solid", fgColor="FFF2CC")
 ACCEPTED_FILL = PatternFill("solid", fgColor="DDEBF7")
 SECTION_FONT = Font(bold=True)
-GREEN = PatternFill("solid", fgColor="C6EFCE")
-RED = PatternFill("solid", fgColor="FFC7CE")
 
 
 # --------------------------------------------------------------------------- the rows
@@ -167,10 +165,10 @@ def _point_rows(b: Builder, p: Point):
 _REF = re.compile(r"\{(scale:)?([^{}@:]+)(?:@(prev|next))?\}")
 _TEXT = {
     "ru": {"name": "имя", "unit": "ед.", "desc": "описание", "value": "значение / проверка",
-           "checks": "проверки", "pass": "все проверки выполнены", "fail": " строк проверки не выполнены",
+           "checks": "проверки",
            "na": "н/д", "author": "автор", "pos": "положение"},
     "en": {"name": "name", "unit": "unit", "desc": "description", "value": "value / check",
-           "checks": "checks", "pass": "all checks pass", "fail": " check rows fail",
+           "checks": "checks",
            "na": "n/a", "author": "author", "pos": "position"},
 }
 _EXERCISE_KEEP = {"i", "phi_1"}
@@ -217,6 +215,7 @@ def build_workbook(scene: Scene, *, lang: str = "ru", exercise: bool = False,
     first_row = 5
     where, templates = _compile(rows, first_row, last_col)
     marker = MARKERS[lang]
+    kinds = {r.name: r.kind for r in rows}
     cols = [get_column_letter(FIRST_COL + k) for k in range(n)]
 
     wb = Workbook()
@@ -277,26 +276,16 @@ def build_workbook(scene: Scene, *, lang: str = "ru", exercise: bool = False,
         if row.kind in ("check", "fdcheck"):
             rng = fd_range.format(r=r)
             tol = f"$D${where['Tol_FD' if row.kind == 'fdcheck' else 'Tol']}"
+            expected = None
             if row.kind == "check":
                 expected = (f"SUMPRODUCT(--({cols[0]}{where[row.guard]}:{cols[-1]}{where[row.guard]}))"
                             if row.guard else str(n))
-                status = f"=IF(AND(COUNT({rng})={expected},MAX({rng})<={tol},MIN({rng})>=-{tol}),0,1)"
-            else:
-                status = f"=IF(AND(MAX({rng})<={tol},MIN({rng})>=-{tol}),0,1)"
-            ws.cell(r, 4, status)
+            reads = sorted({where[m.group(2)] for m in _REF.finditer(row.formula)
+                            if kinds[m.group(2)] in ("calc", "accepted")})
+            ws.cell(r, 4, status_formula(lang, rng, tol, [fd_range.format(r=k) for k in reads], expected))
             status_cells.append(f"D{r}")
-            top = f"{cols[0]}{r}"
-            ws.conditional_formatting.add(rng, FormulaRule(formula=[f"AND(ISNUMBER({top}),ABS({top})<={tol})"], fill=GREEN))
-            ws.conditional_formatting.add(rng, FormulaRule(formula=[f"AND(ISNUMBER({top}),ABS({top})>{tol})"], fill=RED))
-            ws.conditional_formatting.add(f"D{r}", FormulaRule(formula=[f"D{r}=0"], fill=GREEN))
-            ws.conditional_formatting.add(f"D{r}", FormulaRule(formula=[f"D{r}<>0"], fill=RED))
-    # the summary at the top: how many check rows fail (SUM takes at most 255 arguments)
-    parts = [f"SUM({','.join(status_cells[k:k + 200])})" for k in range(0, len(status_cells), 200)]
-    total = "+".join(parts) or "0"
-    ws["D3"] = f'=IF({total}=0,"{text["pass"]}",({total})&"{text["fail"]}")'
-    ws["D3"].font = SECTION_FONT
-    ws.conditional_formatting.add("D3", FormulaRule(formula=[f'D3="{text["pass"]}"'], fill=GREEN))
-    ws.conditional_formatting.add("D3", FormulaRule(formula=[f'D3<>"{text["pass"]}"'], fill=RED))
+            colour_check_row(ws, rng, f"{cols[0]}{r}", f"D{r}", tol)
+    write_summary(ws, lang, status_cells, f"D{first_row}:D{first_row + len(rows) - 1}")
     ws.freeze_panes = f"{cols[0]}5"
     from .workbook_print import setup_page      # widths, alignment, pages (sheetkin/workbook_print.py)
     setup_page(ws, rows, where, cols, FIRST_COL)
