@@ -20,6 +20,7 @@ status cells and summary are LibreOffice's own.
 """
 from __future__ import annotations
 
+import dataclasses
 import re
 from dataclasses import dataclass
 from pathlib import Path
@@ -41,11 +42,12 @@ BUNDLED = sorted(p.stem for p in WORKBOOKS.glob("*.toml"))
 N = 13                                   # positions
 MODES = ("neg", "scale")
 BLOCKS_PER_SHEET = 75                    # 75 * 13 + 4 columns: within LibreOffice 7.4's 1024
-# LibreOffice: the four-bar (RRR, points on both links), the slider-crank (RRP), the kulisa
-# with a moving axis (RRR + RPR + points), the Scotch yoke (RPP, dynamics), the two rockers
-# (RRP on a moving guide), the slider on the coupler (PRP, dynamics)
-LO_BOOKS = ["fourbar", "crank_slider", "kulisa_moving_axis", "scotch_yoke", "two_rockers_slotted",
-            "slider_on_coupler"]
+# LibreOffice recalculates a subset (about 650 000 formula cells, ~30 s of soffice): the
+# four-bar (RRR, points on both links), the slider-crank (RRP), the slotted lever (RPR),
+# the Scotch yoke (RPP, with its kinetostatics) and the slider on the coupler (PRP; its
+# kinematics only: its masses and forces left out, as the Scotch yoke has that part)
+LO_BOOKS = [("fourbar", False), ("crank_slider", False), ("slotted_lever", False), ("scotch_yoke", False),
+            ("slider_on_coupler", True)]
 _GUARD = re.compile(r'^IF\(([A-Z]+\d+),(.*),"([^"]*)"\)$')
 _BLOCK_RANGE = re.compile(r"\$([A-Z]{1,3})\$(\d+):\$([A-Z]{1,3})\$(\d+)")
 
@@ -80,9 +82,11 @@ def mutate(formula: str, mode: str) -> str:
 class Book:
     """One bundled workbook's kinematics sheet, its rows, and its mutants."""
 
-    def __init__(self, stem: str):
+    def __init__(self, stem: str, kinematics_only: bool = False):
         self.stem = stem
         self.scene, self.text = scene_at_13(stem)
+        if kinematics_only:
+            self.scene = dataclasses.replace(self.scene, masses=(), forces=())
         self.rows = sheet_rows(self.scene).rows
         self.base = _build_reference(self.scene, evaluate=False)[0]
         self.where = {v: r for (r, c), v in self.base.consts.items() if c == 1 and r >= 5}
@@ -216,10 +220,15 @@ def _is_equivalent_row(book: Book, value, m: Mutant) -> bool:
     return all(abs(v) <= 1e-7 for v in nums)
 
 
-@pytest.mark.parametrize("stem", BUNDLED)
-def test_every_mutant_is_caught_by_the_evaluator(books, stem):
+# the books with masses and forces once more without them: a student's kinematics sheet
+# must catch its own mistakes without the kinetostatics (which read x_N, y_N ...)
+KINEMATICS_ONLY = [p.stem for p in WORKBOOKS.glob("*.toml") if sheetkin.load_scene(p).has_dynamics]
+
+
+@pytest.mark.parametrize("stem, kin", [(s, False) for s in BUNDLED] + [(s, True) for s in sorted(KINEMATICS_ONLY)])
+def test_every_mutant_is_caught_by_the_evaluator(books, stem, kin):
     """Each accepted-value row, sign flipped or scaled by 1.01, turns a check red."""
-    book = books[stem]
+    book = books[stem] if not kin else Book(stem, kinematics_only=True)
     blocks = [None] + book.mutants
     sheet = book.wide_sheet("mutants", blocks)
     ev = evaluate_sheets(f"<{stem} mutants>", {sheet.name: sheet}, [sheet.name], {}, strict=True)
@@ -264,48 +273,58 @@ def test_the_old_hole_is_closed():
 
 
 # --------------------------------------------------------------------------- LibreOffice
-def _copy_sheet(ws_from, wb, title: str, row: str | None = None, mode: str = "neg") -> dict[str, int]:
-    """A copy of a generated kinematics sheet (formulas, status cells, summary) in `wb`,
-    with `row`'s formulas mutated; the rows' numbers by name."""
-    ws = wb.create_sheet(title)
-    rows = {ws_from.cell(r, 1).value: r for r in range(1, ws_from.max_row + 1)}
-    for line in ws_from.iter_rows():
+def _append(ws, consts: dict, formulas: dict, max_row: int, max_col: int) -> None:
+    """Cells into a write-only sheet, row by row (about twice as fast as cell by cell)."""
+    grid = [[None] * max_col for _ in range(max_row)]
+    for (r, c), v in consts.items():
+        grid[r - 1][c - 1] = v
+    for (r, c), f in formulas.items():
+        grid[r - 1][c - 1] = "=" + f
+    for line in grid:
+        ws.append(line)
+
+
+def _mutated_copy(scene, text, title: str, row: str | None = None, mode: str = "neg"):
+    """A generated kinematics sheet (formulas, status cells, summary) with `row`'s formulas
+    mutated, as (consts, formulas, max_row, max_col), and its rows by name."""
+    ws = build_workbook(scene, scene_text=text, charts=False).worksheets[0]
+    consts, formulas = {}, {}
+    for line in ws.iter_rows():
         for c in line:
-            if c.value is not None:
-                ws.cell(c.row, c.column, c.value)
+            if isinstance(c.value, str) and c.value.startswith("="):
+                formulas[(c.row, c.column)] = c.value[1:]
+            elif c.value is not None:
+                consts[(c.row, c.column)] = c.value
+    rows = {ws.cell(r, 1).value: r for r in range(1, ws.max_row + 1)}
     if row is not None:
         for k in range(N):
-            cell = ws.cell(rows[row], FIRST_COL + k)
-            cell.value = "=" + mutate(cell.value[1:], mode)
-    return rows
+            formulas[(rows[row], FIRST_COL + k)] = mutate(formulas[(rows[row], FIRST_COL + k)], mode)
+    return (consts, formulas, ws.max_row, ws.max_column), rows
 
 
 @pytest.fixture(scope="module")
-def lo_books(books, soffice, tmp_path_factory):
+def lo_books(soffice, tmp_path_factory):
     """Every mutant of LO_BOOKS as blocks of wide sheets, and full copies of the four-bar's
     sheet (as it is; v_B scaled by 1.01; with the coupler point E, vx_E's sign flipped),
     in ONE workbook recalculated by ONE soffice run."""
     out = tmp_path_factory.mktemp("mutants")
-    wb = openpyxl.Workbook()
-    wb.remove(wb.active)
+    wb = openpyxl.Workbook(write_only=True)
     plan = {}
-    for stem in LO_BOOKS:
-        book, step = books[stem], BLOCKS_PER_SHEET - 1
+    for stem, kin in LO_BOOKS:
+        book, step = Book(stem, kin), BLOCKS_PER_SHEET - 1
         for part, k in enumerate(range(0, len(book.mutants), step)):
             blocks = [None] + book.mutants[k:k + step]
             sheet = book.wide_sheet(f"{stem[:24]}_{part}", blocks)
-            ws = wb.create_sheet(sheet.name)
-            for (r, c), v in sheet.consts.items():
-                ws.cell(r, c, v)
-            for (r, c), f in sheet.formulas.items():
-                ws.cell(r, c, "=" + f)
-            plan[sheet.name] = (stem, blocks)
-    fb = books["fourbar"]
-    src = build_workbook(fb.scene, scene_text=fb.text, charts=False).worksheets[0]
+            _append(wb.create_sheet(sheet.name), sheet.consts, sheet.formulas, sheet.max_row, sheet.max_col)
+            plan[sheet.name] = (book, blocks)
+    fb = Book("fourbar")
     scene_e, text_e = _fourbar_with_e()
-    src_e = build_workbook(scene_e, scene_text=text_e, charts=False).worksheets[0]
-    copies = {"as_is": _copy_sheet(src, wb, "as_is"), "v_B": _copy_sheet(src, wb, "v_B", "v_B", "scale"),
-              "vx_E": _copy_sheet(src_e, wb, "vx_E", "vx_E", "neg")}
+    copies = {}
+    for title, scene, text, row, mode in (("as_is", fb.scene, fb.text, None, "neg"),
+                                          ("v_B", fb.scene, fb.text, "v_B", "scale"),
+                                          ("vx_E", scene_e, text_e, "vx_E", "neg")):
+        cells, copies[title] = _mutated_copy(scene, text, title, row, mode)
+        _append(wb.create_sheet(title), *cells)
     path = out / "mutants.xlsx"
     wb.save(path)
     got = recalculate([path], out / "lo")[path.resolve()]
@@ -322,15 +341,15 @@ def _cached(raw, title):
     return value
 
 
-def test_every_mutant_is_caught_in_libreoffice(books, lo_books):
+def test_every_mutant_is_caught_in_libreoffice(lo_books):
     plan, _, raw = lo_books
     caught, missed = 0, []
-    for title, (stem, blocks) in plan.items():
-        res = judge(books[stem], _cached(raw, title), blocks)
+    for title, (book, blocks) in plan.items():
+        res = judge(book, _cached(raw, title), blocks)
         caught += len(res["caught"])
-        missed += [(stem, m) for m in res["missed"]]
+        missed += [(book.stem, m) for m in res["missed"]]
     assert not missed, missed
-    assert caught >= 500                                    # 6 books, both modes
+    assert caught >= 350                                    # of 430 (the rest: rows of zeros)
 
 
 def test_libreoffice_status_cells_and_summary(lo_books):
@@ -349,5 +368,5 @@ def test_libreoffice_status_cells_and_summary(lo_books):
     e = copies["vx_E"]
     failing = [n for n in e if str(n).startswith("chk") and vx_e(e[n], 4) == 1]
     assert "chk_v_E_2" in failing and all(vx_e(e[n], 4) == "н/д" for n in e if str(n).startswith("fd_"))
-    assert vx_e(7, 7) == len(failing)                                   # G3: the failing ones
+    assert vx_e(3, 7) == len(failing)                                   # G3: the failing ones
     assert f"; не выполнено: {len(failing)} " in vx_e(3, 4)

@@ -302,6 +302,12 @@ def rows(b: Builder, g: Group):
     motion_rows(b, N, f"шарнира {N}", f"hinge {N}", f"{{{xL}}}", f"{{{yL}}}",
                 f"{pa[2]}+{{vs_{N}}}*{ca}-{S1}*{wa}*{sa}", f"{pa[3]}+{{vs_{N}}}*{sa}+{S1}*{wa}*{ca}",
                 f"{pa[4]}+{tu}*{ca}-{T1}*{sa}", f"{pa[5]}+{tu}*{sa}+{T1}*{ca}")
+    # x_N, y_N are written as the crossing point (7); nothing in the kinematics reads them
+    # back, so here they are put on each guide at its travel s, s2 (free of the step)
+    b.add(f"chk_pos_{N}_g{i}", "m", f"проверка: {N} = P1 + s u1 = P2 + s2 u2 (на обеих направляющих)",
+          f"check: {N} = P1 + s u1 = P2 + s2 u2 (on both guides)", "check",
+          f"ABS({{x_{N}}}-({pa[0]}+{S1}*{ca}))+ABS({{y_{N}}}-({pa[1]}+{S1}*{sa}))"
+          f"+ABS({{x_{N}}}-({pb[0]}+{S2}*{cb}))+ABS({{y_{N}}}-({pb[1]}+{S2}*{sb}))")
     tu2 = f"({{as2_{N}}}-{S2}*{wb}^2)"
     b.add(f"chk_v_{N}_g{i}", "m/s", f"проверка: скорость {N} через направляющую 2",
           f"check: velocity of {N} through guide 2",
