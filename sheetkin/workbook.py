@@ -30,7 +30,7 @@ from openpyxl.chart.data_source import NumFmt
 from openpyxl.styles import Font, PatternFill
 from openpyxl.utils import get_column_letter
 
-from .checks import GREEN, RED, colour_check_row, status_formula, write_summary  # noqa: F401 (synthesis uses the colours)
+from .checks import colour_check_row, status_formula, write_summary
 from .groups import kind_of
 from .rows import (Builder, Row, carried_rows, distance_check, fd_checks, local_position_check, motion_rows,
                    via_link_checks)
