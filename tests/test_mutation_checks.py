@@ -369,3 +369,20 @@ def test_libreoffice_status_cells_and_summary(lo_books):
     assert "chk_v_E_2" in failing and all(vx_e(e[n], 4) == "н/д" for n in e if str(n).startswith("fd_"))
     assert vx_e(3, 7) == len(failing)                                   # G3: the failing ones
     assert f"; не выполнено: {len(failing)} " in vx_e(3, 4)
+
+
+# --------------------------------------------------------------------------- the summary's words
+def test_russian_plurals_in_python_and_in_the_sheet():
+    """1 проверка, 2-4 проверки, 5-20 проверок, 11-14 проверок, 21 проверка, 22 проверки,
+    111 проверок ...; the spreadsheet formula of D3 says the same for 0..250."""
+    from sheetkin.checks import plural, plural_formula
+    table = {0: "проверок", 1: "проверка", 2: "проверки", 4: "проверки", 5: "проверок", 11: "проверок",
+             12: "проверок", 14: "проверок", 20: "проверок", 21: "проверка", 22: "проверки", 25: "проверок",
+             101: "проверка", 111: "проверок", 112: "проверок", 122: "проверки", 211: "проверок"}
+    assert {n: plural(n) for n in table} == table
+    assert (plural(1, "en"), plural(2, "en"), plural(0, "en"), plural(21, "en")) == ("check", "checks", "checks", "checks")
+    for lang in ("ru", "en"):
+        sh = Sheet("S", "visible", consts={(r, 1): float(r - 1) for r in range(1, 252)},
+                   formulas={(r, 2): plural_formula(f"A{r}", lang) for r in range(1, 252)}, max_row=251, max_col=2)
+        ev = evaluate_sheets("<plural>", {"S": sh}, ["S"], {}, strict=True)
+        assert [ev.value("S", r, 2) for r in range(1, 252)] == [plural(n, lang) for n in range(251)]

@@ -295,6 +295,18 @@ def test_exercise_workbook(books):
     assert ws["D3"].value == (f"заполнены не все строки (заполнено: 0 проверок; выполнено: 0 проверок; "
                               f"не выполнено: 0 проверок; не заполнено: {len(checks)} проверок)")
     assert not any(ws.cell(rows[n], 4).value == 0 for n in checks)
+    # no green: on every check row the first colour rule (it stops the others) is grey while
+    # the status is text, and the status cell's grey rule comes before its green one
+    rules = {}
+    for cf in raw.conditional_formatting:
+        for rule in cf.rules:
+            rules.setdefault(str(cf.sqref), []).append((rule.priority, rule.formula[0], rule.stopIfTrue))
+    for n in checks:
+        r = rows[n]
+        first = min(rules[f"E{r}:Q{r}"])
+        assert first[1:] == (f"NOT(ISNUMBER($D{r}))", True), (n, first)
+        order = [f for _, f, _ in sorted(rules[f"D{r}"])]
+        assert order.index(f"ISTEXT(D{r})") < order.index(f"AND(ISNUMBER(D{r}),D{r}=0)")
 
 
 def test_only_what_the_scene_needs():
