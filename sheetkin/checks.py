@@ -6,7 +6,7 @@ A check row's status, in the order it is decided:
   "н/д"           no position to check (a numeric-derivative check above 3 deg, or a group
                   that assembles nowhere): grey, not a green 0;
   0               every residual within the tolerance: green.
-Row 3 holds the counts (filled, passing, failing, n/a, not filled: one cell each, E3:I3)
+Row 2 holds the counts (filled, passing, failing, n/a, not filled: one cell each, E2:I2)
 and D3 says them in words, with the plural of "проверка" that goes with each number.
 The formulas use only what Excel, LibreOffice and sheetkin's evaluator all have (IF,
 COUNT, SUMPRODUCT over a comparison, ISERROR, MOD), so every spreadsheet shows the same.
@@ -15,7 +15,7 @@ Imports nothing from sheetkin.
 from __future__ import annotations
 
 from openpyxl.formatting.rule import FormulaRule
-from openpyxl.styles import Font, PatternFill
+from openpyxl.styles import Alignment, Font, PatternFill
 
 GREEN = PatternFill("solid", fgColor="C6EFCE")
 RED = PatternFill("solid", fgColor="FFC7CE")
@@ -32,7 +32,8 @@ STATUS = {
            "forms": ("check", "checks", "checks")},
 }
 # the counts' cells in row 3 and what they hold (number formats label them on the sheet)
-COUNT_CELLS = {"filled": "E3", "passing": "F3", "failing": "G3", "na": "H3", "unfilled": "I3"}
+# (row 2, so that D3's sentence runs on over the empty E3, F3 ... on the screen and the page)
+COUNT_CELLS = {"filled": "E2", "passing": "F2", "failing": "G2", "na": "H2", "unfilled": "I2"}
 
 
 def plural(n: int, lang: str = "ru") -> str:
@@ -90,7 +91,7 @@ def colour_check_row(ws, rng: str, top: str, status: str, tol: str) -> None:
 
 
 def write_summary(ws, lang: str, status_cells: list[str], status_range: str) -> None:
-    """The counts in E3:I3 and the sentence in D3 (see the module's docstring).
+    """The counts in E2:I2 and the sentence in D3 (see the module's docstring).
     status_range: column D from the first to the last row (for the text statuses; the
     numbers of the input block are never those texts)."""
     t = STATUS[lang]
@@ -102,11 +103,11 @@ def write_summary(ws, lang: str, status_cells: list[str], status_range: str) -> 
     c = COUNT_CELLS
     formulas = {"filled": f"={len(status_cells)}-{c['unfilled']}", "passing": f"={numbers}-({failing})",
                 "failing": f"={failing}", "na": f"={na}", "unfilled": f"={unfilled}"}
-    grey = Font(color="808080", size=9)
+    grey, fit = Font(color="808080", size=9), Alignment(horizontal="right", shrink_to_fit=True)
     for key, cell in c.items():
         ws[cell] = formulas[key]
         ws[cell].number_format = f'"{t[key]}: "0'
-        ws[cell].font = grey
+        ws[cell].font, ws[cell].alignment = grey, fit
 
     def part(key):
         return f'"{t[key]}: "&{c[key]}&" "&{plural_formula(c[key], lang)}'

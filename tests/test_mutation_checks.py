@@ -367,7 +367,7 @@ def test_libreoffice_status_cells_and_summary(lo_books):
     e = copies["vx_E"]
     failing = [n for n in e if str(n).startswith("chk") and vx_e(e[n], 4) == 1]
     assert "chk_v_E_2" in failing and all(vx_e(e[n], 4) == "н/д" for n in e if str(n).startswith("fd_"))
-    assert vx_e(3, 7) == len(failing)                                   # G3: the failing ones
+    assert vx_e(2, 7) == len(failing)                                   # G2: the failing ones
     assert f"; не выполнено: {len(failing)} " in vx_e(3, 4)
 
 
