@@ -466,8 +466,9 @@ def rows_frame(book: Book, sheet: str | None = None, first_col: int = 5) -> pd.D
     error texts such as '#NUM!'."""
     sheet = sheet or book.order[0]
     sh = book.sheets[sheet]
-    last = max(max(map(itemgetter(1), sh.formulas), default=first_col),
-               max(map(itemgetter(1), sh.consts), default=first_col), first_col)
+    # the table's rows start at 5: cells above (a workbook's summary counts) do not widen it
+    last = max(max((c for r, c in sh.formulas if r > 4), default=first_col),
+               max((c for r, c in sh.consts if r > 4), default=first_col), first_col)
     filled = {r for (r, c) in sh.formulas if c >= first_col} | {r for (r, c) in sh.consts if c >= first_col}
     num, tag = book.num[sheet], book.tag[sheet]
     stop = min(last + 1, num.shape[1])             # columns past the stores are empty

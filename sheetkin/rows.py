@@ -36,6 +36,7 @@ class Builder:
         self.frame = set(scene.frame)
         self.rot: dict[int, tuple[str, str, str, str]] = {}   # link -> cos, sin, omega, eps rows
         self.guard_of_link: dict[int, str | None] = {1: None}
+        self.on_link: dict[int, list[str]] = {}                # link -> its joints and points so far
         self.guard: str | None = None                         # the latest group's assembled row
         self.checks: list[str] = []
         self.fd_checks: list[str] = []
@@ -91,6 +92,20 @@ def motion_rows(b: Builder, n: str, ru: str, en: str, x: str, y: str, vx: str, v
         b.add(f"{q}_{n}", "m/s^2", f"{r} {ru}", f"{e} of {en}", "accepted", f)
     b.add(f"a_{n}", "m/s^2", f"модуль ускорения {ru}", f"acceleration magnitude of {en}", "accepted",
           f"SQRT({{ax_{n}}}^2+{{ay_{n}}}^2)")
+    magnitude_check(b, f"chk_mag_{n}", [(f"v_{n}", f"vx_{n}", f"vy_{n}"), (f"a_{n}", f"ax_{n}", f"ay_{n}")],
+                    f"модули v_{n}, a_{n}", f"the magnitudes v_{n}, a_{n}")
+
+
+def magnitude_check(b: Builder, name: str, mags, ru: str, en: str):
+    """A magnitude row against its components, for each (magnitude, x, y) of `mags`:
+    |m| m - (x^2 + y^2), relative to m^2 + x^2 + y^2. Squared, so it is free of the step
+    and of the row's size; |m| m rather than m^2 so that a negative magnitude fails too."""
+    terms = [f"ABS(ABS({{{m}}})*{{{m}}}-{{{x}}}^2-{{{y}}}^2)/MAX({{{m}}}^2+{{{x}}}^2+{{{y}}}^2,1E-300)"
+             for m, x, y in mags]
+    b.add(name, "", f"проверка: {ru}: |m| m = x^2 + y^2 (относительная невязка; не зависит от шага, "
+                    f"ловит и неверный знак модуля)",
+          f"check: {en}: |m| m = x^2 + y^2 (relative; free of the step, a negative magnitude fails too)",
+          "check", "+".join(terms))
 
 
 def distance_check(b: Builder, name: str, p1: str, p2: str, length: str, ru: str, en: str):
@@ -133,13 +148,38 @@ def via_link_checks(b: Builder, n: str, j: str, k: int, label: str):
     angular velocity or acceleration of link k shows here, at any step."""
     c, s, w, e = (f"{{{r}}}" for r in b.rot[k])
     X, Y = f"({b.p('x', n)}-{b.p('x', j)})", f"({b.p('y', n)}-{b.p('y', j)})"
-    b.add(f"chk_v_{n}_{k}", "m/s", f"проверка: скорость {n} через звено {k} ({label})",
-          f"check: velocity of {n} through link {k} ({label})",
+    b.add(f"chk_v_{n}_{k}", "m/s", f"проверка: скорость {n} через звено {k} ({label}; не зависит от шага)",
+          f"check: velocity of {n} through link {k} ({label}; free of the step)",
           "check", f"ABS({b.p('vx', n)}-({b.p('vx', j)}-{w}*{Y}))+ABS({b.p('vy', n)}-({b.p('vy', j)}+{w}*{X}))")
-    b.add(f"chk_a_{n}_{k}", "m/s^2", f"проверка: ускорение {n} через звено {k} ({label})",
-          f"check: acceleration of {n} through link {k} ({label})",
+    b.add(f"chk_a_{n}_{k}", "m/s^2", f"проверка: ускорение {n} через звено {k} ({label}; не зависит от шага)",
+          f"check: acceleration of {n} through link {k} ({label}; free of the step)",
           "check",
           f"ABS({b.p('ax', n)}-({b.p('ax', j)}-{e}*{Y}-{w}^2*{X}))+ABS({b.p('ay', n)}-({b.p('ay', j)}+{e}*{X}-{w}^2*{Y}))")
+
+
+def local_position_check(b: Builder, n: str, k: int, origin: str, along: str, across: str):
+    """Point n of link k put back into the link's own axes: (r_n - r_origin) turned by
+    -phi_k must give (along, across). The point's x, y rows are written the other way
+    round (turned by +phi_k), so a sign or a factor wrong in either fails here."""
+    c, s, _, _ = (f"{{{r}}}" for r in b.rot[k])
+    X, Y = f"({{x_{n}}}-{b.p('x', origin)})", f"({{y_{n}}}-{b.p('y', origin)})"
+    b.add(f"chk_local_{n}", "m", f"проверка: {n} в осях звена {k}: (r{n} - r{origin}) повёрнут на -phi_{k} "
+                                 f"= (вдоль, поперёк) (не зависит от шага)",
+          f"check: {n} in link {k}'s axes: (r{n} - r{origin}) turned by -phi_{k} = (along, across) "
+          f"(free of the step)",
+          "check", f"ABS({X}*{c}+{Y}*{s}-{along})+ABS({Y}*{c}-{X}*{s}-{across})")
+
+
+def turns_with_check(b: Builder, name: str, angles, rates, ru: str, en: str):
+    """A link that turns as one with a line or another link: its angle rows against that
+    direction's cos and sin, its omega and eps rows against the rates it turns with.
+    angles: [(phi row, cos formula, sin formula)]; rates: [(row, formula)]. These rows
+    feed nothing the other checks see (the group's systems use the direction itself), so
+    without this check a wrong one stays green at any step."""
+    terms = [f"ABS(COS(RADIANS({{{phi}}}))-{c})+ABS(SIN(RADIANS({{{phi}}}))-{s})" for phi, c, s in angles]
+    terms += [f"ABS({{{r}}}-({f}))" for r, f in rates]
+    b.add(name, "", f"проверка: {ru} (не зависит от шага)", f"check: {en} (free of the step)", "check",
+          "+".join(terms))
 
 
 def system_check(b: Builder, name: str, what: tuple[str, str], m, x: str, y: str, rhs: tuple[str, str]):
@@ -236,6 +276,8 @@ class LoadRows:
     def magnitude(self, tag: str, ru: str, en: str):
         self.b.add(f"R_{tag}", "N", f"модуль реакции {ru}", f"magnitude of the reaction {en}", "accepted",
                    f"SQRT({{Rx_{tag}}}^2+{{Ry_{tag}}}^2)")
+        magnitude_check(self.b, f"chk_mag_R_{tag}", [(f"R_{tag}", f"Rx_{tag}", f"Ry_{tag}")],
+                        f"модуль реакции R_{tag}", f"the reaction's magnitude R_{tag}")
 
     def reaction(self, tag: str, rx: str, ry: str, ru: str, en: str):
         self.b.add(f"Rx_{tag}", "N", f"реакция {ru}, x", f"reaction {en}, x", "accepted", rx)

@@ -480,7 +480,8 @@ def add_synthesis_sheet(wb, kw: float, l3: float, yd: float, gamma1_deg: float,
     from openpyxl.styles import Font
     from openpyxl.utils import get_column_letter
 
-    from .workbook import GREEN, INPUT_FILL, RED, SECTION_FONT
+    from .checks import GREEN, RED
+    from .workbook import INPUT_FILL, SECTION_FONT
 
     if lang not in _SYNTH_TEXT:
         raise ValueError(f"lang must be one of {', '.join(_SYNTH_TEXT)}, got {lang!r}")

@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from . import issued
+from .checks import failing as check_fails
 from .evaluator import Book, EvaluationError, evaluate_sheets
 from .xlsxread import Sheet, read_book
 from .scene import Scene, SceneError, parse_scene
@@ -313,8 +314,9 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
         else:
             rep.cause = True
     report.cache_mismatch = _cache_mismatches(evaluated, main, {r for n, r in names.items() if n.startswith("phi_")})
+    # status 1 or an error fails; 0, n/a and "not filled in" do not (sheetkin/checks.py)
     report.failing_checks = [n for n, r in names.items() if n.startswith(("chk", "fd_"))
-                             and kinds.get(n) in ("check", "fdcheck") and evaluated.value(main, r, 4) not in (0.0, None)]
+                             and kinds.get(n) in ("check", "fdcheck") and check_fails(evaluated.value(main, r, 4))]
     return report
 
 

@@ -27,12 +27,13 @@ from pathlib import Path
 from openpyxl import Workbook, load_workbook
 from openpyxl.chart import Reference, ScatterChart, Series
 from openpyxl.chart.data_source import NumFmt
-from openpyxl.formatting.rule import FormulaRule
 from openpyxl.styles import Font, PatternFill
 from openpyxl.utils import get_column_letter
 
+from .checks import colour_check_row, status_formula, write_summary
 from .groups import kind_of
-from .rows import Builder, Row, carried_rows, distance_check, fd_checks, motion_rows
+from .rows import (Builder, Row, carried_rows, distance_check, fd_checks, local_position_check, motion_rows,
+                   via_link_checks)
 from .scene import Point, Scene
 from .workbook_dynamics import dynamics_inputs, energy_rows, kinetostatics_rows
 
@@ -52,8 +53,6 @@ IDENTITY_ROWS = (("student", "студент: фамилия, имя", "student:
 INPUT_FILL = PatternFill("solid", fgColor="FFF2CC")
 ACCEPTED_FILL = PatternFill("solid", fgColor="DDEBF7")
 SECTION_FONT = Font(bold=True)
-GREEN = PatternFill("solid", fgColor="C6EFCE")
-RED = PatternFill("solid", fgColor="FFC7CE")
 
 
 # --------------------------------------------------------------------------- the rows
@@ -93,6 +92,11 @@ def sheet_rows(scene: Scene) -> Builder:
     b.input("Tol", "", "допуск проверок (невязки)", "tolerance of the checks (residuals)", 1e-9)
     b.input("Tol_FD", "", f"допуск сравнения с численным дифференцированием (шаг <= {FD_MAX_STEP_DEG:g} град)", f"tolerance against numeric derivatives (step <= {FD_MAX_STEP_DEG:g} deg)", 0.01)
 
+    # the joints each link carries: a [[point]]'s velocity is checked through a second one
+    b.on_link[1] = [scene.crank.pivot, scene.crank.joint]
+    for g in scene.groups:
+        for k, joints in kind_of(g).carries(g).items():
+            b.on_link.setdefault(k, []).extend(j for j in joints if j not in b.on_link.get(k, []))
     _crank_rows(b)
     for kind, item in scene.plan:
         if kind == "group":
@@ -131,6 +135,19 @@ def _crank_rows(b: Builder):
     distance_check(b, f"chk_{O}{A}", O, A, "{L1}", f"проверка: |{O}{A}| - L1", f"check: |{O}{A}| - L1")
     b.add(f"chk_v_{A}", "m^2/s", f"проверка: скорость {A} перпендикулярна {O}{A}", f"check: velocity of {A} perpendicular to {O}{A}",
           "check", f"{{vx_{A}}}*{rx}+{{vy_{A}}}*{ry}")
+    # the crank in the other form of slide 6, x = L1 cos Fi, and its derivatives: each of
+    # the hinge's rows against a formula that does not use it (free of the step)
+    L, c1, s1 = "{L1}", "{cos_1}", "{sin_1}"
+    b.add(f"chk_pos_{A}", "m", f"проверка: x{A} = x{O} + L1 cos Fi, y{A} = y{O} + L1 sin Fi (не зависит от шага)",
+          f"check: x{A} = x{O} + L1 cos Fi, y{A} = y{O} + L1 sin Fi (free of the step)", "check",
+          f"ABS({{x_{A}}}-{{x_{O}}}-{L}*{c1})+ABS({{y_{A}}}-{{y_{O}}}-{L}*{s1})")
+    b.add(f"chk_vel_{A}", "m/s", f"проверка: v{A} = L1 Fi_t (-sin Fi, cos Fi) (производная x = L1 cos Fi)",
+          f"check: v{A} = L1 Fi_t (-sin Fi, cos Fi) (the derivative of x = L1 cos Fi)", "check",
+          f"ABS({{vx_{A}}}+{L}*{{Fi_t}}*{s1})+ABS({{vy_{A}}}-{L}*{{Fi_t}}*{c1})")
+    b.add(f"chk_acc_{A}", "m/s^2",
+          f"проверка: a{A} = L1 Fi_tt (-sin Fi, cos Fi) - L1 Fi_t^2 (cos Fi, sin Fi) (вторая производная)",
+          f"check: a{A} = L1 Fi_tt (-sin Fi, cos Fi) - L1 Fi_t^2 (cos Fi, sin Fi) (the second derivative)", "check",
+          f"ABS({{ax_{A}}}+{L}*({{Fi_tt}}*{s1}+{{Fi_t}}^2*{c1}))+ABS({{ay_{A}}}-{L}*({{Fi_tt}}*{c1}-{{Fi_t}}^2*{s1}))")
     fd_checks(b, A)
 
 
@@ -141,6 +158,13 @@ def _point_rows(b: Builder, p: Point):
     distance_check(b, f"chk_{p.origin}{p.name}", p.origin, p.name,
                     f"SQRT({{along_{p.name}}}^2+{{across_{p.name}}}^2)",
                     f"проверка: |{p.origin}{p.name}| сохраняется", f"check: |{p.origin}{p.name}| is kept")
+    local_position_check(b, p.name, p.link, p.origin, f"{{along_{p.name}}}", f"{{across_{p.name}}}")
+    # the velocity and acceleration once more through another joint of the link (the rows
+    # above go through `from`); a link with one joint only: through `from`, from its rows
+    others = [j for j in b.on_link.get(p.link, []) if j not in (p.origin, p.name)]
+    j = others[0] if others else p.origin
+    via_link_checks(b, p.name, j, p.link, f"{j}, omega_{p.link}, eps_{p.link}")
+    b.on_link.setdefault(p.link, []).append(p.name)
     fd_checks(b, p.name)
     b.guard = saved
 
@@ -149,10 +173,10 @@ def _point_rows(b: Builder, p: Point):
 _REF = re.compile(r"\{(scale:)?([^{}@:]+)(?:@(prev|next))?\}")
 _TEXT = {
     "ru": {"name": "имя", "unit": "ед.", "desc": "описание", "value": "значение / проверка",
-           "checks": "проверки", "pass": "все проверки выполнены", "fail": " строк проверки не выполнены",
+           "checks": "проверки",
            "na": "н/д", "author": "автор", "pos": "положение"},
     "en": {"name": "name", "unit": "unit", "desc": "description", "value": "value / check",
-           "checks": "checks", "pass": "all checks pass", "fail": " check rows fail",
+           "checks": "checks",
            "na": "n/a", "author": "author", "pos": "position"},
 }
 _EXERCISE_KEEP = {"i", "phi_1"}
@@ -201,6 +225,7 @@ def build_workbook(scene: Scene, *, lang: str = "ru", exercise: bool = False,
     first_row = 5
     where, templates = _compile(rows, first_row, last_col)
     marker = MARKERS[lang]
+    kinds = {r.name: r.kind for r in rows}
     cols = [get_column_letter(FIRST_COL + k) for k in range(n)]
 
     wb = Workbook()
@@ -263,26 +288,16 @@ def build_workbook(scene: Scene, *, lang: str = "ru", exercise: bool = False,
         if row.kind in ("check", "fdcheck"):
             rng = fd_range.format(r=r)
             tol = f"$D${where['Tol_FD' if row.kind == 'fdcheck' else 'Tol']}"
+            expected = None
             if row.kind == "check":
                 expected = (f"SUMPRODUCT(--({cols[0]}{where[row.guard]}:{cols[-1]}{where[row.guard]}))"
                             if row.guard else str(n))
-                status = f"=IF(AND(COUNT({rng})={expected},MAX({rng})<={tol},MIN({rng})>=-{tol}),0,1)"
-            else:
-                status = f"=IF(AND(MAX({rng})<={tol},MIN({rng})>=-{tol}),0,1)"
-            ws.cell(r, 4, status)
+            reads = sorted({where[m.group(2)] for m in _REF.finditer(row.formula)
+                            if kinds[m.group(2)] in ("calc", "accepted")})
+            ws.cell(r, 4, status_formula(lang, rng, tol, [fd_range.format(r=k) for k in reads], expected))
             status_cells.append(f"D{r}")
-            top = f"{cols[0]}{r}"
-            ws.conditional_formatting.add(rng, FormulaRule(formula=[f"AND(ISNUMBER({top}),ABS({top})<={tol})"], fill=GREEN))
-            ws.conditional_formatting.add(rng, FormulaRule(formula=[f"AND(ISNUMBER({top}),ABS({top})>{tol})"], fill=RED))
-            ws.conditional_formatting.add(f"D{r}", FormulaRule(formula=[f"D{r}=0"], fill=GREEN))
-            ws.conditional_formatting.add(f"D{r}", FormulaRule(formula=[f"D{r}<>0"], fill=RED))
-    # the summary at the top: how many check rows fail (SUM takes at most 255 arguments)
-    parts = [f"SUM({','.join(status_cells[k:k + 200])})" for k in range(0, len(status_cells), 200)]
-    total = "+".join(parts) or "0"
-    ws["D3"] = f'=IF({total}=0,"{text["pass"]}",({total})&"{text["fail"]}")'
-    ws["D3"].font = SECTION_FONT
-    ws.conditional_formatting.add("D3", FormulaRule(formula=[f'D3="{text["pass"]}"'], fill=GREEN))
-    ws.conditional_formatting.add("D3", FormulaRule(formula=[f'D3<>"{text["pass"]}"'], fill=RED))
+            colour_check_row(ws, rng, f"{cols[0]}{r}", f"D{r}", tol)
+    write_summary(ws, lang, status_cells, f"D{first_row}:D{first_row + len(rows) - 1}")
     ws.freeze_panes = f"{cols[0]}5"
     from .workbook_print import setup_page      # widths, alignment, pages (sheetkin/workbook_print.py)
     setup_page(ws, rows, where, cols, FIRST_COL)

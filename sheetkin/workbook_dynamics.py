@@ -55,14 +55,16 @@ def energy_rows(b: Builder):
                   "accepted", f"-{m}*({{g_x}}*{b.p('x', S)}+{{g_y}}*{b.p('y', S)})")
             u_rate.append(f"-{m}*({{g_x}}*{vx}+{{g_y}}*{vy})")
         v = f"{{v_{S}}}" if S not in b.frame else "0"
+        # relative to the sizes at the same position (not to the row's largest value): the
+        # check then reads only its own column, free of the step and of the other positions
         b.add(f"chk_T_{k}", "", f"проверка: T_{k} через модуль скорости v{S} (относительная невязка)", f"check: T_{k} from the speed v{S} (relative)",
-              "check", f"({{T_{k}}}-{m}*{v}^2/2-{J}*{w}^2/2)/({{scale:T_{k}}})")
+              "check", f"({{T_{k}}}-{m}*{v}^2/2-{J}*{w}^2/2)/(ABS({{T_{k}}})+{m}*{v}^2/2+{J}*{w}^2/2+1E-300)")
         b.add(f"Fix_{k}", "N", f"сила инерции звена {k} (Даламбер): -m a{S}, x", f"inertia force of link {k} (d'Alembert): -m a{S}, x", "accepted", f"-{m}*{ax}")
         b.add(f"Fiy_{k}", "N", f"сила инерции звена {k}: -m a{S}, y", f"inertia force of link {k}: -m a{S}, y", "accepted", f"-{m}*{ay}")
         b.add(f"Mi_{k}", "N m", f"момент сил инерции звена {k}: -J eps", f"inertia moment of link {k}: -J eps", "accepted", f"-{J}*{e}")
         a = f"{{a_{S}}}" if S not in b.frame else "0"
         b.add(f"chk_Fi_{k}", "", f"проверка: |Fi_{k}| = m a{S} (относительная невязка)", f"check: |Fi_{k}| = m a{S} (relative)",
-              "check", f"(SQRT({{Fix_{k}}}^2+{{Fiy_{k}}}^2)-{m}*{a})/({{scale:Fix_{k}}}+{{scale:Fiy_{k}}})")
+              "check", f"(SQRT({{Fix_{k}}}^2+{{Fiy_{k}}}^2)-{m}*{a})/(SQRT({{Fix_{k}}}^2+{{Fiy_{k}}}^2)+{m}*ABS({a})+1E-300)")
         t_rate.append(f"{m}*({vx}*{ax}+{vy}*{ay})+{J}*{w}*{e}")
     if sc.masses:
         _energy_totals(b, t_rate, u_rate)
@@ -93,6 +95,20 @@ def _energy_totals(b: Builder, t_rate: list[str], u_rate: list[str]):
     if gravity:
         b.add("U", "J", "потенциальная энергия механизма", "potential energy of the mechanism", "accepted",
               "+".join(f"{{U_{m.link}}}" for m in sc.masses))
+    # the totals once more from the links' speeds and heights, not from the T_k, U_k rows
+    # (free of the step; relative to the terms' sizes, as the energies may be near 0)
+    t_terms = [f"{{m_{m.link}}}*{v}^2/2+{{J_{m.link}}}*{_rates(b, m.link)[0]}^2/2"
+               for m in sc.masses for v in [f"{{v_{m.centre}}}" if m.centre not in b.frame else "0"]]
+    b.add("chk_T", "", "проверка: T = сумма m v^2/2 + J omega^2/2 по модулям скоростей (относительная невязка)",
+          "check: T = sum of m v^2/2 + J omega^2/2 from the speeds (relative)", "check",
+          f"({{T}}-({'+'.join(t_terms)}))/(ABS({{T}})+{'+'.join(t_terms)}+1E-300)")
+    if gravity:
+        u_terms = [f"{{m_{m.link}}}*({{g_x}}*{b.p('x', m.centre)}+{{g_y}}*{b.p('y', m.centre)})" for m in sc.masses]
+        each = "+".join(f"ABS({{U_{m.link}}}+{t})" for m, t in zip(sc.masses, u_terms))
+        size = "+".join(f"ABS({t})" for t in u_terms)
+        b.add("chk_U", "", "проверка: U_k = -m_k g.r_S и U = сумма U_k (относительная невязка)",
+              "check: U_k = -m_k g.r_S and U = the sum of U_k (relative)", "check",
+              f"(ABS({{U}}+({'+'.join(u_terms)}))+{each})/({size}+1E-300)")
     b.add("T_t", "W", "скорость изменения кинетической энергии: сумма m v.a + J omega eps", "rate of change of the kinetic energy: sum of m v.a + J omega eps",
           "accepted", "+".join(t_rate))
     if gravity:
@@ -100,10 +116,11 @@ def _energy_totals(b: Builder, t_rate: list[str], u_rate: list[str]):
               "accepted", "+".join(u_rate))
     # checks: the inertia forces' power is -dT/dt; the rates against numeric derivatives
     # (T is quadratic in the crank's rate, so dT/dt = Fi_t dT/dFi + 2 Fi_tt T / Fi_t)
-    p_in = "+".join(f"{{Fix_{m.link}}}*{b.p('vx', m.centre)}+{{Fiy_{m.link}}}*{b.p('vy', m.centre)}+{{Mi_{m.link}}}*{_rates(b, m.link)[0]}"
-                    for m in sc.masses)
-    b.add("chk_P_in", "", "проверка: мощность сил инерции + dT/dt = 0 (относительная невязка)", "check: power of the inertia forces + dT/dt = 0 (relative)",
-          "check", f"({p_in}+{{T_t}})/{{scale:T_t}}")
+    p_terms = [t for m in sc.masses for t in (f"{{Fix_{m.link}}}*{b.p('vx', m.centre)}", f"{{Fiy_{m.link}}}*{b.p('vy', m.centre)}",
+                                                f"{{Mi_{m.link}}}*{_rates(b, m.link)[0]}")]
+    b.add("chk_P_in", "", "проверка: мощность сил инерции + dT/dt = 0 (относительно суммы модулей слагаемых)",
+          "check: power of the inertia forces + dT/dt = 0 (relative to the sum of the terms' sizes)",
+          "check", f"({'+'.join(p_terms)}+{{T_t}})/({'+'.join(f'ABS({t})' for t in p_terms)}+ABS({{T_t}})+1E-300)")
     b.add("fd_T_t", "", "T_t: численная производная (относительная невязка)", "T_t against the numeric derivative (relative)", "fdcheck",
           "({T_t}-{Fi_t}*({T@next}-{T@prev})/(2*{Delta_Fi_rad})-2*{Fi_tt}*{T}/{Fi_t})/{scale:T_t}")
     if gravity:

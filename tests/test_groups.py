@@ -169,7 +169,7 @@ def test_libreoffice_recalculation_equals_compute(group_books, case):
     compare_dynamics(ws, scene, df)
     rows = rows_of(ws)
     failing = [n for n, r in rows.items() if isinstance(n, str) and n.startswith("chk_") and ws.cell(r, 4).value != 0]
-    assert not failing and ws["D3"].value == "all checks pass", failing
+    assert not failing and ws["D3"].value.startswith("all checks pass"), failing
 
 
 # --------------------------------------------------------------------------- invariance

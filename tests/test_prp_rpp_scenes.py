@@ -283,4 +283,4 @@ def test_libreoffice_kinetostatics_rows_equal_compute(dyn_sheets, stem):
         ref = df[name].to_numpy()
         assert np.all(np.abs(got - ref) <= 1e-9 * max(1.0, float(np.abs(ref).max()))), (name, got, ref)
     failing = [n for n, r in rows.items() if str(n).startswith("chk") and ws.cell(r, 4).value != 0]
-    assert not failing and ws["D3"].value == "все проверки выполнены", failing
+    assert not failing and ws["D3"].value.startswith("все проверки выполнены"), failing

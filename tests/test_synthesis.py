@@ -357,7 +357,7 @@ def test_scene_workbook_check_evaluate_validate(tmp_path, capsys):
     for n in kin + ["res_1", "res_2", "res_3", "res_4"]:
         assert abs(b.value(s, rows[n], 4)) <= 1e-12, n
     assert b.value(s, 3, 4) == "all checks pass"
-    assert b.value("Kinematics", 3, 4) == "all checks pass"
+    assert b.value("Kinematics", 3, 4).startswith("all checks pass")
 
 
 def test_a_scene_unlike_its_synthesis_data_is_warned_and_checked(tmp_path, capsys):

@@ -162,7 +162,7 @@ def test_scenes_workbook_has_the_synthesis_sheet(recalculated, key, data, lang):
     for name in kin_rows:
         assert abs(v[f"D{rows[name]}"]) <= 1e-9, (name, v[f"D{rows[name]}"])
         assert f"'{kin}'!$D$" in wb[title].cell(rows[name], 4).value
-    assert values[key][kin]["D3"] == ("all checks pass" if lang == "en" else "все проверки выполнены")
+    assert values[key][kin]["D3"].startswith("all checks pass" if lang == "en" else "все проверки выполнены")
     # the kinematics sheet computes that mechanism: its rocker starts at gamma1 (phi_3, E)
     krows = _rows(wb[kin])
     assert math.remainder(values[key][kin][f"E{krows['phi_3']}"] - data["gamma1_deg"], 360) == \

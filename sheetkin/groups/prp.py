@@ -32,7 +32,7 @@ import numpy as np
 from ..group import Family, Group, Guide, crank_scene
 from ..motion import GroupMotion, Motion, Pair, Rotation, Slide, cramer, guide_line, guide_loop, inverse_det
 from ..rows import (Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, det_row, fd_checks, motion_rows,
-                    residual)
+                    residual, turns_with_check)
 
 # --------------------------------------------------------------------------- what it is
 KIND = "PRP"
@@ -252,6 +252,11 @@ def rows(b: Builder, g: Group):
               f"angular velocity of {what[1]} {k} (turns with its guide)", "accepted", w)
         b.add(f"eps_{k}", "rad/s^2", f"угловое ускорение {what[0]} {k}", f"angular acceleration of {what[1]} {k}",
               "accepted", e)
+    turns_with_check(b, f"chk_rot_g{i}", [(f"phi_{la}", f"COS({{{eta}}})", f"SIN({{{eta}}})"),
+                                          (f"phi_{lb}", f"COS({{{th}}})", f"SIN({{{th}}})")],
+                     [(f"omega_{la}", wa_f), (f"eps_{la}", ea_f), (f"omega_{lb}", wb_f), (f"eps_{lb}", eb_f)],
+                     f"камень {la} и ползун {lb} повёрнуты и вращаются вместе со своими направляющими",
+                     f"block {la} and slider {lb} point along and turn with their guides")
     wa, ea, wb, eb = f"{{omega_{la}}}", f"{{eps_{la}}}", f"{{omega_{lb}}}", f"{{eps_{lb}}}"
     # u1 vs - u2 vs2 = v_P2 - v_P1 - s w1 n1 + s2 w2 n2 (n = u turned +90 deg)
     det = f"Delta_g{i}"
@@ -290,6 +295,12 @@ def rows(b: Builder, g: Group):
     motion_rows(b, N, f"шарнира {N}", f"hinge {N}", f"{{{xL}}}", f"{{{yL}}}",
                 f"{pa[2]}+{{vs_{N}}}*{ca}-{S1}*{wa}*{sa}", f"{pa[3]}+{{vs_{N}}}*{sa}+{S1}*{wa}*{ca}",
                 f"{pa[4]}+{tu}*{ca}-{T1}*{sa}", f"{pa[5]}+{tu}*{sa}+{T1}*{ca}")
+    # x_N, y_N are written as the crossing point (7); nothing in the kinematics reads them
+    # back, so here they are put on each guide at its travel s, s2 (free of the step)
+    b.add(f"chk_pos_{N}_g{i}", "m", f"проверка: {N} = P1 + s u1 = P2 + s2 u2 (на обеих направляющих)",
+          f"check: {N} = P1 + s u1 = P2 + s2 u2 (on both guides)", "check",
+          f"ABS({{x_{N}}}-({pa[0]}+{S1}*{ca}))+ABS({{y_{N}}}-({pa[1]}+{S1}*{sa}))"
+          f"+ABS({{x_{N}}}-({pb[0]}+{S2}*{cb}))+ABS({{y_{N}}}-({pb[1]}+{S2}*{sb}))")
     tu2 = f"({{as2_{N}}}-{S2}*{wb}^2)"
     b.add(f"chk_v_{N}_g{i}", "m/s", f"проверка: скорость {N} через направляющую 2",
           f"check: velocity of {N} through guide 2",

@@ -24,7 +24,7 @@ import numpy as np
 
 from ..group import Family, Group, Guide, crank_scene
 from ..motion import GroupMotion, Motion, Pair, Rotation, Slide, cramer, inverse_det
-from ..rows import Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, fd_checks, motion_rows
+from ..rows import Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, fd_checks, motion_rows, turns_with_check
 
 # --------------------------------------------------------------------------- what it is
 KIND = "RPP"
@@ -189,6 +189,9 @@ def rows(b: Builder, g: Group):
               "accepted", "0")
         b.add(f"eps_{k}", "rad/s^2", f"угловое ускорение {what[0]} {k}", f"angular acceleration of {what[1]} {k}",
               "accepted", "0")
+    turns_with_check(b, f"chk_rot_g{i}", [(f"phi_{la}", us[0], us[1]), (f"phi_{lb}", us[0], us[1])], [],
+                     f"камень {la} и кулиса {lb} повёрнуты по пазу (alpha)",
+                     f"block {la} and kulisa {lb} point along the slot (alpha)")
     split(*systems[1])
     split(*systems[2])
     b.place_links(la, lb)
@@ -201,6 +204,11 @@ def rows(b: Builder, g: Group):
     b.add(f"chk_v_{J1}_g{i}", "m/s", f"проверка: скорость {K} + vs_{J1} u_s равна скорости {J1}",
           f"check: velocity of {K} + vs_{J1} u_s is {J1}'s", "check",
           f"ABS({{vx_{K}}}+{{vs_{J1}}}*{cs}-{b.p('vx', J1)})+ABS({{vy_{K}}}+{{vs_{J1}}}*{ss}-{b.p('vy', J1)})")
+    # the same for accelerations: the slot does not turn, so no Coriolis term; without it
+    # K's acceleration rows had only the numeric derivative (inactive above 3 deg)
+    b.add(f"chk_a_{J1}_g{i}", "m/s^2", f"проверка: ускорение {K} + as_{J1} u_s равно ускорению {J1} (не зависит от шага)",
+          f"check: acceleration of {K} + as_{J1} u_s is {J1}'s (free of the step)", "check",
+          f"ABS({{ax_{K}}}+{{as_{J1}}}*{cs}-{b.p('ax', J1)})+ABS({{ay_{K}}}+{{as_{J1}}}*{ss}-{b.p('ay', J1)})")
     fd_checks(b, K)
 
 

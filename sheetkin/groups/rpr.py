@@ -21,7 +21,7 @@ import numpy as np
 from ..group import Family, Group, crank_scene
 from ..motion import (GroupMotion, Motion, Pair, Rotation, Slide, cramer, cross, hinge, inverse_det, resultants,
                       sqrt_or_nan)
-from ..rows import Builder, InputRow, LoadRows, cramer_rows, det_row, group_guard, residual
+from ..rows import Builder, InputRow, LoadRows, cramer_rows, det_row, group_guard, residual, turns_with_check
 
 # --------------------------------------------------------------------------- what it is
 KIND = "RPR"
@@ -177,16 +177,26 @@ def rows(b: Builder, g: Group):
                             (f"as_{J1}", "m/s^2", f"относительное ускорение камня {J1} вдоль кулисы",
                              f"acceleration of block {J1} along the slot")),
                 (f1, f2), residual(i, "a"))
+    ep = f"{{eps_{lb}}}"
     b.add(f"omega_{la}", "rad/s", f"угловая скорость камня {la}", f"angular velocity of the block {la}", "accepted",
           f"{{omega_{lb}}}")
     b.add(f"eps_{la}", "rad/s^2", f"угловое ускорение камня {la}", f"angular acceleration of the block {la}",
           "accepted", f"{{eps_{lb}}}")
+    turns_with_check(b, f"chk_rot_g{i}", [(f"phi_{lb}", c, s), (f"phi_{la}", c, s)],
+                     [(f"omega_{la}", w), (f"eps_{la}", ep)],
+                     f"кулиса {lb} и камень {la} повёрнуты по оси кулисы (cu, su), камень вращается с кулисой",
+                     f"lever {lb} and block {la} point along the slot (cu, su), the block turns with the lever")
+    # s is the root +sqrt(D): -sqrt(D) also closes the loop (the slot turned by 180 deg),
+    # so only its sign tells; relative to L_TEK, free of the step
+    b.add(f"chk_s_g{i}", "", f"проверка: s_{J1} = +sqrt(L_TEK^2 - e^2) >= 0 (относительная невязка)",
+          f"check: s_{J1} = +sqrt(L_TEK^2 - e^2) >= 0 (relative)", "check",
+          f"ABS({{{sJ}}}^2+{e}^2-{{{r2}}})/{{{r2}}}+(ABS({{{sJ}}})-{{{sJ}}})/SQRT({{{r2}}})")
     b.add(f"cos_{lb}", "", f"cos угла кулисы {lb}", f"cos of lever {lb}'s angle", "calc", c)
     b.add(f"sin_{lb}", "", f"sin угла кулисы {lb}", f"sin of lever {lb}'s angle", "calc", s)
     b.place_links(la, lb, rot=(f"cos_{lb}", f"sin_{lb}", f"omega_{lb}", f"eps_{lb}"))
     # the block's motion seen on the lever: v_J1 = v_J2 + omega x r + vs u,
     # a_J1 = a_J2 + eps x r - omega^2 r + as u + 2 omega vs n (Coriolis)
-    ep, as_ = f"{{eps_{lb}}}", f"{{as_{J1}}}"
+    as_ = f"{{as_{J1}}}"
     b.add(f"chk_v_g{i}", "m/s", f"проверка: v{J1} = v{J2} + omega x r + vs u",
           f"check: v{J1} = v{J2} + omega x r + vs u",
           "check",

@@ -25,7 +25,8 @@ from ..group import Family, Group, Guide, crank_scene
 from ..motion import (GroupMotion, Motion, Pair, Rotation, Slide, cramer, guide_line, guide_loop, hinge, inverse_det,
                       on_line, resultants, sqrt_or_nan)
 from ..rows import (Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, det_row, distance_check, fd_checks,
-                    group_guard, motion_rows, relative_velocity_check, residual, via_link_checks)
+                    group_guard, motion_rows, relative_velocity_check, residual, turns_with_check,
+                    via_link_checks)
 
 # --------------------------------------------------------------------------- what it is
 KIND = "RRP"
@@ -306,6 +307,9 @@ def _moving_guide_rows(b: Builder, g: Group):
           "accepted", wk)
     b.add(f"eps_{lb}", "rad/s^2", f"угловое ускорение камня {lb}", f"angular acceleration of block {lb}", "accepted",
           ek)
+    turns_with_check(b, f"chk_rot_g{i}", [(f"phi_{lb}", U, V)], [(f"omega_{lb}", wk), (f"eps_{lb}", ek)],
+                     f"камень {lb} повёрнут по направляющей и вращается с кулисой {k}",
+                     f"block {lb} points along the guide and turns with the kulisa {k}")
     # L omega e'(phi) - vs u = v_G + s omega_k n - v_J1, n = (-uy, ux)
     det = f"Delta_g{i}"
     m = (f"(-{L}*{sa})", f"(-{U})", f"({L}*{ca})", f"(-{V})")
