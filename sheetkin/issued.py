@@ -256,16 +256,21 @@ def check_given(scene: Scene, scene_text: str, consts: dict, inputs: dict[str, o
     """Which given data were issued for this book and which of them the student changed.
 
     A book with a variant id (made by `variants`) is checked against its roster row (with
-    --roster) or else against its embedded scene; a book made by `sheetkin workbook` has
-    no id and, without a roster, is its own variant (as before issue 13)."""
+    --roster) or else against its embedded scene. A book made by `sheetkin workbook` has no
+    id (and no seal): its given data are the scene embedded at generation, so a student who
+    edits L1 there is told so and graded against the embedded values (issue 13: "with
+    L1 = 0.05 the validator said all correct"); --accept-changed-inputs grades a student's
+    own variant, as before issue 13."""
     opts = opts or Options()
     vid, found = marks(consts)
     out = Given(variant=vid)
     roster = opts.roster
     if not vid:
-        if roster is None:
+        if roster is not None:
+            out.seal = "scene sheet edited: it names no variant (scene!C1), so the roster row is unknown"
             return out
-        out.seal = "scene sheet edited: it names no variant (scene!C1), so the roster row is unknown"
+        out.issued = given_values(scene)
+        out.changed = changes(out.issued, inputs, where)
         return out
     out.seal = seal_status(opts.key, vid, scene_text, found)
     embedded = given_values(scene)

@@ -16,6 +16,7 @@ from openpyxl.utils import get_column_letter
 import sheetkin
 from libreoffice import recalculate
 from sheetkin.cli import main
+from sheetkin.issued import Options
 from sheetkin.validator import validate
 from sheetkin.workbook import write_workbook
 
@@ -143,13 +144,22 @@ def test_half_filled_exercise(tmp_path, fourbar):
 
 
 def test_the_students_own_variant(fourbar, tmp_path):
-    """The input block is the student's variant: other lengths, still all correct."""
+    """A book made by `sheetkin workbook` (no variant id): its given data are the embedded
+    scene. Changed inputs are named and fail, and the rows are graded against the embedded
+    values (issue 13: "a student can change the given data and pass"); with
+    --accept-changed-inputs the input block is the student's own variant: all correct."""
     def variant(ws, rows):
         ws.cell(rows["L1"], 4).value = 0.12
         ws.cell(rows["Fi_t0"], 4).value = -5.0
         ws.cell(rows["branch_g1"], 4).value = 1
-    rep = validate(edit(fourbar, tmp_path / "variant.xlsx", variant))
-    assert rep.ok, [(r.name, r.status, r.expected, r.got) for r in rep.wrong][:3]
+    book = edit(fourbar, tmp_path / "variant.xlsx", variant)
+    rep = validate(book)
+    assert not rep.ok
+    assert {(c["name"], c["issued"], c["got"]) for c in rep.given_changed} == {
+        ("L1", 0.14, 0.12), ("Fi_t0", 20.0, -5.0), ("branch_g1", -1.0, 1)}
+    assert {r.name for r in rep.wrong} >= {"x_A", "Fi_t"}          # graded against 0.14 and 20
+    rep = validate(book, options=Options(accept_changed=True))
+    assert rep.ok and rep.accepted_changes, [(r.name, r.status, r.expected, r.got) for r in rep.wrong][:3]
 
 
 @pytest.fixture(scope="module")
@@ -212,9 +222,14 @@ def test_unusable_inputs_in_a_batch(fourbar, tmp_path, capsys):
     assert code == 2
     lines = {p: [ln for ln in out.splitlines() if p in ln] for p in before}
     assert any("all correct" in x or "correct" in x for x in out.splitlines() if "good.xlsx" in x)
-    for bad, why in (("text_input.xlsx", "input L1"), ("notes.xlsx", "not an .xlsx"), ("foreign.xlsx", "no embedded scene")):
+    for bad, why in (("notes.xlsx", "not an .xlsx"), ("foreign.xlsx", "no embedded scene")):
         hit = [ln for ln in lines[bad] if "UNUSABLE" in ln]
         assert len(hit) == 1 and why in hit[0], (bad, lines[bad])
+    # text typed over a given number is a change of the given data (graded against the
+    # issued 0.14); only when the student's own inputs are graded is it unusable
+    assert "given data changed: L1 0.14 -> '0.14 m'" in out
+    assert main(["validate", str(folder / "text_input.xlsx"), "--accept-changed-inputs"]) == 2
+    assert "UNUSABLE" in capsys.readouterr().out
     # the summary table; its student column is the student's own cells (blank here), not A2
     assert re.search(r"good\.xlsx\s+correct", out) and "sheetkin example  " not in out
     after = {p.name: hashlib.sha256(p.read_bytes()).hexdigest() for p in folder.iterdir()}
