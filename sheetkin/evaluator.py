@@ -1842,6 +1842,41 @@ class _Context:
         return _const("#VALUE!", k)
 
 
+# --------------------------------------------------------------------------- formulas over given values
+def parse_rows(sheet: Sheet, rows: set[int]) -> list[Run]:
+    """The formula cells of some rows of a sheet (no defined names) as parsed runs, for
+    evaluate_runs: sheetkin.localjudge evaluates a generated sheet's formulas over a
+    student's numbers. A run whose ranges change width from cell to cell is split into cells
+    (as _schedule does); a formula that cannot be read is left out."""
+    sub = Sheet(sheet.name, sheet.state, formulas={k: f for k, f in sheet.formulas.items() if k[0] in rows})
+    out = []
+    for run in _group_runs(sub):
+        run.tree, run.error, run.refs = _parse_run(run.formula, run.row, int(run.cols[0]), {}, frozenset())
+        if run.error:
+            continue
+        varies = len(run.cols) > 1 and any(ref.c1_abs != ref.c2_abs for ref in run.refs)
+        out.extend(_split(run) if varies else [run])
+    return out
+
+
+def evaluate_runs(runs: list[Run], num: dict, tag: dict, txt: dict) -> list[tuple[Run, np.ndarray, np.ndarray]]:
+    """(run, numbers, tags) of each run's formula evaluated over the given value stores
+    (sheet -> arrays, as Book holds them), nothing written back: every run reads the
+    stores as they are, whatever order the runs come in. An internal error of the
+    evaluator is the cell's #VALUE!, as in evaluate_sheets without strict."""
+    ctx = _Context(num, tag, txt, {None: {}})
+    out = []
+    with np.errstate(all="ignore"):
+        for run in runs:
+            k = len(run.cols)
+            try:
+                v = _as_cells(ctx.eval(run.tree, run), k)
+            except Exception:      # noqa: BLE001 - the cell's problem, not the caller's
+                v = _const("#VALUE!", k)
+            out.append((run, v.num[:, 0, 0], v.tag[:, 0, 0]))
+    return out
+
+
 # --------------------------------------------------------------------------- results as tables
 def rows_frame(book: Book, sheet: str | None = None, first_col: int = 5) -> pd.DataFrame:
     """One sheet as a table: rows named by column A, columns = positions (column E on).

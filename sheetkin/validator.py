@@ -30,6 +30,8 @@ from .evaluator import Book, EvaluationError, evaluate_sheets
 from .xlsxread import Sheet, read_book
 from .scene import Scene, SceneError, parse_scene
 from .groups import kind_of
+from .localjudge import judge, name_causes
+from .localjudge import typed_tolerance as _typed_tolerance
 from .workbook import FIRST_COL, SCENE_SHEET, build_workbook, sheet_rows
 from .workbook_charts import PATHS_SHEET
 from .xlsxsafe import Limits, UnusableWorkbook
@@ -56,6 +58,8 @@ class RowReport:
     because_of: list[str] = field(default_factory=list)    # the causes it depends on
     kind: str = ""                   # accepted | calc | guard (the reference's kind of row)
     source: str = "formula"          # formula | typed | cached
+    local: str = ""                  # right | wrong | "" (not judged): on the student's own inputs
+    note: str = ""                   # for a cause: one line why (a typed number: cell, digits, error below)
 
 
 @dataclass
@@ -153,17 +157,6 @@ def row_ancestors(scene: Scene) -> dict[str, set[str]]:
             acc |= {d} | out.get(d, set())
         out[r.name] = acc - {r.name}
     return out
-
-
-def _typed_tolerance(x: float) -> float:
-    """A number typed by hand is right to half a unit of its last typed digit."""
-    text = repr(float(x))
-    if "e" in text or "E" in text:
-        mant, exp = text.lower().split("e")
-        decimals = len(mant.split(".")[1]) if "." in mant else 0
-        return 0.5 * 10.0 ** (int(exp) - decimals)
-    decimals = len(text.split(".")[1]) if "." in text else 0
-    return 0.5 * 10.0 ** -decimals if text.split(".")[1] != "0" else 0.5
 
 
 def _close(got, exp, name: str, typed: bool):
@@ -273,17 +266,17 @@ def _validate(path: str, limits: Limits) -> Report:
                 rep.max_error = math.inf
         if rep.wrong_cells:
             rep.status = "wrong"
-    # likely causes: wrong rows with no wrong ancestor; the rest depend on them
-    wrong = {r.name for r in report.rows if r.status in ("wrong", "missing", "empty")}
-    for rep in report.rows:
-        if rep.status != "wrong":
-            continue
-        bad_anc = ancestors.get(rep.name, set()) & wrong
-        if bad_anc:
-            rep.because_of = [n for n in (x.name for x in report.rows) if n in bad_anc
-                              and not (ancestors.get(n, set()) & wrong)]
-        else:
-            rep.cause = True
+    # likely causes: each row judged on the student's own values of what it reads
+    # (sheetkin.localjudge); the wrong rows right on their inputs depend on a cause
+    graded = {r.name for r in report.rows if r.status in ("correct", "wrong")}
+    judged = [r.name for r in ref_rows if r.name in graded or (r.kind == "derived" and r.name in names)]
+    local = judge(ref_book, evaluated, main, names, judged,
+                  {r.name for r in report.rows if r.status in ("missing", "empty")})
+
+    def derived_row(name: str, col: int) -> RowReport:
+        return RowReport(name, names[name], "correct", kind="derived",
+                         source="formula" if sh.computed(names[name], col) else "typed")
+    name_causes(report.rows, local, ancestors, input_names, derived_row)
     report.cache_mismatch = _cache_mismatches(evaluated, main, {r for n, r in names.items() if n.startswith("phi_")})
     report.failing_checks = [n for n, r in names.items() if n.startswith(("chk", "fd_"))
                              and kinds.get(n) in ("check", "fdcheck") and evaluated.value(main, r, 4) not in (0.0, None)]
