@@ -375,28 +375,40 @@ def typed_note(local: Local, name: str, dependents: list[str]) -> str:
 
 def name_causes(rows: list, local: Local, ancestors: dict[str, set[str]], inputs: set[str], new_row) -> None:
     """Set local, cause, note and because_of of the validator's rows (RowReport: name,
-    status, cause, ...): the causes are the locally wrong rows that are wrong or make a row
-    below them wrong, and the rounded typed numbers a wrong row below depends on; a derived
-    value (column D) that is a cause gets a row of its own, new_row(name, column) -> row,
-    appended. Rows wrong and right on their inputs are wrong because of the causes above
-    them, or of given data (inputs) that differ from the reference's."""
+    status, cause, ...). The causes: the locally wrong rows that are wrong or make a row
+    below them wrong; and, in sheet order, each rounded typed number that a wrong cell below
+    it (same position) depends on, unless a rounded number above already accounts for that
+    cell (a hand calculation: omega_2 typed -3.23, f1_g1 typed to 6 digits from it; omega_2
+    is named, f1_g1 is not). A derived value (column D) that is a cause gets a row of its
+    own, new_row(name, column) -> row, appended. Rows wrong and right on their inputs are
+    wrong because of the causes above them, or of given data (inputs) that differ from the
+    reference's."""
     by = {r.name: r for r in rows}
-    wrong = {r.name for r in rows if r.status == "wrong"}
+    wrong = {r.name: set(r.wrong_cells) for r in rows if r.status == "wrong"}
     below: dict[str, list[str]] = {}
     for r in rows:
         if r.status in ("correct", "wrong"):
             for a in ancestors.get(r.name, ()):
                 below.setdefault(a, []).append(r.name)
-    causes = []
+    causes, explained = [], set()
     for n, j in local.judgements.items():
         rep = by.get(n)
         if rep is not None:
             rep.local = j.local
         if not j.local:
             continue
-        wrong_below = any(d in wrong for d in below.get(n, ()))
-        off = j.local == "wrong" and ((rep is not None and rep.status == "wrong") or wrong_below)
-        if not (off or (wrong_below and (j.state == 1).any())):
+        wrong_below = [d for d in below.get(n, ()) if d in wrong]
+        if j.local == "wrong":
+            named = (rep is not None and rep.status == "wrong") or bool(wrong_below)
+        elif (j.state == 1).any():
+            rounded = {c - FIRST_COL + 1 for c in j.flagged((1,))}
+            cells = {(d, k) for d in wrong_below for k in wrong[d]
+                     if k in rounded or j.cols[0] == DERIVED_COL}
+            named = bool(cells - explained)
+            explained |= cells
+        else:
+            continue
+        if not named:
             continue
         if rep is None:
             rep = new_row(n, int(j.cols[0]))
