@@ -185,12 +185,18 @@ class Local:
             return False
         return self.value(name, DERIVED_COL) != self.value(name, DERIVED_COL, "reference")
 
-    def row_error(self, name: str) -> float:
-        """Largest difference of a row from the reference, relative to the row's size."""
+    def row_error(self, name: str, at: list[int] | None = None) -> float:
+        """Largest difference of a row from the reference (in columns `at`, default all),
+        relative to the row's size."""
         r = self.plan.rows.get(name)
         cols = self.plan.cols.get(name)
         if r is None or cols is None:
             return 0.0
+        scale_cols = cols
+        if at is not None:
+            cols = np.intersect1d(cols, at)
+        rs = self.rnum[r, scale_cols][self.rtag[r, scale_cols] == NUM]
+        scale = float(np.abs(rs).max()) if rs.size else 0.0
         s, st, ref, rt = self.num[r, cols], self.tag[r, cols], self.rnum[r, cols], self.rtag[r, cols]
         if ((rt == NUM) != (st == NUM)).any():
             return np.inf
@@ -200,7 +206,6 @@ class Local:
         d = np.abs(s[both] - ref[both])
         if name.startswith("phi_"):
             d = np.minimum(d, np.abs(360.0 - d))
-        scale = float(np.abs(ref[both]).max())
         return float(d.max() / scale) if scale > 0 else float(d.max())
 
 
@@ -366,10 +371,11 @@ def typed_note(local: Local, name: str, dependents: list[str]) -> str:
         lv = local.local_value(name, c)
         what += f" (its inputs give {lv:.6g})" if isinstance(lv, float) else ""
     more = f" and {len(flagged) - 1} more typed cells" if len(flagged) > 1 else ""
+    at = None if c == DERIVED_COL else flagged          # a derived value: every position
     if not dependents:
         below = "no row depends on it"
     else:
-        below = f"downstream rows differ by up to {magnitude(max(local.row_error(d) for d in dependents))}"
+        below = f"downstream rows differ by up to {magnitude(max(local.row_error(d, at) for d in dependents))}"
     return f"{local.cell(name, c)}{more} {name} {what}: {below}"
 
 
@@ -411,15 +417,18 @@ def name_causes(rows: list, local: Local, ancestors: dict[str, set[str]], inputs
         if not named:
             continue
         if rep is None:
-            rep = new_row(n, int(j.cols[0]))
+            rep = by[n] = new_row(n, int(j.cols[0]))
             rows.append(rep)
         rep.cause = True
         rep.local = j.local = "wrong"          # a rounded number is not right to formula precision
         causes.append(n)
-        if any(s in (1, 2) and t for s, t in zip(j.state, j.typed)):
-            rep.note = typed_note(local, n, below.get(n, []))
         if rep.status != "wrong":
             _mark_wrong(rep, local, j)
+    for n in causes:          # the error a typed number carries: in the rows below it alone
+        j = local.judgements[n]
+        if any(s in (1, 2) and t for s, t in zip(j.state, j.typed)):
+            mine = [d for d in below.get(n, ()) if not any(c in ancestors.get(d, ()) for c in causes if c != n)]
+            by[n].note = typed_note(local, n, mine or below.get(n, []))
     changed = [n for n in inputs if local.changed(n)]
     bad = {r.name for r in rows if r.status in ("wrong", "missing", "empty")}
     for rep in rows:
