@@ -1239,7 +1239,7 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
     txt = {n: np.empty(d, dtype=object) for n, d in dims.items()}
     for n, sh in sheets.items():
         for (r, c), v in sh.consts.items():
-            _store(num[n], tag[n], txt[n], r, c, v)
+            store_value(num[n], tag[n], txt[n], r, c, v)
         for (r, c) in getattr(sh, "dangling", {}):
             tag[n][r, c] = NA
     _check_reads(path, runs, dims, name_refs, limits)      # before ordering: it scans the ranges too
@@ -1427,7 +1427,8 @@ def _write_array(v: Val, run: Run, num, tag, txt) -> None:
         txt[block[0]][block[1:]] = words
 
 
-def _store(num, tag, txt, r, c, v):
+def store_value(num, tag, txt, r, c, v):
+    """A typed value (number, bool, text, error text) into a sheet's value stores at (r, c)."""
     if isinstance(v, bool):
         num[r, c], tag[r, c] = float(v), BOOL
     elif isinstance(v, (int, float)):

@@ -36,8 +36,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from openpyxl.utils import get_column_letter
 
-from .evaluator import BOOL, EMPTY, NUM, TEXT, Book, Run, evaluate_runs, parse_rows
-from .functions import ERROR_TEXT, ERRORS, NAME
+from .evaluator import BOOL, EMPTY, NUM, TEXT, Book, Run, evaluate_runs, parse_rows, store_value
+from .functions import ERROR_TEXT, NAME
 from .workbook import FIRST_COL
 
 RTOL = 1e-9            # formulas: the same numbers up to rounding (the validator's precision)
@@ -222,19 +222,6 @@ def _py(num, tag, txt, r: int, c: int):
     return ERROR_TEXT[t]
 
 
-def _put(num, tag, txt, r: int, c: int, v) -> None:
-    """A cached value into the stores (a formula the evaluator cannot evaluate: the
-    spreadsheet's value, as the validator grades it)."""
-    if isinstance(v, bool):
-        num[r, c], tag[r, c] = float(v), BOOL
-    elif isinstance(v, (int, float)):
-        num[r, c], tag[r, c] = float(v), NUM
-    elif isinstance(v, str) and v in ERRORS:
-        tag[r, c] = ERRORS[v]
-    elif isinstance(v, str):
-        tag[r, c], txt[r, c] = TEXT, v
-
-
 def _student_store(reference: Book, student: Book, sheet: str, plan: _Plan, names: dict[str, int]):
     """The reference's value stores with every named row the student has replaced by the
     student's values (from column D on; a formula we cannot evaluate: its cached value)."""
@@ -259,7 +246,7 @@ def _student_store(reference: Book, student: Book, sheet: str, plan: _Plan, name
         for i, j in zip(*np.nonzero(tag[a, cs] == NAME)):
             r_ref, r_st, c = int(a[i, 0]), int(b[i, 0]), int(cs[0, j])
             if (r_st, c) in cached:
-                _put(num, tag, txt, r_ref, c, cached[(r_st, c)])
+                store_value(num, tag, txt, r_ref, c, cached[(r_st, c)])   # as the validator grades it
     return num, tag, txt
 
 
@@ -300,8 +287,9 @@ def judge(reference: Book, student: Book, sheet: str, names: dict[str, int], jud
     tols: dict[str, np.ndarray] = {}
     for n in todo:
         r, sr, cols = plan.rows[n], names[n], plan.cols[n]
-        typed = np.array([not st_sheet.computed(sr, int(c)) for c in cols])
         s, st = num[r, cols], tag[r, cols]
+        # typed: a value without a formula (an empty cell is judged, but is not a number typed)
+        typed = np.array([not st_sheet.computed(sr, int(c)) for c in cols]) & (st != EMPTY)
         tol = np.zeros(len(cols))
         for i in np.flatnonzero(typed & (st == NUM)):
             tol[i] = typed_tolerance(float(s[i]))
@@ -370,13 +358,13 @@ def typed_note(local: Local, name: str, dependents: list[str]) -> str:
     if j.state[list(j.cols).index(c)] == 2:
         lv = local.local_value(name, c)
         what += f" (its inputs give {lv:.6g})" if isinstance(lv, float) else ""
-    more = f" and {len(flagged) - 1} more typed cells" if len(flagged) > 1 else ""
+    more = f", and {len(flagged) - 1} more typed cells" if len(flagged) > 1 else ""
     at = None if c == DERIVED_COL else flagged          # a derived value: every position
     if not dependents:
         below = "no row depends on it"
     else:
         below = f"downstream rows differ by up to {magnitude(max(local.row_error(d, at) for d in dependents))}"
-    return f"{local.cell(name, c)}{more} {name} {what}: {below}"
+    return f"{local.cell(name, c)} {name} {what}{more}: {below}"
 
 
 def name_causes(rows: list, local: Local, ancestors: dict[str, set[str]], inputs: set[str], new_row) -> None:

@@ -11,10 +11,12 @@ For one workbook:
 4. the student's values: their formulas evaluated by the evaluator; where a cell has no
    formula, the number typed (checked to the precision it was typed with); where a formula
    cannot be evaluated, the value the spreadsheet cached;
-5. row by row: correct / wrong (largest error, first wrong column) / missing / empty; the
-   wrong rows none of whose ancestors (in the lecture's dependency order) are wrong are the
-   likely causes; the others are wrong because they depend on a cause. Cells whose formula
-   disagrees with the value the spreadsheet cached are listed too.
+5. row by row: correct / wrong (largest error, first wrong column) / missing / empty; each
+   row is also judged on the student's own values of what it reads (sheetkin.localjudge):
+   the likely causes are the rows wrong on their own inputs and the rounded typed numbers
+   a wrong row below depends on; the others are wrong because they depend on a cause (in
+   the lecture's dependency order). Cells whose formula disagrees with the value the
+   spreadsheet cached are listed too.
 """
 from __future__ import annotations
 

@@ -24,30 +24,17 @@ from sheetkin.evaluator import evaluate
 from sheetkin.localjudge import judge, magnitude, name_causes, typed_digits, typed_text, typed_tolerance
 from sheetkin.report import json_report, text_report
 from sheetkin.validator import RowReport, _reference, row_ancestors, validate
-from sheetkin.workbook import sheet_rows, write_workbook
+from sheetkin.workbook import sheet_rows
+from test_validator import fourbar, rows_of  # noqa: F401 - the four-bar's book, rows by name
 
 WORKBOOKS = Path(__file__).resolve().parents[1] / "workbooks"
 POSITIONS = range(5, 18)             # columns E..Q: the four-bar's 13 positions
 OMEGA_COL = 12                       # column L, position 8: omega_2 = -3.22936...
 
 
-def rows_of(ws) -> dict[str, int]:
-    """Rows by name (column A): the tests never hard-code a row number."""
-    return {ws.cell(r, 1).value: r for r in range(1, ws.max_row + 1) if ws.cell(r, 1).value}
-
-
 def flip(ws, row: int, cols=POSITIONS) -> None:
     for c in cols:
         ws.cell(row, c).value = "=-(" + ws.cell(row, c).value[1:] + ")"
-
-
-@pytest.fixture(scope="module")
-def fourbar(tmp_path_factory) -> Path:
-    d = tmp_path_factory.mktemp("fourbar")
-    text = (WORKBOOKS / "fourbar.toml").read_text(encoding="utf-8")
-    path = d / "fourbar.xlsx"
-    write_workbook(sheetkin.parse_scene(text, "fourbar.toml"), path, scene_text=text)
-    return path
 
 
 @pytest.fixture(scope="module")
