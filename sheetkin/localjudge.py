@@ -20,9 +20,14 @@ formulas are the generated sheet's, parsed once per structure and never rebuilt)
   mistake); a typed cell that differs from its inputs' value by more than formula
   precision but within its digits is *rounded*.
 
-The likely causes (name_causes) are the locally wrong rows that are wrong or make a row
-below them wrong, and the rows holding a rounded typed number that a wrong row below depends
-on. A row that is right given its inputs is never a cause: it is wrong because of the causes
+The likely causes (name_causes), in sheet order:
+* a row with a cell wrong both against the reference and on its own inputs: a mistake;
+* a row whose other flagged cells (a rounded typed number; a number right against the
+  reference but not on the student's inputs; a derived value of column D) differ from the
+  reference, and so carry an error down, when a wrong cell below (same position) depends on
+  it that no cause above accounts for (omega_2 typed -3.23 and f1_g1 typed to 6 digits from
+  the unrounded omega_2: omega_2 is named, f1_g1 is not).
+A row that is right given its inputs is never a cause: it is wrong because of the causes
 among its ancestors (because_of), or because of given data that differ from the reference's
 (the issued variant's, when the validator grades against it). A row that reads a missing or
 empty row is not judged (local ""): it keeps the old rule (wrong because of the missing row).
@@ -164,6 +169,16 @@ class Local:
     rtag: np.ndarray
     rtxt: np.ndarray
     judgements: dict[str, Judgement] = field(default_factory=dict)
+    same: np.ndarray | None = None   # per cell: the student's value equals the reference's
+
+    def carried(self, name: str, cols: list[int]) -> set[int]:
+        """Positions (from 1) among columns `cols` where a row differs from the reference:
+        the error it passes down; every position for a value of column D."""
+        r = self.plan.rows[name]
+        off = [int(c) for c in cols if not self.same[r, c]]
+        if off and off[0] == DERIVED_COL:
+            return set(range(1, self.num.shape[1] - FIRST_COL + 1))
+        return {c - FIRST_COL + 1 for c in off}
 
     def value(self, name: str, col: int, which: str = "student"):
         """A cell as Book.value gives it, from the student's values or the reference's."""
@@ -284,7 +299,8 @@ def judge(reference: Book, student: Book, sheet: str, names: dict[str, int], jud
             and not (plan.reads[n] & missing)]
     # a row equal to the reference, reading only rows equal to the reference, is right on
     # its inputs without evaluating it (most rows of most books: the cost stays small)
-    exact = _exact_rows(local)
+    local.same = _same_cells(local)
+    exact = local.same.all(axis=1)
     for n in todo:
         if exact[plan.rows[n]] and all(exact[plan.rows[x]] for x in plan.reads[n]):
             cols = plan.cols[n]
@@ -315,16 +331,17 @@ def judge(reference: Book, student: Book, sheet: str, names: dict[str, int], jud
     return local
 
 
-def _exact_rows(local: Local) -> np.ndarray:
-    """Per row of the reference's layout: whether the student's values equal the
-    reference's in every cell from column D on (numbers to RTOL, ATOL; booleans exactly;
-    any two non-numbers)."""
-    s, st, r, rt = (a[:, DERIVED_COL:] for a in (local.num, local.tag, local.rnum, local.rtag))
+def _same_cells(local: Local) -> np.ndarray:
+    """Per cell of the reference's layout: whether the student's value equals the
+    reference's (numbers to RTOL, ATOL; booleans exactly; any two non-numbers); columns
+    before D are not compared (True)."""
+    s, st, r, rt = local.num, local.tag, local.rnum, local.rtag
     with np.errstate(invalid="ignore"):
         close = np.abs(s - r) <= np.maximum(ATOL, RTOL * np.abs(r))
     same = np.where(rt == NUM, (st == NUM) & close,
                     np.where(rt == BOOL, (st == BOOL) & (s == r), (st != NUM) & (st != BOOL)))
-    return same.all(axis=1)
+    same[:, :DERIVED_COL] = True
+    return same
 
 
 def _evaluate_into(local: Local, runs: list[Run], lnum: np.ndarray, ltag: np.ndarray) -> None:
@@ -390,14 +407,11 @@ def typed_note(local: Local, name: str, dependents: list[str]) -> str:
 
 def name_causes(rows: list, local: Local, ancestors: dict[str, set[str]], inputs: set[str], new_row) -> None:
     """Set local, cause, note and because_of of the validator's rows (RowReport: name,
-    status, cause, ...). The causes: the locally wrong rows that are wrong or make a row
-    below them wrong; and, in sheet order, each rounded typed number that a wrong cell below
-    it (same position) depends on, unless a rounded number above already accounts for that
-    cell (a hand calculation: omega_2 typed -3.23, f1_g1 typed to 6 digits from it; omega_2
-    is named, f1_g1 is not). A derived value (column D) that is a cause gets a row of its
-    own, new_row(name, column) -> row, appended. Rows wrong and right on their inputs are
-    wrong because of the causes above them, or of given data (inputs) that differ from the
-    reference's."""
+    status, cause, ...), the causes as the module's docstring says; a cause whose
+    comparison with the reference passed becomes wrong at its flagged cells. A derived
+    value (column D) that is a cause gets a row of its own, new_row(name, column) -> row,
+    appended. The other wrong rows are wrong because of the causes above them, or of given
+    data (inputs) that differ from the reference's."""
     by = {r.name: r for r in rows}
     wrong = {r.name: set(r.wrong_cells) for r in rows if r.status == "wrong"}
     below: dict[str, list[str]] = {}
@@ -413,12 +427,17 @@ def name_causes(rows: list, local: Local, ancestors: dict[str, set[str]], inputs
         if not j.local:
             continue
         wrong_below = [d for d in below.get(n, ()) if d in wrong]
-        if j.local == "wrong":
-            named = (rep is not None and rep.status == "wrong") or bool(wrong_below)
-        elif (j.state == 1).any():
-            rounded = {c - FIRST_COL + 1 for c in j.flagged((1,))}
-            cells = {(d, k) for d in wrong_below for k in wrong[d]
-                     if k in rounded or j.cols[0] == DERIVED_COL}
+        off = {c - FIRST_COL + 1 for c in j.flagged((2,))}
+        if rep is not None and rep.status == "wrong" and off & wrong[n]:
+            named = True                       # a cell wrong, and wrong on its own inputs: a mistake
+            explained |= {(d, k) for d in wrong_below for k in wrong[d] if k in wrong[n]}
+        elif j.local == "wrong" or (j.state == 1).any():
+            # a cell right to its digits, or right but not on the student's inputs, or a
+            # derived value: a cause where the error it carries down (its flagged cells
+            # that differ from the reference) makes a cell below it wrong that nothing
+            # above accounts for
+            carried = local.carried(n, j.flagged())
+            cells = {(d, k) for d in wrong_below for k in wrong[d] if k in carried}
             named = bool(cells - explained)
             explained |= cells
         else:

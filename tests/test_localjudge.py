@@ -103,6 +103,14 @@ def hand_calculation(ws, rows, v):
     ws.cell(rows["f1_g1"], OMEGA_COL).value = float(f"{v['f1_g1', OMEGA_COL]:.6g}")
 
 
+def copied_over_broken_chain(ws, rows, v):
+    """vx_A's sign flipped, and omega_2's true value (every digit, as from the answer key)
+    typed at one position: omega_2 is right but not on the student's own inputs; it carries
+    no error down, so vx_A alone is the cause."""
+    sign_vx_A(ws, rows, v)
+    ws.cell(rows["omega_2"], OMEGA_COL).value = v["omega_2", OMEGA_COL]
+
+
 def derived_typed(ws, rows, v):
     """A derived value of the input block (column D) typed wrong: Alfa_A = L1 cos Fi0."""
     ws.cell(rows["Alfa_A"], 4).value = 0.15
@@ -110,11 +118,11 @@ def derived_typed(ws, rows, v):
 
 MISTAKES = {f.__name__: f for f in (rounded_omega, sign_vx_S2, sign_vx_A, full_digits_over_formula,
                                     wrong_number_over_formula, wrong_F, wrong_P, two_mistakes,
-                                    hand_calculation, derived_typed)}
+                                    hand_calculation, copied_over_broken_chain, derived_typed)}
 CAUSES = {"rounded_omega": {"omega_2"}, "sign_vx_S2": {"vx_S2"}, "sign_vx_A": {"vx_A"},
           "full_digits_over_formula": set(), "wrong_number_over_formula": {"omega_3"},
           "wrong_F": {"F_g1"}, "wrong_P": {"P_g1"}, "two_mistakes": {"omega_2", "omega_3"},
-          "hand_calculation": {"omega_2"}, "derived_typed": {"Alfa_A"}}
+          "hand_calculation": {"omega_2"}, "copied_over_broken_chain": {"vx_A"}, "derived_typed": {"Alfa_A"}}
 
 
 @pytest.fixture(scope="module")
@@ -148,7 +156,9 @@ def test_the_causes_are_the_rows_at_fault(books, mistake):
         assert r.local in ("right", "wrong"), (r.name, r.status, r.local)
         assert not r.cause or r.local == "wrong"                 # right on its inputs: never a cause
         if r.status == "wrong" and not r.cause:                  # wrong only because of a cause above
-            assert r.local == "right" and r.because_of and set(r.because_of) <= CAUSES[mistake], r
+            assert r.because_of and set(r.because_of) <= CAUSES[mistake], r
+            # right on its inputs (omega_2 typed from the key is right, but not on its inputs)
+            assert r.local == "right" or (mistake, r.name) == ("copied_over_broken_chain", "omega_2")
     assert rep.ok == (not CAUSES[mistake])
 
 
@@ -239,6 +249,14 @@ def test_hand_calculation_from_rounded_numbers_is_right(books, values):
     f1 = by_name(rep)["f1_g1"]
     assert f1.source == "typed" and f1.status == "correct" and f1.local == "right" and not f1.cause
     assert causes(rep) == {"omega_2"}
+
+
+def test_a_right_number_on_wrong_inputs_is_not_a_cause(books):
+    rep = validate(books["copied_over_broken_chain"])
+    om = by_name(rep)["omega_2"]
+    assert om.source == "typed" and om.local == "wrong" and not om.cause
+    assert om.status == "wrong" and OMEGA_COL - 4 not in om.wrong_cells        # only its formulas' cells
+    assert om.because_of == ["vx_A"]
 
 
 def test_a_derived_value_is_named(books):
