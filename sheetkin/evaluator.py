@@ -156,7 +156,7 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
     txt = {n: np.empty(d, dtype=object) for n, d in dims.items()}
     for n, sh in sheets.items():
         for (r, c), v in sh.consts.items():
-            _store(num[n], tag[n], txt[n], r, c, v)
+            store_value(num[n], tag[n], txt[n], r, c, v)
         for (r, c) in getattr(sh, "dangling", {}):
             tag[n][r, c] = NA
     _check_reads(path, runs, dims, name_refs, limits)      # before ordering: it scans the ranges too
@@ -336,7 +336,8 @@ def _write_array(v: Val, run: Run, num, tag, txt) -> None:
         txt[block[0]][block[1:]] = words
 
 
-def _store(num, tag, txt, r, c, v):
+def store_value(num, tag, txt, r, c, v):
+    """A typed value (number, bool, text, error text) into a sheet's value stores at (r, c)."""
     if isinstance(v, bool):
         num[r, c], tag[r, c] = float(v), BOOL
     elif isinstance(v, (int, float)):
@@ -457,6 +458,41 @@ def _parse_run(formula: str, row: int, col: int, names: dict, names_key) -> tupl
         _PARSED.clear()
     _PARSED[key] = hit
     return hit
+
+
+# --------------------------------------------------------------------------- formulas over given values
+def parse_rows(sheet: Sheet, rows: set[int]) -> list[Run]:
+    """The formula cells of some rows of a sheet (no defined names) as parsed runs, for
+    evaluate_runs: sheetkin.localjudge evaluates a generated sheet's formulas over a
+    student's numbers. A run whose ranges change width from cell to cell is split into cells
+    (as _schedule does); a formula that cannot be read is left out."""
+    sub = Sheet(sheet.name, sheet.state, formulas={k: f for k, f in sheet.formulas.items() if k[0] in rows})
+    out = []
+    for run in _group_runs(sub):
+        run.tree, run.error, run.refs = _parse_run(run.formula, run.row, int(run.cols[0]), {}, frozenset())
+        if run.error:
+            continue
+        varies = len(run.cols) > 1 and any(ref.c1_abs != ref.c2_abs for ref in run.refs)
+        out.extend(_split(run) if varies else [run])
+    return out
+
+
+def evaluate_runs(runs: list[Run], num: dict, tag: dict, txt: dict) -> list[tuple[Run, np.ndarray, np.ndarray]]:
+    """(run, numbers, tags) of each run's formula evaluated over the given value stores
+    (sheet -> arrays, as Book holds them), nothing written back: every run reads the
+    stores as they are, whatever order the runs come in. An internal error of the
+    evaluator is the cell's #VALUE!, as in evaluate_sheets without strict."""
+    ctx = _Context(num, tag, txt, {None: {}})
+    out = []
+    with np.errstate(all="ignore"):
+        for run in runs:
+            k = len(run.cols)
+            try:
+                v = _as_cells(ctx.eval(run.tree, run), k)
+            except Exception:      # noqa: BLE001 - the cell's problem, not the caller's
+                v = _const("#VALUE!", k)
+            out.append((run, v.num[:, 0, 0], v.tag[:, 0, 0]))
+    return out
 
 
 # --------------------------------------------------------------------------- results as tables

@@ -25,15 +25,29 @@ def text_report(rep: Report) -> str:
     correct = sum(r.status == "correct" for r in rep.rows)
     lines.append(f"  {correct} rows correct, {len(rep.wrong)} wrong, {len(rep.missing)} missing or empty"
                  + ("  -> all correct" if rep.ok else ""))
-    for r in rep.causes:
-        lines.append(f"  likely cause: {r.name} (row {r.row}, {r.source}): wrong from {position_name(rep, r.first_wrong)}"
-                     f" (expected {_num(r.expected)}, got {_num(r.got)}); wrong at "
-                     f"{position_list(rep, r.wrong_cells)}; largest error {_num(r.max_error)}")
+    # the causes with a note (typed numbers: cell, digits, the error they carry) first
+    for r in sorted(rep.causes, key=lambda r: not getattr(r, "note", "")):
+        where = f"{r.name} (row {r.row}, {r.source})"
+        note = getattr(r, "note", "")
+        if note:
+            lines.append(f"  likely cause: {where}: {note}"
+                         + (f"; wrong at {position_list(rep, r.wrong_cells)}" if r.wrong_cells else ""))
+        elif r.first_wrong is None:           # a value of column D (a derived row)
+            lines.append(f"  likely cause: {where}: expected {_num(r.expected)}, got {_num(r.got)}")
+        else:
+            lines.append(f"  likely cause: {where}: wrong from {position_name(rep, r.first_wrong)}"
+                         f" (expected {_num(r.expected)}, got {_num(r.got)}); wrong at "
+                         f"{position_list(rep, r.wrong_cells)}; largest error {_num(r.max_error)}")
     dependents = [r for r in rep.wrong if not r.cause]
     for cause in rep.causes:
         deps = [r.name for r in dependents if cause.name in r.because_of]
         if deps:
             lines.append(f"  wrong only because they depend on {cause.name}: {', '.join(deps)}")
+    causes = {r.name for r in rep.causes}
+    given = sorted({n for r in dependents for n in r.because_of if n not in causes})
+    for n in given:         # given data that differ from the reference's (the issued variant's)
+        deps = [r.name for r in dependents if n in r.because_of]
+        lines.append(f"  wrong only because they depend on {n}: {', '.join(deps)}")
     for r in rep.missing:
         lines.append(f"  {r.status}: {r.name}" + (f" (row {r.row})" if r.row else " (no row of that name in column A)"))
     if rep.failing_checks:

@@ -11,10 +11,12 @@ For one workbook:
 4. the student's values: their formulas evaluated by the evaluator; where a cell has no
    formula, the number typed (checked to the precision it was typed with); where a formula
    cannot be evaluated, the value the spreadsheet cached;
-5. row by row: correct / wrong (largest error, first wrong column) / missing / empty; the
-   wrong rows none of whose ancestors (in the lecture's dependency order) are wrong are the
-   likely causes; the others are wrong because they depend on a cause. Cells whose formula
-   disagrees with the value the spreadsheet cached are listed too.
+5. row by row: correct / wrong (largest error, first wrong column) / missing / empty; each
+   row is also judged on the student's own values of what it reads (sheetkin.localjudge):
+   the likely causes are the rows wrong on their own inputs and the rounded typed numbers
+   a wrong row below depends on; the others are wrong because they depend on a cause (in
+   the lecture's dependency order). Cells whose formula disagrees with the value the
+   spreadsheet cached are listed too.
 """
 from __future__ import annotations
 
@@ -32,6 +34,8 @@ from .evaluator import Book, EvaluationError, evaluate_sheets
 from .xlsxread import Sheet, read_book
 from .scene import Scene, SceneError, parse_scene
 from .groups import kind_of
+from .localjudge import judge, name_causes
+from .localjudge import typed_tolerance as _typed_tolerance
 from .workbook import FIRST_COL, SCENE_SHEET, build_workbook, sheet_rows
 from .workbook_charts import PATHS_SHEET
 from .xlsxsafe import Limits, UnusableWorkbook
@@ -59,6 +63,8 @@ class RowReport:
     because_of: list[str] = field(default_factory=list)    # the causes it depends on
     kind: str = ""                   # accepted | calc | guard (the reference's kind of row)
     source: str = "formula"          # formula | typed | cached
+    local: str = ""                  # right | wrong | "" (not judged): on the student's own inputs
+    note: str = ""                   # for a cause: one line why (a typed number: cell, digits, error below)
 
 
 @dataclass
@@ -166,17 +172,6 @@ def row_ancestors(scene: Scene) -> dict[str, set[str]]:
             acc |= {d} | out.get(d, set())
         out[r.name] = acc - {r.name}
     return out
-
-
-def _typed_tolerance(x: float) -> float:
-    """A number typed by hand is right to half a unit of its last typed digit."""
-    text = repr(float(x))
-    if "e" in text or "E" in text:
-        mant, exp = text.lower().split("e")
-        decimals = len(mant.split(".")[1]) if "." in mant else 0
-        return 0.5 * 10.0 ** (int(exp) - decimals)
-    decimals = len(text.split(".")[1]) if "." in text else 0
-    return 0.5 * 10.0 ** -decimals if text.split(".")[1] != "0" else 0.5
 
 
 def _close(got, exp, name: str, typed: bool):
@@ -302,17 +297,17 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
                 rep.max_error = math.inf
         if rep.wrong_cells:
             rep.status = "wrong"
-    # likely causes: wrong rows with no wrong ancestor; the rest depend on them
-    wrong = {r.name for r in report.rows if r.status in ("wrong", "missing", "empty")}
-    for rep in report.rows:
-        if rep.status != "wrong":
-            continue
-        bad_anc = ancestors.get(rep.name, set()) & wrong
-        if bad_anc:
-            rep.because_of = [n for n in (x.name for x in report.rows) if n in bad_anc
-                              and not (ancestors.get(n, set()) & wrong)]
-        else:
-            rep.cause = True
+    # likely causes: each row judged on the student's own values of what it reads
+    # (sheetkin.localjudge); the wrong rows right on their inputs depend on a cause
+    graded = {r.name for r in report.rows if r.status in ("correct", "wrong")}
+    judged = [r.name for r in ref_rows if r.name in graded or (r.kind == "derived" and r.name in names)]
+    local = judge(ref_book, evaluated, main, names, judged,
+                  {r.name for r in report.rows if r.status in ("missing", "empty")})
+
+    def derived_row(name: str, col: int) -> RowReport:
+        return RowReport(name, names[name], "correct", kind="derived",
+                         source="formula" if sh.computed(names[name], col) else "typed")
+    name_causes(report.rows, local, ancestors, input_names, derived_row)
     report.cache_mismatch = _cache_mismatches(evaluated, main, {r for n, r in names.items() if n.startswith("phi_")})
     # status 1 or an error fails; 0, n/a and "not filled in" do not (sheetkin/checks.py)
     report.failing_checks = [n for n, r in names.items() if n.startswith(("chk", "fd_"))
