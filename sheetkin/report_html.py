@@ -187,7 +187,8 @@ def _details(rep: Report, k: int, copy: str = "") -> list[str]:
     for c in rep.causes:
         out.append(f"<p class='cause'>likely cause: {e(c.name)} (row {c.row}, {e(c.source)}): wrong from "
                    f"{e(position_name(rep, c.first_wrong or 1))}, expected {e(_num(c.expected))}, got "
-                   f"{e(_num(c.got))}; wrong at {e(position_list(rep, c.wrong_cells))}</p>")
+                   f"{e(_num(c.got))}; wrong at {e(position_list(rep, c.wrong_cells))}"
+                   + (f"<br>{e(c.note)}" if getattr(c, "note", "") else "") + "</p>")
     bad = [x for x in rep.rows if x.status != "correct"]
     if bad:
         names = getattr(rep, "position_names", None) or []

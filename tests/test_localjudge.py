@@ -7,6 +7,7 @@ any bundled workbook, that row is the only cause."""
 from __future__ import annotations
 
 import dataclasses
+import html
 import re
 import zipfile
 from pathlib import Path
@@ -277,6 +278,8 @@ def test_json_carries_local_and_note(books):
     assert om["local"] == "wrong" and om["note"].startswith("L") and om["cause"]
     assert next(r for r in d["rows"] if r["name"] == "f1_g1")["local"] == "right"
     assert d["summary"]["causes"] == ["omega_2"]
+    from sheetkin.report_html import html_page
+    assert html.escape(om["note"]) in html_page([rep])        # the HTML details show the note too
 
 
 def test_given_data_different_from_the_reference(fourbar):
