@@ -60,9 +60,6 @@ _MARGIN = 1e-7                  # closer than this (in units of the last digit) 
 # leading zeros (1e-4 <= |x| < 1); words 1-3: the 17
 # digits with the point inserted; word 3's bytes 3-7: "e", its sign, three exponent digits.
 _U = np.uint64
-_BYTES = np.array([(1 << (8 * k)) - 1 for k in range(8)] + [(1 << 64) - 1], dtype=np.uint64)
-_PREFIX = _U(int.from_bytes(b"\x00\x000.000\x00", "little"))
-_ZEROS = _U(0x3030303030303030)
 CHUNK = 8192                    # numbers per pass: the temporaries stay in the L2 cache
 
 
@@ -79,10 +76,10 @@ def _two_product(a, b):
     return p, err
 
 
-def _mantissa(a, k):
+def _mantissa(a, idx):
     """(m, delta): m = a 10^k rounded to an integer (int64) and delta = m - a 10^k, with
-    a 10^k computed to about 1e-32 relative (so delta is right to ~1e-15 in these units)."""
-    idx = k - _KMIN
+    a 10^k computed to about 1e-32 relative (so delta is right to ~1e-15 in these units);
+    idx = k - _KMIN."""
     p, err = _two_product(a, _POW_HI[idx])
     p_int = np.rint(p)
     r = (p - p_int) + (err + a * _POW_LO[idx])
@@ -101,67 +98,144 @@ def _eight(v):
     return q | ((w - q * _U(10)) << _U(8))
 
 
-def _top_byte(w):
-    """Index of the highest nonzero byte of w (w's bytes are digits 0-9, so w is far from a
-    power of 256 and the float's exponent is exact); -1 for w = 0."""
-    return np.where(w != 0, (np.frexp(w.astype(np.float64))[1] - 1) // 8, -1)
+def _select(cond, a, b):
+    """np.where(cond, a, b) for floats without branches: np.where's loop mispredicts on
+    masks that are not all one way (7 ns an element here against 1 ns for this)."""
+    c = cond.astype(np.float64)
+    return a * c + b * (1.0 - c)
 
 
-def _clip8(k):
-    return np.minimum(np.maximum(k, 0), 8)
+def _shortest(t, d17, up, down, pow2):
+    """The last two of the 17 digits as repr keeps them: t in [0, 100], rounded to a
+    multiple of 100 (15 digits) or 10 (16) where that decimal reads back as x, else as is;
+    and where that is too close to call. v is the true value's part modulo 100 (in units of
+    the 17th digit, t - d17), up and down half the gaps to the neighbouring doubles in the
+    same units (down < up at a power of two, where the gap below is half as wide)."""
+    v = t - d17
+    unsure = np.zeros(v.shape, bool)
+    for cut in (10.0, 100.0):                   # 16 digits, then 15: the shortest that reads back
+        r = np.rint(v * (1.0 / cut)) * cut      # the nearest multiple of cut
+        delta = r - v                           # > 0: the decimal is above x
+        dist = np.abs(delta)
+        if pow2 is None:
+            half = up
+            ok = dist < half
+        else:
+            half = _select(delta >= 0.0, up, down)
+            ok = dist < half
+            # at a power of two the gap below is half the gap above: the nearest decimal below
+            # may miss where the next one up still reads back (2^-44 is 5.684341886080802e-14)
+            alt = ~ok & (delta < 0.0) & pow2
+            ok_up = alt & (delta + cut < up)
+            unsure |= alt & (np.abs(delta + cut - up) < _MARGIN * cut)
+            r = r + cut * ok_up
+            ok |= ok_up
+        unsure |= (np.abs(dist - 0.5 * cut) < _MARGIN * cut) | (np.abs(dist - half) < _MARGIN * cut)
+        t = _select(ok, r, t)
+    return t, unsure
 
 
-def _masked(w, nbytes):
-    """w's lowest nbytes bytes (nbytes clipped to 0..8)."""
-    return w & _BYTES[_clip8(nbytes)]
+# The layout of a number's 32 bytes, by its decimal exponent X (index X + _XOFF):
+# word 0: separator, sign, "0.000" (1e-4 <= |x| < 1); words 1-3: the digits with the point;
+# word 3's bytes 3-7: "e", the exponent's sign and digits.
+_XOFF = 210
+
+
+def _layout_tables():
+    xs = range(-_XOFF, _XOFF + 1)
+    point = np.empty(len(xs), np.intp)        # the point after digit q - 1 (17: no point)
+    least = np.empty(len(xs), np.intp)        # digits shown at least (x >= 1: one after the point)
+    word0 = np.zeros(len(xs), np.uint64)
+    expo = np.zeros(len(xs), np.uint64)
+    for i, x in enumerate(xs):
+        if 0 <= x < 16:
+            point[i], least[i] = x + 1, x + 2
+        elif -4 <= x < 0:
+            point[i], least[i] = 17, 1
+            word0[i] = int.from_bytes(b"\0\0" + b"0." + b"0" * (-x - 1), "little")
+        else:
+            point[i], least[i] = 1, 1
+            e = b"e" + (b"-" if x < 0 else b"+") + (b"%03d" % abs(x) if abs(x) >= 100 else b"\0%02d" % abs(x))
+            expo[i] = int.from_bytes(b"\0\0\0" + e, "little")
+    # by code = 18 * keep + q (keep: digits shown; q: point position, 17 none; keep = 1 with
+    # q = 1, a single digit in exponent form, has no point): for each of the three digit
+    # words, the bytes taken from the digits as they are (before the point), from the digits
+    # moved one byte on (after it), and the characters added ("0" to the digits, ".")
+    take = np.zeros((3, 18 * 18), np.uint64)
+    moved = np.zeros((3, 18 * 18), np.uint64)
+    chars = np.zeros((3, 18 * 18), np.uint64)
+    for keep in range(1, 18):
+        for q in range(1, 18):
+            text = bytearray(24)
+            src = [0] * 24                     # 1: the digit, 2: the digit before, 3: "."
+            if q == 17 or (q == 1 and keep == 1):
+                for p in range(keep):
+                    src[p], text[p] = 1, 0x30
+            else:
+                for p in range(min(q, keep)):
+                    src[p], text[p] = 1, 0x30
+                src[q], text[q] = 3, ord(".")
+                for p in range(q + 1, keep + 1):
+                    src[p], text[p] = 2, 0x30
+            code = 18 * keep + q
+            for w in range(3):
+                for b in range(8):
+                    s = src[8 * w + b]
+                    if s == 1:
+                        take[w, code] |= 0xFF << (8 * b)
+                    elif s == 2:
+                        moved[w, code] |= 0xFF << (8 * b)
+                chars[w, code] = int.from_bytes(bytes(text[8 * w:8 * w + 8]), "little")
+    return point, least * 18, word0, expo, take, moved, chars
+
+
+_POINT, _LEAST18, _WORD0, _EXPO, _TAKE, _MOVED, _CHARS = _layout_tables()
+_ZERO_WORD0 = _U(int.from_bytes(b"\0\0" + b"0.0", "little"))
+_EXP_BITS, _MANT_BITS = _U(0x7FF0000000000000), _U(0x000FFFFFFFFFFFFF)
 
 
 def _slots_chunk(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """repr_slots of one cache-sized chunk."""
     n = x.size
-    finite = np.isfinite(x)
     a = np.abs(x)
-    here = finite & (((a >= _LO) & (a <= _HI)) | (a == 0.0))
-    nonzero = here & (a != 0.0)
-    az = np.where(nonzero, a, 1.0)               # zeros (and the rest) formatted as 1.0, fixed below
-    e = np.floor(np.log10(az)).astype(np.int64)
-    m17, d17 = _mantissa(az, 16 - e)
-    off = (m17 >= _INT10[17]).astype(np.int64) - (m17 < _INT10[16]).astype(np.int64)
+    here = (a >= _LO) & (a <= _HI)              # finite, nonzero and in range: formatted here
+    every = bool(here.all())
+    # the rest formatted as 1.5 (not a power of two), replaced below
+    az = a if every else np.where(here, a, 1.5)
+    ef = np.floor(np.log10(az))
+    idx = (16 - _KMIN - ef).astype(np.intp)     # 10^(16 - e)
+    m17, d17 = _mantissa(az, idx)
+    e = ef.astype(np.int64)
+    off = (m17 >= _INT10[17]) | (m17 < _INT10[16])
+    unsure = np.abs(np.abs(d17) - 0.5) < _MARGIN
     if off.any():                                # log10 rounded across a power of ten: redo those
         fix = np.flatnonzero(off)
-        e[fix] += off[fix]
-        m17[fix], d17[fix] = _mantissa(az[fix], 16 - e[fix])
-    unsure = (np.abs(np.abs(d17) - 0.5) < _MARGIN) | (m17 >= _INT10[17]) | (m17 < _INT10[16])
-    # half the gaps to the neighbouring doubles (below is half as wide at a power of two),
-    # in units of the 17th digit
-    up = np.spacing(az) * _POW_HI[16 - e - _KMIN] * 0.5
-    down = np.where(np.frexp(az)[0] == 0.5, 0.5 * up, up)
-    big_m, X = m17, e.copy()
-    for cut in (10, 100):                        # 16 digits, then 15: the shortest that reads back
-        # |x| 10^k / cut = m17 / cut - d17 / cut: the rounding comes from the integer's remainder
-        q = m17 // cut
-        frac = ((m17 - q * cut) - d17) / cut
-        rq = np.rint(frac)
-        m = q + rq.astype(np.int64)
-        delta = rq - frac
-        half = np.where(delta >= 0.0, up, down) / cut
-        dist = np.abs(delta)
-        ok = dist < half
-        unsure |= (np.abs(dist - 0.5) < _MARGIN) | (np.abs(dist - half) < _MARGIN)
-        # at a power of two the gap below is half the gap above: the nearest decimal below
-        # may miss where the next one up still reads back (2^-44 is 5.684341886080802e-14)
-        alt = ~ok & (delta < 0.0) & (down < up)
-        if alt.any():
-            ok_up = alt & (delta + 1.0 < up / cut)
-            unsure |= alt & (np.abs(delta + 1.0 - up / cut) < _MARGIN)
-            m = np.where(ok_up, m + 1, m)
-            ok |= ok_up
-        carry = m >= _INT10[17] // cut           # 9.99..95 -> 10.0...: one more decade
-        big_m = np.where(ok, np.where(carry, m // 10, m) * cut, big_m)
-        X = np.where(ok, e + carry, X)
-    big_m = np.where(nonzero, big_m, 0).astype(np.uint64)
-    X = np.where(nonzero, X, 0)
-    # the 17 digits as a 192-bit little-endian number B (byte j = digit j)
+        e[fix] += (m17[fix] >= _INT10[17]).astype(np.int64) - (m17[fix] < _INT10[16])
+        idx[fix] = 16 - _KMIN - e[fix]
+        m17[fix], d17[fix] = _mantissa(az[fix], idx[fix])
+        unsure[fix] = (np.abs(np.abs(d17[fix]) - 0.5) < _MARGIN) | (m17[fix] >= _INT10[17]) | (m17[fix] < _INT10[16])
+    # half the gaps to the neighbouring doubles in units of the 17th digit: 2^E (az's
+    # exponent bits) * 2^-53 * 10^(16 - e); below is half as wide at a power of two
+    bits = az.view(np.uint64)
+    up = (bits & _EXP_BITS).view(np.float64) * _POW_HI[idx] * 2.0 ** -53
+    pow2 = (bits & _MANT_BITS) == 0
+    down = None
+    if pow2.any():
+        down = up * (1.0 - 0.5 * pow2)
+    else:
+        pow2 = None
+    high = m17 // 100
+    t = (m17 - high * 100).astype(np.float64)
+    t, unsure_t = _shortest(t, d17, up, up if down is None else down, pow2)
+    unsure |= unsure_t
+    big_m = high * 100 + t.astype(np.int64)
+    carry = big_m >= _INT10[17]                  # 9.99..95 -> 10.0...: one more decade
+    if carry.any():
+        fix = np.flatnonzero(carry)
+        big_m[fix] = _INT10[16]
+        e[fix] += 1
+    big_m = big_m.view(np.uint64)
+    # the 17 digits as three words (byte j = digit j, values 0-9)
     hi = big_m // _U(1_000_000_000)
     lo = big_m - hi * _U(1_000_000_000)
     lo1 = lo // _U(100_000_000)
@@ -169,42 +243,39 @@ def _slots_chunk(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     b0 = _eight(hi)
     b1 = lo1 | (c << _U(8))
     b2 = c >> _U(56)
-    nd = np.where(b2 != 0, 17, np.where(b1 != 0, 9 + _top_byte(b1), 1 + _top_byte(b0)))
-    positional = (X >= -4) & (X < 16)
-    pos_int = positional & (X >= 0)
-    expo = ~positional
-    # digits kept: up to the last nonzero one; x >= 1 positional: the integer part and one more
-    keep = np.maximum(nd, np.where(pos_int, X + 2, 1))
-    b0 = _masked(b0 + _ZEROS, keep)
-    b1 = _masked(b1 + _ZEROS, keep - 8)
-    b2 = _masked(b2 + _ZEROS, keep - 16)
-    # the point, at byte q: after digit X (positional), after the first (exponent, > 1 digit)
-    q = np.where(pos_int, X + 1, np.where(expo & (nd > 1), 1, 99))
+    # digits up to the last nonzero one: its byte from the float exponent of each word (the
+    # bytes are digits, so a word is far from a power of 256 and the conversion is exact)
+    top = np.maximum(np.maximum(b0.view(np.int64).astype(np.float64).view(np.int64) >> 52,
+                                (b1.view(np.int64).astype(np.float64).view(np.int64) >> 52) + 64),
+                     (b2.view(np.int64).astype(np.float64).view(np.int64) >> 52) + 128)
+    nd18 = ((top - 1015) >> 3) * 18
+    xi = e + _XOFF
+    code = np.maximum(nd18, _LEAST18[xi]) + _POINT[xi]
     s0, s1, s2 = b0 << _U(8), (b1 << _U(8)) | (b0 >> _U(56)), (b2 << _U(8)) | (b1 >> _U(56))
     out = np.empty((n, 4), np.uint64)
-    dot = _U(ord(".")) << ((q % 8) * 8).astype(np.uint64)
-    for i, (b, sh) in enumerate(((b0, s0), (b1, s1), (b2, s2))):
-        low = _BYTES[_clip8(q - 8 * i)]
-        high = ~_BYTES[_clip8(q + 1 - 8 * i)]
-        out[:, i + 1] = (b & low) | (sh & high) | np.where(q // 8 == i, dot, _U(0))
-    # word 0: sign and "0." with the leading zeros; word 3 also takes the exponent
-    lead = np.where(positional & (X < 0), 3 - X, 2)           # bytes of word 0 used
-    out[:, 0] = (_PREFIX & _BYTES[lead]) | np.signbit(x).astype(np.uint64) * _U(ord("-") << 8)
-    ax = np.abs(X).astype(np.uint64)
-    hundreds = ax // _U(100)
-    exp_word = ((_U(ord("e")) << _U(24)) | (np.where(X < 0, _U(ord("-")), _U(ord("+"))) << _U(32))
-                | (np.where(hundreds > 0, hundreds + _U(48), _U(0)) << _U(40))
-                | ((ax // _U(10) % _U(10) + _U(48)) << _U(48)) | ((ax % _U(10) + _U(48)) << _U(56)))
-    out[:, 3] |= np.where(expo, exp_word, _U(0))
+    for i, (b, s) in enumerate(((b0, s0), (b1, s1), (b2, s2))):
+        w = (b & _TAKE[i][code]) | (s & _MOVED[i][code]) | _CHARS[i][code]
+        if i == 2:
+            w |= _EXPO[xi]
+        out[:, i + 1] = w
+    out[:, 0] = _WORD0[xi] | (x.view(np.uint64) >> _U(63)) * _U(ord("-") << 8)
     out = out.view(np.uint8)
+    if every:
+        finite = np.ones(n, bool)
+    else:
+        finite = np.isfinite(x)
+        zero = np.flatnonzero(a == 0.0)
+        out8 = out.view(np.uint64)
+        out8[zero, 0] = _ZERO_WORD0 | (x[zero].view(np.uint64) >> _U(63)) * _U(ord("-") << 8)
+        out8[zero, 1:] = 0
+        out[~finite] = 0
     # what could not be decided here: repr itself
-    slow = np.flatnonzero(finite & (~here | (unsure & nonzero)))
+    slow = np.flatnonzero(unsure & here) if every else np.flatnonzero((unsure & here) | (finite & ~here & (a != 0.0)))
     if slow.size:
         out[slow] = 0
         for i in slow.tolist():
             t = repr(float(x[i])).encode()
             out[i, :len(t)] = np.frombuffer(t, np.uint8)
-    out[~finite] = 0
     return out, finite
 
 
