@@ -22,7 +22,9 @@ reported to the caller, who decides what to write (sheetkin never writes "nan"/"
 """
 from __future__ import annotations
 
+import contextlib
 import os
+import sys
 
 import numpy as np
 
@@ -63,39 +65,43 @@ _U = np.uint64
 CHUNK = 8192                    # numbers per pass: the temporaries stay in the L2 cache
 
 
-def _two_product(a, b):
-    """a*b = p + err exactly (Dekker, no FMA)."""
-    p = a * b
+def _split(a):
+    """Veltkamp's split: a = hi + lo, each with at most 26 significant bits."""
     c = _SPLIT * a
-    ah = c - (c - a)
-    al = a - ah
-    c = _SPLIT * b
-    bh = c - (c - b)
-    bl = b - bh
-    err = ((ah * bh - p) + ah * bl + al * bh) + al * bl
-    return p, err
+    hi = c - (c - a)
+    return hi, a - hi
+
+
+_POW_SPLIT = _split(_POW_HI)
 
 
 def _mantissa(a, idx):
     """(m, delta): m = a 10^k rounded to an integer (int64) and delta = m - a 10^k, with
     a 10^k computed to about 1e-32 relative (so delta is right to ~1e-15 in these units);
-    idx = k - _KMIN."""
-    p, err = _two_product(a, _POW_HI[idx])
+    idx = k - _KMIN. a * 10^k = p + err exactly by Dekker's two-product (no FMA in numpy),
+    with the powers' halves from a table."""
+    h = _POW_HI[idx]
+    p = a * h
+    ah, al = _split(a)
+    bh, bl = _POW_SPLIT[0][idx], _POW_SPLIT[1][idx]
+    err = ((ah * bh - p) + ah * bl + al * bh) + al * bl
     p_int = np.rint(p)
     r = (p - p_int) + (err + a * _POW_LO[idx])
     rr = np.rint(r)
-    return p_int.astype(np.int64) + rr.astype(np.int64), rr - r
+    return p_int.astype(np.int64) + rr.astype(np.int64), rr - r, h
 
 
 def _eight(v):
     """The 8 decimal digits of v < 1e8 (uint64) as 8 bytes (values 0-9) in text order,
-    SWAR: split in lanes of 4, 2, 1 digits, dividing every lane at once by a multiply-shift."""
+    SWAR: split in lanes of 4, 2, 1 digits, dividing every lane at once by a multiply-shift.
+    A lane's quotient q and remainder w - q d go to q | (w - q d) << s, which is
+    (w << s) - q (d 2^s - 1): no lane borrows from the next."""
     a = v // _U(10000)
-    w = a | ((v - a * _U(10000)) << _U(32))
+    w = (v << _U(32)) - a * _U((10000 << 32) - 1)
     q = ((w * _U(10486)) >> _U(20)) & _U(0x0000007F0000007F)     # lanes < 1e4: // 100
-    w = q | ((w - q * _U(100)) << _U(16))
+    w = (w << _U(16)) - q * _U((100 << 16) - 1)
     q = ((w * _U(103)) >> _U(10)) & _U(0x000F000F000F000F)       # lanes < 100: // 10
-    return q | ((w - q * _U(10)) << _U(8))
+    return (w << _U(8)) - q * _U((10 << 8) - 1)
 
 
 def _select(cond, a, b):
@@ -108,11 +114,14 @@ def _select(cond, a, b):
 def _shortest(t, d17, up, down, pow2):
     """The last two of the 17 digits as repr keeps them: t in [0, 100], rounded to a
     multiple of 100 (15 digits) or 10 (16) where that decimal reads back as x, else as is;
-    and where that is too close to call. v is the true value's part modulo 100 (in units of
-    the 17th digit, t - d17), up and down half the gaps to the neighbouring doubles in the
-    same units (down < up at a power of two, where the gap below is half as wide)."""
+    and where that is too close to call. t - d17 is the true value's part modulo 100 (in
+    units of the 17th digit), up and down half the gaps to the neighbouring doubles in the
+    same units (down < up at a power of two, where the gap below is half as wide; pow2 marks
+    those, None if there are none)."""
     v = t - d17
-    unsure = np.zeros(v.shape, bool)
+    ad = np.abs(d17)
+    unsure = np.abs(ad - 0.5) < _MARGIN          # 17 digits: a tie
+    dists = []
     for cut in (10.0, 100.0):                   # 16 digits, then 15: the shortest that reads back
         r = np.rint(v * (1.0 / cut)) * cut      # the nearest multiple of cut
         delta = r - v                           # > 0: the decimal is above x
@@ -130,8 +139,15 @@ def _shortest(t, d17, up, down, pow2):
             unsure |= alt & (np.abs(delta + cut - up) < _MARGIN * cut)
             r = r + cut * ok_up
             ok |= ok_up
-        unsure |= (np.abs(dist - 0.5 * cut) < _MARGIN * cut) | (np.abs(dist - half) < _MARGIN * cut)
-        t = _select(ok, r, t)
+        unsure |= np.abs(dist - half) < _MARGIN * cut
+        dists.append(dist)
+        t = t + ok * (r - t)                    # small integers: exact
+    # a tie at 16 or 15 digits (a distance of half a cut) needs x within ~1e-5 of a 17-digit
+    # decimal: checked on those only
+    near = np.flatnonzero(ad < 1e-4)
+    if near.size:
+        unsure[near] |= ((np.abs(dists[0][near] - 5.0) < _MARGIN * 10.0)
+                         | (np.abs(dists[1][near] - 50.0) < _MARGIN * 100.0))
     return t, unsure
 
 
@@ -157,45 +173,36 @@ def _layout_tables():
             point[i], least[i] = 1, 1
             e = b"e" + (b"-" if x < 0 else b"+") + (b"%03d" % abs(x) if abs(x) >= 100 else b"\0%02d" % abs(x))
             expo[i] = int.from_bytes(b"\0\0\0" + e, "little")
-    # by code = 18 * keep + q (keep: digits shown; q: point position, 17 none; keep = 1 with
-    # q = 1, a single digit in exponent form, has no point): for each of the three digit
-    # words, the bytes taken from the digits as they are (before the point), from the digits
-    # moved one byte on (after it), and the characters added ("0" to the digits, ".")
-    take = np.zeros((3, 18 * 18), np.uint64)
-    moved = np.zeros((3, 18 * 18), np.uint64)
+    # by code = 18 * keep + q (keep: digits shown; q: the point's byte, 17: none; keep = 1
+    # with q = 1, a single digit in exponent form, has no point either), for each of the
+    # three digit words: the bytes before the point (the digits after it move one byte on),
+    # and the characters added ("0" to the digits shown, the point)
+    before = np.zeros((3, 18 * 18), np.uint64)
     chars = np.zeros((3, 18 * 18), np.uint64)
     for keep in range(1, 18):
         for q in range(1, 18):
-            text = bytearray(24)
-            src = [0] * 24                     # 1: the digit, 2: the digit before, 3: "."
-            if q == 17 or (q == 1 and keep == 1):
-                for p in range(keep):
-                    src[p], text[p] = 1, 0x30
-            else:
-                for p in range(min(q, keep)):
-                    src[p], text[p] = 1, 0x30
-                src[q], text[q] = 3, ord(".")
-                for p in range(q + 1, keep + 1):
-                    src[p], text[p] = 2, 0x30
             code = 18 * keep + q
+            if q == 17 or (q == 1 and keep == 1):
+                text = b"0" * keep
+                mask = (1 << 192) - 1
+            else:
+                text = b"0" * q + b"." + b"0" * (keep - q)
+                mask = (1 << (8 * q)) - 1
+            text = int.from_bytes(text, "little")
             for w in range(3):
-                for b in range(8):
-                    s = src[8 * w + b]
-                    if s == 1:
-                        take[w, code] |= 0xFF << (8 * b)
-                    elif s == 2:
-                        moved[w, code] |= 0xFF << (8 * b)
-                chars[w, code] = int.from_bytes(bytes(text[8 * w:8 * w + 8]), "little")
-    return point, least * 18, word0, expo, take, moved, chars
+                before[w, code] = (mask >> (64 * w)) & ((1 << 64) - 1)
+                chars[w, code] = (text >> (64 * w)) & ((1 << 64) - 1)
+    return point, least * 18, word0, expo, before, chars
 
 
-_POINT, _LEAST18, _WORD0, _EXPO, _TAKE, _MOVED, _CHARS = _layout_tables()
+_POINT, _LEAST18, _WORD0, _EXPO, _BEFORE, _CHARS = _layout_tables()
 _ZERO_WORD0 = _U(int.from_bytes(b"\0\0" + b"0.0", "little"))
 _EXP_BITS, _MANT_BITS = _U(0x7FF0000000000000), _U(0x000FFFFFFFFFFFFF)
+_MINUS = _U(ord("-") << 8)
 
 
-def _slots_chunk(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """repr_slots of one cache-sized chunk."""
+def _slots_chunk(x: np.ndarray, out: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """repr_slots of one cache-sized chunk, into out ((n, WIDTH) uint8) if given."""
     n = x.size
     a = np.abs(x)
     here = (a >= _LO) & (a <= _HI)              # finite, nonzero and in range: formatted here
@@ -204,30 +211,25 @@ def _slots_chunk(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     az = a if every else np.where(here, a, 1.5)
     ef = np.floor(np.log10(az))
     idx = (16 - _KMIN - ef).astype(np.intp)     # 10^(16 - e)
-    m17, d17 = _mantissa(az, idx)
+    m17, d17, h = _mantissa(az, idx)
     e = ef.astype(np.int64)
     off = (m17 >= _INT10[17]) | (m17 < _INT10[16])
-    unsure = np.abs(np.abs(d17) - 0.5) < _MARGIN
     if off.any():                                # log10 rounded across a power of ten: redo those
         fix = np.flatnonzero(off)
         e[fix] += (m17[fix] >= _INT10[17]).astype(np.int64) - (m17[fix] < _INT10[16])
-        idx[fix] = 16 - _KMIN - e[fix]
-        m17[fix], d17[fix] = _mantissa(az[fix], idx[fix])
-        unsure[fix] = (np.abs(np.abs(d17[fix]) - 0.5) < _MARGIN) | (m17[fix] >= _INT10[17]) | (m17[fix] < _INT10[16])
+        m17[fix], d17[fix], h[fix] = _mantissa(az[fix], 16 - _KMIN - e[fix])
+        off[fix] = (m17[fix] >= _INT10[17]) | (m17[fix] < _INT10[16])
     # half the gaps to the neighbouring doubles in units of the 17th digit: 2^E (az's
     # exponent bits) * 2^-53 * 10^(16 - e); below is half as wide at a power of two
     bits = az.view(np.uint64)
-    up = (bits & _EXP_BITS).view(np.float64) * _POW_HI[idx] * 2.0 ** -53
+    up = (bits & _EXP_BITS).view(np.float64) * h * 2.0 ** -53
     pow2 = (bits & _MANT_BITS) == 0
-    down = None
     if pow2.any():
         down = up * (1.0 - 0.5 * pow2)
     else:
-        pow2 = None
+        down, pow2 = up, None
     high = m17 // 100
-    t = (m17 - high * 100).astype(np.float64)
-    t, unsure_t = _shortest(t, d17, up, up if down is None else down, pow2)
-    unsure |= unsure_t
+    t, unsure = _shortest((m17 - high * 100).astype(np.float64), d17, up, down, pow2)
     big_m = high * 100 + t.astype(np.int64)
     carry = big_m >= _INT10[17]                  # 9.99..95 -> 10.0...: one more decade
     if carry.any():
@@ -248,35 +250,75 @@ def _slots_chunk(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     top = np.maximum(np.maximum(b0.view(np.int64).astype(np.float64).view(np.int64) >> 52,
                                 (b1.view(np.int64).astype(np.float64).view(np.int64) >> 52) + 64),
                      (b2.view(np.int64).astype(np.float64).view(np.int64) >> 52) + 128)
-    nd18 = ((top - 1015) >> 3) * 18
     xi = e + _XOFF
-    code = np.maximum(nd18, _LEAST18[xi]) + _POINT[xi]
-    s0, s1, s2 = b0 << _U(8), (b1 << _U(8)) | (b0 >> _U(56)), (b2 << _U(8)) | (b1 >> _U(56))
-    out = np.empty((n, 4), np.uint64)
-    for i, (b, s) in enumerate(((b0, s0), (b1, s1), (b2, s2))):
-        w = (b & _TAKE[i][code]) | (s & _MOVED[i][code]) | _CHARS[i][code]
+    code = np.maximum(((top - 1015) >> 3) * 18, _LEAST18[xi]) + _POINT[xi]
+    # the digits before the point stay, the rest move one byte on (as one 192-bit number)
+    out = np.empty((n, WIDTH), np.uint8) if out is None else out
+    words = out.view(np.uint64)
+    carried = None
+    for i, b in enumerate((b0, b1, b2)):
+        keep = b & _BEFORE[i][code]
+        moved = b ^ keep
+        w = keep | (moved << _U(8)) | _CHARS[i][code]
+        if carried is not None:
+            w |= carried >> _U(56)
         if i == 2:
             w |= _EXPO[xi]
-        out[:, i + 1] = w
-    out[:, 0] = _WORD0[xi] | (x.view(np.uint64) >> _U(63)) * _U(ord("-") << 8)
-    out = out.view(np.uint8)
+        words[:, i + 1] = w
+        carried = moved
+    words[:, 0] = _WORD0[xi] | (x.view(np.uint64) >> _U(63)) * _MINUS
     if every:
         finite = np.ones(n, bool)
     else:
         finite = np.isfinite(x)
         zero = np.flatnonzero(a == 0.0)
-        out8 = out.view(np.uint64)
-        out8[zero, 0] = _ZERO_WORD0 | (x[zero].view(np.uint64) >> _U(63)) * _U(ord("-") << 8)
-        out8[zero, 1:] = 0
+        words[zero, 0] = _ZERO_WORD0 | (x[zero].view(np.uint64) >> _U(63)) * _MINUS
+        words[zero, 1:] = 0
         out[~finite] = 0
+        unsure = (unsure & here) | (finite & ~here & (a != 0.0))
     # what could not be decided here: repr itself
-    slow = np.flatnonzero(unsure & here) if every else np.flatnonzero((unsure & here) | (finite & ~here & (a != 0.0)))
-    if slow.size:
+    unsure |= off
+    if unsure.any():
+        slow = np.flatnonzero(unsure)
         out[slow] = 0
         for i in slow.tolist():
-            t = repr(float(x[i])).encode()
-            out[i, :len(t)] = np.frombuffer(t, np.uint8)
+            text = repr(float(x[i])).encode()
+            out[i, :len(text)] = np.frombuffer(text, np.uint8)
     return out, finite
+
+
+@contextlib.contextmanager
+def heap_kept(pad: int = 16 << 20):
+    """Keep `pad` bytes of freed memory in the C heap while formatting (glibc's M_TOP_PAD;
+    elsewhere nothing). Why: a chunk's temporaries (~60 arrays of 64 kB) are freed at its
+    end, glibc gives the top of the heap back to the system beyond 128 kB, and the next
+    chunk faults every page in again: that took 40% of the time (71 against 124 ns a number,
+    measured in one run). Restored when the outermost block ends."""
+    global _kept
+    if _kept == 0 and _mallopt is not None:
+        _mallopt(_M_TOP_PAD, pad)
+    _kept += 1
+    try:
+        yield
+    finally:
+        _kept -= 1
+        if _kept == 0 and _mallopt is not None:
+            _mallopt(_M_TOP_PAD, _DEFAULT_TOP_PAD)
+
+
+def _find_mallopt():
+    try:
+        import ctypes
+        f = ctypes.CDLL(None).mallopt
+    except (OSError, AttributeError, ImportError):
+        return None
+    f.argtypes, f.restype = [ctypes.c_int, ctypes.c_int], ctypes.c_int
+    return f
+
+
+_M_TOP_PAD, _DEFAULT_TOP_PAD = -2, 128 * 1024      # glibc's malloc.h and mallopt(3)
+_mallopt = _find_mallopt() if sys.platform.startswith("linux") else None
+_kept = 0
 
 
 def repr_slots(x: np.ndarray, threads: int | None = None) -> tuple[np.ndarray, np.ndarray]:
@@ -292,17 +334,18 @@ def repr_slots(x: np.ndarray, threads: int | None = None) -> tuple[np.ndarray, n
     finite = np.empty(x.size, dtype=bool)
 
     def run(a):
-        out[a:a + CHUNK], finite[a:a + CHUNK] = _slots_chunk(x[a:a + CHUNK])
+        finite[a:a + CHUNK] = _slots_chunk(x[a:a + CHUNK], out[a:a + CHUNK])[1]
 
     starts = range(0, x.size, CHUNK)
     threads = threads or min(2, os.cpu_count() or 1)
-    if threads > 1 and len(starts) > 2:
-        from concurrent.futures import ThreadPoolExecutor
-        with ThreadPoolExecutor(threads) as pool:
-            list(pool.map(run, starts))
-    else:
-        for a in starts:
-            run(a)
+    with heap_kept():
+        if threads > 1 and len(starts) > 2:
+            from concurrent.futures import ThreadPoolExecutor
+            with ThreadPoolExecutor(threads) as pool:
+                list(pool.map(run, starts))
+        else:
+            for a in starts:
+                run(a)
     return out, finite
 
 
