@@ -282,8 +282,8 @@ def _slots_chunk(x: np.ndarray, out: np.ndarray | None = None) -> tuple[np.ndarr
         slow = np.flatnonzero(unsure)
         out[slow] = 0
         for i in slow.tolist():
-            text = repr(float(x[i])).encode()
-            out[i, :len(text)] = np.frombuffer(text, np.uint8)
+            text = repr(float(x[i])).encode()        # after byte 0, the separator's
+            out[i, 1:1 + len(text)] = np.frombuffer(text, np.uint8)
     return out, finite
 
 
