@@ -1,4 +1,5 @@
-"""A scene's Assur group as data: the fields every kind has, and a guide (a leaf module).
+"""A scene's Assur group as data: the fields every kind has, a guide, and the names of a
+slider's columns (a leaf module, no numpy: the scene reader and `--help` use it).
 
 Each kind's own parameters (lengths, branch, guide, offset ...) are its module's frozen
 `Params` (sheetkin.groups.<kind>), held in `Group.params`; `g.branch`, `g.lengths`, ...
@@ -47,3 +48,10 @@ class Group:
     @property
     def label(self) -> str:
         return f"group {self.index} ({self.type} {'-'.join(self.joints)})"
+
+
+def slide_names(tag: str) -> tuple[str, str, str]:
+    """Contract names of a slide: tag 'N' -> (s_N, vs_N, as_N); a tag that starts with a
+    digit is a further slide of the same point: '2_N' -> (s2_N, vs2_N, as2_N) (PRP)."""
+    sep = "" if tag[:1].isdigit() else "_"
+    return f"s{sep}{tag}", f"vs{sep}{tag}", f"as{sep}{tag}"
