@@ -23,7 +23,6 @@ reported to the caller, who decides what to write (sheetkin never writes "nan"/"
 from __future__ import annotations
 
 import contextlib
-import os
 import sys
 
 import numpy as np
@@ -325,8 +324,9 @@ def repr_slots(x: np.ndarray, threads: int | None = None) -> tuple[np.ndarray, n
     """(slots, finite): slots[i] is repr(float(x[i])) in WIDTH uint8 slots, with 0 bytes
     where a slot is unused (drop them: slots.tobytes().translate(None, b"\\0")); byte 0 is
     always 0 (for a separator); non-finite elements get no characters, and finite is False
-    there. Large arrays are done in cache-sized chunks on `threads` threads (default: up to
-    2; numpy releases the GIL in its loops)."""
+    there. Large arrays are done in cache-sized chunks, on `threads` threads if asked (the
+    default is one: numpy releases the GIL in each loop, but a chunk's ~100 loops of 8192
+    numbers hand the GIL back and forth so often that two threads took as long as one)."""
     x = np.asarray(x, dtype=np.float64).reshape(-1)
     if x.size <= CHUNK:
         return _slots_chunk(x)
@@ -337,7 +337,7 @@ def repr_slots(x: np.ndarray, threads: int | None = None) -> tuple[np.ndarray, n
         finite[a:a + CHUNK] = _slots_chunk(x[a:a + CHUNK], out[a:a + CHUNK])[1]
 
     starts = range(0, x.size, CHUNK)
-    threads = threads or min(2, os.cpu_count() or 1)
+    threads = threads or 1
     with heap_kept():
         if threads > 1 and len(starts) > 2:
             from concurrent.futures import ThreadPoolExecutor
