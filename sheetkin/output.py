@@ -124,7 +124,7 @@ def _labels(texts: list[bytes], codes: np.ndarray) -> np.ndarray:
     return table[codes]
 
 
-def _assemble(n: int, pieces: list) -> bytearray:
+def _assemble(n: int, pieces: list) -> bytes:
     """Rows of pieces (constant bytes, the same in every row, or (n, w) uint8 arrays) into
     text, the 0 bytes of unused slots dropped. Every piece is padded to whole 8-byte words
     and copied as uint64: a row is ~160 words, not ~1300 bytes."""
@@ -135,14 +135,12 @@ def _assemble(n: int, pieces: list) -> bytearray:
         assert p.shape[-1] % 8 == 0
         words.append(np.ascontiguousarray(p).view(np.uint64))
     total = sum(w.shape[1] for w in words)
-    buffer = bytearray(n * total * 8)          # the rows' memory: translated without a copy
-    rows = np.frombuffer(buffer, np.uint64).reshape(n, total)
+    rows = np.empty((n, total), np.uint64)
     at = 0
     for w in words:
         rows[:, at:at + w.shape[1]] = w
         at += w.shape[1]
-    del rows                                   # a bytearray with an export cannot change size
-    return buffer.translate(None, b"\0")
+    return rows.tobytes().translate(None, b"\0")
 
 
 class _Text:
