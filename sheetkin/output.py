@@ -208,50 +208,6 @@ class _Text:
         return b"\n ],\n " + w[w.index('"warnings"'):].encode() + b"\n"
 
 
-class _Behind:
-    """Writes on a second thread, one block behind: the file's write (~20% of a CSV's time,
-    in the kernel, without the GIL) runs while numpy formats the next block. At most one
-    block waits, so memory stays bounded; the first error is raised here, on the next
-    write or at the end, and nothing more is written after it."""
-
-    def __init__(self, file, overlap: bool = True):
-        self.file, self.overlap = file, overlap
-        self.pending = self.error = None
-
-    def __enter__(self):
-        return self
-
-    def write(self, data: bytes):
-        if not self.overlap:
-            self.file.write(data)
-            return
-        self._wait()
-        import threading
-        self.pending = threading.Thread(target=self._run, args=(data,), daemon=True)
-        self.pending.start()
-
-    def _run(self, data: bytes):
-        try:
-            self.file.write(data)
-        except BaseException as e:          # handed to the caller's thread in _wait
-            self.error = e
-
-    def _wait(self):
-        if self.pending is not None:
-            self.pending.join()
-            self.pending = None
-        if self.error is not None:
-            error, self.error = self.error, None
-            raise error
-
-    def __exit__(self, *exc):
-        if exc[0] is None:
-            self._wait()
-        elif self.pending is not None:
-            self.pending.join()             # the original error wins; the file is abandoned
-        return False
-
-
 # --------------------------------------------------------------------------- the table
 def fmt_cell(v, scale: float = 0.0) -> str:
     """Six significant digits; round-off noise (below 1e-12 of the row's largest) shows as 0."""
@@ -414,12 +370,10 @@ def _umask() -> int:
 
 def write_compute(scene: Scene, phi, fmt: str, output: str | None, *, analogs=False,
                   dynamics=False, allow_gaps=False, toggle_threshold=None,
-                  block: int = BLOCK, overlap: bool = True) -> list[str]:
+                  block: int = BLOCK) -> list[str]:
     """Compute at the angles phi (array or AngleRange) and write them in `fmt` to output
     (a path, or stdout), block by block; returns the warnings (already in a JSON output).
-    Raises AssemblyError before writing anything if some position fails without allow_gaps.
-    overlap: CSV/JSON blocks after the first are written by a second thread while the next
-    one is formatted."""
+    Raises AssemblyError before writing anything if some position fails without allow_gaps."""
     names = table_names(scene, analogs, dynamics)
     n_det = len(scene.groups)
     fail = failing(scene, phi, block)          # decides the columns; refuses before writing
@@ -463,9 +417,8 @@ def write_compute(scene: Scene, phi, fmt: str, output: str | None, *, analogs=Fa
             target.file.write(writer.head())
             target.file.write(first)
             del first
-            with _Behind(target.file, overlap) as behind:
-                for blk in stream:
-                    behind.write(writer.rows(blk))
+            for blk in stream:
+                target.file.write(writer.rows(blk))
             warnings = notes.warnings(scene)
             target.file.write(writer.tail(warnings))
         target.commit()
