@@ -136,6 +136,17 @@ def test_repr_of_ordinary_chunks_keeps_exponents_and_fallbacks_apart():
             assert format_repr(values) == want
 
 
+def test_repr_of_powers_of_ten_and_their_neighbours():
+    """The double nearest 1e23 is below 10^23 (99999999999999991611392): its 17 digits
+    99999999999999992 round up a decade to repr's "1e+23" (the carry); log10 of a double
+    just below a power of ten rounds up to it (the exponent is corrected)."""
+    tens = np.array([float(f"1e{k}") for k in range(-320, 309)])
+    values = np.concatenate([tens, np.nextafter(tens, 0.0), np.nextafter(tens, np.inf)])
+    values = np.concatenate([values, -values])
+    assert format_repr(values) == [repr(v) for v in values.tolist()]
+    assert format_repr(np.array([1e23, -1e-5, 1e16])) == ["1e+23", "-1e-05", "1e+16"]
+
+
 _SPECIAL = st.sampled_from([0.0, -0.0, 1e16, 9.999999999999998e15, 1e-4, 9.9999999999999991e-05,
                             0.9999999999999999, 2.0 ** -44, 0.5, 1e-201, 1e201, 1e-100, 1.5e+100,
                             5e-324, -1.2345678901234567e-123])
