@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import contextlib
 import sys
+import threading
 
 import numpy as np
 
@@ -297,32 +298,40 @@ def heap_kept(pad: int = 16 << 20):
     elsewhere nothing). Why: a chunk's temporaries (~60 arrays of 64 kB) are freed at its
     end, glibc gives the top of the heap back to the system beyond 128 kB, and the next
     chunk faults every page in again: that took 40% of the time (71 against 124 ns a number,
-    measured in one run). Restored when the outermost block ends."""
-    global _kept
-    if _kept == 0 and _mallopt is not None:
-        _mallopt(_M_TOP_PAD, pad)
-    _kept += 1
+    measured in consecutive runs). Restored when the outermost block ends."""
+    global _kept, _mallopt
+    with _kept_lock:
+        if _mallopt is None:
+            _mallopt = _find_mallopt()       # ctypes on first use: not at start-up
+        if _kept == 0 and _mallopt:
+            _mallopt(_M_TOP_PAD, pad)
+        _kept += 1
     try:
         yield
     finally:
-        _kept -= 1
-        if _kept == 0 and _mallopt is not None:
-            _mallopt(_M_TOP_PAD, _DEFAULT_TOP_PAD)
+        with _kept_lock:
+            _kept -= 1
+            if _kept == 0 and _mallopt:
+                _mallopt(_M_TOP_PAD, _DEFAULT_TOP_PAD)
 
 
 def _find_mallopt():
+    """glibc's mallopt, or False (another platform or C library)."""
+    if not sys.platform.startswith("linux"):
+        return False
     try:
         import ctypes
         f = ctypes.CDLL(None).mallopt
     except (OSError, AttributeError, ImportError):
-        return None
+        return False
     f.argtypes, f.restype = [ctypes.c_int, ctypes.c_int], ctypes.c_int
     return f
 
 
 _M_TOP_PAD, _DEFAULT_TOP_PAD = -2, 128 * 1024      # glibc's malloc.h and mallopt(3)
-_mallopt = _find_mallopt() if sys.platform.startswith("linux") else None
-_kept = 0
+_mallopt = None                                     # found on first use (False: none)
+_kept = 0                                           # formatting calls under way (any thread)
+_kept_lock = threading.Lock()
 
 
 def repr_slots(x: np.ndarray, threads: int | None = None) -> tuple[np.ndarray, np.ndarray]:

@@ -147,6 +147,23 @@ def test_repr_of_powers_of_ten_and_their_neighbours():
     assert format_repr(np.array([1e23, -1e-5, 1e16])) == ["1e+23", "-1e-05", "1e+16"]
 
 
+def test_heap_is_kept_while_formatting_and_restored(monkeypatch):
+    """repr_slots of many chunks sets glibc's M_TOP_PAD once, however deeply nested, and
+    restores the default when the outermost call ends (also after an error)."""
+    from sheetkin import floatfmt
+    calls = []
+    monkeypatch.setattr(floatfmt, "_mallopt", lambda param, value: calls.append((param, value)) or 1)
+    values = np.linspace(0.1, 9.9, 3 * floatfmt.CHUNK)
+    with floatfmt.heap_kept(1 << 20):
+        floatfmt.repr_slots(values)
+        assert calls == [(-2, 1 << 20)]
+    assert calls == [(-2, 1 << 20), (-2, 128 * 1024)]
+    with pytest.raises(ZeroDivisionError):
+        with floatfmt.heap_kept():
+            1 / 0
+    assert calls[-1] == (-2, 128 * 1024) and len(calls) == 4 and floatfmt._kept == 0
+
+
 _SPECIAL = st.sampled_from([0.0, -0.0, 1e16, 9.999999999999998e15, 1e-4, 9.9999999999999991e-05,
                             0.9999999999999999, 2.0 ** -44, 0.5, 1e-201, 1e201, 1e-100, 1.5e+100,
                             5e-324, -1.2345678901234567e-123])
