@@ -147,8 +147,8 @@ def _shortest(t, d17, up, down, pow2):
         unsure |= np.abs(dist - half) < _MARGIN * cut
         dists.append(dist)
         t = t + ok * (r - t)                    # small integers: exact
-    # a tie at 16 or 15 digits (a distance of half a cut) needs x within ~1e-5 of a 17-digit
-    # decimal: checked on those only
+    # a tie at 16 or 15 digits (a distance of half a cut) needs x within ~1e-6 of the 17th
+    # digit's unit from a 17-digit decimal (d17 near 0): checked on those only
     near = np.flatnonzero(ad < 1e-4)
     if near.size:
         unsure[near] |= ((np.abs(dists[0][near] - 5.0) < _MARGIN * 10.0)
@@ -163,6 +163,8 @@ _XOFF = 210
 
 
 def _layout_tables():
+    """Built once at import: by X, the point's byte, the digits shown at least, word 0 and
+    the exponent word; by (digits shown, point), the masks and characters of words 1-3."""
     xs = range(-_XOFF, _XOFF + 1)
     point = np.empty(len(xs), np.intp)        # the point after digit q - 1 (17: no point)
     least = np.empty(len(xs), np.intp)        # digits shown at least (x >= 1: one after the point)
