@@ -192,17 +192,16 @@ class _Text:
     def _csv(self, blk: Block) -> bytes:
         """A row: "\n" and the cells, each carrying its separator in its first byte."""
         n = blk.table.shape[1]
-        values = np.ascontiguousarray(blk.table.T)
-        main = _cells(values[:, :self.main], b"")
-        det = _cells(values[:, self.main:], b"")
-        cells = main.reshape(n, self.main, WIDTH)
-        cells[:, :, 0] = ord(",")
-        cells[:, 0, 0] = ord("\n")
-        det.reshape(n, -1, WIDTH)[:, :, 0] = ord(",")
-        pieces = [main]
-        if self.gaps:
-            pieces.append(_labels([b",False", b",True"], (~blk.fail).astype(np.intp)))
-        pieces.append(det)
+        cells = _cells(np.ascontiguousarray(blk.table.T), b"")
+        sep = cells.reshape(n, -1, WIDTH)
+        sep[:, :, 0] = ord(",")
+        sep[:, 0, 0] = ord("\n")
+        if self.gaps:                       # "assembled" between the main columns and det_g*
+            cut = self.main * WIDTH
+            pieces = [cells[:, :cut], _labels([b",False", b",True"], (~blk.fail).astype(np.intp)),
+                      cells[:, cut:]]
+        else:
+            pieces = [cells]
         labels = [b"," + (f'"{t}"' if "," in t else t).encode() for t in blk.labels]
         pieces.append(_labels(labels, blk.codes))
         self.first = False
