@@ -2,8 +2,8 @@
 Prof. Yu. A. Alyushin's course (MGGU). Pipeline: scene -> solver -> compute -> cli.
 
 The public names load on first use (PEP 562): `import sheetkin` costs only the scene
-reader (with the group kinds' registry, which uses numpy), so `sheetkin --help` and small
-commands start quickly; the solver loads with sheetkin.solve / sheetkin.compute, pandas
+reader, without numpy (the group kinds' registry imports a kind's numpy kernels when a
+scene uses it), so `sheetkin --help` and small commands start quickly; the solver loads with sheetkin.solve / sheetkin.compute, pandas
 with `compute()`'s DataFrame, openpyxl with the workbooks (tests/test_startup.py).
 """
 import sys as _sys

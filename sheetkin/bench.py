@@ -46,7 +46,7 @@ from .compute import TOGGLE_THRESHOLD, AssemblyError, assembly_gaps, failed_posi
 from .libreoffice import soffice_path
 from .scene import Scene, override_crank
 from .groups import kind_of
-from .motion import slide_names
+from .group import slide_names
 from .solver import solve
 
 FD_STEPS = tuple(10.0 ** -k for k in np.arange(1.0, 8.01, 0.5))     # rad, 1e-1 .. 1e-8

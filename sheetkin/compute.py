@@ -19,7 +19,7 @@ import numpy as np
 
 from .dynamics import dynamics as solve_dynamics
 from .dynamics import dynamics_names
-from .motion import slide_names
+from .group import slide_names
 from .scene import AssemblyError, Scene, load_scene  # noqa: F401 (AssemblyError: compute's API)
 from .solver import Solution, solve
 

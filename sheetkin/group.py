@@ -1,4 +1,5 @@
-"""A scene's Assur group as data: the fields every kind has, and a guide (a leaf module).
+"""A scene's Assur group as data: the fields every kind has, a guide, and the names of a
+slider's columns (a leaf module, no numpy: the scene reader and `--help` use it).
 
 Each kind's own parameters (lengths, branch, guide, offset ...) are its module's frozen
 `Params` (sheetkin.groups.<kind>), held in `Group.params`; `g.branch`, `g.lengths`, ...
@@ -93,3 +94,10 @@ def crank_scene(title: str, groups: str, frame: str = "O = [0.0, 0.0]", length: 
     return (f'title = "{title}"\nauthor = "sheetkin stability study"\n[frame]\n{frame}\n'
             f'[crank]\npivot = "O"\njoint = "A"\nlength = {length!r}\nphi0_deg = {phi0_deg!r}\n'
             f'positions = 1\nomega = {omega!r}\n{groups}')
+
+
+def slide_names(tag: str) -> tuple[str, str, str]:
+    """Contract names of a slide: tag 'N' -> (s_N, vs_N, as_N); a tag that starts with a
+    digit is a further slide of the same point: '2_N' -> (s2_N, vs2_N, as2_N) (PRP)."""
+    sep = "" if tag[:1].isdigit() else "_"
+    return f"s{sep}{tag}", f"vs{sep}{tag}", f"as{sep}{tag}"

@@ -58,13 +58,6 @@ class GroupMotion:
     toggle: np.ndarray = 1.0
 
 
-def slide_names(tag: str) -> tuple[str, str, str]:
-    """Contract names of a slide: tag 'N' -> (s_N, vs_N, as_N); a tag that starts with a
-    digit is a further slide of the same point: '2_N' -> (s2_N, vs2_N, as2_N) (PRP)."""
-    sep = "" if tag[:1].isdigit() else "_"
-    return f"s{sep}{tag}", f"vs{sep}{tag}", f"as{sep}{tag}"
-
-
 def cramer(m11, m12, m21, m22, b1, b2, inv_det):
     """Solve [[m11, m12], [m21, m22]] @ [x, y] = [b1, b2] by determinants (lecture slide 20).
 

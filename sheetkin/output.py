@@ -117,30 +117,57 @@ def _cells(values: np.ndarray, null: bytes) -> np.ndarray:
 
 def _labels(texts: list[bytes], codes: np.ndarray) -> np.ndarray:
     """(positions, width) uint8 of texts[codes], 0-padded to a multiple of 8 bytes."""
-    width = -(-max(1, max(map(len, texts))) // 8) * 8
-    table = np.zeros((len(texts), width), np.uint8)
-    for i, t in enumerate(texts):
-        table[i, :len(t)] = np.frombuffer(t, np.uint8)
-    return table[codes]
+    return _padded(texts).view(np.uint8)[codes]
 
 
 def _assemble(n: int, pieces: list) -> bytes:
-    """Rows of pieces (constant bytes, the same in every row, or (n, w) uint8 arrays) into
-    text, the 0 bytes of unused slots dropped. Every piece is padded to whole 8-byte words
-    and copied as uint64: a row is ~160 words, not ~1300 bytes."""
+    """Rows of pieces (constant bytes, the same in every row; (n, w) uint8 arrays; or
+    _Keyed runs) into text, the 0 bytes of unused slots dropped. Every piece is padded to
+    whole 8-byte words and copied as uint64: a row is ~160 words, not ~1300 bytes."""
     words = []
     for p in pieces:
         if isinstance(p, bytes):
-            p = np.frombuffer(p + b"\0" * (-len(p) % 8), np.uint8)[None, :]
-        assert p.shape[-1] % 8 == 0
-        words.append(np.ascontiguousarray(p).view(np.uint64))
+            p = _padded([p])
+        elif not isinstance(p, _Keyed):
+            assert p.shape[-1] % 8 == 0
+            p = p.view(np.uint64)           # a column slice: its rows are contiguous
+        words.append(p)
     total = sum(w.shape[1] for w in words)
     rows = np.empty((n, total), np.uint64)
     at = 0
     for w in words:
-        rows[:, at:at + w.shape[1]] = w
-        at += w.shape[1]
+        width = w.shape[1]
+        if isinstance(w, _Keyed):
+            w.put(rows[:, at:at + width])
+        else:
+            rows[:, at:at + width] = w
+        at += width
     return rows.tobytes().translate(None, b"\0")
+
+
+def _padded(texts: list[bytes]) -> np.ndarray:
+    """(len(texts), words) uint64: each text 0-padded to the longest's whole words."""
+    width = -(-max(1, max(map(len, texts))) // 8) * 8
+    table = np.zeros((len(texts), width), np.uint8)
+    for i, t in enumerate(texts):
+        table[i, :len(t)] = np.frombuffer(t, np.uint8)
+    return table.view(np.uint64)
+
+
+class _Keyed:
+    """A run of k constant keys, each followed by its column's cells ((n, k * WIDTH)
+    uint8): JSON's `"name": value` pairs, copied in two strided assignments instead of 2k
+    (the keys padded to one width; the padding is dropped with the other 0 bytes)."""
+
+    def __init__(self, keys: list[bytes], cells: np.ndarray):
+        self.keys, self.cells = _padded(keys), cells.view(np.uint64)
+        self.k, self.kw = self.keys.shape
+        self.shape = (cells.shape[0], self.k * (self.kw + WIDTH // 8))
+
+    def put(self, rows: np.ndarray):
+        run = rows.reshape(rows.shape[0], self.k, -1)
+        run[:, :, :self.kw] = self.keys
+        run[:, :, self.kw:] = self.cells.reshape(rows.shape[0], self.k, -1)
 
 
 class _Text:
@@ -165,17 +192,16 @@ class _Text:
     def _csv(self, blk: Block) -> bytes:
         """A row: "\n" and the cells, each carrying its separator in its first byte."""
         n = blk.table.shape[1]
-        values = np.ascontiguousarray(blk.table.T)
-        main = _cells(values[:, :self.main], b"")
-        det = _cells(values[:, self.main:], b"")
-        cells = main.reshape(n, self.main, WIDTH)
-        cells[:, :, 0] = ord(",")
-        cells[:, 0, 0] = ord("\n")
-        det.reshape(n, -1, WIDTH)[:, :, 0] = ord(",")
-        pieces = [main]
-        if self.gaps:
-            pieces.append(_labels([b",False", b",True"], (~blk.fail).astype(np.intp)))
-        pieces.append(det)
+        cells = _cells(np.ascontiguousarray(blk.table.T), b"")
+        sep = cells.reshape(n, -1, WIDTH)
+        sep[:, :, 0] = ord(",")
+        sep[:, 0, 0] = ord("\n")
+        if self.gaps:                       # "assembled" between the main columns and det_g*
+            cut = self.main * WIDTH
+            pieces = [cells[:, :cut], _labels([b",False", b",True"], (~blk.fail).astype(np.intp)),
+                      cells[:, cut:]]
+        else:
+            pieces = [cells]
         labels = [b"," + (f'"{t}"' if "," in t else t).encode() for t in blk.labels]
         pieces.append(_labels(labels, blk.codes))
         self.first = False
@@ -186,13 +212,14 @@ class _Text:
         n = blk.table.shape[1]
         values = np.ascontiguousarray(blk.table.T)
         cells = _cells(values, b"null")
-        pieces = []
-        for j, name in enumerate(self.names):
-            if j == self.main and self.gaps:
-                pieces += [b',\n   "assembled": ',
-                           _labels([b"false", b"true"], (~blk.fail).astype(np.intp))]
-            sep = b',\n  {\n   ' if j == 0 else b',\n   '
-            pieces += [sep + json.dumps(name).encode() + b": ", cells[:, j * WIDTH:(j + 1) * WIDTH]]
+        keys = [(b',\n  {\n   ' if j == 0 else b',\n   ') + json.dumps(name).encode() + b": "
+                for j, name in enumerate(self.names)]
+        cut = self.main * WIDTH
+        pieces = [_Keyed(keys[:self.main], cells[:, :cut])]
+        if self.gaps:
+            pieces += [b',\n   "assembled": ', _labels([b"false", b"true"], (~blk.fail).astype(np.intp))]
+        if self.main < len(keys):
+            pieces.append(_Keyed(keys[self.main:], cells[:, cut:]))
         pieces += [b',\n   "near_toggle": ', _labels([json.dumps(t).encode() for t in blk.labels], blk.codes),
                    b"\n  }"]
         text = _assemble(n, pieces)

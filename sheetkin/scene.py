@@ -16,9 +16,8 @@ from pathlib import Path
 from .scenecaps import (MAX_DEPTH, MAX_MAGNITUDE, MAX_MESSAGE, MAX_POSITIONS, MAX_SCENE_BYTES,  # noqa: F401
                         MAX_TEXT, WORKBOOK_MAX_POSITIONS, SceneError, check_values, load_toml, one_line,
                         shown)
-from .group import Group, Guide
+from .group import Group, Guide, slide_names
 from .groups import KINDS, kind_of
-from .motion import slide_names
 
 GROUP_TYPES = tuple(KINDS)
 NAME_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
@@ -106,7 +105,7 @@ class Scene:
 
     @property
     def sliders(self) -> list[str]:
-        """Slide tags in group order (sheetkin.motion.slide_names gives s_*, vs_*, as_*)."""
+        """Slide tags in group order (sheetkin.group.slide_names gives s_*, vs_*, as_*)."""
         return [t for g in self.groups for t in kind_of(g).sliders(g)]
 
     def crank_angles_deg(self) -> list[float]:

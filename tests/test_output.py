@@ -79,6 +79,105 @@ def test_repr_any_bits(bits):
     assert format_repr(np.array([x])) == [repr(x) if math.isfinite(x) else ""]
 
 
+def _mixed(rng, n):
+    """Every layout and every rare path of floatfmt in one array, shuffled: positional
+    and exponent form, 1 to 17 digits, exponents of 1 to 3 digits, zeros of both signs,
+    powers of two, values just below a power of ten (log10 rounds up), 9.99...5 rounding
+    up a decade, exact short decimals, non-finite values and |x| beyond 1e+/-200."""
+    digits = rng.integers(1, 10 ** 17, n).astype(np.float64) / 10.0 ** rng.integers(0, 17, n)
+    special = [0.0, -0.0, math.inf, -math.inf, math.nan, 1e-201, -1e250, 5e-324, 1e-200, 1e200,
+               0.5, 2.0, 1024.0, 2.0 ** -44, 2.0 ** 60, 1.5e-5, 1e16, 9.999999999999998e15,
+               1234567890123456.8, 0.0001, 9.9999999999999991e-05, 0.9999999999999999,
+               999.9999999999999, 99.99999999999999, 1e-100, -1.2345678901234567e-123,
+               1.2345678901234567e+123, 30.0, 0.1, 0.3, 359.99999999999994]
+    parts = [digits * 10.0 ** rng.integers(-8, 18, n),             # mostly positional, 1-17 digits
+             digits * 10.0 ** rng.integers(-150, 150, n),          # mostly exponent form
+             rng.standard_normal(n),
+             np.nextafter(10.0 ** rng.integers(-30, 30, n), 0.0),  # just below a power of ten
+             2.0 ** rng.integers(-600, 600, n),
+             np.round(rng.standard_normal(n) * 100, rng.integers(0, 3)),
+             np.repeat(special, 1 + n // len(special))]
+    values = np.concatenate(parts)
+    values *= np.where(rng.random(values.size) < 0.5, -1.0, 1.0)
+    rng.shuffle(values)
+    return values
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_repr_of_every_layout_mixed_in_chunks(threads):
+    """Chunks (floatfmt.CHUNK numbers) where every kind of number sits next to the others,
+    formatted on one and on two threads: what one element needs (exponent form, a repr
+    fallback, a zero, a power of two) must not change its neighbours."""
+    from sheetkin import floatfmt
+    rng = np.random.default_rng(151)
+    values = _mixed(rng, floatfmt.CHUNK // 2)
+    assert values.size > 3 * floatfmt.CHUNK
+    slots, finite = floatfmt.repr_slots(values, threads=threads)
+    got = [row.tobytes().translate(None, b"\0").decode() for row in slots]
+    want = [repr(v) if math.isfinite(v) else "" for v in values.tolist()]
+    assert finite.tolist() == [math.isfinite(v) for v in values.tolist()]
+    bad = [(w, g) for w, g in zip(want, got) if w != g]
+    assert not bad, bad[:5]
+    assert not slots[:, 0].any()                      # byte 0 stays free for the separator
+
+
+def test_repr_of_ordinary_chunks_keeps_exponents_and_fallbacks_apart():
+    """A chunk of ordinary positional numbers with one exponent-form number, one zero and
+    one number for repr's own fallback at each place: the neighbours are unchanged."""
+    from sheetkin import floatfmt
+    base = np.linspace(-7.3, 123.4, 64)
+    want_base = [repr(v) for v in base.tolist()]
+    for odd in (1.5e-07, -2.5e+16, 0.0, -0.0, 1e-250, 1.7976931348623157e308, 2.0 ** -30):
+        for at in (0, 31, 63):
+            values = base.copy()
+            values[at] = odd
+            want = list(want_base)
+            want[at] = repr(odd)
+            assert format_repr(values) == want
+
+
+def test_repr_of_powers_of_ten_and_their_neighbours():
+    """The double nearest 1e23 is below 10^23 (99999999999999991611392): its 17 digits
+    99999999999999992 round up a decade to repr's "1e+23" (the carry); log10 of a double
+    just below a power of ten rounds up to it (the exponent is corrected)."""
+    tens = np.array([float(f"1e{k}") for k in range(-320, 309)])
+    values = np.concatenate([tens, np.nextafter(tens, 0.0), np.nextafter(tens, np.inf)])
+    values = np.concatenate([values, -values])
+    assert format_repr(values) == [repr(v) for v in values.tolist()]
+    assert format_repr(np.array([1e23, -1e-5, 1e16])) == ["1e+23", "-1e-05", "1e+16"]
+
+
+def test_heap_is_kept_while_formatting_and_restored(monkeypatch):
+    """repr_slots of many chunks sets glibc's M_TOP_PAD once, however deeply nested, and
+    restores the default when the outermost call ends (also after an error)."""
+    from sheetkin import floatfmt
+    calls = []
+    monkeypatch.setattr(floatfmt, "_mallopt", lambda param, value: calls.append((param, value)) or 1)
+    values = np.linspace(0.1, 9.9, 3 * floatfmt.CHUNK)
+    with floatfmt.heap_kept(1 << 20):
+        floatfmt.repr_slots(values)
+        assert calls == [(-2, 1 << 20)]
+    assert calls == [(-2, 1 << 20), (-2, 128 * 1024)]
+    with pytest.raises(ZeroDivisionError):
+        with floatfmt.heap_kept():
+            1 / 0
+    assert calls[-1] == (-2, 128 * 1024) and len(calls) == 4 and floatfmt._kept == 0
+
+
+_SPECIAL = st.sampled_from([0.0, -0.0, 1e16, 9.999999999999998e15, 1e-4, 9.9999999999999991e-05,
+                            0.9999999999999999, 2.0 ** -44, 0.5, 1e-201, 1e201, 1e-100, 1.5e+100,
+                            5e-324, -1.2345678901234567e-123])
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.lists(st.one_of(st.floats(allow_nan=False, allow_infinity=False), _SPECIAL,
+                          st.integers(-10 ** 17, 10 ** 17).map(float),
+                          st.decimals(allow_nan=False, allow_infinity=False, places=6).map(float)),
+                min_size=1, max_size=80))
+def test_repr_hypothesis_mixed_kinds(values):
+    assert format_repr(np.array(values)) == [repr(float(v)) for v in values]
+
+
 # --------------------------------------------------------------------------- CSV, JSON in blocks
 def _written(scene, fmt, phi, block, **kw):
     import tempfile
@@ -135,6 +234,23 @@ def test_gaps_empty_in_csv_null_in_json(tmp_path):
     records = json.loads(text)["positions"]
     assert [r["assembled"] for r in records] == df["assembled"].tolist()
     assert all(r["phi_2"] is None for r in records if not r["assembled"])
+
+
+def test_values_formatted_by_repr_itself_keep_their_first_character():
+    """|x| beyond 1e+/-200 (and the rare near-ties) are formatted by repr itself: the text
+    starts after the separator's byte, as the bulk numbers do ("e-250" was written for
+    1e-250 before)."""
+    names = ["phi_1", "omega_2", "det_g1"]
+    table = np.array([[10.0, 20.0], [1e-250, -3e250], [2.5e-201, 0.5]])
+    blk = Block(0, table, np.zeros(2, bool), np.zeros(2, np.intp), [""])
+    for fmt in ("csv", "json"):
+        w = _Text(fmt, names, 1, False, "t")
+        text = (w.head() + w.rows(blk) + w.tail([])).decode()
+        if fmt == "csv":
+            assert text.splitlines()[1:] == ["10.0,1e-250,2.5e-201,", "20.0,-3e+250,0.5,"]
+        else:
+            rows = json.loads(text)["positions"]
+            assert [(r["omega_2"], r["det_g1"]) for r in rows] == [(1e-250, 2.5e-201), (-3e250, 0.5)]
 
 
 def test_undefined_values_outside_gaps_are_empty_and_warned():

@@ -28,7 +28,7 @@ Every kind module provides the same surface, under banners in this order:
   new_joints(g) -> list[str] joints the group places (RRR/RRP/PRP: N; RPP: K; RPR: none)
   carries(g) -> {link: [joints]}  the joints on each of its two links ([[point]] `from`,
                              [[mass]] `centre`, [[force]] `at` must be one of them)
-  sliders(g) -> list[str]    slide tags, named by motion.slide_names: "N" -> s_N, vs_N,
+  sliders(g) -> list[str]    slide tags, named by group.slide_names: "N" -> s_N, vs_N,
                              as_N; "2_N" -> s2_N, vs2_N, as2_N
   fourbar(g, crank_joint, frame) -> (coupler, rocker, pivot, branch) or None   the four-bar
                              the group closes with the crank (seed 002's synthesis designs
@@ -86,16 +86,41 @@ Every kind module provides the same surface, under banners in this order:
 """
 from __future__ import annotations
 
-from . import prp, rpp, rpr, rrp, rrr
+from collections.abc import Mapping
+from importlib import import_module
+
+
+class _Kinds(Mapping):
+    """type -> kind module, each imported on first use: the kinds' kernels import numpy,
+    and `sheetkin --help` or a scene's `type` check need none of it (tests/test_startup.py)."""
+
+    def __init__(self, modules: dict[str, str]):
+        self._names, self._loaded = modules, {}
+
+    def __getitem__(self, kind):
+        mod = self._loaded.get(kind)
+        if mod is None:
+            mod = self._loaded[kind] = import_module(f".{self._names[kind]}", __name__)
+        return mod
+
+    def __contains__(self, kind):                 # Mapping's would import the module
+        return kind in self._names
+
+    def __iter__(self):
+        return iter(self._names)
+
+    def __len__(self):
+        return len(self._names)
+
 
 # explicit, in the contract's order; `grep RPR` finds every use (no discovery, no decorators)
-KINDS = {
-    "RRR": rrr,
-    "RRP": rrp,
-    "RPR": rpr,
-    "PRP": prp,
-    "RPP": rpp,
-}
+KINDS = _Kinds({
+    "RRR": "rrr",
+    "RRP": "rrp",
+    "RPR": "rpr",
+    "PRP": "prp",
+    "RPP": "rpp",
+})
 
 
 def kind_of(g):
