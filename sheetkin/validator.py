@@ -377,7 +377,16 @@ def _template_sheet(scene: Scene) -> tuple[Sheet, dict[str, int]]:
     book = _build_reference(scene, evaluate=False)
     sheet = book[0]
     input_rows = {sheet.consts.get((r, 1)): r for r in range(5, sheet.max_row + 1)}
+    # the sheet's own check rows, their status cells and the summary above are not graded
+    # against a reference (the student's checks are read from the student's sheet): left
+    # out, they would be half of each variant's evaluation (SUMPRODUCT, COUNT, IF per row)
+    unchecked = {r for n, r in input_rows.items() if n in _check_rows(scene)}
+    sheet.formulas = {(r, c): f for (r, c), f in sheet.formulas.items() if r >= 5 and r not in unchecked}
     return sheet, input_rows
+
+
+def _check_rows(scene: Scene) -> set[str]:
+    return {r.name for r in sheet_rows(scene).rows if r.kind in ("check", "fdcheck")}
 
 
 def _build_reference(scene: Scene, evaluate: bool = True):
