@@ -37,9 +37,13 @@ ROOT = Path(__file__).resolve().parent.parent
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
+import importlib  # noqa: E402
+
 import sheetkin  # noqa: E402
 
-C = sys.modules["sheetkin.compute"]     # the module (sheetkin.compute is also a function)
+# the module (sheetkin.compute, the attribute, is the function; `import sheetkin` loads
+# the module lazily, on first use, since issue 15)
+C = importlib.import_module("sheetkin.compute")
 
 # ---------------------------------------------------------------------------------------
 # Synthetic chain
