@@ -21,9 +21,9 @@ import pytest
 from scipy.optimize import brentq
 
 import sheetkin
-from sheetkin.cli import main
 
 from scenes import FOURBAR  # noqa: E402  (the spec's four-bar; tests/ is on sys.path)
+from clirun import run
 
 # The contract's columns for this scene, in order, written out from the spec.
 FOURBAR_COLUMNS = ["phi_1", "phi_2", "omega_2", "eps_2", "phi_3", "omega_3", "eps_3"] + [
@@ -146,15 +146,6 @@ def scene_file(tmp_path):
         path.write_text(text, encoding="utf-8")
         return path
     return make
-
-
-def run(capsys, *argv):
-    try:
-        code = main([str(a) for a in argv])
-    except SystemExit as e:
-        code = e.code
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def run_process(*argv, cwd=None):

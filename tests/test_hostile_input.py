@@ -25,22 +25,13 @@ import sheetkin
 
 compute_module = importlib.import_module("sheetkin.compute")   # `sheetkin.compute` is the function
 validator_module = importlib.import_module("sheetkin.validator")
-from sheetkin.cli import main
 from sheetkin.scene import (MAX_DEPTH, MAX_MAGNITUDE, MAX_POSITIONS, WORKBOOK_MAX_POSITIONS,
                             SceneError, parse_scene)
 from sheetkin.workbook import write_workbook
+from clirun import run
 
 WORKBOOKS = Path(__file__).resolve().parents[1] / "workbooks"
 FOURBAR = (WORKBOOKS / "fourbar.toml").read_text(encoding="utf-8")
-
-
-def run(capsys, *argv):
-    try:
-        code = main([str(a) for a in argv])
-    except SystemExit as e:
-        code = e.code
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def run_process(*argv, **kw):

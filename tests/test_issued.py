@@ -17,17 +17,9 @@ from sheetkin.issued import (KEY_FILE, Options, RosterError, changed_line, parse
                              read_roster, seal)
 from sheetkin.report import text_report
 from sheetkin.validator import validate
+from clirun import run
 
 ROOT = Path(__file__).resolve().parents[1]
-
-
-def run(capsys, *argv):
-    try:
-        code = main([str(a) for a in argv])
-    except SystemExit as e:
-        code = e.code
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 @pytest.fixture(scope="module")

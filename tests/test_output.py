@@ -20,25 +20,17 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import sheetkin
-from sheetkin.cli import TOGGLE_THRESHOLD, main
+from sheetkin.cli import TOGGLE_THRESHOLD
 from sheetkin.compute import TOGGLE_THRESHOLD as COMPUTE_TOGGLE_THRESHOLD
 from sheetkin.compute import AngleRange, Block
 from sheetkin.floatfmt import format_repr
 from sheetkin.output import Notes, _Text, write_compute
 
 from scenes import FOURBAR  # noqa: E402
+from clirun import run
 
 ROOT = Path(sheetkin.__file__).parents[1]
 SHORT = FOURBAR.replace("lengths = [0.5, 0.34]", "lengths = [0.25, 0.34]")   # a group that cannot always assemble
-
-
-def run(capsys, *argv):
-    try:
-        code = main([str(a) for a in argv])
-    except SystemExit as e:
-        code = e.code
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def one_error_line(err, code, expected=2):

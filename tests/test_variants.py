@@ -23,18 +23,10 @@ from sheetkin.scene import SceneError, load_scene, parse_scene
 from sheetkin.solver import solve
 from sheetkin.validator import validate
 from sheetkin.variants import BAND, MIN_DET, make_variants, parameters, ranges, write_variants
+from clirun import run
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = sorted((ROOT / "workbooks").glob("*.toml"))
-
-
-def run(capsys, *argv):
-    try:
-        code = main([str(a) for a in argv])
-    except SystemExit as e:
-        code = e.code
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def text_of(name: str) -> str:
