@@ -15,6 +15,7 @@ gives (sheetkin/grades.py); possible copies (sheetkin/copies.py) link to each ot
 from __future__ import annotations
 
 import html
+from pathlib import Path
 import math
 
 from .validator import Report
@@ -106,7 +107,7 @@ def _copy_links(reports, k: int, copies: dict, with_reason: bool) -> str:
     out = []
     for j, why in copies.get(k, []):
         other = reports[j]
-        name = getattr(other, "student", "") or other.author or other.path
+        name = getattr(other, "student", "") or _file(other)
         out.append(f"<a href='#{_anchor(other, j)}' data-open='{_anchor(other, j)}'>{e(name)}</a>"
                    + (f" ({e(other.path)}: {e(why)})" if with_reason else ""))
     return ", ".join(out)
@@ -136,9 +137,15 @@ def _picture(rep: Report) -> str:
         return f"<p class='note'>(no picture: {html.escape(str(exc))})</p>"
 
 
+def _file(rep: Report) -> str:
+    """Who a book is when the student left their name blank: its file, never A2 (the
+    scheme's author, which every exercise carries: issue 13)."""
+    return Path(rep.path).name or rep.path
+
+
 def _summary_row(rep: Report, k: int, copy: str = "") -> str:
     e = html.escape
-    who = getattr(rep, "student", "") or rep.author
+    who = getattr(rep, "student", "") or _file(rep)
     group = getattr(rep, "group", "")
     variant = getattr(rep, "variant", None) or ""
     res = "unusable" if rep.error else ("correct" if rep.ok else "mistakes")
@@ -160,7 +167,7 @@ def _summary_row(rep: Report, k: int, copy: str = "") -> str:
 
 def _details(rep: Report, k: int, copy: str = "") -> list[str]:
     e = html.escape
-    who = getattr(rep, "student", "") or rep.author or rep.path
+    who = getattr(rep, "student", "") or _file(rep)
     res = "unusable" if rep.error else ("all correct" if rep.ok else f"{len(rep.wrong)} wrong, {len(rep.missing)} missing")
     out = [f"<details id='{_anchor(rep, k)}'><summary>{e(who)}: {e(res)}</summary>",
            f"<p class='note'>{e(rep.path)}{' - ' + e(rep.title) if rep.title else ''}</p>"]

@@ -42,15 +42,23 @@ def demo_class(folder: Path) -> Path:
     every column, one that is not a workbook."""
     import openpyxl
     folder.mkdir(parents=True, exist_ok=True)
-    shutil.copy(ROOT / "workbooks" / "fourbar.xlsx", folder / "ivanov.xlsx")
-    shutil.copy(ROOT / "workbooks" / "shaper.xlsx", folder / "petrova.xlsx")
-    wb = openpyxl.load_workbook(ROOT / "workbooks" / "fourbar.xlsx")
-    ws = wb.worksheets[0]
-    rows = {ws.cell(r, 1).value: r for r in range(1, ws.max_row + 1)}
-    ws["A2"] = "Sidorov A."
-    for k in range(13):
-        c = ws.cell(rows["omega_3"], 5 + k)
-        c.value = "=-(" + c.value[1:] + ")"
-    wb.save(folder / "sidorov.xlsx")
+
+    def book(stem, student, change=None):
+        wb = openpyxl.load_workbook(ROOT / "workbooks" / f"{stem}.xlsx")
+        ws = wb.worksheets[0]
+        rows = {ws.cell(r, 1).value: r for r in range(1, ws.max_row + 1)}
+        ws.cell(rows["student"], 4).value = student          # the student's own cells, not A2
+        ws.cell(rows["group"], 4).value = "ГИ-21"
+        if change:
+            change(ws, rows)
+        return wb
+
+    def flip_omega_3(ws, rows):
+        for k in range(13):
+            c = ws.cell(rows["omega_3"], 5 + k)
+            c.value = "=-(" + c.value[1:] + ")"
+    book("fourbar", "Ivanov I.").save(folder / "ivanov.xlsx")
+    book("shaper", "Petrova A.").save(folder / "petrova.xlsx")
+    book("fourbar", "Sidorov A.", flip_omega_3).save(folder / "sidorov.xlsx")
     (folder / "notes.xlsx").write_text("not a workbook", encoding="utf-8")
     return folder

@@ -2,6 +2,8 @@
 formula injection, the class list, possible copies, and the HTML report's links."""
 from __future__ import annotations
 
+import dataclasses
+
 import copy
 import csv
 import io
@@ -258,6 +260,10 @@ def test_html_shows_student_group_variant_and_given_changes():
     assert "given data changed: L1 (D6): 0.14 -&gt; 0.05" in page
     row = page.split("<tbody>")[1].split("</tr>")[0]
     assert "<a href='#s0' data-open='s0'>Иванов &lt;b&gt;</a>" in row and "given data changed" in row
+    # a blank name: the file, never A2 (the scheme's author, in every exercise)
+    anon = dataclasses.replace(rep, student="", author="teacher")
+    row = html_page([anon]).split("<tbody>")[1].split("</tr>")[0]
+    assert f">{Path(anon.path).name}</a>" in row and "teacher" not in row
 
 
 # --------------------------------------------------------------------------- the command
