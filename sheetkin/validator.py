@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from . import issued
-from .checks import failing as check_fails
+from .checks import failing as check_fails, not_applicable as check_na, passing as check_passes
 from .evaluator import Book, EvaluationError, evaluate_sheets
 from .xlsxread import Sheet, read_book
 from .scene import Scene, SceneError, parse_scene
@@ -310,8 +310,13 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
     name_causes(report.rows, local, ancestors, input_names, derived_row)
     report.cache_mismatch = _cache_mismatches(evaluated, main, {r for n, r in names.items() if n.startswith("phi_")})
     # status 1 or an error fails; 0, n/a and "not filled in" do not (sheetkin/checks.py)
-    report.failing_checks = [n for n, r in names.items() if n.startswith(("chk", "fd_"))
-                             and kinds.get(n) in ("check", "fdcheck") and check_fails(evaluated.value(main, r, 4))]
+    statuses = {n: evaluated.value(main, r, 4) for n, r in names.items()
+                if n.startswith(("chk", "fd_")) and kinds.get(n) in ("check", "fdcheck")}
+    report.failing_checks = [n for n, s in statuses.items() if check_fails(s)]
+    # not fields: grades count the checks that pass (0) of those that apply (not "н/д"), as the
+    # sheet's summary does; "не заполнено" and "н/д" are not passing (an empty book passes none)
+    report.checks_passing = sum(check_passes(s) for s in statuses.values())
+    report.checks_na = sum(check_na(s) for s in statuses.values())
     return report
 
 

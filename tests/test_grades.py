@@ -365,3 +365,17 @@ def test_grades_csv_fuzz_round_trip(people):
         for col, text in (("student", student), ("group", group), ("variant", variant), ("file", path)):
             assert not row[col].startswith(("=", "+", "-", "@", "\t", "\r"))
             assert row[col] in (text, "'" + text)
+
+
+def test_checks_passing_counts_green_checks_only(tmp_path):
+    """An empty exercise passes no check ("не заполнено" is not passing: it once counted 46
+    of 46), and the "н/д" rows of a full book (numeric derivatives at 30 deg) are not counted
+    among those that apply, as the sheet's summary E2:I2 counts them."""
+    books = issue_variants(tmp_path / "issued")
+    ex, key = books["v1"]
+    full = fill(ex, key, tmp_path / "full.xlsx", student="A B")
+    lines, _ = grade_lines([validate(ex), validate(full)], {})
+    head = lines[0]
+    empty, done = (dict(zip(head, x)) for x in lines[1:])
+    assert (empty["checks passing"], empty["checks total"]) == ("0", "46")
+    assert int(done["checks total"]) < 46 and done["checks passing"] == done["checks total"]
