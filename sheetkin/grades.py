@@ -99,7 +99,7 @@ def copy_text(reports, i: int, copies: dict) -> str:
 
 def causes_text(rep) -> str:
     if rep.error:
-        return "unusable: " + (rep.error[len(rep.path) + 2:] if rep.error.startswith(rep.path + ": ") else rep.error)
+        return "unusable: " + rep.reason
     return ";".join(c.name for c in rep.causes)
 
 

@@ -82,7 +82,7 @@ def summary_table(reports: list[Report]) -> str:
     rows = [("file", "student", "result", "wrong", "missing", "first cause")]
     for r in reports:
         if r.error:
-            rows.append((r.path, "", "unusable", "", "", r.error[len(r.path) + 2:][:60]))
+            rows.append((r.path, "", "unusable", "", "", r.reason[:60]))
         else:
             # the student's own cells (A2, the author, is the scheme's, not the student's)
             who = ", ".join(x for x in (getattr(r, "student", ""), getattr(r, "group", "")) if x)

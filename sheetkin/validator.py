@@ -104,6 +104,14 @@ class Report:
         return [r for r in self.rows if r.cause]
 
     @property
+    def reason(self) -> str:
+        """The unusable file's reason without its leading "path: " (the tables name the
+        file in a column of their own); "" for a usable file."""
+        if not self.error:
+            return ""
+        return self.error[len(self.path) + 2:] if self.error.startswith(self.path + ": ") else self.error
+
+    @property
     def ok(self) -> bool:
         return (self.error is None and not self.wrong and not self.missing
                 and (not self.given_changed or self.accepted_changes) and self.seal in ("", "ok"))

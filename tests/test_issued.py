@@ -240,3 +240,15 @@ def test_books_saved_by_libreoffice_validate_with_the_roster(issued, tmp_path, s
     ch = by["changed.xlsx"]
     assert [c["name"] for c in ch.given_changed] == ["L1"] and not ch.ok and ch.seal == "ok"
     assert by["tampered.xlsx"].seal.startswith("scene sheet edited") and not by["tampered.xlsx"].ok
+
+
+def test_summary_table_names_an_unusable_scene_whole():
+    """The reason of an error that does not start "path: " (an embedded scene that does not
+    read: "x.xlsx (embedded scene):23: ...") was cut two characters into it."""
+    from sheetkin.report import summary_table
+    from sheetkin.validator import Report
+    rep = Report("b.xlsx", error="b.xlsx (embedded scene):23: [[group]] #1 key 'length': unknown key")
+    assert rep.reason == rep.error
+    assert "b.xlsx (embedded scene):23:" in summary_table([rep]).splitlines()[1]
+    rep = Report("b.xlsx", error="b.xlsx: not a zip file")
+    assert rep.reason == "not a zip file" and summary_table([rep]).splitlines()[1].split()[-4:] == ["not", "a", "zip", "file"]
