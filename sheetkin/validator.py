@@ -256,8 +256,8 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
     ref_names = {ref_book.sheets[ref_sheet].consts.get((r, 1)): r for r in range(5, ref_book.sheets[ref_sheet].max_row + 1)}
     report = Report(path, author=str(sh.consts.get((2, 1), "") or ""), title=str(sh.consts.get((1, 1), "") or ""),
                     positions=positions, problems=list(evaluated.problems),
-                    student=_text(evaluated.value(main, names["student"], 4)) if "student" in names else "",
-                    group=_text(evaluated.value(main, names["group"], 4)) if "group" in names else "",
+                    student=_identity(evaluated, main, sh, names.get("student")),
+                    group=_identity(evaluated, main, sh, names.get("group")),
                     variant=given.variant, given_changed=given.changed, seal=given.seal,
                     accepted_changes=accept, notes=given.notes)
     report.position_names = [(ref_book.value(ref_sheet, ref_names["i"], FIRST_COL + k),
@@ -326,6 +326,17 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
     report.checks_passing = sum(check_passes(s) for s in statuses.values())
     report.checks_na = sum(check_na(s) for s in statuses.values())
     return report
+
+
+def _identity(evaluated, main: str, sh, row: int | None) -> str:
+    """The student's own name or group cell as text; a formula typed there that sheetkin
+    cannot compute (=HYPERLINK(...)) is what the spreadsheet saved, not "#NAME?"."""
+    if row is None:
+        return ""
+    v = evaluated.value(main, row, 4)
+    if sh.computed(row, 4) and evaluated.tag[main][row, 4] == 14 and (row, 4) in sh.cached:
+        v = sh.cached[(row, 4)]
+    return _text(v)
 
 
 def _text(v) -> str:

@@ -252,3 +252,24 @@ def test_summary_table_names_an_unusable_scene_whole():
     assert "b.xlsx (embedded scene):23:" in summary_table([rep]).splitlines()[1]
     rep = Report("b.xlsx", error="b.xlsx: not a zip file")
     assert rep.reason == "not a zip file" and summary_table([rep]).splitlines()[1].split()[-4:] == ["not", "a", "zip", "file"]
+
+
+def test_student_cell_with_a_formula_sheetkin_cannot_compute_is_the_saved_text():
+    """A student who typed =HYPERLINK("http://x";"click") as their name was listed as
+    "#NAME?" although the validator said the saved values were used."""
+    import numpy as np
+    from sheetkin.validator import _identity
+
+    class Sheet:
+        cached = {(6, 4): "click"}
+
+        def computed(self, r, c):
+            return True
+
+    class Evaluated:
+        tag = {"s": np.full((8, 8), 14)}
+
+        def value(self, sheet, r, c):
+            return "#NAME?"
+    assert _identity(Evaluated(), "s", Sheet(), 6) == "click"
+    assert _identity(Evaluated(), "s", Sheet(), None) == ""
