@@ -232,7 +232,16 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
                             "expected a workbook made by `sheetkin workbook`")
     lines = [book.sheets[SCENE_SHEET].consts.get((r, 1), "") for r in range(1, book.sheets[SCENE_SHEET].max_row + 1)]
     scene_text = "\n".join(str(x) for x in lines) + "\n"
-    scene = parse_scene(scene_text, f"{path} (embedded scene)")
+    try:
+        scene = parse_scene(scene_text, f"{path} (embedded scene)")
+    except SceneError as e:
+        # an issued book whose hidden sheet was edited until it no longer reads: say so
+        # (the seal) rather than only the line that does not parse
+        vid, found = issued.marks(book.sheets[SCENE_SHEET].consts)
+        broken = issued.seal_status(options.key if options else None, vid, scene_text, found) if vid else ""
+        if broken.startswith("scene sheet edited"):
+            raise UnusableInput(f"{path}: {broken}; and it no longer reads: {e}") from e
+        raise
     main = book.order[0]
     sh = book.sheets[main]
     evaluated = _evaluate_student(book)

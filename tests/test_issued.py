@@ -273,3 +273,15 @@ def test_student_cell_with_a_formula_sheetkin_cannot_compute_is_the_saved_text()
             return "#NAME?"
     assert _identity(Evaluated(), "s", Sheet(), 6) == "click"
     assert _identity(Evaluated(), "s", Sheet(), None) == ""
+
+
+def test_an_edited_scene_sheet_that_no_longer_reads_says_edited(issued, tmp_path):
+    """A student who breaks the hidden scene sheet's TOML was told only the line that does
+    not parse; with the key the validator says the sheet was edited (and why it is unusable)."""
+    book = edited(issued / "fourbar-01-key.xlsx", tmp_path / "broken.xlsx",
+                  scene_line=("lengths = ", "length = 0.05"))
+    rep = validate(book, options=opts(issued))
+    assert rep.error and "scene sheet edited" in rep.error and "no longer reads" in rep.error
+    assert "unknown key" in rep.error and "\n" not in rep.error
+    rep = validate(book)                       # no key: the parse error as before
+    assert rep.error and "scene sheet edited" not in rep.error and "unknown key" in rep.error
