@@ -28,6 +28,7 @@ import math
 import os
 import random
 import re
+import sys
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
@@ -339,6 +340,8 @@ def write_variants(variants: list[Variant], out: str | Path, *, force: bool = Fa
         for t in targets:
             if t.exists():
                 raise SceneError(one_line(f"{t}: exists; refusing to overwrite it (use --force, or another --out)"))
+    if out.exists() and not out.is_dir():
+        raise SceneError(one_line(f"--out {out}: not a folder"))
     out.mkdir(parents=True, exist_ok=True)
     key_path = out / KEY_FILE
     if key_path.exists():
@@ -378,8 +381,13 @@ def _atomic_book(path: Path, wb) -> None:
 
 
 def _atomic_bytes(path: Path, data: bytes, private: bool = False) -> None:
-    """Write to a temporary file beside `path`, then rename: a reader never sees half a file."""
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    """Write to a temporary file beside `path`, then rename: a reader never sees half a file.
+    An OSError names `path`, not the temporary file (a read-only folder once said
+    "out/..sheetkin-key.almuqx0p.tmp: Read-only file system")."""
+    try:
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    except OSError as e:
+        raise OSError(e.errno, e.strerror, str(path)) from None
     try:
         with os.fdopen(fd, "wb") as f:
             f.write(data)
@@ -391,4 +399,7 @@ def _atomic_bytes(path: Path, data: bytes, private: bool = False) -> None:
             os.unlink(tmp)
         except OSError:
             pass
+        if isinstance(sys.exc_info()[1], OSError):
+            e = sys.exc_info()[1]
+            raise OSError(e.errno, e.strerror, str(path)) from None
         raise

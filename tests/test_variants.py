@@ -287,3 +287,24 @@ def test_help_constants_are_the_modules():
     from sheetkin import cli, variants
     assert cli.VARIANTS_DEFAULTS == (variants.BAND, variants.MIN_DET, variants.MARGIN, variants.TRIES,
                                      variants.REVOLUTION_DEG)
+
+
+def test_write_errors_name_the_file_or_the_folder(tmp_path, capsys, monkeypatch):
+    """A read-only --out folder was reported by the temporary file's name
+    ("out/..sheetkin-key.almuqx0p.tmp: Read-only file system"), and an --out that is a file
+    as "out: File exists"."""
+    import errno
+    import tempfile
+    scene = str(Path(__file__).resolve().parents[1] / "workbooks" / "fourbar.toml")
+    afile = tmp_path / "afile"
+    afile.write_text("x")
+    assert main(["variants", scene, "-n", "1", "--out", str(afile), "--seed", "1"]) == 2
+    assert capsys.readouterr().err.strip().endswith(f"--out {afile}: not a folder")
+
+    def read_only(*a, **kw):
+        raise OSError(errno.EROFS, "Read-only file system")
+    monkeypatch.setattr(tempfile, "mkstemp", read_only)
+    out = tmp_path / "ro"
+    assert main(["variants", scene, "-n", "1", "--out", str(out), "--seed", "1"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.endswith(f"{out / KEY_FILE}: Read-only file system") and ".tmp" not in err and "\n" not in err
