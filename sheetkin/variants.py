@@ -197,6 +197,8 @@ def ranges(params: list[Param], vary: list[str] = ()) -> list[Range]:
         if m.group(1) not in by_name:
             raise SceneError(one_line(f"--vary {spec}: no given value {m.group(1)!r} in this scene; valid: "
                                       + ", ".join(n for p in params for n in p.names), 2000))
+        if by_name[m.group(1)].name in chosen:     # the last one silently won
+            raise SceneError(one_line(f"--vary {spec}: {m.group(1)} is given a range twice"))
         chosen[by_name[m.group(1)].name] = (lo, hi)
     out = []
     for p in params:
@@ -312,7 +314,7 @@ def make_variants(text: str, source: str, n: int, seed: int, vary: list[str] = (
     if len(kept) < n:
         bands = ", ".join(f"{r.param.name} {r.lo:g}..{r.hi:g}" for r in rngs)
         raise SceneError(one_line(
-            f"{source}: only {len(kept)} acceptable variants of the {n} asked for in {TRIES * n} tries "
+            f"{source}: only {len(kept)} acceptable variant{'' if len(kept) == 1 else 's'} of the {n} asked for in {TRIES * n} tries "
             f"within {bands} (rejected: " + ", ".join(f"{v} {k}" for k, v in rejected.items())
             + "); widen the ranges with --vary NAME=LO..HI or ask for fewer with -n", 2000))
     return kept

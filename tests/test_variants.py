@@ -308,3 +308,11 @@ def test_write_errors_name_the_file_or_the_folder(tmp_path, capsys, monkeypatch)
     assert main(["variants", scene, "-n", "1", "--out", str(out), "--seed", "1"]) == 2
     err = capsys.readouterr().err.strip()
     assert err.endswith(f"{out / KEY_FILE}: Read-only file system") and ".tmp" not in err and "\n" not in err
+
+
+def test_vary_twice_for_one_value_is_refused():
+    """--vary L2=0.45..0.55 --vary L2=0.4..0.6 used the last range without a word."""
+    params = parameters(text_of("fourbar.toml"))
+    with pytest.raises(SceneError, match=r"^--vary L2=0\.4\.\.0\.6: L2 is given a range twice$"):
+        ranges(params, ["L2=0.45..0.55", "L2=0.4..0.6"])
+    assert len(ranges(params, ["L2=0.45..0.55", "L3=0.3..0.4"])) == len(ranges(params, []))
