@@ -122,7 +122,7 @@ def test_refusals_are_one_line(capsys, tmp_path):
     code, _, err = run(capsys, "variants", yoke, "-n", 2, "--out", tmp_path / "a", "--seed", 1,
                        "--vary", "L1=0.1..0.1", "--vary", "across_C=-0.3..-0.3")
     assert code == 2 and err.count("\n") == 1
-    assert "only 1 acceptable variants of the 2 asked for" in err and "--vary" in err
+    assert "only 1 acceptable variant of the 2 asked for" in err and "--vary" in err
     assert not (tmp_path / "a").exists()                 # nothing written
     code, _, err = run(capsys, "variants", yoke, "-n", 2, "--out", tmp_path / "a", "--vary", "L9=0.1..0.2")
     assert code == 2 and err.count("\n") == 1
