@@ -106,10 +106,17 @@ def _copy_links(reports, k: int, copies: dict, with_reason: bool) -> str:
     out = []
     for j, why in copies.get(k, []):
         other = reports[j]
-        name = getattr(other, "student", "") or other.author or other.path
+        name = getattr(other, "student", "") or other.path
         out.append(f"<a href='#{_anchor(other, j)}' data-open='{_anchor(other, j)}'>{e(name)}</a>"
                    + (f" ({e(other.path)}: {e(why)})" if with_reason else ""))
     return ", ".join(out)
+
+
+def _cut(names: str, width: int) -> str:
+    """A ", "-joined list cut to about `width` characters at a name, "..." for the rest."""
+    if len(names) <= width:
+        return names
+    return names[:width].rsplit(", ", 1)[0] + ", ..."
 
 
 def _anchor(rep: Report, k: int) -> str:
@@ -138,13 +145,13 @@ def _picture(rep: Report) -> str:
 
 def _summary_row(rep: Report, k: int, copy: str = "") -> str:
     e = html.escape
-    who = getattr(rep, "student", "") or rep.author
+    who = getattr(rep, "student", "")
     group = getattr(rep, "group", "")
     variant = getattr(rep, "variant", None) or ""
     res = "unusable" if rep.error else ("correct" if rep.ok else "mistakes")
     cls = "ok" if res == "correct" else "wrong"
     sc = score(rep)
-    causes = ", ".join(c.name for c in rep.causes) if not rep.error else (rep.error[len(rep.path) + 2:][:80])
+    causes = ", ".join(c.name for c in rep.causes) if not rep.error else rep.reason[:80]
     missing = ", ".join(r.name for r in rep.missing)
     if getattr(rep, "given_changed", None):
         causes = "given data changed" + (f"; {causes}" if causes else "")
@@ -154,13 +161,13 @@ def _summary_row(rep: Report, k: int, copy: str = "") -> str:
             f"<td class='{cls}' data-sort='{ {'correct': 0, 'mistakes': 1, 'unusable': 2}[res] }'>{res}</td>"
             f"<td class='num'>{'' if rep.error else len(rep.wrong)}</td>"
             f"<td>{e(causes)}</td><td class='num' data-sort='{len(rep.missing)}'>{len(rep.missing) or ''}"
-            f"{' (' + e(missing[:80]) + ')' if missing else ''}</td><td class='{'wrong' if copy else ''}'>{copy}</td>"
+            f"{' (' + e(_cut(missing, 80)) + ')' if missing else ''}</td><td class='{'wrong' if copy else ''}'>{copy}</td>"
             f"<td>{e(rep.path)}</td></tr>")
 
 
 def _details(rep: Report, k: int, copy: str = "") -> list[str]:
     e = html.escape
-    who = getattr(rep, "student", "") or rep.author or rep.path
+    who = getattr(rep, "student", "") or rep.path
     res = "unusable" if rep.error else ("all correct" if rep.ok else f"{len(rep.wrong)} wrong, {len(rep.missing)} missing")
     out = [f"<details id='{_anchor(rep, k)}'><summary>{e(who)}: {e(res)}</summary>",
            f"<p class='note'>{e(rep.path)}{' - ' + e(rep.title) if rep.title else ''}</p>"]

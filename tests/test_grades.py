@@ -379,3 +379,20 @@ def test_checks_passing_counts_green_checks_only(tmp_path):
     empty, done = (dict(zip(head, x)) for x in lines[1:])
     assert (empty["checks passing"], empty["checks total"]) == ("0", "46")
     assert int(done["checks total"]) < 46 and done["checks passing"] == done["checks total"]
+
+
+def test_html_never_names_the_author_as_the_student():
+    """A book whose student left their cell blank was listed under A2, the scheme's author
+    ("sheetkin example" for every anonymous book of a class); an unusable book's reason was
+    cut two characters in when it did not start "path: "; a long list of missing rows ended
+    "a_A, )"."""
+    anon = report(correct=1, missing=30, student="")
+    anon.path, anon.author = "anon.xlsx", "sheetkin example"
+    for r in anon.rows:
+        r.name = f"row_{id(r) % 1000}_long_name"
+    broken = Report("b.xlsx", error="b.xlsx (embedded scene):23: unknown key")
+    page = html_page([anon, broken])
+    assert "sheetkin example" not in page.split("<tbody>")[1].split("</tbody>")[0]
+    assert "<a href='#s0' data-open='s0'>anon.xlsx</a>" in page and "anon.xlsx: " in page
+    assert "b.xlsx (embedded scene):23: unknown key" in page
+    assert ", )" not in page and ", ...)" in page
