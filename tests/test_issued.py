@@ -285,3 +285,14 @@ def test_an_edited_scene_sheet_that_no_longer_reads_says_edited(issued, tmp_path
     assert "unknown key" in rep.error and "\n" not in rep.error
     rep = validate(book)                       # no key: the parse error as before
     assert rep.error and "scene sheet edited" not in rep.error and "unknown key" in rep.error
+
+
+def test_empty_and_missing_rows_are_one_line_each():
+    """An empty exercise printed one line per row (60 lines "empty: Fi (row 32)" ...)."""
+    from sheetkin.validator import Report, RowReport
+    rep = Report("e.xlsx", positions=13,
+                 rows=[RowReport(f"r{k}", 30 + k, "empty") for k in range(60)] + [RowReport("omega_3", None, "missing")])
+    lines = text_report(rep).splitlines()
+    assert sum(line.startswith("  empty (60): r0 (row 30), r1 (row 31), ") for line in lines) == 1
+    assert "  missing (1): omega_3 (no row of that name in column A)" in lines
+    assert len(lines) == 4
