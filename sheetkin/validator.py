@@ -327,8 +327,14 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
     name_causes(report.rows, local, ancestors, input_names, derived_row)
     report.cache_mismatch = _cache_mismatches(evaluated, main, {r for n, r in names.items() if n.startswith("phi_")})
     # status 1 or an error fails; 0, n/a and "not filled in" do not (sheetkin/checks.py)
-    statuses = {n: evaluated.value(main, r, 4) for n, r in names.items()
+    # a status typed over its formula (a 0 typed to make the row green) says nothing: it
+    # fails, as an error would (it once hid the failing checks and raised the score)
+    statuses = {n: evaluated.value(main, r, 4) if sh.computed(r, 4) else "#TYPED"
+                for n, r in names.items()
                 if n.startswith(("chk", "fd_")) and kinds.get(n) in ("check", "fdcheck")}
+    typed = [n for n, v in statuses.items() if v == "#TYPED"]
+    if typed:
+        report.notes.append(f"check status typed over its formula (column D; counted as failing): {', '.join(typed)}")
     report.failing_checks = [n for n, s in statuses.items() if check_fails(s)]
     # not fields: grades count the checks that pass (0) of those that apply (not "н/д"), as the
     # sheet's summary does; "не заполнено" and "н/д" are not passing (an empty book passes none)

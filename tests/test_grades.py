@@ -396,3 +396,20 @@ def test_html_never_names_the_author_as_the_student():
     assert "<a href='#s0' data-open='s0'>anon.xlsx</a>" in page and "anon.xlsx: " in page
     assert "b.xlsx (embedded scene):23: unknown key" in page
     assert ", )" not in page and ", ...)" in page
+
+
+def test_check_status_typed_over_its_formula_fails(tmp_path):
+    """A 0 typed over every check's status (column D) hid the failing checks and gave back
+    2 points for each; a typed status now counts as failing and is named in a note."""
+    books = issue_variants(tmp_path / "issued")
+
+    def zero_statuses(ws, rows):
+        flip_sign("omega_3")(ws, rows)
+        for name, r in rows.items():
+            if name.startswith(("chk", "fd_")):
+                ws.cell(r, 4).value = 0
+    honest = validate(fill(*books["v1"], tmp_path / "honest.xlsx", change=flip_sign("omega_3")))
+    hidden = validate(fill(*books["v1"], tmp_path / "hidden.xlsx", change=zero_statuses))
+    assert honest.failing_checks and len(hidden.failing_checks) == hidden.checks_total
+    assert any("typed over its formula" in n for n in hidden.notes)
+    assert score(hidden) < score(honest)
