@@ -123,6 +123,17 @@ def write_summary(ws, lang: str, status_cells: list[str], status_range: str) -> 
     cf.add("D3", FormulaRule(formula=[f"AND({c['failing']}=0,{c['unfilled']}=0)"], fill=GREEN))
 
 
+def passing(status) -> bool:
+    """Whether a status cell's value says the check passes: 0 only (green); "н/д", "не
+    заполнено", 1 and errors do not (an empty exercise passes nothing)."""
+    return isinstance(status, (int, float)) and not isinstance(status, bool) and status == 0
+
+
+def not_applicable(status) -> bool:
+    """Whether a status cell's value is "н/д" (no position to check, in either language)."""
+    return isinstance(status, str) and status in {t["na"] for t in STATUS.values()}
+
+
 def failing(status) -> bool:
     """Whether a status cell's value (as read back) says the check fails: 1 (any number
     but 0) or an error; 0, "н/д" and "не заполнено" do not fail."""

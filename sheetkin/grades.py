@@ -51,11 +51,17 @@ def rows_correct(rep) -> tuple[int, int]:
 
 
 def checks_counts(rep) -> tuple[int | None, int | None]:
-    """(check rows passing, check rows of the sheet); None where unknown (unusable)."""
+    """(check rows passing, check rows that apply); None where unknown (unusable).
+
+    Passing is a status 0 (green) only: "не заполнено" is not passing (an empty exercise
+    passes no check), and "н/д" rows (numeric derivatives above 3 deg) are not counted."""
     total = getattr(rep, "checks_total", None)
     if rep.error or total is None:
         return None, None
-    return max(0, total - len(rep.failing_checks)), total
+    passing = getattr(rep, "checks_passing", None)
+    if passing is None:                         # a report made without the statuses
+        return max(0, total - len(rep.failing_checks)), total
+    return passing, total - getattr(rep, "checks_na", 0)
 
 
 def given_changed(rep, accept_changed: bool = False) -> bool:
@@ -93,7 +99,7 @@ def copy_text(reports, i: int, copies: dict) -> str:
 
 def causes_text(rep) -> str:
     if rep.error:
-        return "unusable: " + (rep.error[len(rep.path) + 2:] if rep.error.startswith(rep.path + ": ") else rep.error)
+        return "unusable: " + rep.reason
     return ";".join(c.name for c in rep.causes)
 
 

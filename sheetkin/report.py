@@ -48,8 +48,12 @@ def text_report(rep: Report) -> str:
     for n in given:         # given data that differ from the reference's (the issued variant's)
         deps = [r.name for r in dependents if n in r.because_of]
         lines.append(f"  wrong only because they depend on {n}: {', '.join(deps)}")
-    for r in rep.missing:
-        lines.append(f"  {r.status}: {r.name}" + (f" (row {r.row})" if r.row else " (no row of that name in column A)"))
+    # one line per kind (an empty exercise once printed 60 lines "empty: Fi (row 32)" ...)
+    for status, why in (("missing", " (no row of that name in column A)"), ("empty", "")):
+        rows = [r for r in rep.missing if r.status == status]
+        if rows:
+            lines.append(f"  {status} ({len(rows)}): " + ", ".join(
+                r.name + (f" (row {r.row})" if r.row else "") for r in rows) + (why if status == "missing" else ""))
     if rep.failing_checks:
         lines.append(f"  the sheet's own check rows that fail: {', '.join(rep.failing_checks)}")
     if rep.cache_mismatch:
@@ -82,7 +86,7 @@ def summary_table(reports: list[Report]) -> str:
     rows = [("file", "student", "result", "wrong", "missing", "first cause")]
     for r in reports:
         if r.error:
-            rows.append((r.path, "", "unusable", "", "", r.error[len(r.path) + 2:][:60]))
+            rows.append((r.path, "", "unusable", "", "", r.reason[:60]))
         else:
             # the student's own cells (A2, the author, is the scheme's, not the student's)
             who = ", ".join(x for x in (getattr(r, "student", ""), getattr(r, "group", "")) if x)

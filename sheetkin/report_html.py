@@ -113,6 +113,13 @@ def _copy_links(reports, k: int, copies: dict, with_reason: bool) -> str:
     return ", ".join(out)
 
 
+def _cut(names: str, width: int) -> str:
+    """A ", "-joined list cut to about `width` characters at a name, "..." for the rest."""
+    if len(names) <= width:
+        return names
+    return names[:width].rsplit(", ", 1)[0] + ", ..."
+
+
 def _anchor(rep: Report, k: int) -> str:
     return f"s{k}"
 
@@ -151,7 +158,7 @@ def _summary_row(rep: Report, k: int, copy: str = "") -> str:
     res = "unusable" if rep.error else ("correct" if rep.ok else "mistakes")
     cls = "ok" if res == "correct" else "wrong"
     sc = score(rep)
-    causes = ", ".join(c.name for c in rep.causes) if not rep.error else (rep.error[len(rep.path) + 2:][:80])
+    causes = ", ".join(c.name for c in rep.causes) if not rep.error else rep.reason[:80]
     missing = ", ".join(r.name for r in rep.missing)
     if getattr(rep, "given_changed", None):
         causes = "given data changed" + (f"; {causes}" if causes else "")
@@ -161,7 +168,7 @@ def _summary_row(rep: Report, k: int, copy: str = "") -> str:
             f"<td class='{cls}' data-sort='{ {'correct': 0, 'mistakes': 1, 'unusable': 2}[res] }'>{res}</td>"
             f"<td class='num'>{'' if rep.error else len(rep.wrong)}</td>"
             f"<td>{e(causes)}</td><td class='num' data-sort='{len(rep.missing)}'>{len(rep.missing) or ''}"
-            f"{' (' + e(missing[:80]) + ')' if missing else ''}</td><td class='{'wrong' if copy else ''}'>{copy}</td>"
+            f"{' (' + e(_cut(missing, 80)) + ')' if missing else ''}</td><td class='{'wrong' if copy else ''}'>{copy}</td>"
             f"<td>{e(rep.path)}</td></tr>")
 
 

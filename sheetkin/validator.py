@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from . import issued
-from .checks import failing as check_fails
+from .checks import failing as check_fails, not_applicable as check_na, passing as check_passes
 from .evaluator import Book, EvaluationError, evaluate_sheets
 from .xlsxread import Sheet, read_book
 from .scene import Scene, SceneError, parse_scene
@@ -102,6 +102,14 @@ class Report:
     @property
     def causes(self) -> list[RowReport]:
         return [r for r in self.rows if r.cause]
+
+    @property
+    def reason(self) -> str:
+        """The unusable file's reason without its leading "path: " (the tables name the
+        file in a column of their own); "" for a usable file."""
+        if not self.error:
+            return ""
+        return self.error[len(self.path) + 2:] if self.error.startswith(self.path + ": ") else self.error
 
     @property
     def ok(self) -> bool:
@@ -224,7 +232,16 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
                             "expected a workbook made by `sheetkin workbook`")
     lines = [book.sheets[SCENE_SHEET].consts.get((r, 1), "") for r in range(1, book.sheets[SCENE_SHEET].max_row + 1)]
     scene_text = "\n".join(str(x) for x in lines) + "\n"
-    scene = parse_scene(scene_text, f"{path} (embedded scene)")
+    try:
+        scene = parse_scene(scene_text, f"{path} (embedded scene)")
+    except SceneError as e:
+        # an issued book whose hidden sheet was edited until it no longer reads: say so
+        # (the seal) rather than only the line that does not parse
+        vid, found = issued.marks(book.sheets[SCENE_SHEET].consts)
+        broken = issued.seal_status(options.key if options else None, vid, scene_text, found) if vid else ""
+        if broken.startswith("scene sheet edited"):
+            raise UnusableInput(f"{path}: {broken}; and it no longer reads: {e}") from e
+        raise
     main = book.order[0]
     sh = book.sheets[main]
     evaluated = _evaluate_student(book)
@@ -248,8 +265,8 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
     ref_names = {ref_book.sheets[ref_sheet].consts.get((r, 1)): r for r in range(5, ref_book.sheets[ref_sheet].max_row + 1)}
     report = Report(path, author=str(sh.consts.get((2, 1), "") or ""), title=str(sh.consts.get((1, 1), "") or ""),
                     positions=positions, problems=list(evaluated.problems),
-                    student=_text(evaluated.value(main, names["student"], 4)) if "student" in names else "",
-                    group=_text(evaluated.value(main, names["group"], 4)) if "group" in names else "",
+                    student=_identity(evaluated, main, sh, names.get("student")),
+                    group=_identity(evaluated, main, sh, names.get("group")),
                     variant=given.variant, given_changed=given.changed, seal=given.seal,
                     accepted_changes=accept, notes=given.notes)
     report.position_names = [(ref_book.value(ref_sheet, ref_names["i"], FIRST_COL + k),
@@ -310,9 +327,31 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
     name_causes(report.rows, local, ancestors, input_names, derived_row)
     report.cache_mismatch = _cache_mismatches(evaluated, main, {r for n, r in names.items() if n.startswith("phi_")})
     # status 1 or an error fails; 0, n/a and "not filled in" do not (sheetkin/checks.py)
-    report.failing_checks = [n for n, r in names.items() if n.startswith(("chk", "fd_"))
-                             and kinds.get(n) in ("check", "fdcheck") and check_fails(evaluated.value(main, r, 4))]
+    # a status typed over its formula (a 0 typed to make the row green) says nothing: it
+    # fails, as an error would (it once hid the failing checks and raised the score)
+    statuses = {n: evaluated.value(main, r, 4) if sh.computed(r, 4) else "#TYPED"
+                for n, r in names.items()
+                if n.startswith(("chk", "fd_")) and kinds.get(n) in ("check", "fdcheck")}
+    typed = [n for n, v in statuses.items() if v == "#TYPED"]
+    if typed:
+        report.notes.append(f"check status typed over its formula (column D; counted as failing): {', '.join(typed)}")
+    report.failing_checks = [n for n, s in statuses.items() if check_fails(s)]
+    # not fields: grades count the checks that pass (0) of those that apply (not "н/д"), as the
+    # sheet's summary does; "не заполнено" and "н/д" are not passing (an empty book passes none)
+    report.checks_passing = sum(check_passes(s) for s in statuses.values())
+    report.checks_na = sum(check_na(s) for s in statuses.values())
     return report
+
+
+def _identity(evaluated, main: str, sh, row: int | None) -> str:
+    """The student's own name or group cell as text; a formula typed there that sheetkin
+    cannot compute (=HYPERLINK(...)) is what the spreadsheet saved, not "#NAME?"."""
+    if row is None:
+        return ""
+    v = evaluated.value(main, row, 4)
+    if sh.computed(row, 4) and evaluated.tag[main][row, 4] == 14 and (row, 4) in sh.cached:
+        v = sh.cached[(row, 4)]
+    return _text(v)
 
 
 def _text(v) -> str:

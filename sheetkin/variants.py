@@ -28,6 +28,7 @@ import math
 import os
 import random
 import re
+import sys
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
@@ -196,6 +197,8 @@ def ranges(params: list[Param], vary: list[str] = ()) -> list[Range]:
         if m.group(1) not in by_name:
             raise SceneError(one_line(f"--vary {spec}: no given value {m.group(1)!r} in this scene; valid: "
                                       + ", ".join(n for p in params for n in p.names), 2000))
+        if by_name[m.group(1)].name in chosen:     # the last one silently won
+            raise SceneError(one_line(f"--vary {spec}: {m.group(1)} is given a range twice"))
         chosen[by_name[m.group(1)].name] = (lo, hi)
     out = []
     for p in params:
@@ -311,7 +314,7 @@ def make_variants(text: str, source: str, n: int, seed: int, vary: list[str] = (
     if len(kept) < n:
         bands = ", ".join(f"{r.param.name} {r.lo:g}..{r.hi:g}" for r in rngs)
         raise SceneError(one_line(
-            f"{source}: only {len(kept)} acceptable variants of the {n} asked for in {TRIES * n} tries "
+            f"{source}: only {len(kept)} acceptable variant{'' if len(kept) == 1 else 's'} of the {n} asked for in {TRIES * n} tries "
             f"within {bands} (rejected: " + ", ".join(f"{v} {k}" for k, v in rejected.items())
             + "); widen the ranges with --vary NAME=LO..HI or ask for fewer with -n", 2000))
     return kept
@@ -339,6 +342,8 @@ def write_variants(variants: list[Variant], out: str | Path, *, force: bool = Fa
         for t in targets:
             if t.exists():
                 raise SceneError(one_line(f"{t}: exists; refusing to overwrite it (use --force, or another --out)"))
+    if out.exists() and not out.is_dir():
+        raise SceneError(one_line(f"--out {out}: not a folder"))
     out.mkdir(parents=True, exist_ok=True)
     key_path = out / KEY_FILE
     if key_path.exists():
@@ -378,8 +383,13 @@ def _atomic_book(path: Path, wb) -> None:
 
 
 def _atomic_bytes(path: Path, data: bytes, private: bool = False) -> None:
-    """Write to a temporary file beside `path`, then rename: a reader never sees half a file."""
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    """Write to a temporary file beside `path`, then rename: a reader never sees half a file.
+    An OSError names `path`, not the temporary file (a read-only folder once said
+    "out/..sheetkin-key.almuqx0p.tmp: Read-only file system")."""
+    try:
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    except OSError as e:
+        raise OSError(e.errno, e.strerror, str(path)) from None
     try:
         with os.fdopen(fd, "wb") as f:
             f.write(data)
@@ -391,4 +401,7 @@ def _atomic_bytes(path: Path, data: bytes, private: bool = False) -> None:
             os.unlink(tmp)
         except OSError:
             pass
+        if isinstance(sys.exc_info()[1], OSError):
+            e = sys.exc_info()[1]
+            raise OSError(e.errno, e.strerror, str(path)) from None
         raise

@@ -371,3 +371,51 @@ def test_grades_csv_fuzz_round_trip(people):
         for col, text in (("student", student), ("group", group), ("variant", variant), ("file", path)):
             assert not row[col].startswith(("=", "+", "-", "@", "\t", "\r"))
             assert row[col] in (text, "'" + text)
+
+
+def test_checks_passing_counts_green_checks_only(tmp_path):
+    """An empty exercise passes no check ("не заполнено" is not passing: it once counted 46
+    of 46), and the "н/д" rows of a full book (numeric derivatives at 30 deg) are not counted
+    among those that apply, as the sheet's summary E2:I2 counts them."""
+    books = issue_variants(tmp_path / "issued")
+    ex, key = books["v1"]
+    full = fill(ex, key, tmp_path / "full.xlsx", student="A B")
+    lines, _ = grade_lines([validate(ex), validate(full)], {})
+    head = lines[0]
+    empty, done = (dict(zip(head, x)) for x in lines[1:])
+    assert (empty["checks passing"], empty["checks total"]) == ("0", "46")
+    assert int(done["checks total"]) < 46 and done["checks passing"] == done["checks total"]
+
+
+def test_html_never_names_the_author_as_the_student():
+    """A book whose student left their cell blank was listed under A2, the scheme's author
+    ("sheetkin example" for every anonymous book of a class); an unusable book's reason was
+    cut two characters in when it did not start "path: "; a long list of missing rows ended
+    "a_A, )"."""
+    anon = report(correct=1, missing=30, student="")
+    anon.path, anon.author = "anon.xlsx", "sheetkin example"
+    for r in anon.rows:
+        r.name = f"row_{id(r) % 1000}_long_name"
+    broken = Report("b.xlsx", error="b.xlsx (embedded scene):23: unknown key")
+    page = html_page([anon, broken])
+    assert "sheetkin example" not in page.split("<tbody>")[1].split("</tbody>")[0]
+    assert "<a href='#s0' data-open='s0'>anon.xlsx</a>" in page and "anon.xlsx: " in page
+    assert "b.xlsx (embedded scene):23: unknown key" in page
+    assert ", )" not in page and ", ...)" in page
+
+
+def test_check_status_typed_over_its_formula_fails(tmp_path):
+    """A 0 typed over every check's status (column D) hid the failing checks and gave back
+    2 points for each; a typed status now counts as failing and is named in a note."""
+    books = issue_variants(tmp_path / "issued")
+
+    def zero_statuses(ws, rows):
+        flip_sign("omega_3")(ws, rows)
+        for name, r in rows.items():
+            if name.startswith(("chk", "fd_")):
+                ws.cell(r, 4).value = 0
+    honest = validate(fill(*books["v1"], tmp_path / "honest.xlsx", change=flip_sign("omega_3")))
+    hidden = validate(fill(*books["v1"], tmp_path / "hidden.xlsx", change=zero_statuses))
+    assert honest.failing_checks and len(hidden.failing_checks) == hidden.checks_total
+    assert any("typed over its formula" in n for n in hidden.notes)
+    assert score(hidden) < score(honest)

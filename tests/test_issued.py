@@ -232,3 +232,59 @@ def test_books_saved_by_libreoffice_validate_with_the_roster(issued, tmp_path, s
     ch = by["changed.xlsx"]
     assert [c["name"] for c in ch.given_changed] == ["L1"] and not ch.ok and ch.seal == "ok"
     assert by["tampered.xlsx"].seal.startswith("scene sheet edited") and not by["tampered.xlsx"].ok
+
+
+def test_summary_table_names_an_unusable_scene_whole():
+    """The reason of an error that does not start "path: " (an embedded scene that does not
+    read: "x.xlsx (embedded scene):23: ...") was cut two characters into it."""
+    from sheetkin.report import summary_table
+    from sheetkin.validator import Report
+    rep = Report("b.xlsx", error="b.xlsx (embedded scene):23: [[group]] #1 key 'length': unknown key")
+    assert rep.reason == rep.error
+    assert "b.xlsx (embedded scene):23:" in summary_table([rep]).splitlines()[1]
+    rep = Report("b.xlsx", error="b.xlsx: not a zip file")
+    assert rep.reason == "not a zip file" and summary_table([rep]).splitlines()[1].split()[-4:] == ["not", "a", "zip", "file"]
+
+
+def test_student_cell_with_a_formula_sheetkin_cannot_compute_is_the_saved_text():
+    """A student who typed =HYPERLINK("http://x";"click") as their name was listed as
+    "#NAME?" although the validator said the saved values were used."""
+    import numpy as np
+    from sheetkin.validator import _identity
+
+    class Sheet:
+        cached = {(6, 4): "click"}
+
+        def computed(self, r, c):
+            return True
+
+    class Evaluated:
+        tag = {"s": np.full((8, 8), 14)}
+
+        def value(self, sheet, r, c):
+            return "#NAME?"
+    assert _identity(Evaluated(), "s", Sheet(), 6) == "click"
+    assert _identity(Evaluated(), "s", Sheet(), None) == ""
+
+
+def test_an_edited_scene_sheet_that_no_longer_reads_says_edited(issued, tmp_path):
+    """A student who breaks the hidden scene sheet's TOML was told only the line that does
+    not parse; with the key the validator says the sheet was edited (and why it is unusable)."""
+    book = edited(issued / "fourbar-01-key.xlsx", tmp_path / "broken.xlsx",
+                  scene_line=("lengths = ", "length = 0.05"))
+    rep = validate(book, options=opts(issued))
+    assert rep.error and "scene sheet edited" in rep.error and "no longer reads" in rep.error
+    assert "unknown key" in rep.error and "\n" not in rep.error
+    rep = validate(book)                       # no key: the parse error as before
+    assert rep.error and "scene sheet edited" not in rep.error and "unknown key" in rep.error
+
+
+def test_empty_and_missing_rows_are_one_line_each():
+    """An empty exercise printed one line per row (60 lines "empty: Fi (row 32)" ...)."""
+    from sheetkin.validator import Report, RowReport
+    rep = Report("e.xlsx", positions=13,
+                 rows=[RowReport(f"r{k}", 30 + k, "empty") for k in range(60)] + [RowReport("omega_3", None, "missing")])
+    lines = text_report(rep).splitlines()
+    assert sum(line.startswith("  empty (60): r0 (row 30), r1 (row 31), ") for line in lines) == 1
+    assert "  missing (1): omega_3 (no row of that name in column A)" in lines
+    assert len(lines) == 4

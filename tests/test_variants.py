@@ -114,7 +114,7 @@ def test_refusals_are_one_line(capsys, tmp_path):
     code, _, err = run(capsys, "variants", yoke, "-n", 2, "--out", tmp_path / "a", "--seed", 1,
                        "--vary", "L1=0.1..0.1", "--vary", "across_C=-0.3..-0.3")
     assert code == 2 and err.count("\n") == 1
-    assert "only 1 acceptable variants of the 2 asked for" in err and "--vary" in err
+    assert "only 1 acceptable variant of the 2 asked for" in err and "--vary" in err
     assert not (tmp_path / "a").exists()                 # nothing written
     code, _, err = run(capsys, "variants", yoke, "-n", 2, "--out", tmp_path / "a", "--vary", "L9=0.1..0.2")
     assert code == 2 and err.count("\n") == 1
@@ -279,3 +279,32 @@ def test_help_constants_are_the_modules():
     from sheetkin import cli, variants
     assert cli.VARIANTS_DEFAULTS == (variants.BAND, variants.MIN_DET, variants.MARGIN, variants.TRIES,
                                      variants.REVOLUTION_DEG)
+
+
+def test_write_errors_name_the_file_or_the_folder(tmp_path, capsys, monkeypatch):
+    """A read-only --out folder was reported by the temporary file's name
+    ("out/..sheetkin-key.almuqx0p.tmp: Read-only file system"), and an --out that is a file
+    as "out: File exists"."""
+    import errno
+    import tempfile
+    scene = str(Path(__file__).resolve().parents[1] / "workbooks" / "fourbar.toml")
+    afile = tmp_path / "afile"
+    afile.write_text("x")
+    assert main(["variants", scene, "-n", "1", "--out", str(afile), "--seed", "1"]) == 2
+    assert capsys.readouterr().err.strip().endswith(f"--out {afile}: not a folder")
+
+    def read_only(*a, **kw):
+        raise OSError(errno.EROFS, "Read-only file system")
+    monkeypatch.setattr(tempfile, "mkstemp", read_only)
+    out = tmp_path / "ro"
+    assert main(["variants", scene, "-n", "1", "--out", str(out), "--seed", "1"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.endswith(f"{out / KEY_FILE}: Read-only file system") and ".tmp" not in err and "\n" not in err
+
+
+def test_vary_twice_for_one_value_is_refused():
+    """--vary L2=0.45..0.55 --vary L2=0.4..0.6 used the last range without a word."""
+    params = parameters(text_of("fourbar.toml"))
+    with pytest.raises(SceneError, match=r"^--vary L2=0\.4\.\.0\.6: L2 is given a range twice$"):
+        ranges(params, ["L2=0.45..0.55", "L2=0.4..0.6"])
+    assert len(ranges(params, ["L2=0.45..0.55", "L3=0.3..0.4"])) == len(ranges(params, []))
