@@ -37,7 +37,9 @@ def text_report(rep: Report) -> str:
         else:
             lines.append(f"  likely cause: {where}: wrong from {position_name(rep, r.first_wrong)}"
                          f" (expected {_num(r.expected)}, got {_num(r.got)}); wrong at "
-                         f"{position_list(rep, r.wrong_cells)}; largest error {_num(r.max_error)}")
+                         f"{position_list(rep, r.wrong_cells)}; "
+                         + ("an error value or text where a number belongs" if math.isinf(r.max_error)
+                            else f"largest error {_num(r.max_error)}"))
     dependents = [r for r in rep.wrong if not r.cause]
     for cause in rep.causes:
         deps = [r.name for r in dependents if cause.name in r.because_of]

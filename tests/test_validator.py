@@ -249,3 +249,17 @@ def test_json_html_and_progress(fourbar, tmp_path, capsys):
     assert "2/2" in captured.err and "#" in captured.err
     page = html.read_text(encoding="utf-8")
     assert "omega_2" in page and "class='wrong'" in page and "likely cause" in page
+
+
+def test_a_cause_that_is_an_error_value_says_so(fourbar, tmp_path):
+    """A formula giving #DIV/0! where a number belongs: the cause says what it is, not
+    "largest error inf"."""
+    from sheetkin.report import text_report
+
+    def div0(ws, rows):
+        for k in range(13):
+            ws.cell(rows["omega_2"], 5 + k).value = "=1/0"
+    rep = validate(edit(fourbar, tmp_path / "div0.xlsx", div0))
+    assert [c.name for c in rep.causes] == ["omega_2"]
+    text = text_report(rep)
+    assert "an error value or text where a number belongs" in text and "largest error inf" not in text
