@@ -652,6 +652,9 @@ def cmd_validate(args) -> int:
         sys.stderr.write("\n")
     if keyless and any(r.variant for r in reports):
         print(f"sheetkin: note: {keyless}", file=sys.stderr)
+    print_once = _mismatched_key(reports, options)
+    if print_once:
+        print(f"sheetkin: warning: {print_once}", file=sys.stderr)
     if args.json:
         sys.stdout.write(json_report(reports))
     elif len(reports) > 1:
@@ -663,6 +666,21 @@ def cmd_validate(args) -> int:
     if any(r.error for r in reports):
         return EXIT_INPUT
     return 0 if all(r.ok for r in reports) else 1
+
+
+def _mismatched_key(reports, options) -> str:
+    """One warning when no issued book's seal matches the key, or no book's variant is in
+    the roster: a teacher who gave another class's key or roster, rather than a class of
+    students who all edited their scene sheets (each book still says so on its own)."""
+    issued = [r for r in reports if not r.error and r.variant]
+    if len(issued) < 2:
+        return ""
+    if options.key is not None and not any(r.seal == "ok" for r in issued):
+        return (f"none of the {len(issued)} issued books' seals matches the key: is the key (or "
+                "--roster's folder) another class's?")
+    if options.roster is not None and all("is not in" in r.seal for r in issued):
+        return f"none of the {len(issued)} books' variants is in {options.roster.path}: is it another class's roster?"
+    return ""
 
 
 def _issued_options(args):

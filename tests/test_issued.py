@@ -120,8 +120,8 @@ def test_the_seal_catches_an_edited_scene_sheet(issued, tmp_path, capsys):
 
 
 def test_a_plain_workbook_is_its_own_variant(tmp_path):
-    """A book made by `sheetkin workbook` (no variant id): the input block is the variant,
-    as before issue 13."""
+    """A book made by `sheetkin workbook` (no variant id, no seal): its embedded scene is the
+    issued data; unchanged, it passes (a changed one: tests/test_validator.py)."""
     book = edited(ROOT / "workbooks" / "fourbar.xlsx", tmp_path / "plain.xlsx", {"student": "Сидоров"})
     rep = validate(book)
     assert rep.ok and rep.variant == "" and rep.seal == "" and rep.student == "Сидоров"
@@ -288,3 +288,18 @@ def test_empty_and_missing_rows_are_one_line_each():
     assert sum(line.startswith("  empty (60): r0 (row 30), r1 (row 31), ") for line in lines) == 1
     assert "  missing (1): omega_3 (no row of that name in column A)" in lines
     assert len(lines) == 4
+
+
+def test_another_class_key_or_roster_is_one_warning(issued, tmp_path, capsys):
+    """The teacher gives another class's key (or roster): every book's seal fails, and one
+    warning says what is the likely cause, rather than only a class of "edited" books."""
+    other = tmp_path / "other"
+    assert main(["variants", str(ROOT / "workbooks" / "fourbar.toml"), "-n", "2", "--out", str(other),
+                 "--seed", "5"]) == 0
+    capsys.readouterr()
+    books = sorted(str(p) for p in issued.glob("*-key.xlsx"))
+    code, out, err = run(capsys, "validate", *books, "--roster", issued / "roster.csv", "--key", other / KEY_FILE)
+    assert code == 1 and "none of the 2 issued books' seals matches the key" in err
+    assert "scene sheet edited" in out
+    code, out, err = run(capsys, "validate", *books, "--roster", issued / "roster.csv")
+    assert code == 0 and "warning" not in err                      # the right key: no warning
