@@ -46,8 +46,11 @@ def safe_text(text: object) -> str:
 
 
 def rows_correct(rep) -> tuple[int, int]:
-    """(rows correct, rows graded): every computed row the reference has."""
-    return sum(r.status == "correct" for r in rep.rows), len(rep.rows)
+    """(rows correct, rows graded): every computed row the reference has, except those the
+    exercise gives filled in (phi_1, the guards): an empty exercise scores 0."""
+    from .workbook import prefilled_in_exercise
+    graded = [r for r in rep.rows if not prefilled_in_exercise(r.name, r.kind)]
+    return sum(r.status == "correct" for r in graded), len(graded)
 
 
 def checks_counts(rep) -> tuple[int | None, int | None]:

@@ -182,6 +182,14 @@ _TEXT = {
 _EXERCISE_KEEP = {"i", "phi_1"}
 
 
+def prefilled_in_exercise(name: str, kind: str) -> bool:
+    """Rows an exercise workbook gives filled in: the position's number and crank angle, and
+    the rows that are not computed values (guards: does the group assemble?). They are the
+    exercise's, not the student's work, so grades leave them out (sheetkin/grades.py). The
+    derived values of column D (Alfa_A ...) are left blank in an exercise: graded."""
+    return kind == "guard" or name in _EXERCISE_KEEP
+
+
 def _compile(rows: list[Row], first_row: int, last_col: str):
     """Row number of every name, and each formula as a str.format template over the
     column letters c (this position), p (previous), n (next)."""

@@ -419,3 +419,17 @@ def test_check_status_typed_over_its_formula_fails(tmp_path):
     assert honest.failing_checks and len(hidden.failing_checks) == hidden.checks_total
     assert any("typed over its formula" in n for n in hidden.notes)
     assert score(hidden) < score(honest)
+
+
+def test_an_empty_exercise_scores_zero(tmp_path):
+    """The rows an exercise gives filled in (phi_1, the guards) are not the student's work:
+    an exercise handed in as it was issued scores 0, and a key 100."""
+    import sheetkin
+    from sheetkin.workbook import write_workbook
+    text = (Path(__file__).resolve().parents[1] / "workbooks" / "fourbar.toml").read_text(encoding="utf-8")
+    scene = sheetkin.parse_scene(text, "fourbar.toml")
+    write_workbook(scene, tmp_path / "ex.xlsx", exercise=True, scene_text=text)
+    write_workbook(scene, tmp_path / "key.xlsx", scene_text=text)
+    empty, key = validate(tmp_path / "ex.xlsx"), validate(tmp_path / "key.xlsx")
+    assert score(empty) == 0.0 and score(key) == 100.0
+    assert {r.name for r in empty.rows if r.status == "correct"} >= {"phi_1"}    # right, but given
