@@ -15,31 +15,10 @@ import sheetkin
 from sheetkin import drawing
 from sheetkin.animate import animate, html_page
 from sheetkin.cli import main
+from scenes import SHORT  # noqa: E402  (tests/ is on sys.path)
 
 ROOT = Path(__file__).resolve().parent.parent
 WB = ROOT / "workbooks"
-
-SHORT = """\
-title = "RRR that cannot assemble over part of the revolution"
-[frame]
-O = [0.0, 0.0]
-O1 = [0.3, 0.0]
-[crank]
-pivot = "O"
-joint = "A"
-length = 0.2
-phi0_deg = 0.0
-step_deg = 30.0
-positions = 13
-omega = 10.0
-epsilon = 0.0
-[[group]]
-type = "RRR"
-links = [2, 3]
-joints = ["A", "B", "O1"]
-lengths = [0.25, 0.15]
-branch = 1
-"""
 
 
 @pytest.fixture(scope="module")

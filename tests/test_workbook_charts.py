@@ -17,29 +17,9 @@ from libreoffice import is_error, recalculate
 from sheetkin import drawing
 from sheetkin.workbook import build_workbook
 from sheetkin.workbook_charts import HELPER_COL, PATHS_SHEET, PLOT, equal_axes
+from scenes import SHORT  # noqa: E402  (tests/ is on sys.path)
 
 WB = Path(__file__).resolve().parent.parent / "workbooks"
-SHORT = """\
-title = "short coupler"
-[frame]
-O = [0.0, 0.0]
-O1 = [0.3, 0.0]
-[crank]
-pivot = "O"
-joint = "A"
-length = 0.2
-phi0_deg = 0.0
-step_deg = 30.0
-positions = 13
-omega = 10.0
-epsilon = 0.0
-[[group]]
-type = "RRR"
-links = [2, 3]
-joints = ["A", "B", "O1"]
-lengths = [0.25, 0.15]
-branch = 1
-"""
 
 
 def _rows(ws) -> dict[str, int]:
