@@ -276,8 +276,8 @@ def test_wide_ranges_keep_grashof():
 
 
 def test_help_constants_are_the_modules():
-    from sheetkin import cli, variants
-    assert cli.VARIANTS_DEFAULTS == (variants.BAND, variants.MIN_DET, variants.MARGIN, variants.TRIES,
+    from sheetkin import cli_args, variants
+    assert cli_args.VARIANTS_DEFAULTS == (variants.BAND, variants.MIN_DET, variants.MARGIN, variants.TRIES,
                                      variants.REVOLUTION_DEG)
 
 
