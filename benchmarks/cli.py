@@ -6,7 +6,7 @@ Run on demand, not by the tests. Four-bar of seed 000 (workbooks/fourbar.toml):
 
 * output: `sheetkin compute --range ... --format csv|json|parquet -o FILE` at --positions
   positions (1e5: --range 0:360:0.0036), as a process (wall clock, start-up included) and
-  in-process (sheetkin.output.write_compute), best and median of --repeat; next to it, what
+  in-process (sheetkin.views.output.write_compute), best and median of --repeat; next to it, what
   the command did before (pandas: compute()'s DataFrame and DataFrame.to_csv, json.dumps of
   its records), once;
 * streaming: the same command at --stream positions (1e7: --range 0:360:0.000036) to a file
@@ -68,8 +68,8 @@ def best_median(times):
 def output_speed(n: int, repeat: int) -> dict:
     import numpy as np
     import sheetkin
-    from sheetkin.angles import parse_range
-    from sheetkin.output import write_compute
+    from sheetkin.cli.angles import parse_range
+    from sheetkin.views.output import write_compute
     scene = sheetkin.load_scene(SCENE)
     spec = range_for(n)
     phi = parse_range(spec)
@@ -119,8 +119,8 @@ def streaming(n: int) -> dict:
         out["file"] = {"seconds": wall, "peak_rss_mb": rss, "bytes": os.path.getsize(target)}
     wall, rss = run(base, stdout=subprocess.PIPE)
     out["stdout"] = {"seconds": wall, "peak_rss_mb": rss}
-    # the baseline: a process that imports numpy and sheetkin.output and does nothing
-    _, rss0 = run([sys.executable, "-c", "import sheetkin.output"])
+    # the baseline: a process that imports numpy and sheetkin.views.output and does nothing
+    _, rss0 = run([sys.executable, "-c", "import sheetkin.views.output"])
     out["import_rss_mb"] = rss0
     return out
 
@@ -177,7 +177,7 @@ def main():
             v = st[k]
             extra = f", {v['bytes'] / 1e9:.2f} GB" if "bytes" in v else ""
             print(f"  to {k:<7} {v['seconds']:8.1f} s, peak RSS {v['peak_rss_mb']:.0f} MB{extra}")
-        print(f"  (a process importing sheetkin.output: {st['import_rss_mb']:.0f} MB)")
+        print(f"  (a process importing sheetkin.views.output: {st['import_rss_mb']:.0f} MB)")
     res["load_after"] = os.getloadavg()
     print(f"\nload average before / after: {res['load_before'][0]:.1f} / {res['load_after'][0]:.1f}")
     if args.json:

@@ -5,7 +5,7 @@
 Run on demand, not by the tests. On 360-column workbooks of the four-bar (1 deg steps) and
 the shaper (-1 deg steps), made with `sheetkin workbook ... --positions 360`, it times:
 
-* ours: sheetkin.evaluator.evaluate(path), end to end (the input gate and reading the xlsx
+* ours: sheetkin.xlsx.evaluator.evaluate(path), end to end (the input gate and reading the xlsx
   included), best and median of --repeat runs, twice: cold (the evaluator's caches of parsed
   formulas and run templates cleared before every run: one workbook on its own) and warm (the
   caches kept: what each further workbook of a class costs, the formulas being the same);
@@ -17,7 +17,7 @@ the shaper (-1 deg steps), made with `sheetkin workbook ... --positions 360`, it
   workbook of the same mechanism instead, and the table says so. A few cells are compared
   with ours (sanity). `formulas` is NOT a dependency of sheetkin: install it for this
   benchmark with `pip install formulas`; without it that part is reported as skipped;
-* LibreOffice headless: sheetkin.libreoffice.recalculate() (the harness the tests use) of the
+* LibreOffice headless: sheetkin.xlsx.libreoffice.recalculate() (the harness the tests use) of the
   one file, end to end (soffice start-up included), and the time per file when --copies
   copies are recalculated in one soffice call.
 
@@ -41,9 +41,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-import sheetkin.evaluator as E  # noqa: E402
-import sheetkin.formula_runs as R  # noqa: E402
-from sheetkin.evaluator import evaluate  # noqa: E402
+import sheetkin.xlsx.evaluator as E  # noqa: E402
+import sheetkin.xlsx.runs as R  # noqa: E402
+from sheetkin.xlsx.evaluator import evaluate  # noqa: E402
 
 MECHANISMS = (("fourbar", 1.0), ("shaper", -1.0))
 
@@ -75,8 +75,8 @@ def time_ours(path: Path, repeat: int, cold: bool = True):
 
 def phases(path: Path, repeat: int) -> dict[str, float]:
     """Best time of each stage of a cold evaluate(path), through the modules' own steps."""
-    from sheetkin import xlsxread as X
-    from sheetkin.xlsxsafe import open_package, sheet_parts
+    from sheetkin.xlsx import cells as X
+    from sheetkin.xlsx.package import open_package, sheet_parts
     best: dict[str, float] = {}
 
     def lap(name, t0):
@@ -192,7 +192,7 @@ def close(a, b) -> bool:
 
 # --------------------------------------------------------------------------- LibreOffice
 def time_libreoffice(path: Path, copies: int, work: Path):
-    from sheetkin.libreoffice import recalculate, soffice_path
+    from sheetkin.xlsx.libreoffice import recalculate, soffice_path
     if soffice_path() is None:
         return None, None
     out = work / "lo_single"

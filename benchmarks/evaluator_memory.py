@@ -5,7 +5,7 @@
 Run on demand, not by the tests. Builds (XML written directly, no openpyxl) one workbook
 that sits at the documented limits of xlsxsafe.Limits and the evaluator (README, "What
 files the evaluator reads"), about 50 MB on disk, then evaluates it in a child process
-(`sheetkin.evaluator.evaluate(path, strict=False)`) and reports the child's peak resident
+(`sheetkin.xlsx.evaluator.evaluate(path, strict=False)`) and reports the child's peak resident
 memory (VmHWM from /proc/self/status, and ru_maxrss) and wall time, for the whole run and
 for reading alone (`read_book`). Target: peak RSS below 1 GB.
 
@@ -46,7 +46,7 @@ sys.path.insert(0, str(ROOT))
 
 from openpyxl.utils import get_column_letter  # noqa: E402
 
-from sheetkin.xlsxsafe import Limits  # noqa: E402
+from sheetkin.xlsx.package import Limits  # noqa: E402
 
 NS = "http://schemas.openxmlformats.org/spreadsheetml/2006/main"
 RNS = "http://schemas.openxmlformats.org/officeDocument/2006/relationships"
@@ -177,8 +177,8 @@ def build(path: Path, parts: set[str], limits: Limits, seed: int = 1) -> dict:
 CHILD = r"""
 import json, resource, sys, time
 sys.path.insert(0, sys.argv[1])
-from sheetkin.evaluator import evaluate
-from sheetkin.xlsxread import read_book
+from sheetkin.xlsx.evaluator import evaluate
+from sheetkin.xlsx.cells import read_book
 
 def hwm():
     for line in open("/proc/self/status"):

@@ -43,7 +43,7 @@ import sheetkin  # noqa: E402
 
 # the module (sheetkin.compute, the attribute, is the function; `import sheetkin` loads
 # the module lazily, on first use, since issue 15)
-C = importlib.import_module("sheetkin.compute")
+C = importlib.import_module("sheetkin.kinematics.table")
 
 # ---------------------------------------------------------------------------------------
 # Synthetic chain

@@ -19,7 +19,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from sheetkin.scene import parse_scene  # noqa: E402
+from sheetkin.kinematics.scene import parse_scene  # noqa: E402
 
 
 def main() -> int:

@@ -28,7 +28,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 import sheetkin  # noqa: E402
-from sheetkin.compute import solve_table  # noqa: E402
+from sheetkin.kinematics.table import solve_table  # noqa: E402
 
 
 def timings(fn, repeat: int) -> tuple[float, float]:

@@ -38,8 +38,8 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 import sheetkin  # noqa: E402
-from sheetkin.scene import override_crank  # noqa: E402
-from sheetkin.workbook import write_workbook  # noqa: E402
+from sheetkin.kinematics.scene import override_crank  # noqa: E402
+from sheetkin.sheet.workbook import write_workbook  # noqa: E402
 
 SCENE = ROOT / "workbooks" / "fourbar.toml"
 COLUMNS = {13: 30.0, 37: 10.0, 360: 1.0}             # positions: crank step (deg)
@@ -51,7 +51,7 @@ def base_workbook(columns: int, folder: Path) -> tuple[bytes, int]:
     text, scene = override_crank(text, str(SCENE), positions=columns, step_deg=COLUMNS[columns])
     path = folder / f"base{columns}.xlsx"
     write_workbook(scene, path, scene_text=text)
-    from sheetkin.workbook import sheet_rows
+    from sheetkin.sheet.workbook import sheet_rows
     row = 5 + [r.name for r in sheet_rows(scene).rows].index("L1")
     return path.read_bytes(), row
 

@@ -18,8 +18,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from sheetkin.scene import override_crank  # noqa: E402
-from sheetkin.workbook import build_workbook  # noqa: E402
+from sheetkin.kinematics.scene import override_crank  # noqa: E402
+from sheetkin.sheet.workbook import build_workbook  # noqa: E402
 
 
 def main(argv=None) -> int:

@@ -21,7 +21,7 @@ import numpy as np  # noqa: E402
 
 import sheetkin  # noqa: E402
 from sheetkin.groups import kind_of  # noqa: E402
-from sheetkin.scene import link_joints  # noqa: E402
+from sheetkin.kinematics.scene import link_joints  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 COLORS = plt.rcParams["axes.prop_cycle"].by_key()["color"]

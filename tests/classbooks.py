@@ -9,7 +9,7 @@ import openpyxl
 
 import sheetkin
 from scenes import FOURBAR
-from sheetkin.workbook import write_workbook
+from sheetkin.sheet.workbook import write_workbook
 
 # five variants of the spec's four-bar: the crank's length differs (the teacher's variants
 # would differ in more; one given value is enough to make every computed row differ)
@@ -94,7 +94,7 @@ def both(*changes):
 
 def row_values(book: Path, name: str) -> list[float]:
     """Row `name`'s values at the 13 positions, by sheetkin's evaluator."""
-    from sheetkin.evaluator import evaluate
+    from sheetkin.xlsx.evaluator import evaluate
     b = evaluate(book)
     sheet = b.order[0]
     ws = b.sheets[sheet]

@@ -2,7 +2,7 @@
 stdout, stderr), an argparse exit (SystemExit) taken as its code."""
 from __future__ import annotations
 
-from sheetkin.cli import main
+from sheetkin.cli.commands import main
 
 
 def run(capsys, *argv):

@@ -35,3 +35,18 @@ def soffice() -> str:
 def pdftoppm() -> str:
     """Path of poppler's pdftoppm (renders README pictures)."""
     return _require(shutil.which("pdftoppm"), "pdftoppm not found: run `bash tests/setup.sh` (poppler-utils)")
+
+
+# Markers from what a test needs, so `pytest -m "not libreoffice and not browser and not gnumeric"`
+# is the fast lane (CI still runs every test). A test that asks for the `soffice` fixture runs
+# LibreOffice; one that asks for `ssconvert` runs Gnumeric; the *_browser modules drive Chromium.
+_NEEDS = {"soffice": "libreoffice", "ssconvert": "gnumeric"}
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    for item in items:
+        for fixture, marker in _NEEDS.items():
+            if fixture in getattr(item, "fixturenames", ()):
+                item.add_marker(marker)
+        if item.path.stem.endswith("_browser"):
+            item.add_marker("browser")

@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 
 import sheetkin
-from sheetkin.bench import FLOAT, reference_mp
+from sheetkin.studies.bench import FLOAT, reference_mp
 from sheetkin.groups import kind_of
 
 WORKBOOKS = Path(__file__).resolve().parents[1] / "workbooks"
@@ -41,7 +41,7 @@ def kinematics(stem: str) -> str:
 def _crank(text: str, **values) -> str:
     """The scene with some [crank] values replaced (the bundled scenes' epsilon is 0: a
     nonzero one exercises every eps term)."""
-    from sheetkin.scene import override_crank
+    from sheetkin.kinematics.scene import override_crank
     return override_crank(text, "case.toml", **values)[0]
 
 
@@ -109,7 +109,7 @@ def with_loads(text: str) -> str:
     """The scene with gravity, a mass on every moving link (at one of its joints) and an
     external force and moment on the last link: every reaction then carries load."""
     scene = sheetkin.parse_scene(text)
-    from sheetkin.scene import link_joints
+    from sheetkin.kinematics.scene import link_joints
     on = link_joints(scene.crank, scene.groups)
     for p in scene.points:
         on[p.link].append(p.name)

@@ -1,3 +1,3 @@
 """The tests import the LibreOffice harness as `libreoffice`; it lives in the package
-(sheetkin/libreoffice.py) because `sheetkin bench` uses it too."""
-from sheetkin.libreoffice import SETUP_HINT, is_error, pdf_to_png, read_values, recalculate, render_pdf, soffice_path  # noqa: F401
+(sheetkin/xlsx/libreoffice.py) because `sheetkin bench` uses it too."""
+from sheetkin.xlsx.libreoffice import SETUP_HINT, is_error, pdf_to_png, read_values, recalculate, render_pdf, soffice_path  # noqa: F401

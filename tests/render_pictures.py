@@ -31,7 +31,7 @@ def pdf_pages(pdf: Path) -> int:
 def render_animations(outdir: Path) -> list[Path]:
     """workbooks/NAME.toml -> OUTDIR/NAME.gif, as `sheetkin animate NAME.toml -o NAME.gif`."""
     sys.path.insert(0, str(ROOT))
-    from sheetkin.cli import main
+    from sheetkin.cli.commands import main
     out = []
     for scene in sorted((ROOT / "workbooks").glob("*.toml")):
         gif = outdir / f"{scene.stem}.gif"
@@ -64,7 +64,7 @@ def render_report(outdir: Path) -> Path:
     sys.path.insert(0, str(ROOT))
     from selenium.webdriver.common.by import By
 
-    from sheetkin.cli import main
+    from sheetkin.cli.commands import main
     with tempfile.TemporaryDirectory() as tmp:
         folder = demo_class(Path(tmp) / "submissions")
         html = Path(tmp) / "report.html"
@@ -105,7 +105,7 @@ def render_drawing(outdir: Path, position: int = 4) -> Path:
     the top of its charts page (the live drawing and the trajectories)."""
     sys.path.insert(0, str(ROOT))
     import sheetkin
-    from sheetkin.workbook import build_workbook
+    from sheetkin.sheet.workbook import build_workbook
     scene_path = ROOT / "workbooks" / "fourbar.toml"
     wb = build_workbook(sheetkin.load_scene(scene_path), scene_text=scene_path.read_text(encoding="utf-8"))
     wb.worksheets[1]["B1"] = position

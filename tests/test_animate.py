@@ -1,4 +1,4 @@
-"""sheetkin.drawing and `sheetkin animate`: what is drawn is where compute() puts it."""
+"""sheetkin.views.drawing and `sheetkin animate`: what is drawn is where compute() puts it."""
 from __future__ import annotations
 
 import json
@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 
 import sheetkin
-from sheetkin import drawing
-from sheetkin.animate import animate, html_page
-from sheetkin.cli import main
+from sheetkin.views import drawing
+from sheetkin.views.animate import animate, html_page
+from sheetkin.cli.commands import main
 from scenes import SHORT  # noqa: E402  (tests/ is on sys.path)
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -159,7 +159,7 @@ def test_cli_animate(short, tmp_path, capsys):
 
 
 def test_importing_the_drawing_does_not_import_matplotlib():
-    code = "import sheetkin.animate, sheetkin.drawing, sys; print('matplotlib' in sys.modules)"
+    code = "import sheetkin.views.animate, sheetkin.views.drawing, sys; print('matplotlib' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT,
                          env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
     assert out.stdout.strip() == "False", out.stderr

@@ -8,7 +8,7 @@ import pytest
 from browser import HINT, chrome, chromium_paths
 from conftest import _require
 
-from sheetkin.cli import main
+from sheetkin.cli.commands import main
 
 WB = Path(__file__).resolve().parent.parent / "workbooks"
 

@@ -1,4 +1,4 @@
-"""Validation that scales (sheetkin.batch, validator._reference): the reference of a variant
+"""Validation that scales (sheetkin.course.batch, validator._reference): the reference of a variant
 is the generated sheet with the variant's inputs, evaluated, and equals the workbook rebuilt
 for that variant cell for cell; a batch gives the same reports in one process and in a
 pool, in the order of the files."""
@@ -13,11 +13,11 @@ import openpyxl
 import pytest
 
 import sheetkin
-from sheetkin import validator
-from sheetkin.batch import validate_many
-from sheetkin.cli import main
-from sheetkin.issued import Options
-from sheetkin.workbook import write_workbook
+from sheetkin.course import validator
+from sheetkin.course.batch import validate_many
+from sheetkin.cli.commands import main
+from sheetkin.course.issued import Options
+from sheetkin.sheet.workbook import write_workbook
 
 WORKBOOKS = Path(__file__).resolve().parents[1] / "workbooks"
 

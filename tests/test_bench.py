@@ -13,12 +13,12 @@ import numpy as np
 import pytest
 
 import sheetkin
-from sheetkin.bench import (COLUMNS, SILENT_ERROR, bench_scene, errors, method_evaluator, method_fd,
+from sheetkin.studies.bench import (COLUMNS, SILENT_ERROR, bench_scene, errors, method_evaluator, method_fd,
                             method_newton, method_solver, quantity_names, reference_mp, run_bench,
                             scaled_differences, _workbook_file)
-from sheetkin.cli import main
-from sheetkin.compute import TOGGLE_THRESHOLD, AssemblyError, solution_columns
-from sheetkin.scene import override_crank, parse_scene
+from sheetkin.cli.commands import main
+from sheetkin.kinematics.table import TOGGLE_THRESHOLD, AssemblyError, solution_columns
+from sheetkin.kinematics.scene import override_crank, parse_scene
 
 ROOT = Path(__file__).resolve().parent.parent
 FOURBAR_TOML = ROOT / "workbooks" / "fourbar.toml"

@@ -18,8 +18,8 @@ import pytest
 
 from classbooks import both, fill, flip_sign, issue_variants, row_values, rows_of, type_numbers
 from libreoffice import recalculate
-from sheetkin.cli import main
-from sheetkin.validator import Report
+from sheetkin.cli.commands import main
+from sheetkin.course.validator import Report
 
 WORKBOOKS = Path(__file__).resolve().parents[1] / "workbooks"
 NAMES = {"ivanov": "Иванов Иван", "petrova": "Петрова Анна", "sidorov": "Сидоров Пётр",

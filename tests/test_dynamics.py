@@ -9,7 +9,7 @@ Oracles, none of them the code under test:
     or the whole mechanism's force balance);
   * the energy balance M_bal omega + P_ext - dU/dt - dT/dt = 0, with dT/dt and dU/dt taken as
     numeric derivatives, at 50 digits, of T and U built from the independent mpmath
-    reference kinematics (sheetkin.bench.reference_mp), for the seeds' scenes with masses;
+    reference kinematics (sheetkin.studies.bench.reference_mp), for the seeds' scenes with masses;
   * random mechanisms (the property tests' strategies) with random masses and loads;
   * LibreOffice's recalculation of the generated workbooks.
 """
@@ -27,12 +27,12 @@ from hypothesis import strategies as st
 
 import sheetkin
 from libreoffice import recalculate
-from sheetkin.bench import reference_mp
-from sheetkin.cli import main
-from sheetkin.dynamics import dynamics, dynamics_names, force_active, reaction_pairs
-from sheetkin.scene import SceneError, parse_scene
-from sheetkin.solver import solve
-from sheetkin.workbook import write_workbook
+from sheetkin.studies.bench import reference_mp
+from sheetkin.cli.commands import main
+from sheetkin.kinematics.dynamics import dynamics, dynamics_names, force_active, reaction_pairs
+from sheetkin.kinematics.scene import SceneError, parse_scene
+from sheetkin.kinematics.solver import solve
+from sheetkin.sheet.workbook import write_workbook
 from strategies import KINDS, MECHANISMS
 from test_workbook import OFFSET_CHAIN, SIX_BAR, rows_of, row_values, set_input
 
@@ -466,7 +466,7 @@ def test_workbook_dynamics_is_live(dyn_books):
 def test_validator_names_a_wrong_reaction(tmp_path):
     """A reaction's sign flipped: the validator names it as the cause and blames nothing else
     (its magnitude R_4_5 is still right); the sheet's equilibrium checks of both links fail."""
-    from sheetkin.validator import validate
+    from sheetkin.course.validator import validate
     text = (WORKBOOKS / "shaper_dynamics.toml").read_text(encoding="utf-8")
     path = tmp_path / "student.xlsx"
     write_workbook(parse_scene(text, "s.toml"), path, scene_text=text)
@@ -535,7 +535,7 @@ def test_toggle_reactions_are_flagged_not_silent(tmp_path, capsys):
 
 def test_dynamics_charts_reference_the_rows():
     """Two more charts: M_bal with the powers, and every joint reaction's magnitude."""
-    from sheetkin.workbook import build_workbook, fingerprint
+    from sheetkin.sheet.workbook import build_workbook, fingerprint
     scene = sheetkin.load_scene(WORKBOOKS / "shaper_dynamics.toml")
     wb = build_workbook(scene)
     charts = fingerprint(wb)["charts"]

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import sheetkin
-from sheetkin.cli import main
+from sheetkin.cli.commands import main
 
 WORKBOOKS = Path(__file__).resolve().parents[1] / "workbooks"
 

@@ -1,4 +1,4 @@
-"""sheetkin.evaluator against LibreOffice, cell by cell; its messages; its vectorization.
+"""sheetkin.xlsx.evaluator against LibreOffice, cell by cell; its messages; its vectorization.
 
 Differential part: small workbooks of formula *cases* are written here with openpyxl. A row
 case puts inputs a, b, c in B:F, G:K, L:P of its row and the same formula, copied with its
@@ -30,7 +30,7 @@ from openpyxl.utils import get_column_letter
 from openpyxl.workbook.defined_name import DefinedName
 
 from libreoffice import is_error, recalculate
-from sheetkin.evaluator import ERRORS, EvaluationError, evaluate
+from sheetkin.xlsx.evaluator import ERRORS, EvaluationError, evaluate
 
 ROOT = Path(__file__).resolve().parent.parent
 BUNDLED = sorted((ROOT / "workbooks").glob("*.xlsx"))
@@ -761,7 +761,7 @@ def _crafted(tmp_path, name: str, sheet: bytes) -> Path:
 def _read_both(path, monkeypatch, **kw):
     """read_book through the normal path (recording whether the fast path read each sheet)
     and through ElementTree alone."""
-    from sheetkin import xlsxread
+    from sheetkin.xlsx import cells as xlsxread
     fast_read, used = xlsxread._read_fast, []
 
     def spy(*a, **k):
@@ -850,7 +850,7 @@ def test_unusual_xml_falls_back_to_the_element_tree(tmp_path, monkeypatch, varia
     }[variant]
     path = _crafted(tmp_path, f"{variant}.xlsx", sheet)
     if variant == "stray_ampersand":
-        from sheetkin.xlsxsafe import UnusableWorkbook
+        from sheetkin.xlsx.package import UnusableWorkbook
         with pytest.raises(UnusableWorkbook, match="not well-formed XML"):
             _read_both(path, monkeypatch)
         return
@@ -863,8 +863,8 @@ def test_unusual_xml_falls_back_to_the_element_tree(tmp_path, monkeypatch, varia
 
 
 def test_a_cell_past_the_limits_is_refused_by_both_paths(tmp_path, monkeypatch):
-    from sheetkin import xlsxread
-    from sheetkin.xlsxsafe import Limits, UnusableWorkbook
+    from sheetkin.xlsx import cells as xlsxread
+    from sheetkin.xlsx.package import Limits, UnusableWorkbook
     path = _crafted(tmp_path, "wide.xlsx", _sheet_xml())
     messages = []
     for fast in (True, False):
@@ -907,7 +907,7 @@ def test_shared_formulas_along_a_row_equal_openpyxl(tmp_path, monkeypatch):
         rows.append(f'<row r="{r}">{"".join(cells)}</row>')
     rows.append('<row r="4"><c r="C4"><f t="shared" si="1"/></c></row>')    # down a row: Translator
     path = _crafted(tmp_path, "shared.xlsx", _sheet_xml("".join(rows)))
-    from sheetkin import xlsxread
+    from sheetkin.xlsx import cells as xlsxread
     translate, calls = xlsxread._shift_formula, []
     monkeypatch.setattr(xlsxread, "_shift_formula", lambda *a: calls.append(a) or translate(*a))
     normal, tree, used = _read_both(path, monkeypatch)
@@ -925,7 +925,7 @@ def test_shared_formulas_along_a_row_equal_openpyxl(tmp_path, monkeypatch):
 def test_date_cells_and_malformed_values(tmp_path, monkeypatch, capsys):
     """A t="d" cell (an ISO 8601 date, strict OOXML) reads as its text on both paths; a
     number cell whose value is not a number is one clear line (exit 2), never a traceback."""
-    from sheetkin.cli import main
+    from sheetkin.cli.commands import main
     dated = _crafted(tmp_path, "dated.xlsx", _sheet_xml(
         '<row r="1"><c r="A1" t="d"><v>2026-11-23T00:00:00</v></c><c r="B1"><v>2</v></c></row>'))
     normal, tree, used = _read_both(dated, monkeypatch)

@@ -35,10 +35,10 @@ from hypothesis import strategies as st
 from openpyxl.utils import get_column_letter
 from openpyxl.workbook.defined_name import DefinedName
 
-from sheetkin.cli import main
-from sheetkin.evaluator import (ERRORS, MAX_NESTING, SUPPORTED, EvaluationError, ParseError, evaluate,
+from sheetkin.cli.commands import main
+from sheetkin.xlsx.evaluator import (ERRORS, MAX_NESTING, SUPPORTED, EvaluationError, ParseError, evaluate,
                                 evaluate_sheets, parse_formula)
-from sheetkin.xlsxread import Sheet
+from sheetkin.xlsx.cells import Sheet
 
 FUZZ = settings(max_examples=300, derandomize=True, database=None, deadline=timedelta(seconds=20),
                 suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])

@@ -20,8 +20,8 @@ import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from sheetkin.compute import AssemblyError, NumericOverflow, TooLarge, compute
-from sheetkin.scene import SceneError, parse_scene
+from sheetkin.kinematics.table import AssemblyError, NumericOverflow, TooLarge, compute
+from sheetkin.kinematics.scene import SceneError, parse_scene
 
 WORKBOOKS = Path(__file__).resolve().parents[1] / "workbooks"
 TEXTS = [p.read_text(encoding="utf-8") for p in sorted(WORKBOOKS.glob("*.toml"))]

@@ -16,13 +16,13 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from classbooks import both, fill, flip_sign, issue_variants, row_values, set_input, type_numbers
-from sheetkin.cli import main
-from sheetkin.copies import COPY_TYPED_CELLS, possible_copies, relative_formula, submission_marks
-from sheetkin.grades import (CHECK_PENALTY, COLUMNS, GradesError, grade_lines, grades_csv, name_key,
+from sheetkin.cli.commands import main
+from sheetkin.course.copies import COPY_TYPED_CELLS, possible_copies, relative_formula, submission_marks
+from sheetkin.course.grades import (CHECK_PENALTY, COLUMNS, GradesError, grade_lines, grades_csv, name_key,
                              read_class_list, safe_text, score)
-from sheetkin.report_html import html_page
-from sheetkin.validator import Report, RowReport, validate
-from sheetkin.xlsxread import read_book
+from sheetkin.course.report_html import html_page
+from sheetkin.course.validator import Report, RowReport, validate
+from sheetkin.xlsx.cells import read_book
 
 
 def report(correct=4, wrong=0, missing=0, failing=0, **extra) -> Report:
@@ -425,7 +425,7 @@ def test_an_empty_exercise_scores_zero(tmp_path):
     """The rows an exercise gives filled in (phi_1, the guards) are not the student's work:
     an exercise handed in as it was issued scores 0, and a key 100."""
     import sheetkin
-    from sheetkin.workbook import write_workbook
+    from sheetkin.sheet.workbook import write_workbook
     text = (Path(__file__).resolve().parents[1] / "workbooks" / "fourbar.toml").read_text(encoding="utf-8")
     scene = sheetkin.parse_scene(text, "fourbar.toml")
     write_workbook(scene, tmp_path / "ex.xlsx", exercise=True, scene_text=text)

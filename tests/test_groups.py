@@ -5,7 +5,7 @@ a three-group chain):
   * the loop-closure equations (the kind's `loop`, used by Newton and the mpmath reference)
     hold at the closed form's answer, and so do their differentiated forms with the
     closed form's rates: the Cramer systems' residuals;
-  * the 50-digit mpmath solution of those equations (sheetkin.bench.reference_mp) equals
+  * the 50-digit mpmath solution of those equations (sheetkin.studies.bench.reference_mp) equals
     `compute`, and so does Newton (the bench's method);
   * 8th-order central differences of the positions in the crank angle equal the velocities,
     and of the velocities the accelerations (with the crank's epsilon);
@@ -29,12 +29,12 @@ from hypothesis import strategies as st
 import sheetkin
 from kinds import CASES, DYNAMICS, check_derivatives, check_geometry, check_loop, check_reference
 from libreoffice import recalculate
-from sheetkin.bench import FLOAT, errors, method_newton, reference_mp
-from sheetkin.compute import AssemblyError
-from sheetkin.group import Guide
+from sheetkin.studies.bench import FLOAT, errors, method_newton, reference_mp
+from sheetkin.kinematics.table import AssemblyError
+from sheetkin.groups.group import Guide
 from sheetkin.groups import KINDS, kind_of
-from sheetkin.scene import SceneError, parse_scene
-from sheetkin.workbook import write_workbook
+from sheetkin.kinematics.scene import SceneError, parse_scene
+from sheetkin.sheet.workbook import write_workbook
 from test_dynamics import compare_dynamics, relative_balance
 from test_workbook import compare_accepted, rows_of
 
@@ -104,7 +104,7 @@ def test_velocities_and_accelerations_are_derivatives_of_the_positions(case):
 def test_kinetostatics_balances_the_energy(case):
     scene = parse_scene(DYNAMICS[case][1], f"{case}.toml")
     sol = sheetkin.solve(scene, np.arange(0.0, 360.0, 7.5))
-    from sheetkin.dynamics import dynamics
+    from sheetkin.kinematics.dynamics import dynamics
     d = dynamics(scene, sol)
     assert relative_balance(d, scene, sol).max() <= 1e-9
 
@@ -312,8 +312,8 @@ def test_validator_takes_a_students_variant_and_names_a_broken_row(tmp_path, ste
     import functools
     import shutil
 
-    from sheetkin.issued import Options
-    from sheetkin.validator import validate
+    from sheetkin.course.issued import Options
+    from sheetkin.course.validator import validate
     validate = functools.partial(validate, options=Options(accept_changed=True))
     from test_workbook import set_input
     path = tmp_path / f"{stem}.xlsx"

@@ -24,10 +24,12 @@ from openpyxl.utils import get_column_letter
 from openpyxl.utils.cell import column_index_from_string, coordinate_from_string
 from openpyxl.workbook.defined_name import DefinedName
 
-from sheetkin import evaluator, evaluator_limits, xlsxread
-from sheetkin.cli import main
-from sheetkin.evaluator import MAX_EVAL_DEPTH, MAX_FORMULA_CHARS, MAX_NESTING, EvaluationError, evaluate
-from sheetkin.xlsxsafe import Limits, UnusableWorkbook
+from sheetkin.xlsx import evaluator
+from sheetkin.xlsx import limits as evaluator_limits
+from sheetkin.xlsx import cells as xlsxread
+from sheetkin.cli.commands import main
+from sheetkin.xlsx.evaluator import MAX_EVAL_DEPTH, MAX_FORMULA_CHARS, MAX_NESTING, EvaluationError, evaluate
+from sheetkin.xlsx.package import Limits, UnusableWorkbook
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -204,7 +206,7 @@ def test_no_recursion_limit_is_reachable(tmp_path):
     """The hostile book evaluated with a low recursion limit: every walk is iterative or
     bounded far below it (MAX_NESTING, MAX_EVAL_DEPTH)."""
     path = _book(tmp_path / "deep.xlsx", [f for f, _, _ in HOSTILE] + [f for f, _ in COMPUTED], _names())
-    code = ("import sys; sys.setrecursionlimit(600); from sheetkin.evaluator import evaluate; "
+    code = ("import sys; sys.setrecursionlimit(600); from sheetkin.xlsx.evaluator import evaluate; "
             f"b = evaluate({str(path)!r}, strict=False); print(len(b.notes))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120,
                          env={**os.environ, "PYTHONPATH": str(ROOT)})
@@ -281,7 +283,7 @@ def test_a_small_file_naming_the_whole_grid_stays_small(tmp_path):
                                           "=XFD1048576*2",
                                           "=COUNT(Data!$A$1:$XFD$1048576)"])
     assert path.stat().st_size < 34_000
-    out = _run_limited("from sheetkin.evaluator import evaluate\n"
+    out = _run_limited("from sheetkin.xlsx.evaluator import evaluate\n"
                        f"b = evaluate({str(path)!r})\n"
                        "print([b.value('Calc', 3, c) for c in range(2, 6)])\n"
                        "import resource; print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)", 2_000_000_000)
@@ -349,8 +351,8 @@ def test_a_run_read_in_pieces_equals_the_run_at_once(tmp_path, monkeypatch):
 # --------------------------------------------------------------------------- the validator goes on
 def test_validate_reports_the_rest_of_a_workbook_with_hostile_cells(tmp_path):
     import sheetkin
-    from sheetkin.validator import validate
-    from sheetkin.workbook import write_workbook
+    from sheetkin.course.validator import validate
+    from sheetkin.sheet.workbook import write_workbook
     text = (ROOT / "workbooks" / "fourbar.toml").read_text(encoding="utf-8")
     path = tmp_path / "fourbar.xlsx"
     write_workbook(sheetkin.parse_scene(text, "fourbar.toml"), path, scene_text=text)

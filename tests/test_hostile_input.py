@@ -23,11 +23,11 @@ import importlib
 
 import sheetkin
 
-compute_module = importlib.import_module("sheetkin.compute")   # `sheetkin.compute` is the function
-validator_module = importlib.import_module("sheetkin.validator")
-from sheetkin.scene import (MAX_DEPTH, MAX_MAGNITUDE, MAX_POSITIONS, WORKBOOK_MAX_POSITIONS,
+compute_module = importlib.import_module("sheetkin.kinematics.table")   # `sheetkin.compute` is the function
+validator_module = importlib.import_module("sheetkin.course.validator")
+from sheetkin.kinematics.scene import (MAX_DEPTH, MAX_MAGNITUDE, MAX_POSITIONS, WORKBOOK_MAX_POSITIONS,
                             SceneError, parse_scene)
-from sheetkin.workbook import write_workbook
+from sheetkin.sheet.workbook import write_workbook
 from clirun import run
 
 WORKBOOKS = Path(__file__).resolve().parents[1] / "workbooks"
@@ -150,7 +150,7 @@ def test_workbook_column_cap(tmp_path, capsys):
 def _passes_plan(scene):
     """The placement order as the scene parser had it before (repeated passes over the
     file's points; quadratic): the reference for the linear placement."""
-    from sheetkin.scene import link_joints
+    from sheetkin.kinematics.scene import link_joints
     on_link = link_joints(scene.crank, scene.groups)
     placed, plan, pending = {1}, ["crank"], list(scene.points)
 
@@ -432,7 +432,7 @@ def test_internal_error_is_one_line(tmp_path, capsys, monkeypatch):
     and a request to report it, exit 70; SHEETKIN_DEBUG=1 would show the traceback."""
     def crash(*a, **k):
         raise KeyError("boom")
-    monkeypatch.setattr("sheetkin.output.write_compute", crash)   # what `compute` runs (imported on use)
+    monkeypatch.setattr("sheetkin.views.output.write_compute", crash)   # what `compute` runs (imported on use)
     monkeypatch.delenv("SHEETKIN_DEBUG", raising=False)
     scene = tmp_path / "f.toml"
     scene.write_text(FOURBAR, encoding="utf-8")

@@ -12,11 +12,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from realbooks import row_numbers
-from sheetkin.cli import main
-from sheetkin.issued import (KEY_FILE, Options, RosterError, changed_line, parse_roster, read_key,
+from sheetkin.cli.commands import main
+from sheetkin.course.issued import (KEY_FILE, Options, RosterError, changed_line, parse_roster, read_key,
                              read_roster, seal)
-from sheetkin.report import text_report
-from sheetkin.validator import validate
+from sheetkin.course.report import text_report
+from sheetkin.course.validator import validate
 from clirun import run
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -237,8 +237,8 @@ def test_books_saved_by_libreoffice_validate_with_the_roster(issued, tmp_path, s
 def test_summary_table_names_an_unusable_scene_whole():
     """The reason of an error that does not start "path: " (an embedded scene that does not
     read: "x.xlsx (embedded scene):23: ...") was cut two characters into it."""
-    from sheetkin.report import summary_table
-    from sheetkin.validator import Report
+    from sheetkin.course.report import summary_table
+    from sheetkin.course.validator import Report
     rep = Report("b.xlsx", error="b.xlsx (embedded scene):23: [[group]] #1 key 'length': unknown key")
     assert rep.reason == rep.error
     assert "b.xlsx (embedded scene):23:" in summary_table([rep]).splitlines()[1]
@@ -250,7 +250,7 @@ def test_student_cell_with_a_formula_sheetkin_cannot_compute_is_the_saved_text()
     """A student who typed =HYPERLINK("http://x";"click") as their name was listed as
     "#NAME?" although the validator said the saved values were used."""
     import numpy as np
-    from sheetkin.validator import _identity
+    from sheetkin.course.validator import _identity
 
     class Sheet:
         cached = {(6, 4): "click"}
@@ -281,7 +281,7 @@ def test_an_edited_scene_sheet_that_no_longer_reads_says_edited(issued, tmp_path
 
 def test_empty_and_missing_rows_are_one_line_each():
     """An empty exercise printed one line per row (60 lines "empty: Fi (row 32)" ...)."""
-    from sheetkin.validator import Report, RowReport
+    from sheetkin.course.validator import Report, RowReport
     rep = Report("e.xlsx", positions=13,
                  rows=[RowReport(f"r{k}", 30 + k, "empty") for k in range(60)] + [RowReport("omega_3", None, "missing")])
     lines = text_report(rep).splitlines()

@@ -1,4 +1,4 @@
-"""The LibreOffice harness (sheetkin/libreoffice.py) on tiny workbooks written here with openpyxl.
+"""The LibreOffice harness (sheetkin/xlsx/libreoffice.py) on tiny workbooks written here with openpyxl.
 
 Also pins down what LibreOffice 7.4 does with the formulas sheetkin relies on. soffice starts
 few times: every book of stage 1 is recalculated in one call, the books derived from its

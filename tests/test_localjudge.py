@@ -21,11 +21,11 @@ from openpyxl.utils import get_column_letter
 
 import sheetkin
 from libreoffice import recalculate
-from sheetkin.evaluator import evaluate
-from sheetkin.localjudge import judge, magnitude, name_causes, typed_digits, typed_text, typed_tolerance
-from sheetkin.report import json_report, text_report
-from sheetkin.validator import RowReport, _reference, row_ancestors, validate
-from sheetkin.workbook import sheet_rows
+from sheetkin.xlsx.evaluator import evaluate
+from sheetkin.course.localjudge import judge, magnitude, name_causes, typed_digits, typed_text, typed_tolerance
+from sheetkin.course.report import json_report, text_report
+from sheetkin.course.validator import RowReport, _reference, row_ancestors, validate
+from sheetkin.sheet.workbook import sheet_rows
 from test_validator import fourbar, rows_of  # noqa: F401 - the four-bar's book, rows by name
 
 WORKBOOKS = Path(__file__).resolve().parents[1] / "workbooks"
@@ -278,7 +278,7 @@ def test_json_carries_local_and_note(books):
     assert om["local"] == "wrong" and om["note"].startswith("L") and om["cause"]
     assert next(r for r in d["rows"] if r["name"] == "f1_g1")["local"] == "right"
     assert d["summary"]["causes"] == ["omega_2"]
-    from sheetkin.report_html import html_page
+    from sheetkin.course.report_html import html_page
     assert html.escape(om["note"]) in html_page([rep])        # the HTML details show the note too
 
 

@@ -5,7 +5,7 @@ A mutant is one accepted-value row of a bundled workbook (workbooks/*.toml at 13
 or scaled by 1.01, in every column (inside the group's "assembles" guard). A mutant is
 caught when at least one check row of its sheet turns red: a residual past the tolerance,
 an error, or a number missing where the group assembles (the status formula of column D,
-sheetkin/checks.py). A mutant that leaves its row's values unchanged (a row of zeros, an
+sheetkin/sheet/checks.py). A mutant that leaves its row's values unchanged (a row of zeros, an
 angle of 0 scaled) is equivalent to the book and is counted apart, not as caught.
 
 Speed: all mutants of one book are columns of ONE sheet, 13 columns each (the rows'
@@ -30,11 +30,11 @@ import pytest
 
 import sheetkin
 from libreoffice import is_error, recalculate
-from sheetkin.evaluator import evaluate_sheets
-from sheetkin.scene import override_crank
-from sheetkin.validator import _build_reference
-from sheetkin.workbook import FIRST_COL, build_workbook, sheet_rows
-from sheetkin.xlsxread import Sheet, _Template, read_book
+from sheetkin.xlsx.evaluator import evaluate_sheets
+from sheetkin.kinematics.scene import override_crank
+from sheetkin.course.validator import _build_reference
+from sheetkin.sheet.workbook import FIRST_COL, build_workbook, sheet_rows
+from sheetkin.xlsx.cells import Sheet, _Template, read_book
 
 WORKBOOKS = Path(__file__).resolve().parents[1] / "workbooks"
 BUNDLED = sorted(p.stem for p in WORKBOOKS.glob("*.toml"))
@@ -145,7 +145,7 @@ class Book:
 
     # ------------------------------------------------------------------ judging
     def red_checks(self, value, block: int) -> list[str]:
-        """The check rows whose status would be 1 in block `block` (sheetkin/checks.py's
+        """The check rows whose status would be 1 in block `block` (sheetkin/sheet/checks.py's
         formula: an error, a missing number where the group assembles, a residual past Tol).
         value(r, c) reads a cell."""
         red = []
@@ -378,7 +378,7 @@ def test_libreoffice_status_cells_and_summary(lo_books):
 def test_russian_plurals_in_python_and_in_the_sheet():
     """1 проверка, 2-4 проверки, 5-20 проверок, 11-14 проверок, 21 проверка, 22 проверки,
     111 проверок ...; the spreadsheet formula of D3 says the same for 0..250."""
-    from sheetkin.checks import plural, plural_formula
+    from sheetkin.sheet.checks import plural, plural_formula
     table = {0: "проверок", 1: "проверка", 2: "проверки", 4: "проверки", 5: "проверок", 11: "проверок",
              12: "проверок", 14: "проверок", 20: "проверок", 21: "проверка", 22: "проверки", 25: "проверок",
              101: "проверка", 111: "проверок", 112: "проверок", 122: "проверки", 211: "проверок"}

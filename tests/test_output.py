@@ -1,5 +1,5 @@
-"""`sheetkin compute`'s bulk output (sheetkin.floatfmt, sheetkin.output) and the angle
-options (sheetkin.angles): the numbers are Python's repr byte for byte; CSV and JSON written
+"""`sheetkin compute`'s bulk output (sheetkin.views.floatfmt, sheetkin.views.output) and the angle
+options (sheetkin.cli.angles): the numbers are Python's repr byte for byte; CSV and JSON written
 block by block equal what pandas and json.dumps give for compute()'s DataFrame; gaps and
 undefined values are never "nan"/"inf"; --range and --at-file mean what the README says
 and refuse bad input in one line naming the file and line.
@@ -20,11 +20,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import sheetkin
-from sheetkin.cli import TOGGLE_THRESHOLD
-from sheetkin.compute import TOGGLE_THRESHOLD as COMPUTE_TOGGLE_THRESHOLD
-from sheetkin.compute import AngleRange, Block
-from sheetkin.floatfmt import format_repr
-from sheetkin.output import Notes, _Text, write_compute
+from sheetkin.cli.commands import TOGGLE_THRESHOLD
+from sheetkin.kinematics.table import TOGGLE_THRESHOLD as COMPUTE_TOGGLE_THRESHOLD
+from sheetkin.kinematics.table import AngleRange, Block
+from sheetkin.views.floatfmt import format_repr
+from sheetkin.views.output import Notes, _Text, write_compute
 
 from scenes import FOURBAR  # noqa: E402
 from clirun import run
@@ -100,7 +100,7 @@ def test_repr_of_every_layout_mixed_in_chunks(threads):
     """Chunks (floatfmt.CHUNK numbers) where every kind of number sits next to the others,
     formatted on one and on two threads: what one element needs (exponent form, a repr
     fallback, a zero, a power of two) must not change its neighbours."""
-    from sheetkin import floatfmt
+    from sheetkin.views import floatfmt
     rng = np.random.default_rng(151)
     values = _mixed(rng, floatfmt.CHUNK // 2)
     assert values.size > 3 * floatfmt.CHUNK
@@ -116,7 +116,7 @@ def test_repr_of_every_layout_mixed_in_chunks(threads):
 def test_repr_of_ordinary_chunks_keeps_exponents_and_fallbacks_apart():
     """A chunk of ordinary positional numbers with one exponent-form number, one zero and
     one number for repr's own fallback at each place: the neighbours are unchanged."""
-    from sheetkin import floatfmt
+    from sheetkin.views import floatfmt
     base = np.linspace(-7.3, 123.4, 64)
     want_base = [repr(v) for v in base.tolist()]
     for odd in (1.5e-07, -2.5e+16, 0.0, -0.0, 1e-250, 1.7976931348623157e308, 2.0 ** -30):
@@ -142,7 +142,7 @@ def test_repr_of_powers_of_ten_and_their_neighbours():
 def test_heap_is_kept_while_formatting_and_restored(monkeypatch):
     """repr_slots of many chunks sets glibc's M_TOP_PAD once, however deeply nested, and
     restores the default when the outermost call ends (also after an error)."""
-    from sheetkin import floatfmt
+    from sheetkin.views import floatfmt
     calls = []
     monkeypatch.setattr(floatfmt, "_mallopt", lambda param, value: calls.append((param, value)) or 1)
     values = np.linspace(0.1, 9.9, 3 * floatfmt.CHUNK)
@@ -424,7 +424,7 @@ def test_at_file_missing_or_not_text(tmp_path, capsys):
 @settings(max_examples=60, deadline=None)
 @given(st.text(alphabet="0123456789.,-+eE#nainf \t\"x_phi1\n", max_size=60))
 def test_at_file_fuzz_only_our_errors(tmp_path_factory, text):
-    from sheetkin.angles import read_angles
+    from sheetkin.cli.angles import read_angles
     f = tmp_path_factory.mktemp("fuzz") / "a.txt"
     f.write_text(text)
     try:

@@ -11,8 +11,8 @@ import pytest
 
 import sheetkin
 from libreoffice import render_pdf
-from sheetkin.workbook import sheet_rows, write_workbook
-from sheetkin.workbook_print import POSITIONS_PER_PAGE
+from sheetkin.sheet.workbook import sheet_rows, write_workbook
+from sheetkin.sheet.printing import POSITIONS_PER_PAGE
 
 WB = Path(__file__).resolve().parent.parent / "workbooks"
 

@@ -13,7 +13,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from sheetkin.groups import prp
-from sheetkin.motion import Motion, Rotation
+from sheetkin.groups.motion import Motion, Rotation
 
 # 8th-order central differences: weights for f' and f'' on offsets -4..4
 D1 = np.array([1 / 280, -4 / 105, 1 / 5, -4 / 5, 0, 4 / 5, -1 / 5, 4 / 105, -1 / 280])
@@ -199,7 +199,7 @@ def test_prp_kinetostatics_balances_power_through_ideal_sliding_pairs(ca, cb, lo
 
 
 def test_prp_loop_equations_hold_at_the_closed_form_answer():
-    from sheetkin.bench import FLOAT
+    from sheetkin.studies.bench import FLOAT
     ca = (0.1, -0.2, 0.3, 2.0, 0.4, 0.3, 1.5, -2.0)
     cb = (0.5, 0.7, 0.2, -1.0, 1.0, 1.9, -0.5, 3.0)
     (n, sa, sb, _, _), _ = crossing(ca, cb)

@@ -13,8 +13,8 @@ from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 import sheetkin
-from sheetkin.bench import FAMILIES, method_newton, reference_mp
-from sheetkin.scene import SceneError, parse_scene
+from sheetkin.studies.bench import FAMILIES, method_newton, reference_mp
+from sheetkin.kinematics.scene import SceneError, parse_scene
 
 WORKBOOKS = Path(__file__).resolve().parents[1] / "workbooks"
 NEW = ["slider_on_coupler", "scotch_yoke", "three_group_chain"]
@@ -254,7 +254,7 @@ def dyn_sheets(soffice, tmp_path_factory):
     """The three bundled workbooks (with their masses and forces), recalculated by
     LibreOffice in one soffice run."""
     from libreoffice import recalculate
-    from sheetkin.workbook import write_workbook
+    from sheetkin.sheet.workbook import write_workbook
     src = tmp_path_factory.mktemp("prp_rpp")
     made = {}
     for stem in NEW:
@@ -272,7 +272,7 @@ def dyn_sheets(soffice, tmp_path_factory):
 def test_libreoffice_kinetostatics_rows_equal_compute(dyn_sheets, stem):
     """Every reaction, couple and M_bal row of the sheet (PRP's and RPP's blocks included),
     recalculated by LibreOffice, equals compute --dynamics; every check row passes."""
-    from sheetkin.dynamics import dynamics_names
+    from sheetkin.kinematics.dynamics import dynamics_names
     ws, scene = dyn_sheets[stem]
     df = sheetkin.compute(scene, dynamics=True)
     rows = {ws.cell(r, 1).value: r for r in range(1, ws.max_row + 1) if ws.cell(r, 1).value}

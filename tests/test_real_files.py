@@ -23,8 +23,8 @@ from libreoffice import is_error, recalculate
 from realbooks import (BUILDERS, FUNCTIONS, ROOT, Book, differential_book, fourbar_with_name, generated_formulas,
                        row_numbers)
 from realfiles import cell
-from sheetkin.evaluator import ERRORS, evaluate
-from sheetkin.validator import validate
+from sheetkin.xlsx.evaluator import ERRORS, evaluate
+from sheetkin.course.validator import validate
 
 
 # ------------------------------------------------------------------ one soffice call
@@ -171,7 +171,7 @@ def test_opendocument_spreadsheet_is_converted(lo, tmp_path, soffice):
     assert (ods.read_bytes(), ods.stat().st_mtime_ns) == before
     assert sorted(p.name for p in folder.iterdir()) == ["student.ods"]
     assert ours.path == str(ods)
-    from sheetkin.cli import main
+    from sheetkin.cli.commands import main
     assert main(["evaluate", str(ods), "--format", "csv"]) == 0
     for key, v in b.expected.items():
         assert agrees(ours.value(*_split(key)), v), key
@@ -180,7 +180,7 @@ def test_opendocument_spreadsheet_is_converted(lo, tmp_path, soffice):
 
 def test_validate_accepts_an_ods_submission(lo, tmp_path):
     """The fourbar workbook saved as .ods (LibreOffice's default on Save) is validated."""
-    from sheetkin.libreoffice import _convert
+    from sheetkin.xlsx.libreoffice import _convert
     src, _ = lo["fourbar"]
     ods = _convert([src], tmp_path, "ods", "ods", 120)[src.resolve()]
     report = validate(ods)
@@ -189,8 +189,8 @@ def test_validate_accepts_an_ods_submission(lo, tmp_path):
 
 
 def test_ods_without_libreoffice_is_refused_with_the_command(tmp_path, monkeypatch, capsys):
-    from sheetkin import libreoffice
-    from sheetkin.cli import main
+    from sheetkin.xlsx import libreoffice
+    from sheetkin.cli.commands import main
     src = rf.fods(tmp_path / "a.fods", [rf.table("Calc", [[rf.num(1)]])])
     ods = rf.ods(tmp_path / "a.ods", src)
     monkeypatch.setattr(libreoffice, "soffice_path", lambda: None)
@@ -243,7 +243,7 @@ def test_spilled_cells_are_computed_not_typed(lo):
 def test_both_readers_read_excels_shape_alike(lo, key, monkeypatch):
     """The element-tree reader (any well-formed sheet) reads shared formulas whose master
     comes after its children, array ranges and styled emptiness as the fast reader does."""
-    from sheetkin import xlsxread
+    from sheetkin.xlsx import cells as xlsxread
     src = lo["books"][key].source
     fast = xlsxread.read_book(src)
     monkeypatch.setattr(xlsxread, "_read_fast", lambda *a: None)
@@ -295,8 +295,8 @@ def test_fourbar_row_as_one_array_formula_grades_correct(tmp_path):
 def test_an_array_range_past_the_limits_is_refused(tmp_path):
     """An array formula's range holds computed cells: past the row limit it is one line,
     not a store of a million rows."""
-    from sheetkin.xlsxread import read_book
-    from sheetkin.xlsxsafe import UnusableWorkbook
+    from sheetkin.xlsx.cells import read_book
+    from sheetkin.xlsx.package import UnusableWorkbook
     xml = rf.sheet_xml([cell("A1", 1), cell("B1", 0, "A1*2", ' t="array" ref="B1:B1048576"')])
     path = rf.xlsx(tmp_path / "big_array.xlsx", [("Calc", xml)])
     with pytest.raises(UnusableWorkbook) as info:
@@ -308,8 +308,9 @@ def test_an_array_range_past_the_limits_is_refused(tmp_path):
 def test_a_class_of_ods_files_is_converted_in_one_run(lo, tmp_path, monkeypatch, capsys):
     """`sheetkin validate FOLDER` converts all the folder's .ods and .fods files in one
     LibreOffice run (not one per file), and reads each from its converted copy."""
-    from sheetkin import libreoffice, xlsxread
-    from sheetkin.cli import main
+    from sheetkin.xlsx import libreoffice
+    from sheetkin.xlsx import cells as xlsxread
+    from sheetkin.cli.commands import main
     folder = tmp_path / "class"
     folder.mkdir()
     b = lo["books"]["lo_functions"]
@@ -344,7 +345,7 @@ def test_a_class_of_ods_files_is_converted_in_one_run(lo, tmp_path, monkeypatch,
 def test_shifting_a_shared_formula_there_and_back_is_the_identity(text, dr, dc):
     """_shift_formula never raises; moved by (dr, dc) and back it is the text it was,
     unless a reference left the sheet on the way (then it says #REF!)."""
-    from sheetkin.xlsxread import _shift_formula
+    from sheetkin.xlsx.cells import _shift_formula
     there = _shift_formula(text, dr, dc)
     assert isinstance(there, str)
     back = _shift_formula(there, -dr, -dc)

@@ -7,7 +7,7 @@ import pytest
 from browser import HINT, chrome, chromium_paths, demo_class
 from conftest import _require
 
-from sheetkin.cli import main
+from sheetkin.cli.commands import main
 
 
 @pytest.fixture(scope="module")

@@ -6,9 +6,9 @@ from pathlib import Path
 
 import openpyxl
 
-from sheetkin.report import json_report, text_report
-from sheetkin.report_html import html_page
-from sheetkin.validator import validate
+from sheetkin.course.report import json_report, text_report
+from sheetkin.course.report_html import html_page
+from sheetkin.course.validator import validate
 
 WB = Path(__file__).resolve().parent.parent / "workbooks"
 

@@ -12,7 +12,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from sheetkin.groups import rpp
-from sheetkin.motion import Motion
+from sheetkin.groups.motion import Motion
 
 D1 = np.array([1 / 280, -4 / 105, 1 / 5, -4 / 5, 0, 4 / 5, -1 / 5, 4 / 105, -1 / 280])
 D2 = np.array([-1 / 560, 8 / 315, -1 / 5, 8 / 5, -205 / 72, 8 / 5, -1 / 5, 8 / 315, -1 / 560])
@@ -121,7 +121,7 @@ def test_rpp_toggle_measure_is_constant_and_free_of_size():
 
 
 def test_rpp_loop_equations_hold_at_the_closed_form_answer():
-    from sheetkin.bench import FLOAT
+    from sheetkin.studies.bench import FLOAT
     c, y = (0.2, -0.1, 0.5, 2.0, -3.0, 1.0), (1.0, 1.0, 0.4, 2.0)
     k, sk, sj, *_ = rpp.solve_rpp(as_motion(0.0, c), y[:2], y[2], y[3])
     F, J, b_v, b_a, place = rpp.loop_lines(FLOAT, j1_path(math, 0.0, c), y[:2], y[2], y[3])

@@ -17,14 +17,14 @@ import mpmath
 import numpy as np
 import pytest
 
-from sheetkin.bench import SILENT_ERROR, method_solver
+from sheetkin.studies.bench import SILENT_ERROR, method_solver
 from sheetkin.groups.rrr import FOURBAR as _STABILITY_SCENE
-from sheetkin.stability import (FAMILY_TITLES, STABILITY_DISTANCES, edge_mp, family, family_cases,
+from sheetkin.studies.stability import (FAMILY_TITLES, STABILITY_DISTANCES, edge_mp, family, family_cases,
                                 reference_near_singular, stability_scene, stability_study)
-from sheetkin.cli import main
-from sheetkin.compute import TOGGLE_THRESHOLD, AssemblyError, compute
-from sheetkin.scene import override_crank
-from sheetkin.scenecaps import SceneError
+from sheetkin.cli.commands import main
+from sheetkin.kinematics.table import TOGGLE_THRESHOLD, AssemblyError, compute
+from sheetkin.kinematics.scene import override_crank
+from sheetkin.kinematics.caps import SceneError
 
 D = list(STABILITY_DISTANCES)
 
@@ -228,8 +228,8 @@ def test_other_kinds_edges_are_exact(study):
     geometry written out here: the crank-slider's coupler (0.2) stands across its guide
     (y = 0.05) when 0.05 - 0.25 sin(phi) = 0.2; the second rocker O2 D (0.3) stands across
     the line O1 B of the four-bar's rocker, B from the mpmath reference."""
-    from sheetkin.bench import reference_mp
-    from sheetkin.scene import parse_scene
+    from sheetkin.studies.bench import reference_mp
+    from sheetkin.kinematics.scene import parse_scene
     _, _, edges, _ = study
     with mpmath.workdps(50):
         edge, _, _ = family_cases(family("slider-toggle"), D)
@@ -332,7 +332,7 @@ def test_newtons_no_convergence_where_lines_turn_parallel_is_its_step_test():
     its step test (NEWTON_TOL of |q|) cannot be met once the condition number is ~1/d: at
     1e-4 and 1e-6 rad it reports no convergence; with a test of 1e-10 the same iterations
     stop, on the solver's answer."""
-    from sheetkin.bench import FLOAT, NEWTON_MAX_ITER, NEWTON_TOL, _unknowns, _walk
+    from sheetkin.studies.bench import FLOAT, NEWTON_MAX_ITER, NEWTON_TOL, _unknowns, _walk
     _, _, cases = family_cases(family("parallel-slot"), [1e-4, 1e-6])
     for scene, phi, _, _ in cases:
         start = _unknowns(scene, [phi])[0]
@@ -383,7 +383,7 @@ def test_cli_stability(tmp_path, capsys, monkeypatch):
     # the command runs the study's own function: one family is enough here (the study
     # fixture runs them all)
     toggle = family("toggle")
-    monkeypatch.setattr("sheetkin.stability.families", lambda: [toggle])
+    monkeypatch.setattr("sheetkin.studies.stability.families", lambda: [toggle])
     assert main(["bench", "--stability", "--out", str(tmp_path)]) == 0
     out, err = capsys.readouterr()
     assert out.split()[:4] == ["family", "d", "method", "status"]

@@ -36,7 +36,7 @@ def test_import_sheetkin_loads_nothing_heavy():
 @pytest.mark.parametrize("argv", [["--help"], ["compute", "--help"], ["validate", "--help"],
                                   ["workbook", "--help"], ["--version"]])
 def test_help_loads_nothing_heavy_not_even_numpy(argv):
-    setup = ("from sheetkin.cli import main\n"
+    setup = ("from sheetkin.cli.commands import main\n"
              "import contextlib, io\n"
              "with contextlib.redirect_stdout(io.StringIO()) as out:\n"
              f"    try: main({argv!r})\n"
@@ -57,7 +57,7 @@ def test_the_registry_imports_a_kind_on_first_use():
 
 @pytest.mark.parametrize("fmt", ["table", "csv", "json"])
 def test_compute_command_loads_numpy_only(fmt):
-    setup = ("from sheetkin.cli import main\n"
+    setup = ("from sheetkin.cli.commands import main\n"
              "import contextlib, io\n"
              "with contextlib.redirect_stdout(io.StringIO()) as out:\n"
              f"    assert main(['compute', 'workbooks/fourbar.toml', '--format', '{fmt}']) == 0")
@@ -68,6 +68,6 @@ def test_the_api_still_gives_a_dataframe():
     setup = ("import sheetkin\n"
              "df = sheetkin.compute('workbooks/fourbar.toml')\n"
              "assert type(df).__name__ == 'DataFrame' and len(df) == 13\n"
-             "import sheetkin.compute\n"
+             "import sheetkin.kinematics.table\n"
              "assert callable(sheetkin.compute) and sheetkin.solve and sheetkin.Gap")
     assert "pandas" in loaded(setup)

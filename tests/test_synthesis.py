@@ -1,4 +1,4 @@
-"""`sheetkin synth crank-rocker` and sheetkin.synthesis (seed 002, issue #6 part 1).
+"""`sheetkin synth crank-rocker` and sheetkin.studies.synthesis (seed 002, issue #6 part 1).
 
 The synthesized mechanism is checked through the solver, independently of the synthesis
 formulas: its rocker angle phi_3 over a revolution has its extremes at gamma1 and gamma2, at
@@ -15,8 +15,8 @@ import pytest
 from scipy.optimize import fsolve
 
 import sheetkin
-from sheetkin.cli import main
-from sheetkin.synthesis import SynthesisError, _check, overlap_angle_deg, synthesize_crank_rocker
+from sheetkin.cli.commands import main
+from sheetkin.studies.synthesis import SynthesisError, _check, overlap_angle_deg, synthesize_crank_rocker
 
 SEED = dict(kw=1.2, l3=0.6, yd=-0.1, gamma1_deg=60.0, gamma2_deg=105.0)
 SEED_ARGS = ["synth", "crank-rocker", "--kw", "1.2", "--l3", "0.6", "--yd", "-0.1",
@@ -205,7 +205,7 @@ def _line_of(text, prefix):
 
 def test_synth_writes_the_synthesis_table(tmp_path, capsys):
     import tomllib
-    from sheetkin.synthesis import parse_synthesis
+    from sheetkin.studies.synthesis import parse_synthesis
     out = _seed_scene(tmp_path, capsys)
     text = out.read_text(encoding="utf-8")
     table = tomllib.loads(text)["synthesis"]
@@ -270,8 +270,8 @@ def test_missing_key_and_no_solution_point_at_the_table(tmp_path, capsys):
 
 
 def test_synthesis_table_of_the_wrong_kind(tmp_path, capsys):
-    from sheetkin.scene import SceneError
-    from sheetkin.synthesis import parse_synthesis
+    from sheetkin.kinematics.scene import SceneError
+    from sheetkin.studies.synthesis import parse_synthesis
     out = _seed_scene(tmp_path, capsys)
     text = out.read_text(encoding="utf-8")
     header = _line_of(text, "[synthesis]")
@@ -296,7 +296,7 @@ def test_synthesis_table_of_the_wrong_kind(tmp_path, capsys):
 def test_workbook_synthesis_option(tmp_path, capsys):
     """--synthesis requires the table; without the option a scene without it gets no sheet."""
     import openpyxl
-    from sheetkin.synthesis import SYNTH_SHEET_TITLES
+    from sheetkin.studies.synthesis import SYNTH_SHEET_TITLES
     out = _seed_scene(tmp_path, capsys)
     text = out.read_text(encoding="utf-8")
     plain = tmp_path / "plain.toml"
@@ -321,9 +321,9 @@ def test_scene_workbook_check_evaluate_validate(tmp_path, capsys):
     """--check (the fingerprint covers the synthesis sheet), evaluate and validate on a
     scene's workbook with the synthesis sheet; the sheet evaluated headlessly gives the closed
     form, and its rows comparing it with the kinematics sheet pass."""
-    from sheetkin.evaluator import evaluate
-    from sheetkin.synthesis import SYNTH_SHEET_TITLES
-    from sheetkin.workbook import embedded_scene_text
+    from sheetkin.xlsx.evaluator import evaluate
+    from sheetkin.studies.synthesis import SYNTH_SHEET_TITLES
+    from sheetkin.sheet.workbook import embedded_scene_text
     out = _seed_scene(tmp_path, capsys)
     book = out.with_suffix(".xlsx")
     assert main(["workbook", str(out), "--lang", "en"]) == 0
@@ -361,7 +361,7 @@ def test_scene_workbook_check_evaluate_validate(tmp_path, capsys):
 
 
 def test_a_scene_unlike_its_synthesis_data_is_warned_and_checked(tmp_path, capsys):
-    from sheetkin.evaluator import evaluate
+    from sheetkin.xlsx.evaluator import evaluate
     out = _seed_scene(tmp_path, capsys)
     m = synthesize_crank_rocker(**SEED)
     text = out.read_text(encoding="utf-8")

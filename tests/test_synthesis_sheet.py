@@ -14,8 +14,8 @@ from openpyxl.utils import get_column_letter
 import pytest
 
 from libreoffice import is_error, read_values, recalculate
-from sheetkin.cli import main
-from sheetkin.synthesis import (SYNTH_SHEET_TITLES, SynthesisError, build_synthesis_workbook,
+from sheetkin.cli.commands import main
+from sheetkin.studies.synthesis import (SYNTH_SHEET_TITLES, SynthesisError, build_synthesis_workbook,
                                 synthesize_crank_rocker)
 
 SEED = dict(kw=1.2, l3=0.6, yd=-0.1, gamma1_deg=60.0, gamma2_deg=105.0)
@@ -176,7 +176,7 @@ def test_scenes_workbook_validates_after_libreoffice(recalculated, key, capsys):
     correct, no failing check, no cell whose formula disagrees with its saved value (the
     K_w = 1 rocker starts at gamma1 = 0: LibreOffice saves that angle as 0 where the
     evaluator gives 359.99999999999994, the same angle on an angle row)."""
-    from sheetkin.validator import validate
+    from sheetkin.course.validator import validate
     out = recalculated[3][key][1]
     report = validate(out)
     assert report.ok and not report.failing_checks, report
@@ -215,7 +215,7 @@ def test_sheet_agrees_with_python_on_random_data(tmp_path):
     third of them with K_w = 1: the same solution to 1e-9, or "no solution" where the closed
     form refuses."""
     import random
-    from sheetkin.evaluator import evaluate
+    from sheetkin.xlsx.evaluator import evaluate
     rnd = random.Random(2)
     solved = refused = solved_kw1 = 0
     for i in range(36):

@@ -15,10 +15,10 @@ from openpyxl.utils import get_column_letter
 
 import sheetkin
 from libreoffice import recalculate
-from sheetkin.cli import main
-from sheetkin.issued import Options
-from sheetkin.validator import validate
-from sheetkin.workbook import write_workbook
+from sheetkin.cli.commands import main
+from sheetkin.course.issued import Options
+from sheetkin.course.validator import validate
+from sheetkin.sheet.workbook import write_workbook
 
 WORKBOOKS = Path(__file__).resolve().parents[1] / "workbooks"
 BUNDLED = sorted(p.stem for p in WORKBOOKS.glob("*.toml"))
@@ -254,7 +254,7 @@ def test_json_html_and_progress(fourbar, tmp_path, capsys):
 def test_a_cause_that_is_an_error_value_says_so(fourbar, tmp_path):
     """A formula giving #DIV/0! where a number belongs: the cause says what it is, not
     "largest error inf"."""
-    from sheetkin.report import text_report
+    from sheetkin.course.report import text_report
 
     def div0(ws, rows):
         for k in range(13):

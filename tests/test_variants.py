@@ -2,7 +2,7 @@
 type of mechanism, assemble everywhere, stay away from toggles, rounded as a teacher prints
 them; exercise and key books, scenes, roster.csv; reproducible; one-line refusals.
 
-The properties are checked independently of sheetkin.variants: Grashof's inequality from
+The properties are checked independently of sheetkin.course.variants: Grashof's inequality from
 the lengths, the crank-slider's r + |e| < l, the solver at a finer grid than the module's."""
 from __future__ import annotations
 
@@ -17,12 +17,12 @@ import openpyxl
 import pytest
 
 from realbooks import row_numbers
-from sheetkin.cli import main
-from sheetkin.issued import KEY_FILE, Options, given_values, read_key, read_roster
-from sheetkin.scene import SceneError, load_scene, parse_scene
-from sheetkin.solver import solve
-from sheetkin.validator import validate
-from sheetkin.variants import BAND, MIN_DET, make_variants, parameters, ranges, write_variants
+from sheetkin.cli.commands import main
+from sheetkin.course.issued import KEY_FILE, Options, given_values, read_key, read_roster
+from sheetkin.kinematics.scene import SceneError, load_scene, parse_scene
+from sheetkin.kinematics.solver import solve
+from sheetkin.course.validator import validate
+from sheetkin.course.variants import BAND, MIN_DET, make_variants, parameters, ranges, write_variants
 from clirun import run
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -253,7 +253,7 @@ def test_a_double_crank_is_not_turned_into_a_crank_rocker():
     crank-rocker: it assembles everywhere, but link 3 rocks instead of turning. Such
     candidates are drawn (the range allows them, and their |det| passes 0.1) and refused."""
     rocker = parse_scene(DRAG_LINK.replace("length = 0.25", "length = 0.03"))
-    from sheetkin.variants import assess
+    from sheetkin.course.variants import assess
     assert assess(parse_scene(DRAG_LINK), 0.1) == ("", (1, 1, 1))
     assert assess(rocker, 0.1) == ("", (1, 0, 0))              # the coupler does not turn either
     vs = make_variants(DRAG_LINK, "drag.toml", 8, 2, ["L1=0.02..0.3"], min_det=0.1)
@@ -276,7 +276,8 @@ def test_wide_ranges_keep_grashof():
 
 
 def test_help_constants_are_the_modules():
-    from sheetkin import cli_args, variants
+    from sheetkin.cli import args as cli_args
+    from sheetkin.course import variants
     assert cli_args.VARIANTS_DEFAULTS == (variants.BAND, variants.MIN_DET, variants.MARGIN, variants.TRIES,
                                      variants.REVOLUTION_DEG)
 

@@ -18,9 +18,9 @@ import pytest
 import sheetkin
 from libreoffice import is_error, recalculate
 from scenes import FOURBAR
-from sheetkin.cli import main
-from sheetkin.scene import override_crank
-from sheetkin.workbook import MARKERS, build_workbook, embedded_scene_text, fingerprint, write_workbook
+from sheetkin.cli.commands import main
+from sheetkin.kinematics.scene import override_crank
+from sheetkin.sheet.workbook import MARKERS, build_workbook, embedded_scene_text, fingerprint, write_workbook
 
 WORKBOOKS = Path(__file__).resolve().parents[1] / "workbooks"
 BUNDLED = sorted(p.stem for p in WORKBOOKS.glob("*.toml"))
@@ -332,7 +332,7 @@ def test_a_check_row_at_least_every_8_rows(stem):
         status = ws.cell(r, 4).value
         if ws.cell(r, 2).value is None and ws.cell(r, 3).value is None:
             continue                                    # a section heading
-        gap = 0 if "ISERROR(" in str(status) else gap + 1         # a check row's status (sheetkin/checks.py)
+        gap = 0 if "ISERROR(" in str(status) else gap + 1         # a check row's status (sheetkin/sheet/checks.py)
         worst = max(worst, gap)
     assert 5 <= worst <= 8
 
@@ -420,8 +420,8 @@ def test_numeric_derivative_checks_pass_at_the_largest_step_they_run(stem, tmp_p
     """At |Delta_Fi| = FD_MAX_STEP_DEG the central-difference checks are active and, for
     every bundled mechanism (the quick-return ones included), within their tolerance: a red
     check there would be the finite differences' own error, not a mistake."""
-    from sheetkin.evaluator import evaluate
-    from sheetkin.workbook import FD_MAX_STEP_DEG
+    from sheetkin.xlsx.evaluator import evaluate
+    from sheetkin.sheet.workbook import FD_MAX_STEP_DEG
     text = (WORKBOOKS / f"{stem}.toml").read_text(encoding="utf-8")
     sign = 1.0 if sheetkin.parse_scene(text).crank.step_deg > 0 else -1.0
     text, scene = override_crank(text, stem, positions=int(360 / FD_MAX_STEP_DEG) + 1,

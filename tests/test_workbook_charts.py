@@ -14,9 +14,9 @@ import pytest
 
 import sheetkin
 from libreoffice import is_error, recalculate
-from sheetkin import drawing
-from sheetkin.workbook import build_workbook
-from sheetkin.workbook_charts import HELPER_COL, PATHS_SHEET, PLOT, equal_axes
+from sheetkin.views import drawing
+from sheetkin.sheet.workbook import build_workbook
+from sheetkin.sheet.charts import HELPER_COL, PATHS_SHEET, PLOT, equal_axes
 from scenes import SHORT  # noqa: E402  (tests/ is on sys.path)
 
 WB = Path(__file__).resolve().parent.parent / "workbooks"
@@ -144,7 +144,7 @@ def test_trajectory_charts_are_to_equal_scale(books):
             continue
         scaled += 1
         x, y, w, h = (float(re.search(rf"<{t} val=\"([^\"]+)\"", xml).group(1)) for t in ("x", "y", "w", "h"))
-        cm = re.findall(r"<scaling>.*?<max val=\"([^\"]+)\" />.*?<min val=\"([^\"]+)\" />", xml, re.S)
+        cm = re.findall(r"<scaling>.*?<max val=\"([^\"]+)\"\s*/>.*?<min val=\"([^\"]+)\"\s*/>", xml, re.S)
         (xmax, xmin), (ymax, ymin) = [(float(a), float(b)) for a, b in cm]
         assert (xmax - xmin) / (w * 16.0) == pytest.approx((ymax - ymin) / (h * 12.0), rel=1e-9)
     assert scaled == 2
@@ -167,7 +167,7 @@ def test_exercise_has_no_paths_sheet():
 @pytest.mark.parametrize("key", list(CASES))
 def test_evaluator_agrees_with_libreoffice_on_the_drawing(books, key):
     """sheetkin's evaluator (INDEX, NA) computes the helper cells as LibreOffice does."""
-    from sheetkin.evaluator import evaluate
+    from sheetkin.xlsx.evaluator import evaluate
     wb, path = books[key]
     lo = wb.worksheets[1]
     book = evaluate(path)

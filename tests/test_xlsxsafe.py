@@ -1,4 +1,4 @@
-"""sheetkin.xlsxsafe: untrusted .xlsx input is refused with one line, never a traceback.
+"""sheetkin.xlsx.package: untrusted .xlsx input is refused with one line, never a traceback.
 
 Every bad input is built here, in tmp_path, from an openpyxl workbook, zipfile and raw bytes.
 """
@@ -14,7 +14,7 @@ from pathlib import Path
 import openpyxl
 import pytest
 
-from sheetkin.xlsxsafe import (Limits, Package, SheetPart, UnusableWorkbook, check_dimension,
+from sheetkin.xlsx.package import (Limits, Package, SheetPart, UnusableWorkbook, check_dimension,
                                check_openpyxl_safe, open_package, sheet_dimension, sheet_parts)
 
 REPO = Path(__file__).resolve().parent.parent
@@ -519,7 +519,7 @@ def test_a_cell_that_holds_something_past_the_limits_is_refused(tmp_path):
     """The <dimension ref> is only the writer's claim (LibreOffice writes A1:XFD1048576 for
     styled empty rows): the gate lets it through, the reader refuses a cell that holds
     something past the limits."""
-    from sheetkin.xlsxread import read_book
+    from sheetkin.xlsx.cells import read_book
     wb = openpyxl.Workbook()
     wb.active.title = "Лист1"
     wb.active["A1"] = 1

@@ -18,7 +18,7 @@ Every kind module provides the same surface, under banners in this order:
   Params                     frozen dataclass of the kind's own fields (g.params; read
                              through as g.branch, g.length, g.guide ...)
   parse(tbl, frame) -> (joints, Params)
-        tbl is the [[group]] table (sheetkin.scene's typed getters: get, array, positive,
+        tbl is the [[group]] table (sheetkin.kinematics.scene's typed getters: get, array, positive,
         name, fail(key, msg), guide(key, frame) -> group.Guide); report every mistake with
         tbl.fail (one line naming file, line, key). `type`, `links` are checked before.
   needs(g) -> list[str]      points that must be known before the group is placed (J1,
@@ -43,7 +43,7 @@ Every kind module provides the same surface, under banners in this order:
                     slides={tag: Slide}, disc, toggle); toggle = det / (its lengths), free
                     of where the mechanism sits and of its size.
 
-  # --- the workbook (sheetkin.rows.Builder)
+  # --- the workbook (sheetkin.groups.rows.Builder)
   input_rows(g) -> list[rows.InputRow]   the group's editable inputs; InputRow.early: written
                              with the lengths (before the frame points), else after them.
                              Names: L{k} lengths, gx_g{i} gy_g{i} gamma_g{i} a guide,
@@ -82,7 +82,7 @@ Every kind module provides the same surface, under banners in this order:
   STABILITY = (group.Family(...), ...)   scenes walked towards where the kind degenerates
                              (a toggle, the edge of its range, two lines turning parallel):
                              what the family varies and the function whose root is its
-                             singular position; sheetkin.stability runs them all
+                             singular position; sheetkin.studies.stability runs them all
 """
 from __future__ import annotations
 

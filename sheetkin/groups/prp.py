@@ -29,9 +29,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..group import Family, Group, Guide, crank_scene
-from ..motion import GroupMotion, Motion, Pair, Rotation, Slide, cramer, guide_line, guide_loop, inverse_det
-from ..rows import (Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, det_row, fd_checks, motion_rows,
+from .group import Family, Group, Guide, crank_scene
+from .motion import GroupMotion, Motion, Pair, Rotation, Slide, cramer, guide_line, guide_loop, inverse_det
+from .rows import (Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, det_row, fd_checks, motion_rows,
                     residual, turns_with_check)
 
 # --------------------------------------------------------------------------- what it is
@@ -85,7 +85,7 @@ def sliders(g: Group) -> list[str]:
 
 
 def fourbar(g: Group, crank_joint: str, frame) -> None:
-    """Not a four-bar's dyad (only an RRR closes one with the crank: sheetkin.synthesis)."""
+    """Not a four-bar's dyad (only an RRR closes one with the crank: sheetkin.studies.synthesis)."""
     return None
 
 
@@ -399,7 +399,7 @@ def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
 # --------------------------------------------------------------------------- loop equations
 def loop_lines(lib, pa, guide_a, pb, guide_b):
     """The loop-closure equation F(q) = P_a + s1 u_a - P_b - s2 u_b = 0 in q = (s1, s2),
-    for any number type `lib` (mpmath or float, sheetkin.bench). pa, pb: ((x, y), (vx, vy),
+    for any number type `lib` (mpmath or float, sheetkin.studies.bench). pa, pb: ((x, y), (vx, vy),
     (ax, ay)); guide_*: (theta, omega, eps) of the guide's direction.
     Returns F, J, b_v, b_a, place as bench's loops do; place gives N, the two links'
     (theta, omega, eps) and the two slides (s, vs, as)."""

@@ -22,9 +22,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..group import Family, Group, Guide, crank_scene
-from ..motion import GroupMotion, Motion, Pair, Rotation, Slide, cramer, inverse_det
-from ..rows import Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, fd_checks, motion_rows, turns_with_check
+from .group import Family, Group, Guide, crank_scene
+from .motion import GroupMotion, Motion, Pair, Rotation, Slide, cramer, inverse_det
+from .rows import Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, fd_checks, motion_rows, turns_with_check
 
 # --------------------------------------------------------------------------- what it is
 KIND = "RPP"
@@ -81,7 +81,7 @@ def sliders(g: Group) -> list[str]:
 
 
 def fourbar(g: Group, crank_joint: str, frame) -> None:
-    """Not a four-bar's dyad (only an RRR closes one with the crank: sheetkin.synthesis)."""
+    """Not a four-bar's dyad (only an RRR closes one with the crank: sheetkin.studies.synthesis)."""
     return None
 
 
@@ -303,7 +303,7 @@ def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
 # --------------------------------------------------------------------------- loop equations
 def loop_lines(lib, j1, through, gamma, alpha):
     """F(q) = G + s_K u_g + s_J1 u_s - J1 = 0 in q = (s_K, s_J1), for any number type
-    `lib` (sheetkin.bench). j1: ((x, y), (vx, vy), (ax, ay)); through: (x, y) on the frame;
+    `lib` (sheetkin.studies.bench). j1: ((x, y), (vx, vy), (ax, ay)); through: (x, y) on the frame;
     gamma, alpha: angles in radians of lib's type. place gives K, the links'
     (alpha, 0, 0) twice and the slides (s_K, ...), (s_J1, ...)."""
     p1, v1, a1 = j1

@@ -18,10 +18,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..group import Family, Group, crank_scene
-from ..motion import (GroupMotion, Motion, Pair, Rotation, Slide, cramer, cross, hinge, inverse_det, resultants,
+from .group import Family, Group, crank_scene
+from .motion import (GroupMotion, Motion, Pair, Rotation, Slide, cramer, cross, hinge, inverse_det, resultants,
                       sqrt_or_nan)
-from ..rows import Builder, InputRow, LoadRows, cramer_rows, det_row, group_guard, residual, turns_with_check
+from .rows import Builder, InputRow, LoadRows, cramer_rows, det_row, group_guard, residual, turns_with_check
 
 # --------------------------------------------------------------------------- what it is
 KIND = "RPR"
@@ -68,7 +68,7 @@ def sliders(g: Group) -> list[str]:
 
 
 def fourbar(g: Group, crank_joint: str, frame) -> None:
-    """Not a four-bar's dyad (only an RRR closes one with the crank: sheetkin.synthesis)."""
+    """Not a four-bar's dyad (only an RRR closes one with the crank: sheetkin.studies.synthesis)."""
     return None
 
 

@@ -21,10 +21,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..group import Family, Group, Guide, crank_scene
-from ..motion import (GroupMotion, Motion, Pair, Rotation, Slide, cramer, guide_line, guide_loop, hinge, inverse_det,
+from .group import Family, Group, Guide, crank_scene
+from .motion import (GroupMotion, Motion, Pair, Rotation, Slide, cramer, guide_line, guide_loop, hinge, inverse_det,
                       on_line, resultants, sqrt_or_nan)
-from ..rows import (Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, det_row, distance_check, fd_checks,
+from .rows import (Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, det_row, distance_check, fd_checks,
                     group_guard, motion_rows, relative_velocity_check, residual, turns_with_check,
                     via_link_checks)
 
@@ -93,7 +93,7 @@ def sliders(g: Group) -> list[str]:
 
 
 def fourbar(g: Group, crank_joint: str, frame) -> None:
-    """Not a four-bar's dyad (only an RRR closes one with the crank: sheetkin.synthesis)."""
+    """Not a four-bar's dyad (only an RRR closes one with the crank: sheetkin.studies.synthesis)."""
     return None
 
 

@@ -18,10 +18,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..group import Family, Group
-from ..motion import (GroupMotion, Motion, Pair, Rotation, carried_point, cramer, cross, hinge, inverse_det, resultants,
+from .group import Family, Group
+from .motion import (GroupMotion, Motion, Pair, Rotation, carried_point, cramer, cross, hinge, inverse_det, resultants,
                       sqrt_or_nan)
-from ..rows import (Builder, InputRow, LoadRows, carried_rows, cos_sin_rows, cramer_rows, det_row, distance_check,
+from .rows import (Builder, InputRow, LoadRows, carried_rows, cos_sin_rows, cramer_rows, det_row, distance_check,
                     fd_checks, group_guard, relative_velocity_check, residual, via_link_checks)
 
 # --------------------------------------------------------------------------- what it is
@@ -78,7 +78,7 @@ def sliders(g: Group) -> list[str]:
 def fourbar(g: Group, crank_joint: str, frame) -> tuple[float, float, str, int] | None:
     """(coupler, rocker, the rocker's frame pivot, branch) if the group closes a four-bar
     with the crank (J1 the crank's joint, J2 a frame point), the mechanism whose lengths
-    seed 002's synthesis designs (sheetkin.synthesis); else None."""
+    seed 002's synthesis designs (sheetkin.studies.synthesis); else None."""
     if g.joints[0] == crank_joint and g.joints[2] in frame:
         return g.lengths[0], g.lengths[1], g.joints[2], g.branch
     return None

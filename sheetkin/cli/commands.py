@@ -1,0 +1,515 @@
+"""Command line: `sheetkin compute SCENE.toml ...`, `sheetkin workbook SCENE.toml ...`,
+`sheetkin bench SCENE.toml --out DIR`, `sheetkin synth crank-rocker ...`, ...
+
+Exit codes: 0 done, 1 `workbook --check` found a stale or missing workbook, 2 unusable
+input (a scene mistake, a bad option) or unwritable output (a full disk, a closed pipe, an
+output option naming an input file), 3 the mechanism cannot be assembled at some
+requested position (the message gives the intervals), 70 a bug (one line asking to report
+it; SHEETKIN_DEBUG=1 shows the traceback).
+Every error is one line on stderr; no traceback reaches the user. The commands' options
+and their help texts are in sheetkin/cli/args.py; this module runs the commands.
+"""
+from __future__ import annotations
+
+import io
+import json
+import os
+import sys
+from pathlib import Path
+
+# Only the standard library and the scene reader here: `--help` and small commands start
+# quickly, and each command imports what it needs (numpy, pandas, openpyxl, matplotlib)
+# inside its function (tests/test_startup.py checks which modules a command loads).
+from sheetkin import __version__
+from sheetkin.kinematics.scene import (MAX_POSITIONS, WORKBOOK_MAX_POSITIONS, AssemblyError, SceneError,
+                    key_line, load_scene, one_line, override_crank)
+from .args import EXIT_INPUT, TOGGLE_THRESHOLD, build_parser  # noqa: F401 (TOGGLE_THRESHOLD: re-exported)
+
+EXIT_ASSEMBLY = 3
+EXIT_INTERNAL = 70          # a bug (BSD's EX_SOFTWARE): one line, and a request to report it
+
+
+def cmd_variants(args) -> int:
+    import secrets
+    from sheetkin.course.variants import make_variants, write_variants
+    load_scene(args.scene)                       # one line naming file, line and key
+    text = Path(args.scene).read_text(encoding="utf-8-sig")
+    seed = args.seed if args.seed is not None else secrets.randbelow(10 ** 6)
+    variants = make_variants(text, args.scene, args.n, seed, args.vary, args.min_det)
+    roster = write_variants(variants, args.out, force=args.force, lang=args.lang)
+    print(f"{args.out}: {len(variants)} variants of {args.scene} (seed {seed}: --seed {seed} makes the "
+          f"same again); {roster}; the key {Path(args.out) / '.sheetkin-key'} stays with you", file=sys.stderr)
+    return 0
+
+
+def cmd_animate(args) -> int:
+    from sheetkin.views.animate import FORMATS, animate, stderr_progress
+    scene = load_scene(args.scene)
+    if Path(args.output).suffix.lower() not in FORMATS:
+        raise SceneError(f"{args.output}: expected a file name ending in {', '.join(FORMATS)}")
+    show = args.progress == "always" or (args.progress == "auto" and sys.stderr.isatty())
+    pic = animate(scene, args.output, frames=args.frames, fps=args.fps, size=args.size,
+                  vectors=args.vectors, labels=not args.no_labels, allow_gaps=args.allow_gaps,
+                  toggle_threshold=args.toggle_threshold,
+                  progress=stderr_progress(args.output) if show else None)
+    print(f"{args.output}: {len(pic.frames)} positions", file=sys.stderr)
+    for note in pic.notes:
+        if not note.startswith("velocity"):
+            print(f"sheetkin: warning: {note}", file=sys.stderr)
+    return 0
+
+
+def cmd_compute(args) -> int:
+    import numpy as np
+    from .angles import parse_range, read_angles
+    from sheetkin.views.output import write_compute
+    scene = load_scene(args.scene)
+    if args.dynamics and not scene.has_dynamics:
+        raise SceneError(f"{args.scene}: --dynamics needs [[mass]] and/or [[force]] tables in the "
+                         "scene (and `gravity = [gx, gy]` for weight); see the README")
+    if args.range is not None:
+        phi = parse_range(args.range)
+    elif args.at_file is not None:
+        phi = read_angles(args.at_file)
+    else:
+        c = scene.crank       # the scene's angles as compute() makes them
+        phi = (c.phi0_deg + np.arange(c.positions, dtype=float) * c.step_deg if args.at is None
+               else np.array(args.at, dtype=float))
+    warnings = write_compute(scene, phi, args.format, args.output, analogs=args.analogs,
+                             dynamics=args.dynamics, allow_gaps=args.allow_gaps,
+                             toggle_threshold=args.toggle_threshold)
+    for w in warnings:
+        print(f"sheetkin: warning: {w}", file=sys.stderr)
+    return 0
+
+
+def cmd_workbook(args) -> int:
+    from sheetkin.studies.synthesis import add_scene_synthesis_sheet, parse_synthesis
+    from sheetkin.sheet.workbook import build_workbook, fingerprint   # openpyxl is needed only here
+
+    if args.output and len(args.scenes) > 1:
+        raise SceneError(f"-o names one file, but {len(args.scenes)} scenes were given")
+    overrides = {k: v for k, v in (("positions", args.positions), ("step_deg", args.step_deg),
+                                   ("phi0_deg", args.phi0_deg)) if v is not None}
+    stale = 0
+    for path in args.scenes:
+        scene = load_scene(path)        # validates, with the file's own line numbers
+        text = Path(path).read_text(encoding="utf-8-sig")
+        if overrides:
+            text, scene = override_crank(text, path, **overrides)
+        check_workbook_positions(scene, text, path, "positions" in overrides)
+        out = Path(args.output) if args.output else Path(path).with_name(
+            Path(path).stem + ("-exercise" if args.exercise else "") + ".xlsx")
+        synthesis = parse_synthesis(text, path)
+        if synthesis is None and args.synthesis:
+            raise SceneError(f"{path}: --synthesis: the scene has no [synthesis] table (the data "
+                             "of `sheetkin synth crank-rocker`, which writes it with -o)")
+        wb = build_workbook(scene, lang=args.lang, exercise=args.exercise, scene_text=text)
+        if synthesis is not None:
+            for w in add_scene_synthesis_sheet(wb, scene, synthesis, lang=args.lang):
+                print(f"sheetkin: warning: {path}: {w}: the synthesis sheet's check rows "
+                      "comparing it with the kinematics sheet fail", file=sys.stderr)
+        if args.check:
+            if not out.exists():
+                print(f"sheetkin: {out}: missing (regenerate: sheetkin workbook {path})")
+                stale += 1
+            elif existing_fingerprint(out) != fingerprint(wb):
+                print(f"sheetkin: {out}: stale, differs from {path} (regenerate: sheetkin workbook {path})")
+                stale += 1
+            else:
+                print(f"{out}: up to date")
+            continue
+        if out.suffix.lower() != ".xlsx":
+            raise SceneError(f"{out}: expected a file name ending in .xlsx")
+        save_workbook(wb, out)
+        print(f"{out}: {scene.crank.positions} positions, {len(scene.groups)} group(s), "
+              f"{len(scene.points)} point(s)" + (", synthesis sheet" if synthesis else ""),
+              file=sys.stderr)
+    return 1 if stale else 0
+
+
+def check_workbook_positions(scene, text: str, path: str, from_option: bool) -> None:
+    """A workbook has one column per position after A-D: refuse more than a sheet holds
+    (Excel's 16,384 columns) with a line naming the scene's key (or the option)."""
+    n = scene.crank.positions
+    if n <= WORKBOOK_MAX_POSITIONS:
+        return
+    what = "--positions" if from_option else (f"{path}:{key_line(text, 'crank', 'positions') or '?'}: "
+                                              "[crank] key 'positions'")
+    raise SceneError(f"{what}: {n:,} positions need {n:,} columns, but a workbook holds at most "
+                     f"{WORKBOOK_MAX_POSITIONS:,} (Excel's 16,384 columns less A-D); `sheetkin compute` "
+                     f"takes up to {MAX_POSITIONS:,}")
+
+
+def existing_fingerprint(path) -> dict:
+    """fingerprint() of a workbook on disk, read through the input gate (xlsxsafe), as
+    `validate` reads: `workbook --check` may meet any file under that name."""
+    from sheetkin.sheet.workbook import fingerprint
+    from sheetkin.xlsx.package import UnusableWorkbook, open_package
+    pkg = open_package(path)
+    try:
+        return fingerprint(io.BytesIO(pkg.data))
+    except Exception as e:        # openpyxl on a file that passed the gate but is not its shape
+        raise UnusableWorkbook(path, f"openpyxl cannot read it ({type(e).__name__}: {e})",
+                               "a workbook written by `sheetkin workbook`") from None
+
+
+def cmd_evaluate(args) -> int:
+    from sheetkin.xlsx.evaluator import evaluate, rows_frame
+    from sheetkin.views.output import fmt_cell as _fmt
+    book = _evaluate_one_line(evaluate, args.book)
+    if args.sheet and args.sheet not in book.sheets:
+        raise SceneError(f"{args.book}: no sheet {args.sheet!r}; sheets: {', '.join(book.order)}")
+    df = rows_frame(book, args.sheet)
+    if args.format == "csv":
+        text = df.to_csv(lineterminator="\n")
+    elif args.format == "json":
+        text = json.dumps({"file": args.book, "sheet": args.sheet or book.order[0],
+                           "rows": {n: list(r) for n, r in zip(df.index, df.itertuples(index=False))}},
+                          indent=1, ensure_ascii=False) + "\n"
+    else:
+        text = "\n".join(f"{n:<16}" + "".join(f"{_fmt(v):>13}" for v in row)
+                         for n, row in zip(df.index, df.itertuples(index=False))) + "\n"
+    _write(args.output, text)
+    return 0
+
+
+def _evaluate_one_line(evaluate, path):
+    """evaluate(path), every failure one line: the evaluator's own errors (a cell's
+    problem with strict evaluation, a refused file) pass as they are; anything else (a bug
+    of ours, memory) becomes an EvaluationError naming the file, never a traceback."""
+    from sheetkin.xlsx.evaluator import EvaluationError
+    try:
+        return evaluate(path)
+    except (ValueError, OSError) as e:
+        if isinstance(e, OSError) or type(e).__module__.startswith("sheetkin."):
+            raise
+        raise EvaluationError(f"{path}: cannot be evaluated ({type(e).__name__}: {' '.join(str(e).split())[:200]}); "
+                              "please report this file to sheetkin's authors") from None
+    except Exception as e:      # noqa: BLE001 - RecursionError, MemoryError, a bug: one line, exit 2
+        raise EvaluationError(f"{path}: cannot be evaluated ({type(e).__name__}: {' '.join(str(e).split())[:200]}); "
+                              "please report this file to sheetkin's authors") from None
+
+
+def _write(path, text):
+    if path:
+        with _writing(path), open(path, "w", encoding="utf-8", newline="") as f:
+            f.write(text)
+    else:
+        sys.stdout.write(text)
+
+
+def save_workbook(wb, path) -> None:
+    """Save an openpyxl workbook: built in memory first, then written in one go, so a
+    full disk is one line naming the file (openpyxl writing to the file itself leaves an
+    open zip whose clean-up prints a second error)."""
+    buf = io.BytesIO()
+    wb.save(buf)
+    with _writing(path), open(path, "wb") as f:
+        f.write(buf.getbuffer())
+
+
+class _writing:
+    """Context: an OSError while writing `path` (a full disk, /dev/full, no permission)
+    comes out naming the file; a write error has no file name of its own."""
+
+    def __init__(self, path):
+        self.path = str(path)
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, kind, e, tb):
+        if isinstance(e, OSError) and not isinstance(e, BrokenPipeError) and not e.filename:
+            raise OSError(e.errno, e.strerror or str(e), self.path) from None
+        return False
+
+
+# --------------------------------------------------------------------------- never overwrite input
+def _command_files(args) -> tuple[list[tuple[str, str]], list[str]]:
+    """(option, path) of every file the command writes, and the files it reads."""
+    out = [(opt, getattr(args, dest)) for opt, dest in
+           (("-o/--output", "output"), ("--html", "html"), ("--workbook", "workbook"), ("--grades", "grades"))
+           if getattr(args, dest, None)]
+    if args.command == "bench" and args.out:
+        out += [("--out", str(Path(args.out) / f)) for f in
+                ("bench.csv", "bench.png", "stability.csv", "stability.png")]
+    inputs = [p for p in ([getattr(args, "scene", None), getattr(args, "book", None),
+                           getattr(args, "class_list", None)] +
+                          list(getattr(args, "scenes", None) or [])) if p]
+    if args.command == "validate":
+        inputs += [str(f) for f in _validation_files(args.paths, strict=False)]
+        inputs += [p for p in (args.roster, args.key) if p]
+    return out, inputs
+
+
+def _same_file(a: str, b: str) -> bool:
+    """The same file, also through symlinks and hard links (os.path.samefile)."""
+    try:
+        return os.path.samefile(a, b)
+    except OSError:          # one of them does not exist (yet): compare resolved names
+        return Path(a).resolve() == Path(b).resolve()
+
+
+def refuse_overwriting_inputs(args) -> None:
+    """Raise SceneError (one line) if an output option names an input file of the command,
+    or two outputs name one file: `evaluate b.xlsx -o b.xlsx` and `validate b.xlsx --html
+    b.xlsx` used to overwrite the student's workbook."""
+    outputs, inputs = _command_files(args)
+    for k, (opt, path) in enumerate(outputs):
+        for inp in inputs:
+            if os.path.lexists(path) and _same_file(path, inp):
+                raise SceneError(f"{path}: {opt} names the input file {inp}; refusing to overwrite it "
+                                 "(choose another output name)")
+        for opt2, other in outputs[k + 1:]:
+            if opt2 != opt and _same_file(path, other):
+                raise SceneError(f"{path}: both {opt} and {opt2} name this file; choose two names")
+
+
+SPREADSHEET_SUFFIXES = (".xlsx", ".xlsm", ".xltx", ".xltm", ".xls", ".ods", ".fods")
+
+
+def _validation_files(paths: list[str], strict: bool = True) -> list[Path]:
+    out = []
+    for p in map(Path, paths):
+        if p.is_dir():
+            found = sorted(f for f in p.rglob("*") if f.suffix.lower() in SPREADSHEET_SUFFIXES
+                           and not f.name.startswith("~$") and f.is_file())
+            if not found and strict:
+                raise SceneError(f"{p}: no spreadsheet files (.xlsx) in this folder")
+            out += found
+        else:
+            out.append(p)
+    return out
+
+
+def _grades_first(args):
+    """Before validating: --grades' folder writable, the class list read (its mistakes are
+    one line now, not after the class is validated); returns the class list or None."""
+    if args.class_list and not args.grades:
+        raise SceneError("--class-list fills grades.csv's identifier column: give --grades GRADES.csv too")
+    if not args.grades:
+        return None
+    from sheetkin.course.grades import check_writable, read_class_list
+    check_writable(args.grades)
+    return read_class_list(args.class_list) if args.class_list else None
+
+
+def _write_grades(args, reports, copies, class_list) -> None:
+    from sheetkin.course.grades import grade_lines, grades_csv, write_grades
+    lines, warnings = grade_lines(reports, copies, class_list,
+                                  accept_changed=bool(getattr(args, "accept_changed_inputs", False)))
+    write_grades(args.grades, grades_csv(lines))
+    print(f"{args.grades}: {len(lines) - 1} submission(s) graded", file=sys.stderr)
+    for w in warnings:
+        print(f"sheetkin: warning: {args.grades}: {w}", file=sys.stderr)
+
+
+def cmd_validate(args) -> int:
+    from sheetkin.course.batch import validate_many
+    from sheetkin.course.report import copies_lines, html_report, json_report, summary_table, text_report
+    files = _validation_files(args.paths)
+    class_list = _grades_first(args)
+    show = args.progress == "always" or (args.progress == "auto" and sys.stderr.isatty() and len(files) > 1)
+    from sheetkin.xlsx.cells import convert_opendocument     # a class's .ods files: one LibreOffice run
+    convert_opendocument(files, note=(lambda t: print(f"sheetkin: {t}", file=sys.stderr)) if show else None)
+    # (converted before the pool starts: forked workers inherit the conversions)
+
+    def progress(done, f):
+        bar = int(30 * done / len(files))
+        sys.stderr.write(f"\r[{'#' * bar}{'.' * (30 - bar)}] {done}/{len(files)} {f.name[:40]:<40}")
+        sys.stderr.flush()
+    options, keyless = _issued_options(args)
+    reports = []
+    for rep in validate_many(files, args.jobs, progress if show else None, options):
+        reports.append(rep)
+        if not args.json:
+            sys.stdout.write(text_report(rep))
+    from sheetkin.course.copies import possible_copies
+    copies = possible_copies(reports) if len(reports) > 1 else {}
+    if show:
+        sys.stderr.write("\n")
+    if keyless and any(r.variant for r in reports):
+        print(f"sheetkin: note: {keyless}", file=sys.stderr)
+    print_once = _mismatched_key(reports, options)
+    if print_once:
+        print(f"sheetkin: warning: {print_once}", file=sys.stderr)
+    if args.json:
+        sys.stdout.write(json_report(reports))
+    elif len(reports) > 1:
+        sys.stdout.write("\n" + summary_table(reports) + copies_lines(reports, copies))
+    if args.html:
+        _write(args.html, html_report(reports, copies))
+    if args.grades:
+        _write_grades(args, reports, copies, class_list)
+    if any(r.error for r in reports):
+        return EXIT_INPUT
+    return 0 if all(r.ok for r in reports) else 1
+
+
+def _mismatched_key(reports, options) -> str:
+    """One warning when no issued book's seal matches the key, or no book's variant is in
+    the roster: a teacher who gave another class's key or roster, rather than a class of
+    students who all edited their scene sheets (each book still says so on its own)."""
+    issued = [r for r in reports if not r.error and r.variant]
+    if len(issued) < 2:
+        return ""
+    if options.key is not None and not any(r.seal == "ok" for r in issued):
+        return (f"none of the {len(issued)} issued books' seals matches the key: is the key (or "
+                "--roster's folder) another class's?")
+    if options.roster is not None and all("is not in" in r.seal for r in issued):
+        return f"none of the {len(issued)} books' variants is in {options.roster.path}: is it another class's roster?"
+    return ""
+
+
+def _issued_options(args):
+    """issued.Options from --roster, --key, --accept-changed-inputs, and the one-line note
+    to give when there is no key (seals not checked)."""
+    from sheetkin.course.issued import KEY_FILE, Options, read_key, read_roster
+    roster = read_roster(args.roster) if args.roster else None
+    key_path = args.key or (Path(args.roster).parent / KEY_FILE if args.roster else None)
+    key = None
+    if args.key or (key_path and key_path.exists()):
+        key = read_key(key_path)
+    keyless = "" if key else ("no key (--key FILE, or .sheetkin-key next to --roster): the scene "
+                              "sheets' seals are not checked")
+    return Options(roster, key, args.accept_changed_inputs), keyless
+
+
+def cmd_bench(args) -> int:
+    from sheetkin.studies.bench import format_bench, run_bench   # mpmath and matplotlib are needed only here
+    if args.stability:
+        return _cmd_stability(args)
+    if args.scene is None:
+        print("sheetkin: error: bench: a SCENE.toml is needed (or --stability)", file=sys.stderr)
+        return EXIT_INPUT
+    scene = load_scene(args.scene)
+    table, warnings = run_bench(scene, args.positions, args.out, libreoffice=not args.no_libreoffice)
+    sys.stdout.write(format_bench(table))
+    print(f"{Path(args.out) / 'bench.csv'}, {Path(args.out) / 'bench.png'}: written", file=sys.stderr)
+    for w in warnings:
+        print(f"sheetkin: warning: {w}", file=sys.stderr)
+    return 0
+
+
+def _cmd_stability(args) -> int:
+    from sheetkin.studies.stability import format_stability, stability_study
+    if args.scene is not None:
+        print("sheetkin: error: bench --stability builds its own scenes: give no SCENE.toml",
+              file=sys.stderr)
+        return EXIT_INPUT
+    table, warnings, _ = stability_study(args.out)
+    sys.stdout.write(format_stability(table))
+    print(f"{Path(args.out) / 'stability.csv'}, {Path(args.out) / 'stability.png'}: written",
+          file=sys.stderr)
+    for w in warnings:
+        print(f"sheetkin: warning: {w}", file=sys.stderr)
+    return 0
+
+
+def cmd_synth(args) -> int:
+    from sheetkin.kinematics.scene import parse_scene
+    from sheetkin.studies.synthesis import parse_synthesis, synthesize_crank_rocker
+    if args.omega <= 0:
+        raise SceneError(f"--omega {args.omega:g}: expected a positive angular velocity (the "
+                         "working stroke gamma1 -> gamma2 needs the crank turning counterclockwise)")
+    mech = synthesize_crank_rocker(args.kw, args.l3, args.yd, args.gamma1_deg, args.gamma2_deg)
+    res = mech.results()
+    if args.format == "json":
+        text = json.dumps(res, indent=1) + "\n"
+    else:
+        units = {"l1": "m", "l2": "m", "phi1H_deg": "deg", "X_D": "m"}
+        text = "".join(f"{k:<11}{v:>14.6g}  {units[k]}\n" for k, v in res.items())
+    if args.output:
+        scene_text = mech.scene_toml(omega=args.omega, positions=args.positions,
+                                     step_deg=args.step_deg)
+        parse_scene(scene_text, args.output)          # what is written must load,
+        parse_synthesis(scene_text, args.output)      # its [synthesis] table too
+        _write(args.output, scene_text)
+        print(f"{args.output}: written (crank-rocker, theta = {mech.theta_deg:.6g} deg)",
+              file=sys.stderr)
+    if args.workbook:
+        from sheetkin.studies.synthesis import build_synthesis_workbook
+        save_workbook(build_synthesis_workbook(args.kw, args.l3, args.yd, args.gamma1_deg,
+                                               args.gamma2_deg, lang=args.lang), args.workbook)
+        print(f"{args.workbook}: written (synthesis sheet)", file=sys.stderr)
+    sys.stdout.write(text)
+    return 0
+
+
+def main(argv=None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        return _run(args)
+    except BrokenPipeError:
+        # `sheetkin compute x.toml | head -1`: the reader left; say so once, no traceback
+        _detach_stdout()
+        print("sheetkin: error: stdout: the reader closed the pipe; output stopped", file=sys.stderr)
+        return EXIT_INPUT
+
+
+def _detach_stdout():
+    """Point stdout at /dev/null, so that the interpreter's last flush of the unwritable
+    stream raises nothing ("Exception ignored ... BrokenPipeError")."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError, AttributeError, io.UnsupportedOperation):
+        pass          # not a real file descriptor (a test's capture)
+
+
+def _run(args) -> int:
+    import warnings
+    # a safety net: numpy's floating-point warnings never reach the user (the computing
+    # functions run under np.errstate; this catches any that a thread would show)
+    warnings.filterwarnings("ignore", category=RuntimeWarning,
+                            message=r".*(overflow|invalid value|divide by zero|underflow) encountered")
+    try:
+        refuse_overwriting_inputs(args)
+        code = {"compute": cmd_compute, "workbook": cmd_workbook, "evaluate": cmd_evaluate,
+                "validate": cmd_validate, "bench": cmd_bench,
+                "synth": cmd_synth, "animate": cmd_animate, "variants": cmd_variants}[args.command](args)
+        _flush_stdout()
+        return code
+    except SceneError as e:
+        print(f"sheetkin: error: {e}", file=sys.stderr)
+        return EXIT_INPUT
+    except AssemblyError as e:
+        print(f"sheetkin: error: {getattr(args, 'scene', '')}: {e}", file=sys.stderr)
+        return EXIT_ASSEMBLY
+    except BrokenPipeError:
+        raise
+    except OSError as e:
+        name = e.filename or "stdout"     # a write error without a name: ours name their files
+        if not e.filename:
+            _detach_stdout()
+        print(one_line(f"sheetkin: error: {name}: {e.strerror or e}"), file=sys.stderr)
+        return EXIT_INPUT
+    except MemoryError:
+        print("sheetkin: error: out of memory; use fewer positions (or smaller files)", file=sys.stderr)
+        return EXIT_INPUT
+    except KeyboardInterrupt:
+        print("sheetkin: interrupted", file=sys.stderr)
+        return 130
+    except Exception as e:
+        # UnusableWorkbook, EvaluationError and the like: their message is the one line
+        if isinstance(e, ValueError) and type(e).__module__.startswith("sheetkin."):
+            print(one_line(f"sheetkin: error: {e}", 2000), file=sys.stderr)
+            return EXIT_INPUT
+        if os.environ.get("SHEETKIN_DEBUG"):
+            raise
+        print(one_line(f"sheetkin: internal error: {type(e).__name__}: {e} (a bug in sheetkin "
+                       f"{__version__}: please report it with the command and its files; "
+                       "SHEETKIN_DEBUG=1 shows the traceback)", 2000), file=sys.stderr)
+        return EXIT_INTERNAL
+
+
+def _flush_stdout():
+    """Write out what is buffered now, while a failure (a closed pipe, a full disk) can
+    still be reported in one line."""
+    sys.stdout.flush()
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,292 @@
+"""Issued variants: the given data a student received, and whether they are still the same.
+
+`sheetkin variants` (sheetkin/course/variants.py) gives each student a variant of a scheme: a
+scene whose given data (lengths, coordinates, ...) differ from the others'. The workbook
+carries the variant's id and scene (hidden sheet `scene`, workbook.ISSUED_LABELS), and a
+seal: HMAC-SHA256, under the teacher's key, of the id and the scene's text. The key is a
+file the teacher keeps (DIR/.sheetkin-key, written by `variants`), never in a workbook, so a
+student who edits the hidden sheet cannot make a matching seal.
+
+The validator asks `check_given` which values were issued (from roster.csv, or else from
+the embedded scene) and which of them the student's input block changed. A leaf below the
+validator: it imports only the scene and the workbook's row list.
+"""
+from __future__ import annotations
+
+import csv
+import hashlib
+import hmac
+import io
+import math
+import secrets
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from sheetkin.kinematics.scene import Scene, SceneError, one_line
+from sheetkin.sheet.workbook import IDENTITY_ROWS, ISSUED_LABELS, sheet_rows
+
+KEY_FILE = ".sheetkin-key"          # written by `variants` in its --out folder
+ROSTER_FILE = "roster.csv"
+ROSTER_FIXED = ("variant", "exercise", "key", "scene")   # roster.csv's first columns; given data follow
+MAX_ROSTER_BYTES = 5_000_000        # a class of 30 is a few KB
+RTOL = 1e-9                         # a given value read back (LibreOffice writes 15 digits) is the same
+_IDENTITY = {name for name, _, _ in IDENTITY_ROWS}
+
+
+class RosterError(SceneError):
+    """roster.csv or the key file cannot be used; str() is one line naming file:line:column."""
+
+
+# --------------------------------------------------------------------------- the given data
+def given_values(scene: Scene) -> dict[str, float]:
+    """The scene's input block as the workbook writes it (name -> value), without the
+    student's identity rows: the given data of the variant, in the sheet's order."""
+    return {r.name: r.value for r in sheet_rows(scene).rows
+            if r.kind == "input" and r.name not in _IDENTITY}
+
+
+def _same(issued, got) -> bool:
+    if isinstance(got, bool) or not isinstance(got, (int, float)):
+        return False
+    return math.isfinite(got) and abs(float(got) - float(issued)) <= RTOL * max(1.0, abs(float(issued)))
+
+
+def changes(issued: dict[str, float], got: dict[str, object], where: dict[str, str]) -> list[dict]:
+    """The given values the student's input block does not hold as issued: each
+    {"name", "cell", "issued", "got"} (got None: the cell is empty)."""
+    out = []
+    for name, value in issued.items():
+        v = got.get(name)
+        if not _same(value, v):
+            out.append({"name": name, "cell": where.get(name, "?"), "issued": value,
+                        "got": float(v) if isinstance(v, int) and not isinstance(v, bool) else v})
+    return out
+
+
+def _show(v) -> str:
+    if isinstance(v, float):
+        return f"{v:g}" if v == float(f"{v:g}") else repr(v)
+    return "empty" if v is None else repr(v)
+
+
+def changed_line(changed: list[dict]) -> str:
+    """`given data changed: L1 0.14 -> 0.05, Fi_t0 20 -> 1` (the report's first line)."""
+    return "given data changed: " + ", ".join(f"{c['name']} {_show(c['issued'])} -> {_show(c['got'])}"
+                                              for c in changed)
+
+
+# --------------------------------------------------------------------------- the seal
+def _canonical(scene_text: str) -> str:
+    """The scene's text as the hidden sheet gives it back: one line a cell, empty cells
+    empty lines, trailing empty lines dropped (a spreadsheet program keeps no empty tail)."""
+    lines = scene_text.splitlines()
+    while lines and not lines[-1].strip():
+        lines.pop()
+    return "\n".join(lines)
+
+
+def seal(key: bytes, variant: str, scene_text: str) -> str:
+    """HMAC-SHA256 of the issued data (variant id and scene text) under the teacher's key."""
+    msg = f"sheetkin variant\0{variant}\0{_canonical(scene_text)}".encode("utf-8")
+    return hmac.new(key, msg, hashlib.sha256).hexdigest()
+
+
+def seal_status(key: bytes | None, variant: str, scene_text: str, found: str) -> str:
+    """"" (no key: not checked), "ok", or the one-line reason the seal fails."""
+    if key is None:
+        return ""
+    if not found:
+        return "scene sheet edited: its seal (scene!C2) is missing"
+    if hmac.compare_digest(seal(key, variant, scene_text), found.strip().lower()):
+        return "ok"
+    return ("scene sheet edited: the seal does not match the embedded scene and variant id "
+            "under the teacher's key (or the key is another class's)")
+
+
+def new_key() -> str:
+    """A fresh key: 32 random bytes, as the hex text the key file holds."""
+    return secrets.token_hex(32)
+
+
+def read_key(path) -> bytes:
+    """The teacher's key from its file (64 hex digits); one-line errors."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8").strip()
+    except FileNotFoundError:
+        raise RosterError(one_line(f"{path}: no such key file (`sheetkin variants` writes "
+                                   f"{KEY_FILE} in its --out folder)")) from None
+    except (OSError, UnicodeDecodeError) as e:
+        raise RosterError(one_line(f"{path}: cannot read the key file ({getattr(e, 'strerror', None) or e})")) from None
+    try:
+        key = bytes.fromhex(text)
+    except ValueError:
+        key = b""
+    if len(key) < 16:
+        raise RosterError(one_line(f"{path}:1:1: expected a key of 32-64 hex digits (as `sheetkin variants` "
+                                   "writes it)"))
+    return key
+
+
+def marks(consts: dict) -> tuple[str, str]:
+    """(variant id, seal) from the scene sheet's cells {(row, col): value} (C1, C2 when B1,
+    B2 hold their labels); ("", "") for a book made by `sheetkin workbook`."""
+    out = []
+    for r, label in enumerate(ISSUED_LABELS, 1):
+        v = consts.get((r, 3)) if consts.get((r, 2)) == label else None
+        out.append("" if v is None else (str(int(v)) if isinstance(v, float) and v.is_integer() else str(v)).strip())
+    return out[0], out[1]
+
+
+# --------------------------------------------------------------------------- roster.csv
+@dataclass(frozen=True)
+class Roster:
+    path: str
+    names: tuple[str, ...]                      # the given data's names (columns after ROSTER_FIXED)
+    rows: dict[str, dict[str, float]]           # variant id -> given values
+    files: dict[str, dict[str, str]] = field(default_factory=dict)   # variant id -> exercise, key, scene
+
+
+def roster_text(names: list[str], rows: list[tuple[str, dict[str, str], dict[str, float]]]) -> str:
+    """roster.csv: variant, exercise, key, scene, then every given value (repr: reads back
+    as the same number)."""
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(list(ROSTER_FIXED) + list(names))
+    for vid, files, values in rows:
+        w.writerow([vid] + [files[k] for k in ROSTER_FIXED[1:]] + [_cell(values[n]) for n in names])
+    return buf.getvalue()
+
+
+def _cell(v) -> str:
+    return str(int(v)) if isinstance(v, int) or (isinstance(v, float) and v.is_integer() and abs(v) < 1e15) else repr(v)
+
+
+def read_roster(path) -> Roster:
+    """roster.csv as `variants` writes it; every mistake one line naming file:line:column."""
+    p = str(path)
+    try:
+        raw = Path(path).read_bytes()
+    except FileNotFoundError:
+        raise RosterError(one_line(f"{p}: no such roster file")) from None
+    except OSError as e:
+        raise RosterError(one_line(f"{p}: cannot read the roster ({e.strerror or e})")) from None
+    if len(raw) > MAX_ROSTER_BYTES:
+        raise RosterError(one_line(f"{p}: {len(raw):,} bytes; a roster holds at most {MAX_ROSTER_BYTES:,}"))
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as e:
+        line = raw[:e.start].count(b"\n") + 1
+        raise RosterError(one_line(f"{p}:{line}: not UTF-8 text; expected roster.csv as `sheetkin variants` writes it")) from None
+    return parse_roster(text, p)
+
+
+def parse_roster(text: str, p: str = "roster.csv") -> Roster:
+    if "\0" in text:
+        line = text[:text.index("\0")].count("\n") + 1
+        raise RosterError(one_line(f"{p}:{line}: a NUL character; expected a CSV text file"))
+    reader = csv.reader(io.StringIO(text, newline=""))
+    try:
+        header = next(reader, None)
+        if not header or not any(h.strip() for h in header):
+            raise RosterError(one_line(f"{p}:1:1: empty; expected a header: {','.join(ROSTER_FIXED)},<given data>..."))
+        header = [h.strip() for h in header]
+        for k, want in enumerate(ROSTER_FIXED):
+            if k >= len(header) or header[k] != want:
+                got = header[k] if k < len(header) else "nothing"
+                raise RosterError(one_line(f"{p}:1:{k + 1}: expected column '{want}', got {got!r}"))
+        names = header[len(ROSTER_FIXED):]
+        seen: set[str] = set()
+        for k, n in enumerate(names, len(ROSTER_FIXED) + 1):
+            if not n or n in seen or n in ROSTER_FIXED:
+                raise RosterError(one_line(f"{p}:1:{k}: column name {n!r} is empty or repeated"))
+            seen.add(n)
+        rows: dict[str, dict[str, float]] = {}
+        files: dict[str, dict[str, str]] = {}
+        for fields in reader:
+            line = reader.line_num
+            if not fields or all(not f.strip() for f in fields):
+                continue
+            if len(fields) != len(header):
+                raise RosterError(one_line(f"{p}:{line}:{min(len(fields), len(header)) + 1}: {len(fields)} "
+                                           f"fields, expected {len(header)} (as the header)"))
+            vid = fields[0].strip()
+            if not vid:
+                raise RosterError(one_line(f"{p}:{line}:1: empty variant id"))
+            if vid in rows:
+                raise RosterError(one_line(f"{p}:{line}:1: variant {vid!r} appears twice"))
+            values = {}
+            for k, (n, f) in enumerate(zip(names, fields[len(ROSTER_FIXED):]), len(ROSTER_FIXED) + 1):
+                try:
+                    v = float(f)
+                except ValueError:
+                    v = math.nan
+                if not math.isfinite(v):
+                    raise RosterError(one_line(f"{p}:{line}:{k}: {n}: expected a number, got {f!r}", 400))
+                values[n] = v
+            rows[vid] = values
+            files[vid] = dict(zip(ROSTER_FIXED[1:], (f.strip() for f in fields[1:len(ROSTER_FIXED)])))
+    except csv.Error as e:
+        raise RosterError(one_line(f"{p}:{reader.line_num}: not a valid CSV file ({e})")) from None
+    if not rows:
+        raise RosterError(one_line(f"{p}:2: no variants (a header only)"))
+    return Roster(p, tuple(names), rows, files)
+
+
+# --------------------------------------------------------------------------- for the validator
+@dataclass(frozen=True)
+class Options:
+    """What `validate` knows about the issued variants (picklable: the process pool)."""
+    roster: Roster | None = None
+    key: bytes | None = None
+    accept_changed: bool = False
+
+
+@dataclass
+class Given:
+    variant: str = ""
+    issued: dict[str, float] = field(default_factory=dict)   # {} : the book's inputs are its variant
+    changed: list[dict] = field(default_factory=list)
+    seal: str = ""
+    notes: list[str] = field(default_factory=list)
+
+
+def check_given(scene: Scene, scene_text: str, consts: dict, inputs: dict[str, object],
+                where: dict[str, str], opts: Options | None) -> Given:
+    """Which given data were issued for this book and which of them the student changed.
+
+    A book with a variant id (made by `variants`) is checked against its roster row (with
+    --roster) or else against its embedded scene. A book made by `sheetkin workbook` has no
+    id (and no seal): its given data are the scene embedded at generation, so a student who
+    edits L1 there is told so and graded against the embedded values (issue 13: "with
+    L1 = 0.05 the validator said all correct"); --accept-changed-inputs grades a student's
+    own variant, as before issue 13."""
+    opts = opts or Options()
+    vid, found = marks(consts)
+    out = Given(variant=vid)
+    roster = opts.roster
+    if not vid:
+        if roster is not None:
+            out.seal = "scene sheet edited: it names no variant (scene!C1), so the roster row is unknown"
+            return out
+        out.issued = given_values(scene)
+        out.changed = changes(out.issued, inputs, where)
+        return out
+    out.seal = seal_status(opts.key, vid, scene_text, found)
+    embedded = given_values(scene)
+    if roster is not None:
+        if vid not in roster.rows:
+            out.seal = out.seal if out.seal.startswith("scene sheet edited") else \
+                f"variant {vid!r} is not in {roster.path}: checked against the embedded scene"
+            out.issued = embedded
+        else:
+            out.issued = {n: roster.rows[vid][n] for n in roster.names if n in embedded}
+            missing = [n for n in embedded if n not in roster.rows[vid]]
+            if missing:
+                out.notes.append(f"{roster.path} has no column for {', '.join(missing)}: "
+                                 "those are checked against the embedded scene")
+                out.issued.update({n: embedded[n] for n in missing})
+    else:
+        out.issued = embedded
+    out.changed = changes(out.issued, inputs, where)
+    return out

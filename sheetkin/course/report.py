@@ -1,0 +1,139 @@
+"""Reports of the validator: text for the terminal, JSON, and an HTML page."""
+from __future__ import annotations
+
+import json
+import math
+
+from .report_html import position_list, position_name
+from .issued import changed_line
+from .validator import Report
+
+
+def _num(v) -> str:
+    if isinstance(v, float):
+        return "inf" if math.isinf(v) else f"{v:.6g}"
+    return "empty" if v is None else str(v)
+
+
+def text_report(rep: Report) -> str:
+    head = f"{rep.path}"
+    if rep.error:
+        return f"{head}: UNUSABLE: {rep.error}\n"
+    who = ", ".join(x for x in (rep.author, rep.title) if x)
+    lines = [f"{head}" + (f" ({who})" if who else "") + f", {rep.positions} positions"]
+    lines += issued_lines(rep)
+    correct = sum(r.status == "correct" for r in rep.rows)
+    lines.append(f"  {correct} rows correct, {len(rep.wrong)} wrong, {len(rep.missing)} missing or empty"
+                 + ("  -> all correct" if rep.ok else ""))
+    # the causes with a note (typed numbers: cell, digits, the error they carry) first
+    for r in sorted(rep.causes, key=lambda r: not getattr(r, "note", "")):
+        where = f"{r.name} (row {r.row}, {r.source})"
+        note = getattr(r, "note", "")
+        if note:
+            lines.append(f"  likely cause: {where}: {note}"
+                         + (f"; wrong at {position_list(rep, r.wrong_cells)}" if r.wrong_cells else ""))
+        elif r.first_wrong is None:           # a value of column D (a derived row)
+            lines.append(f"  likely cause: {where}: expected {_num(r.expected)}, got {_num(r.got)}")
+        else:
+            lines.append(f"  likely cause: {where}: wrong from {position_name(rep, r.first_wrong)}"
+                         f" (expected {_num(r.expected)}, got {_num(r.got)}); wrong at "
+                         f"{position_list(rep, r.wrong_cells)}; "
+                         + ("an error value or text where a number belongs" if math.isinf(r.max_error)
+                            else f"largest error {_num(r.max_error)}"))
+    dependents = [r for r in rep.wrong if not r.cause]
+    for cause in rep.causes:
+        deps = [r.name for r in dependents if cause.name in r.because_of]
+        if deps:
+            lines.append(f"  wrong only because they depend on {cause.name}: {', '.join(deps)}")
+    causes = {r.name for r in rep.causes}
+    given = sorted({n for r in dependents for n in r.because_of if n not in causes})
+    for n in given:         # given data that differ from the reference's (the issued variant's)
+        deps = [r.name for r in dependents if n in r.because_of]
+        lines.append(f"  wrong only because they depend on {n}: {', '.join(deps)}")
+    # one line per kind (an empty exercise once printed 60 lines "empty: Fi (row 32)" ...)
+    for status, why in (("missing", " (no row of that name in column A)"), ("empty", "")):
+        rows = [r for r in rep.missing if r.status == status]
+        if rows:
+            lines.append(f"  {status} ({len(rows)}): " + ", ".join(
+                r.name + (f" (row {r.row})" if r.row else "") for r in rows) + (why if status == "missing" else ""))
+    if rep.failing_checks:
+        lines.append(f"  the sheet's own check rows that fail: {', '.join(rep.failing_checks)}")
+    if rep.cache_mismatch:
+        lines.append(f"  formula and saved value disagree at {len(rep.cache_mismatch)} cell(s): "
+                     + "; ".join(rep.cache_mismatch[:5]) + (" ..." if len(rep.cache_mismatch) > 5 else ""))
+    for p in rep.problems[:5]:
+        lines.append(f"  cannot evaluate: {p} (the saved values were used)")
+    return "\n".join(lines) + "\n"
+
+
+def issued_lines(rep: Report) -> list[str]:
+    """Issue 13: the given data changed and the seal, first and prominently; then who
+    filled it in and the variant."""
+    out = []
+    if rep.given_changed:
+        how = ("graded against the student's own inputs (--accept-changed-inputs)" if rep.accepted_changes
+               else "FAIL; graded against the issued variant")
+        out.append(f"  !! {changed_line(rep.given_changed)} ({how})")
+    if rep.seal and rep.seal != "ok":
+        out.append(f"  !! {rep.seal}")
+    who = ", ".join(f"{k} {v}" for k, v in (("student", rep.student), ("group", rep.group),
+                                           ("variant", rep.variant)) if v)
+    if who:
+        out.append(f"  {who}" + (", seal ok" if rep.seal == "ok" else ""))
+    out += [f"  note: {n}" for n in rep.notes]
+    return out
+
+
+def summary_table(reports: list[Report]) -> str:
+    rows = [("file", "student", "result", "wrong", "missing", "first cause")]
+    for r in reports:
+        if r.error:
+            rows.append((r.path, "", "unusable", "", "", r.reason[:60]))
+        else:
+            # the student's own cells (A2, the author, is the scheme's, not the student's)
+            who = ", ".join(x for x in (getattr(r, "student", ""), getattr(r, "group", "")) if x)
+            result = ("correct" if r.ok else "data changed" if getattr(r, "given_changed", None)
+                      and not getattr(r, "accepted_changes", False) else "seal broken"
+                      if getattr(r, "seal", "") not in ("", "ok") else "mistakes")
+            rows.append((r.path, who, result, str(len(r.wrong)),
+                         str(len(r.missing)), r.causes[0].name if r.causes else ""))
+    widths = [max(len(x[i]) for x in rows) for i in range(len(rows[0]))]
+    return "\n".join("  ".join(x[i].ljust(widths[i]) for i in range(len(x))).rstrip() for x in rows) + "\n"
+
+
+def _named_positions(rep: Report) -> dict:
+    """to_dict(), each row's wrong positions also named as the sheet names them: wrong_i,
+    first_wrong_i and first_wrong_phi_1 (wrong_cells, first_wrong: 1-based column counts)."""
+    d = rep.to_dict()
+    names = getattr(rep, "position_names", None) or []
+    for row in d.get("rows", []):
+        cells = row.get("wrong_cells") or []
+        row["wrong_i"] = [names[k - 1][0] for k in cells if 0 < k <= len(names)]
+        k = row.get("first_wrong")
+        row["first_wrong_i"], row["first_wrong_phi_1"] = (names[k - 1] if k and 0 < k <= len(names) else (None, None))
+    return d
+
+
+def json_report(reports: list[Report]) -> str:
+    def clean(o):
+        if isinstance(o, float) and not math.isfinite(o):
+            return None if math.isnan(o) else ("inf" if o > 0 else "-inf")
+        if isinstance(o, dict):
+            return {k: clean(v) for k, v in o.items()}
+        if isinstance(o, list):
+            return [clean(v) for v in o]
+        return o
+    return json.dumps(clean({"reports": [_named_positions(r) for r in reports],
+                             "all_correct": all(r.ok for r in reports)}), indent=1, ensure_ascii=False) + "\n"
+
+
+def html_report(reports: list[Report], copies: dict | None = None) -> str:
+    """One offline page: sortable summary, per-student details, pictures (report_html.py)."""
+    from .report_html import html_page
+    return html_page(reports, copies)
+
+
+def copies_lines(reports: list[Report], copies: dict) -> str:
+    """After the summary table: each possible copy (sheetkin/course/copies.py), a pair a line."""
+    pairs = sorted({(min(i, j), max(i, j)): why for i, found in copies.items() for j, why in found}.items())
+    return "".join(f"possible copy: {reports[i].path} and {reports[j].path}: {why}\n" for (i, j), why in pairs)

@@ -1,0 +1,254 @@
+"""The validation report as one offline HTML page a teacher works in.
+
+A summary table (student, group, variant, score, result, likely causes, missing rows, the
+file) that sorts on a click on its headers; per student a <details> block (closed; a click
+on the name in the table opens it) with what went wrong, the wrong cells position by
+position, and a picture of the student's mechanism (inline SVG, sheetkin.views.drawing) at the
+first position where the likely cause goes wrong. Positions are named as the sheet names
+them: its row `i` and the crank angle phi_1. Everything (style, script, pictures) is in
+the file; nothing is fetched.
+
+Fields that the validator may not have (variant, student, group, given data changed, seal:
+issue 13) are shown when present (getattr with a default). The score is the one grades.csv
+gives (sheetkin/course/grades.py); possible copies (sheetkin/course/copies.py) link to each other.
+"""
+from __future__ import annotations
+
+import html
+from pathlib import Path
+import math
+
+from .validator import Report
+
+_CSS = """body{font-family:sans-serif;margin:1.2em;color:#222}
+table{border-collapse:collapse;margin:.5em 0}td,th{border:1px solid #bbb;padding:2px 6px;font-size:90%}
+th{background:#eee}th button{font:inherit;font-weight:bold;background:none;border:0;cursor:pointer;padding:0}
+th[aria-sort=ascending] button::after{content:" \\25B2"}th[aria-sort=descending] button::after{content:" \\25BC"}
+td.num{text-align:right}.wrong{background:#ffc7ce}.ok{background:#c6efce}.cause{font-weight:bold}
+.unusable{color:#9c0006}details{margin:.6em 0;border:1px solid #ddd;padding:.3em .6em}
+summary{cursor:pointer;font-weight:bold}.pic{float:right;margin:0 0 .5em 1em}.cells td{min-width:1.2em}
+.note{color:#555;font-size:90%}.clear{clear:both}"""
+
+_SCRIPT = """
+"use strict";
+// sort the summary table on a click on a header: numbers as numbers, the rest as text
+document.querySelectorAll("#summary th button").forEach((btn, col) => {
+  btn.addEventListener("click", () => {
+    const th = btn.parentElement, table = th.closest("table"), body = table.tBodies[0];
+    const asc = th.getAttribute("aria-sort") !== "ascending";
+    table.querySelectorAll("th").forEach(h => h.removeAttribute("aria-sort"));
+    th.setAttribute("aria-sort", asc ? "ascending" : "descending");
+    const key = tr => tr.cells[col].dataset.sort ?? tr.cells[col].textContent.trim();
+    const rows = Array.from(body.rows);
+    rows.sort((a, b) => {
+      const x = key(a), y = key(b), nx = parseFloat(x), ny = parseFloat(y);
+      const c = (!isNaN(nx) && !isNaN(ny)) ? nx - ny : x.localeCompare(y);
+      return asc ? c : -c;
+    });
+    rows.forEach(r => body.appendChild(r));
+  });
+});
+// a student's name (in the table, or as a possible copy) opens their details
+document.querySelectorAll("a[data-open]").forEach(a => {
+  a.addEventListener("click", () => { document.getElementById(a.dataset.open).open = true; });
+});
+"""
+
+
+def _num(v) -> str:
+    if isinstance(v, float):
+        return "inf" if math.isinf(v) else f"{v:.6g}"
+    return "empty" if v is None else str(v)
+
+
+def position_name(rep: Report, k: int) -> str:
+    """Position column k (1-based) as the sheet names it: 'i = 3 (phi_1 = 90 deg)'."""
+    names = getattr(rep, "position_names", None) or []
+    if k is not None and 0 < k <= len(names):
+        i, phi = names[k - 1]
+        return f"i = {i:g} (phi_1 = {phi:g} deg)"
+    return f"position {k}"
+
+
+def position_list(rep: Report, cells: list[int]) -> str:
+    """Wrong position columns as the sheet's i values, runs shortened: 'i = 0-2, 6'."""
+    names = getattr(rep, "position_names", None) or []
+    ids = [int(names[k - 1][0]) if 0 < k <= len(names) else k for k in cells]
+    out, start = [], None
+    for n, c in enumerate(ids):
+        if start is None:
+            start = c
+        if n + 1 == len(ids) or ids[n + 1] != c + 1:
+            out.append(f"{start}" if start == c else f"{start}-{c}")
+            start = None
+    return ("i = " if names else "positions ") + ", ".join(out)
+
+
+def score(rep: Report) -> float | None:
+    """The score of grades.csv (sheetkin/course/grades.py); None for an unusable file (the
+    table shows no number, and the reason)."""
+    if rep.error:
+        return None
+    from .grades import score as grade_score
+    return grade_score(rep)
+
+
+def _given_changed(ch) -> str:
+    """'L1 (D6): 0.14 -> 0.05' from the validator's {"name", "cell", "issued", "got"}."""
+    if not isinstance(ch, dict):
+        return str(ch)
+    cell = f" ({ch['cell']})" if ch.get("cell") else ""
+    return f"{ch.get('name', '?')}{cell}: {_num(ch.get('issued'))} -> {_num(ch.get('got'))}"
+
+
+def _copy_links(reports, k: int, copies: dict, with_reason: bool) -> str:
+    """Links to the submissions report k may be copied from (or to)."""
+    e = html.escape
+    out = []
+    for j, why in copies.get(k, []):
+        other = reports[j]
+        name = getattr(other, "student", "") or _file(other)
+        out.append(f"<a href='#{_anchor(other, j)}' data-open='{_anchor(other, j)}'>{e(name)}</a>"
+                   + (f" ({e(other.path)}: {e(why)})" if with_reason else ""))
+    return ", ".join(out)
+
+
+def _cut(names: str, width: int) -> str:
+    """A ", "-joined list cut to about `width` characters at a name, "..." for the rest."""
+    if len(names) <= width:
+        return names
+    return names[:width].rsplit(", ", 1)[0] + ", ..."
+
+
+def _anchor(rep: Report, k: int) -> str:
+    return f"s{k}"
+
+
+def _picture(rep: Report) -> str:
+    """The student's mechanism (their variant) at the first position where the first likely
+    cause is wrong, else at the first position; '' when it cannot be drawn."""
+    scene = getattr(rep, "variant_scene", None)
+    if scene is None:
+        return ""
+    try:
+        from sheetkin.views.drawing import picture, svg
+        at = scene.crank_angles_deg()
+        names = getattr(rep, "position_names", None) or []
+        k = next((c.first_wrong for c in rep.causes if c.first_wrong), 1)
+        phi = names[k - 1][1] if 0 < k <= len(names) else at[min(k, len(at)) - 1]
+        pic = picture(scene, [phi])
+        cap = pic.captions[0]                    # "phi_1 = 90 deg[: cannot assemble ...]"
+        pic.captions[0] = position_name(rep, k) + (cap.split(" deg", 1)[1] if " deg" in cap else "")
+        return svg(pic, 0, 360)
+    except Exception as exc:           # a picture is a help, never a reason to lose the report
+        return f"<p class='note'>(no picture: {html.escape(str(exc))})</p>"
+
+
+def _file(rep: Report) -> str:
+    """Who a book is when the student left their name blank: its file, never A2 (the
+    scheme's author, which every exercise carries: issue 13)."""
+    return Path(rep.path).name or rep.path
+
+
+def _summary_row(rep: Report, k: int, copy: str = "") -> str:
+    e = html.escape
+    who = getattr(rep, "student", "") or _file(rep)
+    group = getattr(rep, "group", "")
+    variant = getattr(rep, "variant", None) or ""
+    res = "unusable" if rep.error else ("correct" if rep.ok else "mistakes")
+    cls = "ok" if res == "correct" else "wrong"
+    sc = score(rep)
+    causes = ", ".join(c.name for c in rep.causes) if not rep.error else rep.reason[:80]
+    missing = ", ".join(r.name for r in rep.missing)
+    if getattr(rep, "given_changed", None):
+        causes = "given data changed" + (f"; {causes}" if causes else "")
+    return (f"<tr><td><a href='#{_anchor(rep, k)}' data-open='{_anchor(rep, k)}'>{e(who or rep.path)}</a></td>"
+            f"<td>{e(group)}</td><td>{e(str(variant))}</td>"
+            f"<td class='num' data-sort='{'' if sc is None else f'{sc:.3f}'}'>{'' if sc is None else f'{sc:.0f}'}</td>"
+            f"<td class='{cls}' data-sort='{ {'correct': 0, 'mistakes': 1, 'unusable': 2}[res] }'>{res}</td>"
+            f"<td class='num'>{'' if rep.error else len(rep.wrong)}</td>"
+            f"<td>{e(causes)}</td><td class='num' data-sort='{len(rep.missing)}'>{len(rep.missing) or ''}"
+            f"{' (' + e(_cut(missing, 80)) + ')' if missing else ''}</td><td class='{'wrong' if copy else ''}'>{copy}</td>"
+            f"<td>{e(rep.path)}</td></tr>")
+
+
+def _details(rep: Report, k: int, copy: str = "") -> list[str]:
+    e = html.escape
+    who = getattr(rep, "student", "") or _file(rep)
+    res = "unusable" if rep.error else ("all correct" if rep.ok else f"{len(rep.wrong)} wrong, {len(rep.missing)} missing")
+    out = [f"<details id='{_anchor(rep, k)}'><summary>{e(who)}: {e(res)}</summary>",
+           f"<p class='note'>{e(rep.path)}{' - ' + e(rep.title) if rep.title else ''}</p>"]
+    if rep.error:
+        out.append(f"<p class='unusable'>Unusable: {e(rep.error)}</p></details>")
+        return out
+    out.append(f"<div class='pic'>{_picture(rep)}</div>")
+    for label, attr in (("student", "student"), ("group", "group"), ("variant", "variant"),
+                        ("graded against", "graded_against"), ("seal", "seal")):
+        v = getattr(rep, attr, None)
+        if v:
+            out.append(f"<p class='note'>{label}: {e(str(v))}</p>")
+    changed = getattr(rep, "given_changed", None) or []
+    if changed:
+        out.append("<p class='wrong'>given data changed: " + e(", ".join(_given_changed(c) for c in changed))
+                   + "</p>")
+    if copy:
+        out.append(f"<p class='wrong'>possible copy of: {copy}</p>")
+    sc = score(rep)
+    if sc is not None:
+        out.append(f"<p>score {sc:.1f} (README: Running a class, Grades)</p>")
+    out.append(f"<p>{sum(x.status == 'correct' for x in rep.rows)} rows correct, {len(rep.wrong)} wrong, "
+               f"{len(rep.missing)} missing or empty.</p>")
+    for c in rep.causes:
+        out.append(f"<p class='cause'>likely cause: {e(c.name)} (row {c.row}, {e(c.source)}): wrong from "
+                   f"{e(position_name(rep, c.first_wrong or 1))}, expected {e(_num(c.expected))}, got "
+                   f"{e(_num(c.got))}; wrong at {e(position_list(rep, c.wrong_cells))}"
+                   + (f"<br>{e(c.note)}" if getattr(c, "note", "") else "") + "</p>")
+    bad = [x for x in rep.rows if x.status != "correct"]
+    if bad:
+        names = getattr(rep, "position_names", None) or []
+        head = "".join(f"<th title='phi_1 = {names[j][1]:g} deg'>{names[j][0]:g}<br>{names[j][1]:g}&deg;</th>"
+                       if j < len(names) else f"<th>{j + 1}</th>" for j in range(rep.positions))
+        out.append("<table class='cells'><caption class='note'>the rows that are not right, position by "
+                   "position (headers: the sheet's i and phi_1)</caption>"
+                   f"<tr><th>row</th><th>status</th>{head}<th>note</th></tr>")
+        for x in bad:
+            cells = "".join(
+                f"<td class='{'wrong' if j in x.wrong_cells else 'ok'}' title='{e(position_name(rep, j))}: "
+                f"{'wrong' if j in x.wrong_cells else 'right'}'></td>" for j in range(1, rep.positions + 1))
+            note = ("likely cause" if x.cause else
+                    f"depends on {', '.join(x.because_of)}" if x.because_of else "")
+            if x.status == "wrong":
+                note += (f"; first at {position_name(rep, x.first_wrong or 1)}: expected {_num(x.expected)}, "
+                         f"got {_num(x.got)}")
+            out.append(f"<tr><td class='{'cause' if x.cause else ''}'>{e(x.name)}</td><td>{x.status}</td>"
+                       f"{cells}<td>{e(note)}</td></tr>")
+        out.append("</table>")
+    for title, items in (("Check rows of the sheet that fail", rep.failing_checks),
+                         ("Formula and saved value disagree", rep.cache_mismatch),
+                         ("Cannot evaluate", rep.problems)):
+        if items:
+            out.append(f"<p>{title}:</p><ul>" + "".join(f"<li>{e(i)}</li>" for i in items) + "</ul>")
+    out.append("<div class='clear'></div></details>")
+    return out
+
+
+def html_page(reports: list[Report], copies: dict | None = None) -> str:
+    correct = sum(r.ok for r in reports)
+    copies = copies or {}
+    out = ["<!doctype html><html lang='en'><head><meta charset='utf-8'>"
+           "<link rel='icon' href='data:,'><title>sheetkin validation</title>"
+           f"<style>{_CSS}</style></head><body>",
+           f"<h1>sheetkin: validation of {len(reports)} workbook(s)</h1>",
+           f"<p>{correct} all correct, {len(reports) - correct} with mistakes or unusable. Click a column's "
+           "header to sort, a name to open the student's details. Positions are named as in the sheet: "
+           "its row i and the crank angle phi_1.</p>",
+           "<table id='summary'><thead><tr>" + "".join(
+               f"<th><button type='button'>{h}</button></th>" for h in
+               ("student", "group", "variant", "score", "result", "wrong rows", "likely causes",
+                "missing rows", "possible copy of", "file")) + "</tr></thead><tbody>"]
+    out += [_summary_row(r, k, _copy_links(reports, k, copies, False)) for k, r in enumerate(reports)]
+    out.append("</tbody></table>")
+    for k, r in enumerate(reports):
+        out += _details(r, k, _copy_links(reports, k, copies, True))
+    out.append(f"<script>{_SCRIPT}</script></body></html>\n")
+    return "\n".join(out)

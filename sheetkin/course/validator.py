@@ -1,0 +1,480 @@
+"""The validator of student workbooks: which rows are right, which are wrong, and why.
+
+For one workbook:
+1. open it safely (xlsxsafe) and read the scene embedded in its hidden sheet;
+2. take the student's input block (column D of the input rows) as their variant: the
+   scene with those lengths, coordinates, branches, Fi0, Fi_t, Fi_tt, Delta_Fi, and as many
+   positions as the sheet has columns;
+3. the reference for every named row: the workbook sheetkin generates for that variant,
+   evaluated by the evaluator (its accepted values equal the solver, tested); so the
+   intermediate rows (P, Q, F, ...) have references too;
+4. the student's values: their formulas evaluated by the evaluator; where a cell has no
+   formula, the number typed (checked to the precision it was typed with); where a formula
+   cannot be evaluated, the value the spreadsheet cached;
+5. row by row: correct / wrong (largest error, first wrong column) / missing / empty; each
+   row is also judged on the student's own values of what it reads (sheetkin.course.localjudge):
+   the likely causes are the rows wrong on their own inputs and the rounded typed numbers
+   a wrong row below depends on; the others are wrong because they depend on a cause (in
+   the lecture's dependency order). Cells whose formula disagrees with the value the
+   spreadsheet cached are listed too.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from . import issued
+from sheetkin.sheet.checks import failing as check_fails, not_applicable as check_na, passing as check_passes
+from sheetkin.xlsx.evaluator import Book, EvaluationError, evaluate_sheets
+from sheetkin.xlsx.cells import Sheet, read_book
+from sheetkin.kinematics.scene import Scene, SceneError, parse_scene
+from sheetkin.groups import kind_of
+from .localjudge import judge, name_causes
+from .localjudge import typed_tolerance as _typed_tolerance
+from sheetkin.sheet.workbook import FIRST_COL, SCENE_SHEET, build_workbook, sheet_rows
+from sheetkin.sheet.charts import PATHS_SHEET
+from sheetkin.xlsx.package import Limits, UnusableWorkbook
+from .copies import submission_marks      # the raw cells copy detection compares
+
+RTOL = 1e-9            # formulas: the same numbers up to rounding
+ATOL = 1e-9
+
+
+class UnusableInput(ValueError):
+    """A workbook that cannot be validated at all; str() is one line naming the file."""
+
+
+@dataclass
+class RowReport:
+    name: str
+    row: int | None                  # the student's row number
+    status: str                      # correct | wrong | missing | empty
+    max_error: float = 0.0
+    first_wrong: int | None = None   # position number (1-based) of the first wrong cell
+    wrong_cells: list[int] = field(default_factory=list)   # position numbers
+    expected: object = None          # at the first wrong cell
+    got: object = None
+    cause: bool = False              # wrong, and no ancestor is wrong
+    because_of: list[str] = field(default_factory=list)    # the causes it depends on
+    kind: str = ""                   # accepted | calc | guard (the reference's kind of row)
+    source: str = "formula"          # formula | typed | cached
+    local: str = ""                  # right | wrong | "" (not judged): on the student's own inputs
+    note: str = ""                   # for a cause: one line why (a typed number: cell, digits, error below)
+
+
+@dataclass
+class Report:
+    path: str
+    author: str = ""
+    title: str = ""
+    rows: list[RowReport] = field(default_factory=list)
+    cache_mismatch: list[str] = field(default_factory=list)   # cells: formula != cached value
+    failing_checks: list[str] = field(default_factory=list)   # the student's check rows that fail
+    problems: list[str] = field(default_factory=list)         # unsupported functions ...
+    positions: int = 0
+    error: str | None = None         # unusable input: the one-line reason
+    # (i, phi_1) of each position column, as the sheet's rows i and phi_1 name it (the
+    # reference for the student's variant); the reports name positions this way
+    position_names: list[tuple[float, float]] = field(default_factory=list)
+    # issue 13: who filled it in (their own input rows; A2 is the scheme's author), the
+    # issued variant, the given data the student changed, the scene sheet's seal (issued.py)
+    student: str = ""
+    group: str = ""
+    variant: str = ""
+    given_changed: list[dict] = field(default_factory=list)
+    seal: str = ""                   # "" not checked | "ok" | why it fails
+    accepted_changes: bool = False   # --accept-changed-inputs: graded on the student's inputs
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def wrong(self) -> list[RowReport]:
+        return [r for r in self.rows if r.status == "wrong"]
+
+    @property
+    def missing(self) -> list[RowReport]:
+        return [r for r in self.rows if r.status in ("missing", "empty")]
+
+    @property
+    def causes(self) -> list[RowReport]:
+        return [r for r in self.rows if r.cause]
+
+    @property
+    def reason(self) -> str:
+        """The unusable file's reason without its leading "path: " (the tables name the
+        file in a column of their own); "" for a usable file."""
+        if not self.error:
+            return ""
+        return self.error[len(self.path) + 2:] if self.error.startswith(self.path + ": ") else self.error
+
+    @property
+    def ok(self) -> bool:
+        return (self.error is None and not self.wrong and not self.missing
+                and (not self.given_changed or self.accepted_changes) and self.seal in ("", "ok"))
+
+    def to_dict(self) -> dict:
+        d = dataclasses.asdict(self)
+        d["ok"] = self.ok
+        d["summary"] = {"correct": sum(r.status == "correct" for r in self.rows),
+                        "wrong": len(self.wrong), "missing": len(self.missing),
+                        "causes": [r.name for r in self.causes]}
+        return d
+
+
+# --------------------------------------------------------------------------- the variant
+def _inputs(book: Book, sheet: str, names: dict[str, int]) -> dict[str, object]:
+    return {n: book.value(sheet, r, 4) for n, r in names.items()}
+
+
+def variant_scene(scene: Scene, inputs: dict[str, object], positions: int, where: dict[str, str]) -> Scene:
+    """The scene with the student's input block: raises UnusableInput on a non-number."""
+    def num(name, default, choices=None):
+        if name not in inputs:
+            return default
+        v = inputs[name]
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            raise UnusableInput(f"input {name} ({where.get(name, '?')}): expected a number, got {v!r}")
+        if choices is not None and v not in choices:
+            raise UnusableInput(f"input {name} ({where.get(name, '?')}): expected "
+                                f"{' or '.join(f'{c:+g}' for c in choices)}, got {v:g}")
+        return float(v)
+
+    c = scene.crank
+    crank = dataclasses.replace(c, length=num("L1", c.length), phi0_deg=num("Fi0", c.phi0_deg),
+                                step_deg=num("Delta_Fi", c.step_deg), positions=positions,
+                                omega=num("Fi_t0", c.omega), epsilon=num("Fi_tt0", c.epsilon))
+    frame = {p: (num(f"x_{p}", x), num(f"y_{p}", y)) for p, (x, y) in scene.frame.items()}
+    groups = [kind_of(g).with_inputs(g, num) for g in scene.groups]
+    points = tuple(dataclasses.replace(p, along=num(f"along_{p.name}", p.along),
+                                       across=num(f"across_{p.name}", p.across)) for p in scene.points)
+    by_index, by_name = {g.index: g for g in groups}, {p.name: p for p in points}
+    plan = tuple((k, crank if k == "crank" else by_index[it.index] if k == "group" else by_name[it.name])
+                 for k, it in scene.plan)
+    gravity = (num("g_x", scene.gravity[0]), num("g_y", scene.gravity[1]))
+    masses = tuple(dataclasses.replace(m, mass=num(f"m_{m.link}", m.mass), inertia=num(f"J_{m.link}", m.inertia))
+                   for m in scene.masses)
+    forces = []
+    for f in scene.forces:
+        n = f.name
+        interval = f.interval_deg and (num(f"from_{n}", f.interval_deg[0]), num(f"to_{n}", f.interval_deg[1]))
+        forces.append(dataclasses.replace(f, force=(num(f"Fx_{n}", f.force[0]), num(f"Fy_{n}", f.force[1])),
+                                          moment=num(f"Mz_{n}", f.moment), interval_deg=interval))
+    return dataclasses.replace(scene, frame=frame, crank=crank, groups=tuple(groups), points=points, plan=plan,
+                               gravity=gravity, masses=masses, forces=tuple(forces))
+
+
+# --------------------------------------------------------------------------- dependencies
+def row_ancestors(scene: Scene) -> dict[str, set[str]]:
+    """For every row of the lecture's workbook, all rows it depends on (transitively)."""
+    rows = sheet_rows(scene).rows
+    ref = re.compile(r"\{(?:scale:)?([^{}@:]+)(?:@(?:prev|next))?\}")
+    direct = {r.name: set(ref.findall(r.formula)) | ({r.guard} if r.guard else set()) for r in rows}
+    out: dict[str, set[str]] = {}
+    for r in rows:                                   # rows come after what they use
+        acc = set()
+        for d in direct[r.name]:
+            acc |= {d} | out.get(d, set())
+        out[r.name] = acc - {r.name}
+    return out
+
+
+def _close(got, exp, name: str, typed: bool):
+    """(ok, error) of one cell against its reference."""
+    if isinstance(exp, bool) or isinstance(got, bool):
+        return (isinstance(got, bool) and isinstance(exp, bool) and got == exp), (0.0 if got == exp else 1.0)
+    if not isinstance(exp, float):
+        # the reference is a marker ("cannot assemble", "n/a") or an error: any non-number is fine
+        return (not isinstance(got, float)), (0.0 if not isinstance(got, float) else math.inf)
+    if not isinstance(got, float):
+        return False, math.inf
+    d = abs(got - exp)
+    if name.startswith("phi_"):
+        d = min(d, abs(360.0 - d))
+    tol = max(ATOL, RTOL * abs(exp))
+    if typed:
+        tol = max(tol, _typed_tolerance(got))
+    return d <= tol, d
+
+
+# --------------------------------------------------------------------------- validation
+def validate(path: str | Path, limits: Limits = Limits(), options: issued.Options | None = None) -> Report:
+    """Validate one workbook; unusable input comes back as Report.error, not an exception.
+    options: the roster, the teacher's key, --accept-changed-inputs (sheetkin/course/issued.py)."""
+    path = str(path)
+    try:
+        return _validate(path, limits, options)
+    except (UnusableWorkbook, UnusableInput, SceneError, EvaluationError) as e:
+        msg = str(e)
+        return Report(path, error=msg if msg.startswith(path) else f"{path}: {msg}")
+    except (KeyboardInterrupt, SystemExit):
+        raise
+    except BaseException as e:     # RecursionError, MemoryError, a bug: this file's error only
+        return Report(path, error=internal_error(path, e))
+
+
+def internal_error(path: str, e: BaseException) -> str:
+    """The one line for an unexpected exception while validating `path`: the batch goes
+    on, and the teacher learns that this is sheetkin's fault, not the student's."""
+    from sheetkin import __version__
+    what = " ".join(str(e).split())[:200]
+    return (f"{path}: internal error while validating ({type(e).__name__}{': ' + what if what else ''}); "
+            f"this is a bug in sheetkin {__version__}: please report it with this file")
+
+
+def _validate(path: str, limits: Limits, options: issued.Options | None = None) -> Report:
+    book = read_book(path, limits)
+    if SCENE_SHEET not in book.sheets:
+        raise UnusableInput(f"{path}: no embedded scene (hidden sheet '{SCENE_SHEET}'); "
+                            "expected a workbook made by `sheetkin workbook`")
+    lines = [book.sheets[SCENE_SHEET].consts.get((r, 1), "") for r in range(1, book.sheets[SCENE_SHEET].max_row + 1)]
+    scene_text = "\n".join(str(x) for x in lines) + "\n"
+    try:
+        scene = parse_scene(scene_text, f"{path} (embedded scene)")
+    except SceneError as e:
+        # an issued book whose hidden sheet was edited until it no longer reads: say so
+        # (the seal) rather than only the line that does not parse
+        vid, found = issued.marks(book.sheets[SCENE_SHEET].consts)
+        broken = issued.seal_status(options.key if options else None, vid, scene_text, found) if vid else ""
+        if broken.startswith("scene sheet edited"):
+            raise UnusableInput(f"{path}: {broken}; and it no longer reads: {e}") from e
+        raise
+    main = book.order[0]
+    sh = book.sheets[main]
+    evaluated = _evaluate_student(book)
+    names: dict[str, int] = {}
+    for r in range(5, sh.max_row + 1):
+        v = sh.consts.get((r, 1))
+        if isinstance(v, str) and v and v not in names:
+            names[v] = r
+    # the variant: the student's input block and columns
+    ref_rows = sheet_rows(scene).rows
+    input_names = {r.name for r in ref_rows if r.kind == "input"}
+    where = {n: f"{main}!D{r}" for n, r in names.items()}
+    inputs = _inputs(evaluated, main, {n: r for n, r in names.items() if n in input_names})
+    positions = max([c for (rr, c) in list(sh.formulas) + list(sh.consts) if rr >= 5 and c >= FIRST_COL] or [FIRST_COL]) - FIRST_COL + 1
+    # the given data: graded against the issued variant unless the changes are accepted
+    given = issued.check_given(scene, scene_text, book.sheets[SCENE_SHEET].consts, inputs, where, options)
+    accept = bool(options and options.accept_changed)
+    student_scene = variant_scene(scene, inputs if accept else {**inputs, **given.issued}, positions, where)
+    ref_book = _reference(student_scene)
+    ref_sheet = ref_book.order[0]
+    ref_names = {ref_book.sheets[ref_sheet].consts.get((r, 1)): r for r in range(5, ref_book.sheets[ref_sheet].max_row + 1)}
+    report = Report(path, author=str(sh.consts.get((2, 1), "") or ""), title=str(sh.consts.get((1, 1), "") or ""),
+                    positions=positions, problems=list(evaluated.problems),
+                    student=_identity(evaluated, main, sh, names.get("student")),
+                    group=_identity(evaluated, main, sh, names.get("group")),
+                    variant=given.variant, given_changed=given.changed, seal=given.seal,
+                    accepted_changes=accept, notes=given.notes)
+    report.position_names = [(ref_book.value(ref_sheet, ref_names["i"], FIRST_COL + k),
+                              ref_book.value(ref_sheet, ref_names["phi_1"], FIRST_COL + k)) for k in range(positions)]
+    report.variant_scene = student_scene    # not a field (not in to_dict): the report's picture
+    ancestors = row_ancestors(student_scene)
+    kinds = {r.name: r.kind for r in ref_rows}
+    # not fields (not in to_dict): the raw cells copy detection compares (sheetkin/course/copies.py),
+    # and how many check rows the sheet has (grades: checks passing / total)
+    computed = {r.name: names[r.name] for r in ref_rows
+                if r.kind in ("calc", "accepted", "guard") and r.name != "i" and r.name in names}
+    report.marks = submission_marks(sh, computed, FIRST_COL, positions, ref_book.sheets[ref_sheet], ref_names,
+                                    inputs, ancestors)
+    report.checks_total = sum(kinds.get(n) in ("check", "fdcheck") for n in names)
+    for row in ref_rows:
+        if row.kind not in ("calc", "accepted", "guard") or row.name in ("i",):
+            continue
+        rep = RowReport(row.name, names.get(row.name), "correct", kind=row.kind)
+        report.rows.append(rep)
+        if rep.row is None:
+            rep.status = "missing"
+            continue
+        r, rr = rep.row, ref_names[row.name]
+        cells = [(r, FIRST_COL + k) for k in range(positions)]
+        if not any(c in sh.formulas or c in sh.consts for c in cells):
+            rep.status = "empty"
+            continue
+        for k, (_, c) in enumerate(cells):
+            got = evaluated.value(main, r, c)
+            typed = not sh.computed(r, c)                 # a spilled cell is computed, not typed
+            if not typed and evaluated.tag[main][r, c] == 14 and (r, c) in sh.cached:
+                got, rep.source = sh.cached[(r, c)], "cached"        # a formula we cannot evaluate
+                got = float(got) if isinstance(got, (int, float)) and not isinstance(got, bool) else got
+            if typed:
+                rep.source = "typed"
+            exp = ref_book.value(ref_sheet, rr, c)
+            ok, err = _close(got, exp, row.name, typed)
+            if not ok:
+                rep.wrong_cells.append(k + 1)
+                if rep.first_wrong is None:
+                    rep.first_wrong, rep.expected, rep.got = k + 1, exp, got
+            if np.isfinite(err):
+                rep.max_error = max(rep.max_error, err)
+            else:
+                rep.max_error = math.inf
+        if rep.wrong_cells:
+            rep.status = "wrong"
+    # likely causes: each row judged on the student's own values of what it reads
+    # (sheetkin.course.localjudge); the wrong rows right on their inputs depend on a cause
+    graded = {r.name for r in report.rows if r.status in ("correct", "wrong")}
+    judged = [r.name for r in ref_rows if r.name in graded or (r.kind == "derived" and r.name in names)]
+    local = judge(ref_book, evaluated, main, names, judged,
+                  {r.name for r in report.rows if r.status in ("missing", "empty")})
+
+    def derived_row(name: str, col: int) -> RowReport:
+        return RowReport(name, names[name], "correct", kind="derived",
+                         source="formula" if sh.computed(names[name], col) else "typed")
+    name_causes(report.rows, local, ancestors, input_names, derived_row)
+    report.cache_mismatch = _cache_mismatches(evaluated, main, {r for n, r in names.items() if n.startswith("phi_")})
+    # status 1 or an error fails; 0, n/a and "not filled in" do not (sheetkin/sheet/checks.py)
+    # a status typed over its formula (a 0 typed to make the row green) says nothing: it
+    # fails, as an error would (it once hid the failing checks and raised the score)
+    statuses = {n: evaluated.value(main, r, 4) if sh.computed(r, 4) else "#TYPED"
+                for n, r in names.items()
+                if n.startswith(("chk", "fd_")) and kinds.get(n) in ("check", "fdcheck")}
+    typed = [n for n, v in statuses.items() if v == "#TYPED"]
+    if typed:
+        report.notes.append(f"check status typed over its formula (column D; counted as failing): {', '.join(typed)}")
+    report.failing_checks = [n for n, s in statuses.items() if check_fails(s)]
+    # not fields: grades count the checks that pass (0) of those that apply (not "н/д"), as the
+    # sheet's summary does; "не заполнено" and "н/д" are not passing (an empty book passes none)
+    report.checks_passing = sum(check_passes(s) for s in statuses.values())
+    report.checks_na = sum(check_na(s) for s in statuses.values())
+    return report
+
+
+def _identity(evaluated, main: str, sh, row: int | None) -> str:
+    """The student's own name or group cell as text; a formula typed there that sheetkin
+    cannot compute (=HYPERLINK(...)) is what the spreadsheet saved, not "#NAME?"."""
+    if row is None:
+        return ""
+    v = evaluated.value(main, row, 4)
+    if sh.computed(row, 4) and evaluated.tag[main][row, 4] == 14 and (row, 4) in sh.cached:
+        v = sh.cached[(row, 4)]
+    return _text(v)
+
+
+def _text(v) -> str:
+    """A typed identity cell as text (a group typed as a number: 101.0 -> "101")."""
+    if v is None or isinstance(v, bool):
+        return ""
+    if isinstance(v, float):
+        return str(int(v)) if v.is_integer() and abs(v) < 1e15 else repr(v)
+    return " ".join(str(v).split())[:200]
+
+
+def _evaluate_student(raw) -> Book:
+    # the charts' hidden `paths` sheet (360 positions of the coordinates) is not graded and
+    # nothing on the kinematics sheet refers to it: leaving it out halves the work
+    sheets = {n: sh for n, sh in raw.sheets.items() if n != PATHS_SHEET}
+    return evaluate_sheets(raw.path, sheets, [n for n in raw.order if n in sheets], raw.names, strict=False)
+
+
+# The reference of a variant is the workbook sheetkin generates for it, evaluated. Only the
+# input block (column D of the input rows) differs between variants of one mechanism with
+# the same number of positions: the generated sheet is kept per structure (its rows'
+# names, kinds and formulas, and the positions), and each variant's reference is that
+# sheet with the variant's inputs, evaluated (the evaluator keeps the parsed formulas).
+# No workbook is rebuilt per variant; references are kept per variant (its inputs).
+_TEMPLATE_SHEETS: dict = {}               # structure -> the generated Sheet, {input name: row}
+_REFERENCES: dict = {}                    # (structure, inputs) -> Book, at most _KEEP of them
+_KEEP = 64
+
+
+def _reference(scene: Scene) -> Book:
+    """The variant's reference: its generated workbook's first sheet, evaluated."""
+    rows = sheet_rows(scene).rows
+    structure = (scene.crank.positions, tuple((r.name, r.kind, r.formula, r.guard) for r in rows))
+    inputs = tuple((r.name, r.value) for r in rows if r.kind == "input")
+    key = (structure, inputs)
+    book = _REFERENCES.get(key)
+    if book is None:
+        if structure not in _TEMPLATE_SHEETS:
+            if len(_TEMPLATE_SHEETS) >= _KEEP:
+                _TEMPLATE_SHEETS.clear()
+            _TEMPLATE_SHEETS[structure] = _template_sheet(scene)
+        sheet, input_rows = _TEMPLATE_SHEETS[structure]
+        consts = dict(sheet.consts)
+        for name, value in inputs:          # as the generated workbook writes them (ints as floats)
+            if value is None:
+                consts.pop((input_rows[name], 4), None)
+            else:
+                consts[(input_rows[name], 4)] = (float(value) if isinstance(value, int) and not isinstance(value, bool)
+                                                 else value)
+        variant = Sheet(sheet.name, sheet.state, consts=consts, formulas=sheet.formulas,
+                        max_row=sheet.max_row, max_col=sheet.max_col)
+        book = evaluate_sheets("<reference>", {variant.name: variant}, [variant.name], {}, strict=True)
+        if len(_REFERENCES) >= _KEEP:
+            del _REFERENCES[next(iter(_REFERENCES))]          # the oldest
+        _REFERENCES[key] = book
+    return book
+
+
+def _template_sheet(scene: Scene) -> tuple[Sheet, dict[str, int]]:
+    """The first sheet of the scene's generated workbook as the evaluator reads it, and the
+    row of every input."""
+    book = _build_reference(scene, evaluate=False)
+    sheet = book[0]
+    input_rows = {sheet.consts.get((r, 1)): r for r in range(5, sheet.max_row + 1)}
+    # the sheet's own check rows, their status cells and the summary above are not graded
+    # against a reference (the student's checks are read from the student's sheet): left
+    # out, they would be half of each variant's evaluation (SUMPRODUCT, COUNT, IF per row)
+    unchecked = {r for n, r in input_rows.items() if n in _check_rows(scene)}
+    sheet.formulas = {(r, c): f for (r, c), f in sheet.formulas.items() if r >= 5 and r not in unchecked}
+    return sheet, input_rows
+
+
+def _check_rows(scene: Scene) -> set[str]:
+    return {r.name for r in sheet_rows(scene).rows if r.kind in ("check", "fdcheck")}
+
+
+def _build_reference(scene: Scene, evaluate: bool = True):
+    """The generated workbook of the scene: evaluated (a Book), or its first Sheet (and
+    title) unevaluated. Building it takes ~0.1-0.3 s (openpyxl): done once per structure."""
+    wb = build_workbook(scene, scene_text="", charts=False)
+    sheets, order = {}, []
+    for ws in wb.worksheets[:1]:
+        sh = Sheet(ws.title, "visible")
+        for row in ws.iter_rows():
+            for c in row:
+                v = c.value
+                if v is None:
+                    continue
+                if isinstance(v, str) and v.startswith("="):
+                    sh.formulas[(c.row, c.column)] = v[1:]
+                else:
+                    sh.consts[(c.row, c.column)] = float(v) if isinstance(v, int) and not isinstance(v, bool) else v
+                sh.max_row, sh.max_col = max(sh.max_row, c.row), max(sh.max_col, c.column)
+        sheets[ws.title] = sh
+        order.append(ws.title)
+    if not evaluate:
+        return [sheets[order[0]]]
+    return evaluate_sheets("<reference>", sheets, order, {}, strict=True)
+
+
+def _cache_mismatches(book: Book, sheet: str, angle_rows: set[int] = frozenset(), limit: int = 50) -> list[str]:
+    """Formula cells whose value, as the spreadsheet last saved it, differs from what the
+    formula gives now (stale values, or a number pasted over a formula's result). On the
+    rows of link angles, in [0, 360), 359.99999999999994 and 0 are the same angle (MOD's
+    last bit differs between spreadsheets)."""
+    from openpyxl.utils import get_column_letter
+    out = []
+    sh = book.sheets[sheet]
+    for (r, c), cached in sorted(sh.cached.items()):
+        now = book.value(sheet, r, c)
+        if isinstance(cached, (int, float)) and not isinstance(cached, bool):
+            cached = float(cached)
+            if isinstance(now, float) and abs(now - cached) <= max(1e-9, 1e-9 * abs(cached)):
+                continue
+            if isinstance(now, float) and r in angle_rows and abs(abs(now - cached) - 360.0) <= 1e-9:
+                continue
+        elif isinstance(cached, str) and (now == cached or (now is None and cached == "")):
+            continue
+        elif isinstance(cached, bool) and now == cached:
+            continue
+        elif isinstance(cached, str) and isinstance(now, str) and now.startswith("#") and cached.startswith("#"):
+            continue                                     # errors: LibreOffice and Excel name some differently
+        out.append(f"{sheet}!{get_column_letter(c)}{r} (formula gives {now!r}, saved value {cached!r})")
+        if len(out) >= limit:
+            break
+    return out

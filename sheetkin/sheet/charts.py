@@ -1,0 +1,368 @@
+"""The charts sheet's pictures of the mechanism, live in the spreadsheet.
+
+* A drawing of the mechanism at the position typed in the charts sheet's yellow cell B1
+  (a position number, 1..N): the frame pivots, fixed guides, every link as a segment (a
+  closed polygon for a link with three or more points), slider blocks turned along their
+  guides, slots, and the points' paths behind them. Its data are helper cells (columns
+  AD onwards, headed "drawing data") that pick the chosen position's column of the
+  kinematics sheet's own rows with INDEX, so a changed position or length redraws it.
+  A position where the mechanism cannot assemble gives #N/A, which charts leave out.
+* Trajectories to equal scale: the axes' bounds are set at generation (from compute() over
+  a revolution, padded) for a fixed plot-area layout, so that a circle is round.
+* A fine path (FINE positions over a revolution) behind the sheet's coarse positions: the
+  hidden sheet `paths` repeats the kinematics sheet's rows that the coordinates depend on,
+  at the same row numbers with the same formulas, for FINE + 1 columns; its input cells
+  refer to the kinematics sheet's, only its step is 360/FINE deg (the sign of Delta_Fi).
+  An exercise workbook gets no `paths` sheet (it would hold the answers).
+
+Nothing here knows a group kind: the links' points, guides and blocks come from
+sheetkin.views.drawing.structure; the input cells of a frame guide are found by the workbook's
+row names (gx_g<i>, gy_g<i>, gamma_g<i>) when present.
+Spin button: openpyxl cannot write form controls, so the position is a plain input cell
+with a data validation (whole number 1..N) instead.
+"""
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass
+
+from openpyxl.chart import Reference, ScatterChart, Series
+from openpyxl.chart.axis import ChartLines
+from openpyxl.chart.data_source import NumFmt
+from openpyxl.chart.layout import Layout, ManualLayout
+from openpyxl.chart.marker import Marker
+from openpyxl.chart.shapes import GraphicalProperties
+from openpyxl.styles import Font, PatternFill
+from openpyxl.utils import get_column_letter, quote_sheetname
+from openpyxl.worksheet.datavalidation import DataValidation
+
+from sheetkin.kinematics.table import compute
+from sheetkin.views.drawing import FINE_POSITIONS, bounds, guide_span, revolution, structure
+from sheetkin.kinematics.scene import Scene
+
+PATHS_SHEET = "paths"
+POSITION_CELL = "$B$1"
+HELPER_COL = 30                    # AD: the drawing's helper cells
+INPUT_FILL = PatternFill("solid", fgColor="FFF2CC")
+# chart size (cm) and the plot area's place in it (fractions): fixed, so that equal
+# scale can be set through the axes' bounds
+WIDTH, HEIGHT = 16.0, 12.0
+PLOT = (0.12, 0.13, 0.84, 0.74)            # x, y, w, h of the inner plot area
+PLOT_LEGEND = (0.11, 0.13, 0.66, 0.74)     # room for a legend on the right
+ROWS_PER_CHART = 25                         # 12 cm of default-height rows, and a gap
+COLORS = ["1F77B4", "FF7F0E", "2CA02C", "D62728", "9467BD", "8C564B", "E377C2", "7F7F7F",
+          "BCBD22", "17BECF"]
+_TEXT = {"ru": {"pos": "положение i =", "phi": "phi_1, град", "mech": "Механизм в положении i",
+                "traj": "Траектории точек", "helper": "данные чертежа (вспомогательные ячейки)",
+                "hint": "введите номер положения 1..{n}"},
+         "en": {"pos": "position i =", "phi": "phi_1, deg", "mech": "The mechanism at position i",
+                "traj": "Trajectories of points", "helper": "drawing data (helper cells)",
+                "hint": "type a position number 1..{n}"}}
+
+
+@dataclass
+class SheetRows:
+    """What the charts need from the kinematics sheet as written by sheetkin.sheet.workbook."""
+    ws: object                      # the kinematics worksheet
+    rows: list                      # its Row records (name, kind, guard)
+    where: dict[str, int]           # row of each name
+    templates: dict[str, str]       # compiled formulas: {c} this column, $D$r inputs
+    cols: list[str]                 # position columns' letters
+    marker: str                     # the "cannot assemble" text of guarded cells
+    lang: str = "ru"
+    exercise: bool = False
+
+
+# --------------------------------------------------------------------------- the paths sheet
+_DEP = re.compile(r"\{[cpn]\}(\d+)|\$D\$(\d+)")
+
+
+def needed_rows(info: SheetRows, names) -> list[str]:
+    """The rows that the given rows depend on (their formulas and guards), in sheet order."""
+    by_row = {r: n for n, r in info.where.items()}
+    guard = {r.name: r.guard for r in info.rows}
+    seen, stack = set(), list(names)
+    while stack:
+        n = stack.pop()
+        if n in seen or n not in info.where:
+            continue
+        seen.add(n)
+        stack += [by_row[int(a or b)] for a, b in _DEP.findall(info.templates.get(n, ""))]
+        if guard.get(n):
+            stack.append(guard[n])
+    return [r.name for r in info.rows if r.name in seen]
+
+
+def add_paths_sheet(wb, info: SheetRows, scene: Scene, fine: int = FINE_POSITIONS):
+    """The hidden sheet of the coordinates over a revolution (see the module's docstring)."""
+    ps = wb.create_sheet(PATHS_SHEET)
+    ps.sheet_state = "hidden"
+    kin = quote_sheetname(info.ws.title)
+    points = scene.moving_joints + [p.name for p in scene.points]
+    need = set(needed_rows(info, [f"{q}_{p}" for p in points for q in "xy"]))
+    first = info.ws.cell(1, 5).column          # E
+    cols = [get_column_letter(first + k) for k in range(fine + 1)]
+    ps["A1"] = f"{scene.title}: coordinates at {fine} positions over a revolution (sheetkin)"
+    for row in info.rows:
+        if row.name not in need:
+            continue
+        r = info.where[row.name]
+        ps.cell(r, 1, row.name)
+        if row.kind == "input":
+            if row.name == "Delta_Fi":      # one revolution, the way the sheet's crank steps
+                ps.cell(r, 4, f"=IF({kin}!$D${r}<0,-1,1)*{360.0 / fine!r}")
+            else:
+                ps.cell(r, 4, f"={kin}!$D${r}")
+        elif row.kind == "derived":
+            ps.cell(r, 4, info.templates[row.name])
+        elif row.kind == "index":
+            for k, c in enumerate(cols):
+                ps.cell(r, first + k, k)
+        elif row.name in info.templates:
+            tpl = info.templates[row.name]
+            if row.guard:
+                tpl = f'=IF({{c}}{info.where[row.guard]},{tpl[1:]},"{info.marker}")'
+            for k, c in enumerate(cols):
+                ps.cell(r, first + k, tpl.format(c=c, p=c, n=c))
+    return ps, cols
+
+
+# --------------------------------------------------------------------------- helper cells
+class _Helper:
+    """Helper cells on the charts sheet: series blocks (label, x, y per row) in AD:AF and
+    scalars (label, value) in AH:AI."""
+
+    def __init__(self, cs, title: str):
+        self.cs, self.row, self.srow = cs, 3, 3
+        self.x = get_column_letter(HELPER_COL + 1)
+        self.y = get_column_letter(HELPER_COL + 2)
+        cs.cell(1, HELPER_COL, title).font = Font(bold=True)
+
+    def series(self, label: str, pts: list[tuple[str, str]]) -> tuple[int, int]:
+        start = self.row
+        for k, (x, y) in enumerate(pts):
+            self.cs.cell(self.row, HELPER_COL, label if k == 0 else None)
+            self.cs.cell(self.row, HELPER_COL + 1, "=" + x).number_format = "0.000000"
+            self.cs.cell(self.row, HELPER_COL + 2, "=" + y).number_format = "0.000000"
+            self.row += 1
+        self.row += 1
+        return start, self.row - 2
+
+    def scalar(self, label: str, formula: str) -> str:
+        r = self.srow
+        self.cs.cell(r, HELPER_COL + 4, label)
+        self.cs.cell(r, HELPER_COL + 5, "=" + formula).number_format = "0.000000"
+        self.srow += 1
+        return f"${get_column_letter(HELPER_COL + 5)}${r}"
+
+
+def _num(x) -> str:
+    """A number as formula text (repr of a numpy float would be np.float64(...))."""
+    return repr(float(x))
+
+
+def _na(v: str) -> str:
+    return f"IF(ISNUMBER({v}),{v},NA())"
+
+
+class _Cells:
+    """Formulas for the chosen position's values, from the kinematics sheet."""
+
+    def __init__(self, info: SheetRows, scene: Scene):
+        self.info, self.scene = info, scene
+        self.kin = quote_sheetname(info.ws.title)
+        self.span = f"${info.cols[0]}${{r}}:${info.cols[-1]}${{r}}"
+
+    def input(self, name: str) -> str | None:
+        r = self.info.where.get(name)
+        return f"{self.kin}!$D${r}" if r else None
+
+    def at(self, name: str) -> str:
+        r = self.info.where[name]
+        return _na(f"INDEX({self.kin}!{self.span.format(r=r)},{POSITION_CELL})")
+
+    def xy(self, p) -> tuple[str, str]:
+        if isinstance(p, tuple):
+            return _num(p[0]), _num(p[1])
+        if p in self.scene.frame:
+            return self.input(f"x_{p}"), self.input(f"y_{p}")
+        return self.at(f"x_{p}"), self.at(f"y_{p}")
+
+    def angle(self, link: int) -> str:
+        """phi_link in degrees at the chosen position (0 for the frame)."""
+        return "0" if link == 0 else self.at(f"phi_{link}")
+
+
+def _guide_cells(h: _Helper, c: _Cells, g, tag: str):
+    """(x, y of the base point, ux, uy) cells of a guide at the chosen position."""
+    if g.link == 0 and c.input(f"gamma_g{g.group}"):
+        theta = c.input(f"gamma_g{g.group}")
+    else:
+        theta = f"{c.angle(g.link)}+{_num(g.angle_deg)}"
+    th = h.scalar(f"{tag}: angle, deg", theta)
+    ux = h.scalar(f"{tag}: cos", f"COS(RADIANS({th}))")
+    uy = h.scalar(f"{tag}: sin", f"SIN(RADIANS({th}))")
+    if g.foot_of is not None:         # a slot: the foot of the lever's joint on the line
+        (px, py), (sx, sy) = c.xy(g.foot_of), c.xy(g.slider)
+        d = h.scalar(f"{tag}: slider's distance from the lever's joint", f"-({sx}-{px})*{uy}+({sy}-{py})*{ux}")
+        bx = h.scalar(f"{tag}: base x", f"{px}-{d}*{uy}")
+        by = h.scalar(f"{tag}: base y", f"{py}+{d}*{ux}")
+        return bx, by, ux, uy
+    if isinstance(g.through, tuple) and c.input(f"gx_g{g.group}"):
+        tx, ty = c.input(f"gx_g{g.group}"), c.input(f"gy_g{g.group}")
+    else:
+        tx, ty = c.xy(g.through)
+    bx = h.scalar(f"{tag}: base x", f"{tx}-{_num(g.offset)}*{uy}")
+    by = h.scalar(f"{tag}: base y", f"{ty}+{_num(g.offset)}*{ux}")
+    return bx, by, ux, uy
+
+
+# --------------------------------------------------------------------------- charts
+def _nice(x: float) -> float:
+    e = 10 ** math.floor(math.log10(x))
+    return next(m * e for m in (1, 2, 2.5, 5, 10) if m * e >= x)
+
+
+def equal_axes(box, plot=PLOT, width=WIDTH, height=HEIGHT):
+    """Axis bounds (xmin, xmax, ymin, ymax) and a common major unit such that one metre is
+    as long on both axes of a plot area `plot` (fractions of a width x height chart), and
+    the box fits."""
+    x0, y0, x1, y1 = box
+    wp, hp = plot[2] * width, plot[3] * height
+    unit = _nice(max(x1 - x0, y1 - y0) / 4)
+    k = max((x1 - x0 + unit) / wp, (y1 - y0 + unit) / hp)        # metres per cm
+    sx, sy = k * wp - (x1 - x0) - unit, k * hp - (y1 - y0) - unit
+    xmin = math.floor((x0 - sx / 2) / unit) * unit
+    ymin = math.floor((y0 - sy / 2) / unit) * unit
+    return xmin, xmin + k * wp, ymin, ymin + k * hp, unit
+
+
+def _chart(title: str, box, plot, legend: bool) -> ScatterChart:
+    ch = ScatterChart()
+    ch.title, ch.style, ch.width, ch.height = title, 2, WIDTH, HEIGHT
+    ch.visible_cells_only = False            # helper cells may sit in hidden rows
+    x0, x1, y0, y1, unit = equal_axes(box, plot)
+    for axis, lo, hi, other in ((ch.x_axis, x0, x1, y0), (ch.y_axis, y0, y1, x0)):
+        axis.delete = False
+        axis.crosses, axis.crossesAt = None, round(other, 12)    # at the bottom and the left
+        # not General: the ticks min + k unit carry round-off (1.1E-16 for 0)
+        axis.numFmt = NumFmt(formatCode="0.0##", sourceLinked=False)
+        axis.scaling.min, axis.scaling.max, axis.majorUnit = round(lo, 12), round(hi, 12), unit
+    ch.x_axis.title, ch.y_axis.title = "x, m", "y, m"
+    ch.x_axis.majorGridlines = ChartLines()
+    # (openpyxl writes the plot area's layout from chart.layout, not plot_area.layout)
+    ch.layout = Layout(manualLayout=ManualLayout(layoutTarget="inner", xMode="edge", yMode="edge",
+                                                 x=plot[0], y=plot[1], w=plot[2], h=plot[3]))
+    if legend:
+        ch.legend.position = "r"
+    else:
+        ch.legend = None
+    return ch
+
+
+def _style(s: Series, color: str, width_pt: float = 0.0, marker: str = "none", dash: str | None = None,
+           fill: str | None = None):
+    s.smooth = False
+    s.marker = Marker(symbol=marker, size=5 if marker != "none" else None)
+    if marker != "none":
+        s.marker.graphicalProperties = GraphicalProperties(solidFill=fill or color)
+        s.marker.graphicalProperties.line.solidFill = color
+    if width_pt:
+        s.graphicalProperties.line.solidFill = color
+        s.graphicalProperties.line.width = int(width_pt * 12700)
+        if dash:
+            s.graphicalProperties.line.prstDash = dash
+    else:
+        s.graphicalProperties.line.noFill = True
+    return s
+
+
+def _ref(sheet, row: int, c0: int, c1: int) -> Reference:
+    return Reference(sheet, min_col=c0, max_col=c1, min_row=row, max_row=row)
+
+
+def add_drawing_charts(wb, cs, scene: Scene, info: SheetRows, top: int = 3) -> int:
+    """Write the position cell, the helper cells, the drawing and the trajectory chart on
+    the charts sheet `cs`; returns the first row free for the other charts."""
+    text = _TEXT[info.lang]
+    n = len(info.cols)
+    st = structure(scene)
+    fine_df = compute(scene, revolution(scene, FINE_POSITIONS), allow_gaps=True)
+    spans = [guide_span(scene, fine_df, g) for g in st.guides]
+    box = bounds(scene, fine_df, st, spans)
+    r = 0.022 * max(box[2] - box[0], box[3] - box[1])
+
+    # the position cell, and phi_1 there
+    cs.column_dimensions["A"].width = 16
+    cs.column_dimensions["C"].width = 12
+    cs["A1"] = text["pos"]
+    cs["A1"].font = Font(bold=True)
+    cs["B1"] = 1
+    cs["B1"].fill = INPUT_FILL
+    cs["B1"].font = Font(bold=True)
+    dv = DataValidation(type="whole", operator="between", formula1="1", formula2=str(n), allow_blank=False,
+                        showErrorMessage=True, promptTitle=text["pos"], prompt=text["hint"].format(n=n),
+                        errorTitle=text["pos"], error=text["hint"].format(n=n))
+    dv.showInputMessage = True
+    cs.add_data_validation(dv)
+    dv.add("B1")
+    c = _Cells(info, scene)
+    cs["C1"] = text["phi"]
+    cs["D1"] = "=" + c.at("phi_1")
+    cs["D1"].number_format = "0.00"
+
+    h = _Helper(cs, text["helper"])
+    paths = None if info.exercise else add_paths_sheet(wb, info, scene)
+    mech = _chart(text["mech"], box, PLOT, legend=False)
+    traj = _chart(text["traj"], box, PLOT_LEGEND, legend=True)
+    moving = scene.moving_joints + [p.name for p in scene.points]
+    first, last = 5, 4 + n
+    for k, p in enumerate(moving):
+        color = COLORS[k % len(COLORS)]
+        xr, yr = info.where[f"x_{p}"], info.where[f"y_{p}"]
+        if paths:
+            ps, pcols = paths
+            pc1 = 4 + len(pcols)
+            for ch in (mech, traj):
+                s = Series(_ref(ps, yr, 5, pc1), _ref(ps, xr, 5, pc1), title=f"{p} ({len(pcols) - 1})")
+                ch.series.append(_style(s, "9BB7D4" if ch is mech else color, 1.0))
+        s = Series(_ref(info.ws, yr, first, last), _ref(info.ws, xr, first, last), title=p)
+        traj.series.append(_style(s, color, 0, "circle"))
+        if not paths:               # the exercise's paths: the student's own positions
+            s = Series(_ref(info.ws, yr, first, last), _ref(info.ws, xr, first, last), title=p)
+            mech.series.append(_style(s, "9BB7D4", 0.75))
+
+    def add(label, pts, color, width, marker="none", dash=None, fill=None):
+        r0, r1 = h.series(label, pts)
+        s = Series(Reference(cs, min_col=HELPER_COL + 2, min_row=r0, max_row=r1),
+                   Reference(cs, min_col=HELPER_COL + 1, min_row=r0, max_row=r1), title=label)
+        mech.series.append(_style(s, color, width, marker, dash, fill))
+
+    for g, (t0, t1) in zip(st.guides, spans):
+        tag = f"guide g{g.group}" if g.link == 0 else f"slot g{g.group}"
+        bx, by, ux, uy = _guide_cells(h, c, g, tag)
+        a, b = (_num(t0 - 1.5 * r), _num(t1 + 1.5 * r)) if g.link == 0 else (_num(t0 - r), _num(t1 + r))
+        add(tag, [(f"{bx}+({a})*{ux}", f"{by}+({a})*{uy}"), (f"{bx}+({b})*{ux}", f"{by}+({b})*{uy}")],
+            "595959" if g.link == 0 else "1F4E79", 1.5 if g.link == 0 else 0.75,
+            dash=None if g.link == 0 else "dash")
+    for k, pts in st.members.items():
+        if len(pts) < 2:
+            continue
+        ring = list(pts) + ([pts[0]] if len(pts) >= 3 else [])
+        add(f"link {k}: {'-'.join(pts)}", [c.xy(p) for p in ring], "1F4E79", 2.25, "circle", fill="FFFFFF")
+    for b in st.blocks:
+        tag = f"block {b.link} at {b.at}"
+        _, _, ux, uy = _guide_cells(h, c, b.guide, tag)
+        cx, cy = c.xy(b.at)
+        hl, hw = 1.3 * r, 0.75 * r
+        corners = [(-1, -1), (1, -1), (1, 1), (-1, 1), (-1, -1)]
+        add(tag, [(f"{cx}+({_num(i * hl)})*{ux}-({_num(j * hw)})*{uy}",
+                   f"{cy}+({_num(i * hl)})*{uy}+({_num(j * hw)})*{ux}")
+                  for i, j in corners], "B8860B", 1.5)
+    if st.pivots:
+        add("frame", [c.xy(p) for p in st.pivots], "595959", 0, "triangle", fill="BFBFBF")
+    cs.add_chart(mech, f"A{top}")
+    cs.add_chart(traj, f"K{top}")
+    cs.cell(2, HELPER_COL, "x, y: INDEX(...; B1); #N/A where the mechanism cannot assemble").font = Font(italic=True)
+    return top + ROWS_PER_CHART

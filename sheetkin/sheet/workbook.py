@@ -1,0 +1,427 @@
+"""The lecture's workbook (seed 003, steps 7-10) with live formulas, written with openpyxl.
+
+Layout of the sheet, top to bottom (the lecture's "programming by rows"):
+  rows 1-2  title (scheme) and author; row 3 the summary of all checks;
+  input block: lengths, frame points, Alfa_A, Betta_A, Fi0, Fi_t, Fi_tt, Delta_Fi (deg
+            and rad), branches, points' offsets, tolerances: the values a user may edit;
+  crank block ("angular characteristics of the crank"), hinge A;
+  for each group its kinematic-constraint block: intermediate variables (P, Q, F ...),
+            every solution branch, check rows that put each branch back into the
+            original equations, the "accepted values" rows (contract names) that all
+            later rows reference, then velocities and accelerations (Cramer's rule);
+  driven joints and points, each followed by its check rows.
+Columns: A the row's name (contract names on accepted rows), B the unit, C a
+description (Russian by default, English with lang="en"), D the input value (input
+rows) or the row's check status (check rows: 0 pass, 1 fail), E... one column per crank
+position. Every computed cell is a formula referring to the input block.
+
+Rows are built as records whose formulas name other rows ("{x_A}", "{L1}",
+"{x_A@prev}"); they are compiled once into per-column templates, so a 360-column
+workbook costs one str.format per cell.
+"""
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from openpyxl import Workbook, load_workbook
+from openpyxl.chart import Reference, ScatterChart, Series
+from openpyxl.chart.data_source import NumFmt
+from openpyxl.styles import Font, PatternFill
+from openpyxl.utils import get_column_letter
+
+from .checks import colour_check_row, status_formula, write_summary
+from sheetkin.groups import kind_of
+from sheetkin.groups.rows import (Builder, Row, carried_rows, distance_check, fd_checks, local_position_check, motion_rows,
+                   via_link_checks)
+from sheetkin.kinematics.scene import Point, Scene
+from .dynamics import dynamics_inputs, energy_rows, kinetostatics_rows
+
+FIRST_COL = 5                      # column E: the first crank position
+SCENE_SHEET = "scene"              # hidden sheet holding the scene's TOML text
+ISSUED_LABELS = ("variant", "seal")  # scene sheet B1:B2, values in C1:C2 (sheetkin variants)
+# Central differences only where the step allows: their error, h^2/6 of the third
+# derivative, is within Tol_FD = 1% of a row's scale at 3 deg for every bundled mechanism,
+# but not at 4-5 deg for the quick-return ones (slotted lever, shaper).
+FD_MAX_STEP_DEG = 3.0
+MARKERS = {"ru": "не собирается", "en": "cannot assemble"}
+SHEET_TITLES = {"ru": ("Кинематика", "Графики"), "en": ("Kinematics", "Charts")}
+
+# the student's identity rows, first in the input block (name, ru, en)
+IDENTITY_ROWS = (("student", "студент: фамилия, имя", "student: family name, first name"),
+                 ("group", "учебная группа", "the student's group"))
+INPUT_FILL = PatternFill("solid", fgColor="FFF2CC")
+ACCEPTED_FILL = PatternFill("solid", fgColor="DDEBF7")
+SECTION_FONT = Font(bold=True)
+
+
+# --------------------------------------------------------------------------- the rows
+def sheet_rows(scene: Scene) -> Builder:
+    """The kinematics sheet's rows, top to bottom (see the module's docstring)."""
+    b = Builder(scene)
+    c = scene.crank
+    b.section("input", "Исходные данные (можно изменять)", "Input data (editable)")
+    # who filled the sheet in: the student's own cells (A2 is the scheme's author), text,
+    # blank as issued; the validator reports them (Report.student, Report.group)
+    for name, ru, en in IDENTITY_ROWS:
+        b.input(name, "", ru, en, None)
+    b.input("L1", "m", f"длина кривошипа {c.pivot}{c.joint}", f"crank length {c.pivot}{c.joint}", c.length)
+    for g in scene.groups:
+        for r in kind_of(g).input_rows(g):
+            if r.early:
+                b.input(r.name, r.unit, r.ru, r.en, r.value)
+    for name, (x, y) in scene.frame.items():
+        b.input(f"x_{name}", "m", f"координата x неподвижной точки {name}", f"x of the fixed point {name}", x)
+        b.input(f"y_{name}", "m", f"координата y неподвижной точки {name}", f"y of the fixed point {name}", y)
+    for g in scene.groups:
+        for r in kind_of(g).input_rows(g):
+            if not r.early:
+                b.input(r.name, r.unit, r.ru, r.en, r.value)
+    for p in scene.points:
+        b.input(f"along_{p.name}", "m", f"точка {p.name}: вдоль звена {p.link} от {p.origin}", f"point {p.name}: along link {p.link} from {p.origin}", p.along)
+        b.input(f"across_{p.name}", "m", f"точка {p.name}: поперёк звена {p.link} (влево +)", f"point {p.name}: across link {p.link} (left +)", p.across)
+    b.input("Fi0", "deg", "начальный угол кривошипа", "crank angle of the first position", c.phi0_deg)
+    b.input("Fi_t0", "rad/s", "(Fi_t)0: угловая скорость кривошипа", "(Fi_t)0: the crank's angular velocity", c.omega)
+    b.input("Fi_tt0", "rad/s^2", "(Fi_tt)0: угловое ускорение кривошипа", "(Fi_tt)0: the crank's angular acceleration", c.epsilon)
+    b.input("Delta_Fi", "deg", "шаг по углу кривошипа (градусы)", "crank angle step (degrees)", c.step_deg)
+    b.add("Delta_Fi_rad", "rad", "шаг по углу кривошипа (радианы)", "crank angle step (radians)", kind="derived", formula="RADIANS({Delta_Fi})")
+    b.add("Alfa_A", "m", f"начальная координата x шарнира {c.joint} относительно {c.pivot}", f"initial x of hinge {c.joint} from {c.pivot}", kind="derived", formula="{L1}*COS(RADIANS({Fi0}))")
+    b.add("Betta_A", "m", f"начальная координата y шарнира {c.joint} относительно {c.pivot}", f"initial y of hinge {c.joint} from {c.pivot}", kind="derived", formula="{L1}*SIN(RADIANS({Fi0}))")
+    if scene.has_dynamics:
+        dynamics_inputs(b)
+    b.input("Tol", "", "допуск проверок (невязки)", "tolerance of the checks (residuals)", 1e-9)
+    b.input("Tol_FD", "", f"допуск сравнения с численным дифференцированием (шаг <= {FD_MAX_STEP_DEG:g} град)", f"tolerance against numeric derivatives (step <= {FD_MAX_STEP_DEG:g} deg)", 0.01)
+
+    # the joints each link carries: a [[point]]'s velocity is checked through a second one
+    b.on_link[1] = [scene.crank.pivot, scene.crank.joint]
+    for g in scene.groups:
+        for k, joints in kind_of(g).carries(g).items():
+            b.on_link.setdefault(k, []).extend(j for j in joints if j not in b.on_link.get(k, []))
+    _crank_rows(b)
+    for kind, item in scene.plan:
+        if kind == "group":
+            kind_of(item).rows(b, item)
+        elif kind == "point":
+            _point_rows(b, item)
+    if scene.has_dynamics:
+        energy_rows(b)
+        kinetostatics_rows(b)
+    return b
+
+
+def _crank_rows(b: Builder):
+    c = b.scene.crank
+    A, O = c.joint, c.pivot
+    b.section("crank", "Угловые характеристики работы кривошипа", "Angular characteristics of the crank")
+    b.add("i", "", "номер положения", "position number", kind="index")
+    b.add("phi_1", "deg", "угол поворота кривошипа", "crank angle", "accepted", "{Fi0}+{i}*{Delta_Fi}")
+    b.add("Fi", "rad", "угол поворота кривошипа (радианы)", "crank angle (radians)", "calc", "RADIANS({phi_1})")
+    b.add("dFi", "rad", "поворот от начального положения", "rotation from the first position", "calc", "{Fi}-RADIANS({Fi0})")
+    b.add("Fi_t", "rad/s", "угловая скорость кривошипа", "the crank's angular velocity", "calc", "{Fi_t0}")
+    b.add("Fi_tt", "rad/s^2", "угловое ускорение кривошипа", "the crank's angular acceleration", "calc", "{Fi_tt0}")
+    b.add("cos_1", "", "cos угла кривошипа", "cos of the crank angle", "calc", "COS({Fi})")
+    b.add("sin_1", "", "sin угла кривошипа", "sin of the crank angle", "calc", "SIN({Fi})")
+    b.add("chk_Fi", "rad", "проверка: Fi - (Fi0 + i Delta_Fi) в радианах", "check: Fi - (Fi0 + i Delta_Fi) in radians", "check",
+          "{Fi}-(RADIANS({Fi0})+{i}*{Delta_Fi_rad})")
+    b.rot[1] = ("cos_1", "sin_1", "Fi_t", "Fi_tt")
+    b.section(f"hinge_{A}", f"Шарнир {A} кривошипа (слайд 6: x = Alfa cos dFi - Betta sin dFi)",
+              f"Hinge {A} of the crank (slide 6: x = Alfa cos dFi - Betta sin dFi)")
+    rx, ry = f"({{x_{A}}}-{{x_{O}}})", f"({{y_{A}}}-{{y_{O}}})"
+    motion_rows(b, A, f"шарнира {A}", f"hinge {A}",
+                 f"{{x_{O}}}+{{Alfa_A}}*COS({{dFi}})-{{Betta_A}}*SIN({{dFi}})",
+                 f"{{y_{O}}}+{{Alfa_A}}*SIN({{dFi}})+{{Betta_A}}*COS({{dFi}})",
+                 f"-{{Fi_t}}*{ry}", f"{{Fi_t}}*{rx}",
+                 f"-{{Fi_tt}}*{ry}-{{Fi_t}}*{{vy_{A}}}", f"{{Fi_tt}}*{rx}+{{Fi_t}}*{{vx_{A}}}")
+    distance_check(b, f"chk_{O}{A}", O, A, "{L1}", f"проверка: |{O}{A}| - L1", f"check: |{O}{A}| - L1")
+    b.add(f"chk_v_{A}", "m^2/s", f"проверка: скорость {A} перпендикулярна {O}{A}", f"check: velocity of {A} perpendicular to {O}{A}",
+          "check", f"{{vx_{A}}}*{rx}+{{vy_{A}}}*{ry}")
+    # the crank in the other form of slide 6, x = L1 cos Fi, and its derivatives: each of
+    # the hinge's rows against a formula that does not use it (free of the step)
+    L, c1, s1 = "{L1}", "{cos_1}", "{sin_1}"
+    b.add(f"chk_pos_{A}", "m", f"проверка: x{A} = x{O} + L1 cos Fi, y{A} = y{O} + L1 sin Fi (не зависит от шага)",
+          f"check: x{A} = x{O} + L1 cos Fi, y{A} = y{O} + L1 sin Fi (free of the step)", "check",
+          f"ABS({{x_{A}}}-{{x_{O}}}-{L}*{c1})+ABS({{y_{A}}}-{{y_{O}}}-{L}*{s1})")
+    b.add(f"chk_vel_{A}", "m/s", f"проверка: v{A} = L1 Fi_t (-sin Fi, cos Fi) (производная x = L1 cos Fi)",
+          f"check: v{A} = L1 Fi_t (-sin Fi, cos Fi) (the derivative of x = L1 cos Fi)", "check",
+          f"ABS({{vx_{A}}}+{L}*{{Fi_t}}*{s1})+ABS({{vy_{A}}}-{L}*{{Fi_t}}*{c1})")
+    b.add(f"chk_acc_{A}", "m/s^2",
+          f"проверка: a{A} = L1 Fi_tt (-sin Fi, cos Fi) - L1 Fi_t^2 (cos Fi, sin Fi) (вторая производная)",
+          f"check: a{A} = L1 Fi_tt (-sin Fi, cos Fi) - L1 Fi_t^2 (cos Fi, sin Fi) (the second derivative)", "check",
+          f"ABS({{ax_{A}}}+{L}*({{Fi_tt}}*{s1}+{{Fi_t}}^2*{c1}))+ABS({{ay_{A}}}-{L}*({{Fi_tt}}*{c1}-{{Fi_t}}^2*{s1}))")
+    fd_checks(b, A)
+
+
+def _point_rows(b: Builder, p: Point):
+    saved, b.guard = b.guard, b.guard_of_link.get(p.link)
+    carried_rows(b, p.name, p.link, p.origin, f"{{along_{p.name}}}", f"{{across_{p.name}}}",
+                  f"точки {p.name}", f"point {p.name}")
+    distance_check(b, f"chk_{p.origin}{p.name}", p.origin, p.name,
+                    f"SQRT({{along_{p.name}}}^2+{{across_{p.name}}}^2)",
+                    f"проверка: |{p.origin}{p.name}| сохраняется", f"check: |{p.origin}{p.name}| is kept")
+    local_position_check(b, p.name, p.link, p.origin, f"{{along_{p.name}}}", f"{{across_{p.name}}}")
+    # the velocity and acceleration once more through another joint of the link (the rows
+    # above go through `from`); a link with one joint only: through `from`, from its rows
+    others = [j for j in b.on_link.get(p.link, []) if j not in (p.origin, p.name)]
+    j = others[0] if others else p.origin
+    via_link_checks(b, p.name, j, p.link, f"{j}, omega_{p.link}, eps_{p.link}")
+    b.on_link.setdefault(p.link, []).append(p.name)
+    fd_checks(b, p.name)
+    b.guard = saved
+
+
+# --------------------------------------------------------------------------- writing
+_REF = re.compile(r"\{(scale:)?([^{}@:]+)(?:@(prev|next))?\}")
+_TEXT = {
+    "ru": {"name": "имя", "unit": "ед.", "desc": "описание", "value": "значение / проверка",
+           "checks": "проверки",
+           "na": "н/д", "author": "автор", "pos": "положение"},
+    "en": {"name": "name", "unit": "unit", "desc": "description", "value": "value / check",
+           "checks": "checks",
+           "na": "n/a", "author": "author", "pos": "position"},
+}
+_EXERCISE_KEEP = {"i", "phi_1"}
+
+
+def prefilled_in_exercise(name: str, kind: str) -> bool:
+    """Rows an exercise workbook gives filled in: the position's number and crank angle, and
+    the rows that are not computed values (guards: does the group assemble?). They are the
+    exercise's, not the student's work, so grades leave them out (sheetkin/course/grades.py). The
+    derived values of column D (Alfa_A ...) are left blank in an exercise: graded."""
+    return kind == "guard" or name in _EXERCISE_KEEP
+
+
+def _compile(rows: list[Row], first_row: int, last_col: str):
+    """Row number of every name, and each formula as a str.format template over the
+    column letters c (this position), p (previous), n (next)."""
+    where = {r.name: first_row + k for k, r in enumerate(rows)}
+    kinds = {r.name: r.kind for r in rows}
+    first_col = get_column_letter(FIRST_COL)
+
+    def ref(m):
+        scale, name, shift = m.groups()
+        if name not in where:
+            raise KeyError(f"workbook formula refers to an unknown row {name!r}")
+        r = where[name]
+        if scale:
+            # the row's largest magnitude (MAX/MIN skip text cells), floored for all-zero rows
+            return f"MAX(MAX(${first_col}${r}:${last_col}${r}),-MIN(${first_col}${r}:${last_col}${r}),1E-9)"
+        if kinds[name] in ("input", "derived"):
+            return f"$D${r}"
+        return "{%s}%d" % ({"prev": "p", "next": "n"}.get(shift, "c"), r)
+
+    templates = {}
+    for r in rows:
+        if r.formula:
+            templates[r.name] = "=" + _REF.sub(ref, r.formula)
+    return where, templates
+
+
+def build_workbook(scene: Scene, *, lang: str = "ru", exercise: bool = False,
+                   scene_text: str | None = None, charts: bool = True,
+                   issued: tuple[str, str] | None = None) -> Workbook:
+    """The lecture's workbook for `scene` (see the module's docstring); charts=False leaves
+    out the charts sheet (and its hidden paths sheet): the validator's reference needs only
+    the kinematics sheet. issued = (variant id, seal): a variant made by `sheetkin
+    variants`, recorded beside the embedded scene (sheetkin/course/issued.py reads them back)."""
+    if lang not in _TEXT:
+        raise ValueError(f"lang must be one of {', '.join(_TEXT)}, got {lang!r}")
+    text = _TEXT[lang]
+    b = sheet_rows(scene)
+    rows = b.rows
+    n = scene.crank.positions
+    last_col = get_column_letter(FIRST_COL + n - 1)
+    first_row = 5
+    where, templates = _compile(rows, first_row, last_col)
+    marker = MARKERS[lang]
+    kinds = {r.name: r.kind for r in rows}
+    cols = [get_column_letter(FIRST_COL + k) for k in range(n)]
+
+    wb = Workbook()
+    ws = wb.active
+    ws.title = SHEET_TITLES[lang][0]
+    _text_cell(ws["A1"], scene.title)
+    ws["A1"].font = Font(bold=True, size=14)
+    _text_cell(ws["A2"], scene.author or "")
+    ws["A3"] = text["checks"]
+    ws["A3"].font = SECTION_FONT
+    for col, key in zip("ABCD", ("name", "unit", "desc", "value")):
+        ws[f"{col}4"] = text[key]
+        ws[f"{col}4"].font = SECTION_FONT
+    for k, c in enumerate(cols):
+        ws[f"{c}4"] = k + 1                 # the position's number
+        ws[f"{c}4"].font = SECTION_FONT
+
+    status_cells, fd_range = [], f"{cols[0]}{{r}}:{cols[-1]}{{r}}"
+    for row in rows:
+        r = where[row.name]
+        if row.kind == "section":
+            ws.cell(r, 1, (row.ru if lang == "ru" else row.en)).font = SECTION_FONT
+            continue
+        ws.cell(r, 1, row.name)
+        ws.cell(r, 2, row.unit)
+        ws.cell(r, 3, row.ru if lang == "ru" else row.en)
+        if row.kind == "input":
+            ws.cell(r, 4, row.value).fill = INPUT_FILL
+            if row.value is None:               # the identity rows: text, whatever is typed
+                ws.cell(r, 4).number_format = "@"
+            continue
+        if row.kind == "derived":
+            if not exercise:
+                ws.cell(r, 4, templates[row.name])
+            continue
+        if row.kind == "index":
+            for k, c in enumerate(cols):
+                ws.cell(r, FIRST_COL + k, k)
+            continue
+        if exercise and row.kind in ("calc", "accepted") and row.name not in _EXERCISE_KEEP:
+            continue
+        tpl = templates[row.name]
+        fd = "{p}" in tpl or "{n}" in tpl
+        if fd:
+            # central differences: only where the step allows and the crank turns
+            tpl = (f'=IF(OR(ABS($D${where["Delta_Fi"]})>{FD_MAX_STEP_DEG:g},$D${where["Fi_t0"]}=0),'
+                   f'"{text["na"]}",{tpl[1:]})')
+        if row.guard:
+            tpl = f'=IF({{c}}{where[row.guard]},{tpl[1:]},"{marker}")'
+        fmt = {"check": "0.0E+00", "fdcheck": "0.0E+00", "guard": "General"}.get(row.kind, "0.000000")
+        for k, c in enumerate(cols):
+            if fd and (k == 0 or k == n - 1):
+                ws.cell(r, FIRST_COL + k, text["na"])
+                continue
+            p = cols[k - 1] if k else c
+            nx = cols[k + 1] if k + 1 < n else c
+            ws.cell(r, FIRST_COL + k, tpl.format(c=c, p=p, n=nx)).number_format = fmt
+        if row.kind == "accepted":
+            ws.cell(r, 1).fill = ACCEPTED_FILL
+        if row.kind in ("check", "fdcheck"):
+            rng = fd_range.format(r=r)
+            tol = f"$D${where['Tol_FD' if row.kind == 'fdcheck' else 'Tol']}"
+            expected = None
+            if row.kind == "check":
+                expected = (f"SUMPRODUCT(--({cols[0]}{where[row.guard]}:{cols[-1]}{where[row.guard]}))"
+                            if row.guard else str(n))
+            reads = sorted({where[m.group(2)] for m in _REF.finditer(row.formula)
+                            if kinds[m.group(2)] in ("calc", "accepted")})
+            ws.cell(r, 4, status_formula(lang, rng, tol, [fd_range.format(r=k) for k in reads], expected))
+            status_cells.append(f"D{r}")
+            colour_check_row(ws, rng, f"{cols[0]}{r}", f"D{r}", tol)
+    write_summary(ws, lang, status_cells, f"D{first_row}:D{first_row + len(rows) - 1}")
+    ws.freeze_panes = f"{cols[0]}5"
+    from .printing import setup_page      # widths, alignment, pages (sheetkin/sheet/printing.py)
+    setup_page(ws, rows, where, cols, FIRST_COL)
+    if charts:
+        from .charts import SheetRows
+        _add_charts(wb, ws, scene, where, cols, lang,
+                    SheetRows(ws, rows, where, templates, cols, marker, lang, exercise))
+    _embed_scene(wb, scene, scene_text, issued)
+    return wb
+
+
+def _add_charts(wb, ws, scene: Scene, where, cols, lang, rows_info):
+    """The mechanism at a chosen position and the trajectories, to scale
+    (sheetkin/sheet/charts.py); speeds and accelerations against the crank angle,
+    angular velocities of the links."""
+    from .charts import add_drawing_charts
+    cs = wb.create_sheet(SHEET_TITLES[lang][1])
+    cs.page_setup.orientation = "landscape"
+    cs.sheet_properties.pageSetUpPr.fitToPage = True
+    first, last = FIRST_COL, FIRST_COL + len(cols) - 1
+    row_ref = lambda name: Reference(ws, min_col=first, max_col=last, min_row=where[name], max_row=where[name])
+    points = scene.moving_joints + [p.name for p in scene.points]
+    ru = lang == "ru"
+    top = add_drawing_charts(wb, cs, scene, rows_info)
+    specs = [
+        ("Скорости точек" if ru else "Speeds of points", "phi_1, deg", "v, m/s",
+         [("phi_1", f"v_{p}", f"v_{p}") for p in points]),
+        ("Ускорения точек" if ru else "Accelerations of points", "phi_1, deg", "a, m/s^2",
+         [("phi_1", f"a_{p}", f"a_{p}") for p in points]),
+        ("Угловые скорости звеньев" if ru else "Angular velocities of links", "phi_1, deg", "omega, rad/s",
+         [("phi_1", f"omega_{k}", f"omega_{k}") for k in scene.links]),
+    ]
+    if scene.has_dynamics:
+        from sheetkin.kinematics.dynamics import reaction_pairs
+        specs.append(("Уравновешивающий момент и мощности" if ru else "Balancing moment and powers", "phi_1, deg",
+                      "N m, W", [("phi_1", n, n) for n in ("M_bal", "P_bal", "P_ext", "T_t") if n in where]))
+        specs.append(("Реакции в кинематических парах" if ru else "Joint reactions", "phi_1, deg", "R, N",
+                      [("phi_1", f"R_{p.tag}", f"R_{p.tag}") for p in reaction_pairs(scene)]))
+    for k, (title, xt, yt, series) in enumerate(specs):
+        ch = ScatterChart()
+        ch.title, ch.style, ch.height, ch.width = title, 2, 9, 16
+        ch.x_axis.title, ch.y_axis.title = xt, yt
+        for axis in (ch.x_axis, ch.y_axis):
+            axis.delete = False             # openpyxl >= 3.1 hides axes unless told
+            axis.crosses = "min"            # axes at the bottom and the left, not through 0
+            axis.numFmt = NumFmt(formatCode="General", sourceLinked=False)   # not the cells' 0.000000
+        for x, y, label in series:
+            s = Series(row_ref(y), row_ref(x), title=label)
+            s.marker.symbol = "circle"
+            s.smooth = False
+            ch.series.append(s)
+        cs.add_chart(ch, f"{'A' if k % 2 == 0 else 'K'}{top + (k // 2) * 20}")
+    cs.print_area = f"A1:T{top + ((len(specs) + 1) // 2) * 20}"    # the charts, not the helper cells
+
+
+def _text_cell(cell, text: str) -> None:
+    """Text from the scene (title, author) is written as text: openpyxl would store a
+    string starting with "=" as a formula, and "+", "-", "@" are formulas to a spreadsheet
+    program that retypes the cell (formula injection). A string cell keeps it text."""
+    cell.value = text
+    cell.data_type = "s"
+
+
+def _embed_scene(wb, scene: Scene, scene_text: str | None, issued: tuple[str, str] | None = None):
+    """The scene travels inside the workbook (a hidden sheet), so the file alone is enough
+    to evaluate and validate it later. An issued variant's id and seal go in C1, C2
+    (labels in B1, B2), beside the scene's lines in column A."""
+    if scene_text is None:
+        try:
+            scene_text = Path(scene.source).read_text(encoding="utf-8-sig")
+        except OSError:
+            raise ValueError("the scene's text is needed to embed it; pass scene_text") from None
+    ws = wb.create_sheet(SCENE_SHEET)
+    ws.sheet_state = "hidden"
+    for k, line in enumerate(scene_text.splitlines(), 1):
+        ws.cell(k, 1, line if line else None).data_type = "s"
+    if issued:
+        for r, (label, value) in enumerate(zip(ISSUED_LABELS, issued), 1):
+            _text_cell(ws.cell(r, 2), label)
+            _text_cell(ws.cell(r, 3), value)
+    wb.properties.subject = f"sheetkin workbook; the scene is in the hidden sheet '{SCENE_SHEET}'"
+
+
+def embedded_scene_text(path) -> str:
+    """The scene TOML text stored in a sheetkin workbook."""
+    wb = load_workbook(path, read_only=True)
+    try:
+        if SCENE_SHEET not in wb.sheetnames:
+            raise ValueError(f"{path}: no embedded scene (no sheet '{SCENE_SHEET}'); not a sheetkin workbook?")
+        lines = [row[0] if row and row[0] is not None else "" for row in wb[SCENE_SHEET].iter_rows(values_only=True)]
+    finally:
+        wb.close()
+    return "\n".join(str(x) for x in lines) + "\n"
+
+
+def write_workbook(scene: Scene, path, *, lang: str = "ru", exercise: bool = False,
+                   scene_text: str | None = None) -> None:
+    build_workbook(scene, lang=lang, exercise=exercise, scene_text=scene_text).save(path)
+
+
+def fingerprint(source) -> dict:
+    """What a workbook says, independent of when it was saved: every sheet's cells
+    (formulas as written), its visibility, and the data references of its charts.
+    `source` is a path or an in-memory Workbook. Used to tell a stale committed workbook."""
+    import io
+    import zipfile
+    if isinstance(source, Workbook):
+        buf = io.BytesIO()
+        source.save(buf)
+        source = buf
+    wb = load_workbook(source)
+    out = {ws.title: (ws.sheet_state, {c.coordinate: c.value for row in ws.iter_rows() for c in row
+                                       if c.value is not None}) for ws in wb.worksheets}
+    if hasattr(source, "seek"):
+        source.seek(0)
+    with zipfile.ZipFile(source) as z:
+        charts = sorted(n for n in z.namelist() if n.startswith("xl/charts/chart"))
+        out["charts"] = [re.findall(r"<(?:c:)?f>([^<]*)</(?:c:)?f>", z.read(n).decode("utf-8")) for n in charts]
+    return out

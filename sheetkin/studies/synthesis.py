@@ -1,0 +1,659 @@
+"""Synthesis of a crank-rocker four-bar from the time-ratio coefficient (seed 002).
+
+Given the time-ratio coefficient K_w (overlap angle theta = pi (K_w - 1)/(K_w + 1)), the
+rocker length l3, the rocker pivot's ordinate Y_D and the rocker's extreme angles gamma1 <
+gamma2, find the crank l1, the coupler l2, the crank angle phi1H of the extended dead position
+and the pivot's abscissa X_D from the four projection equations of the seed (crank pivot O at
+the origin, B = D + l3 (cos gamma, sin gamma)):
+
+    (l1 + l2) cos(phi1H)         = X_D + l3 cos(gamma1)
+    (l1 + l2) sin(phi1H)         = Y_D + l3 sin(gamma1)
+    (l2 - l1) cos(phi1H + theta) = X_D + l3 cos(gamma2)
+    (l2 - l1) sin(phi1H + theta) = Y_D + l3 sin(gamma2)
+
+Solved in closed form: with R1 = l1 + l2, R2 = l2 - l1, a = Y_D + l3 sin gamma1,
+b = Y_D + l3 sin gamma2, c = l3 (cos gamma1 - cos gamma2), eliminating R1, R2 and X_D gives
+a cot(phi) - b cot(phi + theta) = c, i.e. with psi = 2 phi + theta
+
+    (a - b) sin(psi) + c cos(psi) = c cos(theta) - (a + b) sin(theta),
+
+one harmonic equation; for each root phi the equations are linear in (R1, R2, X_D).
+The crank turns counterclockwise: from the extended dead position (rocker at gamma1) it turns
+180 + theta degrees to the folded one (rocker at gamma2), the working stroke, and 180 - theta
+back, so K_w = (180 + theta) / (180 - theta).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+
+SYNTHESIS_KEYS = ("kw", "l3", "yd", "gamma1_deg", "gamma2_deg")   # a scene's [synthesis] table
+
+
+class SynthesisError(ValueError):
+    """Data with no crank-rocker solution; str() is one line naming the failed condition.
+    `key` names the given datum at fault (a [synthesis] key: kw, l3, ...), if there is one."""
+
+    def __init__(self, message: str, key: str | None = None):
+        super().__init__(message)
+        self.key = key
+
+
+@dataclass(frozen=True)
+class CrankRocker:
+    """A synthesized crank-rocker four-bar (crank pivot O at the origin, rocker pivot D)."""
+    kw: float
+    l3: float
+    yd: float
+    gamma1_deg: float
+    gamma2_deg: float
+    theta_deg: float
+    l1: float
+    l2: float
+    phi1H_deg: float
+    X_D: float
+    branch: int          # the scene's RRR branch: side of B relative to the directed line A->D
+
+    @property
+    def frame_length(self) -> float:
+        return math.hypot(self.X_D, self.yd)
+
+    def results(self) -> dict[str, float]:
+        """The unknowns of the seed, under the names the CLI prints."""
+        return {"l1": self.l1, "l2": self.l2, "phi1H_deg": self.phi1H_deg, "X_D": self.X_D}
+
+    def synthesis_toml(self) -> str:
+        """The scene's [synthesis] table: the data this mechanism was synthesized from
+        (`sheetkin workbook` adds the synthesis sheet for them; parse_synthesis reads them)."""
+        return ("[synthesis]            # the data this crank-rocker was synthesized from (seed 002)\n"
+                + "".join(f"{k} = {float(getattr(self, k))!r}\n" for k in SYNTHESIS_KEYS))
+
+    def scene_toml(self, omega: float = 10.0, positions: int = 13, step_deg: float = 30.0,
+                   title: str | None = None) -> str:
+        """A scene (docs/scene-format.md) ready for `compute` and `workbook`: frame O = (0, 0),
+        D = (X_D, Y_D); crank O->A starting at phi1H (position 1 is the extended dead
+        position); RRR group A-B-D on the branch that puts the rocker at gamma1 there; and the
+        [synthesis] table with the given data."""
+        title = title or (f"Crank-rocker four-bar synthesized from K_w = {self.kw:g} "
+                          f"(seed 002)")
+        return (
+            f'title = "{title}"\n'
+            f"# sheetkin synth crank-rocker --kw {self.kw!r} --l3 {self.l3!r} --yd {self.yd!r} "
+            f"--gamma1-deg {self.gamma1_deg!r} --gamma2-deg {self.gamma2_deg!r}\n"
+            f"# theta = {self.theta_deg!r} deg; rocker extremes gamma1, gamma2 at crank angles "
+            f"phi1H and phi1H + 180 + theta\n\n"
+            f"{self.synthesis_toml()}\n"
+            "[frame]\n"
+            "O = [0.0, 0.0]\n"
+            f"D = [{self.X_D!r}, {self.yd!r}]\n\n"
+            "[crank]\n"
+            'pivot = "O"\n'
+            'joint = "A"\n'
+            f"length = {self.l1!r}\n"
+            f"phi0_deg = {self.phi1H_deg!r}\n"
+            f"step_deg = {float(step_deg)!r}\n"
+            f"positions = {int(positions)}\n"
+            f"omega = {float(omega)!r}\n"
+            "epsilon = 0.0\n\n"
+            "[[group]]\n"
+            'type = "RRR"\n'
+            "links = [2, 3]\n"
+            'joints = ["A", "B", "D"]\n'
+            f"lengths = [{self.l2!r}, {self.l3!r}]\n"
+            f"branch = {self.branch}\n"
+            "# phi_2 = direction A->B, phi_3 = direction D->B (the rocker angle gamma)\n")
+
+
+def overlap_angle_deg(kw: float) -> float:
+    """theta = 180 (K_w - 1) / (K_w + 1), degrees."""
+    return 180.0 * (kw - 1.0) / (kw + 1.0)
+
+
+def _side(ax, ay, dx, dy, bx, by) -> float:
+    return (dx - ax) * (by - ay) - (dy - ay) * (bx - ax)
+
+
+def synthesize_crank_rocker(kw: float, l3: float, yd: float, gamma1_deg: float,
+                            gamma2_deg: float) -> CrankRocker:
+    """Solve the seed's four dead-position equations; refuse data with no crank-rocker."""
+    for name, key, v in (("K_w", "kw", kw), ("l3", "l3", l3), ("Y_D", "yd", yd),
+                         ("gamma1", "gamma1_deg", gamma1_deg), ("gamma2", "gamma2_deg", gamma2_deg)):
+        if not math.isfinite(v):
+            raise SynthesisError(f"{name} = {v}: expected a finite number", key)
+    if kw < 1.0:
+        raise SynthesisError(f"K_w = {kw:g} < 1: the time-ratio coefficient of a crank-rocker "
+                             "(working stroke over return) is at least 1", "kw")
+    if l3 <= 0:
+        raise SynthesisError(f"l3 = {l3:g}: the rocker length must be positive", "l3")
+    swing = gamma2_deg - gamma1_deg
+    if swing <= 0:
+        raise SynthesisError(f"gamma2 = {gamma2_deg:g} deg <= gamma1 = {gamma1_deg:g} deg: the "
+                             "rocker's swing gamma2 - gamma1 must be positive", "gamma2_deg")
+    if swing >= 180:
+        raise SynthesisError(f"gamma2 - gamma1 = {swing:g} deg >= 180 deg: a rocker swings "
+                             "less than half a turn", "gamma2_deg")
+    theta_deg = overlap_angle_deg(kw)
+    th, g1, g2 = math.radians(theta_deg), math.radians(gamma1_deg), math.radians(gamma2_deg)
+    a = yd + l3 * math.sin(g1)
+    b = yd + l3 * math.sin(g2)
+    c = l3 * (math.cos(g1) - math.cos(g2))
+    p, q = a - b, c
+    r = c * math.cos(th) - (a + b) * math.sin(th)
+    m = math.hypot(p, q)            # p sin(psi) + q cos(psi) = m cos(psi - beta)
+    if m == 0 or abs(r) > m * (1 + 1e-12):
+        raise SynthesisError("the dead-position equations have no solution for these data: no "
+                             "four-bar has crank and coupler collinear at both rocker extremes "
+                             f"with the overlap angle theta = {theta_deg:.6g} deg")
+    beta = math.atan2(p, q)
+    delta = math.acos(max(-1.0, min(1.0, r / m)))
+    scale = max(l3, abs(yd), 1e-300)
+    candidates = []
+    for psi in (beta + delta, beta - delta):
+        for k in (0, 1):
+            phi = (psi - th) / 2 + k * math.pi
+            # linear in (R1, R2, X_D): least squares, exact at a root
+            mat = np.array([[math.cos(phi), 0.0, -1.0],
+                            [math.sin(phi), 0.0, 0.0],
+                            [0.0, math.cos(phi + th), -1.0],
+                            [0.0, math.sin(phi + th), 0.0]])
+            rhs = np.array([l3 * math.cos(g1), a, l3 * math.cos(g2), b])
+            (r1, r2, xd), *_ = np.linalg.lstsq(mat, rhs, rcond=None)
+            if np.max(np.abs(mat @ (r1, r2, xd) - rhs)) > 1e-9 * scale:
+                continue
+            candidates.append((float(r1), float(r2), float(xd), phi))
+    # phi and phi + pi flip the signs of R1 and R2 together: keep the one with R1 = l1 + l2 > 0
+    chosen = []
+    for r1, r2, xd, phi in candidates:
+        if r1 > 0 and not any(abs(r1 - u[0]) < 1e-12 * scale and abs(r2 - u[1]) < 1e-12 * scale
+                              and abs(xd - u[2]) < 1e-12 * scale for u in chosen):
+            chosen.append((r1, r2, xd, phi))
+    if not chosen:
+        raise SynthesisError("the dead-position equations give l1 + l2 <= 0 for these data: "
+                             "no four-bar")
+    uniq = [t for t in chosen if t[1] > 0 and t[0] > t[1]]
+    if not uniq:
+        r1, r2, _, _ = chosen[0]
+        l1, l2 = (r1 - r2) / 2, (r1 + r2) / 2
+        if l1 <= 0:
+            raise SynthesisError(f"the dead-position equations give l1 = {l1:.6g} <= 0: no "
+                                 "crank for these data")
+        raise SynthesisError(f"the dead-position equations give l2 = {l2:.6g} <= l1 = {l1:.6g}"
+                             ": the crank is longer than the coupler and cannot rotate fully")
+    errors = []
+    found = []
+    for r1, r2, xd, phi in uniq:
+        try:
+            found.append(_check(kw, l3, yd, gamma1_deg, gamma2_deg, theta_deg, r1, r2, xd, phi))
+        except SynthesisError as e:
+            errors.append(str(e))
+    if not found:
+        raise SynthesisError(errors[0])
+    # several: the one nearest the seed's initial guess (phi1H = 30 deg)
+    return min(found, key=lambda s: abs(math.remainder(s.phi1H_deg - 30.0, 360.0)))
+
+
+def _check(kw, l3, yd, gamma1_deg, gamma2_deg, theta_deg, r1, r2, xd, phi) -> CrankRocker:
+    l1, l2 = (r1 - r2) / 2, (r1 + r2) / 2
+    d = math.hypot(xd, yd)
+    links = {"crank l1": l1, "coupler l2": l2, "rocker l3": l3, "frame OD": d}
+    s_name = min(links, key=links.get)
+    s, big = links[s_name], max(links.values())
+    if s_name != "crank l1" and links[s_name] < l1:
+        raise SynthesisError(
+            f"the crank is not the shortest link (l1 = {l1:.6g} > {s_name} = {s:.6g}): "
+            "the crank cannot rotate fully, no crank-rocker")
+    others = sum(links.values()) - s - big
+    if s + big > others * (1 + 1e-12):
+        raise SynthesisError(
+            f"Grashof's condition violated: s + l = {s + big:.6g} > p + q = {others:.6g} "
+            "(shortest + longest > sum of the other two): the crank cannot rotate fully")
+    if s + big >= others * (1 - 1e-9):
+        raise SynthesisError(
+            f"Grashof's condition holds only with equality: s + l = p + q = {others:.6g}: "
+            "a change-point mechanism, not a crank-rocker")
+    # the RRR branch (B relative to A->D) must be the same in both dead positions
+    g1, g2, th = math.radians(gamma1_deg), math.radians(gamma2_deg), math.radians(theta_deg)
+    ax1, ay1 = l1 * math.cos(phi), l1 * math.sin(phi)
+    bx1, by1 = xd + l3 * math.cos(g1), yd + l3 * math.sin(g1)
+    ax2, ay2 = l1 * math.cos(phi + th + math.pi), l1 * math.sin(phi + th + math.pi)
+    bx2, by2 = xd + l3 * math.cos(g2), yd + l3 * math.sin(g2)
+    s1 = _side(ax1, ay1, xd, yd, bx1, by1)
+    s2 = _side(ax2, ay2, xd, yd, bx2, by2)
+    if s1 * s2 <= 0:
+        raise SynthesisError("the extended and folded dead positions lie on different assembly "
+                             "branches of the dyad A-B-D: the crank-rocker through gamma1 swings "
+                             "to the mirror of gamma2, not to gamma2")
+    phi_deg = math.degrees(phi) % 360.0
+    return CrankRocker(kw=kw, l3=l3, yd=yd, gamma1_deg=gamma1_deg, gamma2_deg=gamma2_deg,
+                       theta_deg=theta_deg, l1=l1, l2=l2, phi1H_deg=phi_deg, X_D=xd,
+                       branch=1 if s1 > 0 else -1)
+
+
+# --------------------------------------------------------------------------- the scene's table
+def parse_synthesis(text: str, source: str = "<scene>") -> dict[str, float] | None:
+    """The scene's [synthesis] table (the data its crank-rocker was synthesized from) as
+    {kw, l3, yd, gamma1_deg, gamma2_deg}, or None if the scene has none. Raises SceneError,
+    one line naming file, line and key, for a mistake in the scene, an unknown or missing
+    key, a value that is not a number, data with no crank-rocker (K_w < 1, ...), or a scene
+    whose first group is not the four-bar's dyad (an RRR from the crank's joint to a frame
+    point), to which the synthesis sheet refers."""
+    import tomllib
+
+    from sheetkin.kinematics.scene import _Ctx, _Locator, _Table, parse_scene
+
+    scene = parse_scene(text, source)          # the scene's own mistakes first
+    data = tomllib.loads(text)
+    if "synthesis" not in data:
+        return None
+    loc = _Locator(text)
+    ctx = _Ctx(source, loc)
+    tbl = _Table(ctx, data["synthesis"], "[synthesis]", "synthesis")
+    if ("synthesis", 0) not in loc.tables:
+        # an inline table `synthesis = {kw = ...}`: point at that line
+        tbl.fail = lambda key, msg: ctx.fail("[synthesis]", None, 0,
+                                             "synthesis" + (f".{key}" if key else ""), msg)
+    tbl.check_keys(SYNTHESIS_KEYS)
+    values = {k: tbl.get(k, "a number") for k in SYNTHESIS_KEYS}
+    try:
+        synthesize_crank_rocker(**values)
+    except SynthesisError as e:
+        tbl.fail(e.key, str(e) if e.key else f"no crank-rocker for these data: {e}")
+    if fourbar_dyad(scene) is None:
+        tbl.fail(None, "the data are a crank-rocker four-bar's, but the scene's first group is not "
+                       f"an RRR dyad from the crank's joint {scene.crank.joint} to a frame point")
+    return values
+
+
+def fourbar_dyad(scene):
+    """(coupler, rocker, the rocker's frame pivot, branch) of the four-bar the scene's first
+    group closes with the crank (its kind's `fourbar`), or None: the synthesis sheet refers
+    to that group."""
+    from sheetkin.groups import kind_of
+    g = scene.groups[0] if scene.groups else None
+    return kind_of(g).fourbar(g, scene.crank.joint, scene.frame) if g else None
+
+
+def scene_mismatches(scene, data: dict[str, float], tol: float = 1e-9) -> list[str]:
+    """Where the scene's four-bar (crank, first group, frame points) differs by more than
+    `tol` from the one its [synthesis] data give: the synthesis sheet's check rows comparing
+    it with the kinematics sheet fail there. Empty for a scene written by `synth -o`."""
+    m = synthesize_crank_rocker(**data)
+    g, o = scene.groups[0], scene.crank.pivot
+    l2, l3, d, branch = fourbar_dyad(scene)
+    (ox, oy), (dx, dy) = scene.frame[o], scene.frame[d]
+    pairs = [(f"L1 = {scene.crank.length:.9g}", scene.crank.length, "l1", m.l1),
+             (f"L{g.links[0]} = {l2:.9g}", l2, "l2", m.l2),
+             (f"L{g.links[1]} = {l3:.9g}", l3, "l3", m.l3),
+             (f"x_{d} - x_{o} = {dx - ox:.9g}", dx - ox, "X_D", m.X_D),
+             (f"y_{d} - y_{o} = {dy - oy:.9g}", dy - oy, "Y_D", m.yd),
+             (f"branch = {branch:+d}", branch, "branch", m.branch)]
+    return [f"{have_text} but the synthesis gives {name} = {want:.9g}"
+            for have_text, have, name, want in pairs if not abs(have - want) <= tol]
+
+
+# --------------------------------------------------------------------------- the workbook
+SYNTH_SHEET_TITLES = {"ru": "Синтез", "en": "Synthesis"}
+_ARC_POINTS = 31
+# (name, unit, ru, en, formula | None for an input, "cand" for a per-root row in D and E).
+# In formulas {name} is the value cell $D$r of the row `name`, {c} the candidate's column.
+_SYNTH_ROWS = [
+    ("#", "", "Исходные данные", "Given data"),
+    ("K_w", "", "коэффициент изменения средней скорости хода коромысла", "time-ratio coefficient"),
+    ("l3", "m", "длина коромысла |DB|", "rocker length |DB|"),
+    ("Y_D", "m", "ордината центра вращения коромысла D", "ordinate of the rocker pivot D"),
+    ("gamma1_deg", "deg", "угол коромысла в начальном (разогнутом) крайнем положении",
+     "rocker angle at the extended dead position"),
+    ("gamma2_deg", "deg", "угол коромысла в конечном (сложенном) крайнем положении",
+     "rocker angle at the folded dead position"),
+    ("phi_ref_deg", "deg", "приближение phi1H (из нескольких корней выбирается ближайший)",
+     "initial guess of phi1H (of several roots the nearest is chosen)"),
+    ("Tol", "", "допуск проверок", "tolerance of the checks"),
+    ("#", "", "Угол перекрытия", "Overlap angle"),
+    ("theta", "rad", "theta = pi (K_w - 1)/(K_w + 1)", "theta = pi (K_w - 1)/(K_w + 1)",
+     "=PI()*({K_w}-1)/({K_w}+1)"),
+    ("theta_deg", "deg", "угол перекрытия, град", "overlap angle, deg", "=DEGREES({theta})"),
+    ("g1", "rad", "gamma1, рад", "gamma1, rad", "=RADIANS({gamma1_deg})"),
+    ("g2", "rad", "gamma2, рад", "gamma2, rad", "=RADIANS({gamma2_deg})"),
+    ("#", "", "Решение в замкнутой форме: a ctg(phi) - b ctg(phi + theta) = c",
+     "Closed-form solution: a cot(phi) - b cot(phi + theta) = c"),
+    ("a", "m", "a = Y_D + l3 sin(gamma1)", "a = Y_D + l3 sin(gamma1)", "={Y_D}+{l3}*SIN({g1})"),
+    ("b", "m", "b = Y_D + l3 sin(gamma2)", "b = Y_D + l3 sin(gamma2)", "={Y_D}+{l3}*SIN({g2})"),
+    ("c", "m", "c = l3 (cos(gamma1) - cos(gamma2))", "c = l3 (cos(gamma1) - cos(gamma2))",
+     "={l3}*(COS({g1})-COS({g2}))"),
+    ("p", "m", "p = a - b; psi = 2 phi + theta: p sin(psi) + c cos(psi) = r",
+     "p = a - b; psi = 2 phi + theta: p sin(psi) + c cos(psi) = r", "={a}-{b}"),
+    ("r", "m", "r = c cos(theta) - (a + b) sin(theta)", "r = c cos(theta) - (a + b) sin(theta)",
+     "={c}*COS({theta})-({a}+{b})*SIN({theta})"),
+    ("m", "m", "m = sqrt(p^2 + c^2)", "m = sqrt(p^2 + c^2)", "=SQRT({p}^2+{c}^2)"),
+    ("solvable", "", "уравнение имеет корни: m > 0, |r| <= m",
+     "the equation has roots: m > 0, |r| <= m", "=AND({m}>0,ABS({r})<={m}*(1+1E-12))"),
+    ("beta", "rad", "beta = atan2(p, c)", "beta = atan2(p, c)", "=ATAN2({c},{p})"),
+    ("delta", "rad", "delta = acos(r/m)", "delta = acos(r/m)",
+     "=ACOS(MAX(-1,MIN(1,IF({m}>0,{r}/{m},0))))"),
+    ("#", "", "Два корня (D: psi = beta + delta, E: psi = beta - delta); при phi четыре уравнения "
+     "линейны в R1 = l1 + l2, R2 = l2 - l1, X_D: нормальные уравнения (точны в корне, годны и при "
+     "theta = 0)",
+     "Two roots (D: psi = beta + delta, E: psi = beta - delta); at phi the four equations are "
+     "linear in R1 = l1 + l2, R2 = l2 - l1, X_D: the normal equations (exact at a root, also for "
+     "theta = 0)"),
+    ("phi0", "rad", "phi = (psi - theta)/2", "phi = (psi - theta)/2",
+     "cand", "=({beta}+{delta}-{theta})/2", "=({beta}-{delta}-{theta})/2"),
+    ("den", "", "sin^2(phi) + sin^2(phi + theta): 0 только при theta = 0, phi = 0 или pi (не корень)",
+     "sin^2(phi) + sin^2(phi + theta): 0 only for theta = 0, phi = 0 or pi (not a root)",
+     "cand", "=SIN({c}@phi0)^2+SIN({c}@phi0+{theta})^2"),
+    ("X_D_c", "m", "X_D = (x s1 + y s2 - l3 (cos(gamma1) + cos(gamma2)))/den, x = cos(phi), "
+     "y = cos(phi + theta), s1 = l3 cos(gamma1) x + a sin(phi), s2 = l3 cos(gamma2) y + "
+     "b sin(phi + theta)",
+     "X_D = (x s1 + y s2 - l3 (cos(gamma1) + cos(gamma2)))/den, x = cos(phi), "
+     "y = cos(phi + theta), s1 = l3 cos(gamma1) x + a sin(phi), s2 = l3 cos(gamma2) y + "
+     "b sin(phi + theta)",
+     "cand", "=IF({c}@den>0,(COS({c}@phi0)*({l3}*COS({g1})*COS({c}@phi0)+{a}*SIN({c}@phi0))"
+             "+COS({c}@phi0+{theta})*({l3}*COS({g2})*COS({c}@phi0+{theta})+{b}*SIN({c}@phi0+{theta}))"
+             "-{l3}*(COS({g1})+COS({g2})))/{c}@den,0)"),
+    ("R1_0", "m", "l1 + l2 при phi: s1 + x X_D", "l1 + l2 at phi: s1 + x X_D",
+     "cand", "={l3}*COS({g1})*COS({c}@phi0)+{a}*SIN({c}@phi0)+COS({c}@phi0)*{c}@X_D_c"),
+    ("flip", "", "-1: phi + pi даёт l1 + l2 > 0", "-1: phi + pi gives l1 + l2 > 0",
+     "cand", "=IF({c}@R1_0<0,-1,1)"),
+    ("phi", "rad", "phi1H-кандидат", "candidate phi1H",
+     "cand", "={c}@phi0+IF({c}@flip<0,PI(),0)"),
+    ("R1", "m", "R1 = l1 + l2", "R1 = l1 + l2", "cand", "={c}@flip*{c}@R1_0"),
+    ("R2", "m", "R2 = l2 - l1 = s2 + y X_D", "R2 = l2 - l1 = s2 + y X_D",
+     "cand", "={c}@flip*({l3}*COS({g2})*COS({c}@phi0+{theta})+{b}*SIN({c}@phi0+{theta})"
+             "+COS({c}@phi0+{theta})*{c}@X_D_c)"),
+    ("fit", "m", "наибольшая невязка четырёх уравнений (у постороннего корня велика)",
+     "the four equations' largest residual (large at a spurious root)",
+     "cand", "=MAX(ABS({c}@R1*COS({c}@phi)-{c}@X_D_c-{l3}*COS({g1})),ABS({c}@R1*SIN({c}@phi)-{a}),"
+             "ABS({c}@R2*COS({c}@phi+{theta})-{c}@X_D_c-{l3}*COS({g2})),"
+             "ABS({c}@R2*SIN({c}@phi+{theta})-{b}))"),
+    ("l1_c", "m", "l1 = (R1 - R2)/2", "l1 = (R1 - R2)/2", "cand", "=({c}@R1-{c}@R2)/2"),
+    ("l2_c", "m", "l2 = (R1 + R2)/2", "l2 = (R1 + R2)/2", "cand", "=({c}@R1+{c}@R2)/2"),
+    ("OD_c", "m", "длина стойки |OD|", "frame length |OD|",
+     "cand", "=SQRT({c}@X_D_c^2+{Y_D}^2)"),
+    ("phi_deg_c", "deg", "phi1H, град, 0..360", "phi1H, deg, 0..360",
+     "cand", "=MOD(DEGREES({c}@phi),360)"),
+    ("side_H", "m^2", "сторона B относительно A->D, начальное положение",
+     "side of B relative to A->D, extended position",
+     "cand", "=({c}@X_D_c-{c}@l1_c*COS({c}@phi))*({Y_D}+{l3}*SIN({g1})-{c}@l1_c*SIN({c}@phi))"
+             "-({Y_D}-{c}@l1_c*SIN({c}@phi))*({c}@X_D_c+{l3}*COS({g1})-{c}@l1_c*COS({c}@phi))"),
+    ("side_K", "m^2", "сторона B относительно A->D, конечное положение",
+     "side of B relative to A->D, folded position",
+     "cand", "=({c}@X_D_c+{c}@l1_c*COS({c}@phi+{theta}))*({Y_D}+{l3}*SIN({g2})+{c}@l1_c*SIN({c}@phi+{theta}))"
+             "-({Y_D}+{c}@l1_c*SIN({c}@phi+{theta}))*({c}@X_D_c+{l3}*COS({g2})+{c}@l1_c*COS({c}@phi+{theta}))"),
+    ("valid", "", "кривошипно-коромысловый: корень, l2 > l1 > 0, кривошип короче всех, Грасгоф "
+     "строго, одна сборка в обоих положениях",
+     "a crank-rocker: a root, l2 > l1 > 0, the crank the shortest link, Grashof strictly, one "
+     "branch in both positions",
+     "cand", "=AND({solvable},{c}@fit<=1E-9*MAX({l3},ABS({Y_D})),{c}@R1>0,{c}@R2>0,{c}@R1>{c}@R2,"
+             "{c}@l1_c<=MIN({c}@l2_c,{l3},{c}@OD_c),"
+             "MIN({c}@l1_c,{c}@l2_c,{l3},{c}@OD_c)+MAX({c}@l1_c,{c}@l2_c,{l3},{c}@OD_c)<"
+             "({c}@l1_c+{c}@l2_c+{l3}+{c}@OD_c-MIN({c}@l1_c,{c}@l2_c,{l3},{c}@OD_c)"
+             "-MAX({c}@l1_c,{c}@l2_c,{l3},{c}@OD_c))*(1-1E-9),{c}@side_H*{c}@side_K>0)"),
+    ("dist", "deg", "|phi1H - приближение|", "|phi1H - initial guess|",
+     "cand", "=ABS(MOD({c}@phi_deg_c-{phi_ref_deg}+180,360)-180)"),
+    ("root", "", "выбранный корень: 1 (D), 2 (E), 0 - нет решения",
+     "chosen root: 1 (D), 2 (E), 0 - no solution",
+     "=IF(AND(D{valid},E{valid}),IF(D{dist}<=E{dist},1,2),IF(D{valid},1,IF(E{valid},2,0)))"),
+    ("#", "", "Решение", "Solution"),
+    ("l1", "m", "длина кривошипа", "crank length", "=IF({root}=0,\"{marker}\",IF({root}=1,D{l1_c},E{l1_c}))"),
+    ("l2", "m", "длина шатуна", "coupler length", "=IF({root}=0,\"{marker}\",IF({root}=1,D{l2_c},E{l2_c}))"),
+    ("phi1H_deg", "deg", "угол кривошипа в начальном положении",
+     "crank angle at the extended dead position",
+     "=IF({root}=0,\"{marker}\",IF({root}=1,D{phi_deg_c},E{phi_deg_c}))"),
+    ("X_D", "m", "абсцисса центра вращения коромысла D", "abscissa of the rocker pivot D",
+     "=IF({root}=0,\"{marker}\",IF({root}=1,D{X_D_c},E{X_D_c}))"),
+    ("branch", "", "ветвь группы A-B-D сцены: сторона B относительно A->D (+1 слева)",
+     "the scene's branch of the dyad A-B-D: the side of B relative to A->D (+1 left)",
+     "=IF({root}=0,\"{marker}\",SIGN(IF({root}=1,D{side_H},E{side_H})))"),
+    ("phi1H", "rad", "phi1H, рад", "phi1H, rad", "=RADIANS({phi1H_deg})"),
+    ("#", "", "Проверка: решение в четырёх уравнениях (левая часть - правая)",
+     "Check: the solution in the four equations (left side - right side)"),
+    ("res_1", "m", "(l1 + l2) cos(phi1H) - X_D - l3 cos(gamma1)",
+     "(l1 + l2) cos(phi1H) - X_D - l3 cos(gamma1)",
+     "=({l1}+{l2})*COS({phi1H})-({X_D}+{l3}*COS({g1}))"),
+    ("res_2", "m", "(l1 + l2) sin(phi1H) - Y_D - l3 sin(gamma1)",
+     "(l1 + l2) sin(phi1H) - Y_D - l3 sin(gamma1)",
+     "=({l1}+{l2})*SIN({phi1H})-({Y_D}+{l3}*SIN({g1}))"),
+    ("res_3", "m", "(l2 - l1) cos(phi1H + theta) - X_D - l3 cos(gamma2)",
+     "(l2 - l1) cos(phi1H + theta) - X_D - l3 cos(gamma2)",
+     "=({l2}-{l1})*COS({phi1H}+{theta})-({X_D}+{l3}*COS({g2}))"),
+    ("res_4", "m", "(l2 - l1) sin(phi1H + theta) - Y_D - l3 sin(gamma2)",
+     "(l2 - l1) sin(phi1H + theta) - Y_D - l3 sin(gamma2)",
+     "=({l2}-{l1})*SIN({phi1H}+{theta})-({Y_D}+{l3}*SIN({g2}))"),
+]
+# In a scene's workbook: the kinematics sheet's input block against the solution ({kin:L1} is
+# that sheet's cell of L1, ...; O the crank's pivot, D the rocker's). Check rows, like res_*.
+_LINK_ROWS = [
+    ("#", "", "Проверка: лист кинематики считает синтезированный механизм (его исходные данные "
+     "- решение)", "Check: the kinematics sheet computes the synthesized mechanism (its input "
+     "data - the solution)"),
+    ("kin_l1", "m", "L1 (лист кинематики) - l1", "L1 (kinematics sheet) - l1", "={kin:L1}-{l1}"),
+    ("kin_l2", "m", "длина шатуна (лист кинематики) - l2", "coupler length (kinematics sheet) - l2",
+     "={kin:L2}-{l2}"),
+    ("kin_l3", "m", "длина коромысла (лист кинематики) - l3",
+     "rocker length (kinematics sheet) - l3", "={kin:L3}-{l3}"),
+    ("kin_X_D", "m", "x_D - x_O (лист кинематики) - X_D", "x_D - x_O (kinematics sheet) - X_D",
+     "={kin:x_D}-{kin:x_O}-{X_D}"),
+    ("kin_Y_D", "m", "y_D - y_O (лист кинематики) - Y_D", "y_D - y_O (kinematics sheet) - Y_D",
+     "={kin:y_D}-{kin:y_O}-{Y_D}"),
+    ("kin_branch", "", "ветвь группы 1 (лист кинематики) - branch",
+     "group 1's branch (kinematics sheet) - branch", "={kin:branch}-{branch}"),
+]
+_SYNTH_TEXT = {
+    "ru": {"name": "имя", "unit": "ед.", "desc": "описание", "value": "значение / корень 1",
+           "value2": "корень 2", "checks": "проверки", "pass": "все проверки выполнены",
+           "fail": "проверки не выполнены", "marker": "нет решения",
+           "title": "Синтез кривошипно-коромыслового механизма по коэффициенту K_w (seed 002)",
+           "points": "Крайние положения: точки O, A, B, D", "arc": "Дуга коромысла (точка B)",
+           "chart": "Механизм в крайних положениях", "H": "начальное (разогнутое)",
+           "K": "конечное (сложенное)", "arcs": "дуга коромысла", "k": "номер точки",
+           "gamma": "угол коромысла"},
+    "en": {"name": "name", "unit": "unit", "desc": "description", "value": "value / root 1",
+           "value2": "root 2", "checks": "checks", "pass": "all checks pass",
+           "fail": "checks fail", "marker": "no solution",
+           "title": "Synthesis of a crank-rocker from the time-ratio coefficient K_w (seed 002)",
+           "points": "Dead positions: points O, A, B, D", "arc": "The rocker's arc (point B)",
+           "chart": "The mechanism in its dead positions", "H": "extended",
+           "K": "folded", "arcs": "rocker's arc", "k": "point number", "gamma": "rocker angle"},
+}
+
+
+def add_synthesis_sheet(wb, kw: float, l3: float, yd: float, gamma1_deg: float,
+                        gamma2_deg: float, lang: str = "ru", *, tol: float = 1e-9,
+                        phi_ref_deg: float = 30.0, kinematics: dict[str, str] | None = None,
+                        index: int | None = None):
+    """Add to the openpyxl Workbook `wb` (at `index`, default last) the sheet solving seed 002
+    with live formulas, titled SYNTH_SHEET_TITLES[lang]: the given data (yellow, editable),
+    theta, the closed form above with its two roots side by side (columns D, E) and the choice
+    between them written with IF (the same rules as synthesize_crank_rocker; K_w = 1 too), the
+    four equations' residuals against Tol, the dead positions' points, the rocker's arc and a
+    chart of both. With `kinematics` ({"L1", "L2", "L3", "x_O", "y_O", "x_D", "y_D", "branch"}
+    -> a cell of another sheet), check rows compare those cells with the solution as well.
+    Returns the sheet."""
+    import re
+
+    from openpyxl.chart import Reference, ScatterChart, Series
+    from openpyxl.chart.data_source import NumFmt
+    from openpyxl.formatting.rule import FormulaRule
+    from openpyxl.styles import Font
+    from openpyxl.utils import get_column_letter
+
+    from sheetkin.sheet.checks import GREEN, RED
+    from sheetkin.sheet.workbook import INPUT_FILL, SECTION_FONT
+
+    if lang not in _SYNTH_TEXT:
+        raise ValueError(f"lang must be one of {', '.join(_SYNTH_TEXT)}, got {lang!r}")
+    text = _SYNTH_TEXT[lang]
+    values = {"K_w": kw, "l3": l3, "Y_D": yd, "gamma1_deg": gamma1_deg,
+              "gamma2_deg": gamma2_deg, "phi_ref_deg": phi_ref_deg, "Tol": tol}
+    rows = _SYNTH_ROWS + (_LINK_ROWS if kinematics else [])
+    first = 5
+    where = {}
+    for k, row in enumerate(rows):
+        if row[0] != "#":
+            where[row[0]] = first + k
+    after = first + len(rows) + 1
+    pts = {"X_H": after + 1, "Y_H": after + 2, "X_K": after + 3, "Y_K": after + 4}
+    arc0 = after + 6
+    arc = {"k": arc0 + 1, "gamma_arc": arc0 + 2, "X_arc": arc0 + 3, "Y_arc": arc0 + 4}
+    where.update(pts)
+
+    def fill(tpl: str, col: str = "D") -> str:
+        tpl = tpl.replace("{marker}", text["marker"])
+        tpl = re.sub(r"\{kin:(\w+)\}", lambda m: kinematics[m.group(1)], tpl)
+        tpl = re.sub(r"\{c\}@(\w+)", lambda m: f"{col}{where[m.group(1)]}", tpl)
+        tpl = re.sub(r"D\{(\w+)\}", lambda m: f"D{where[m.group(1)]}", tpl)
+        tpl = re.sub(r"E\{(\w+)\}", lambda m: f"E{where[m.group(1)]}", tpl)
+        return re.sub(r"\{(\w+)\}", lambda m: f"$D${where[m.group(1)]}", tpl)
+
+    ws = wb.create_sheet(SYNTH_SHEET_TITLES[lang], index)
+    ws["A1"] = text["title"]
+    ws["A1"].font = Font(bold=True, size=14)
+    ws["A3"] = text["checks"]
+    ws["A3"].font = SECTION_FONT
+    for col, key in zip("ABCDE", ("name", "unit", "desc", "value", "value2")):
+        ws[f"{col}4"] = text[key]
+        ws[f"{col}4"].font = SECTION_FONT
+    for k, row in enumerate(rows):
+        r = first + k
+        name, unit, ru, en = row[:4]
+        if name == "#":
+            ws.cell(r, 1, ru if lang == "ru" else en).font = SECTION_FONT
+            continue
+        ws.cell(r, 1, name)
+        ws.cell(r, 2, unit)
+        ws.cell(r, 3, ru if lang == "ru" else en)
+        if len(row) == 4:
+            ws.cell(r, 4, float(values[name])).fill = INPUT_FILL
+            continue
+        checked = name.startswith(("res_", "kin_"))
+        fmt = ("0.0E+00" if checked else "General" if name in
+               ("solvable", "flip", "valid", "root", "branch") else "0.000000000")
+        if row[4] == "cand":
+            tpls = row[5:] if len(row) == 7 else (row[5], row[5])
+            for col, tpl in zip("DE", tpls):
+                ws[f"{col}{r}"] = fill(tpl, col)
+                ws[f"{col}{r}"].number_format = fmt
+        else:
+            ws.cell(r, 4, fill(row[4])).number_format = fmt
+    tolc = f"$D${where['Tol']}"
+    res = [f"D{r}" for name, r in where.items() if name.startswith(("res_", "kin_"))]
+    for c in res:
+        ws.conditional_formatting.add(c, FormulaRule(formula=[f"AND(ISNUMBER({c}),ABS({c})<={tolc})"], fill=GREEN))
+        ws.conditional_formatting.add(c, FormulaRule(formula=[f"OR(NOT(ISNUMBER({c})),ABS({c})>{tolc})"], fill=RED))
+    absmax = ",".join(f"ABS({c})" for c in res)
+    ws["D3"] = (f'=IF(COUNT({",".join(res)})<{len(res)},"{text["fail"]}",'
+                f'IF(MAX({absmax})<={tolc},"{text["pass"]}","{text["fail"]}"))')
+    ws["D3"].font = SECTION_FONT
+    ws.conditional_formatting.add("D3", FormulaRule(formula=[f'D3="{text["pass"]}"'], fill=GREEN))
+    ws.conditional_formatting.add("D3", FormulaRule(formula=[f'D3<>"{text["pass"]}"'], fill=RED))
+
+    # the dead positions' points O, A, B, D (columns D..G), as in the seed
+    ws.cell(after, 1, text["points"]).font = SECTION_FONT
+    for j, p in enumerate("OABD"):
+        ws.cell(after, 4 + j, p).font = SECTION_FONT
+    t = lambda s: fill(s)
+    pt = {"X_H": ("0", "={l1}*COS({phi1H})", "=({l1}+{l2})*COS({phi1H})", "={X_D}"),
+          "Y_H": ("0", "={l1}*SIN({phi1H})", "=({l1}+{l2})*SIN({phi1H})", "={Y_D}"),
+          "X_K": ("0", "={l1}*COS({phi1H}+{theta}+PI())", "=({l2}-{l1})*COS({phi1H}+{theta})", "={X_D}"),
+          "Y_K": ("0", "={l1}*SIN({phi1H}+{theta}+PI())", "=({l2}-{l1})*SIN({phi1H}+{theta})", "={Y_D}")}
+    desc = {"X_H": ("абсциссы, начальное положение", "abscissae, extended position"),
+            "Y_H": ("ординаты, начальное положение", "ordinates, extended position"),
+            "X_K": ("абсциссы, конечное положение", "abscissae, folded position"),
+            "Y_K": ("ординаты, конечное положение", "ordinates, folded position")}
+    for name, r in pts.items():
+        ws.cell(r, 1, name)
+        ws.cell(r, 2, "m")
+        ws.cell(r, 3, desc[name][0 if lang == "ru" else 1])
+        for j, f in enumerate(pt[name]):
+            cell = ws.cell(r, 4 + j, 0.0 if f == "0" else t(f))
+            cell.number_format = "0.000000"
+    # the rocker's arc: gamma1 .. gamma2 in _ARC_POINTS points (columns D..)
+    ws.cell(arc0, 1, text["arc"]).font = SECTION_FONT
+    n = _ARC_POINTS
+    cols = [get_column_letter(4 + k) for k in range(n)]
+    labels = {"k": ("", text["k"]), "gamma_arc": ("deg", text["gamma"]),
+              "X_arc": ("m", "X_D + l3 cos(gamma)"), "Y_arc": ("m", "Y_D + l3 sin(gamma)")}
+    for name, r in arc.items():
+        ws.cell(r, 1, name)
+        ws.cell(r, 2, labels[name][0])
+        ws.cell(r, 3, labels[name][1])
+        for k, c in enumerate(cols):
+            if name == "k":
+                ws.cell(r, 4 + k, k)
+                continue
+            f = {"gamma_arc": f"={{gamma1_deg}}+({{gamma2_deg}}-{{gamma1_deg}})*{c}{arc['k']}/{n - 1}",
+                 "X_arc": f"={{X_D}}+{{l3}}*COS(RADIANS({c}{arc['gamma_arc']}))",
+                 "Y_arc": f"={{Y_D}}+{{l3}}*SIN(RADIANS({c}{arc['gamma_arc']}))"}[name]
+            ws.cell(r, 4 + k, fill(f)).number_format = "0.00" if name == "gamma_arc" else "0.0000"
+    ws.column_dimensions["A"].width = 14
+    ws.column_dimensions["B"].width = 6
+    ws.column_dimensions["C"].width = 56
+    ws.column_dimensions["D"].width = 16
+    ws.column_dimensions["E"].width = 16
+
+    ch = ScatterChart()
+    ch.title, ch.style, ch.height, ch.width = text["chart"], 2, 12, 14
+    ch.x_axis.title, ch.y_axis.title = "x, m", "y, m"
+    for axis in (ch.x_axis, ch.y_axis):
+        axis.delete = False
+        axis.crosses = "min"
+        axis.numFmt = NumFmt(formatCode="General", sourceLinked=False)
+    row_ref = lambda r, c0, c1: Reference(ws, min_col=c0, max_col=c1, min_row=r, max_row=r)
+    for xs, ys, label, c1 in ((pts["X_H"], pts["Y_H"], text["H"], 7),
+                              (pts["X_K"], pts["Y_K"], text["K"], 7),
+                              (arc["X_arc"], arc["Y_arc"], text["arcs"], 3 + n)):
+        s = Series(row_ref(ys, 4, c1), row_ref(xs, 4, c1), title=label)
+        s.marker.symbol = "circle" if c1 == 7 else "none"
+        s.smooth = False
+        ch.series.append(s)
+    ws.add_chart(ch, "G3")
+    ws.freeze_panes = "D5"
+    ws.page_setup.orientation = "landscape"
+    ws.page_setup.paperSize = ws.PAPERSIZE_A4
+    ws.sheet_properties.pageSetUpPr.fitToPage = True
+    ws.page_setup.fitToWidth, ws.page_setup.fitToHeight = 1, 0
+    return ws
+
+
+def build_synthesis_workbook(kw: float, l3: float, yd: float, gamma1_deg: float,
+                             gamma2_deg: float, *, lang: str = "ru", tol: float = 1e-9,
+                             phi_ref_deg: float = 30.0):
+    """A workbook of one sheet: add_synthesis_sheet's."""
+    from openpyxl import Workbook
+
+    wb = Workbook()
+    wb.remove(wb.active)
+    add_synthesis_sheet(wb, kw, l3, yd, gamma1_deg, gamma2_deg, lang, tol=tol,
+                        phi_ref_deg=phi_ref_deg)
+    return wb
+
+
+def add_scene_synthesis_sheet(wb, scene, data: dict[str, float], lang: str = "ru") -> list[str]:
+    """Add the synthesis sheet for the scene's [synthesis] `data` (parse_synthesis) to the
+    scene's workbook `wb` (build_workbook: the kinematics sheet first, the hidden scene sheet
+    last), before the hidden sheet, with check rows comparing the kinematics sheet's input
+    block with the solution. Returns scene_mismatches: where those checks fail."""
+    from sheetkin.sheet.workbook import SCENE_SHEET
+
+    kin = wb.worksheets[0]
+    g = scene.groups[0]
+    o, d = scene.crank.pivot, fourbar_dyad(scene)[2]
+    names = {"L1": "L1", "L2": f"L{g.links[0]}", "L3": f"L{g.links[1]}", "x_O": f"x_{o}",
+             "y_O": f"y_{o}", "x_D": f"x_{d}", "y_D": f"y_{d}", "branch": f"branch_g{g.index}"}
+    found = {}
+    for r, (v,) in enumerate(kin.iter_rows(min_col=1, max_col=1, values_only=True), 1):
+        found.setdefault(v, r)
+    sheet = "'" + kin.title.replace("'", "''") + "'"
+    cells = {k: f"{sheet}!$D${found[n]}" for k, n in names.items()}
+    index = wb.sheetnames.index(SCENE_SHEET) if SCENE_SHEET in wb.sheetnames else None
+    add_synthesis_sheet(wb, **data, lang=lang, kinematics=cells, index=index)
+    return scene_mismatches(scene, data)
+
+
+def write_synthesis_workbook(path, kw: float, l3: float, yd: float, gamma1_deg: float,
+                             gamma2_deg: float, *, lang: str = "ru") -> None:
+    """Write build_synthesis_workbook(...) to `path` (.xlsx)."""
+    build_synthesis_workbook(kw, l3, yd, gamma1_deg, gamma2_deg, lang=lang).save(path)

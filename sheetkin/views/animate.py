@@ -1,0 +1,228 @@
+"""`sheetkin animate`: the mechanism over a revolution as a GIF or a self-contained HTML page.
+
+Both draw sheetkin.views.drawing's shapes: the GIF through matplotlib's animation writer with
+Pillow, the page with a small inline script on a canvas (the frames' coordinates are
+embedded as JSON; nothing is fetched, so it works offline). matplotlib is imported only
+when a GIF or PNG is drawn.
+"""
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from .drawing import STYLES, Picture, picture, revolution
+from sheetkin.kinematics.scene import Scene
+
+FORMATS = (".gif", ".html", ".png")
+
+
+def animation_picture(scene: Scene, frames: int = 36, *, vectors: bool = False, labels: bool = True,
+                      allow_gaps: bool = False, toggle_threshold: float = 0.01) -> Picture:
+    """`frames` positions over one revolution from phi0 (the way the crank turns)."""
+    return picture(scene, revolution(scene, frames), vectors=vectors, labels=labels,
+                   allow_gaps=allow_gaps, toggle_threshold=toggle_threshold)
+
+
+# --------------------------------------------------------------------------- matplotlib
+def _pt(px: float) -> float:
+    return 0.75 * px              # CSS px -> typographic points at 96 dpi
+
+
+def draw_shapes(ax, shapes) -> list:
+    """Add the shapes to a matplotlib Axes; returns the artists (to remove them later)."""
+    from matplotlib.patches import FancyArrowPatch, Polygon
+    out = []
+    for s in shapes:
+        stroke, width, fill, dash = STYLES[s.role]
+        ls = (0, tuple(float(x) for x in dash.split(","))) if dash else "-"
+        z = {"trace": 1, "trace_gap": 1, "hatch": 2, "ground": 2, "guide": 2, "slot": 3, "link": 4,
+             "block": 5, "joint": 6, "point": 6, "toggle": 3, "vector": 7}.get(s.role, 8)
+        if s.kind == "text":
+            out.append(ax.text(s.xy[0, 0], s.xy[0, 1], s.text, color=stroke, fontsize=8, zorder=z,
+                               style="italic" if s.role == "link_label" else "normal"))
+        elif s.kind == "dot":
+            face = "none" if s.role == "toggle" else fill
+            out += ax.plot(s.xy[:, 0], s.xy[:, 1], "o", ms=5 if s.role != "point" else 3.5, mfc=face,
+                           mec=stroke, mew=_pt(width), zorder=z)
+        elif s.kind == "polygon":
+            out.append(ax.add_patch(Polygon(s.xy, closed=True, fc=fill or "none", ec=stroke,
+                                            lw=_pt(width), zorder=z)))
+        elif s.kind == "arrow":
+            out.append(ax.add_patch(FancyArrowPatch(s.xy[0], s.xy[1], arrowstyle="-|>", mutation_scale=9,
+                                                    color=stroke, lw=_pt(width), zorder=z)))
+        else:
+            out += ax.plot(s.xy[:, 0], s.xy[:, 1], color=stroke, lw=_pt(width), ls=ls, zorder=z)
+    return out
+
+
+def _figure(pic: Picture, size: int):
+    import matplotlib
+    matplotlib.use("Agg", force=False) if matplotlib.get_backend().lower() != "agg" else None
+    import matplotlib.pyplot as plt
+    x0, y0, x1, y1 = pic.bounds
+    h = size * (y1 - y0) / (x1 - x0)
+    dpi = 100
+    fig = plt.figure(figsize=(size / dpi, (h + 40) / dpi), dpi=dpi)
+    ax = fig.add_axes([0, 22 / (h + 40), 1, h / (h + 40)])
+    ax.set_xlim(x0, x1)
+    ax.set_ylim(y0, y1)
+    ax.set_aspect("equal")          # a circle stays round
+    ax.set_axis_off()
+    fig.text(0.01, 1 - 4 / (h + 40), pic.title, va="top", fontsize=8)
+    cap = fig.text(0.01, 4 / (h + 40), "", va="bottom", fontsize=7, color="#444444")
+    draw_shapes(ax, pic.background)
+    return fig, ax, cap
+
+
+def write_png(pic: Picture, path, position: int = 0, size: int = 480) -> None:
+    import matplotlib.pyplot as plt
+    fig, ax, cap = _figure(pic, size)
+    draw_shapes(ax, pic.frames[position])
+    cap.set_text(pic.captions[position])
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def write_gif(pic: Picture, path, fps: float = 12, size: int = 320, progress=None) -> None:
+    """The frames as an animated GIF (matplotlib's FuncAnimation, Pillow's writer).
+    progress(i, n) is called after each frame."""
+    import matplotlib.pyplot as plt
+    from matplotlib.animation import FuncAnimation, PillowWriter
+    fig, ax, cap = _figure(pic, size)
+    current: list = []
+
+    def update(i):
+        for a in current:
+            a.remove()
+        current[:] = draw_shapes(ax, pic.frames[i])
+        cap.set_text(pic.captions[i])
+        return current
+
+    class SharedPalette(PillowWriter):
+        """Pillow's writer, but every frame on one 32-colour palette without dithering:
+        a line drawing needs no more, and the GIF is about half the size."""
+
+        def finish(self):
+            frames = [f.convert("RGB") for f in getattr(self, "_frames", [])]
+            if not frames:
+                return super().finish()
+            from PIL import Image
+            # the palette of the first and the middle frame side by side
+            a, b = frames[0], frames[len(frames) // 2]
+            both = Image.new("RGB", (a.width * 2, a.height), "white")
+            both.paste(a, (0, 0))
+            both.paste(b, (a.width, 0))
+            pal = both.quantize(colors=32)
+            small = [f.quantize(palette=pal, dither=Image.Dither.NONE) for f in frames]
+            small[0].save(self.outfile, save_all=True, append_images=small[1:],
+                          duration=int(round(1000 / self.fps)), loop=0, optimize=True)
+
+    anim = FuncAnimation(fig, update, frames=len(pic.frames), blit=False)
+    try:
+        anim.save(str(path), writer=SharedPalette(fps=fps), dpi=100,
+                  progress_callback=(lambda i, n: progress(i + 1, n)) if progress else None)
+    finally:
+        plt.close(fig)
+
+
+# --------------------------------------------------------------------------- HTML
+def _shape_json(s) -> list:
+    return [s.kind, s.role, np.round(s.xy, 6).tolist(), s.text]
+
+
+_PAGE = """<!doctype html>
+<html lang="en"><head><meta charset="utf-8"><title>{title}</title>
+<style>body{{font-family:sans-serif;margin:1em}}canvas{{border:1px solid #ccc;display:block}}
+#bar{{margin:.4em 0;display:flex;gap:.6em;align-items:center}}#pos{{flex:1;max-width:{width}px}}
+.note{{color:#555;font-size:90%}}</style></head><body>
+<h3>{title}</h3>
+<canvas id="c" width="{width}" height="{height}" aria-label="the mechanism"></canvas>
+<div id="bar"><button id="play" type="button">pause</button>
+<input id="pos" type="range" min="0" max="{last}" value="0" aria-label="position">
+<span id="cap"></span></div>
+{notes}
+<script>
+"use strict";
+const D = {data};
+const cv = document.getElementById("c"), g = cv.getContext("2d");
+const [x0, y0, x1, y1] = D.bounds, s = cv.width / (x1 - x0);
+const px = p => [(p[0] - x0) * s, (y1 - p[1]) * s];
+function draw(list) {{
+  for (const [kind, role, xy, text] of list) {{
+    const [stroke, width, fill, dash] = D.styles[role];
+    g.strokeStyle = stroke; g.lineWidth = width; g.setLineDash(dash ? dash.split(",").map(Number) : []);
+    const p = xy.map(px);
+    if (kind === "text") {{ g.fillStyle = stroke; g.font = (role === "link_label" ? "italic " : "") + "11px sans-serif";
+      g.fillText(text, p[0][0], p[0][1]); continue; }}
+    if (kind === "dot") {{ g.beginPath(); g.arc(p[0][0], p[0][1], role === "point" ? 2.5 : 3.5, 0, 2 * Math.PI);
+      if (role !== "toggle") {{ g.fillStyle = fill; g.fill(); }} g.stroke(); continue; }}
+    g.beginPath(); g.moveTo(p[0][0], p[0][1]);
+    for (const q of p.slice(1)) g.lineTo(q[0], q[1]);
+    if (kind === "polygon") {{ g.closePath(); if (fill) {{ g.fillStyle = fill; g.fill(); }} }}
+    g.stroke();
+    if (kind === "arrow") {{ const a = Math.atan2(p[1][1] - p[0][1], p[1][0] - p[0][0]);
+      g.beginPath(); g.moveTo(p[1][0], p[1][1]);
+      g.lineTo(p[1][0] - 7 * Math.cos(a - 0.4), p[1][1] - 7 * Math.sin(a - 0.4));
+      g.lineTo(p[1][0] - 7 * Math.cos(a + 0.4), p[1][1] - 7 * Math.sin(a + 0.4));
+      g.closePath(); g.fillStyle = stroke; g.fill(); }}
+  }}
+}}
+const pos = document.getElementById("pos"), cap = document.getElementById("cap"), btn = document.getElementById("play");
+let i = 0, timer = null;
+function show(k) {{ i = k; pos.value = k; g.clearRect(0, 0, cv.width, cv.height);
+  g.fillStyle = "#fff"; g.fillRect(0, 0, cv.width, cv.height);
+  draw(D.background); draw(D.frames[k]); cap.textContent = "position " + (k + 1) + "/" + D.frames.length + ": " + D.captions[k]; }}
+function play() {{ timer = setInterval(() => show((i + 1) % D.frames.length), 1000 / D.fps); btn.textContent = "pause"; }}
+function pause() {{ clearInterval(timer); timer = null; btn.textContent = "play"; }}
+btn.addEventListener("click", () => timer ? pause() : play());
+pos.addEventListener("input", () => {{ pause(); show(Number(pos.value)); }});
+show(0); play();
+</script></body></html>
+"""
+
+
+def html_page(pic: Picture, fps: float = 12, size: int = 480) -> str:
+    """A self-contained page: the frames' coordinates as JSON, drawn on a canvas by an
+    inline script, with play/pause and a position slider."""
+    import html
+    x0, y0, x1, y1 = pic.bounds
+    data = {"bounds": [x0, y0, x1, y1], "fps": fps, "styles": STYLES, "captions": pic.captions,
+            "background": [_shape_json(s) for s in pic.background],
+            "frames": [[_shape_json(s) for s in f] for f in pic.frames]}
+    notes = "".join(f"<p class='note'>{html.escape(n)}</p>" for n in pic.notes)
+    # "</" would end the script element early: JSON may escape the slash
+    blob = json.dumps(data, separators=(",", ":")).replace("</", "<\\/")
+    return _PAGE.format(title=html.escape(pic.title), width=size,
+                        height=int(round(size * (y1 - y0) / (x1 - x0))), last=len(pic.frames) - 1,
+                        notes=notes, data=blob)
+
+
+def animate(scene: Scene, out, *, frames: int = 36, fps: float = 12, size: int = 320,
+            vectors: bool = False, labels: bool = True, allow_gaps: bool = False,
+            toggle_threshold: float = 0.01, progress=None) -> Picture:
+    """Write `out` (.gif, .html, or .png: the first position) and return the Picture."""
+    suffix = Path(out).suffix.lower()
+    if suffix not in FORMATS:
+        raise ValueError(f"{out}: expected a file name ending in {', '.join(FORMATS)}")
+    pic = animation_picture(scene, frames, vectors=vectors, labels=labels, allow_gaps=allow_gaps,
+                            toggle_threshold=toggle_threshold)
+    if suffix == ".gif":
+        write_gif(pic, out, fps, size, progress)
+    elif suffix == ".png":
+        write_png(pic, out, 0, size)
+    else:
+        Path(out).write_text(html_page(pic, fps, size), encoding="utf-8")
+    return pic
+
+
+def stderr_progress(label: str):
+    """A progress(i, n) that rewrites one line on stderr."""
+    def report(i: int, n: int):
+        sys.stderr.write(f"\r{label}: frame {i}/{n}")
+        if i == n:
+            sys.stderr.write("\n")
+        sys.stderr.flush()
+    return report

@@ -1,0 +1,313 @@
+"""Evaluating an expression tree (formula_parse.py) for all the cells of a run at once:
+_Context reads references from the workbook's value stores (views of a row where it can;
+ranges past the used range padded or clipped, PAD_CELLS), follows defined names (a name
+scoped to the sheet shadows the workbook's, _lookup), walks chains of operators in a loop,
+and calls the operators and functions of formula_values.py, besides the functions that
+need the tree itself (IF, IFERROR, INDEX, CHOOSE, ANCHORARRAY, SINGLE, TRUNC, FLOOR.MATH...).
+
+Separate from evaluator.py, which reads the workbook, orders its runs, makes one _Context
+for the workbook and writes the results into the stores; this module never imports it.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from . import functions as fx
+from .parse import Ref
+from .runs import EvaluationError, Run, _span, _target_block
+from .values import (AGGREGATES, BOOL, EMPTY, NUM, SCALAR_FUNCS, TEXT, VALUE, Val, _arith, _binary,
+                             _compare, _concat, _const, _error_of, _result, _select, _texts, _to_bool,
+                             _to_number, _unary, _with_error)
+
+
+def _lookup(scopes: dict, sheet: str, name: str):
+    """A name's tree as a formula on `sheet` sees it: a name scoped to that sheet shadows the
+    workbook's name (Excel); None if neither exists."""
+    local = scopes.get(sheet)
+    if local and name in local:
+        return local[name]
+    return scopes[None].get(name)
+
+
+def _binary_op(op: str, a: Val, b: Val) -> Val:
+    try:
+        np.broadcast_shapes(a.shape, b.shape)
+    except ValueError:                      # ranges of different sizes (=A1:B2+A1:C3): #VALUE!
+        return _const("#VALUE!", max(a.shape[0], b.shape[0]))
+    if op in ("+", "-", "*", "/", "^"):
+        return _arith(op, a, b)
+    if op == "&":
+        return _concat(a, b)
+    return _compare(op, a, b)
+
+
+PAD_CELLS = 1 << 16      # a range up to this many cells keeps its shape past the used range
+
+
+def _rows_cols(r1: int, r2: int, c1: int, c2: int, nr: int, nc: int) -> tuple[np.ndarray, np.ndarray]:
+    """The rows and columns of a block that reaches past a store of nr x nc: all of them
+    when the block is small (PAD_CELLS: its shape is kept, the cells outside read as
+    empty), else clipped to the store (=SUM($A$1:$XFD$1048576) reads the used range)."""
+    if (r2 - r1 + 1) * (c2 - c1 + 1) > PAD_CELLS:
+        r2, c2 = min(r2, nr - 1), min(c2, nc - 1)
+    return np.arange(r1, r2 + 1), np.arange(c1, c2 + 1)
+
+
+class _Context:
+    def __init__(self, num, tag, txt, scopes):
+        self.num, self.tag, self.txt, self.scopes = num, tag, txt, scopes
+        self.open_names: set = set()          # the names being evaluated (a cycle: #REF!)
+        self.arrays: dict = {}                # sheet -> its array formulas (Sheet.arrays)
+
+    def name(self, name: str, run: Run):
+        """The tree a name stands for in a formula of run's sheet, or None."""
+        return _lookup(self.scopes, run.sheet, name)
+
+    def ref(self, ref: Ref, run: Run) -> Val:
+        sheet = ref.sheet or run.sheet
+        if sheet not in self.num:
+            return _const("#REF!", len(run.cols))
+        if (ref.r1, ref.c1, ref.r1_abs, ref.c1_abs) == (ref.r2, ref.c2, ref.r2_abs, ref.c2_abs) and run.contiguous:
+            # one cell per cell of the run, adjacent: views of one stretch of a row
+            r = ref.r1 if ref.r1_abs else run.row + ref.r1
+            k = len(run.cols)
+            c = ref.c1 if ref.c1_abs else int(run.cols[0]) + ref.c1
+            if r < 1 or c < 1:
+                return _const("#REF!", k)
+            n = 1 if ref.c1_abs else k
+            if r >= self.tag[sheet].shape[0] or c + n > self.tag[sheet].shape[1]:
+                return self._gather(sheet, np.array([r]), (c + np.arange(n))[:, None])   # past the used range
+            tag = self.tag[sheet][r, c:c + n].reshape(n, 1, 1)
+            if not tag.any():
+                return Val(self.num[sheet][r, c:c + n].reshape(n, 1, 1), tag, None, NUM)
+            if (tag == BOOL).all():
+                return Val(self.num[sheet][r, c:c + n].reshape(n, 1, 1), tag, None, BOOL)
+            txt = self.txt[sheet][r, c:c + n].reshape(n, 1, 1) if (tag == TEXT).any() else None
+            return Val(self.num[sheet][r, c:c + n].reshape(n, 1, 1), tag, txt)
+        if len(run.cols) == 1 or (ref.c1_abs and ref.c2_abs):
+            # one block for all the cells (a single cell's range, or absolute columns): a view
+            r1, r2, c1, c2 = _span(run, ref)
+            if r1 < 1 or c1 < 1:
+                return _const("#REF!", len(run.cols))
+            nr, nc = self.tag[sheet].shape
+            if r2 >= nr or c2 >= nc:                   # past the used range
+                rows, cols = _rows_cols(r1, r2, c1, c2, nr, nc)
+                return self._gather(sheet, rows, cols[None, :])
+            tag = self.tag[sheet][None, r1:r2 + 1, c1:c2 + 1]
+            if not tag.any():
+                return Val(self.num[sheet][None, r1:r2 + 1, c1:c2 + 1], tag, None, NUM)
+            if (tag == BOOL).all():
+                return Val(self.num[sheet][None, r1:r2 + 1, c1:c2 + 1], tag, None, BOOL)
+            txt = self.txt[sheet][None, r1:r2 + 1, c1:c2 + 1] if (tag == TEXT).any() else None
+            return Val(self.num[sheet][None, r1:r2 + 1, c1:c2 + 1], tag, txt)
+        r1, r2, c1, c2 = _target_block(run, ref)
+        if r1 < 1 or int(c1.min()) < 1:
+            return _const("#REF!", len(run.cols))
+        absolute = ref.c1_abs and ref.c2_abs
+        width = int(c2[0] - c1[0]) + 1
+        nr, nc = self.tag[sheet].shape
+        if r2 >= nr or int(c1.max()) + width > nc:     # past the used range
+            rows, offsets = _rows_cols(r1, r2, 0, width - 1, nr, max(0, nc - int(c1.min())))
+            cols = (c1[:1] if absolute else c1)[:, None] + offsets[None, :]
+            return self._gather(sheet, rows, cols)
+        cols = (c1[:1] if absolute else c1)[:, None] + np.arange(width)[None, :]   # (k, C)
+        rows = np.arange(r1, r2 + 1)
+        num = self.num[sheet][rows[:, None, None], cols[None, :, :]].transpose(1, 0, 2)
+        tag = self.tag[sheet][rows[:, None, None], cols[None, :, :]].transpose(1, 0, 2)
+        txt = None
+        if (tag == TEXT).any():
+            txt = self.txt[sheet][rows[:, None, None], cols[None, :, :]].transpose(1, 0, 2)
+        return Val(num, tag, txt)
+
+    def _gather(self, sheet: str, rows: np.ndarray, cols: np.ndarray) -> Val:
+        """Cells rows x cols[i] for each cell i of a run, shape (k, R, C); cells past the
+        store (the used range) read as empty."""
+        nr, nc = self.tag[sheet].shape
+        inside = (rows < nr)[None, :, None] & (cols < nc)[:, None, :]
+        idx = (np.where(rows < nr, rows, 0)[None, :, None], np.where(cols < nc, cols, 0)[:, None, :])
+        tag = np.where(inside, self.tag[sheet][idx], EMPTY).astype(np.int8)
+        num = np.where(inside, self.num[sheet][idx], 0.0)
+        txt = np.where(inside, self.txt[sheet][idx], None) if (tag == TEXT).any() else None
+        return Val(num, tag, txt, NUM if not tag.any() else -1)
+
+    def eval(self, node, run: Run) -> Val:
+        kind = node[0]
+        if kind == "const":
+            return _const(node[1])
+        if kind == "ref":
+            return self.ref(node[1], run)
+        if kind == "name":
+            tree = self.name(node[1], run)
+            if tree is None:
+                return _const("#NAME?")
+            if node[1] in self.open_names:          # a name that refers back to itself
+                return _const("#REF!")
+            self.open_names.add(node[1])
+            try:
+                return self.eval(tree, run)
+            finally:
+                self.open_names.discard(node[1])
+        if kind == "neg":
+            return _arith("-", _const(0.0), self.eval(node[1], run))
+        if kind == "pct":
+            return _arith("/", self.eval(node[1], run), _const(100.0))
+        if kind == "bin":
+            # a chain =A1+A2+...+A4000 leans left: walk its spine in a loop, not recursively
+            spine = []
+            while node[0] == "bin":
+                spine.append(node)
+                node = node[2]
+            a = self.eval(node, run)
+            for node in reversed(spine):
+                a = _binary_op(node[1], a, self.eval(node[3], run))
+            return a
+        if kind == "missing":
+            return _const(0.0)
+        if kind == "fn":
+            return self.call(node[1], node[2], run)
+        raise EvaluationError(f"cannot evaluate {node!r}")
+
+    def call(self, name: str, args, run: Run) -> Val:
+        if name == "PI":
+            return _const(math.pi)
+        if name == "IF":
+            cond, err = _to_bool(self.eval(args[0], run))
+            a = self.eval(args[1], run) if len(args) > 1 and args[1][0] != "missing" else _const(0.0)
+            b = self.eval(args[2], run) if len(args) > 2 else _const(False)
+            return _with_error(_select(cond, a, b), err)
+        if name == "IFERROR":
+            a, b = self.eval(args[0], run), self.eval(args[1], run)
+            return _select(a.tag >= 10, b, a)
+        if name == "NOT":
+            b, err = _to_bool(self.eval(args[0], run))
+            return Val(np.where(err == 0, (~b).astype(float), 0.0), np.where(err == 0, BOOL, err).astype(np.int8))
+        if name in ("ISNUMBER", "ISERROR", "ISTEXT"):
+            v = self.eval(args[0], run)
+            test = {"ISNUMBER": v.tag == NUM, "ISERROR": v.tag >= 10, "ISTEXT": v.tag == TEXT}[name]
+            return Val(test.astype(float), np.full(v.shape, BOOL, np.int8))
+        if name == "NA":                          # the charts' gap: #N/A is not plotted
+            return _const("#N/A", len(run.cols))
+        if name in ("TRUE", "FALSE"):             # LibreOffice writes TRUE() and FALSE()
+            return _const(name == "TRUE") if not args else _const("#VALUE!", len(run.cols))
+        if name == "TRUNC":
+            return self.trunc(args, run)
+        if name == "INDEX":
+            return self.index(args, run)
+        if name == "CHOOSE":
+            return self.choose(args, run)
+        if name in fx.ROUNDING:
+            return self.rounding(name, args, run)
+        if name == "ANCHORARRAY":
+            return self.spill(args, run)
+        if name == "SINGLE":
+            return self.single(args, run)
+        if name in SCALAR_FUNCS:
+            return SCALAR_FUNCS[name](*(self.eval(a, run) for a in args))
+        if name in AGGREGATES:
+            vals = [self.eval(a, run) for a in args]
+            # a reference, even to one cell or through a defined name, is read like a range:
+            # text and booleans skipped
+            ranges = [a[0] == "ref" or (a[0] == "name" and (self.name(a[1], run) or ("",))[0] == "ref")
+                      or (a[0] == "fn" and a[1] == "ANCHORARRAY") for a in args]
+            return AGGREGATES[name](vals, ranges)
+        return _const("#NAME?", len(run.cols))
+
+
+    def trunc(self, args, run: Run) -> Val:
+        if len(args) == 1:
+            return _unary(fx.trunc)(self.eval(args[0], run))
+        return _binary(fx.trunc)(self.eval(args[0], run), self.eval(args[1], run))
+
+    def rounding(self, name: str, args, run: Run) -> Val:
+        """FLOOR.MATH and kin: a number, then optional arguments with defaults."""
+        fn, defaults = fx.ROUNDING[name]
+        if not 1 <= len(args) <= fx.ROUNDING_ARITY[name]:
+            return _const("#VALUE!", len(run.cols))
+        vals = [self.eval(a, run) if a[0] != "missing" else _const(0.0) for a in args]
+        vals += [_const(d) for d in defaults[len(args) - 1:]]
+        nums, errs = zip(*(_to_number(v) for v in vals))
+        with np.errstate(all="ignore"):
+            r = fn(*np.broadcast_arrays(*nums))
+        return _result(r, _error_of(*errs))
+
+    def spill(self, args, run: Run) -> Val:
+        """Excel 365's E1# (written _xlfn.ANCHORARRAY(E1)): the range an array formula at E1
+        fills; #REF! where E1 holds no array formula."""
+        if len(args) != 1 or args[0][0] != "ref" or args[0][1].is_range:
+            return _const("#REF!", len(run.cols))
+        ref = args[0][1]
+        sheet = ref.sheet or run.sheet
+        r = ref.r1 if ref.r1_abs else run.row + ref.r1
+        cols = [ref.c1] if ref.c1_abs else [c + ref.c1 for c in run.cols.tolist()]
+        ends = [self.arrays.get(sheet, {}).get((r, c)) for c in cols]
+        if any(e is None for e in ends) or len({(e[0] - r, e[1] - c) for e, c in zip(ends, cols)}) != 1:
+            return _const("#REF!", len(run.cols))
+        (r2, c2), c = ends[0], cols[0]
+        block = Ref(sheet, r, c if ref.c1_abs else c - int(run.cols[0]), r2,
+                    c2 if ref.c1_abs else c2 - int(run.cols[0]), True, ref.c1_abs, True, ref.c1_abs)
+        return self.ref(block, run)
+
+    def single(self, args, run: Run) -> Val:
+        """Excel 365's @ (written _xlfn.SINGLE(...)), implicit intersection: of a range, the
+        cell in the formula's row (a column range) or column (a row range); of an array, its
+        first element; #VALUE! where the formula's row or column misses the range."""
+        if len(args) != 1:
+            return _const("#VALUE!", len(run.cols))
+        v = self.eval(args[0], run)
+        k0, R, C = v.shape
+        k = len(run.cols)
+        if (R, C) == (1, 1):
+            return v
+        if args[0][0] != "ref":
+            return Val(v.num[:, :1, :1], v.tag[:, :1, :1], None if v.txt is None else v.txt[:, :1, :1])
+        r1, _, c1, _ = _target_block(run, args[0][1])
+        i = np.full(k, run.row - r1) if R > 1 else np.zeros(k, np.int64)
+        j = (run.cols - c1) if C > 1 else np.zeros(k, np.int64)
+        bad = (i < 0) | (i >= R) | (j < 0) | (j >= C)
+        i, j = np.where(bad, 0, i), np.where(bad, 0, j)
+        cells = np.arange(k) if k0 == k else np.zeros(k, np.int64)
+        pick = (cells, i, j)
+        out = Val(v.num[pick].reshape(k, 1, 1), v.tag[pick].reshape(k, 1, 1).astype(np.int8),
+                  None if v.txt is None else np.asarray(v.txt)[pick].reshape(k, 1, 1))
+        return _with_error(out, np.where(bad, VALUE, 0).astype(np.int8).reshape(k, 1, 1))
+
+    def choose(self, args, run: Run) -> Val:
+        """CHOOSE(i, v1, v2, ...): the i-th value (per cell of the run)."""
+        i, err = _to_number(self.eval(args[0], run))
+        pos, bad = fx.choose_index(i, len(args) - 1)
+        err = _error_of(err, bad)
+        values = [self.eval(a, run) for a in args[1:]]
+        shape = np.broadcast_shapes(pos.shape, *(v.shape for v in values))
+        num = np.choose(np.broadcast_to(pos, shape), [np.broadcast_to(v.num, shape) for v in values])
+        tags = np.choose(np.broadcast_to(pos, shape), [np.broadcast_to(v.tag, shape) for v in values])
+        txt = None
+        if any(v.txt is not None for v in values):
+            txt = np.choose(np.broadcast_to(pos, shape), [np.broadcast_to(_texts(v), shape) for v in values])
+        return _with_error(Val(num, tags.astype(np.int8), txt), np.broadcast_to(err, shape))
+
+    def index(self, args, run: Run) -> Val:
+        """INDEX(array, row, [column]): one element per cell of the run, or a whole row or
+        column where an index is 0."""
+        arr = self.eval(args[0], run)
+        k0, R, C = arr.shape
+        r, er = _to_number(self.eval(args[1], run)) if len(args) > 1 else (np.zeros((1, 1, 1)), np.zeros((1, 1, 1), np.int8))
+        c, ec = (_to_number(self.eval(args[2], run)) if len(args) > 2 and args[2][0] != "missing"
+                 else (None, np.zeros((1, 1, 1), np.int8)))
+        ri, ci, bad = fx.index_positions(R, C, r, c)
+        err = _error_of(er, ec, bad)
+        k = max(k0, err.shape[0])
+        ri, ci, err = (np.broadcast_to(x, (k, 1, 1)).reshape(k) for x in (ri, ci, err))
+        if (ri >= 0).all() and (ci >= 0).all():
+            cells = np.arange(k) if k0 == k else np.zeros(k, np.int64)
+            pick = (cells, ri, ci)
+            v = Val(arr.num[pick].reshape(k, 1, 1), arr.tag[pick].reshape(k, 1, 1).astype(np.int8),
+                    None if arr.txt is None else np.asarray(arr.txt)[pick].reshape(k, 1, 1))
+            return _with_error(v, err.reshape(k, 1, 1))
+        if k == 1:                               # a whole row or column of the array
+            rs = slice(None) if ri[0] < 0 else slice(ri[0], ri[0] + 1)
+            cs = slice(None) if ci[0] < 0 else slice(ci[0], ci[0] + 1)
+            v = Val(arr.num[:, rs, cs], arr.tag[:, rs, cs], None if arr.txt is None else arr.txt[:, rs, cs])
+            return _with_error(v, err.reshape(1, 1, 1))
+        return _const("#VALUE!", k)

@@ -1,0 +1,530 @@
+"""Headless evaluation of a workbook's formulas (numpy), without a spreadsheet program.
+
+How: the cells are read by xlsxread (through the input gate). Formula cells are
+grouped into *runs*: consecutive cells of a row whose formulas are the same formula with
+relative references shifted (recognised by rendering the run's first formula as a template
+for the next columns, in growing batches, and comparing the text, so most cells are never
+tokenized). Each run is tokenized once (openpyxl's formula tokenizer), parsed into an
+expression tree whose relative references are column offsets, and evaluated for all its
+cells at once as numpy arrays. Runs are evaluated in dependency order; a run that refers to
+itself, or sits in a cycle of runs, is split into single cells (the irregular fallback); a
+cycle of single cells is a circular reference, reported with its cells.
+
+Speed: parsed formulas and run templates are kept for the rest of the process (a class's
+workbooks share them); values known to be all numbers (or all booleans) without errors are
+marked `pure` and take fast paths (no coercion, no error tags, references as views of the
+value stores); any NaN or infinity sends an operation back to the general path, which
+names the error.
+
+Real files (see README, "What files the evaluator reads"): a defined name is a dependency of
+the formulas that use it (the references behind it, through names of names, join the run's
+references); a name scoped to a sheet shadows the workbook's; an array formula (CSE or a
+dynamic-array spill) is a run of its own that fills its whole range (_write_array); whole
+columns and rows end at the workbook's used range (_bound_whole).
+
+Values follow Excel: numbers, text, booleans, empty cells and the errors #NULL! #DIV/0!
+#VALUE! #REF! #NAME? #NUM! #N/A, which propagate per cell. Every value is an array of
+shape (cells, rows, cols): (k, 1, 1) for one value per cell of a run, (k, R, C) for a range.
+
+The modules, each importing only those before it: formula_values.py (Val, coercions,
+operators, functions, aggregates; kernels in functions.py), formula_parse.py (formula text
+to trees, Excel's limits for a formula), formula_runs.py (Run, grouping cells into runs),
+evaluator_context.py (_Context: a tree evaluated for a run), evaluator_limits.py (hostile
+input: depth, names, cells read, workbook-wide refusals), and this one: evaluate and
+evaluate_sheets, defined names and array formulas, the order of runs (_schedule), Book and
+the results as tables. The names the others hold are importable from here as before.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from operator import itemgetter
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from openpyxl.utils import get_column_letter
+
+from .context import _Context, _lookup
+from .limits import (MAX_EVAL_DEPTH, _check_formula_text, _check_names, _check_reads,  # noqa: F401
+                               _chunks, _names_used, _run_notes, _store_dims)
+from .parse import (ARITY, MAX_ARGS, MAX_FORMULA_CHARS, MAX_NESTING, Note, ParseError,  # noqa: F401
+                            Ref, _nodes, arity_problem, functions_of, parse_formula, refs_of)
+from .runs import _TEMPLATES, EvaluationError, Run, _group_runs, _span, _split  # noqa: F401
+from .values import (AGGREGATES, BOOL, EMPTY, NUM, SCALAR_FUNCS, SPECIAL, SUPPORTED, TEXT,  # noqa: F401
+                             Val, _const)
+from .functions import DIV0, ERROR_TEXT, ERRORS, NA, NAME, NULL, NUMERR, REF, VALUE  # noqa: F401
+from .cells import _MAX_COL, _MAX_ROW, Sheet, read_book
+from .package import Limits, UnusableWorkbook, _show
+
+
+# --------------------------------------------------------------------------- the workbook evaluated
+@dataclass
+class Book:
+    """A workbook's cells after evaluation."""
+    path: str
+    sheets: dict[str, Sheet]
+    order: list[str]
+    num: dict[str, np.ndarray]
+    tag: dict[str, np.ndarray]
+    txt: dict[str, np.ndarray]
+    problems: list[str]               # unsupported functions, parse errors (cells set to #NAME?)
+    runs: int = 0
+    cells: int = 0
+
+    @property
+    def notes(self) -> list[str]:
+        """One line per cell problem ("Sheet!A1: what"): the problems, by another name."""
+        return self.problems
+
+    def value(self, sheet: str, r: int, c: int):
+        """The value of any cell, row r and column c counted from 1 (B3 is r=3, c=2): a
+        float for a number (typed or computed), a str for text, a bool, an error text such as
+        '#DIV/0!', or None for an empty cell. A formula that refers to an empty cell holds 0,
+        as in Excel. KeyError names the sheets when `sheet` is not one of them."""
+        if sheet not in self.num:
+            match = [n for n in self.num if n.casefold() == str(sheet).casefold()]
+            if not match:
+                raise KeyError(f"{self.path}: no sheet {sheet!r}; sheets: {', '.join(self.order)}")
+            sheet = match[0]
+        n, t = self.num[sheet], self.tag[sheet]
+        r, c = int(r), int(c)
+        if not (1 <= r < n.shape[0] and 1 <= c < n.shape[1]):
+            return None
+        tg = t[r, c]
+        if tg == NUM:
+            return float(n[r, c])
+        if tg == BOOL:
+            return bool(n[r, c])
+        if tg == TEXT:
+            return self.txt[sheet][r, c]
+        if tg == EMPTY:
+            return None
+        return ERROR_TEXT[int(tg)]
+
+
+
+# --------------------------------------------------------------------------- evaluation
+def evaluate(path: str | Path, *, strict: bool = True, limits: Limits = Limits()) -> Book:
+    """Evaluate every formula of an .xlsx workbook (an .ods or .fods is converted by
+    LibreOffice first, see xlsxread.read_book); `Book.value(sheet, row, col)` then gives any
+    cell. With strict, an unsupported function or an unparsable formula raises
+    EvaluationError naming the cells; otherwise those cells become #NAME? and the problem is
+    listed in Book.problems."""
+    raw = read_book(path, limits)
+    return evaluate_sheets(raw.path, raw.sheets, raw.order, raw.names, strict=strict, limits=limits)
+
+
+def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names: dict, *,
+                    strict: bool = True, limits: Limits = Limits()) -> Book:
+    problems: list[str] = []
+    runs: list[Run] = []
+    for sh in sheets.values():
+        runs.extend(_array_runs(sh, _group_runs(sh)) if sh.arrays else _group_runs(sh))
+    _check_formula_text(path, runs, limits)
+    # whole columns and rows (A:A, 2:2) end at the workbook's used range
+    bound = (max([sh.max_row for sh in sheets.values()] + [1]), max([sh.max_col for sh in sheets.values()] + [1]))
+    name_notes: dict = {}                         # scope -> {NAME: Note} of names that cannot be evaluated
+    scopes = _name_scopes(names, sheets, bound, name_notes)
+    name_refs = {**scopes[None], **{n: t for sc in scopes.values() for n, t in sc.items()}}
+    names_key = frozenset(name_refs)
+    # parse each run once (its first cell)
+    for run in runs:
+        run.tree, run.error, run.refs = _parse_run(run.formula, run.row, int(run.cols[0]), name_refs, names_key)
+        if run.error:
+            problems.append(f"{run.where()}: {run.error}")
+        else:
+            if any(_is_whole(ref) for ref in run.refs):
+                run.tree = _bound_whole(run.tree, bound)
+                run.refs = refs_of(run.tree)
+            problems.extend(_run_notes(run, sheets, name_refs,
+                                       {**name_notes.get(None, {}), **name_notes.get(run.sheet, {})}))
+        if run.tree is not None and _has_names(run.tree):
+            # a name is a dependency: what it refers to (through other names too) is
+            # computed before the formula that uses it
+            run.refs = run.refs + _name_deps(run.tree, run.sheet, scopes)
+    for n, sh in sheets.items():
+        for (r, c), what in sh.dangling.items():
+            problems.append(f"{n}!{get_column_letter(c)}{r}: {what}: #N/A")
+    if problems and strict:
+        raise EvaluationError(f"{path}: " + "; ".join(problems[:10]) +
+                              (f" (and {len(problems) - 10} more)" if len(problems) > 10 else ""))
+    # value stores: the used range of each sheet (the cells that hold something); a
+    # reference past it reads as empty cells, a range is clipped to it (_Context.ref)
+    dims = _store_dims(path, sheets, limits)
+    num = {n: np.zeros(d) for n, d in dims.items()}
+    tag = {n: np.full(d, EMPTY, np.int8) for n, d in dims.items()}
+    txt = {n: np.empty(d, dtype=object) for n, d in dims.items()}
+    for n, sh in sheets.items():
+        for (r, c), v in sh.consts.items():
+            store_value(num[n], tag[n], txt[n], r, c, v)
+        for (r, c) in getattr(sh, "dangling", {}):
+            tag[n][r, c] = NA
+    _check_reads(path, runs, dims, name_refs, limits)      # before ordering: it scans the ranges too
+    order_runs = _schedule(path, runs, dims, sheets, strict=strict, problems=problems)
+    _check_reads(path, order_runs, dims, name_refs, limits)  # runs split into cells read more
+    ctx = _Context(num, tag, txt, scopes)
+    ctx.arrays = {n: sh.arrays for n, sh in sheets.items()}
+    cells = 0
+    with np.errstate(all="ignore"):
+        for run in order_runs:
+            cells += len(run.cols)
+            for part in _chunks(run, dims, name_refs):
+                k = len(part.cols)
+                if part.error:
+                    v = _const(getattr(part.error, "code", "#NAME?"), k)
+                    if part.array is not None:          # the whole range holds the error
+                        _write_array(_const(getattr(part.error, "code", "#NAME?")), part, num, tag, txt)
+                        continue
+                else:
+                    try:
+                        if part.array is not None:
+                            _write_array(ctx.eval(part.tree, part), part, num, tag, txt)
+                            continue
+                        v = _as_cells(ctx.eval(part.tree, part), k)
+                    except (EvaluationError, UnusableWorkbook):
+                        raise
+                    except Exception as e:      # noqa: BLE001 - the cell's problem, not the process's
+                        note = f"{part.where()}: internal error of the evaluator ({type(e).__name__}: {_show(e, 120)}): #VALUE!"
+                        if strict:
+                            raise EvaluationError(f"{path}: {note}") from e
+                        problems.append(note)
+                        v = _const("#VALUE!", k)
+                n = part.sheet
+                where = (part.row, slice(int(part.cols[0]), int(part.cols[0]) + k)) if part.contiguous else (part.row, part.cols)
+                num[n][where] = v.num[:, 0, 0]
+                tag[n][where] = v.tag[:, 0, 0]
+                if v.txt is not None:
+                    txt[n][where] = v.txt[:, 0, 0]
+    return Book(path, sheets, order, num, tag, txt, problems, len(order_runs), cells)
+
+
+# --------------------------------------------------------------------------- names, arrays, whole columns
+def _name_scopes(names: dict, sheets: dict[str, Sheet], bound, notes: dict | None = None) -> dict:
+    """Parsed defined names by scope: None for the workbook's, a sheet's name for the names
+    scoped to it (localSheetId). Names are case-insensitive. A name that cannot be read
+    (#VALUE!, as LibreOffice), or cannot be evaluated (_check_names: names in a circle,
+    unknown functions...) is a constant error where it is used, and notes[scope][NAME] says why."""
+    notes = {} if notes is None else notes
+
+    def parsed(table, scope):
+        out = {}
+        for n, text in table.items():
+            try:
+                tree = parse_formula("=" + text.removeprefix("="), 1, 1, {})
+            except ParseError as e:
+                tree = ("const", "#VALUE!")
+                notes.setdefault(scope, {})[n.upper()] = Note(
+                    f"the name {_show(n, 60)} is not a formula (={_show(text, 60)}: {e})", "#VALUE!")
+            out[n.upper()] = _bound_whole(tree, bound)
+        return out
+    scopes = {None: parsed(names, None)}
+    notes.setdefault(None, {}).update(_check_names(scopes[None]))
+    for n, sh in sheets.items():
+        scopes[n] = parsed(sh.names, n) if sh.names else {}
+        if scopes[n]:
+            # a sheet's names see the workbook's too: checked together, kept for the sheet
+            seen = {**scopes[None], **scopes[n]}
+            found = _check_names(seen)
+            for name in scopes[n]:
+                scopes[n][name] = seen[name]
+                if name in found:
+                    notes.setdefault(n, {})[name] = found[name]
+    return scopes
+
+
+
+def _has_names(tree) -> bool:
+    return any(node[0] == "name" for node in _nodes(tree))
+
+
+def _names_in(tree, out: list):
+    out.extend(_names_used(tree))
+    return out
+
+
+def _name_deps(tree, sheet: str, scopes: dict) -> list[Ref]:
+    """The references behind the names a formula uses, through names of names (each name
+    followed once, so names that refer to each other end)."""
+    refs, seen, todo = [], set(), _names_in(tree, [])
+    while todo:
+        name = todo.pop()
+        if name in seen:
+            continue
+        seen.add(name)
+        target = _lookup(scopes, sheet, name)
+        if target is not None:
+            refs += refs_of(target)
+            _names_in(target, todo)
+    return refs
+
+
+def _is_whole(ref: Ref) -> bool:
+    return ((ref.r1_abs and ref.r2_abs and ref.r1 == 1 and ref.r2 == _MAX_ROW)
+            or (ref.c1_abs and ref.c2_abs and ref.c1 == 1 and ref.c2 == _MAX_COL))
+
+
+def _bound_whole(tree, bound: tuple[int, int]):
+    """The tree with whole columns (rows 1 to 1,048,576) and whole rows (columns A to XFD)
+    ending at the workbook's last used row (column): the same values, a store of the size
+    the file holds. Rebuilt iteratively (children before parents): no recursion."""
+    def fix(ref: Ref):
+        r2, c2 = ref.r2, ref.c2
+        if ref.r1_abs and ref.r2_abs and ref.r1 == 1 and ref.r2 == _MAX_ROW:
+            r2 = bound[0]
+        if ref.c1_abs and ref.c2_abs and ref.c1 == 1 and ref.c2 == _MAX_COL:
+            c2 = bound[1]
+        return ("ref", Ref(ref.sheet, ref.r1, ref.c1, r2, c2, ref.r1_abs, ref.c1_abs, ref.r2_abs, ref.c2_abs))
+
+    def children(node):
+        kind = node[0]
+        return node[2] if kind == "fn" else [node[1]] if kind in ("neg", "pct") else [node[2], node[3]]
+    done: list = []
+    stack = [(tree, False)]
+    while stack:
+        node, built = stack.pop()
+        kind = node[0]
+        if kind not in ("fn", "neg", "pct", "bin"):
+            done.append(fix(node[1]) if kind == "ref" and _is_whole(node[1]) else node)
+            continue
+        if not built:
+            stack.append((node, True))
+            stack.extend((c, False) for c in reversed(children(node)))
+            continue
+        n = len(children(node))
+        args = done[len(done) - n:]
+        del done[len(done) - n:]
+        done.append(("fn", node[1], args) if kind == "fn" else (kind, args[0]) if kind in ("neg", "pct")
+                    else ("bin", node[1], args[0], args[1]))
+    return done[0]
+
+
+def _array_runs(sheet: Sheet, runs: list[Run]) -> list[Run]:
+    """The runs with each array formula's anchor on its own, marked with its range."""
+    out = []
+    for run in runs:
+        if not any((run.row, int(c)) in sheet.arrays for c in run.cols):
+            out.append(run)
+            continue
+        for c in run.cols.tolist():           # each its own text: parsed from its own cell
+            out.append(Run(run.sheet, run.row, np.array([c]), sheet.formulas[(run.row, c)],
+                           array=sheet.arrays.get((run.row, c))))
+    return out
+
+
+def _write_array(v: Val, run: Run, num, tag, txt) -> None:
+    """An array formula's result into its range, as Excel fills it: element (i, j) in the
+    cell i rows and j columns from the anchor; a single row or column (or value) repeats
+    across the range; cells past the result's size are #N/A. A one-cell array formula holds
+    the top-left element ({=IFERROR(A10:B10,"x")} in one cell)."""
+    r0, c0 = run.row, int(run.cols[0])
+    r2, c2 = run.array
+    h, w = r2 - r0 + 1, c2 - c0 + 1
+    _, R, C = v.shape
+    i = np.arange(h)[:, None] if R > 1 else np.zeros((h, 1), np.int64)
+    j = np.arange(w)[None, :] if C > 1 else np.zeros((1, w), np.int64)
+    ii, jj = np.broadcast_arrays(np.minimum(i, R - 1), np.minimum(j, C - 1))
+    beyond = (np.broadcast_to(i, (h, w)) >= R) | (np.broadcast_to(j, (h, w)) >= C)
+    t = np.where(beyond, NA, v.tag[0][ii, jj]).astype(np.int8)
+    n = np.where(t == NUM, v.num[0][ii, jj], np.where(t == BOOL, v.num[0][ii, jj], 0.0))
+    empty = t == EMPTY                       # an empty element of an array is 0
+    t = np.where(empty, NUM, t).astype(np.int8)
+    block = (run.sheet, slice(r0, r2 + 1), slice(c0, c2 + 1))
+    num[block[0]][block[1:]] = n
+    tag[block[0]][block[1:]] = t
+    if v.txt is not None:
+        words = np.where(t == TEXT, np.asarray(v.txt[0], dtype=object)[ii, jj], None)
+        txt[block[0]][block[1:]] = words
+
+
+def store_value(num, tag, txt, r, c, v):
+    """A typed value (number, bool, text, error text) into a sheet's value stores at (r, c)."""
+    if isinstance(v, bool):
+        num[r, c], tag[r, c] = float(v), BOOL
+    elif isinstance(v, (int, float)):
+        num[r, c], tag[r, c] = float(v), NUM
+    elif isinstance(v, str) and v in ERRORS:
+        tag[r, c] = ERRORS[v]
+    elif isinstance(v, str):
+        tag[r, c], txt[r, c] = TEXT, v
+
+
+def _as_cells(v: Val, k: int) -> Val:
+    """A cell holds one value: an array result that is not a single value is #VALUE!;
+    a formula whose value is an empty cell holds 0 (=Z99 with Z99 empty is 0)."""
+    if v.shape[1:] != (1, 1):
+        return _const("#VALUE!", k)
+    if v.pure == -1 and (v.tag == EMPTY).any():
+        v = Val(np.where(v.tag == EMPTY, 0.0, v.num), np.where(v.tag == EMPTY, NUM, v.tag).astype(np.int8), v.txt)
+    if v.shape[0] != k:
+        v = Val(np.broadcast_to(v.num, (k, 1, 1)), np.broadcast_to(v.tag, (k, 1, 1)),
+                None if v.txt is None else np.broadcast_to(v.txt, (k, 1, 1)))
+    return v
+
+
+def _schedule(path, runs: list[Run], dims, sheets, *, strict: bool = True, problems: list | None = None) -> list[Run]:
+    """Runs in dependency order; runs on a cycle (or referring to themselves) are split
+    into single cells and ordered again; a cycle of single cells is circular: an
+    EvaluationError with strict, else those cells get #VALUE! (as LibreOffice writes its
+    Err:522) and a note naming them."""
+    while True:
+        owner = {n: np.full(d, -1, np.int32) for n, d in dims.items()}
+        for i, run in enumerate(runs):
+            c0 = int(run.cols[0])
+            owner[run.sheet][run.row, slice(c0, c0 + len(run.cols)) if run.contiguous else run.cols] = i
+        for i, run in enumerate(runs):
+            if run.array is not None:          # an array formula owns its whole range
+                block = owner[run.sheet][run.row:run.array[0] + 1, int(run.cols[0]):run.array[1] + 1]
+                block[block == -1] = i
+        deps: list[set[int]] = []
+        split = set()
+        for i, run in enumerate(runs):
+            d = set()
+            for ref in (run.refs if not run.error else ()):
+                target = ref.sheet or run.sheet
+                if target not in owner:
+                    continue
+                r1, r2, c1, c2 = _span(run, ref)
+                if r1 < 1 or c1 < 1:
+                    continue
+                block = owner[target][r1:r2 + 1, c1:c2 + 1]
+                if block.size <= 4096:
+                    ids = set(block.ravel().tolist())
+                    ids.discard(-1)
+                else:
+                    ids = set(np.unique(block[block >= 0]).tolist())
+                if len(run.cols) > 1 and (i in ids or ref.c1_abs != ref.c2_abs):
+                    split.add(i)                # self-reference, or a range whose width varies
+                d |= ids
+            deps.append(d)
+        if split:
+            runs = [r for i, run in enumerate(runs) for r in (_split(run) if i in split else [run])]
+            continue
+        order, indeg = [], [len(d - {i}) for i, d in enumerate(deps)]
+        users: list[list[int]] = [[] for _ in runs]
+        for i, d in enumerate(deps):
+            for j in d - {i}:
+                users[j].append(i)
+        ready = [i for i, n in enumerate(indeg) if n == 0]
+        self_loops = [i for i, d in enumerate(deps) if i in d]
+        while ready:
+            i = ready.pop()
+            order.append(i)
+            for u in users[i]:
+                indeg[u] -= 1
+                if indeg[u] == 0:
+                    ready.append(u)
+        stuck = [i for i in range(len(runs)) if indeg[i] > 0] + self_loops
+        if not stuck:
+            return [runs[i] for i in order]
+        multi = [i for i in stuck if len(runs[i].cols) > 1]
+        if multi:
+            keep = set(multi)
+            runs = [r for i, run in enumerate(runs) for r in (_split(run) if i in keep else [run])]
+            continue
+        cells = sorted({runs[i].where() for i in stuck})
+        what = (f"circular reference among {', '.join(cells[:12])}"
+                + (f" and {len(cells) - 12} more cells" if len(cells) > 12 else ""))
+        if strict or problems is None:
+            raise EvaluationError(f"{path}: {what}")
+        problems.append(f"{cells[0]}: {what}: #VALUE!")
+        note = Note(what, "#VALUE!")
+        for i in set(stuck):
+            runs[i].error = note                # no inputs now: ordered first in the next pass
+
+
+
+_PARSED: dict = {}
+
+
+def _parse_run(formula: str, row: int, col: int, names: dict, names_key) -> tuple:
+    """(tree, error, references) of a run's first formula; kept for the rest of the process
+    (a class's workbooks share their formulas), keyed by the text, the cell and the names."""
+    key = (formula, row, col, names_key)
+    hit = _PARSED.get(key)
+    if hit is not None:
+        return hit
+    tree, error = None, None
+    try:
+        tree = parse_formula("=" + formula, row, col, names)
+        bad = sorted(f for f in functions_of(tree) if f not in SUPPORTED)
+        if bad:
+            error = Note(f"unsupported function{'s' if len(bad) > 1 else ''} {', '.join(bad)}")
+        elif (wrong := arity_problem(tree)) is not None:
+            error = Note(wrong, "#VALUE!")
+    except ParseError as e:
+        error = Note(f"cannot read the formula ={_show(formula, 80)}: {e}", e.code)
+    hit = (tree, error, refs_of(tree) if tree is not None else [])
+    if len(_PARSED) > 100_000:
+        _PARSED.clear()
+    _PARSED[key] = hit
+    return hit
+
+
+# --------------------------------------------------------------------------- formulas over given values
+def parse_rows(sheet: Sheet, rows: set[int]) -> list[Run]:
+    """The formula cells of some rows of a sheet (no defined names) as parsed runs, for
+    evaluate_runs: sheetkin.course.localjudge evaluates a generated sheet's formulas over a
+    student's numbers. A run whose ranges change width from cell to cell is split into cells
+    (as _schedule does); a formula that cannot be read is left out."""
+    sub = Sheet(sheet.name, sheet.state, formulas={k: f for k, f in sheet.formulas.items() if k[0] in rows})
+    out = []
+    for run in _group_runs(sub):
+        run.tree, run.error, run.refs = _parse_run(run.formula, run.row, int(run.cols[0]), {}, frozenset())
+        if run.error:
+            continue
+        varies = len(run.cols) > 1 and any(ref.c1_abs != ref.c2_abs for ref in run.refs)
+        out.extend(_split(run) if varies else [run])
+    return out
+
+
+def evaluate_runs(runs: list[Run], num: dict, tag: dict, txt: dict) -> list[tuple[Run, np.ndarray, np.ndarray]]:
+    """(run, numbers, tags) of each run's formula evaluated over the given value stores
+    (sheet -> arrays, as Book holds them), nothing written back: every run reads the
+    stores as they are, whatever order the runs come in. An internal error of the
+    evaluator is the cell's #VALUE!, as in evaluate_sheets without strict."""
+    ctx = _Context(num, tag, txt, {None: {}})
+    out = []
+    with np.errstate(all="ignore"):
+        for run in runs:
+            k = len(run.cols)
+            try:
+                v = _as_cells(ctx.eval(run.tree, run), k)
+            except Exception:      # noqa: BLE001 - the cell's problem, not the caller's
+                v = _const("#VALUE!", k)
+            out.append((run, v.num[:, 0, 0], v.tag[:, 0, 0]))
+    return out
+
+
+# --------------------------------------------------------------------------- results as tables
+def rows_frame(book: Book, sheet: str | None = None, first_col: int = 5) -> pd.DataFrame:
+    """One sheet as a table: rows named by column A, columns = positions (column E on).
+    Rows without a name in column A are left out; values are floats, text, booleans or
+    error texts such as '#NUM!'."""
+    sheet = sheet or book.order[0]
+    sh = book.sheets[sheet]
+    # the table's rows start at 5: cells above (a workbook's summary counts) do not widen it
+    last = max(max((c for r, c in sh.formulas if r > 4), default=first_col),
+               max((c for r, c in sh.consts if r > 4), default=first_col), first_col)
+    filled = {r for (r, c) in sh.formulas if c >= first_col} | {r for (r, c) in sh.consts if c >= first_col}
+    num, tag = book.num[sheet], book.tag[sheet]
+    stop = min(last + 1, num.shape[1])             # columns past the stores are empty
+    names, data = [], []
+    for r in range(1, sh.max_row + 1):
+        label = book.value(sheet, r, 1)
+        if not isinstance(label, str) or not label or r <= 4 or r not in filled:
+            continue
+        names.append(label)
+        if r < num.shape[0] and not tag[r, first_col:stop].any():       # numbers only
+            values = num[r, first_col:stop].tolist()
+        else:
+            values = [book.value(sheet, r, c) for c in range(first_col, stop)]
+        data.append(values + [None] * (last + 1 - max(stop, first_col)))
+    df = pd.DataFrame(data, index=names, columns=list(range(1, last - first_col + 2)), dtype=object)
+    df.index.name = "name"
+    return df
+
+
+def evaluate_frame(path: str | Path, sheet: str | None = None) -> pd.DataFrame:
+    """A workbook's named rows (column A) against its positions (column E onwards), every
+    formula evaluated headlessly: the Python face of `sheetkin evaluate`."""
+    return rows_frame(evaluate(path), sheet)

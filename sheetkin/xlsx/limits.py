@@ -1,0 +1,236 @@
+"""The evaluator's defences against hostile input (a workbook from anyone): how deep
+evaluating a formula recurses with the names it uses expanded (MAX_EVAL_DEPTH); defined
+names that cannot be evaluated (unknown functions, circles of names, chains too deep: each
+made a constant error with a note); and the refusals of a whole workbook, as one line
+(UnusableWorkbook): a used range, a number of cells read or an amount of formula text past
+the Limits. Runs whose relative ranges would read too many cells at once are evaluated in
+pieces (CHUNK_READS).
+
+Separate from evaluator.py so that these bounds are read, and changed, in one place;
+evaluator.py calls them before and while it evaluates. The counts mirror how
+evaluator_context.py reads a reference.
+"""
+from __future__ import annotations
+
+import dataclasses
+from operator import itemgetter
+
+from openpyxl.utils import get_column_letter
+
+from .context import PAD_CELLS
+from .parse import Note, Ref, _nodes, arity_problem, functions_of, refs_of
+from .runs import Run, _span
+from .values import SUPPORTED
+from .cells import Sheet
+from .package import Limits, UnusableWorkbook, _show
+
+MAX_EVAL_DEPTH = 200     # levels of a formula with the names it uses expanded (~2 Python frames each)
+CHUNK_READS = 1 << 22    # cells a piece of a run reads at once, per relative range (about 70 MB)
+
+
+def _depth(tree, weights: dict | None = None) -> int:
+    """How deep evaluating a tree recurses: levels of functions, parentheses and operators
+    (a chain of + - ... leaning left counts once: _Context.eval walks it in a loop), plus
+    for each name the depth of the name's own formula (weights)."""
+    best, stack = 0, [(tree, 1)]
+    while stack:
+        node, d = stack.pop()
+        best = max(best, d)
+        kind = node[0]
+        if kind == "fn":
+            stack.extend((a, d + 1) for a in node[2])
+        elif kind in ("neg", "pct"):
+            stack.append((node[1], d + 1))
+        elif kind == "bin":
+            stack.append((node[2], d))
+            stack.append((node[3], d + 1))
+        elif kind == "name" and weights:
+            best = max(best, d + weights.get(node[1], 0))
+    return best
+
+
+def _names_used(tree) -> list[str]:
+    return [node[1] for node in _nodes(tree) if node[0] == "name"]
+
+
+def _check_names(name_refs: dict) -> dict[str, Note]:
+    """Defined names that cannot be evaluated, made constant errors (in place), with a note
+    each: unknown functions (#NAME?), wrong numbers of arguments (#VALUE!), names that
+    refer to each other in a circle or to themselves (#N/A, as LibreOffice gives), chains
+    of names deeper than MAX_EVAL_DEPTH (#VALUE!). Iterative: a chain of 10,000 names is
+    no recursion."""
+    notes: dict[str, Note] = {}
+    for n, tree in list(name_refs.items()):
+        bad = sorted(f for f in functions_of(tree) if f not in SUPPORTED)
+        wrong = None if bad else arity_problem(tree)
+        if bad or wrong:
+            code = "#NAME?" if bad else "#VALUE!"
+            notes[n] = Note(f"the name {n}: " + (f"unsupported function {', '.join(bad)}" if bad else wrong), code)
+            name_refs[n] = ("const", code)
+    uses = {n: [m for m in _names_used(t) if m in name_refs] for n, t in name_refs.items()}
+    state: dict[str, int] = {}          # 1 being visited, 2 done
+    weight: dict[str, int] = {}
+    for start in uses:
+        if start in state:
+            continue
+        state[start] = 1
+        path, stack = [start], [(start, iter(uses[start]))]
+        while stack:
+            n, it = stack[-1]
+            m = next(it, None)
+            if m is None:
+                stack.pop()
+                path.pop()
+                state[n] = 2
+                if n not in notes:
+                    weight[n] = _depth(name_refs[n], weight)
+                    if weight[n] > MAX_EVAL_DEPTH:
+                        notes[n] = Note(f"the name {n}: names within names nested deeper than "
+                                        f"{MAX_EVAL_DEPTH} levels", "#VALUE!")
+                        name_refs[n], weight[n] = ("const", "#VALUE!"), 1
+                continue
+            if state.get(m) == 1:                   # back to a name on the path: a circle
+                circle = path[path.index(m):]
+                text = " -> ".join(circle + [m])
+                for x in circle:
+                    notes[x] = Note(f"the names refer to each other in a circle ({_show(text, 200)}): #N/A", "#N/A")
+                    name_refs[x], weight[x] = ("const", "#N/A"), 1
+            elif m not in state:
+                state[m] = 1
+                path.append(m)
+                stack.append((m, iter(uses[m])))
+    return notes
+
+
+def _run_notes(run: Run, sheets: dict, name_refs: dict, name_notes: dict) -> list[str]:
+    """Notes for a run that parsed: a sheet that does not exist (#REF!), a name that could
+    not be evaluated, formulas nested too deep through names (the run becomes #VALUE!)."""
+    out = []
+    for ref in run.refs:
+        if ref.sheet is not None and ref.sheet not in sheets:
+            out.append(f"{run.where()}: refers to the sheet '{_show(ref.sheet, 60)}', which does not exist: #REF!")
+            break
+    used = [n for n in _names_used(run.tree) if n in name_refs] if run.tree is not None else []
+    for n in dict.fromkeys(used):
+        if n in name_notes:
+            out.append(f"{run.where()}: {name_notes[n]}")
+    if used and _depth(run.tree, _name_depths(name_refs)) > MAX_EVAL_DEPTH:
+        run.error = Note(f"nesting deeper than {MAX_EVAL_DEPTH} levels with its names", "#VALUE!")
+        out.append(f"{run.where()}: {run.error}")
+    return out
+
+
+_DEPTHS: dict = {}
+
+
+def _name_depths(name_refs: dict) -> dict:
+    """Each name's own depth (after _check_names, no name is deeper than MAX_EVAL_DEPTH),
+    kept for the last dict of names asked about."""
+    if _DEPTHS.get("of") is not name_refs:
+        _DEPTHS.clear()
+        _DEPTHS.update(of=name_refs, depths={n: _depth(t) for n, t in name_refs.items()})
+    return _DEPTHS["depths"]
+
+
+def _used_range(sh: Sheet) -> tuple[int, int]:
+    """(last row, last column) of the cells that hold something (styled empty cells do not count)."""
+    rows = cols = 0
+    for cells in (sh.consts, sh.formulas, getattr(sh, "dangling", {})):
+        if cells:
+            rows = max(rows, max(map(itemgetter(0), cells)))
+            cols = max(cols, max(map(itemgetter(1), cells)))
+    for r2, c2 in getattr(sh, "arrays", {}).values():     # an array formula's whole range
+        rows, cols = max(rows, r2), max(cols, c2)
+    return rows, cols
+
+
+def _store_dims(path: str, sheets: dict, limits: Limits) -> dict[str, list[int]]:
+    """The value stores' shapes: each sheet's used range (cell A1 is [1, 1]). Refused
+    (one line) when all sheets together span more than limits.max_used_cells."""
+    dims, total = {}, 0
+    for n, sh in sheets.items():
+        rows, cols = _used_range(sh)
+        dims[n] = [rows + 1, cols + 1]
+        total += rows * cols
+    if total > limits.max_used_cells:
+        n = max(dims, key=lambda x: dims[x][0] * dims[x][1])
+        rows, cols = dims[n][0] - 1, dims[n][1] - 1
+        raise UnusableWorkbook(path, f"its sheets' used ranges span {total:,} cells (sheet '{_show(n, 60)}' "
+                               f"A1:{get_column_letter(cols)}{rows}, {rows * cols:,})",
+                               f"expected at most {limits.max_used_cells:,} cells (rows x columns from A1 "
+                               "to the last cell that holds something): clear stray cells far from the table")
+    return dims
+
+
+def _ref_reads(run: Run, ref: Ref, dims: dict, k: int) -> tuple[int, int]:
+    """(cells read once for the run, cells read for each cell of the run) by one
+    reference, as _Context.ref reads it (small blocks whole, large ones clipped)."""
+    d = dims.get(ref.sheet or run.sheet)
+    if d is None:
+        return 0, 0
+    if not ref.is_range:
+        return 0, 1
+    r1, r2, c1, c2 = _span(run, ref)
+    clipped_rows = max(0, min(r2, d[0] - 1) - r1 + 1)
+    if k == 1 or (ref.c1_abs and ref.c2_abs):          # one block for the run
+        rows, cols = r2 - r1 + 1, c2 - c1 + 1
+        if rows * cols > PAD_CELLS:
+            rows, cols = clipped_rows, max(0, min(c2, d[1] - 1) - c1 + 1)
+        return rows * cols, 0
+    rows, width = r2 - r1 + 1, abs(ref.c2 - ref.c1) + 1  # a block per cell
+    if rows * width > PAD_CELLS:
+        rows, width = clipped_rows, min(width, max(0, d[1] - c1))
+    return 0, rows * width
+
+
+def _run_reads(run: Run, dims: dict, name_refs: dict) -> tuple[int, int]:
+    k = len(run.cols)
+    once = per_cell = 0
+    refs = list(run.refs or [])
+    if run.tree is not None:
+        for n in _names_used(run.tree):
+            if n in name_refs:
+                refs += refs_of(name_refs[n])
+    for ref in refs:
+        a, b = _ref_reads(run, ref, dims, k)
+        once, per_cell = once + a, per_cell + b
+    return once, per_cell
+
+
+def _check_reads(path: str, runs: list[Run], dims: dict, name_refs: dict, limits: Limits) -> None:
+    """Refuse (one line) a workbook whose formulas read more than limits.max_reads cells
+    in all (the evaluation's time is about proportional)."""
+    total = 0
+    for run in runs:
+        if run.error:
+            continue
+        once, per_cell = _run_reads(run, dims, name_refs)
+        total += once + per_cell * len(run.cols)
+        if total > limits.max_reads:
+            raise UnusableWorkbook(path, f"its formulas read more than {limits.max_reads:,} cells in all "
+                                   f"(at {run.where()}, among others)",
+                                   f"expected at most {limits.max_reads:,} (sheetkin's limit for a workbook)")
+
+
+def _check_formula_text(path: str, runs: list[Run], limits: Limits) -> None:
+    """Refuse (one line) a workbook with more formula text to parse than
+    limits.max_formula_chars (a run's formula counts once)."""
+    total = sum(len(run.formula) for run in runs)
+    if total > limits.max_formula_chars:
+        raise UnusableWorkbook(path, f"its formulas hold {total:,} characters of text to read (each formula "
+                               "once, a row of cells filled from a neighbour once)",
+                               f"expected at most {limits.max_formula_chars:,} (sheetkin's limit for a workbook)")
+
+
+def _chunks(run: Run, dims: dict, name_refs: dict) -> list[Run]:
+    """A run in pieces small enough that its relative ranges, read for every cell at once,
+    stay below CHUNK_READS cells (a row of =SUM(A1:A100000) filled right is read 1000
+    columns at a time, not 4000)."""
+    k = len(run.cols)
+    if k == 1 or run.error:
+        return [run]
+    per_cell = _run_reads(run, dims, name_refs)[1]
+    step = max(1, CHUNK_READS // max(per_cell, 1))
+    if step >= k:
+        return [run]
+    return [dataclasses.replace(run, cols=run.cols[i:i + step]) for i in range(0, k, step)]

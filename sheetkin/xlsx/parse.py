@@ -1,0 +1,328 @@
+"""Formula text to expression trees: openpyxl's tokenizer, then precedence climbing, after
+Excel's limits for one formula (length, nesting; then the number of arguments, ARITY). A
+tree is nested tuples: ("const", value), ("ref", Ref), ("name", NAME), ("fn", NAME, args),
+("bin", op, left, right), ("neg", x), ("pct", x), ("missing",); a Ref's relative parts are
+offsets from the host cell, so one tree serves every cell of a run.
+
+Separate from evaluator.py because parsing needs no values and no workbook: the evaluator,
+its hostile-input checks (evaluator_limits.py) and the fuzz tests use it on its own. Its
+errors are ParseError (a formula that cannot be read) and Note (a cell's problem, with the
+error value the cell gets).
+"""
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass
+
+from openpyxl.formula.tokenizer import Token, Tokenizer
+from openpyxl.utils import column_index_from_string
+
+from .cells import _MAX_COL, _MAX_ROW
+from .package import _show
+
+_CELL = re.compile(r"^(\$?)([A-Za-z]{1,3})(\$?)(\d+)$")
+
+
+@dataclass(frozen=True)
+class Ref:
+    """A cell or range reference; relative parts are offsets from the host cell."""
+    sheet: str | None
+    r1: int
+    c1: int
+    r2: int
+    c2: int
+    r1_abs: bool
+    c1_abs: bool
+    r2_abs: bool
+    c2_abs: bool
+
+    @property
+    def is_range(self):
+        return (self.r1, self.c1, self.r1_abs, self.c1_abs) != (self.r2, self.c2, self.r2_abs, self.c2_abs)
+
+
+class ParseError(ValueError):
+    """A formula that cannot be read; `code` is the error its cell gets."""
+
+    def __init__(self, message: str, code: str = "#NAME?"):
+        super().__init__(message)
+        self.code = code
+
+
+class Note(str):
+    """A cell's problem as one line of text (Book.notes); `code` is the error value the
+    cell gets (#NAME? for an unknown function, #VALUE! for a wrong number of arguments...)."""
+    code: str
+
+    def __new__(cls, text: str, code: str = "#NAME?"):
+        self = super().__new__(cls, " ".join(str(text).split("\n")))
+        self.code = code
+        return self
+
+
+def _split_sheet(text: str) -> tuple[str | None, str]:
+    if "!" not in text:
+        return None, text
+    sheet, ref = text.rsplit("!", 1)
+    if sheet.startswith("'") and sheet.endswith("'"):
+        sheet = sheet[1:-1].replace("''", "'")
+    if sheet.startswith("["):
+        raise ParseError(f"a reference to another file ({text})")
+    return sheet, ref
+
+
+def _cell(text: str, host_r: int, host_c: int):
+    m = _CELL.match(text)
+    if not m:
+        return None
+    cabs, col, rabs, row = m.groups()
+    r, c = int(row), column_index_from_string(col.upper())
+    if not (1 <= r <= 1048576 and c <= 16384):     # past Excel's grid: a name (Excel: #NAME?)
+        return None
+    return (r if rabs else r - host_r, c if cabs else c - host_c, bool(rabs), bool(cabs))
+
+
+def _operand_ref(text: str, host_r: int, host_c: int, names: dict):
+    if text.upper().endswith("!#REF!"):     # Sheet1!#REF!: a reference to deleted cells
+        return ("const", "#REF!")
+    sheet, ref = _split_sheet(text)
+    parts = ref.split(":")
+    if len(parts) > 2:
+        raise ParseError(f"unsupported reference {text}")
+    ends = [_cell(p, host_r, host_c) for p in parts]
+    if all(e is not None for e in ends):
+        a, b = ends[0], ends[-1]
+        return Ref(sheet, a[0], a[1], b[0], b[1], a[2], a[3], b[2], b[3])
+    if sheet is None and len(parts) == 1 and ref.upper() in names:
+        return ("name", ref.upper())
+    if len(parts) == 2:
+        whole = _whole(parts, host_r, host_c)
+        if whole is None:
+            raise ParseError(f"unsupported reference {text}")
+        return Ref(sheet, *whole)
+    return ("name", ref.upper())
+
+
+_WHOLE_COL = re.compile(r"^(\$?)([A-Za-z]{1,3})$")
+_WHOLE_ROW = re.compile(r"^(\$?)(\d{1,7})$")
+
+
+def _whole(parts: list[str], host_r: int, host_c: int):
+    """A whole-column (A:C, $A:$A) or whole-row (2:2) reference as the range of every row
+    (column) of the sheet: r1 c1 r2 c2 and their absolute flags, like a Ref. The evaluator
+    bounds it by the workbook's used range (_bound_whole)."""
+    a, b = _WHOLE_COL.match(parts[0]), _WHOLE_COL.match(parts[1])
+    if a and b:
+        c1, c2 = column_index_from_string(a[2].upper()), column_index_from_string(b[2].upper())
+        if max(c1, c2) > _MAX_COL:
+            return None
+        return (1, c1 if a[1] else c1 - host_c, _MAX_ROW, c2 if b[1] else c2 - host_c,
+                True, bool(a[1]), True, bool(b[1]))
+    a, b = _WHOLE_ROW.match(parts[0]), _WHOLE_ROW.match(parts[1])
+    if a and b:
+        r1, r2 = int(a[2]), int(b[2])
+        if not (1 <= r1 <= _MAX_ROW and 1 <= r2 <= _MAX_ROW):
+            return None
+        return (r1 if a[1] else r1 - host_r, 1, r2 if b[1] else r2 - host_r, _MAX_COL,
+                bool(a[1]), True, bool(b[1]), True)
+    return None
+
+
+_PREC = {"=": 1, "<>": 1, "<": 1, ">": 1, "<=": 1, ">=": 1, "&": 2, "+": 3, "-": 3, "*": 4, "/": 4, "^": 5}
+
+
+# Excel's own limits for a formula (Microsoft, "Excel specifications and limits"): a cell
+# whose formula exceeds one gets an error and a note. They also keep the parser (recursive
+# descent, about 3 Python frames a level) and the evaluation (about 2) below Python's
+# recursion limit: a sum of 4000 terms is a left-leaning chain, walked iteratively.
+MAX_FORMULA_CHARS = 8192          # characters of a formula's text
+MAX_NESTING = 64                  # nested functions and parentheses (and runs of + - %)
+MAX_ARGS = 255                    # arguments of one function
+
+# arguments each function takes (min, max); a call outside them is #VALUE! and a note
+# (LibreOffice writes #VALUE! for =SIN(1,2)); functions not listed take 0..MAX_ARGS
+ARITY = {
+    **{f: (1, 1) for f in ("SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN", "SQRT", "RADIANS", "DEGREES",
+                           "ABS", "SIGN", "EXP", "LN", "LOG10", "NOT", "ISNUMBER", "ISERROR", "ISTEXT")},
+    **{f: (2, 2) for f in ("ATAN2", "MOD", "POWER", "ROUND", "IFERROR")},
+    **{f: (1, MAX_ARGS) for f in ("SUM", "AVERAGE", "MIN", "MAX", "COUNT", "SUMPRODUCT", "AND", "OR")},
+    "IF": (1, 3), "PI": (0, 0),
+    # Excel's arities of functions other branches add (harmless until they are supported)
+    "INT": (1, 1), "TRUNC": (1, 2), "FLOOR": (2, 2), "CEILING": (2, 2), "SUMSQ": (1, MAX_ARGS),
+    "PRODUCT": (1, MAX_ARGS), "INDEX": (2, 4), "CHOOSE": (2, MAX_ARGS), "TRUE": (0, 0), "FALSE": (0, 0),
+}
+
+
+def _check_limits(tokens: list) -> None:
+    """Refuse, before parsing, a formula nested deeper than MAX_NESTING levels (functions,
+    parentheses, array braces, and runs of prefix or postfix operators, which the parser
+    and the tree also nest)."""
+    depth = run = 0
+    for t in tokens:
+        typ = t.type
+        if typ in (Token.OP_PRE, Token.OP_POST):
+            run += 1
+            if depth + run > MAX_NESTING:
+                raise ParseError(f"nesting deeper than {MAX_NESTING} levels (Excel's limit)", "#VALUE!")
+            continue
+        run = 0
+        if t.subtype == Token.OPEN:
+            depth += 1
+            if depth > MAX_NESTING:
+                raise ParseError(f"nesting deeper than {MAX_NESTING} levels (Excel's limit)", "#VALUE!")
+        elif t.subtype == Token.CLOSE:
+            depth -= 1
+
+
+def arity_problem(tree) -> str | None:
+    """The first call with a wrong number of arguments, as a note, else None."""
+    for node in _nodes(tree):
+        if node[0] == "fn":
+            n = len(node[2])
+            lo, hi = ARITY.get(node[1], (0, MAX_ARGS))
+            if not lo <= n <= hi:
+                want = f"{lo}" if lo == hi else f"{lo} to {hi}"
+                return f"{node[1]} takes {want} argument{'s' if hi != 1 else ''}, not {n}"
+    return None
+
+
+_MANTISSA_E = re.compile(r"^(\d+\.?\d*|\.\d+)[Ee]$")
+
+
+def _merge_exponents(tokens: list) -> list:
+    """openpyxl's tokenizer reads =12.5E-1 as the name '12.5E', '-', 1: glue such a
+    mantissa, its exponent's sign and digits back into one number."""
+    out, i = [], 0
+    while i < len(tokens):
+        t = tokens[i]
+        if (t.type == Token.OPERAND and _MANTISSA_E.match(t.value) and i + 2 < len(tokens)
+                and tokens[i + 1].type == Token.OP_IN and tokens[i + 1].value in "+-"
+                and tokens[i + 2].type == Token.OPERAND and tokens[i + 2].subtype == Token.NUMBER
+                and tokens[i + 2].value.isdigit()):
+            out.append(Token(t.value + tokens[i + 1].value + tokens[i + 2].value, Token.OPERAND, Token.NUMBER))
+            i += 3
+            continue
+        out.append(t)
+        i += 1
+    return out
+
+
+def parse_formula(formula: str, host_r: int, host_c: int, names: dict):
+    """Expression tree of a formula (openpyxl's tokenizer, then precedence climbing).
+    Excel's limits are enforced first (see _check_limits), so the recursive descent and
+    every walk of the tree stay far from Python's recursion limit; anything unreadable is
+    a ParseError."""
+    if len(formula) > MAX_FORMULA_CHARS + 1:              # + 1: the "="
+        raise ParseError(f"longer than {MAX_FORMULA_CHARS} characters (Excel's limit)", "#VALUE!")
+    try:
+        tokens = _merge_exponents([t for t in Tokenizer(formula).items if t.type != Token.WSPACE])
+    except Exception as e:      # noqa: BLE001 - the tokenizer's own errors (TokenizerError, IndexError...)
+        raise ParseError(f"not a formula ({type(e).__name__}: {_show(e, 100)})") from None
+    _check_limits(tokens)
+    pos = 0
+
+    def peek():
+        return tokens[pos] if pos < len(tokens) else None
+
+    def take():
+        nonlocal pos
+        pos += 1
+        return tokens[pos - 1]
+
+    def primary():
+        t = take() if peek() else None
+        if t is None:
+            raise ParseError("the formula ends too early")
+        if t.type == Token.OP_PRE:
+            node = ("neg", unary_operand()) if t.value == "-" else unary_operand()
+            return postfix(node)
+        if t.type == Token.OPERAND:
+            if t.subtype == Token.NUMBER:
+                x = float(t.value)
+                node = ("const", x if math.isfinite(x) else "#NUM!")   # =1e999: past the largest double
+            elif t.subtype == Token.TEXT:
+                node = ("const", t.value[1:-1].replace('""', '"'))
+            elif t.subtype == Token.LOGICAL:
+                node = ("const", t.value.upper() == "TRUE")
+            elif t.subtype == Token.ERROR:
+                node = ("const", t.value.upper())
+            else:
+                node = _operand_ref(t.value, host_r, host_c, names)
+                if isinstance(node, Ref):
+                    node = ("ref", node)
+            return postfix(node)
+        if t.type == Token.PAREN and t.subtype == Token.OPEN:
+            node = expression(0)
+            close = take() if peek() else None
+            if close is None or close.type != Token.PAREN:
+                raise ParseError("unbalanced parentheses")
+            return postfix(node)
+        if t.type == Token.FUNC and t.subtype == Token.OPEN:
+            name = t.value[:-1].upper().removeprefix("_XLFN.")
+            args = []
+            if peek() and peek().type == Token.FUNC and peek().subtype == Token.CLOSE:
+                take()
+                return postfix(("fn", name, args))
+            while True:
+                nxt = peek()
+                if nxt and (nxt.type == Token.SEP or (nxt.type == Token.FUNC and nxt.subtype == Token.CLOSE)):
+                    args.append(("missing",))      # =ROUND(2.5,) : an empty argument
+                else:
+                    args.append(expression(0))
+                sep = take() if peek() else None
+                if sep is None:
+                    raise ParseError(f"{name}( is not closed")
+                if sep.type == Token.FUNC and sep.subtype == Token.CLOSE:
+                    return postfix(("fn", name, args))
+                if not (sep.type == Token.SEP and sep.subtype == Token.ARG):
+                    raise ParseError(f"unexpected {sep.value!r} in {name}(...)")
+        raise ParseError(f"unexpected {t.value!r}")
+
+    def unary_operand():
+        # unary minus binds tighter than ^ in Excel: -2^2 = 4
+        return primary()
+
+    def postfix(node):
+        while peek() and peek().type == Token.OP_POST:
+            take()
+            node = ("pct", node)
+        return node
+
+    def expression(min_prec):
+        left = primary()
+        while peek() and peek().type == Token.OP_IN and _PREC.get(peek().value, 0) > min_prec:
+            op = take().value
+            right = expression(_PREC[op])
+            left = ("bin", op, left, right)
+        return left
+
+    tree = expression(0)
+    if pos != len(tokens):
+        raise ParseError(f"unexpected {tokens[pos].value!r}")
+    return tree
+
+
+def _nodes(tree):
+    """Every node of a tree, parents first, left to right; iterative (a 4000-term sum is a
+    tree 4000 deep)."""
+    stack = [tree]
+    while stack:
+        node = stack.pop()
+        yield node
+        kind = node[0]
+        if kind == "fn":
+            stack.extend(reversed(node[2]))
+        elif kind in ("neg", "pct"):
+            stack.append(node[1])
+        elif kind == "bin":
+            stack.append(node[3])
+            stack.append(node[2])
+
+
+def functions_of(tree) -> set[str]:
+    return {node[1] for node in _nodes(tree) if node[0] == "fn"}
+
+
+def refs_of(tree) -> list[Ref]:
+    return [node[1] for node in _nodes(tree) if node[0] == "ref"]
