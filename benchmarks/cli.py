@@ -67,6 +67,7 @@ def best_median(times):
 
 def output_speed(n: int, repeat: int) -> dict:
     import numpy as np
+
     import sheetkin
     from sheetkin.cli.angles import parse_range
     from sheetkin.views.output import write_compute
@@ -135,8 +136,8 @@ def startup(runs: int) -> dict:
             times[k].append(run(argv)[0])
     out = {k: best_median(v) for k, v in times.items()}
     base = out["python -c 'import numpy'"]
-    out["ratio_compute"] = [a / b for a, b in zip(out["sheetkin compute workbooks/fourbar.toml"], base)]
-    out["ratio_help"] = [a / b for a, b in zip(out["sheetkin --help"], base)]
+    out["ratio_compute"] = [a / b for a, b in zip(out["sheetkin compute workbooks/fourbar.toml"], base, strict=False)]
+    out["ratio_help"] = [a / b for a, b in zip(out["sheetkin --help"], base, strict=False)]
     return out
 
 

@@ -289,7 +289,7 @@ def main(argv=None) -> int:
                     rows.append((f"{stem}{label}", "formulas: calculate", res["calc"], None, ratio(res["calc"], ours_ref)))
                     rows.append((f"{stem}{label}", "formulas: total", total, None, ratio(total, ours_ref)))
                     ok = 0
-                    for (sheet, r, c), theirs in zip(cells, res["values"]):
+                    for (sheet, r, c), theirs in zip(cells, res["values"], strict=False):
                         mine = ref_book.value(sheet, r, c)
                         ok += close(mine, theirs)
                         if not close(mine, theirs):

@@ -2,7 +2,7 @@
 
     python benchmarks/fuzz_scene.py [--examples N]
 
-Runs tests/test_fuzz_scene.py's two generators (random documents from the scene's keys,
+Runs tests/kinematics/test_fuzz_scene.py's two generators (random documents from the scene's keys,
 random snippets in the bundled scenes) through its check, N cases each (hypothesis,
 derandomized), and prints: cases tried, refused cleanly (one-line SceneError), computed,
 refused by compute in one line, and crashes (anything else: must be 0).
@@ -17,12 +17,11 @@ import traceback
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path[:0] = [str(ROOT), str(ROOT / "tests")]
-
-from hypothesis import given, settings  # noqa: E402
-from hypothesis import strategies as st  # noqa: E402
+sys.path[:0] = [str(ROOT), str(ROOT / "tests"), str(ROOT / "tests" / "kinematics")]
 
 import test_fuzz_scene as fz  # noqa: E402
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
 
 
 def main() -> int:

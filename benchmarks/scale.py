@@ -16,7 +16,7 @@
 Peak memory at the largest size is the VmHWM of a fresh process that solves once.
 Target (issue 5): linear in both, >= 5 million group-positions per second.
 
-The synthetic chain is also what tests/test_scale_chain.py checks; it assembles over the
+The synthetic chain is also what tests/kinematics/test_scale_chain.py checks; it assembles over the
 whole crank revolution for any number of groups (checked up to 50 and more).
 """
 from __future__ import annotations

@@ -37,7 +37,6 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-import sheetkin  # noqa: E402
 from sheetkin.kinematics.scene import override_crank  # noqa: E402
 from sheetkin.sheet.workbook import write_workbook  # noqa: E402
 
@@ -88,7 +87,7 @@ def validate_time(folder: Path, jobs: int | None, tree: Path = ROOT) -> float:
         argv += ["--jobs", str(jobs)]
     env = dict(os.environ, PYTHONPATH=str(tree))
     t = time.perf_counter()
-    p = subprocess.run(argv, cwd=tree, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    p = subprocess.run(argv, cwd=tree, env=env, capture_output=True)
     wall = time.perf_counter() - t
     if p.returncode != 0:
         raise RuntimeError(f"validate {folder}: exit {p.returncode}: {p.stderr.decode()[-400:]}")

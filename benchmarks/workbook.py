@@ -38,7 +38,7 @@ def main(argv=None) -> int:
             wb.save(buf)
             builds.append(t1 - t)
             saves.append(time.perf_counter() - t1)
-        total = [b + s for b, s in zip(builds, saves)]
+        total = [b + s for b, s in zip(builds, saves, strict=False)]
         ws = wb.worksheets[0]
         print(f"{stem}, 360 columns, {ws.max_row} rows, {len(buf.getvalue()) / 1024:.0f} KB: "
               f"build {min(builds):.3f} s + save {min(saves):.3f} s; total best {min(total):.3f} s, "

@@ -20,7 +20,6 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import sheetkin  # noqa: E402
-from sheetkin.groups import kind_of  # noqa: E402
 from sheetkin.kinematics.scene import link_joints  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]

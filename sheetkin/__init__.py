@@ -10,7 +10,7 @@ beside them.
 The public names load on first use (PEP 562): `import sheetkin` costs only the scene
 reader, without numpy, so `sheetkin --help` and small commands start quickly; the solver
 loads with `sheetkin.solve` / `sheetkin.compute`, pandas with `compute()`'s DataFrame,
-openpyxl with the workbooks (tests/test_startup.py).
+openpyxl with the workbooks (tests/cli/test_startup.py).
 """
 from __future__ import annotations
 

@@ -2,7 +2,7 @@
 
 Why: a package's `__init__` exports its public API, but importing it must not pull in what
 only some of its modules need (numpy, pandas, openpyxl, matplotlib): `sheetkin --help`
-loads no numpy, and `validate` no pandas (tests/test_startup.py). A name that is also the
+loads no numpy, and `validate` no pandas (tests/cli/test_startup.py). A name that is also the
 name of a submodule is not exported this way: the import system would rebind it to the
 submodule.
 """

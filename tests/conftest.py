@@ -6,7 +6,6 @@ import shutil
 
 import pytest
 from hypothesis import settings
-
 from libreoffice import SETUP_HINT, soffice_path
 
 # Under CI the property tests draw the same examples every run (a red CI names a real

@@ -1,12 +1,12 @@
 """One small scene per group kind and per generalisation (guide on a moving link, kulisa
-about a moving axis, chains), shared by tests/test_groups.py and the other test files.
+about a moving axis, chains), shared by tests/groups/test_groups.py and the other test files.
 
 CASES: id -> (kind under test, scene text). Every kind in sheetkin.groups.KINDS has at
 least one case (test_groups checks it); DYNAMICS adds masses and loads to every case so the
 kinetostatics of each kind is checked by the energy balance.
 
-The checks both the cases (tests/test_groups.py) and the random instances of every kind
-and chain (tests/strategies.py, tests/test_properties.py) go through, each kind's next to
+The checks both the cases (tests/groups/test_groups.py) and the random instances of every kind
+and chain (tests/strategies.py, tests/kinematics/test_properties.py) go through, each kind's next to
 the others: check_geometry (kept distances, points on their lines, loop closure, written
 out here from the contract), check_loop (the kinds' loop equations and Cramer residuals at
 the closed form), check_reference (the mpmath solution), check_derivatives (8th-order
@@ -21,8 +21,8 @@ import numpy as np
 import pytest
 
 import sheetkin
-from sheetkin.studies.bench import FLOAT, reference_mp
 from sheetkin.groups import kind_of
+from sheetkin.studies.bench import FLOAT, reference_mp
 
 WORKBOOKS = Path(__file__).resolve().parents[1] / "workbooks"
 
@@ -186,7 +186,7 @@ def _rpr(scene, df, g, close):
 def _prp(scene, df, g, close):
     (n,) = g.joints
     nn = _xy(scene, df, n)
-    for j, (gd, tag, k) in enumerate(zip(g.guides, (f"s_{n}", f"s2_{n}"), g.links)):
+    for j, (gd, tag, k) in enumerate(zip(g.guides, (f"s_{n}", f"s2_{n}"), g.links, strict=False)):
         p, u = _guide_line(scene, df, gd)
         close(nn, p + df[tag].to_numpy() * u, f"N = P{j + 1} + {tag} u{j + 1}: on guide {j + 1}")
         close(_dir(df, k), u, f"block {k} turns with guide {j + 1}")
@@ -264,7 +264,7 @@ def check_loop(scene, angles, size=None):
             for name, (p, v, a) in joints.items():
                 assert np.allclose([*p, *v, *a], [*known[name][0], *known[name][1], *known[name][2]], **tol), \
                     (g.label, name, ANGLES[i])
-            for k, r in zip(g.links, (ra, rb)):
+            for k, r in zip(g.links, (ra, rb), strict=False):
                 assert math.cos(r[0] - links[k][0]) == pytest.approx(1.0, abs=1e-12), (g.label, k)
                 assert np.allclose(r[1:], links[k][1:], **tol), (g.label, k, r, links[k])
             for tag, triple in group_slides.items():

@@ -11,9 +11,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import openpyxl
-from openpyxl.utils import get_column_letter
-
 import realfiles as rf
+from openpyxl.utils import get_column_letter
 from realfiles import cell
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -54,7 +53,7 @@ def names_lo(d: Path) -> Book:
 
 NAMES_EXPECTED = {"Calc!B1": 6.0, "Calc!C1": 7.0, "Calc!D1": 13.0, "Calc!E1": 21.0, "Calc!F1": 11.0,
                   "Calc!G1": 50.0, "Calc!H1": 3.0, "Other!B1": 1000.0, "Other!C1": True,
-                  **{f"Calc!{c}2": 6.0 * x for c, x in zip("CDEFG", (1, 2, 3, 4, 5))}}
+                  **{f"Calc!{c}2": 6.0 * x for c, x in zip("CDEFG", (1, 2, 3, 4, 5), strict=False)}}
 
 
 def names_excel(d: Path) -> Book:
@@ -64,7 +63,7 @@ def names_excel(d: Path) -> Book:
              # a row of one shared formula using the name (the cached values are stale)
              cell("C2", 0, "C4*dfi", ' t="shared" ref="C2:G2" si="0"'),
              *[cell(f"{c}2", 0, "", ' t="shared" si="0"') for c in "DEFG"],
-             *[cell(f"{c}4", x) for c, x in zip("CDEFG", (1, 2, 3, 4, 5))]]
+             *[cell(f"{c}4", x) for c, x in zip("CDEFG", (1, 2, 3, 4, 5), strict=False)]]
     other = [cell("A1", 100), cell("B1", 0, "k*10"), cell("C1", False, "ISERROR(onlycalc)")]
     path = rf.xlsx(d / "xl_names.xlsx", [("Calc", rf.sheet_xml(cells)), ("Other", rf.sheet_xml(other))],
                    [("dfi", "Calc!$B$1", None), ("twice", "dfi*2", None), ("rng", "Calc!$B$1:$B$3", None),
@@ -236,7 +235,7 @@ def functions_excel(d: Path) -> Book:
     expected = {}
     for i, (f, _, value) in enumerate(FUNCTIONS):
         r = 5 + i
-        array = ' t="array" ref="F{0}"'.format(r) if "ABS(A1:A3)" in f else ""
+        array = f' t="array" ref="F{r}"' if "ABS(A1:A3)" in f else ""
         cells.append(cell(f"F{r}", 0, f, array))
         expected[f"Calc!F{r}"] = value
     path = rf.xlsx(d / "xl_functions.xlsx", [("Calc", rf.sheet_xml(cells))])
@@ -346,8 +345,8 @@ def differential_book(d: Path) -> tuple[Path, list[tuple[str, int, int]]]:
     """The generated formulas in Calc!G1..; inputs, names (gk, gg workbook-wide; lk local
     to Calc and shadowing a workbook lk; gf naming a formula cell; grng a range holding a
     formula cell). Formulas with ABS of a range are array formulas, as Excel needs them."""
-    from openpyxl.worksheet.formula import ArrayFormula
     from openpyxl.workbook.defined_name import DefinedName
+    from openpyxl.worksheet.formula import ArrayFormula
     rnd = random.Random(5)
     wb = openpyxl.Workbook()
     ws = wb.active

@@ -125,7 +125,7 @@ def render_sheets(outdir: Path) -> list[Path]:
         sheet = pdf_to_png(pdf, Path(tmp) / "sheet", dpi=110, first_page=1, last_page=1)[0]
         charts = pdf_to_png(pdf, Path(tmp) / "charts", dpi=90, first_page=last, last_page=last)[0]
         targets = [outdir / "fourbar-sheet.png", outdir / "fourbar-charts.png"]
-        for src, dst in zip((sheet, charts), targets):
+        for src, dst in zip((sheet, charts), targets, strict=False):
             shutil.copyfile(src, dst)
     return targets
 

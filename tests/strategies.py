@@ -1,5 +1,5 @@
 """Hypothesis strategies: random assemblable instances of every group kind and of chains of
-kinds, as scene text, for the property tests (tests/test_properties.py).
+kinds, as scene text, for the property tests (tests/kinematics/test_properties.py).
 
 Each kind's strategy is in its own section, in the contract's order (RRR, RRP, RPR, PRP,
 RPP), then the chains; each builds its mechanism so that it assembles at the drawn crank
@@ -18,6 +18,7 @@ from hypothesis import assume
 from hypothesis import strategies as st
 
 import sheetkin
+
 
 # --------------------------------------------------------------------------- plane vectors
 def e(phi):
@@ -246,7 +247,7 @@ KINDS = list(MECHANISMS)
 
 # --------------------------------------------------------------------------- moving guides and axes
 def random_chains():
-    """Hypothesis strategy: a random assemblable four-bar (tests/test_properties.py) extended
+    """Hypothesis strategy: a random assemblable four-bar (tests/kinematics/test_properties.py) extended
     by a random chain of the generalised groups: an RRP on a guide of its rocker (two
     rockers with a slotted pair), an RPR about a point E of the rocker (a kulisa with a
     moving axis), or both with the RRP's guide on that kulisa. Every added group assembles

@@ -15,9 +15,9 @@ from pathlib import Path
 
 import numpy as np
 
-from sheetkin.kinematics.table import AngleRange
-from sheetkin.kinematics.scene import SceneError
 from sheetkin.kinematics.caps import one_line
+from sheetkin.kinematics.scene import SceneError
+from sheetkin.kinematics.table import AngleRange
 
 # --range and --at-file refuse more positions than this: 1e8 positions is ~40 GB of CSV
 MAX_POSITIONS = 100_000_000
@@ -41,7 +41,7 @@ def parse_range(spec: str) -> AngleRange:
     parts = spec.split(":")
     if len(parts) != 3:
         raise SceneError(f"--range {spec}: expected START:STOP:STEP in degrees, e.g. 0:360:0.5")
-    start, stop, step = (_decimal(t, w, spec) for t, w in zip(parts, ("START", "STOP", "STEP")))
+    start, stop, step = (_decimal(t, w, spec) for t, w in zip(parts, ("START", "STOP", "STEP"), strict=False))
     if step == 0:
         raise SceneError(f"--range {spec}: STEP is 0")
     decimals = max(0, *(-d.normalize().as_tuple().exponent for d in (start, stop, step)))
@@ -112,7 +112,7 @@ def _one_a_line(path: Path, lines: list[str]) -> np.ndarray:
             return values
     except ValueError:
         pass
-    for i, t in zip(keep, texts):           # the first bad line, named
+    for i, t in zip(keep, texts, strict=False):           # the first bad line, named
         _number(t, f"{path}:{i + 1}")
     raise SceneError(f"{path}: unreadable angles")  # pragma: no cover (numpy refused, float() did not)
 

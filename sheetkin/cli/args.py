@@ -1,7 +1,7 @@
 """The command line's options: the parser of every `sheetkin` command, with its help texts
 (the user's reference for each option, so they are long). sheetkin/cli/commands.py runs the commands;
 this module only describes them, so that it stays free of the commands' imports: `sheetkin
---help` loads neither numpy nor pandas (tests/test_startup.py)."""
+--help` loads neither numpy nor pandas (tests/cli/test_startup.py)."""
 from __future__ import annotations
 
 import argparse
@@ -297,7 +297,7 @@ def _add_animate_parser(sub):
 
 
 # sheetkin.course.variants' BAND, MIN_DET, MARGIN, TRIES, REVOLUTION_DEG, without importing openpyxl
-# for --help (tests/test_variants.py checks they are equal)
+# for --help (tests/course/test_variants.py checks they are equal)
 VARIANTS_DEFAULTS = (0.10, 0.25, 0.10, 200, 1.0)
 
 

@@ -19,10 +19,19 @@ from pathlib import Path
 
 # Only the standard library and the scene reader here: `--help` and small commands start
 # quickly, and each command imports what it needs (numpy, pandas, openpyxl, matplotlib)
-# inside its function (tests/test_startup.py checks which modules a command loads).
+# inside its function (tests/cli/test_startup.py checks which modules a command loads).
 from sheetkin import __version__
-from sheetkin.kinematics.scene import (MAX_POSITIONS, WORKBOOK_MAX_POSITIONS, AssemblyError, SceneError,
-                    key_line, load_scene, one_line, override_crank)
+from sheetkin.kinematics.scene import (
+    MAX_POSITIONS,
+    WORKBOOK_MAX_POSITIONS,
+    AssemblyError,
+    SceneError,
+    key_line,
+    load_scene,
+    one_line,
+    override_crank,
+)
+
 from .args import EXIT_INPUT, TOGGLE_THRESHOLD, build_parser  # noqa: F401 (TOGGLE_THRESHOLD: re-exported)
 
 EXIT_ASSEMBLY = 3
@@ -31,6 +40,7 @@ EXIT_INTERNAL = 70          # a bug (BSD's EX_SOFTWARE): one line, and a request
 
 def cmd_variants(args) -> int:
     import secrets
+
     from sheetkin.course.variants import make_variants, write_variants
     load_scene(args.scene)                       # one line naming file, line and key
     text = Path(args.scene).read_text(encoding="utf-8-sig")
@@ -61,8 +71,10 @@ def cmd_animate(args) -> int:
 
 def cmd_compute(args) -> int:
     import numpy as np
-    from .angles import parse_range, read_angles
+
     from sheetkin.views.output import write_compute
+
+    from .angles import parse_range, read_angles
     scene = load_scene(args.scene)
     if args.dynamics and not scene.has_dynamics:
         raise SceneError(f"{args.scene}: --dynamics needs [[mass]] and/or [[force]] tables in the "
@@ -84,8 +96,8 @@ def cmd_compute(args) -> int:
 
 
 def cmd_workbook(args) -> int:
+    from sheetkin.sheet.workbook import build_workbook, fingerprint  # openpyxl is needed only here
     from sheetkin.studies.synthesis import add_scene_synthesis_sheet, parse_synthesis
-    from sheetkin.sheet.workbook import build_workbook, fingerprint   # openpyxl is needed only here
 
     if args.output and len(args.scenes) > 1:
         raise SceneError(f"-o names one file, but {len(args.scenes)} scenes were given")
@@ -155,8 +167,8 @@ def existing_fingerprint(path) -> dict:
 
 
 def cmd_evaluate(args) -> int:
-    from sheetkin.xlsx.evaluator import evaluate, rows_frame
     from sheetkin.views.output import fmt_cell as _fmt
+    from sheetkin.xlsx.evaluator import evaluate, rows_frame
     book = _evaluate_one_line(evaluate, args.book)
     if args.sheet and args.sheet not in book.sheets:
         raise SceneError(f"{args.book}: no sheet {args.sheet!r}; sheets: {', '.join(book.order)}")
@@ -165,11 +177,11 @@ def cmd_evaluate(args) -> int:
         text = df.to_csv(lineterminator="\n")
     elif args.format == "json":
         text = json.dumps({"file": args.book, "sheet": args.sheet or book.order[0],
-                           "rows": {n: list(r) for n, r in zip(df.index, df.itertuples(index=False))}},
+                           "rows": {n: list(r) for n, r in zip(df.index, df.itertuples(index=False), strict=False)}},
                           indent=1, ensure_ascii=False) + "\n"
     else:
         text = "\n".join(f"{n:<16}" + "".join(f"{_fmt(v):>13}" for v in row)
-                         for n, row in zip(df.index, df.itertuples(index=False))) + "\n"
+                         for n, row in zip(df.index, df.itertuples(index=False), strict=False)) + "\n"
     _write(args.output, text)
     return 0
 
@@ -311,7 +323,7 @@ def cmd_validate(args) -> int:
     files = _validation_files(args.paths)
     class_list = _grades_first(args)
     show = args.progress == "always" or (args.progress == "auto" and sys.stderr.isatty() and len(files) > 1)
-    from sheetkin.xlsx.cells import convert_opendocument     # a class's .ods files: one LibreOffice run
+    from sheetkin.xlsx.cells import convert_opendocument  # a class's .ods files: one LibreOffice run
     convert_opendocument(files, note=(lambda t: print(f"sheetkin: {t}", file=sys.stderr)) if show else None)
     # (converted before the pool starts: forked workers inherit the conversions)
 
@@ -377,7 +389,7 @@ def _issued_options(args):
 
 
 def cmd_bench(args) -> int:
-    from sheetkin.studies.bench import format_bench, run_bench   # mpmath and matplotlib are needed only here
+    from sheetkin.studies.bench import format_bench, run_bench  # mpmath and matplotlib are needed only here
     if args.stability:
         return _cmd_stability(args)
     if args.scene is None:

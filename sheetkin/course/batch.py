@@ -11,7 +11,8 @@ import os
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
-from .validator import Report, validate as _validate_one
+from .validator import Report
+from .validator import validate as _validate_one
 
 
 def default_jobs() -> int:
@@ -33,15 +34,15 @@ def validate_many(paths: list[Path], jobs: int | None = None,
                 progress(i, p)
             yield rep
         return
-    from concurrent.futures import ProcessPoolExecutor
     import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
     # fork: the workers start with sheetkin imported (spawn would re-import it in each);
     # where fork is missing (Windows, macOS default) the platform's method is used
     method = "fork" if "fork" in multiprocessing.get_all_start_methods() else None
     with ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context(method)) as pool:
         # small chunks keep the workers evenly busy; files of one variant next to each
         # other (sorted names) mostly land in one worker and share its reference
-        for i, (p, rep) in enumerate(zip(paths, pool.map(validate, paths, chunksize=2)), 1):
+        for i, (p, rep) in enumerate(zip(paths, pool.map(validate, paths, chunksize=2), strict=False), 1):
             if progress:
                 progress(i, p)
             yield rep

@@ -84,7 +84,7 @@ def submission_marks(sheet, rows: dict[str, int], first_col: int, positions: int
             continue
         if reference is not None and name in (ref_rows or {}):
             lecture = _row_formulas(reference, ref_rows[name], first_col, positions)
-            if all(t is None or t == l for t, l in zip(texts, lecture)):
+            if all(t is None or t == l for t, l in zip(texts, lecture, strict=False)):
                 continue
         formulas[name] = hashlib.sha256("\n".join(t or "" for t in texts).encode()).hexdigest()[:16]
     inputs = {n: v for n, v in (inputs or {}).items() if isinstance(v, (int, float, str)) and not isinstance(v, bool)}

@@ -87,7 +87,7 @@ def _canonical(scene_text: str) -> str:
 
 def seal(key: bytes, variant: str, scene_text: str) -> str:
     """HMAC-SHA256 of the issued data (variant id and scene text) under the teacher's key."""
-    msg = f"sheetkin variant\0{variant}\0{_canonical(scene_text)}".encode("utf-8")
+    msg = f"sheetkin variant\0{variant}\0{_canonical(scene_text)}".encode()
     return hmac.new(key, msg, hashlib.sha256).hexdigest()
 
 
@@ -216,7 +216,7 @@ def parse_roster(text: str, p: str = "roster.csv") -> Roster:
             if vid in rows:
                 raise RosterError(one_line(f"{p}:{line}:1: variant {vid!r} appears twice"))
             values = {}
-            for k, (n, f) in enumerate(zip(names, fields[len(ROSTER_FIXED):]), len(ROSTER_FIXED) + 1):
+            for k, (n, f) in enumerate(zip(names, fields[len(ROSTER_FIXED):], strict=False), len(ROSTER_FIXED) + 1):
                 try:
                     v = float(f)
                 except ValueError:
@@ -225,7 +225,7 @@ def parse_roster(text: str, p: str = "roster.csv") -> Roster:
                     raise RosterError(one_line(f"{p}:{line}:{k}: {n}: expected a number, got {f!r}", 400))
                 values[n] = v
             rows[vid] = values
-            files[vid] = dict(zip(ROSTER_FIXED[1:], (f.strip() for f in fields[1:len(ROSTER_FIXED)])))
+            files[vid] = dict(zip(ROSTER_FIXED[1:], (f.strip() for f in fields[1:len(ROSTER_FIXED)]), strict=False))
     except csv.Error as e:
         raise RosterError(one_line(f"{p}:{reader.line_num}: not a valid CSV file ({e})")) from None
     if not rows:

@@ -41,9 +41,9 @@ from dataclasses import dataclass, field
 import numpy as np
 from openpyxl.utils import get_column_letter
 
+from sheetkin.sheet.workbook import FIRST_COL
 from sheetkin.xlsx.evaluator import BOOL, EMPTY, NUM, TEXT, Book, Run, evaluate_runs, parse_rows, store_value
 from sheetkin.xlsx.functions import ERROR_TEXT, NAME
-from sheetkin.sheet.workbook import FIRST_COL
 
 RTOL = 1e-9            # formulas: the same numbers up to rounding (the validator's precision)
 ATOL = 1e-9
@@ -151,7 +151,7 @@ class Judgement:
 
     def flagged(self, states=(1, 2)) -> list[int]:
         """Columns whose state is one of states."""
-        return [int(c) for c, s in zip(self.cols, self.state) if s in states]
+        return [int(c) for c, s in zip(self.cols, self.state, strict=False) if s in states]
 
 
 @dataclass
@@ -258,7 +258,7 @@ def _student_store(reference: Book, student: Book, sheet: str, plan: _Plan, name
         cs = np.arange(DERIVED_COL, w)[None, :]
         num[a, cs], tag[a, cs], txt[a, cs] = s_num[b, cs], s_tag[b, cs], s_txt[b, cs]
         cached = student.sheets[sheet].cached
-        for i, j in zip(*np.nonzero(tag[a, cs] == NAME)):
+        for i, j in zip(*np.nonzero(tag[a, cs] == NAME), strict=False):
             r_ref, r_st, c = int(a[i, 0]), int(b[i, 0]), int(cs[0, j])
             if (r_st, c) in cached:
                 store_value(num, tag, txt, r_ref, c, cached[(r_st, c)])   # as the validator grades it
@@ -389,7 +389,7 @@ def typed_note(local: Local, name: str, dependents: list[str]) -> str:
     its inputs give when it is off by more than its digits, and the largest relative
     difference from the reference of the rows that depend on it."""
     j = local.judgements[name]
-    flagged = [c for c, s, t in zip(j.cols, j.state, j.typed) if s in (1, 2) and t]
+    flagged = [c for c, s, t in zip(j.cols, j.state, j.typed, strict=False) if s in (1, 2) and t]
     c = int(flagged[0])
     got = local.value(name, c)
     what = f"typed {typed_text(got)}, {typed_digits(got)} digits" if isinstance(got, float) else f"typed {got!r}"
@@ -454,7 +454,7 @@ def name_causes(rows: list, local: Local, ancestors: dict[str, set[str]], inputs
             _mark_wrong(rep, local, j)
     for n in causes:          # the error a typed number carries: in the rows below it alone
         j = local.judgements[n]
-        if any(s in (1, 2) and t for s, t in zip(j.state, j.typed)):
+        if any(s in (1, 2) and t for s, t in zip(j.state, j.typed, strict=False)):
             mine = [d for d in below.get(n, ()) if not any(c in ancestors.get(d, ()) for c in causes if c != n)]
             by[n].note = typed_note(local, n, mine or below.get(n, []))
     changed = [n for n in inputs if local.changed(n)]

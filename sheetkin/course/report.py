@@ -4,8 +4,8 @@ from __future__ import annotations
 import json
 import math
 
-from .report_html import position_list, position_name
 from .issued import changed_line
+from .report_html import position_list, position_name
 from .validator import Report
 
 

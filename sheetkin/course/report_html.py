@@ -15,8 +15,8 @@ gives (sheetkin/course/grades.py); possible copies (sheetkin/course/copies.py) l
 from __future__ import annotations
 
 import html
-from pathlib import Path
 import math
+from pathlib import Path
 
 from .validator import Report
 

@@ -28,18 +28,21 @@ from pathlib import Path
 
 import numpy as np
 
-from . import issued
-from sheetkin.sheet.checks import failing as check_fails, not_applicable as check_na, passing as check_passes
-from sheetkin.xlsx.evaluator import Book, EvaluationError, evaluate_sheets
-from sheetkin.xlsx.cells import Sheet, read_book
-from sheetkin.kinematics.scene import Scene, SceneError, parse_scene
 from sheetkin.groups import kind_of
+from sheetkin.kinematics.scene import Scene, SceneError, parse_scene
+from sheetkin.sheet.charts import PATHS_SHEET
+from sheetkin.sheet.checks import failing as check_fails
+from sheetkin.sheet.checks import not_applicable as check_na
+from sheetkin.sheet.checks import passing as check_passes
+from sheetkin.sheet.workbook import FIRST_COL, SCENE_SHEET, build_workbook, sheet_rows
+from sheetkin.xlsx.cells import Sheet, read_book
+from sheetkin.xlsx.evaluator import Book, EvaluationError, evaluate_sheets
+from sheetkin.xlsx.package import Limits, UnusableWorkbook
+
+from . import issued
+from .copies import submission_marks  # the raw cells copy detection compares
 from .localjudge import judge, name_causes
 from .localjudge import typed_tolerance as _typed_tolerance
-from sheetkin.sheet.workbook import FIRST_COL, SCENE_SHEET, build_workbook, sheet_rows
-from sheetkin.sheet.charts import PATHS_SHEET
-from sheetkin.xlsx.package import Limits, UnusableWorkbook
-from .copies import submission_marks      # the raw cells copy detection compares
 
 RTOL = 1e-9            # formulas: the same numbers up to rounding
 ATOL = 1e-9
@@ -468,9 +471,7 @@ def _cache_mismatches(book: Book, sheet: str, angle_rows: set[int] = frozenset()
                 continue
             if isinstance(now, float) and r in angle_rows and abs(abs(now - cached) - 360.0) <= 1e-9:
                 continue
-        elif isinstance(cached, str) and (now == cached or (now is None and cached == "")):
-            continue
-        elif isinstance(cached, bool) and now == cached:
+        elif isinstance(cached, str) and (now == cached or (now is None and cached == "")) or isinstance(cached, bool) and now == cached:
             continue
         elif isinstance(cached, str) and isinstance(now, str) and now.startswith("#") and cached.startswith("#"):
             continue                                     # errors: LibreOffice and Excel name some differently

@@ -22,6 +22,7 @@ file once and seeing which rows follow (no per-kind table: a new group kind work
 """
 from __future__ import annotations
 
+import contextlib
 import copy
 import json
 import math
@@ -35,11 +36,12 @@ from pathlib import Path
 
 import numpy as np
 
-from .issued import KEY_FILE, ROSTER_FILE, given_values, new_key, roster_text, seal
-from sheetkin.kinematics.scene import Scene, SceneError, one_line, parse_scene
 from sheetkin.kinematics.caps import load_toml
+from sheetkin.kinematics.scene import Scene, SceneError, one_line, parse_scene
 from sheetkin.kinematics.solver import solve
 from sheetkin.sheet.workbook import build_workbook, sheet_rows
+
+from .issued import KEY_FILE, ROSTER_FILE, given_values, new_key, roster_text, seal
 
 BAND = 0.10                 # default range: the scene's value +- 10 %
 MIN_DET = 0.25              # |det| at every position; RRR: transmission angle >= 14.5 deg
@@ -187,10 +189,8 @@ def ranges(params: list[Param], vary: list[str] = ()) -> list[Range]:
         m = _VARY.match(spec)
         lo = hi = math.nan
         if m:
-            try:
+            with contextlib.suppress(ValueError):
                 lo, hi = float(m.group(2)), float(m.group(3))
-            except ValueError:
-                pass
         if not m or not (math.isfinite(lo) and math.isfinite(hi)) or lo > hi:
             raise SceneError(one_line(f"--vary {spec}: expected NAME=LO..HI with numbers LO <= HI "
                                       "(e.g. L2=0.45..0.55)"))
@@ -397,10 +397,8 @@ def _atomic_bytes(path: Path, data: bytes, private: bool = False) -> None:
             os.chmod(tmp, 0o644)
         os.replace(tmp, path)
     except BaseException:
-        try:
+        with contextlib.suppress(OSError):
             os.unlink(tmp)
-        except OSError:
-            pass
         if isinstance(sys.exc_info()[1], OSError):
             e = sys.exc_info()[1]
             raise OSError(e.errno, e.strerror, str(path)) from None

@@ -92,7 +92,7 @@ from importlib import import_module
 
 class _Kinds(Mapping):
     """type -> kind module, each imported on first use: the kinds' kernels import numpy,
-    and `sheetkin --help` or a scene's `type` check need none of it (tests/test_startup.py)."""
+    and `sheetkin --help` or a scene's `type` check need none of it (tests/cli/test_startup.py)."""
 
     def __init__(self, modules: dict[str, str]):
         self._names, self._loaded = modules, {}

@@ -31,8 +31,18 @@ import numpy as np
 
 from .group import Family, Group, Guide, crank_scene
 from .motion import GroupMotion, Motion, Pair, Rotation, Slide, cramer, guide_line, guide_loop, inverse_det
-from .rows import (Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, det_row, fd_checks, motion_rows,
-                    residual, turns_with_check)
+from .rows import (
+    Builder,
+    InputRow,
+    LoadRows,
+    cos_sin_rows,
+    cramer_rows,
+    det_row,
+    fd_checks,
+    motion_rows,
+    residual,
+    turns_with_check,
+)
 
 # --------------------------------------------------------------------------- what it is
 KIND = "PRP"

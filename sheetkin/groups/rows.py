@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+
 @dataclass
 class Row:
     name: str
@@ -56,8 +57,8 @@ class Builder:
     # references to a point's quantities (a frame point is an input and does not move)
     def p(self, q: str, n: str) -> str:
         if n in self.frame:
-            return "{%s_%s}" % (q, n) if q in ("x", "y") else "0"
-        return "{%s_%s}" % (q, n)
+            return f"{{{q}_{n}}}" if q in ("x", "y") else "0"
+        return f"{{{q}_{n}}}"
 
     def input(self, name, unit, ru, en, value):
         self.add(name, unit, ru, en, kind="input", value=value)

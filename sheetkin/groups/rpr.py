@@ -19,8 +19,19 @@ from dataclasses import dataclass
 import numpy as np
 
 from .group import Family, Group, crank_scene
-from .motion import (GroupMotion, Motion, Pair, Rotation, Slide, cramer, cross, hinge, inverse_det, resultants,
-                      sqrt_or_nan)
+from .motion import (
+    GroupMotion,
+    Motion,
+    Pair,
+    Rotation,
+    Slide,
+    cramer,
+    cross,
+    hinge,
+    inverse_det,
+    resultants,
+    sqrt_or_nan,
+)
 from .rows import Builder, InputRow, LoadRows, cramer_rows, det_row, group_guard, residual, turns_with_check
 
 # --------------------------------------------------------------------------- what it is

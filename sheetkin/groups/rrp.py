@@ -22,11 +22,37 @@ from dataclasses import dataclass
 import numpy as np
 
 from .group import Family, Group, Guide, crank_scene
-from .motion import (GroupMotion, Motion, Pair, Rotation, Slide, cramer, guide_line, guide_loop, hinge, inverse_det,
-                      on_line, resultants, sqrt_or_nan)
-from .rows import (Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, det_row, distance_check, fd_checks,
-                    group_guard, motion_rows, relative_velocity_check, residual, turns_with_check,
-                    via_link_checks)
+from .motion import (
+    GroupMotion,
+    Motion,
+    Pair,
+    Rotation,
+    Slide,
+    cramer,
+    guide_line,
+    guide_loop,
+    hinge,
+    inverse_det,
+    on_line,
+    resultants,
+    sqrt_or_nan,
+)
+from .rows import (
+    Builder,
+    InputRow,
+    LoadRows,
+    cos_sin_rows,
+    cramer_rows,
+    det_row,
+    distance_check,
+    fd_checks,
+    group_guard,
+    motion_rows,
+    relative_velocity_check,
+    residual,
+    turns_with_check,
+    via_link_checks,
+)
 
 # --------------------------------------------------------------------------- what it is
 KIND = "RRP"

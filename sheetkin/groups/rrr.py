@@ -19,10 +19,34 @@ from dataclasses import dataclass
 import numpy as np
 
 from .group import Family, Group
-from .motion import (GroupMotion, Motion, Pair, Rotation, carried_point, cramer, cross, hinge, inverse_det, resultants,
-                      sqrt_or_nan)
-from .rows import (Builder, InputRow, LoadRows, carried_rows, cos_sin_rows, cramer_rows, det_row, distance_check,
-                    fd_checks, group_guard, relative_velocity_check, residual, via_link_checks)
+from .motion import (
+    GroupMotion,
+    Motion,
+    Pair,
+    Rotation,
+    carried_point,
+    cramer,
+    cross,
+    hinge,
+    inverse_det,
+    resultants,
+    sqrt_or_nan,
+)
+from .rows import (
+    Builder,
+    InputRow,
+    LoadRows,
+    carried_rows,
+    cos_sin_rows,
+    cramer_rows,
+    det_row,
+    distance_check,
+    fd_checks,
+    group_guard,
+    relative_velocity_check,
+    residual,
+    via_link_checks,
+)
 
 # --------------------------------------------------------------------------- what it is
 KIND = "RRR"

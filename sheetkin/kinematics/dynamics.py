@@ -33,8 +33,10 @@ import numpy as np
 
 from sheetkin.groups import kind_of
 from sheetkin.groups.motion import Loads, Motion, Pair
+
 from .scene import Force, Scene
 from .solver import Solution
+
 
 def point_owners(scene: Scene) -> dict[str, int]:
     """The link a later group is hinged to when it uses a point as its joint.

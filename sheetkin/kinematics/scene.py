@@ -13,11 +13,23 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
-from .caps import (MAX_DEPTH, MAX_MAGNITUDE, MAX_MESSAGE, MAX_POSITIONS, MAX_SCENE_BYTES,  # noqa: F401
-                        MAX_TEXT, WORKBOOK_MAX_POSITIONS, SceneError, check_values, load_toml, one_line,
-                        shown)
-from sheetkin.groups.group import Group, Guide, slide_names
 from sheetkin.groups import KINDS, kind_of
+from sheetkin.groups.group import Group, Guide, slide_names
+
+from .caps import (  # noqa: F401
+    MAX_DEPTH,
+    MAX_MAGNITUDE,
+    MAX_MESSAGE,
+    MAX_POSITIONS,
+    MAX_SCENE_BYTES,
+    MAX_TEXT,
+    WORKBOOK_MAX_POSITIONS,
+    SceneError,
+    check_values,
+    load_toml,
+    one_line,
+    shown,
+)
 
 GROUP_TYPES = tuple(KINDS)
 NAME_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
@@ -413,7 +425,7 @@ def _check_slides(ctx, groups):
             slides[tag] = g.index
 
 
-def _parse_guide(tbl: "_Table", key: str, frame, index: int | None = None) -> Guide:
+def _parse_guide(tbl: _Table, key: str, frame, index: int | None = None) -> Guide:
     """A guide `{through = POINT or [x, y], angle_deg = A, link = k}` (the contract's
     "Group types"): on the frame (link 0, the default) `through` is a frame point or [x, y];
     on a moving link k it names a point of link k (checked when the scene is planned).

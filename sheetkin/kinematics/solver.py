@@ -16,6 +16,7 @@ import numpy as np
 
 from sheetkin.groups import kind_of
 from sheetkin.groups.motion import FRAME, Motion, Rotation, Slide, carried_point, cramer, fixed, inverse_det  # noqa: F401 (the API)
+
 from .scene import Crank, Point, Scene
 
 

@@ -17,9 +17,10 @@ from pathlib import Path
 
 import numpy as np
 
+from sheetkin.groups.group import slide_names
+
 from .dynamics import dynamics as solve_dynamics
 from .dynamics import dynamics_names
-from sheetkin.groups.group import slide_names
 from .scene import AssemblyError, Scene, load_scene  # noqa: F401 (AssemblyError: compute's API)
 from .solver import Solution, solve
 
@@ -120,7 +121,7 @@ def solution_columns(scene: Scene, sol: Solution, out: dict | None = None) -> di
         _norm(m.ax, m.ay, out[f"a_{name}"])
     for tag in scene.sliders:
         sl = sol.slides[tag]
-        for name, value in zip(slide_names(tag), (sl.s, sl.vs, sl.as_)):
+        for name, value in zip(slide_names(tag), (sl.s, sl.vs, sl.as_), strict=False):
             put(name, value)
     return out
 
@@ -172,7 +173,7 @@ def assembly_gaps(scene: Scene, phi_deg) -> list[Gap]:
     end = _bisect(scene, hi_ok, hi_bad)
     wanted = phi_deg[fail_at] % 360.0
     gaps = []
-    for s_idx, e_idx, a, z in zip(starts, ends, start, end):
+    for s_idx, e_idx, a, z in zip(starts, ends, start, end, strict=False):
         members = grid[order[s_idx:e_idx + 1]]
         if np.isin(wanted, members).any():
             gaps.append(Gap(scene.groups[int(culprit[order[s_idx]]) - 1].label, a % 360.0, z % 360.0))
@@ -347,7 +348,7 @@ def compute(scene: Scene | str | Path, at=None, *, analogs: bool = False, allow_
         gaps = assembly_gaps(scene, phi)
         raise AssemblyError("; ".join(map(str, gaps)) +
                             f" ({int(fail.sum())} of {fail.size} positions; use --allow-gaps to keep the rest)")
-    import pandas as pd        # only here: the command line's path (sheetkin.views.output) needs no pandas
+    import pandas as pd  # only here: the command line's path (sheetkin.views.output) needs no pandas
     # the table's rows become the frame's columns without a copy (one float block)
     df = pd.DataFrame(table.T, columns=names, copy=False)
     if fail.any():

@@ -37,9 +37,9 @@ from openpyxl.styles import Font, PatternFill
 from openpyxl.utils import get_column_letter, quote_sheetname
 from openpyxl.worksheet.datavalidation import DataValidation
 
+from sheetkin.kinematics.scene import Scene
 from sheetkin.kinematics.table import compute
 from sheetkin.views.drawing import FINE_POSITIONS, bounds, guide_span, revolution, structure
-from sheetkin.kinematics.scene import Scene
 
 PATHS_SHEET = "paths"
 POSITION_CELL = "$B$1"
@@ -339,7 +339,7 @@ def add_drawing_charts(wb, cs, scene: Scene, info: SheetRows, top: int = 3) -> i
                    Reference(cs, min_col=HELPER_COL + 1, min_row=r0, max_row=r1), title=label)
         mech.series.append(_style(s, color, width, marker, dash, fill))
 
-    for g, (t0, t1) in zip(st.guides, spans):
+    for g, (t0, t1) in zip(st.guides, spans, strict=False):
         tag = f"guide g{g.group}" if g.link == 0 else f"slot g{g.group}"
         bx, by, ux, uy = _guide_cells(h, c, g, tag)
         a, b = (_num(t0 - 1.5 * r), _num(t1 + 1.5 * r)) if g.link == 0 else (_num(t0 - r), _num(t1 + r))

@@ -5,9 +5,10 @@ the last back to the crank, the balancing moment and the energy balance, each bl
 check rows. Same names and the same equations as sheetkin.kinematics.dynamics (the reference)."""
 from __future__ import annotations
 
-from sheetkin.kinematics.dynamics import point_owners
 from sheetkin.groups import kind_of
 from sheetkin.groups.rows import Builder, LoadRows
+from sheetkin.kinematics.dynamics import point_owners
+
 
 def dynamics_inputs(b: Builder):
     """Masses, moments of inertia, gravity and external loads (README: "Masses and forces")."""
@@ -104,7 +105,7 @@ def _energy_totals(b: Builder, t_rate: list[str], u_rate: list[str]):
           f"({{T}}-({'+'.join(t_terms)}))/(ABS({{T}})+{'+'.join(t_terms)}+1E-300)")
     if gravity:
         u_terms = [f"{{m_{m.link}}}*({{g_x}}*{b.p('x', m.centre)}+{{g_y}}*{b.p('y', m.centre)})" for m in sc.masses]
-        each = "+".join(f"ABS({{U_{m.link}}}+{t})" for m, t in zip(sc.masses, u_terms))
+        each = "+".join(f"ABS({{U_{m.link}}}+{t})" for m, t in zip(sc.masses, u_terms, strict=False))
         size = "+".join(f"ABS({t})" for t in u_terms)
         b.add("chk_U", "", "проверка: U_k = -m_k g.r_S и U = сумма U_k (относительная невязка)",
               "check: U_k = -m_k g.r_S and U = the sum of U_k (relative)", "check",

@@ -30,11 +30,20 @@ from openpyxl.chart.data_source import NumFmt
 from openpyxl.styles import Font, PatternFill
 from openpyxl.utils import get_column_letter
 
-from .checks import colour_check_row, status_formula, write_summary
 from sheetkin.groups import kind_of
-from sheetkin.groups.rows import (Builder, Row, carried_rows, distance_check, fd_checks, local_position_check, motion_rows,
-                   via_link_checks)
+from sheetkin.groups.rows import (
+    Builder,
+    Row,
+    carried_rows,
+    distance_check,
+    fd_checks,
+    local_position_check,
+    motion_rows,
+    via_link_checks,
+)
 from sheetkin.kinematics.scene import Point, Scene
+
+from .checks import colour_check_row, status_formula, write_summary
 from .dynamics import dynamics_inputs, energy_rows, kinetostatics_rows
 
 FIRST_COL = 5                      # column E: the first crank position
@@ -244,7 +253,7 @@ def build_workbook(scene: Scene, *, lang: str = "ru", exercise: bool = False,
     _text_cell(ws["A2"], scene.author or "")
     ws["A3"] = text["checks"]
     ws["A3"].font = SECTION_FONT
-    for col, key in zip("ABCD", ("name", "unit", "desc", "value")):
+    for col, key in zip("ABCD", ("name", "unit", "desc", "value"), strict=False):
         ws[f"{col}4"] = text[key]
         ws[f"{col}4"].font = SECTION_FONT
     for k, c in enumerate(cols):
@@ -307,7 +316,7 @@ def build_workbook(scene: Scene, *, lang: str = "ru", exercise: bool = False,
             colour_check_row(ws, rng, f"{cols[0]}{r}", f"D{r}", tol)
     write_summary(ws, lang, status_cells, f"D{first_row}:D{first_row + len(rows) - 1}")
     ws.freeze_panes = f"{cols[0]}5"
-    from .printing import setup_page      # widths, alignment, pages (sheetkin/sheet/printing.py)
+    from .printing import setup_page  # widths, alignment, pages (sheetkin/sheet/printing.py)
     setup_page(ws, rows, where, cols, FIRST_COL)
     if charts:
         from .charts import SheetRows
@@ -383,7 +392,7 @@ def _embed_scene(wb, scene: Scene, scene_text: str | None, issued: tuple[str, st
     for k, line in enumerate(scene_text.splitlines(), 1):
         ws.cell(k, 1, line if line else None).data_type = "s"
     if issued:
-        for r, (label, value) in enumerate(zip(ISSUED_LABELS, issued), 1):
+        for r, (label, value) in enumerate(zip(ISSUED_LABELS, issued, strict=False), 1):
             _text_cell(ws.cell(r, 2), label)
             _text_cell(ws.cell(r, 3), value)
     wb.properties.subject = f"sheetkin workbook; the scene is in the hidden sheet '{SCENE_SHEET}'"

@@ -42,12 +42,12 @@ import mpmath
 import numpy as np
 import pandas as pd
 
-from sheetkin.kinematics.table import TOGGLE_THRESHOLD, AssemblyError, assembly_gaps, failed_positions, solution_columns
-from sheetkin.xlsx.libreoffice import soffice_path
-from sheetkin.kinematics.scene import Scene, override_crank
 from sheetkin.groups import kind_of
 from sheetkin.groups.group import slide_names
+from sheetkin.kinematics.scene import Scene, override_crank
 from sheetkin.kinematics.solver import solve
+from sheetkin.kinematics.table import TOGGLE_THRESHOLD, AssemblyError, assembly_gaps, failed_positions, solution_columns
+from sheetkin.xlsx.libreoffice import soffice_path
 
 FD_STEPS = tuple(10.0 ** -k for k in np.arange(1.0, 8.01, 0.5))     # rad, 1e-1 .. 1e-8
 NEWTON_TOL = 1e-14          # step size (relative to 1 + |q|) at which Newton stops
@@ -170,7 +170,7 @@ def _newton(lib, F, J, q, tol, max_iter):
     tol * (1 + |q|) and the residual is small for the number type."""
     for _ in range(max_iter):
         dq = lib.solve(J(q), [-f for f in F(q)])
-        q = [a + d for a, d in zip(q, dq)]
+        q = [a + d for a, d in zip(q, dq, strict=False)]
         if not all(lib.finite(x) for x in q):
             return q, False
         if max(abs(d) for d in dq) <= tol * (1 + max(abs(x) for x in q)):
@@ -239,7 +239,7 @@ def _walk(lib, scene: Scene, phi_deg: float, guesses: dict[int, list], tol: floa
         values.update({f"x_{name}": x, f"y_{name}": y, f"vx_{name}": vx, f"vy_{name}": vy,
                        f"ax_{name}": ax, f"ay_{name}": ay})
     for tag, triple in slides.items():
-        values.update(zip(slide_names(tag), triple))
+        values.update(zip(slide_names(tag), triple, strict=False))
     return values, qs, problems, sines
 
 
@@ -269,7 +269,7 @@ def reference_mp(scene: Scene, phi_deg_list, dps: int = 50) -> dict[str, list]:
     out = {name: [] for name in quantity_names(scene)}
     with mpmath.workdps(dps):
         tol = mpmath.mpf(10) ** (-(dps - 5))
-        for phi, start in zip(phis, starts):
+        for phi, start in zip(phis, starts, strict=False):
             values, _, problems, _ = _walk(MP, scene, phi, start, tol, 60)
             if problems:
                 g, why = problems[0]
@@ -417,7 +417,7 @@ def method_fd(scene: Scene, phis, steps=FD_STEPS) -> list[MethodResult]:
 
 
 def _workbook_file(scene: Scene, scene_text: str | None, folder: Path) -> Path:
-    from sheetkin.sheet.workbook import build_workbook      # openpyxl is needed only here
+    from sheetkin.sheet.workbook import build_workbook  # openpyxl is needed only here
     path = folder / "bench.xlsx"
     build_workbook(scene, lang="en", scene_text=scene_text).save(path)
     return path
@@ -495,7 +495,7 @@ def scaled_differences(values: dict[str, np.ndarray], ref: dict, each_position: 
         hi = np.array([float(r) for r in refs])
         d = np.asarray(values[name], dtype=float) - hi
         if any(isinstance(r, mpmath.mpf) for r in refs):
-            d -= np.array([float(r - mpmath.mpf(h)) for r, h in zip(refs, hi)])
+            d -= np.array([float(r - mpmath.mpf(h)) for r, h in zip(refs, hi, strict=False)])
         scales.setdefault(family, np.ones(len(hi)) if each_position else 1.0)
         if head == "phi":
             # degrees in [0, 360): the angle between, in radians; an angle's size says

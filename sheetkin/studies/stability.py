@@ -29,15 +29,33 @@ import mpmath
 import numpy as np
 import pandas as pd
 
-from .bench import (FAMILIES, FLOAT, FLOOR, LOSE, MP, NEWTON_MAX_ITER, NEWTON_TOL, SILENT_ERROR, _best_time, _unknowns, _walk,
-                    errors, fd_unsure, fd_values, newton_singular, quantity_names, step_doubling,
-                    unsure)
-from sheetkin.kinematics.table import TOGGLE_THRESHOLD, assembly_gaps, failed_positions, solution_columns
-from sheetkin.groups.group import Family
 from sheetkin.groups import families
-from sheetkin.kinematics.scene import Scene, parse_scene
+from sheetkin.groups.group import Family
 from sheetkin.kinematics.caps import SceneError
+from sheetkin.kinematics.scene import Scene, parse_scene
 from sheetkin.kinematics.solver import solve
+from sheetkin.kinematics.table import TOGGLE_THRESHOLD, assembly_gaps, failed_positions, solution_columns
+
+from .bench import (
+    FAMILIES,
+    FLOAT,
+    FLOOR,
+    LOSE,
+    MP,
+    NEWTON_MAX_ITER,
+    NEWTON_TOL,
+    SILENT_ERROR,
+    _best_time,
+    _unknowns,
+    _walk,
+    errors,
+    fd_unsure,
+    fd_values,
+    newton_singular,
+    quantity_names,
+    step_doubling,
+    unsure,
+)
 
 STABILITY_DISTANCES = tuple(10.0 ** -k for k in range(2, 11))     # rad, 1e-2 .. 1e-10
 STABILITY_FD_STEPS = {"vel": 1e-5, "acc": 3e-4}     # the main bench's best steps (rad)
@@ -292,7 +310,7 @@ def _stability_family(f: Family, distances, threshold: float):
         inside = [_case(f, base, edge - d)[:2] for d in distances]
     here = [c[:2] for c in cases]
     if f.side > 0:
-        walk = [far] + [p for pair in zip(inside, here) for p in pair]
+        walk = [far] + [p for pair in zip(inside, here, strict=False) for p in pair]
         pick = list(range(2, len(walk), 2))
     else:
         walk = [far] + here
@@ -343,7 +361,7 @@ def stability_warnings(table: pd.DataFrame, threshold: float = 1e-2) -> list[str
         where = "crank angles" if varies == CRANK else varies
 
         def listed(hit):
-            return ", ".join(f"{p:.12g} (d={d:.0e})" for p, d in zip(hit["value_deg"], hit["d"]))
+            return ", ".join(f"{p:.12g} (d={d:.0e})" for p, d in zip(hit["value_deg"], hit["d"], strict=False))
         for status, text in say.items():
             hit = grp[grp["status"] == status]
             if text.get(method) and len(hit):
@@ -404,7 +422,7 @@ def plot_stability(table: pd.DataFrame, path) -> None:
     axes = axes.flat[:len(fams)]
     clip = 1e8          # errors above are drawn here (wrong in every digit anyway)
     levels = {"solver": 1e10, "newton": 1e12, "fd": 1e14}    # rows of "no number" crosses
-    for ax, fam in zip(axes, fams):
+    for ax, fam in zip(axes, fams, strict=False):
         t = table[table["family"] == fam]
         for m, colour in _METHOD_COLOURS.items():
             tm = t[t["method"] == m]

@@ -29,7 +29,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-
 SYNTHESIS_KEYS = ("kw", "l3", "yd", "gamma1_deg", "gamma2_deg")   # a scene's [synthesis] table
 
 
@@ -513,7 +512,7 @@ def add_synthesis_sheet(wb, kw: float, l3: float, yd: float, gamma1_deg: float,
     ws["A1"].font = Font(bold=True, size=14)
     ws["A3"] = text["checks"]
     ws["A3"].font = SECTION_FONT
-    for col, key in zip("ABCDE", ("name", "unit", "desc", "value", "value2")):
+    for col, key in zip("ABCDE", ("name", "unit", "desc", "value", "value2"), strict=False):
         ws[f"{col}4"] = text[key]
         ws[f"{col}4"].font = SECTION_FONT
     for k, row in enumerate(rows):
@@ -533,7 +532,7 @@ def add_synthesis_sheet(wb, kw: float, l3: float, yd: float, gamma1_deg: float,
                ("solvable", "flip", "valid", "root", "branch") else "0.000000000")
         if row[4] == "cand":
             tpls = row[5:] if len(row) == 7 else (row[5], row[5])
-            for col, tpl in zip("DE", tpls):
+            for col, tpl in zip("DE", tpls, strict=False):
                 ws[f"{col}{r}"] = fill(tpl, col)
                 ws[f"{col}{r}"].number_format = fmt
         else:

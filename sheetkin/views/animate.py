@@ -13,8 +13,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .drawing import STYLES, Picture, picture, revolution
 from sheetkin.kinematics.scene import Scene
+
+from .drawing import STYLES, Picture, picture, revolution
 
 FORMATS = (".gif", ".html", ".png")
 

@@ -22,10 +22,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from sheetkin.kinematics.table import assembly_gaps, compute
-from sheetkin.groups.group import Guide as SceneGuide
 from sheetkin.groups import kind_of
+from sheetkin.groups.group import Guide as SceneGuide
 from sheetkin.kinematics.scene import Group, Scene
+from sheetkin.kinematics.table import assembly_gaps, compute
 
 FINE_POSITIONS = 360        # the paths: one point per degree of the crank
 
@@ -213,7 +213,7 @@ def bounds(scene: Scene, fine, st: Structure, spans) -> tuple[float, float, floa
     """Bounds of everything drawn over the revolution, padded by 8 %."""
     xy = [np.asarray(list(scene.frame.values()), dtype=float).reshape(-1, 2)]
     xy += [point_xy(scene, fine, p) for p in _moving(scene)]
-    for g, (t0, t1) in zip(st.guides, spans):
+    for g, (t0, t1) in zip(st.guides, spans, strict=False):
         base, u = guide_frame(scene, fine, g)
         xy += [base + t0 * u, base + t1 * u]
     pts = np.concatenate(xy)
@@ -293,7 +293,7 @@ def background(scene: Scene, fine, st: Structure, spans, r: float, threshold: fl
         a = point_xy(scene, fine, scene.crank.joint)
         for run in _runs(a, bad):
             out.append(Shape("line", run, "trace_gap"))
-    for g, (t0, t1) in zip(st.guides, spans):
+    for g, (t0, t1) in zip(st.guides, spans, strict=False):
         if g.link == 0:
             base, u = guide_frame(scene, fine.iloc[:1], g)
             out += _hatched_line(base[0] + (t0 - 1.5 * r) * u[0], base[0] + (t1 + 1.5 * r) * u[0], r)
@@ -332,7 +332,7 @@ def frame_shapes(scene: Scene, row, st: Structure, spans, r: float, *, vectors: 
         for p in pts:
             if p not in at:
                 at[p] = point_xy(scene, row, p)[0]
-    for g, (t0, t1) in zip(st.guides, spans):
+    for g, (t0, t1) in zip(st.guides, spans, strict=False):
         if g.link != 0:          # a slot or a guide on a moving link moves with it
             base, u = guide_frame(scene, row, g)
             if np.isfinite(base).all() and np.isfinite(u).all():

@@ -10,9 +10,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from sheetkin.kinematics.table import compute
-from .drawing import picture, svg
 from sheetkin.kinematics.scene import Scene, load_scene
+from sheetkin.kinematics.table import compute
+
+from .drawing import picture, svg
 
 
 class Result:

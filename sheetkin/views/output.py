@@ -20,10 +20,20 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from sheetkin.kinematics.table import (BLOCK, AngleRange, AssemblyError, Block, assembly_gaps, compute_blocks,
-                      failing, table_names, unit)
-from .floatfmt import WIDTH, repr_slots
 from sheetkin.kinematics.scene import Scene, SceneError
+from sheetkin.kinematics.table import (
+    BLOCK,
+    AngleRange,
+    AssemblyError,
+    Block,
+    assembly_gaps,
+    compute_blocks,
+    failing,
+    table_names,
+    unit,
+)
+
+from .floatfmt import WIDTH, repr_slots
 
 FORMATS = ("table", "csv", "json", "parquet")
 _SHOWN = 8                       # crank angles listed in a warning before " ..."

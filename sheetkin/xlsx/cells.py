@@ -232,7 +232,7 @@ def _finish(sh: Sheet, pkg, limits: Limits) -> Sheet:
     return sh
 
 
-def _shifted(sh: Sheet, master: "_Shared", row: int, col: int, si) -> str | None:
+def _shifted(sh: Sheet, master: _Shared, row: int, col: int, si) -> str | None:
     """A shared formula's text at (row, col), or None and the cell marked dangling when
     the master's text cannot be shifted (openpyxl's translator refuses it)."""
     try:
@@ -391,12 +391,12 @@ def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits
         return sh
     cols = list(map(_COLUMN_BYTES.__getitem__, letters))    # KeyError past XFD
     rows = list(map(int, rownums))
-    keys = list(zip(rows, cols))
+    keys = list(zip(rows, cols, strict=False))
     if len(set(keys)) != len(keys):
         raise _NotSimple                            # a cell listed twice
     # the used range and the limits: cells that hold something (a formula, a value), not
     # styled emptiness (<c r="XFD9" s="3"/>: LibreOffice styles whole rows and columns)
-    held = [bool(f or a or v or i) for f, a, v, i in zip(ftexts, fattrs, vtexts, itexts)]
+    held = [bool(f or a or v or i) for f, a, v, i in zip(ftexts, fattrs, vtexts, itexts, strict=False)]
     if all(held):
         last_row, last_col = max(rows), max(cols)
     else:
@@ -404,12 +404,12 @@ def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits
         last_col = max(compress(cols, held), default=0)
     sh.max_row, sh.max_col = max(sh.max_row, last_row), max(sh.max_col, last_col)   # over the pieces
     if sh.max_row > limits.max_rows or sh.max_col > limits.max_cols:
-        for r, c, L, R, h in zip(rows, cols, letters, rownums, held):
+        for r, c, L, R, h in zip(rows, cols, letters, rownums, held, strict=False):
             if h and (r > limits.max_rows or c > limits.max_cols):
                 raise UnusableWorkbook(pkg.path, f"sheet '{name}' has a cell at {(L + R).decode()}",
                                        f"at most {limits.max_rows} rows and {limits.max_cols} columns")
     # formulas: the text of every <f> that has one, decoded in one pass
-    formulas = dict(zip(compress(keys, ftexts), _texts(list(filter(None, ftexts)))))
+    formulas = dict(zip(compress(keys, ftexts), _texts(list(filter(None, ftexts))), strict=False))
     if any(fattrs):
         # shared formulas (Excel, LibreOffice): the first cell <f t="shared" si=".."> has the
         # text, the block's other cells <f t="shared" si=".."/> are shifted from it

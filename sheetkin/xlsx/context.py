@@ -17,9 +17,29 @@ import numpy as np
 from . import functions as fx
 from .parse import Ref
 from .runs import EvaluationError, Run, _span, _target_block
-from .values import (AGGREGATES, BOOL, EMPTY, NUM, SCALAR_FUNCS, TEXT, VALUE, Val, _arith, _binary,
-                             _compare, _concat, _const, _error_of, _result, _select, _texts, _to_bool,
-                             _to_number, _unary, _with_error)
+from .values import (
+    AGGREGATES,
+    BOOL,
+    EMPTY,
+    NUM,
+    SCALAR_FUNCS,
+    TEXT,
+    VALUE,
+    Val,
+    _arith,
+    _binary,
+    _compare,
+    _concat,
+    _const,
+    _error_of,
+    _result,
+    _select,
+    _texts,
+    _to_bool,
+    _to_number,
+    _unary,
+    _with_error,
+)
 
 
 def _lookup(scopes: dict, sheet: str, name: str):
@@ -227,7 +247,7 @@ class _Context:
             return _const("#VALUE!", len(run.cols))
         vals = [self.eval(a, run) if a[0] != "missing" else _const(0.0) for a in args]
         vals += [_const(d) for d in defaults[len(args) - 1:]]
-        nums, errs = zip(*(_to_number(v) for v in vals))
+        nums, errs = zip(*(_to_number(v) for v in vals), strict=False)
         with np.errstate(all="ignore"):
             r = fn(*np.broadcast_arrays(*nums))
         return _result(r, _error_of(*errs))
@@ -242,7 +262,7 @@ class _Context:
         r = ref.r1 if ref.r1_abs else run.row + ref.r1
         cols = [ref.c1] if ref.c1_abs else [c + ref.c1 for c in run.cols.tolist()]
         ends = [self.arrays.get(sheet, {}).get((r, c)) for c in cols]
-        if any(e is None for e in ends) or len({(e[0] - r, e[1] - c) for e, c in zip(ends, cols)}) != 1:
+        if any(e is None for e in ends) or len({(e[0] - r, e[1] - c) for e, c in zip(ends, cols, strict=False)}) != 1:
             return _const("#REF!", len(run.cols))
         (r2, c2), c = ends[0], cols[0]
         block = Ref(sheet, r, c if ref.c1_abs else c - int(run.cols[0]), r2,

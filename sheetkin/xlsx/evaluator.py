@@ -37,24 +37,42 @@ the results as tables. The names the others hold are importable from here as bef
 from __future__ import annotations
 
 from dataclasses import dataclass
-from operator import itemgetter
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 from openpyxl.utils import get_column_letter
 
-from .context import _Context, _lookup
-from .limits import (MAX_EVAL_DEPTH, _check_formula_text, _check_names, _check_reads,  # noqa: F401
-                               _chunks, _names_used, _run_notes, _store_dims)
-from .parse import (ARITY, MAX_ARGS, MAX_FORMULA_CHARS, MAX_NESTING, Note, ParseError,  # noqa: F401
-                            Ref, _nodes, arity_problem, functions_of, parse_formula, refs_of)
-from .runs import _TEMPLATES, EvaluationError, Run, _group_runs, _span, _split  # noqa: F401
-from .values import (AGGREGATES, BOOL, EMPTY, NUM, SCALAR_FUNCS, SPECIAL, SUPPORTED, TEXT,  # noqa: F401
-                             Val, _const)
-from .functions import DIV0, ERROR_TEXT, ERRORS, NA, NAME, NULL, NUMERR, REF, VALUE  # noqa: F401
 from .cells import _MAX_COL, _MAX_ROW, Sheet, read_book
+from .context import _Context, _lookup
+from .functions import DIV0, ERROR_TEXT, ERRORS, NA, NAME, NULL, NUMERR, REF, VALUE  # noqa: F401
+from .limits import (  # noqa: F401
+    MAX_EVAL_DEPTH,
+    _check_formula_text,
+    _check_names,
+    _check_reads,
+    _chunks,
+    _names_used,
+    _run_notes,
+    _store_dims,
+)
 from .package import Limits, UnusableWorkbook, _show
+from .parse import (  # noqa: F401
+    ARITY,
+    MAX_ARGS,
+    MAX_FORMULA_CHARS,
+    MAX_NESTING,
+    Note,
+    ParseError,
+    Ref,
+    _nodes,
+    arity_problem,
+    functions_of,
+    parse_formula,
+    refs_of,
+)
+from .runs import _TEMPLATES, EvaluationError, Run, _group_runs, _span, _split  # noqa: F401
+from .values import AGGREGATES, BOOL, EMPTY, NUM, SCALAR_FUNCS, SPECIAL, SUPPORTED, TEXT, Val, _const  # noqa: F401
 
 
 # --------------------------------------------------------------------------- the workbook evaluated

@@ -3,7 +3,7 @@
 Used by the tests (the formulas sheetkin writes must compute, in a real spreadsheet, what
 sheetkin computes in Python) and by `sheetkin bench`. Install LibreOffice with tests/setup.sh.
 
-What LibreOffice 7.4 does, found while writing this (see tests/test_libreoffice.py):
+What LibreOffice 7.4 does, found while writing this (see tests/xlsx/test_libreoffice.py):
 
 * Converting xlsx -> xlsx computes formula cells that have no cached value (openpyxl writes
   none), but by default it KEEPS a cached value that is present, even if it is wrong and even

@@ -17,12 +17,12 @@ from operator import itemgetter
 
 from openpyxl.utils import get_column_letter
 
+from .cells import Sheet
 from .context import PAD_CELLS
+from .package import Limits, UnusableWorkbook, _show
 from .parse import Note, Ref, _nodes, arity_problem, functions_of, refs_of
 from .runs import Run, _span
 from .values import SUPPORTED
-from .cells import Sheet
-from .package import Limits, UnusableWorkbook, _show
 
 MAX_EVAL_DEPTH = 200     # levels of a formula with the names it uses expanded (~2 Python frames each)
 CHUNK_READS = 1 << 22    # cells a piece of a run reads at once, per relative range (about 70 MB)

@@ -17,8 +17,8 @@ from operator import itemgetter
 import numpy as np
 from openpyxl.utils import get_column_letter
 
-from .parse import Ref
 from .cells import _MAX_COL, Sheet, _Template
+from .parse import Ref
 
 
 class EvaluationError(ValueError):
@@ -76,7 +76,7 @@ def _group_runs(sheet: Sheet) -> list[Run]:
     col_list = cols.tolist()
     runs: list[Run] = []
     name = sheet.name
-    for a, b in zip(bounds[:-1], bounds[1:]):
+    for a, b in zip(bounds[:-1], bounds[1:], strict=False):
         r = int(rows[a])
         i = a
         while i < b:

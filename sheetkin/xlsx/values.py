@@ -105,7 +105,7 @@ def _to_number(v: Val):
     text = v.tag == TEXT
     if text.any():
         num = num.copy()
-        for idx in zip(*np.nonzero(text)):
+        for idx in zip(*np.nonzero(text), strict=False):
             t = str(v.txt[idx])
             if _NUMERIC_TEXT.match(t):          # not Python's float(): "1_000", "inf" are not numbers
                 num[idx] = float(t)
@@ -210,7 +210,7 @@ def _compare(op: str, a: Val, b: Val) -> Val:
     if text.any():
         ta, tb = np.broadcast_to(_texts(a), shape), np.broadcast_to(_texts(b), shape)
         diff = diff.copy()
-        for idx in zip(*np.nonzero(text)):
+        for idx in zip(*np.nonzero(text), strict=False):
             x = "" if at[idx] == EMPTY else str(ta[idx]).casefold()
             y = "" if bt[idx] == EMPTY else str(tb[idx]).casefold()
             diff[idx] = (x > y) - (x < y)
@@ -340,7 +340,7 @@ def _values_of(args: list[Val], ranges: list[bool], *, numbers_only_in_ranges=Tr
         n = nums[0] if len(nums) == 1 else np.concatenate(nums, axis=1)
         return n, np.ones(n.shape, bool), np.zeros(k, np.int8)
     nums, uses, errs = [], [], []
-    for v, is_range in zip(args, ranges):
+    for v, is_range in zip(args, ranges, strict=False):
         k = v.shape[0]
         if is_range:
             use = v.tag == NUM if numbers_only_in_ranges else (v.tag == NUM) | (v.tag == BOOL)
@@ -384,7 +384,7 @@ def _by_argument(args, ranges, reduce):
     """reduce(num, use) -> tuple of (k_i,) arrays, for each argument; with the first error."""
     k = max(v.shape[0] for v in args)
     parts, errs = [], []
-    for v, r in zip(args, ranges):
+    for v, r in zip(args, ranges, strict=False):
         n, use, err = _values_of([v], [r])
         parts.append(tuple(np.broadcast_to(x, (k,)) for x in reduce(n, use)))
         errs.append(np.broadcast_to(err, (k,)))
@@ -439,7 +439,7 @@ def _agg_product(args, ranges):
 
 def _agg_count(args, ranges):
     counts = None
-    for v, is_range in zip(args, ranges):
+    for v, is_range in zip(args, ranges, strict=False):
         if is_range:
             hit = v.tag == NUM
         else:                               # typed: numbers, booleans and numeric text count
@@ -468,7 +468,7 @@ def _agg_sumproduct(args, ranges):
 def _agg_logical(all_: bool):
     def f(args, ranges):
         acc, seen, err = None, None, None
-        for v, is_range in zip(args, ranges):
+        for v, is_range in zip(args, ranges, strict=False):
             k = v.shape[0]
             if is_range:
                 use = (v.tag == NUM) | (v.tag == BOOL)

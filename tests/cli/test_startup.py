@@ -1,0 +1,73 @@
+"""A quick start: `import sheetkin`, `sheetkin --help` and `sheetkin compute` of a small scene
+load only what they use (checked in fresh processes through sys.modules, not by timing):
+pandas, openpyxl, matplotlib and mpmath load lazily, and numpy only with a scene (the group
+kinds' registry, sheetkin.groups, imports a kind's numpy kernels on first use)."""
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+HEAVY = ("pandas", "openpyxl", "matplotlib", "mpmath", "scipy", "pyarrow")
+
+PROBE = """
+import json, sys
+{setup}
+print(json.dumps(sorted(m for m in sys.modules if m.split('.')[0] in {heavy!r})))
+"""
+
+
+def loaded(setup: str) -> set[str]:
+    code = PROBE.format(setup=setup, heavy=HEAVY + ("numpy",))
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT,
+                          timeout=120, env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
+    assert proc.returncode == 0, proc.stderr
+    return {m.split(".")[0] for m in json.loads(proc.stdout.splitlines()[-1])}
+
+
+def test_import_sheetkin_loads_nothing_heavy():
+    assert loaded("import sheetkin") == set()
+
+
+@pytest.mark.parametrize("argv", [["--help"], ["compute", "--help"], ["validate", "--help"],
+                                  ["workbook", "--help"], ["--version"]])
+def test_help_loads_nothing_heavy_not_even_numpy(argv):
+    setup = ("from sheetkin.cli.commands import main\n"
+             "import contextlib, io\n"
+             "with contextlib.redirect_stdout(io.StringIO()) as out:\n"
+             f"    try: main({argv!r})\n"
+             "    except SystemExit as e: assert e.code == 0\n"
+             "assert 'sheetkin' in out.getvalue() or '0.' in out.getvalue()")
+    assert loaded(setup) == set()
+
+
+def test_the_registry_imports_a_kind_on_first_use():
+    setup = ("import sys\n"
+             "from sheetkin.groups import KINDS\n"
+             "assert list(KINDS) == ['RRR', 'RRP', 'RPR', 'PRP', 'RPP'] and 'RPR' in KINDS\n"
+             "assert 'numpy' not in sys.modules and 'sheetkin.groups.rrr' not in sys.modules\n"
+             "assert KINDS['RRR'].KIND == 'RRR' and KINDS['RRR'] is KINDS['RRR']\n"
+             "assert 'sheetkin.groups.rpp' not in sys.modules")
+    assert loaded(setup) == {"numpy"}
+
+
+@pytest.mark.parametrize("fmt", ["table", "csv", "json"])
+def test_compute_command_loads_numpy_only(fmt):
+    setup = ("from sheetkin.cli.commands import main\n"
+             "import contextlib, io\n"
+             "with contextlib.redirect_stdout(io.StringIO()) as out:\n"
+             f"    assert main(['compute', 'workbooks/fourbar.toml', '--format', '{fmt}']) == 0")
+    assert loaded(setup) == {"numpy"}
+
+
+def test_the_api_still_gives_a_dataframe():
+    setup = ("import sheetkin\n"
+             "df = sheetkin.compute('workbooks/fourbar.toml')\n"
+             "assert type(df).__name__ == 'DataFrame' and len(df) == 13\n"
+             "import sheetkin.kinematics.table\n"
+             "assert callable(sheetkin.compute) and sheetkin.solve and sheetkin.Gap")
+    assert "pandas" in loaded(setup)

@@ -1,0 +1,42 @@
+"""`sheetkin evaluate` and sheetkin.evaluate_frame: the headless values of a workbook."""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import sheetkin
+from sheetkin.cli.commands import main
+
+WORKBOOKS = Path(__file__).resolve().parents[2] / "workbooks"
+
+
+@pytest.mark.parametrize("stem", sorted(p.stem for p in WORKBOOKS.glob("*.toml")))
+def test_evaluate_frame_equals_the_solver(stem):
+    """Rows = names, columns = positions; the accepted values are the solver's."""
+    scene = sheetkin.load_scene(WORKBOOKS / f"{stem}.toml")
+    df = sheetkin.evaluate_frame(WORKBOOKS / f"{stem}.xlsx")
+    ref = sheetkin.compute(scene)
+    assert list(df.columns) == list(range(1, scene.crank.positions + 1))
+    for name in sheetkin.column_names(scene):
+        got, exp = df.loc[name].to_numpy(dtype=float), ref[name].to_numpy()
+        d = np.abs(got - exp)
+        if name.startswith("phi_"):
+            d = np.minimum(d, 360 - d)
+        assert np.all(d <= 1e-9 * np.maximum(1, np.abs(exp))), name
+
+
+def test_evaluate_command_formats(tmp_path, capsys):
+    book = str(WORKBOOKS / "fourbar.xlsx")
+    assert main(["evaluate", book]) == 0
+    table = capsys.readouterr().out
+    assert any(line.startswith("omega_3") and "-5.13142" in line for line in table.splitlines())
+    assert main(["evaluate", book, "--format", "csv", "-o", str(tmp_path / "v.csv")]) == 0
+    assert (tmp_path / "v.csv").read_text().splitlines()[0].startswith("name,1,2,")
+    assert main(["evaluate", book, "--format", "json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["rows"]["asm_g1"] == [True] * 13 and len(data["rows"]["x_B"]) == 13
+    assert main(["evaluate", book, "--sheet", "nope"]) == 2
+    assert "no sheet 'nope'" in capsys.readouterr().err
