@@ -11,33 +11,37 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+# Arrays over crank positions, or one scalar where a value does not move (the frame,
+# a fixed guide): numpy broadcasts either, so both are accepted wherever values are.
+Values = np.ndarray | float
+
 
 @dataclass
 class Motion:
     """A point: coordinates, velocity and acceleration components (arrays or scalars)."""
-    x: np.ndarray
-    y: np.ndarray
-    vx: np.ndarray
-    vy: np.ndarray
-    ax: np.ndarray
-    ay: np.ndarray
+    x: Values
+    y: Values
+    vx: Values
+    vy: Values
+    ax: Values
+    ay: Values
 
 
 @dataclass
 class Rotation:
     """A link's direction as a unit vector (c, s) = (cos phi, sin phi) and its rates."""
-    c: np.ndarray
-    s: np.ndarray
-    omega: np.ndarray
-    eps: np.ndarray
+    c: Values
+    s: Values
+    omega: Values
+    eps: Values
 
 
 @dataclass
 class Slide:
     """A slider's travel along its guide (or slot) and its relative velocity/acceleration."""
-    s: np.ndarray
-    vs: np.ndarray
-    as_: np.ndarray
+    s: Values
+    vs: Values
+    as_: Values
 
 
 @dataclass
@@ -54,8 +58,8 @@ class GroupMotion:
     joints: dict[str, Motion]
     links: dict[int, Rotation]
     slides: dict[str, Slide] = field(default_factory=dict)
-    disc: np.ndarray = 0.0
-    toggle: np.ndarray = 1.0
+    disc: Values = 0.0
+    toggle: Values = 1.0
 
 
 def cramer(m11, m12, m21, m22, b1, b2, inv_det):
@@ -162,8 +166,8 @@ class Pair:
 @dataclass
 class Loads:
     """Forces (x, y, fx, fy) and couples acting on one link, all arrays over positions."""
-    forces: list = field(default_factory=list)
-    couple: object = 0.0
+    forces: list[tuple[Values, Values, Values, Values]] = field(default_factory=list)
+    couple: Values = 0.0
 
     def add(self, at: Motion, fx, fy):
         self.forces.append((at.x, at.y, fx, fy))

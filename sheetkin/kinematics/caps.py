@@ -95,6 +95,12 @@ def load_toml(text: str, source: str = "<scene>") -> dict:
                                   f"at most {MAX_MAGNITUDE:g} in magnitude ({e})", MAX_MESSAGE)) from None
 
 
+def _control_char(text: str) -> str:
+    """The first control character of `text` (the caller found one)."""
+    found = _CONTROL_RE.search(text)
+    return found.group() if found else ""
+
+
 def check_values(data: dict, fail_at) -> None:
     """Every value of the document, whatever its key: finite, |x| <= MAX_MAGNITUDE, text
     without control characters, at most MAX_TEXT characters, nesting at most MAX_DEPTH.
@@ -103,7 +109,7 @@ def check_values(data: dict, fail_at) -> None:
     OverflowError). One pass, a few type tests per value (20,000 [[point]]s: 0.1 s).
     `fail_at(path, message)` raises the error for the value at `path` (keys and indices)."""
     big = MAX_MAGNITUDE
-    stack = [(data, ())]
+    stack: list[tuple[object, tuple[str | int, ...]]] = [(data, ())]
     while stack:
         node, path = stack.pop()
         for k, v in (node.items() if type(node) is dict else enumerate(node)):
@@ -122,7 +128,7 @@ def check_values(data: dict, fail_at) -> None:
                 if len(v) > MAX_TEXT:
                     bad = f"text of {len(v):,} characters; expected at most {MAX_TEXT:,}"
                 else:
-                    bad = (f"text with a control character ({_CONTROL_RE.search(v).group()!r}) in "
+                    bad = (f"text with a control character ({_control_char(v)!r}) in "
                            f"{shown(v)}; expected one line of printable text")
             elif t is dict or t is list:
                 if len(path) + 1 >= MAX_DEPTH:

@@ -10,8 +10,10 @@ from __future__ import annotations
 import heapq
 import math
 import re
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import NoReturn
 
 from sheetkin.groups import KINDS, kind_of
 from sheetkin.groups.group import Group, Guide, slide_names
@@ -132,7 +134,7 @@ class Scene:
 
 
 # --------------------------------------------------------------------------- locating keys
-class _Locator:
+class KeyLocator:
     """Finds the line of a key in the TOML text (tomllib keeps no positions)."""
 
     def __init__(self, text: str):
@@ -177,21 +179,21 @@ class _Locator:
         return None
 
 
-class _Ctx:
+class SceneContext:
     """Where we are in the file, to build one-line errors."""
 
-    def __init__(self, source: str, loc: _Locator | str):
+    def __init__(self, source: str, loc: KeyLocator | str):
         # the locator is built on the first error only (its line scan is most of the cost
         # of a long valid file): `loc` may be the scene's text
         self.source, self._loc = source, loc
 
     @property
-    def loc(self) -> _Locator:
+    def loc(self) -> KeyLocator:
         if isinstance(self._loc, str):
-            self._loc = _Locator(self._loc)
+            self._loc = KeyLocator(self._loc)
         return self._loc
 
-    def fail(self, where: str, table: str | None, index: int, key: str | None, msg: str):
+    def fail(self, where: str, table: str | None, index: int, key: str | None, msg: str) -> NoReturn:
         no = self.loc.line(table, index, key)
         pos = f"{self.source}:{no}" if no else self.source
         what = f"{where} key '{key}'" if key else where
@@ -210,18 +212,29 @@ _CHECKS = {
 }
 
 
-class _Table:
+class SceneTable:
     """One TOML table with typed getters that raise SceneError naming the key."""
 
-    def __init__(self, ctx: _Ctx, data, where: str, table: str | None, index: int = 0):
+    def __init__(self, ctx: SceneContext, data, where: str, table: str | None, index: int = 0):
         self.ctx, self.where, self.table, self.index = ctx, where, table, index
         if not isinstance(data, dict):
             # e.g. `frame = 5`: point at that line (there is no [frame] header to find)
             ctx.fail("scene", None, 0, table, f"expected a [{table}] table, got {_type_name(data)}")
         self.data = data
 
-    def fail(self, key, msg):
+    # set by `reporting_through`: a nested table names its keys under its parent's
+    _redirect: Callable[[str | None, str], NoReturn] | None = None
+
+    def fail(self, key: str | None, msg: str) -> NoReturn:
+        if self._redirect is not None:
+            self._redirect(key, msg)
         self.ctx.fail(self.where, self.table, self.index, key, msg)
+
+    def reporting_through(self, fail: Callable[[str | None, str], NoReturn]) -> SceneTable:
+        """This table, reporting its mistakes through `fail` (e.g. `guide.through` named
+        under the group that holds the inline guide table)."""
+        self._redirect = fail
+        return self
 
     def check_keys(self, allowed):
         for k in self.data:
@@ -299,7 +312,7 @@ def load_scene(path: str | Path) -> Scene:
     return parse_scene(text, str(path))
 
 
-def _fail_at(ctx: _Ctx, data: dict, path: tuple, msg: str):
+def _fail_at(ctx: SceneContext, data: dict, path: tuple, msg: str):
     """SceneError at a value's path in the document: [table] key, [[table]] #i key, or a
     top-level key, located as the typed getters locate theirs."""
     head = path[0]
@@ -314,9 +327,9 @@ def _fail_at(ctx: _Ctx, data: dict, path: tuple, msg: str):
 
 def parse_scene(text: str, source: str = "<scene>") -> Scene:
     data = load_toml(text, source)
-    ctx = _Ctx(source, text)
+    ctx = SceneContext(source, text)
     check_values(data, lambda path, msg: _fail_at(ctx, data, path, msg))
-    top = _Table(ctx, data, "scene", None)
+    top = SceneTable(ctx, data, "scene", None)
     top.check_keys(["title", "author", "frame", "crank", "group", "point", "gravity", "mass",
                     "force", "synthesis"])
     # [synthesis] (the data a crank-rocker was synthesized from) is read and checked by
@@ -326,7 +339,7 @@ def parse_scene(text: str, source: str = "<scene>") -> Scene:
 
     known: dict[str, str] = {}     # name -> what defined it (for "defined twice")
 
-    def define(tbl: _Table, key: str, name: str, what: str):
+    def define(tbl: SceneTable, key: str, name: str, what: str):
         if name in known:
             tbl.fail(key, f"name '{name}' is defined twice (already {known[name]})")
         known[name] = what
@@ -350,7 +363,7 @@ def parse_scene(text: str, source: str = "<scene>") -> Scene:
 def _parse_frame(ctx, data, define):
     if "frame" not in data:
         ctx.fail("scene", None, 0, "frame", "missing; expected a [frame] table of fixed points")
-    tbl = _Table(ctx, data["frame"], "[frame]", "frame")
+    tbl = SceneTable(ctx, data["frame"], "[frame]", "frame")
     frame = {}
     for name in tbl.data:
         if not NAME_RE.match(name):
@@ -365,7 +378,7 @@ def _parse_frame(ctx, data, define):
 def _parse_crank(ctx, data, frame, define):
     if "crank" not in data:
         ctx.fail("scene", None, 0, "crank", "missing; expected a [crank] table")
-    tbl = _Table(ctx, data["crank"], "[crank]", "crank")
+    tbl = SceneTable(ctx, data["crank"], "[crank]", "crank")
     tbl.check_keys(["pivot", "joint", "length", "phi0_deg", "step_deg", "positions",
                     "omega", "epsilon"])
     pivot = tbl.name("pivot")
@@ -392,7 +405,7 @@ def _parse_groups(ctx, data, frame, define):
         ctx.fail("scene", None, 0, "group", "expected [[group]] tables (double brackets: one per group)")
     groups, next_link = [], 2
     for i, g in enumerate(raw):
-        tbl = _Table(ctx, g, f"[[group]] #{i + 1}", "group", i)
+        tbl = SceneTable(ctx, g, f"[[group]] #{i + 1}", "group", i)
         if "type" not in tbl.data:
             tbl.fail("type", f"missing; expected one of {', '.join(GROUP_TYPES)}")
         kind = tbl.get("type", "a string")
@@ -425,7 +438,7 @@ def _check_slides(ctx, groups):
             slides[tag] = g.index
 
 
-def _parse_guide(tbl: _Table, key: str, frame, index: int | None = None) -> Guide:
+def _parse_guide(tbl: SceneTable, key: str, frame, index: int | None = None) -> Guide:
     """A guide `{through = POINT or [x, y], angle_deg = A, link = k}` (the contract's
     "Group types"): on the frame (link 0, the default) `through` is a frame point or [x, y];
     on a moving link k it names a point of link k (checked when the scene is planned).
@@ -441,8 +454,8 @@ def _parse_guide(tbl: _Table, key: str, frame, index: int | None = None) -> Guid
         tbl.fail(key, f"missing; expected {key} = {expected}")
     if not isinstance(value, dict):
         tbl.fail(key, f"expected {where} = {expected}, got {_type_name(value)}")
-    guide = _Table(tbl.ctx, value, tbl.where, tbl.table, tbl.index)
-    guide.fail = lambda k, msg: tbl.fail(f"{where}.{k}" if k else where, msg)
+    guide = SceneTable(tbl.ctx, value, tbl.where, tbl.table, tbl.index)
+    guide.reporting_through(lambda k, msg: tbl.fail(f"{where}.{k}" if k else where, msg))
     guide.check_keys(["through", "angle_deg", "link"])
     link = guide.get("link", "an integer", 0)
     if link < 0:
@@ -470,7 +483,7 @@ def _parse_points(ctx, data, define):
         ctx.fail("scene", None, 0, "point", "expected [[point]] tables (double brackets: one per point)")
     points = []
     for i, p in enumerate(raw):
-        tbl = _Table(ctx, p, f"[[point]] #{i + 1}", "point", i)
+        tbl = SceneTable(ctx, p, f"[[point]] #{i + 1}", "point", i)
         tbl.check_keys(["name", "link", "from", "along", "across"])
         name = tbl.name("name")
         define(tbl, "name", name, f"point #{i + 1}")
@@ -486,7 +499,7 @@ def _array_of_tables(ctx, data, key: str):
     return raw
 
 
-def _link_and_point(tbl: _Table, on_link: dict[int, list[str]], point_key: str, required: bool):
+def _link_and_point(tbl: SceneTable, on_link: dict[int, list[str]], point_key: str, required: bool):
     """`link` (a moving link) and a point of it named by `point_key`, for [[mass]]/[[force]]."""
     link = tbl.get("link", "an integer")
     if link not in on_link:
@@ -505,7 +518,7 @@ def _link_and_point(tbl: _Table, on_link: dict[int, list[str]], point_key: str, 
 def _parse_masses(ctx, data, on_link) -> tuple[Mass, ...]:
     masses: dict[int, Mass] = {}
     for i, m in enumerate(_array_of_tables(ctx, data, "mass")):
-        tbl = _Table(ctx, m, f"[[mass]] #{i + 1}", "mass", i)
+        tbl = SceneTable(ctx, m, f"[[mass]] #{i + 1}", "mass", i)
         tbl.check_keys(["link", "mass", "inertia", "centre"])
         link, centre = _link_and_point(tbl, on_link, "centre", True)
         if link in masses:
@@ -524,7 +537,7 @@ def _parse_forces(ctx, data, on_link) -> tuple[Force, ...]:
     forces = []
     names: set[str] = set()
     for i, f in enumerate(_array_of_tables(ctx, data, "force")):
-        tbl = _Table(ctx, f, f"[[force]] #{i + 1}", "force", i)
+        tbl = SceneTable(ctx, f, f"[[force]] #{i + 1}", "force", i)
         tbl.check_keys(["name", "link", "at", "force", "moment", "from_deg", "to_deg"])
         name = tbl.name("name") if "name" in tbl.data else f"F{i + 1}"
         if name in ("ext", "bal"):
@@ -567,7 +580,7 @@ def _make_plan(ctx, frame, crank, groups, points):
     on_link = link_joints(crank, groups)
     n_links = 1 + 2 * len(groups)
     on_link_set = {k: set(v) for k, v in on_link.items()}
-    names_on = {}                    # link -> names of the points on it
+    names_on: dict[int, set[str]] = {}   # link -> names of the points on it
     for p in points:
         names_on.setdefault(p.link, set()).add(p.name)
     for i, p in enumerate(points):
@@ -645,7 +658,7 @@ def _make_plan(ctx, frame, crank, groups, points):
 def key_line(text: str, table: str | None, key: str) -> int | None:
     """Line number of `key` in [table] of a scene's text (for messages about a valid
     scene's values, e.g. a workbook's column cap)."""
-    return _Locator(text).line(table, 0, key)
+    return KeyLocator(text).line(table, 0, key)
 
 
 def _not_yet(name: str, g: Group, placer: dict) -> str:
@@ -664,7 +677,7 @@ def override_crank(text: str, source: str = "<scene>", **values) -> tuple[str, S
     and the scene it parses to. The text is patched, not regenerated, so comments stay and
     a workbook can embed exactly the scene it was made from."""
     lines = text.splitlines()
-    loc = _Locator(text)
+    loc = KeyLocator(text)
     header = loc.line("crank")
     if header is None:
         raise SceneError(f"{source}: no [crank] table to change")
@@ -676,6 +689,6 @@ def override_crank(text: str, source: str = "<scene>", **values) -> tuple[str, S
                                    lambda m: f"{m.group(1)}{literal}{m.group(2) or ''}", lines[no - 1])
         else:
             lines.insert(header, f"{key} = {literal}")
-            loc = _Locator("\n".join(lines))
+            loc = KeyLocator("\n".join(lines))
     new = "\n".join(lines) + "\n"
     return new, parse_scene(new, source)

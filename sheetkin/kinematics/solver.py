@@ -11,10 +11,12 @@ measure (for RRR the sine of the transmission angle).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import cast
 
 import numpy as np
 
 from sheetkin.groups import kind_of
+from sheetkin.groups.group import Group
 from sheetkin.groups.motion import FRAME, Motion, Rotation, Slide, carried_point, cramer, fixed, inverse_det  # noqa: F401 (the API)
 
 from .scene import Crank, Point, Scene
@@ -62,11 +64,11 @@ def solve(scene: Scene, phi_deg, omega: float | None = None, epsilon: float | No
                                          omega, epsilon)
                 known[crank.joint] = sol.points[crank.joint] = a
             elif kind == "point":
-                p: Point = item
+                p = cast(Point, item)
                 known[p.name] = sol.points[p.name] = carried_point(
                     known[p.origin], rot[p.link], p.along, p.across)
             else:
-                g = item
+                g = cast(Group, item)
                 gm = kind_of(g).solve(g, known, rot, scale)
                 for name, m in gm.joints.items():
                     known[name] = sol.points[name] = m

@@ -164,7 +164,7 @@ def synthesize_crank_rocker(kw: float, l3: float, yd: float, gamma1_deg: float,
                 continue
             candidates.append((float(r1), float(r2), float(xd), phi))
     # phi and phi + pi flip the signs of R1 and R2 together: keep the one with R1 = l1 + l2 > 0
-    chosen = []
+    chosen: list[tuple[float, float, float, float]] = []
     for r1, r2, xd, phi in candidates:
         if r1 > 0 and not any(abs(r1 - u[0]) < 1e-12 * scale and abs(r2 - u[1]) < 1e-12 * scale
                               and abs(xd - u[2]) < 1e-12 * scale for u in chosen):
@@ -198,7 +198,7 @@ def _check(kw, l3, yd, gamma1_deg, gamma2_deg, theta_deg, r1, r2, xd, phi) -> Cr
     l1, l2 = (r1 - r2) / 2, (r1 + r2) / 2
     d = math.hypot(xd, yd)
     links = {"crank l1": l1, "coupler l2": l2, "rocker l3": l3, "frame OD": d}
-    s_name = min(links, key=links.get)
+    s_name = min(links, key=lambda name: links[name])
     s, big = links[s_name], max(links.values())
     if s_name != "crank l1" and links[s_name] < l1:
         raise SynthesisError(
@@ -241,19 +241,19 @@ def parse_synthesis(text: str, source: str = "<scene>") -> dict[str, float] | No
     point), to which the synthesis sheet refers."""
     import tomllib
 
-    from sheetkin.kinematics.scene import _Ctx, _Locator, _Table, parse_scene
+    from sheetkin.kinematics.scene import KeyLocator, SceneContext, SceneTable, parse_scene
 
     scene = parse_scene(text, source)          # the scene's own mistakes first
     data = tomllib.loads(text)
     if "synthesis" not in data:
         return None
-    loc = _Locator(text)
-    ctx = _Ctx(source, loc)
-    tbl = _Table(ctx, data["synthesis"], "[synthesis]", "synthesis")
+    loc = KeyLocator(text)
+    ctx = SceneContext(source, loc)
+    tbl = SceneTable(ctx, data["synthesis"], "[synthesis]", "synthesis")
     if ("synthesis", 0) not in loc.tables:
         # an inline table `synthesis = {kw = ...}`: point at that line
-        tbl.fail = lambda key, msg: ctx.fail("[synthesis]", None, 0,
-                                             "synthesis" + (f".{key}" if key else ""), msg)
+        tbl.reporting_through(lambda key, msg: ctx.fail("[synthesis]", None, 0,
+                                                        "synthesis" + (f".{key}" if key else ""), msg))
     tbl.check_keys(SYNTHESIS_KEYS)
     values = {k: tbl.get(k, "a number") for k in SYNTHESIS_KEYS}
     try:
@@ -501,7 +501,7 @@ def add_synthesis_sheet(wb, kw: float, l3: float, yd: float, gamma1_deg: float,
 
     def fill(tpl: str, col: str = "D") -> str:
         tpl = tpl.replace("{marker}", text["marker"])
-        tpl = re.sub(r"\{kin:(\w+)\}", lambda m: kinematics[m.group(1)], tpl)
+        tpl = re.sub(r"\{kin:(\w+)\}", lambda m: (kinematics or {})[m.group(1)], tpl)
         tpl = re.sub(r"\{c\}@(\w+)", lambda m: f"{col}{where[m.group(1)]}", tpl)
         tpl = re.sub(r"D\{(\w+)\}", lambda m: f"D{where[m.group(1)]}", tpl)
         tpl = re.sub(r"E\{(\w+)\}", lambda m: f"E{where[m.group(1)]}", tpl)
@@ -642,7 +642,7 @@ def add_scene_synthesis_sheet(wb, scene, data: dict[str, float], lang: str = "ru
     o, d = scene.crank.pivot, fourbar_dyad(scene)[2]
     names = {"L1": "L1", "L2": f"L{g.links[0]}", "L3": f"L{g.links[1]}", "x_O": f"x_{o}",
              "y_O": f"y_{o}", "x_D": f"x_{d}", "y_D": f"y_{d}", "branch": f"branch_g{g.index}"}
-    found = {}
+    found: dict[object, int] = {}
     for r, (v,) in enumerate(kin.iter_rows(min_col=1, max_col=1, values_only=True), 1):
         found.setdefault(v, r)
     sheet = "'" + kin.title.replace("'", "''") + "'"
