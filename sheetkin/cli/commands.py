@@ -16,6 +16,7 @@ import json
 import os
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 # Only the standard library and the scene reader here: `--help` and small commands start
 # quickly, and each command imports what it needs (numpy, pandas, openpyxl, matplotlib)
@@ -33,6 +34,9 @@ from sheetkin.kinematics.scene import (
 )
 
 from .args import EXIT_INPUT, TOGGLE_THRESHOLD, build_parser  # noqa: F401 (TOGGLE_THRESHOLD: re-exported)
+
+if TYPE_CHECKING:                 # names for annotations only: the commands import on use
+    from sheetkin.kinematics.table import AngleRange
 
 EXIT_ASSEMBLY = 3
 EXIT_INTERNAL = 70          # a bug (BSD's EX_SOFTWARE): one line, and a request to report it
@@ -79,6 +83,7 @@ def cmd_compute(args) -> int:
     if args.dynamics and not scene.has_dynamics:
         raise SceneError(f"{args.scene}: --dynamics needs [[mass]] and/or [[force]] tables in the "
                          "scene (and `gravity = [gx, gy]` for weight); see the README")
+    phi: AngleRange | np.ndarray     # a --range streams in blocks; other angles are one array
     if args.range is not None:
         phi = parse_range(args.range)
     elif args.at_file is not None:

@@ -8,6 +8,7 @@ read through to them, so a caller never needs to know which kind defines which f
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 
 @dataclass(frozen=True)
@@ -80,10 +81,10 @@ class Family:
     title: str
     scene: str
     group: int
-    edge: object
+    edge: Any          # a function (lib, g, known, links) -> number, or the varied key's value
     near_deg: float | None = None
     side: int = -1
-    start: object = None
+    start: Any = None  # None, or a function giving the unknowns where the walk starts
     vary: str | None = None
 
 

@@ -13,6 +13,7 @@ import math
 import re
 import reprlib
 import tomllib
+from typing import Any
 
 # Caps on what a scene may hold (README, "Scene files"); a file past them gets one line.
 # Magnitudes: a kinematic chain multiplies up to about six of its numbers (mass x length x
@@ -109,7 +110,7 @@ def check_values(data: dict, fail_at) -> None:
     OverflowError). One pass, a few type tests per value (20,000 [[point]]s: 0.1 s).
     `fail_at(path, message)` raises the error for the value at `path` (keys and indices)."""
     big = MAX_MAGNITUDE
-    stack: list[tuple[object, tuple[str | int, ...]]] = [(data, ())]
+    stack: list[tuple[Any, tuple[str | int, ...]]] = [(data, ())]
     while stack:
         node, path = stack.pop()
         for k, v in (node.items() if type(node) is dict else enumerate(node)):

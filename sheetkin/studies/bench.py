@@ -37,14 +37,15 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import SimpleNamespace
+from typing import Any, cast
 
 import mpmath
 import numpy as np
 import pandas as pd
 
 from sheetkin.groups import kind_of
-from sheetkin.groups.group import slide_names
-from sheetkin.kinematics.scene import Scene, override_crank
+from sheetkin.groups.group import Group, slide_names
+from sheetkin.kinematics.scene import Point, Scene, override_crank
 from sheetkin.kinematics.solver import solve
 from sheetkin.kinematics.table import TOGGLE_THRESHOLD, AssemblyError, assembly_gaps, failed_positions, solution_columns
 from sheetkin.xlsx.libreoffice import soffice_path
@@ -200,15 +201,18 @@ def _walk(lib, scene: Scene, phi_deg: float, guesses: dict[int, list], tol: floa
     crank = scene.crank
     known = {name: ((n(x), n(y)), (n(0), n(0)), (n(0), n(0))) for name, (x, y) in scene.frame.items()}
     links = {1: (n(phi_deg) * lib.pi() / 180, n(crank.omega), n(crank.epsilon))}
-    slides, qs, problems, sines = {}, {}, [], {}
+    slides: dict = {}
+    qs: dict[int, list] = {}
+    problems: list[tuple[Group, str]] = []
+    sines: dict[int, float] = {}
     for kind, item in scene.plan:
         if kind == "crank":
             known[crank.joint] = _carried(lib, known[crank.pivot], links[1], n(crank.length), n(0))
         elif kind == "point":
-            known[item.name] = _carried(lib, known[item.origin], links[item.link],
-                                        n(item.along), n(item.across))
+            p = cast(Point, item)
+            known[p.name] = _carried(lib, known[p.origin], links[p.link], n(p.along), n(p.across))
         else:
-            g = item
+            g = cast(Group, item)
             if g.index == until:
                 return known, links
             kind = kind_of(g)
@@ -246,7 +250,7 @@ def _walk(lib, scene: Scene, phi_deg: float, guesses: dict[int, list], tol: floa
 def _unknowns(scene: Scene, phi_deg) -> list[dict[int, list[float]]]:
     """Each group's unknowns q from the closed-form solver, per position (starting points)."""
     sol = solve(scene, phi_deg)
-    out = [{} for _ in np.atleast_1d(phi_deg)]
+    out: list[dict[int, list[float]]] = [{} for _ in np.atleast_1d(phi_deg)]
     for g in scene.groups:
         qa, qb = kind_of(g).unknowns(g, sol)
         for i, d in enumerate(out):
@@ -266,7 +270,7 @@ def reference_mp(scene: Scene, phi_deg_list, dps: int = 50) -> dict[str, list]:
     """
     phis = [float(p) for p in phi_deg_list]
     starts = _unknowns(scene, phis)
-    out = {name: [] for name in quantity_names(scene)}
+    out: dict[str, list] = {name: [] for name in quantity_names(scene)}
     with mpmath.workdps(dps):
         tol = mpmath.mpf(10) ** (-(dps - 5))
         for phi, start in zip(phis, starts, strict=False):
@@ -335,7 +339,8 @@ def method_newton(scene: Scene, phis, tol: float = NEWTON_TOL, max_iter: int = N
     first = _unknowns(scene, phis[:1])[0]
 
     def run():
-        guess, rows, problems, sines = dict(first), [], {}, []
+        guess, rows, sines = dict(first), [], []
+        problems: dict[str, list[float]] = {}
         for phi in phis:
             values, qs, probs, sine = _walk(FLOAT, scene, phi, guess, tol, max_iter)
             guess.update(qs)
@@ -347,9 +352,9 @@ def method_newton(scene: Scene, phis, tol: float = NEWTON_TOL, max_iter: int = N
 
     (rows, problems, sines), t = _best_time(run, 3)
     values = {n: np.array([r[n] if r else np.nan for r in rows]) for n in names}
-    res = MethodResult("newton", f"tol={tol:g}", t / len(phis), values, problems,
-                       measure=np.array(sines, dtype=float))
-    flag(res, *newton_singular(threshold), phis, np.abs(res.measure) < threshold)
+    measure = np.array(sines, dtype=float)
+    res = MethodResult("newton", f"tol={tol:g}", t / len(phis), values, problems, measure=measure)
+    flag(res, *newton_singular(threshold), phis, np.abs(measure) < threshold)
     return res
 
 
@@ -488,7 +493,8 @@ def scaled_differences(values: dict[str, np.ndarray], ref: dict, each_position: 
     the mpmath reference (each number split into two floats, hi + lo, so the difference is
     not limited by rounding it to a float) or floats. each_position: a family's scale is
     max(1, its largest |reference| at that position) instead of over all positions."""
-    diffs, scales = {}, {}
+    diffs: dict[str, Any] = {}
+    scales: dict[str, Any] = {}   # a family -> its scale (one number, or one per position)
     for name, refs in ref.items():
         head = name.split("_", 1)[0]
         kind, family = FAMILIES[head]
@@ -569,7 +575,8 @@ def run_bench(scene: Scene, positions: int | None, out_dir, *, scene_text: str |
                 warnings.append(f"libreoffice: skipped: {e}")
         elif libreoffice:
             warnings.append("libreoffice: skipped: LibreOffice (soffice) not found")
-    rows, said = [], {}         # (method, warning) -> the params (rows) it is said of
+    rows: list = []
+    said: dict[tuple[str, str], list] = {}   # (method, warning) -> the params (rows) it is said of
     for r in results:
         notes = [r.notes] if r.notes else []
         for why, at in r.failures.items():

@@ -152,7 +152,7 @@ def reference_by_continuation(scene: Scene, phi_deg_list, edge, dps: int = 50) -
     decreasing distance: Newton in mpmath walked towards the edge by steps that halve the
     distance, each started from the last answer (the other branch stays twice as far as
     the step), from the float solver's answer 0.05 rad away; _REF_EXTRA_DPS guard digits."""
-    out = {name: [] for name in quantity_names(scene)}
+    out: dict[str, list] = {name: [] for name in quantity_names(scene)}
     with mpmath.workdps(dps + _REF_EXTRA_DPS):
         tol = mpmath.mpf(10) ** (-(dps + 5))
         d = mpmath.mpf("0.05")
@@ -181,7 +181,7 @@ def reference_near_singular(scene: Scene, f: Family, phi_deg_list, dps: int = 50
     conditioning near the singular point costs up to 20 of them. A position with no real
     solution gives None for every quantity."""
     g = _group(scene, f.group)
-    out = {name: [] for name in quantity_names(scene)}
+    out: dict[str, list] = {name: [] for name in quantity_names(scene)}
     with mpmath.workdps(dps + _REF_EXTRA_DPS):
         tol = mpmath.mpf(10) ** (-(dps + 5))
         for phi in phi_deg_list:
