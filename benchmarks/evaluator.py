@@ -285,15 +285,18 @@ def main(argv=None) -> int:
                     notes.append(f"formulas on {stem}36: {why}")
                 else:
                     total = res["load"] + res["calc"]
-                    rows.append((f"{stem}{label}", "formulas: load+compile", res["load"], None, ratio(res["load"], ours_ref)))
-                    rows.append((f"{stem}{label}", "formulas: calculate", res["calc"], None, ratio(res["calc"], ours_ref)))
+                    rows.append((f"{stem}{label}", "formulas: load+compile", res["load"], None,
+                                  ratio(res["load"], ours_ref)))
+                    rows.append((f"{stem}{label}", "formulas: calculate", res["calc"], None,
+                                  ratio(res["calc"], ours_ref)))
                     rows.append((f"{stem}{label}", "formulas: total", total, None, ratio(total, ours_ref)))
                     ok = 0
                     for (sheet, r, c), theirs in zip(cells, res["values"], strict=False):
                         mine = ref_book.value(sheet, r, c)
                         ok += close(mine, theirs)
                         if not close(mine, theirs):
-                            notes.append(f"formulas differs at {stem}{label} {sheet}!R{r}C{c}: ours {mine!r}, formulas {theirs!r}")
+                            notes.append(f"formulas differs at {stem}{label} {sheet}!R{r}C{c}: "
+                                         f"ours {mine!r}, formulas {theirs!r}")
                     notes.append(f"sanity: formulas equals ours on {ok} of {len(cells)} sampled cells of {stem}{label}")
                 print(f"  formulas done ({'ok' if res else why})", flush=True)
 

@@ -49,6 +49,7 @@ from openpyxl.utils import get_column_letter  # noqa: E402
 from sheetkin.xlsx.package import Limits  # noqa: E402
 
 NS = "http://schemas.openxmlformats.org/spreadsheetml/2006/main"
+SML_CT = "application/vnd.openxmlformats-officedocument.spreadsheetml"
 RNS = "http://schemas.openxmlformats.org/officeDocument/2006/relationships"
 DATA_ROWS, DATA_COLS = 1400, 1000
 FAR_ROW = 2000                 # a constant at Runs!A2000: the used range 2000 x 4000
@@ -94,9 +95,10 @@ def distinct_sheet(rng: random.Random, chars: int) -> tuple[bytes, int, int]:
         cells = []
         for c in range(1, 201):
             i, j = rng.randint(1, DATA_ROWS - 10), rng.randint(1, DATA_COLS - 10)
-            f = (f"Data!{get_column_letter(j)}{i}*{rng.random():.12f}+SIN(Data!{get_column_letter(j + 1)}{i + 1})"
-                 f"-ROUND(IF(Data!{get_column_letter(j)}{i}>0.5,{rng.random():.9f},Data!{get_column_letter(j + 2)}{i}),3)"
-                 f"+MAX(Data!{get_column_letter(j)}{i}:{get_column_letter(j + 3)}{i + 9})")
+            a, b, c2, d = (get_column_letter(j + k) for k in range(4))
+            f = (f"Data!{a}{i}*{rng.random():.12f}+SIN(Data!{b}{i + 1})"
+                 f"-ROUND(IF(Data!{a}{i}>0.5,{rng.random():.9f},Data!{c2}{i}),3)"
+                 f"+MAX(Data!{a}{i}:{d}{i + 9})")
             cells.append((c, f"><f>{f}</f>"))
             total += len(f)
             n += 1
@@ -104,16 +106,22 @@ def distinct_sheet(rng: random.Random, chars: int) -> tuple[bytes, int, int]:
     return _sheet(rows), n, total
 
 
+def _data_col(c: int) -> str:
+    """The Data sheet's column that run column c reads (they wrap around DATA_COLS)."""
+    return get_column_letter((c - 1) % DATA_COLS + 1)
+
+
 def runs_sheet(reads: int) -> tuple[bytes, int, int]:
     """Rows of formulas filled right over RUN_COLS columns, reading about `reads` cells."""
     rows, total, r = [], 0, 0
     kinds = [
         # per cell: a column of Data (2,500 cells), relative
-        (lambda c: f"SUM(Data!{get_column_letter((c - 1) % DATA_COLS + 1)}$1:{get_column_letter((c - 1) % DATA_COLS + 1)}${DATA_ROWS})", DATA_ROWS),
+        (lambda c: f"SUM(Data!{_data_col(c)}$1:{_data_col(c)}${DATA_ROWS})", DATA_ROWS),
         # one block for the run: the whole Data sheet, absolute, plus a relative cell
-        (lambda c: f"SUM(Data!$A$1:$ALL${DATA_ROWS})+Data!{get_column_letter((c - 1) % DATA_COLS + 1)}1", 1),
+        (lambda c: f"SUM(Data!$A$1:$ALL${DATA_ROWS})+Data!{_data_col(c)}1", 1),
         # the whole grid, clipped to the used range
-        (lambda c: f"MAX(Data!$A$1:$XFD$1048576)-{get_column_letter(c)}$1+SUMPRODUCT(Data!$A$1:$J${DATA_ROWS},Data!$B$1:$K${DATA_ROWS})", 1),
+        (lambda c: f"MAX(Data!$A$1:$XFD$1048576)-{get_column_letter(c)}$1"
+                   f"+SUMPRODUCT(Data!$A$1:$J${DATA_ROWS},Data!$B$1:$K${DATA_ROWS})", 1),
     ]
     k = 0
     while total < reads:
@@ -154,8 +162,8 @@ def build(path: Path, parts: set[str], limits: Limits, seed: int = 1) -> dict:
     ct = ('<?xml version="1.0" encoding="UTF-8" standalone="yes"?>\n<Types xmlns="http://schemas.openxmlformats.org/package/2006/content-types">'
           '<Default Extension="rels" ContentType="application/vnd.openxmlformats-package.relationships+xml"/>'
           '<Default Extension="xml" ContentType="application/xml"/>'
-          '<Override PartName="/xl/workbook.xml" ContentType="application/vnd.openxmlformats-officedocument.spreadsheetml.sheet.main+xml"/>'
-          + "".join(f'<Override PartName="/xl/worksheets/sheet{i + 1}.xml" ContentType="application/vnd.openxmlformats-officedocument.spreadsheetml.worksheet+xml"/>'
+          f'<Override PartName="/xl/workbook.xml" ContentType="{SML_CT}.sheet.main+xml"/>'
+          + "".join(f'<Override PartName="/xl/worksheets/sheet{i + 1}.xml" ContentType="{SML_CT}.worksheet+xml"/>'
                     for i in range(len(sheets))) + "</Types>")
     root_rels = ('<?xml version="1.0" encoding="UTF-8" standalone="yes"?>\n<Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships">'
                  f'<Relationship Id="rId1" Type="{RNS}/officeDocument" Target="xl/workbook.xml"/></Relationships>')
@@ -192,7 +200,8 @@ if sys.argv[3] == "read":
 else:
     book = evaluate(sys.argv[2], strict=False)
     out = {"runs": book.runs, "formula_cells": book.cells, "notes": len(book.notes)}
-out.update(seconds=time.perf_counter() - t, vmhwm=hwm(), maxrss=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024)
+out.update(seconds=time.perf_counter() - t, vmhwm=hwm(),
+           maxrss=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024)
 print(json.dumps(out))
 """
 

@@ -279,9 +279,9 @@ def bench_positions(sizes, repeat, compute_max):
     for n in sizes:
         phi = np.linspace(0.0, 360.0, n, endpoint=False)
         rep = repeat if n < 10**7 else max(3, repeat // 2)
-        s_best, s_med = timings(lambda: C.solve_table(scene, phi), rep)
+        s_best, s_med = timings(lambda phi=phi: C.solve_table(scene, phi), rep)
         if n <= compute_max:
-            c_best, c_med = timings(lambda: sheetkin.compute(scene, phi), rep)
+            c_best, c_med = timings(lambda phi=phi: sheetkin.compute(scene, phi), rep)
         else:
             c_best = c_med = float("nan")
         rows.append(dict(n=n, table_mb=ncols * 8 * n / 2**20, s_best=s_best, s_med=s_med,
@@ -297,7 +297,7 @@ def bench_groups(counts, n, repeat):
     for k in counts:
         scene = _scene(str(k))
         ncols = len(C.table_names(scene))
-        best, med = timings(lambda: C.solve_table(scene, phi), repeat)
+        best, med = timings(lambda scene=scene: C.solve_table(scene, phi), repeat)
         rows.append(dict(groups=k, n=n, cols=ncols, best=best, med=med))
         print(f"  {k:>3} groups x {_n_label(n)}: {best:.4g} / {med:.4g} s", flush=True)
     return rows
@@ -378,7 +378,8 @@ def main(argv=None) -> int:
 
     print(f"\n### Time vs positions (four-bar: 1 RRR group, {len(C.table_names(_scene('fourbar')))} "
           "table columns)\n")
-    print("| positions | solve_table s (best / median) | positions/s (best) | compute s (best / median) | positions/s (best) | ns per position (solve_table) |")
+    print("| positions | solve_table s (best / median) | positions/s (best) | compute s (best / median) "
+          "| positions/s (best) | ns per position (solve_table) |")
     print("|---:|---:|---:|---:|---:|---:|")
     for r in pos_rows:
         n = r["n"]

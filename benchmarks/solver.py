@@ -80,11 +80,11 @@ def main(argv=None) -> int:
           + (f" {'dynamics pos/s best / median':>30}" if dyn else ""))
     for n in (1_000, 100_000, 1_000_000):
         phi = np.linspace(0.0, 360.0, n, endpoint=False)
-        s_best, s_med = timings(lambda: solve_table(scene, phi), args.repeat)
-        c_best, c_med = timings(lambda: sheetkin.compute(scene, phi), args.repeat)
+        s_best, s_med = timings(lambda phi=phi: solve_table(scene, phi), args.repeat)
+        c_best, c_med = timings(lambda phi=phi: sheetkin.compute(scene, phi), args.repeat)
         line = f"{n:>10} {n / s_best:>20.3g} / {n / s_med:<9.3g} {n / c_best:>18.3g} / {n / c_med:<9.3g}"
         if dyn:
-            d_best, d_med = timings(lambda: sheetkin.compute(scene, phi, dynamics=True), args.repeat)
+            d_best, d_med = timings(lambda phi=phi: sheetkin.compute(scene, phi, dynamics=True), args.repeat)
             line += f" {n / d_best:>18.3g} / {n / d_med:<9.3g}"
         print(line)
     out = subprocess.run([sys.executable, __file__, "--scene", args.scene, "--memory-child", "1000000"],

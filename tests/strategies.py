@@ -435,7 +435,8 @@ def kind_chains(draw):
         else:
             k = draw(st.sampled_from(sorted(on_link)))
             G = O + R * np.array([draw(st.floats(-2.0, 2.0)), draw(st.floats(-2.0, 2.0))])
-            body += head + (f'joints = ["L{i}"]\nguides = [{_guide(draw(st.sampled_from(on_link[k])), draw(st.floats(-180.0, 180.0)), k)}, '
+            through, angle = draw(st.sampled_from(on_link[k])), draw(st.floats(-180.0, 180.0))
+            body += head + (f'joints = ["L{i}"]\nguides = [{_guide(through, angle, k)}, '
                             f"{_guide(G, draw(st.floats(-180.0, 360.0)))}]\n\n")
         slid.update({"RRP": [f"N{i}"], "RPP": [f"K{i}"], "PRP": [f"L{i}"]}.get(kind, []))
         if kind in ("RRR", "RRP", "RPP") and draw(st.booleans()):

@@ -59,6 +59,9 @@ class _Parser(argparse.ArgumentParser):
         self._negative_number_matcher = _NEGATIVE_NUMBER
 
     def error(self, message):
+        if message == "argument --range: expected one argument":
+            # `--range -90:90:1`: argparse takes the negative START for an option
+            message += "; a negative START needs '=': --range=-90:90:1"
         self.exit(EXIT_INPUT, f"sheetkin: error: {message} (see '{self.prog} --help')\n")
 
 
@@ -259,6 +262,7 @@ def build_parser() -> argparse.ArgumentParser:
                     help="crank angle step in the written scene (default 30)")
     _add_animate_parser(sub)
     _add_variants_parser(sub)
+    _add_examples_parser(sub)
     w.add_argument("--check", action="store_true",
                    help="write nothing: exit 1 if an existing workbook differs from what would be "
                         "written (stale) or is missing")
@@ -335,3 +339,12 @@ def _add_variants_parser(sub):
                         "the transmission angle stays above 14.5 deg)")
     x.add_argument("--lang", choices=["ru", "en"], default="ru", help="language of the workbooks (default ru)")
     x.add_argument("--force", action="store_true", help="overwrite files already in DIR")
+
+
+def _add_examples_parser(sub) -> None:
+    x = sub.add_parser(
+        "examples", help="write the bundled example scenes to a folder",
+        description="Write the example scenes that come with sheetkin (the course's four-bar, "
+                    "shaper, crank-slider, slotted levers, kulisas, chains) to DIR, and list "
+                    "them with their titles. An existing file is never overwritten.")
+    x.add_argument("dir", metavar="DIR", help="the folder to write them to (made if missing)")

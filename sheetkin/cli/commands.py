@@ -39,6 +39,7 @@ if TYPE_CHECKING:                 # names for annotations only: the commands imp
     from sheetkin.kinematics.table import AngleRange
 
 EXIT_ASSEMBLY = 3
+EXIT_BROKEN_PIPE = 141      # 128 + SIGPIPE: the reader of stdout left (`| head`), said quietly
 EXIT_INTERNAL = 70          # a bug (BSD's EX_SOFTWARE): one line, and a request to report it
 
 
@@ -66,10 +67,35 @@ def cmd_animate(args) -> int:
                   vectors=args.vectors, labels=not args.no_labels, allow_gaps=args.allow_gaps,
                   toggle_threshold=args.toggle_threshold,
                   progress=stderr_progress(args.output) if show else None)
-    print(f"{args.output}: {len(pic.frames)} positions", file=sys.stderr)
+    if Path(args.output).suffix.lower() == ".png":      # one picture: the first position
+        print(f"{args.output}: the mechanism at phi_1 = {scene.crank.phi0_deg:g} deg", file=sys.stderr)
+    else:
+        print(f"{args.output}: {len(pic.frames)} positions", file=sys.stderr)
     for note in pic.notes:
         if not note.startswith("velocity"):
             print(f"sheetkin: warning: {note}", file=sys.stderr)
+    return 0
+
+
+def cmd_examples(args) -> int:
+    """The bundled scenes (package data `sheetkin.examples`) written to DIR and listed."""
+    import tomllib
+    from importlib.resources import files
+
+    out = Path(args.dir)
+    if out.exists() and not out.is_dir():
+        raise SceneError(f"{out}: not a folder")
+    out.mkdir(parents=True, exist_ok=True)
+    scenes = sorted((p for p in files("sheetkin.examples").iterdir() if p.name.endswith(".toml")),
+                    key=lambda p: p.name)
+    for src in scenes:
+        text = src.read_text(encoding="utf-8")
+        dest = out / src.name
+        if dest.exists() and dest.read_text(encoding="utf-8", errors="replace") != text:
+            print(f"{dest}: kept (exists and differs; not overwritten)", file=sys.stderr)
+        elif not dest.exists():
+            dest.write_text(text, encoding="utf-8")
+        print(f"{dest}  {tomllib.loads(text).get('title', '')}")
     return 0
 
 
@@ -459,10 +485,10 @@ def main(argv=None) -> int:
     try:
         return _run(args)
     except BrokenPipeError:
-        # `sheetkin compute x.toml | head -1`: the reader left; say so once, no traceback
+        # `sheetkin compute x.toml | head -1`: the reader has what it wanted. End quietly, as
+        # command-line tools do (they die of SIGPIPE: 128 + 13, which a shell's pipefail sees)
         _detach_stdout()
-        print("sheetkin: error: stdout: the reader closed the pipe; output stopped", file=sys.stderr)
-        return EXIT_INPUT
+        return EXIT_BROKEN_PIPE
 
 
 def _detach_stdout():
@@ -486,14 +512,17 @@ def _run(args) -> int:
         refuse_overwriting_inputs(args)
         code = {"compute": cmd_compute, "workbook": cmd_workbook, "evaluate": cmd_evaluate,
                 "validate": cmd_validate, "bench": cmd_bench,
-                "synth": cmd_synth, "animate": cmd_animate, "variants": cmd_variants}[args.command](args)
+                "synth": cmd_synth, "animate": cmd_animate, "variants": cmd_variants,
+                "examples": cmd_examples}[args.command](args)
         _flush_stdout()
         return code
     except SceneError as e:
         print(f"sheetkin: error: {e}", file=sys.stderr)
         return EXIT_INPUT
     except AssemblyError as e:
-        print(f"sheetkin: error: {getattr(args, 'scene', '')}: {e}", file=sys.stderr)
+        # the Python API says allow_gaps=True; on the command line it is the option
+        said = str(e).replace("allow_gaps=True", "--allow-gaps")
+        print(f"sheetkin: error: {getattr(args, 'scene', '')}: {said}", file=sys.stderr)
         return EXIT_ASSEMBLY
     except BrokenPipeError:
         raise

@@ -58,7 +58,7 @@ _REPR.maxlevel, _REPR.maxlist, _REPR.maxdict, _REPR.maxstring, _REPR.maxother = 
 _REPR.maxlong = 40
 
 
-_LONG_LINE = re.compile(r"^[^\n]{%d}" % (MAX_LINE + 1), re.M)
+_LONG_LINE = re.compile(rf"^[^\n]{{{MAX_LINE + 1}}}", re.M)
 
 
 def load_toml(text: str, source: str = "<scene>") -> dict:

@@ -295,6 +295,9 @@ class SceneTable:
 # --------------------------------------------------------------------------- parsing
 def load_scene(path: str | Path) -> Scene:
     """Read and validate a scene file; raises SceneError (one line) on any mistake."""
+    if isinstance(path, str) and "\n" in path:
+        raise SceneError("load_scene takes a scene file's path; for a scene's text use "
+                         "sheetkin.parse_scene(text) (compute() takes either)")
     path = Path(path)
     try:
         text = path.read_text(encoding="utf-8-sig")   # tolerate Notepad's byte-order mark
@@ -323,6 +326,25 @@ def _fail_at(ctx: SceneContext, data: dict, path: tuple, msg: str):
     if len(path) > 1 and isinstance(top, dict):
         ctx.fail(f"[{head}]", head, 0, ".".join(keys[:2]), msg)
     ctx.fail("scene", None, 0, head, msg)
+
+
+def as_scene(scene: Scene | str | Path) -> Scene:
+    """A Scene from a Scene, a scene file's path, or a scene's TOML text: the Python API's
+    `compute(...)`, `result(...)` take any of them. Text is told from a path by its line
+    breaks or its `=` (a scene holds both; a file name neither), so a path is never parsed
+    as text and a text never looked for on disk (it used to be, echoed whole in "no such file")."""
+    if isinstance(scene, Scene):
+        return scene
+    if isinstance(scene, str) and ("\n" in scene or ("=" in scene and not _is_file(scene))):
+        return parse_scene(scene, "<scene text>")
+    return load_scene(scene)
+
+
+def _is_file(name: str) -> bool:
+    try:
+        return Path(name).is_file()
+    except (OSError, ValueError):       # too long for a file name, or a NUL in it
+        return False
 
 
 def parse_scene(text: str, source: str = "<scene>") -> Scene:
@@ -686,7 +708,7 @@ def override_crank(text: str, source: str = "<scene>", **values) -> tuple[str, S
         no = loc._key_line(header, key)
         if no:
             lines[no - 1] = re.sub(rf"^(\s*{key}\s*=\s*)[^#]*?(\s*(#.*)?)$",
-                                   lambda m: f"{m.group(1)}{literal}{m.group(2) or ''}", lines[no - 1])
+                                   lambda m, literal=literal: f"{m.group(1)}{literal}{m.group(2) or ''}", lines[no - 1])
         else:
             lines.insert(header, f"{key} = {literal}")
             loc = KeyLocator("\n".join(lines))

@@ -21,7 +21,7 @@ from sheetkin.groups.group import slide_names
 
 from .dynamics import dynamics as solve_dynamics
 from .dynamics import dynamics_names
-from .scene import AssemblyError, Scene, load_scene  # noqa: F401 (AssemblyError: compute's API)
+from .scene import AssemblyError, Scene, as_scene, load_scene  # noqa: F401 (AssemblyError: compute's API)
 from .solver import Solution, solve
 
 TOGGLE_THRESHOLD = 1e-2
@@ -325,8 +325,7 @@ def compute(scene: Scene | str | Path, at=None, *, analogs: bool = False, allow_
     Columns: the contract's, [analogs], [dynamics], [assembled], det_g<i>..., near_toggle.
     With dynamics, a scene needs [[mass]] or [[force]] tables (ValueError otherwise).
     """
-    if not isinstance(scene, Scene):
-        scene = load_scene(scene)
+    scene = as_scene(scene)          # a Scene, a path or the scene's text
     if dynamics and not scene.has_dynamics:
         raise ValueError(f"{scene.source}: no [[mass]] or [[force]] tables, so there is nothing for "
                          "the dynamics to compute (see the README: masses, forces, gravity)")
@@ -347,7 +346,7 @@ def compute(scene: Scene | str | Path, at=None, *, analogs: bool = False, allow_
     if fail.any() and not allow_gaps:
         gaps = assembly_gaps(scene, phi)
         raise AssemblyError("; ".join(map(str, gaps)) +
-                            f" ({int(fail.sum())} of {fail.size} positions; use --allow-gaps to keep the rest)")
+                            f" ({int(fail.sum())} of {fail.size} positions; use allow_gaps=True to keep the rest)")
     import pandas as pd  # only here: the command line's path (sheetkin.views.output) needs no pandas
     # the table's rows become the frame's columns without a copy (one float block)
     df = pd.DataFrame(table.T, columns=names, copy=False)

@@ -409,7 +409,7 @@ def method_fd(scene: Scene, phis, steps=FD_STEPS) -> list[MethodResult]:
     phis = np.asarray(phis, dtype=float)
     out = []
     for h in steps:
-        values, t = _best_time(lambda: fd_values(scene, phis, h))
+        values, t = _best_time(lambda h=h: fd_values(scene, phis, h))
         res = MethodResult("fd", f"h={h:.2g}", t / len(phis), values)
         bad = _nonfinite(values, phis)
         if bad:

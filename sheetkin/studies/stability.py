@@ -265,7 +265,9 @@ def newton_walk(walk, threshold: float):
         if guess is None:
             guess = dict(_unknowns(scene, [phi])[0])
         (values, qs, problems, sines), t = _best_time(
-            lambda: _walk(FLOAT, scene, phi, dict(guess), NEWTON_TOL, NEWTON_MAX_ITER), STABILITY_REPEATS)
+            lambda scene=scene, phi=phi, guess=guess: _walk(FLOAT, scene, phi, dict(guess), NEWTON_TOL,
+                                                            NEWTON_MAX_ITER),
+            STABILITY_REPEATS)
         guess.update(qs)
         sine = min(sines.values(), key=abs) if values and sines else np.nan
         if problems:
@@ -322,7 +324,7 @@ def _stability_family(f: Family, distances, threshold: float):
             for method in ("solver", "newton", "fd"):
                 add(i, method, "", "refused", None)
             continue
-        (sv, sfail, sdet), t = _best_time(lambda: _solver_at(scene, [phi]), STABILITY_REPEATS)
+        (sv, sfail, sdet), t = _best_time(lambda scene=scene, phi=phi: _solver_at(scene, [phi]), STABILITY_REPEATS)
         st = ("refused" if sfail[0] else "nan" if not _finite(sv) else
               "flagged" if sdet[0] < threshold else "ok")
         add(i, "solver", "", st, sv, sdet[0], t)
@@ -331,7 +333,7 @@ def _stability_family(f: Family, distances, threshold: float):
         add(i, "newton", f"from {STABILITY_FAR:g} rad", st, values, sine, t)
         # finite differences cannot tell by themselves; the bench can, from the solver's
         # toggle measure and from the step doubled (fd_estimate)
-        fv, t = _best_time(lambda: _fd_at(scene, [phi]), STABILITY_REPEATS)
+        fv, t = _best_time(lambda scene=scene, phi=phi: _fd_at(scene, [phi]), STABILITY_REPEATS)
         fest = fd_estimate(scene, [phi])
         st = ("refused" if not _finite(fv) else "flagged" if sdet[0] < threshold else
               "unsure" if unsure(fest)[0] else "ok")

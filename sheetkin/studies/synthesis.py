@@ -553,7 +553,7 @@ def add_synthesis_sheet(wb, kw: float, l3: float, yd: float, gamma1_deg: float,
     ws.cell(after, 1, text["points"]).font = SECTION_FONT
     for j, p in enumerate("OABD"):
         ws.cell(after, 4 + j, p).font = SECTION_FONT
-    t = lambda s: fill(s)
+    t = fill
     pt = {"X_H": ("0", "={l1}*COS({phi1H})", "=({l1}+{l2})*COS({phi1H})", "={X_D}"),
           "Y_H": ("0", "={l1}*SIN({phi1H})", "=({l1}+{l2})*SIN({phi1H})", "={Y_D}"),
           "X_K": ("0", "={l1}*COS({phi1H}+{theta}+PI())", "=({l2}-{l1})*COS({phi1H}+{theta})", "={X_D}"),
@@ -600,7 +600,8 @@ def add_synthesis_sheet(wb, kw: float, l3: float, yd: float, gamma1_deg: float,
         axis.delete = False
         axis.crosses = "min"
         axis.numFmt = NumFmt(formatCode="General", sourceLinked=False)
-    row_ref = lambda r, c0, c1: Reference(ws, min_col=c0, max_col=c1, min_row=r, max_row=r)
+    def row_ref(r: int, c0: int, c1: int) -> Reference:
+        return Reference(ws, min_col=c0, max_col=c1, min_row=r, max_row=r)
     for xs, ys, label, c1 in ((pts["X_H"], pts["Y_H"], text["H"], 7),
                               (pts["X_K"], pts["Y_K"], text["K"], 7),
                               (arc["X_arc"], arc["Y_arc"], text["arcs"], 3 + n)):

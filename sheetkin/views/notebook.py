@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from sheetkin.kinematics.scene import Scene, load_scene
+from sheetkin.kinematics.scene import Scene, as_scene
 from sheetkin.kinematics.table import compute
 
 from .drawing import picture, svg
@@ -42,8 +42,7 @@ class Result:
 
 def result(scene: Scene | str | Path, at=None, **kwargs) -> Result:
     """compute(scene, at, **kwargs) with the scene kept, for a picture in a notebook."""
-    if not isinstance(scene, Scene):
-        scene = load_scene(scene)
+    scene = as_scene(scene)
     return Result(scene, compute(scene, at, **kwargs))
 
 

@@ -63,7 +63,8 @@ def relative_balance(d: dict, scene=None, sol=None) -> np.ndarray:
         gx, gy = scene.gravity
         for m in scene.masses:
             k = m.link
-            scale = scale + v * np.hypot(d[f"Fix_{k}"] + m.mass * gx, d[f"Fiy_{k}"] + m.mass * gy) + w * np.abs(d[f"Mi_{k}"])
+            scale = (scale + v * np.hypot(d[f"Fix_{k}"] + m.mass * gx, d[f"Fiy_{k}"] + m.mass * gy)
+                     + w * np.abs(d[f"Mi_{k}"]))
         for f in scene.forces:
             scale = scale + v * math.hypot(*f.force) + w * abs(f.moment)
     return np.abs(d["balance"]) / scale
@@ -327,7 +328,8 @@ def test_random_mechanisms_energy_balance(data, kind):
                     for k, c in centres.items() if draw(st.booleans()) or k == 3)
     lo = draw(st.floats(-360.0, 360.0))
     span = draw(st.floats(10.0, 350.0))
-    extra += (f'[[force]]\nlink = 2\nat = "P2"\nforce = [{draw(st.floats(-1e3, 1e3))!r}, {draw(st.floats(-1e3, 1e3))!r}]\n'
+    fx, fy = draw(st.floats(-1e3, 1e3)), draw(st.floats(-1e3, 1e3))
+    extra += (f'[[force]]\nlink = 2\nat = "P2"\nforce = [{fx!r}, {fy!r}]\n'
               f'moment = {draw(st.floats(-100.0, 100.0))!r}\nfrom_deg = {lo!r}\nto_deg = {lo + span!r}\n')
     g = (draw(st.floats(-10.0, 10.0)), draw(st.floats(-10.0, 10.0)))
     scene = parse_scene(with_dynamics(m.toml, extra, g))
@@ -340,17 +342,22 @@ def test_random_mechanisms_energy_balance(data, kind):
 
 # --------------------------------------------------------------------------- scene, CLI
 @pytest.mark.parametrize("extra, expected", [
-    ('[[mass]]\nlink = 2\nmass = 5.0\ncentre = "S3"\n', "key 'centre': expected a joint or point of link 2 (A, B, S2), got 'S3'"),
+    ('[[mass]]\nlink = 2\nmass = 5.0\ncentre = "S3"\n',
+     "key 'centre': expected a joint or point of link 2 (A, B, S2), got 'S3'"),
     ('[[mass]]\nlink = 7\nmass = 5.0\ncentre = "A"\n', "key 'link': expected a moving link 1..3, got 7"),
     ('[[mass]]\nlink = 2\nmass = 0.0\ncentre = "A"\n', "key 'mass': expected a positive mass in kg, got 0"),
-    ('[[mass]]\nlink = 2\nmass = 1.0\ninertia = -1.0\ncentre = "A"\n', "key 'inertia': expected a moment of inertia >= 0"),
-    ('[[mass]]\nlink = 2\nmass = 1.0\ncentre = "A"\n[[mass]]\nlink = 2\nmass = 2.0\ncentre = "B"\n', "link 2 already has a [[mass]]"),
+    ('[[mass]]\nlink = 2\nmass = 1.0\ninertia = -1.0\ncentre = "A"\n',
+     "key 'inertia': expected a moment of inertia >= 0"),
+    ('[[mass]]\nlink = 2\nmass = 1.0\ncentre = "A"\n[[mass]]\nlink = 2\nmass = 2.0\ncentre = "B"\n',
+     "link 2 already has a [[mass]]"),
     ('[[force]]\nlink = 2\nat = "B"\n', "expected `force = [Fx, Fy]` (N, with `at`) and/or `moment`"),
     ('[[force]]\nlink = 2\nforce = [1.0, 2.0]\n', "key 'at': missing; expected a joint or point of link 2"),
     ('[[force]]\nlink = 3\nat = "B"\nforce = [1.0]\n', "key 'force': expected an array of 2 numbers"),
     ('[[force]]\nlink = 3\nmoment = 1.0\nfrom_deg = 90.0\n', "key 'to_deg': missing; expected a number"),
-    ('[[force]]\nlink = 3\nmoment = 1.0\nfrom_deg = 90.0\nto_deg = 30.0\n', "expected from_deg < to_deg < from_deg + 360"),
-    ('[[force]]\nname = "F"\nlink = 3\nmoment = 1.0\n[[force]]\nname = "F"\nlink = 2\nmoment = 1.0\n', "name 'F' is used by another [[force]]"),
+    ('[[force]]\nlink = 3\nmoment = 1.0\nfrom_deg = 90.0\nto_deg = 30.0\n',
+     "expected from_deg < to_deg < from_deg + 360"),
+    ('[[force]]\nname = "F"\nlink = 3\nmoment = 1.0\n[[force]]\nname = "F"\nlink = 2\nmoment = 1.0\n',
+     "name 'F' is used by another [[force]]"),
     ('[[force]]\nname = "ext"\nlink = 3\nmoment = 1.0\n', "key 'name': 'ext' is reserved (P_ext names a total)"),
 ])
 def test_scene_errors_name_the_line_and_key(extra, expected):
@@ -408,7 +415,8 @@ def dyn_books(soffice, tmp_path_factory):
                                   (0.3, -9.81)))
     make("offset_chain", with_dynamics(OFFSET_CHAIN, mass(2, 0.3, 0.0001, "A") + mass(3, 4.0, 0.12, "C")
                                        + mass(5, 9.0, 0.0, "D")
-                                       + '[[force]]\nlink = 5\nat = "D"\nforce = [-400.0, 25.0]\nfrom_deg = 20.0\nto_deg = 200.0\n'))
+                                       + '[[force]]\nlink = 5\nat = "D"\nforce = [-400.0, 25.0]\n'
+                                       + 'from_deg = 20.0\nto_deg = 200.0\n'))
     # loads without masses (no energy rows), masses without gravity (no potential energy)
     make("forces_only", (WORKBOOKS / "fourbar.toml").read_text(encoding="utf-8")
          + '\n[[force]]\nlink = 3\nat = "B"\nforce = [10.0, -50.0]\n'
@@ -436,7 +444,8 @@ def compare_dynamics(ws, scene, df):
         assert np.all(np.abs(got - ref) <= 1e-9 * scale), (name, got, ref)
 
 
-@pytest.mark.parametrize("key", ["shaper_dynamics", "lone_crank", "six_bar", "offset_chain", "forces_only", "no_gravity"])
+@pytest.mark.parametrize("key", ["shaper_dynamics", "lone_crank", "six_bar", "offset_chain", "forces_only",
+                                 "no_gravity"])
 def test_workbook_dynamics_rows_equal_compute(dyn_books, key):
     ws, scene, _ = dyn_books[key]
     compare_dynamics(ws, scene, sheetkin.compute(scene, dynamics=True))

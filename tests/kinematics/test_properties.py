@@ -242,7 +242,7 @@ def test_analog_identities(kind, data):
         head, subject = col.split("_", 1)
         if head not in ANALOG_OF:
             continue
-        q = lambda h: df[f"{ANALOG_OF[h]}_{subject}"].to_numpy()      # noqa: E731
+        q = lambda h, subject=subject: df[f"{ANALOG_OF[h]}_{subject}"].to_numpy()      # noqa: E731
         length = 1.0 if head in ("omega", "eps") else m.size
         if head in ("vx", "vy", "omega", "vs"):
             assert_close(df[col], q(head) * w, ANALOG_TOL, length * abs(w), f"{col} = {ANALOG_OF[head]} omega")

@@ -111,7 +111,8 @@ class Book:
         for j, m in enumerate(blocks):
             if m is not None:
                 by_row.setdefault(self.where[m.row], []).append((j, m))
-        rows = sorted({r for (r, c) in base.formulas if c >= FIRST_COL} | {r for (r, c) in base.consts if c >= FIRST_COL})
+        rows = sorted({r for (r, c) in base.formulas if c >= FIRST_COL}
+                      | {r for (r, c) in base.consts if c >= FIRST_COL})
         for r in rows:
             if r in skip:
                 continue
@@ -140,7 +141,7 @@ class Book:
             for k, f in enumerate(row):
                 t = _Template(f, FIRST_COL + k).render(FIRST_COL + N * j + k)
                 # a range over the row's own positions ({scale:...}) is the block's own
-                out.append(_BLOCK_RANGE.sub(lambda m: _shift_range(m, N * j), t))
+                out.append(_BLOCK_RANGE.sub(lambda m, j=j: _shift_range(m, N * j), t))
         return out
 
     # ------------------------------------------------------------------ judging
@@ -383,7 +384,8 @@ def test_russian_plurals_in_python_and_in_the_sheet():
              12: "проверок", 14: "проверок", 20: "проверок", 21: "проверка", 22: "проверки", 25: "проверок",
              101: "проверка", 111: "проверок", 112: "проверок", 122: "проверки", 211: "проверок"}
     assert {n: plural(n) for n in table} == table
-    assert (plural(1, "en"), plural(2, "en"), plural(0, "en"), plural(21, "en")) == ("check", "checks", "checks", "checks")
+    assert ((plural(1, "en"), plural(2, "en"), plural(0, "en"), plural(21, "en"))
+            == ("check", "checks", "checks", "checks"))
     for lang in ("ru", "en"):
         sh = Sheet("S", "visible", consts={(r, 1): float(r - 1) for r in range(1, 252)},
                    formulas={(r, 2): plural_formula(f"A{r}", lang) for r in range(1, 252)}, max_row=251, max_col=2)

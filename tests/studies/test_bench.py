@@ -184,7 +184,8 @@ def test_cli_bench(tmp_path, capsys):
     assert warned and all(w.startswith("sheetkin: warning: fd h=") and FD_FLAG in w for w in warned)
     assert len(warned) < sum(line.startswith("fd") and FD_FLAG in line for line in out.splitlines())
     assert (tmp_path / "bench.csv").is_file() and (tmp_path / "bench.png").is_file()
-    rows = list(csv.DictReader(open(tmp_path / "bench.csv", newline="")))
+    with open(tmp_path / "bench.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
     assert float(rows[0]["err_vel"]) < 1e-12
 
 
@@ -235,7 +236,8 @@ def test_bench_refuses_a_scene_that_cannot_assemble(tmp_path, capsys):
 def _sine_from_reference(ref):
     """sin(psi - xi), coupler against rocker, of the four-bar from the mpmath reference:
     the toggle measure computed without the bench's Jacobian."""
-    return np.array([float(mpmath.sin(mpmath.radians(a - b))) for a, b in zip(ref["phi_2"], ref["phi_3"], strict=False)])
+    return np.array([float(mpmath.sin(mpmath.radians(a - b)))
+                     for a, b in zip(ref["phi_2"], ref["phi_3"], strict=False)])
 
 
 def test_newton_flags_its_singular_jacobian_in_the_main_table(tmp_path, capsys):
@@ -260,7 +262,8 @@ def test_newton_flags_its_singular_jacobian_in_the_main_table(tmp_path, capsys):
             f"angles {at} deg") in err
     newton = next(line for line in out.splitlines() if line.startswith("newton"))
     assert f"converged near a singular Jacobian at {len(expected)} of {len(phis)} positions" in newton
-    rows = {row["method"]: row for row in csv.DictReader(open(tmp_path / "out" / "bench.csv", newline=""))}
+    with open(tmp_path / "out" / "bench.csv", newline="") as f:
+        rows = {row["method"]: row for row in csv.DictReader(f)}
     assert int(rows["newton"]["flagged"]) == len(expected)
     assert [float(p) for p in rows["newton"]["flagged_deg"].split()] == expected
     # the solver's own |det| flags the same positions

@@ -40,7 +40,7 @@ def test_result_shows_as_svg_and_keeps_the_dataframe():
 
 
 def test_ipython_formatter_picks_the_svg():
-    IPython = pytest.importorskip("IPython")
+    pytest.importorskip("IPython")
     from IPython.core.formatters import DisplayFormatter
     data, _ = DisplayFormatter().format(sheetkin.load_scene(WB / "fourbar.toml"))
     assert "image/svg+xml" in data

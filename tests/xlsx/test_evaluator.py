@@ -710,13 +710,16 @@ CELLS_XML = """
 <c r="E1" t="s"><v>0</v></c><c r="F1" t="str"><f>"x"&amp;A1</f><v>xa &lt; b</v></c><c r="G1" s="0"/>
 <c r="H1"><v/></c><c r="I1" t="s"><v>1</v></c></row>
 <row r="2"><c r="B2"><f t="shared" ref="B2:E2" si="0">B1*2+$B$1</f><v>7.5</v></c>
-<c r="C2"><f t="shared" si="0"/><v>3</v></c><c r="D2"><f t="shared" si="0"/></c><c r="E2"><f t="shared" si="0"/><v>1</v></c></row>
+<c r="C2"><f t="shared" si="0"/><v>3</v></c><c r="D2"><f t="shared" si="0"/></c>
+<c r="E2"><f t="shared" si="0"/><v>1</v></c></row>
 <row r="3"><c r="A3"><f t="shared" ref="A3:A5" si="1">B1&lt;3</f><v>1</v></c></row>
 <row r="4"><c r="A4" t="b"><f t="shared" si="1"/><v>0</v></c></row>
 <row r="5"><c r="A5" t="b"><f t="shared" si="1"/><v>0</v></c></row>
 <row r="6"><c r="A6"><f>IF(B1&lt;&gt;2,"&lt;&gt;","&amp;")</f></c><c r="B6"><f>IF(B1&#60;3,1,0)</f><v>1</v></c>
-<c r="C6" t="e"><f>1/0</f><v>#DIV/0!</v></c><c r="D6"><f></f><v>4</v></c><c r="E6"><f aca="false">B1+1</f><v>3.5</v></c></row>
-<row r="7"><c r="A7" t="inlineStr"><is><t xml:space="preserve">  two spaces </t></is></c><c r="B7" t="inlineStr"><is><t></t></is></c></row>
+<c r="C6" t="e"><f>1/0</f><v>#DIV/0!</v></c><c r="D6"><f></f><v>4</v></c>
+<c r="E6"><f aca="false">B1+1</f><v>3.5</v></c></row>
+<row r="7"><c r="A7" t="inlineStr"><is><t xml:space="preserve">  two spaces </t></is></c>
+<c r="B7" t="inlineStr"><is><t></t></is></c></row>
 <row r="8"><c r="A8" t="n" s="0"><v>3</v></c><c r="B8" s="0" t="n" cm="1"><v>-1.5E-3</v></c></row>
 <row r="9"/><row r="10"></row><row r="11"><c r="AB11"><v>11</v></c></row>"""
 

@@ -94,7 +94,8 @@ expressions = st.recursive(atoms, _extend, max_leaves=12)
 # deep nests around the limit, long chains, and plain garbage
 nested = st.builds(lambda n, f, a: f"{f}(" * n + a + ")" * n,
                    st.integers(MAX_NESTING - 3, MAX_NESTING + 3), st.sampled_from(["", "SIN", "ABS", "SUM"]), atoms)
-chains = st.builds(lambda n, op, a: op.join([a] * n), st.one_of(st.integers(2, 40), st.sampled_from([700, 4100])), binary, atoms)
+chains = st.builds(lambda n, op, a: op.join([a] * n),
+                   st.one_of(st.integers(2, 40), st.sampled_from([700, 4100])), binary, atoms)
 garbage = st.lists(st.sampled_from(list("AB12$:!,;()[]{}\"'+-*/^&=<>%#? ~.eE") + ["SUM(", "IF(", "Data!"]),
                    max_size=40).map("".join)
 formulas = st.one_of(expressions, expressions, expressions, nested, chains, garbage).map(lambda f: "=" + f)

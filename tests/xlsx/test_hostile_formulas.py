@@ -408,7 +408,8 @@ def test_too_many_cells_are_refused_while_reading(tmp_path, monkeypatch):
     for fast in (True, False):
         if not fast:
             monkeypatch.setattr(xlsxread, "_read_fast", lambda *a, **k: None)
-        with pytest.raises(UnusableWorkbook, match=r"more than 500 cells hold a value or a formula \(counted up to sheet 'Calc'\)"):
+        with pytest.raises(UnusableWorkbook,
+                           match=r"more than 500 cells hold a value or a formula \(counted up to sheet 'Calc'\)"):
             xlsxread.read_book(path, Limits(max_cells=500))
         assert len(xlsxread.read_book(path, Limits(max_cells=600)).sheets["Calc"].formulas) == 300
 

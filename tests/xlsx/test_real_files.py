@@ -327,7 +327,8 @@ def test_a_class_of_ods_files_is_converted_in_one_run(lo, tmp_path, monkeypatch,
     (folder / "s3.fods").write_bytes(b.source.read_bytes())
     runs = []
     convert = libreoffice._convert
-    monkeypatch.setattr(libreoffice, "_convert", lambda paths, *a, **k: runs.append(len(paths)) or convert(paths, *a, **k))
+    monkeypatch.setattr(libreoffice, "_convert",
+                        lambda paths, *a, **k: runs.append(len(paths)) or convert(paths, *a, **k))
     monkeypatch.setattr(xlsxread, "_CONVERTED", {})
     assert main(["validate", str(folder), "--progress", "always"]) == 2      # no embedded scene: each one line
     assert runs == [4]

@@ -537,7 +537,8 @@ def test_a_cell_that_holds_something_past_the_limits_is_refused(tmp_path):
     open_package(tmp_path / "huge.xlsx")
     with pytest.raises(UnusableWorkbook) as info:
         read_book(tmp_path / "huge.xlsx")
-    assert_message(info.value, tmp_path / "huge.xlsx", "sheet 'Лист1'", "XFD1048576", "at most 100000 rows and 4000 columns")
+    assert_message(info.value, tmp_path / "huge.xlsx", "sheet 'Лист1'", "XFD1048576",
+                   "at most 100000 rows and 4000 columns")
 
 
 def test_check_dimension(tmp_path):
