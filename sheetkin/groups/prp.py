@@ -31,6 +31,7 @@ import numpy as np
 
 from .group import Family, Group, Guide, crank_scene
 from .motion import GroupMotion, Motion, Pair, Rotation, Slide, cramer, guide_line, guide_loop, inverse_det
+from .parts import BlockPart, Parts, scene_guide
 from .rows import (
     Builder,
     InputRow,
@@ -97,6 +98,15 @@ def sliders(g: Group) -> list[str]:
 def fourbar(g: Group, crank_joint: str, frame) -> None:
     """Not a four-bar's dyad (only an RRR closes one with the crank: sheetkin.studies.synthesis)."""
     return None
+
+
+def parts(g: Group) -> Parts:
+    """Two blocks at N, block a on guides[0] and block b on guides[1]; guide j's angle is
+    the input gamma<j>_g<i>, its point on the frame gx<j>_g<i>, gy<j>_g<i>."""
+    (n,), (a, b), i = g.joints, g.links, g.index
+    ga, gb = (scene_guide(gd, n, i, f"gamma{j}_g{i}", (f"gx{j}_g{i}", f"gy{j}_g{i}"))
+              for j, gd in enumerate(g.guides, 1))
+    return Parts({a: (n,), b: (n,)}, (ga, gb), (BlockPart(a, n, ga), BlockPart(b, n, gb)))
 
 
 # --------------------------------------------------------------------------- positions and rates

@@ -24,6 +24,7 @@ import numpy as np
 
 from .group import Family, Group, Guide, crank_scene
 from .motion import GroupMotion, Motion, Pair, Rotation, Slide, cramer, inverse_det
+from .parts import BlockPart, Parts, scene_guide, slot
 from .rows import Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, fd_checks, motion_rows, turns_with_check
 
 # --------------------------------------------------------------------------- what it is
@@ -83,6 +84,15 @@ def sliders(g: Group) -> list[str]:
 def fourbar(g: Group, crank_joint: str, frame) -> None:
     """Not a four-bar's dyad (only an RRR closes one with the crank: sheetkin.studies.synthesis)."""
     return None
+
+
+def parts(g: Group) -> Parts:
+    """The kulisa b at K slides on its frame guide (inputs gamma_g<i>, gx_g<i>, gy_g<i>);
+    the block a at J1 slides in b's slot, the line through K and J1 along phi_b = alpha."""
+    (j1, k), (a, b), i = g.joints, g.links, g.index
+    guide = scene_guide(g.guide, k, i, f"gamma_g{i}", (f"gx_g{i}", f"gy_g{i}"))
+    line = slot(b, j1, k, i)
+    return Parts({a: (j1,), b: (k,)}, (guide, line), (BlockPart(b, k, guide), BlockPart(a, j1, line)))
 
 
 # --------------------------------------------------------------------------- positions and rates

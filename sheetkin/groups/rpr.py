@@ -32,6 +32,7 @@ from .motion import (
     resultants,
     sqrt_or_nan,
 )
+from .parts import BlockPart, Parts, slot
 from .rows import Builder, InputRow, LoadRows, cramer_rows, det_row, group_guard, residual, turns_with_check
 
 # --------------------------------------------------------------------------- what it is
@@ -81,6 +82,14 @@ def sliders(g: Group) -> list[str]:
 def fourbar(g: Group, crank_joint: str, frame) -> None:
     """Not a four-bar's dyad (only an RRR closes one with the crank: sheetkin.studies.synthesis)."""
     return None
+
+
+def parts(g: Group) -> Parts:
+    """The block (link a) at J1 in the slot of the kulisa b, which turns about J2: the slot
+    is drawn through J1 along phi_b from the foot of J2 (the offset e is J2's distance)."""
+    (j1, j2), (a, b) = g.joints, g.links
+    line = slot(b, j1, j2, g.index)
+    return Parts({a: (j1,), b: (j2,)}, (line,), (BlockPart(a, j1, line),))
 
 
 # --------------------------------------------------------------------------- positions and rates

@@ -37,6 +37,7 @@ from .motion import (
     resultants,
     sqrt_or_nan,
 )
+from .parts import BlockPart, Parts, scene_guide
 from .rows import (
     Builder,
     InputRow,
@@ -121,6 +122,14 @@ def sliders(g: Group) -> list[str]:
 def fourbar(g: Group, crank_joint: str, frame) -> None:
     """Not a four-bar's dyad (only an RRR closes one with the crank: sheetkin.studies.synthesis)."""
     return None
+
+
+def parts(g: Group) -> Parts:
+    """The coupler J1 N, and the slider's block (link b) at N on the guide; the guide's
+    angle is the input gamma_g<i>, its point on the frame gx_g<i>, gy_g<i>."""
+    (j1, n), (a, b), i = g.joints, g.links, g.index
+    guide = scene_guide(g.guide, n, i, f"gamma_g{i}", (f"gx_g{i}", f"gy_g{i}"))
+    return Parts({a: (j1, n), b: (n,)}, (guide,), (BlockPart(b, n, guide),))
 
 
 # --------------------------------------------------------------------------- positions and rates

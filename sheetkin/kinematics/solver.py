@@ -11,13 +11,14 @@ measure (for RRR the sine of the transmission angle).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import cast
 
 import numpy as np
 
 from sheetkin.groups import kind_of
 from sheetkin.groups.motion import FRAME, Motion, Rotation, Slide, carried_point, cramer, fixed, inverse_det  # noqa: F401 (the API)
 
-from .scene import Crank, Point, Scene
+from .scene import Crank, Group, Point, Scene
 
 
 @dataclass
@@ -66,7 +67,7 @@ def solve(scene: Scene, phi_deg, omega: float | None = None, epsilon: float | No
                 known[p.name] = sol.points[p.name] = carried_point(
                     known[p.origin], rot[p.link], p.along, p.across)
             else:
-                g = item
+                g = cast(Group, item)
                 gm = kind_of(g).solve(g, known, rot, scale)
                 for name, m in gm.joints.items():
                     known[name] = sol.points[name] = m

@@ -37,13 +37,14 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import SimpleNamespace
+from typing import cast
 
 import mpmath
 import numpy as np
 import pandas as pd
 
 from sheetkin.groups import kind_of
-from sheetkin.groups.group import slide_names
+from sheetkin.groups.group import Group, slide_names
 from sheetkin.kinematics.scene import Scene, override_crank
 from sheetkin.kinematics.solver import solve
 from sheetkin.kinematics.table import TOGGLE_THRESHOLD, AssemblyError, assembly_gaps, failed_positions, solution_columns
@@ -208,11 +209,11 @@ def _walk(lib, scene: Scene, phi_deg: float, guesses: dict[int, list], tol: floa
             known[item.name] = _carried(lib, known[item.origin], links[item.link],
                                         n(item.along), n(item.across))
         else:
-            g = item
+            g = cast(Group, item)
             if g.index == until:
                 return known, links
-            kind = kind_of(g)
-            F, J, b_v, b_a, place = kind.loop(lib, g, known, links)
+            km = kind_of(g)
+            F, J, b_v, b_a, place = km.loop(lib, g, known, links)
             q, ok = _newton(lib, F, J, [n(x) for x in guesses[g.index]], tol, max_iter)
             if not ok:
                 problems.append((g, "no convergence"))
@@ -224,7 +225,7 @@ def _walk(lib, scene: Scene, phi_deg: float, guesses: dict[int, list], tol: floa
             joints, (la, lb), group_slides = place(q, qt, qtt)
             qs[g.index] = q
             known.update(joints)
-            if not kind.side_ok(lib, g, known, links, q, joints):
+            if not km.side_ok(lib, g, known, links, q, joints):
                 problems.append((g, "branch jump"))
             links[g.links[0]], links[g.links[1]] = la, lb
             slides.update(group_slides)
