@@ -169,6 +169,15 @@ def rows(b: Builder, g: Group):
           f"MOD(DEGREES(ATAN2({{{cu}}},{{{su}}})),360)")
     b.add(f"phi_{la}", "deg", f"угол камня {la} (= углу кулисы)", f"angle of the block {la} (= the lever's)",
           "accepted", f"{{phi_{lb}}}")
+    _rate_rows(b, g)
+
+
+def _rate_rows(b: Builder, g: Group) -> None:
+    """Cramer's rule for the lever's omega and the block's slide, then (Coriolis, centripetal
+    bias) their accelerations; the block turns with the lever; v and a of J1 checked on it."""
+    i, (la, lb), (J1, J2) = g.index, g.links, g.joints
+    e, sJ, cu, su = f"{{e_g{i}}}", f"s_{J1}", f"cu_g{i}", f"su_g{i}"
+    dx, dy, r2 = f"dx_g{i}", f"dy_g{i}", f"r2_g{i}"
     c, s = f"{{{cu}}}", f"{{{su}}}"
     det = f"Delta_g{i}"
     # unknowns theta_t, s_t: columns (-s sin - e cos, s cos - e sin) and (cos, sin); determinant -s
