@@ -125,7 +125,7 @@ def solve(g: Group, known: dict[str, Motion], rot: dict[int, Rotation], scale: f
 
 # --------------------------------------------------------------------------- the workbook
 def input_rows(g: Group) -> list[InputRow]:
-    i, (j1, k), gd = g.index, g.joints, g.guide
+    i, j1, gd = g.index, g.joints[0], g.guide
     return [InputRow(f"gx_g{i}", "m", f"направляющая кулисы {g.links[1]}: x точки",
                      f"kulisa {g.links[1]}'s guide: x of a point",
                      gd.point[0]),
