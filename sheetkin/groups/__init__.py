@@ -4,7 +4,9 @@
 contract's "Group types", docs/scene-format.md). The scene parser, the solver, the
 workbook writer, the dynamics (numpy and sheet), the bench and the validator iterate over
 a scene's groups and ask `kind_of(g)`; none of them tests a kind's name. Adding a kind is
-one new module here, one line in `KINDS`, its tests (tests/kinds.py) and a bundled scene.
+one new module here, one line in `KINDS`, its tests (tests/kinds.py) and a bundled scene
+(docs/adding-a-kind.md); a kind kept outside the package is one call to `register`. The
+surface below is typed as `protocol.KindModule`, which mypy checks every kind against.
 
 Every kind module provides the same surface, under banners in this order:
 
@@ -33,6 +35,9 @@ Every kind module provides the same surface, under banners in this order:
   fourbar(g, crank_joint, frame) -> (coupler, rocker, pivot, branch) or None   the four-bar
                              the group closes with the crank (seed 002's synthesis designs
                              its lengths; only an RRR from the crank's joint to a frame point)
+  parts(g) -> parts.Parts    what the drawing and the charts sheet draw: the points on each
+                             link, the guides and slots (parts.GuidePart, with the input rows
+                             of a guide's angle and point), the blocks on them
 
   # --- positions, velocities, accelerations (numpy over crank positions)
   solve(g, known, rot, scale) -> motion.GroupMotion
@@ -86,34 +91,55 @@ Every kind module provides the same surface, under banners in this order:
 """
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from importlib import import_module
+from types import ModuleType
+from typing import TYPE_CHECKING, Any, cast
+
+from .protocol import MEMBERS, KindModule
 
 
-class _Kinds(Mapping):
+class _Kinds(Mapping[str, KindModule]):
     """type -> kind module, each imported on first use: the kinds' kernels import numpy,
     and `sheetkin --help` or a scene's `type` check need none of it (tests/cli/test_startup.py)."""
 
     def __init__(self, modules: dict[str, str]):
-        self._names, self._loaded = modules, {}
+        self._names: dict[str, str] = dict(modules)
+        self._loaded: dict[str, KindModule] = {}
 
-    def __getitem__(self, kind):
+    def __getitem__(self, kind: str) -> KindModule:
         mod = self._loaded.get(kind)
         if mod is None:
-            mod = self._loaded[kind] = import_module(f".{self._names[kind]}", __name__)
+            mod = self._loaded[kind] = cast(KindModule, import_module(f".{self._names[kind]}", __name__))
         return mod
 
-    def __contains__(self, kind):                 # Mapping's would import the module
+    def __contains__(self, kind: object) -> bool:       # Mapping's would import the module
         return kind in self._names
 
-    def __iter__(self):
+    def __iter__(self) -> Iterator[str]:
         return iter(self._names)
 
-    def __len__(self):
+    def __len__(self) -> int:
         return len(self._names)
 
+    def add(self, module: ModuleType) -> str:
+        kind = getattr(module, "KIND", None)
+        missing = [m for m in MEMBERS if not hasattr(module, m)]
+        if missing or not isinstance(kind, str):
+            raise ValueError(f"{module.__name__}: not a group kind, it lacks {', '.join(missing) or 'KIND'} "
+                             "(the surface: sheetkin.groups.protocol.KindModule)")
+        if kind in self._names and self[kind] is not module:
+            raise ValueError(f"{module.__name__}: group type '{kind}' is already {self._names[kind]}'s")
+        self._names[kind], self._loaded[kind] = module.__name__, cast(KindModule, module)
+        return kind
 
-# explicit, in the contract's order; `grep RPR` finds every use (no discovery, no decorators)
+    def remove(self, kind: str) -> None:
+        del self._names[kind]
+        self._loaded.pop(kind, None)
+
+
+# explicit, in the contract's order; `grep RPR` finds every use (no discovery, no decorators).
+# A kind of this package is one line here; a kind kept elsewhere is one call to register().
 KINDS = _Kinds({
     "RRR": "rrr",
     "RRP": "rrp",
@@ -122,8 +148,25 @@ KINDS = _Kinds({
     "RPP": "rpp",
 })
 
+if TYPE_CHECKING:       # mypy checks each bundled kind module against the Protocol
+    from . import prp, rpp, rpr, rrp, rrr
+    _CHECKED: tuple[KindModule, ...] = (rrr, rrp, rpr, prp, rpp)
 
-def kind_of(g):
+
+def register(module: ModuleType | str) -> str:
+    """Add a kind kept outside this package (a module, or its import path): its `KIND`
+    becomes a scene's `type` that every stage understands. Returns the type. Raises
+    ValueError (one line) if the module lacks a member of the Protocol or its type is
+    another module's. A kind of the package itself is a line in `KINDS` instead."""
+    return KINDS.add(import_module(module) if isinstance(module, str) else module)
+
+
+def unregister(kind: str) -> None:
+    """Remove a type from the table (a test's kind, when the test is over)."""
+    KINDS.remove(kind)
+
+
+def kind_of(g: Any) -> KindModule:
     """The module of a group's kind (a Group, or its `type` string)."""
     return KINDS[g if isinstance(g, str) else g.type]
 

@@ -31,6 +31,7 @@ import numpy as np
 
 from .group import Family, Group, Guide, crank_scene
 from .motion import GroupMotion, Motion, Pair, Rotation, Slide, cramer, guide_line, guide_loop, inverse_det
+from .parts import BlockPart, Parts, scene_guide
 from .rows import (
     Builder,
     InputRow,
@@ -97,6 +98,15 @@ def sliders(g: Group) -> list[str]:
 def fourbar(g: Group, crank_joint: str, frame) -> None:
     """Not a four-bar's dyad (only an RRR closes one with the crank: sheetkin.studies.synthesis)."""
     return None
+
+
+def parts(g: Group) -> Parts:
+    """Two blocks at N, block a on guides[0] and block b on guides[1]; guide j's angle is
+    the input gamma<j>_g<i>, its point on the frame gx<j>_g<i>, gy<j>_g<i>."""
+    (n,), (a, b), i = g.joints, g.links, g.index
+    ga, gb = (scene_guide(gd, n, i, f"gamma{j}_g{i}", (f"gx{j}_g{i}", f"gy{j}_g{i}"))
+              for j, gd in enumerate(g.guides, 1))
+    return Parts({a: (n,), b: (n,)}, (ga, gb), (BlockPart(a, n, ga), BlockPart(b, n, gb)))
 
 
 # --------------------------------------------------------------------------- positions and rates
@@ -198,8 +208,18 @@ def rows(b: Builder, g: Group):
     is guides[0] (the coupler AB: tg eta by (4), n by (3a)), line (1) is guides[1]
     (y = m + x tg theta); N = L by (7). Every tangent is multiplied out (see
     lecture_intersection), so vertical lines stay finite; the rows say so."""
-    i, (la, lb), (N,) = g.index, g.links, g.joints
-    (pa, eta_f, wa_f, ea_f), (pb, th_f, wb_f, eb_f) = _line_refs(b, g, 1), _line_refs(b, g, 2)
+    refs = _line_refs(b, g, 1), _line_refs(b, g, 2)
+    _crossing_rows(b, g, refs)
+    _accepted_rows(b, g, refs)
+    _rate_rows(b, g, refs)
+    b.place_links(*g.links)
+    _joint_rows(b, g, refs)
+
+
+def _crossing_rows(b: Builder, g: Group, refs) -> None:
+    """Equations (1)-(7): the two lines, their crossing L and the checks (5a), (5b)."""
+    i, (N,) = g.index, g.joints
+    (pa, eta_f, _, _), (pb, th_f, _, _) = refs
     b.section(f"group_{i}", f"Группа {i} (ПВП {N}): ползушка на шатуне и фиксированная направляющая, уравнения (1)-(7)",
               f"Group {i} (PRP {N}): slider on the coupler with a fixed guide, equations (1)-(7)")
     eta, nn, th, mm, D = f"eta_g{i}", f"n_g{i}", f"theta_g{i}", f"m_g{i}", f"D_g{i}"
@@ -238,6 +258,13 @@ def rows(b: Builder, g: Group):
           f"{{{yL}}}*COS({{{eta}}})-{{{xL}}}*SIN({{{eta}}})-{{{nn}}}")
     b.add(f"chk_5b_g{i}", "m", "проверка (5b): L на прямой (1)", "check (5b): L on line (1)", "check",
           f"{{{yL}}}*COS({{{th}}})-{{{xL}}}*SIN({{{th}}})-{{{mm}}}")
+
+
+def _accepted_rows(b: Builder, g: Group, refs) -> None:
+    """The slides s, s2 from L, the blocks' angles and rates (they turn with their guides)."""
+    i, (la, lb), (N,) = g.index, g.links, g.joints
+    (pa, _, wa_f, ea_f), (pb, _, wb_f, eb_f) = refs
+    eta, th, xL, yL = f"eta_g{i}", f"theta_g{i}", f"xL_g{i}", f"yL_g{i}"
     b.section(f"accepted_g{i}", "Принятые значения", "Accepted values")
     s1, s2 = f"s_{N}", f"s2_{N}"
     b.add(s1, "m", f"положение камня {N} вдоль направляющей 1 от её точки",
@@ -267,6 +294,14 @@ def rows(b: Builder, g: Group):
                      [(f"omega_{la}", wa_f), (f"eps_{la}", ea_f), (f"omega_{lb}", wb_f), (f"eps_{lb}", eb_f)],
                      f"камень {la} и ползун {lb} повёрнуты и вращаются вместе со своими направляющими",
                      f"block {la} and slider {lb} point along and turn with their guides")
+
+
+def _rate_rows(b: Builder, g: Group, refs) -> None:
+    """Cramer's rule for the slides' velocities, then (Coriolis terms t1, t2) accelerations."""
+    i, (la, lb), (N,) = g.index, g.links, g.joints
+    (pa, *_), (pb, *_) = refs
+    ca, sa, cb, sb = f"{{cos_{la}}}", f"{{sin_{la}}}", f"{{cos_{lb}}}", f"{{sin_{lb}}}"
+    S1, S2 = f"{{s_{N}}}", f"{{s2_{N}}}"
     wa, ea, wb, eb = f"{{omega_{la}}}", f"{{eps_{la}}}", f"{{omega_{lb}}}", f"{{eps_{lb}}}"
     # u1 vs - u2 vs2 = v_P2 - v_P1 - s w1 n1 + s2 w2 n2 (n = u turned +90 deg)
     det = f"Delta_g{i}"
@@ -298,7 +333,17 @@ def rows(b: Builder, g: Group):
                             (f"as2_{N}", "m/s^2", f"ускорение ползуна {N} вдоль направляющей 2",
                              f"acceleration of slider {N} along guide 2")),
                 (f"{{{f1}}}", f"{{{f2}}}"), residual(i, "a"))
-    b.place_links(la, lb)
+
+
+def _joint_rows(b: Builder, g: Group, refs) -> None:
+    """N = L carried by guide 1 and sliding on it, checked through guide 2."""
+    i, (la, lb), (N,) = g.index, g.links, g.joints
+    (pa, *_), (pb, *_) = refs
+    ca, sa, cb, sb = f"{{cos_{la}}}", f"{{sin_{la}}}", f"{{cos_{lb}}}", f"{{sin_{lb}}}"
+    S1, S2 = f"{{s_{N}}}", f"{{s2_{N}}}"
+    wa, wb = f"{{omega_{la}}}", f"{{omega_{lb}}}"
+    T1, T2 = f"{{t1_g{i}}}", f"{{t2_g{i}}}"
+    xL, yL = f"xL_g{i}", f"yL_g{i}"
     b.section(f"point_{N}", f"Шарнир {N} = точка L: движение с направляющей 1 и по ней",
               f"Hinge {N} = the point L: carried by guide 1 and sliding on it")
     tu = f"({{as_{N}}}-{S1}*{wa}^2)"

@@ -24,6 +24,7 @@ import numpy as np
 
 from .group import Family, Group, Guide, crank_scene
 from .motion import GroupMotion, Motion, Pair, Rotation, Slide, cramer, inverse_det
+from .parts import BlockPart, Parts, scene_guide, slot
 from .rows import Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, fd_checks, motion_rows, turns_with_check
 
 # --------------------------------------------------------------------------- what it is
@@ -85,6 +86,15 @@ def fourbar(g: Group, crank_joint: str, frame) -> None:
     return None
 
 
+def parts(g: Group) -> Parts:
+    """The kulisa b at K slides on its frame guide (inputs gamma_g<i>, gx_g<i>, gy_g<i>);
+    the block a at J1 slides in b's slot, the line through K and J1 along phi_b = alpha."""
+    (j1, k), (a, b), i = g.joints, g.links, g.index
+    guide = scene_guide(g.guide, k, i, f"gamma_g{i}", (f"gx_g{i}", f"gy_g{i}"))
+    line = slot(b, j1, k, i)
+    return Parts({a: (j1,), b: (k,)}, (guide, line), (BlockPart(b, k, guide), BlockPart(a, j1, line)))
+
+
 # --------------------------------------------------------------------------- positions and rates
 def toggle(gamma_rad: float, alpha_rad: float) -> float:
     """sin(alpha - gamma): the sine of the angle between the slot and b's guide."""
@@ -115,7 +125,7 @@ def solve(g: Group, known: dict[str, Motion], rot: dict[int, Rotation], scale: f
 
 # --------------------------------------------------------------------------- the workbook
 def input_rows(g: Group) -> list[InputRow]:
-    i, (j1, k), gd = g.index, g.joints, g.guide
+    i, j1, gd = g.index, g.joints[0], g.guide
     return [InputRow(f"gx_g{i}", "m", f"направляющая кулисы {g.links[1]}: x точки",
                      f"kulisa {g.links[1]}'s guide: x of a point",
                      gd.point[0]),

@@ -32,6 +32,7 @@ from .motion import (
     resultants,
     sqrt_or_nan,
 )
+from .parts import BlockPart, Parts, slot
 from .rows import Builder, InputRow, LoadRows, cramer_rows, det_row, group_guard, residual, turns_with_check
 
 # --------------------------------------------------------------------------- what it is
@@ -81,6 +82,14 @@ def sliders(g: Group) -> list[str]:
 def fourbar(g: Group, crank_joint: str, frame) -> None:
     """Not a four-bar's dyad (only an RRR closes one with the crank: sheetkin.studies.synthesis)."""
     return None
+
+
+def parts(g: Group) -> Parts:
+    """The block (link a) at J1 in the slot of the kulisa b, which turns about J2: the slot
+    is drawn through J1 along phi_b from the foot of J2 (the offset e is J2's distance)."""
+    (j1, j2), (a, b) = g.joints, g.links
+    line = slot(b, j1, j2, g.index)
+    return Parts({a: (j1,), b: (j2,)}, (line,), (BlockPart(a, j1, line),))
 
 
 # --------------------------------------------------------------------------- positions and rates
@@ -160,6 +169,15 @@ def rows(b: Builder, g: Group):
           f"MOD(DEGREES(ATAN2({{{cu}}},{{{su}}})),360)")
     b.add(f"phi_{la}", "deg", f"угол камня {la} (= углу кулисы)", f"angle of the block {la} (= the lever's)",
           "accepted", f"{{phi_{lb}}}")
+    _rate_rows(b, g)
+
+
+def _rate_rows(b: Builder, g: Group) -> None:
+    """Cramer's rule for the lever's omega and the block's slide, then (Coriolis, centripetal
+    bias) their accelerations; the block turns with the lever; v and a of J1 checked on it."""
+    i, (la, lb), (J1, J2) = g.index, g.links, g.joints
+    e, sJ, cu, su = f"{{e_g{i}}}", f"s_{J1}", f"cu_g{i}", f"su_g{i}"
+    dx, dy, r2 = f"dx_g{i}", f"dy_g{i}", f"r2_g{i}"
     c, s = f"{{{cu}}}", f"{{{su}}}"
     det = f"Delta_g{i}"
     # unknowns theta_t, s_t: columns (-s sin - e cos, s cos - e sin) and (cos, sin); determinant -s

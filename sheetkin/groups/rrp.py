@@ -37,6 +37,7 @@ from .motion import (
     resultants,
     sqrt_or_nan,
 )
+from .parts import BlockPart, Parts, scene_guide
 from .rows import (
     Builder,
     InputRow,
@@ -121,6 +122,14 @@ def sliders(g: Group) -> list[str]:
 def fourbar(g: Group, crank_joint: str, frame) -> None:
     """Not a four-bar's dyad (only an RRR closes one with the crank: sheetkin.studies.synthesis)."""
     return None
+
+
+def parts(g: Group) -> Parts:
+    """The coupler J1 N, and the slider's block (link b) at N on the guide; the guide's
+    angle is the input gamma_g<i>, its point on the frame gx_g<i>, gy_g<i>."""
+    (j1, n), (a, b), i = g.joints, g.links, g.index
+    guide = scene_guide(g.guide, n, i, f"gamma_g{i}", (f"gx_g{i}", f"gy_g{i}"))
+    return Parts({a: (j1, n), b: (n,)}, (guide,), (BlockPart(b, n, guide),))
 
 
 # --------------------------------------------------------------------------- positions and rates
@@ -272,10 +281,26 @@ def _moving_guide_rows(b: Builder, g: Group):
     from J1 = O2, h = |O2 K|, the block N = D slides along it, L_tek = s_N = G D. The lecture
     writes the lines as y = b + tg(xi)(x - a), which a vertical guide makes infinite; these
     rows use the guide's cos and sin instead (the same point K, h and D)."""
+    _kulisa_line_rows(b, g)
+    _kulisa_accepted_rows(b, g)
+    _kulisa_rate_rows(b, g)
+    b.place_links(*g.links)
+    _kulisa_joint_rows(b, g)
+
+
+def _kulisa(b: Builder, g: Group) -> tuple:
+    """The names the kulisa's rows share: i, links a and b, J1, N, the guide's point G on
+    link k, {L}, the cos, sin, omega, eps of link k, the guide's direction {ux}, {uy} and
+    {s_N}."""
     i, (la, lb), (J1, N) = g.index, g.links, g.joints
     G, k = g.guide.through, g.guide.link
-    L = f"{{L{la}}}"
     ck, sk, wk, ek = (f"{{{r}}}" for r in b.rot[k])
+    return i, la, lb, J1, N, G, k, f"{{L{la}}}", ck, sk, wk, ek, f"{{ux_g{i}}}", f"{{uy_g{i}}}", f"{{s_{N}}}"
+
+
+def _kulisa_line_rows(b: Builder, g: Group) -> None:
+    """The guide's direction, the foot K of the perpendicular from J1, h, D, both branches."""
+    i, la, lb, J1, N, G, k, L, ck, sk, wk, ek, U, V, S = _kulisa(b, g)
     b.section(f"group_{i}", f"Группа {i} (ВВП {J1}{N}: камень {N} на кулисе {k}, два коромысла с кулисной парой)",
               f"Group {i} (RRP {J1}{N}: block {N} on the kulisa {k}, two rockers with a slotted pair)")
     ux, uy = f"ux_g{i}", f"uy_g{i}"
@@ -310,6 +335,11 @@ def _moving_guide_rows(b: Builder, g: Group):
               f"{{{al}}}{sign}SQRT({{{D}}})")
         b.add(f"chk_{s}_g{i}", "m", f"проверка {ru}: |{J1}{N}| - L{la}", f"check {en}: |{J1}{N}| - L{la}", "check",
               f"SQRT(({b.p('x', G)}+{{s_{s}_g{i}}}*{U}-{b.p('x', J1)})^2+({b.p('y', G)}+{{s_{s}_g{i}}}*{V}-{b.p('y', J1)})^2)-{L}")
+
+
+def _kulisa_accepted_rows(b: Builder, g: Group) -> None:
+    """L_tek = s_N on the scene's branch, the links' angles; the block turns with the kulisa."""
+    i, la, lb, J1, N, G, k, L, ck, sk, wk, ek, U, V, S = _kulisa(b, g)
     b.section(f"accepted_g{i}", "Принятые значения", "Accepted values")
     sN = f"s_{N}"
     S = f"{{{sN}}}"
@@ -336,6 +366,12 @@ def _moving_guide_rows(b: Builder, g: Group):
     turns_with_check(b, f"chk_rot_g{i}", [(f"phi_{lb}", U, V)], [(f"omega_{lb}", wk), (f"eps_{lb}", ek)],
                      f"камень {lb} повёрнут по направляющей и вращается с кулисой {k}",
                      f"block {lb} points along the guide and turns with the kulisa {k}")
+
+
+def _kulisa_rate_rows(b: Builder, g: Group) -> None:
+    """Cramer's rule for omega_a and (L_tek)_t, then (with the Coriolis term) eps_a, (L_tek)_tt."""
+    i, la, lb, J1, N, G, k, L, ck, sk, wk, ek, U, V, S = _kulisa(b, g)
+    ca, sa = f"{{cos_{la}}}", f"{{sin_{la}}}"
     # L omega e'(phi) - vs u = v_G + s omega_k n - v_J1, n = (-uy, ux)
     det = f"Delta_g{i}"
     m = (f"(-{L}*{sa})", f"(-{U})", f"({L}*{ca})", f"(-{V})")
@@ -365,7 +401,13 @@ def _moving_guide_rows(b: Builder, g: Group):
                              f"(L_tek)_tt: acceleration of block {N} along the kulisa")),
                 (f"{{{f1}}}", f"{{{f2}}}"),
                 residual(i, "a"))
-    b.place_links(la, lb)
+
+
+def _kulisa_joint_rows(b: Builder, g: Group) -> None:
+    """The block N carried by the kulisa and sliding on it, and its checks."""
+    i, la, lb, J1, N, G, k, L, ck, sk, wk, ek, U, V, S = _kulisa(b, g)
+    vs = f"{{vs_{N}}}"
+    tn = f"(2*{vs}*{wk}+{S}*{ek})"
     b.section(f"point_{N}", f"Камень {N}: движение вместе с кулисой и по ней",
               f"Block {N}: carried by the kulisa and sliding on it")
     as_ = f"{{as_{N}}}"

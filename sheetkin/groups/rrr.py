@@ -32,6 +32,7 @@ from .motion import (
     resultants,
     sqrt_or_nan,
 )
+from .parts import Parts
 from .rows import (
     Builder,
     InputRow,
@@ -106,6 +107,12 @@ def fourbar(g: Group, crank_joint: str, frame) -> tuple[float, float, str, int] 
     if g.joints[0] == crank_joint and g.joints[2] in frame:
         return g.lengths[0], g.lengths[1], g.joints[2], g.branch
     return None
+
+
+def parts(g: Group) -> Parts:
+    """Two bars hinged at N: no guide, no block."""
+    (j1, n, j2), (a, b) = g.joints, g.links
+    return Parts({a: (j1, n), b: (j2, n)})
 
 
 # --------------------------------------------------------------------------- positions and rates

@@ -19,7 +19,7 @@ from sheetkin.groups import kind_of
 from sheetkin.groups.group import Group
 from sheetkin.groups.motion import FRAME, Motion, Rotation, Slide, carried_point, cramer, fixed, inverse_det  # noqa: F401 (the API)
 
-from .scene import Crank, Point, Scene
+from .scene import Crank, Group, Point, Scene
 
 
 @dataclass

@@ -16,8 +16,9 @@
   An exercise workbook gets no `paths` sheet (it would hold the answers).
 
 Nothing here knows a group kind: the links' points, guides and blocks come from
-sheetkin.views.drawing.structure; the input cells of a frame guide are found by the workbook's
-row names (gx_g<i>, gy_g<i>, gamma_g<i>) when present.
+sheetkin.views.drawing.structure, that is from each kind's `parts(g)`; a guide names the
+input rows of its angle and point (GuidePart.angle_input, point_inputs), and its helper
+cells refer to them, so the drawn guide turns and moves with what is typed there.
 Spin button: openpyxl cannot write form controls, so the position is a plain input cell
 with a data validation (whole number 1..N) instead.
 """
@@ -117,7 +118,7 @@ def add_paths_sheet(wb, info: SheetRows, scene: Scene, fine: int = FINE_POSITION
         elif row.kind == "derived":
             ps.cell(r, 4, info.templates[row.name])
         elif row.kind == "index":
-            for k, c in enumerate(cols):
+            for k in range(len(cols)):
                 ps.cell(r, first + k, k)
         elif row.name in info.templates:
             tpl = info.templates[row.name]
@@ -196,10 +197,12 @@ class _Cells:
 
 def _guide_cells(h: _Helper, c: _Cells, g, tag: str):
     """(x, y of the base point, ux, uy) cells of a guide at the chosen position."""
-    if g.link == 0 and c.input(f"gamma_g{g.group}"):
-        theta = c.input(f"gamma_g{g.group}")
-    else:
+    # the kind names the input rows of its guide's angle and point (groups.parts.GuidePart)
+    gamma = c.input(g.angle_input) if g.angle_input else None
+    if gamma is None:
         theta = f"{c.angle(g.link)}+{_num(g.angle_deg)}"
+    else:
+        theta = gamma if g.link == 0 else f"{c.angle(g.link)}+{gamma}"
     th = h.scalar(f"{tag}: angle, deg", theta)
     ux = h.scalar(f"{tag}: cos", f"COS(RADIANS({th}))")
     uy = h.scalar(f"{tag}: sin", f"SIN(RADIANS({th}))")
@@ -209,8 +212,9 @@ def _guide_cells(h: _Helper, c: _Cells, g, tag: str):
         bx = h.scalar(f"{tag}: base x", f"{px}-{d}*{uy}")
         by = h.scalar(f"{tag}: base y", f"{py}+{d}*{ux}")
         return bx, by, ux, uy
-    if isinstance(g.through, tuple) and c.input(f"gx_g{g.group}"):
-        tx, ty = c.input(f"gx_g{g.group}"), c.input(f"gy_g{g.group}")
+    point = [c.input(r) for r in g.point_inputs] if g.point_inputs else []
+    if isinstance(g.through, tuple) and point and None not in point:
+        tx, ty = point
     else:
         tx, ty = c.xy(g.through)
     bx = h.scalar(f"{tag}: base x", f"{tx}-{_num(g.offset)}*{uy}")

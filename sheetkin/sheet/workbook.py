@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
+from typing import cast
 
 from openpyxl import Workbook, load_workbook
 from openpyxl.chart import Reference, ScatterChart, Series
@@ -41,7 +42,7 @@ from sheetkin.groups.rows import (
     motion_rows,
     via_link_checks,
 )
-from sheetkin.kinematics.scene import Point, Scene
+from sheetkin.kinematics.scene import Group, Point, Scene
 
 from .checks import colour_check_row, status_formula, write_summary
 from .dynamics import dynamics_inputs, energy_rows, kinetostatics_rows
@@ -109,7 +110,7 @@ def sheet_rows(scene: Scene) -> Builder:
     _crank_rows(b)
     for kind, item in scene.plan:
         if kind == "group":
-            kind_of(item).rows(b, item)
+            kind_of(item).rows(b, cast(Group, item))
         elif kind == "point":
             _point_rows(b, item)
     if scene.has_dynamics:

@@ -215,8 +215,8 @@ def _walk(lib, scene: Scene, phi_deg: float, guesses: dict[int, list], tol: floa
             g = cast(Group, item)
             if g.index == until:
                 return known, links
-            kind = kind_of(g)
-            F, J, b_v, b_a, place = kind.loop(lib, g, known, links)
+            km = kind_of(g)
+            F, J, b_v, b_a, place = km.loop(lib, g, known, links)
             q, ok = _newton(lib, F, J, [n(x) for x in guesses[g.index]], tol, max_iter)
             if not ok:
                 problems.append((g, "no convergence"))
@@ -228,7 +228,7 @@ def _walk(lib, scene: Scene, phi_deg: float, guesses: dict[int, list], tol: floa
             joints, (la, lb), group_slides = place(q, qt, qtt)
             qs[g.index] = q
             known.update(joints)
-            if not kind.side_ok(lib, g, known, links, q, joints):
+            if not km.side_ok(lib, g, known, links, q, joints):
                 problems.append((g, "branch jump"))
             links[g.links[0]], links[g.links[1]] = la, lb
             slides.update(group_slides)

@@ -9,10 +9,9 @@ parts of the revolution where a group cannot assemble. The GIF and HTML animatio
 (sheetkin.views.animate), the notebook pictures (sheetkin.result, Scene._repr_svg_) and the
 validation report all draw these same shapes.
 
-Everything is drawn from the computed points (columns x_P, y_P, phi_k) and from which
-points belong to which link. The one place that knows the group kinds is `group_parts`
-(its table `_PARTS`): per kind, which links hold which points, which guides there are and
-which blocks slide on them. It is meant to move into the group modules.
+Everything is drawn from the computed points (columns x_P, y_P, phi_k) and from the parts
+each kind declares (`parts(g)`, sheetkin.groups.parts): which links hold which points, the
+guides and slots, and the blocks that slide on them. Nothing here knows a kind.
 """
 from __future__ import annotations
 
@@ -23,34 +22,16 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from sheetkin.groups import kind_of
-from sheetkin.groups.group import Guide as SceneGuide
+from sheetkin.groups.parts import BlockPart, GuidePart
 from sheetkin.kinematics.scene import Group, Scene
 from sheetkin.kinematics.table import assembly_gaps, compute
 
 FINE_POSITIONS = 360        # the paths: one point per degree of the crank
 
 
-@dataclass(frozen=True)
-class Guide:
-    """A straight line fixed on a link (0: the frame) along which `slider` moves: it passes
-    through `through` (a point name, or frame coordinates) shifted `offset` to the left, in
-    the direction phi_link + angle_deg."""
-    link: int
-    through: str | tuple[float, float]
-    angle_deg: float
-    slider: str
-    offset: float = 0.0
-    group: int = 0          # the group that defines it (the workbook's inputs gx_g<i>, ...)
-    foot_of: str | None = None   # a slot: the line through `slider` along phi_link, based at
-                                 # the foot of this point (the lever's pivot) on it
-
-
-@dataclass(frozen=True)
-class Block:
-    """A slider block (its link) centred on a point, turned along a guide."""
-    link: int
-    at: str
-    guide: Guide
+# a guide or slot and a block, as each kind declares them (sheetkin.groups.parts)
+Guide = GuidePart
+Block = BlockPart
 
 
 @dataclass(frozen=True)
@@ -106,43 +87,10 @@ STYLES = {
 
 
 # --------------------------------------------------------------------------- structure
-def _scene_guides(params) -> list:
-    """The group.Guide objects among a kind's parameters (RRP's `guide`, PRP's `guides`)."""
-    out = []
-    for name in getattr(params, "__dataclass_fields__", {}):
-        v = getattr(params, name)
-        for item in (v if isinstance(v, tuple) else (v,)):
-            if isinstance(item, SceneGuide):
-                out.append(item)
-    return out
-
-
-def group_parts(g: Group):
-    """(members {link: points}, guides, blocks) of one group, from the kind's own answers
-    (sheetkin.groups: carries, sliders) and its parameters, with no test of the kind:
-    a link that carries nothing but a slider's joint is a block, turned along its own angle
-    phi_k; a guide among the parameters is drawn through its point on its link, with the
-    block's joint sliding on it; a block on no such guide slides in a slot of the group's
-    other link (the kulisa), drawn through the block's joint along phi_k from the foot of
-    that link's joint."""
-    kind = kind_of(g)
-    carried = {k: tuple(v) for k, v in kind.carries(g).items()}
-    sliding = [t.split("_", 1)[1] if t.startswith("2_") else t for t in kind.sliders(g)]
-    blocks = [(k, pts[0]) for k, pts in carried.items() if len(pts) == 1 and pts[0] in sliding]
-    guides, out_blocks = [], []
-    explicit = _scene_guides(getattr(g, "params", None))
-    for n, (k, joint) in enumerate(blocks):
-        if n < len(explicit):
-            gd = explicit[n]
-            through = gd.point if gd.link == 0 and gd.point is not None else gd.through
-            guide = Guide(gd.link, through, gd.angle_deg, joint, group=g.index)
-        else:
-            other = next(x for x in g.links if x != k)
-            foot = next((p for p in carried.get(other, ()) if p != joint), None)
-            guide = Guide(k, joint, 0.0, joint, group=g.index, foot_of=foot)
-        guides.append(guide)
-        out_blocks.append(Block(k, joint, guide))
-    return carried, guides, out_blocks
+def group_parts(g: Group) -> tuple[dict[int, tuple[str, ...]], list[Guide], list[Block]]:
+    """(members {link: points}, guides, blocks) of one group: the kind's own `parts(g)`."""
+    parts = kind_of(g).parts(g)
+    return dict(parts.links), list(parts.guides), list(parts.blocks)
 
 
 def structure(scene: Scene) -> Structure:
@@ -337,7 +285,7 @@ def frame_shapes(scene: Scene, row, st: Structure, spans, r: float, *, vectors: 
             base, u = guide_frame(scene, row, g)
             if np.isfinite(base).all() and np.isfinite(u).all():
                 out.append(Shape("line", np.array([base[0] + (t0 - r) * u[0], base[0] + (t1 + r) * u[0]]), "slot"))
-    for k, pts in st.members.items():
+    for pts in st.members.values():
         xy = np.array([at[p] for p in pts])
         if not np.isfinite(xy).all() or len(xy) < 2:
             continue
@@ -460,7 +408,8 @@ def _svg_shape(s: Shape, px: _Px) -> str:
         f = "none" if s.role == "toggle" else fill
         return (f"<circle cx='{p[0, 0]:.1f}' cy='{p[0, 1]:.1f}' r='{rad}' fill='{f}' stroke='{stroke}' "
                 f"stroke-width='{width}'><title>{html.escape(s.text)}</title></circle>" if s.text else
-                f"<circle cx='{p[0, 0]:.1f}' cy='{p[0, 1]:.1f}' r='{rad}' fill='{f}' stroke='{stroke}' stroke-width='{width}'/>")
+                f"<circle cx='{p[0, 0]:.1f}' cy='{p[0, 1]:.1f}' r='{rad}' fill='{f}' stroke='{stroke}' "
+                f"stroke-width='{width}'/>")
     pts = " ".join(f"{x:.1f},{y:.1f}" for x, y in p)
     if s.kind == "polygon":
         return f"<polygon points='{pts}' fill='{fill or 'none'}' stroke='{stroke}' stroke-width='{width}'{dash_attr}/>"

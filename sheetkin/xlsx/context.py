@@ -2,15 +2,15 @@
 _Context reads references from the workbook's value stores (views of a row where it can;
 ranges past the used range padded or clipped, PAD_CELLS), follows defined names (a name
 scoped to the sheet shadows the workbook's, _lookup), walks chains of operators in a loop,
-and calls the operators and functions of formula_values.py, besides the functions that
-need the tree itself (IF, IFERROR, INDEX, CHOOSE, ANCHORARRAY, SINGLE, TRUNC, FLOOR.MATH...).
+and calls the operators and functions of values.py. The functions that need the tree
+itself (IF, IFERROR, INDEX, CHOOSE, ANCHORARRAY, SINGLE, TRUNC, FLOOR.MATH ...) are entries
+of values.LAZY, each with its hook; the hooks that read the workbook (INDEX, ANCHORARRAY,
+SINGLE) call back into the context's methods of those names.
 
 Separate from evaluator.py, which reads the workbook, orders its runs, makes one _Context
 for the workbook and writes the results into the stores; this module never imports it.
 """
 from __future__ import annotations
-
-import math
 
 import numpy as np
 
@@ -21,23 +21,18 @@ from .values import (
     AGGREGATES,
     BOOL,
     EMPTY,
+    LAZY,
     NUM,
     SCALAR_FUNCS,
     TEXT,
     VALUE,
     Val,
     _arith,
-    _binary,
     _compare,
     _concat,
     _const,
     _error_of,
-    _result,
-    _select,
-    _texts,
-    _to_bool,
     _to_number,
-    _unary,
     _with_error,
 )
 
@@ -190,39 +185,9 @@ class _Context:
         raise EvaluationError(f"cannot evaluate {node!r}")
 
     def call(self, name: str, args, run: Run) -> Val:
-        if name == "PI":
-            return _const(math.pi)
-        if name == "IF":
-            cond, err = _to_bool(self.eval(args[0], run))
-            a = self.eval(args[1], run) if len(args) > 1 and args[1][0] != "missing" else _const(0.0)
-            b = self.eval(args[2], run) if len(args) > 2 else _const(False)
-            return _with_error(_select(cond, a, b), err)
-        if name == "IFERROR":
-            a, b = self.eval(args[0], run), self.eval(args[1], run)
-            return _select(a.tag >= 10, b, a)
-        if name == "NOT":
-            b, err = _to_bool(self.eval(args[0], run))
-            return Val(np.where(err == 0, (~b).astype(float), 0.0), np.where(err == 0, BOOL, err).astype(np.int8))
-        if name in ("ISNUMBER", "ISERROR", "ISTEXT"):
-            v = self.eval(args[0], run)
-            test = {"ISNUMBER": v.tag == NUM, "ISERROR": v.tag >= 10, "ISTEXT": v.tag == TEXT}[name]
-            return Val(test.astype(float), np.full(v.shape, BOOL, np.int8))
-        if name == "NA":                          # the charts' gap: #N/A is not plotted
-            return _const("#N/A", len(run.cols))
-        if name in ("TRUE", "FALSE"):             # LibreOffice writes TRUE() and FALSE()
-            return _const(name == "TRUE") if not args else _const("#VALUE!", len(run.cols))
-        if name == "TRUNC":
-            return self.trunc(args, run)
-        if name == "INDEX":
-            return self.index(args, run)
-        if name == "CHOOSE":
-            return self.choose(args, run)
-        if name in fx.ROUNDING:
-            return self.rounding(name, args, run)
-        if name == "ANCHORARRAY":
-            return self.spill(args, run)
-        if name == "SINGLE":
-            return self.single(args, run)
+        lazy = LAZY.get(name)
+        if lazy is not None:
+            return lazy.hook(self, args, run)
         if name in SCALAR_FUNCS:
             return SCALAR_FUNCS[name](*(self.eval(a, run) for a in args))
         if name in AGGREGATES:
@@ -233,24 +198,6 @@ class _Context:
                       or (a[0] == "fn" and a[1] == "ANCHORARRAY") for a in args]
             return AGGREGATES[name](vals, ranges)
         return _const("#NAME?", len(run.cols))
-
-
-    def trunc(self, args, run: Run) -> Val:
-        if len(args) == 1:
-            return _unary(fx.trunc)(self.eval(args[0], run))
-        return _binary(fx.trunc)(self.eval(args[0], run), self.eval(args[1], run))
-
-    def rounding(self, name: str, args, run: Run) -> Val:
-        """FLOOR.MATH and kin: a number, then optional arguments with defaults."""
-        fn, defaults = fx.ROUNDING[name]
-        if not 1 <= len(args) <= fx.ROUNDING_ARITY[name]:
-            return _const("#VALUE!", len(run.cols))
-        vals = [self.eval(a, run) if a[0] != "missing" else _const(0.0) for a in args]
-        vals += [_const(d) for d in defaults[len(args) - 1:]]
-        nums, errs = zip(*(_to_number(v) for v in vals), strict=False)
-        with np.errstate(all="ignore"):
-            r = fn(*np.broadcast_arrays(*nums))
-        return _result(r, _error_of(*errs))
 
     def spill(self, args, run: Run) -> Val:
         """Excel 365's E1# (written _xlfn.ANCHORARRAY(E1)): the range an array formula at E1
@@ -293,26 +240,13 @@ class _Context:
                   None if v.txt is None else np.asarray(v.txt)[pick].reshape(k, 1, 1))
         return _with_error(out, np.where(bad, VALUE, 0).astype(np.int8).reshape(k, 1, 1))
 
-    def choose(self, args, run: Run) -> Val:
-        """CHOOSE(i, v1, v2, ...): the i-th value (per cell of the run)."""
-        i, err = _to_number(self.eval(args[0], run))
-        pos, bad = fx.choose_index(i, len(args) - 1)
-        err = _error_of(err, bad)
-        values = [self.eval(a, run) for a in args[1:]]
-        shape = np.broadcast_shapes(pos.shape, *(v.shape for v in values))
-        num = np.choose(np.broadcast_to(pos, shape), [np.broadcast_to(v.num, shape) for v in values])
-        tags = np.choose(np.broadcast_to(pos, shape), [np.broadcast_to(v.tag, shape) for v in values])
-        txt = None
-        if any(v.txt is not None for v in values):
-            txt = np.choose(np.broadcast_to(pos, shape), [np.broadcast_to(_texts(v), shape) for v in values])
-        return _with_error(Val(num, tags.astype(np.int8), txt), np.broadcast_to(err, shape))
-
     def index(self, args, run: Run) -> Val:
         """INDEX(array, row, [column]): one element per cell of the run, or a whole row or
         column where an index is 0."""
         arr = self.eval(args[0], run)
         k0, R, C = arr.shape
-        r, er = _to_number(self.eval(args[1], run)) if len(args) > 1 else (np.zeros((1, 1, 1)), np.zeros((1, 1, 1), np.int8))
+        r, er = (_to_number(self.eval(args[1], run)) if len(args) > 1
+                 else (np.zeros((1, 1, 1)), np.zeros((1, 1, 1), np.int8)))
         c, ec = (_to_number(self.eval(args[2], run)) if len(args) > 2 and args[2][0] != "missing"
                  else (None, np.zeros((1, 1, 1), np.int8)))
         ri, ci, bad = fx.index_positions(R, C, r, c)

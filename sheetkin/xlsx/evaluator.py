@@ -72,7 +72,7 @@ from .parse import (  # noqa: F401
     refs_of,
 )
 from .runs import _TEMPLATES, EvaluationError, Run, _group_runs, _span, _split  # noqa: F401
-from .values import AGGREGATES, BOOL, EMPTY, NUM, SCALAR_FUNCS, SPECIAL, SUPPORTED, TEXT, Val, _const  # noqa: F401
+from .values import AGGREGATES, BOOL, EMPTY, LAZY, NUM, SCALAR_FUNCS, SUPPORTED, TEXT, Val, _const  # noqa: F401
 
 
 # --------------------------------------------------------------------------- the workbook evaluated

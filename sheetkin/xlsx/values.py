@@ -1,6 +1,7 @@
 """Formula values, and what operators and functions do with them: the evaluator's Val
 (numbers, text, booleans, empty cells and Excel's errors, one value per cell of a run),
-the coercions, the operators, the scalar functions and the aggregates, and the list of
+the coercions, the operators, the scalar functions and the aggregates, the lazy functions
+(LAZY: IF, IFERROR, CHOOSE, INDEX ..., each a table entry with its hook) and the list of
 functions the evaluator supports (SUPPORTED).
 
 Values follow Excel: numbers, text, booleans, empty cells and the errors #NULL! #DIV/0!
@@ -17,6 +18,9 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -322,7 +326,8 @@ SCALAR_FUNCS = {
     # Excel's ATAN2 takes (x, y); ATAN2(0, 0) is #DIV/0!
     "ATAN2": _binary(lambda x, y: np.arctan2(y, x), lambda x, y: np.where((x == 0) & (y == 0), DIV0, 0)),
     "MOD": _binary(lambda a, b: a - b * np.floor(a / b), lambda a, b: np.where(b == 0, DIV0, 0)),
-    "POWER": _binary(np.power, lambda a, b: np.where((a == 0) & (b < 0), DIV0, np.where((a == 0) & (b == 0), NUMERR, 0))),
+    "POWER": _binary(np.power,
+                     lambda a, b: np.where((a == 0) & (b < 0), DIV0, np.where((a == 0) & (b == 0), NUMERR, 0))),
     "ROUND": _binary(lambda x, n: _round(x, np.trunc(n))),
     "INT": _unary(fx.int_), "FLOOR": _binary(fx.floor, fx.floor_check),
     "CEILING": _binary(fx.ceiling, fx.ceiling_check),
@@ -496,6 +501,121 @@ AGGREGATES = {
     "AND": _agg_logical(True), "OR": _agg_logical(False),
     "SUMSQ": _agg_sumsq, "PRODUCT": _agg_product,
 }
-SPECIAL = {"IF", "IFERROR", "NOT", "PI", "ISNUMBER", "ISERROR", "ISTEXT", "TRUE", "FALSE", "TRUNC",
-           "INDEX", "CHOOSE", "ANCHORARRAY", "SINGLE", "NA", *fx.ROUNDING}
-SUPPORTED = sorted(set(SCALAR_FUNCS) | set(AGGREGATES) | SPECIAL)
+
+
+# ---------------------------------------------------------------- lazy functions
+class Evaluates(Protocol):
+    """What a lazy function's hook may ask of the evaluator (sheetkin.xlsx.context's
+    context): evaluate an argument's tree, and the hooks that need the workbook itself."""
+
+    def eval(self, node: Any, run: Any) -> Val: ...
+    def index(self, args: Sequence[Any], run: Any) -> Val: ...
+    def spill(self, args: Sequence[Any], run: Any) -> Val: ...
+    def single(self, args: Sequence[Any], run: Any) -> Val: ...
+
+
+Hook = Callable[[Evaluates, Sequence[Any], Any], Val]
+
+
+@dataclass(frozen=True)
+class Lazy:
+    """A function that takes its arguments as formula trees, unevaluated, the way the
+    `formulas` package registers IF: `hook(ctx, args, run)` evaluates what it needs
+    (IF one condition and its branches; INDEX a range as a block, not its values) and
+    returns the result. `why`: what makes it lazy (one line)."""
+    hook: Hook
+    why: str
+
+
+def _arg(ctx: Evaluates, args: Sequence[Any], i: int, run: Any, default: Val) -> Val:
+    """Argument i evaluated, or `default` where it is left out (IF(c,,b)) or missing."""
+    return ctx.eval(args[i], run) if len(args) > i and args[i][0] != "missing" else default
+
+
+def _if(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
+    cond, err = _to_bool(ctx.eval(args[0], run))
+    a = _arg(ctx, args, 1, run, _const(0.0))
+    b = ctx.eval(args[2], run) if len(args) > 2 else _const(False)
+    return _with_error(_select(cond, a, b), err)
+
+
+def _iferror(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
+    a, b = ctx.eval(args[0], run), ctx.eval(args[1], run)
+    return _select(a.tag >= 10, b, a)
+
+
+def _not(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
+    b, err = _to_bool(ctx.eval(args[0], run))
+    return Val(np.where(err == 0, (~b).astype(float), 0.0), np.where(err == 0, BOOL, err).astype(np.int8))
+
+
+def _is(test: Callable[[Val], np.ndarray]) -> Hook:
+    def hook(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
+        v = ctx.eval(args[0], run)
+        return Val(test(v).astype(float), np.full(v.shape, BOOL, np.int8))
+    return hook
+
+
+def _boolean(value: bool) -> Hook:
+    def hook(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
+        return _const(value) if not args else _const("#VALUE!", len(run.cols))
+    return hook
+
+
+def _trunc(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
+    if len(args) == 1:
+        return _unary(fx.trunc)(ctx.eval(args[0], run))
+    return _binary(fx.trunc)(ctx.eval(args[0], run), ctx.eval(args[1], run))
+
+
+def _rounding(name: str) -> Hook:
+    """FLOOR.MATH and kin: a number, then optional arguments with defaults."""
+    fn, defaults = fx.ROUNDING[name]
+
+    def hook(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
+        if not 1 <= len(args) <= fx.ROUNDING_ARITY[name]:
+            return _const("#VALUE!", len(run.cols))
+        vals = [_arg(ctx, args, i, run, _const(0.0)) for i in range(len(args))]
+        vals += [_const(d) for d in defaults[len(args) - 1:]]
+        nums, errs = zip(*(_to_number(v) for v in vals), strict=False)
+        with np.errstate(all="ignore"):
+            r = fn(*np.broadcast_arrays(*nums))
+        return _result(r, _error_of(*errs))
+    return hook
+
+
+def _choose(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
+    """CHOOSE(i, v1, v2, ...): the i-th value (per cell of the run)."""
+    i, err = _to_number(ctx.eval(args[0], run))
+    pos, bad = fx.choose_index(i, len(args) - 1)
+    err = _error_of(err, bad)
+    values = [ctx.eval(a, run) for a in args[1:]]
+    shape = np.broadcast_shapes(pos.shape, *(v.shape for v in values))
+    num = np.choose(np.broadcast_to(pos, shape), [np.broadcast_to(v.num, shape) for v in values])
+    tags = np.choose(np.broadcast_to(pos, shape), [np.broadcast_to(v.tag, shape) for v in values])
+    txt = None
+    if any(v.txt is not None for v in values):
+        txt = np.choose(np.broadcast_to(pos, shape), [np.broadcast_to(_texts(v), shape) for v in values])
+    return _with_error(Val(num, tags.astype(np.int8), txt), np.broadcast_to(err, shape))
+
+
+# name -> its entry; the evaluator asks this table before SCALAR_FUNCS and AGGREGATES
+LAZY: dict[str, Lazy] = {
+    "PI": Lazy(lambda ctx, args, run: _const(math.pi), "no arguments"),
+    "IF": Lazy(_if, "a branch is evaluated only where it is given (IF(c,,b) is 0 where c holds)"),
+    "IFERROR": Lazy(_iferror, "its first argument's errors are a value, not propagated"),
+    "NOT": Lazy(_not, "a condition, coerced to a boolean with its own errors"),
+    "ISNUMBER": Lazy(_is(lambda v: v.tag == NUM), "asks a value's type: errors are an answer"),
+    "ISERROR": Lazy(_is(lambda v: v.tag >= 10), "asks a value's type: errors are an answer"),
+    "ISTEXT": Lazy(_is(lambda v: v.tag == TEXT), "asks a value's type: errors are an answer"),
+    "NA": Lazy(lambda ctx, args, run: _const("#N/A", len(run.cols)), "the charts' gap: #N/A is not plotted"),
+    "TRUE": Lazy(_boolean(True), "LibreOffice writes TRUE() and FALSE()"),
+    "FALSE": Lazy(_boolean(False), "LibreOffice writes TRUE() and FALSE()"),
+    "TRUNC": Lazy(_trunc, "an optional second argument"),
+    "INDEX": Lazy(lambda ctx, args, run: ctx.index(args, run), "its first argument is a block of cells"),
+    "CHOOSE": Lazy(_choose, "picks among its arguments per cell"),
+    "ANCHORARRAY": Lazy(lambda ctx, args, run: ctx.spill(args, run), "E1#: the range an array formula fills"),
+    "SINGLE": Lazy(lambda ctx, args, run: ctx.single(args, run), "@: implicit intersection with a range"),
+    **{name: Lazy(_rounding(name), "optional arguments with defaults") for name in fx.ROUNDING},
+}
+SUPPORTED = sorted(set(SCALAR_FUNCS) | set(AGGREGATES) | set(LAZY))

@@ -4,6 +4,7 @@ hidden paths sheet holds compute()'s coordinates over a revolution; the charts a
 equal scale."""
 from __future__ import annotations
 
+import math
 import re
 import zipfile
 from pathlib import Path
@@ -49,6 +50,8 @@ CASES = {
     "slotted_lever": ((WB / "slotted_lever.toml").read_text(), 2, {}),
     "two_rockers_slotted": ((WB / "two_rockers_slotted.toml").read_text(), 5, {}),   # a moving guide
     "gap": (SHORT, 6, {}),            # position 6 (150 deg) cannot assemble
+    # PRP: its fixed guide's angle is the input gamma2_g2 (a name no stage hard-codes)
+    "slider_on_coupler": ((WB / "slider_on_coupler.toml").read_text(), 3, {"gamma2_g2": 80.0}),
 }
 
 
@@ -76,6 +79,9 @@ def _changed(key):
     for name, v in inputs.items():        # the same change in the scene text
         if key == "fourbar" and name == "L2":
             text = text.replace("lengths = [0.5, 0.34]", f"lengths = [{v}, 0.34]")
+        elif name == "gamma2_g2":
+            text = text.replace("{ through = [-0.15, 0.0], angle_deg = 90.0 }",
+                                f"{{ through = [-0.15, 0.0], angle_deg = {v} }}")
         elif name == "L1":
             text = re.sub(r"(?m)^length\s*=\s*[0-9.]+", f"length = {v}", text, count=1)
     scene = sheetkin.parse_scene(text, f"{key}.toml")
@@ -83,7 +89,8 @@ def _changed(key):
     return scene, pos
 
 
-@pytest.mark.parametrize("key", ["fourbar", "shaper", "crank_slider", "slotted_lever", "two_rockers_slotted"])
+@pytest.mark.parametrize("key", ["fourbar", "shaper", "crank_slider", "slotted_lever", "two_rockers_slotted",
+                                 "slider_on_coupler"])
 def test_drawing_follows_position_and_lengths(books, key):
     wb, _ = books[key]
     cs = wb.worksheets[1]
@@ -106,6 +113,34 @@ def test_drawing_follows_position_and_lengths(books, key):
     for b in st.blocks:               # the block's centre is the slider's point
         corners = np.array(series[f"block {b.link} at {b.at}"], dtype=float)[:4]
         assert np.allclose(corners.mean(axis=0), drawing.point_xy(scene, df, b.at)[0], atol=1e-12)
+
+
+def _helper_scalars(cs) -> dict[str, object]:
+    """{label: value} of the drawing's helper scalars (a guide's angle, cos, sin, base)."""
+    return {cs.cell(r, HELPER_COL + 4).value: cs.cell(r, HELPER_COL + 5).value for r in range(3, cs.max_row + 1)
+            if cs.cell(r, HELPER_COL + 4).value is not None}
+
+
+def test_prp_guide_follows_its_angle_input(books):
+    """slider_on_coupler's fixed guide (PRP's guides[1], input gamma2_g2) typed from 90 to
+    80 deg: after LibreOffice's recalculation the drawn guide is the line through (-0.15, 0)
+    at 80 deg (it was the constant =0+90.0), and the slider's block sits at the changed
+    scene's L."""
+    wb, _ = books["slider_on_coupler"]
+    cs = wb.worksheets[1]
+    scene, pos = _changed("slider_on_coupler")
+    assert _helper_scalars(cs)["guide g2: angle, deg"] == pytest.approx(80.0, abs=1e-12)
+    (x0, y0), (x1, y1) = np.array(_helper_series(cs)["guide g2"], dtype=float)
+    u = np.array([math.cos(math.radians(80.0)), math.sin(math.radians(80.0))])
+    assert abs((x1 - x0) * u[1] - (y1 - y0) * u[0]) < 1e-12 * math.hypot(x1 - x0, y1 - y0)    # along 80 deg
+    assert abs((x0 + 0.15) * u[1] - y0 * u[0]) < 1e-12                                          # through the point
+    df = sheetkin.compute(scene, [scene.crank_angles_deg()[pos - 1]])
+    want = drawing.point_xy(scene, df, "L")[0]
+    on_fixed = [b for b in drawing.structure(scene).blocks if b.guide.link == 0]
+    assert len(on_fixed) == 1
+    corners = np.array(_helper_series(cs)[f"block {on_fixed[0].link} at L"], dtype=float)[:4]
+    assert np.allclose(corners.mean(axis=0), want, atol=1e-12)
+    assert abs(-(want[0] + 0.15) * u[1] + want[1] * u[0]) < 1e-12                             # L on the new line
 
 
 def test_paths_sheet_equals_compute_over_a_revolution(books):

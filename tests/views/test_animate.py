@@ -85,6 +85,29 @@ def test_blocks_sit_on_their_guides():
         assert math.isclose(math.degrees(math.atan2(u[1], u[0])) % 360, df.phi_3[i], abs_tol=1e-9)
 
 
+def test_scotch_yoke_blocks_turn_along_their_own_lines():
+    """RPP declares its parts: the yoke's block (link 3) at K slides on the frame guide (0
+    deg), the block A (link 2) in the yoke's slot (90 deg), drawn through K and A."""
+    scene = sheetkin.load_scene(WB / "scotch_yoke.toml")
+    angles = [20.0, 135.0, 250.0]
+    pic = drawing.picture(scene, angles)
+    df = sheetkin.compute(scene, angles)
+    st = drawing.structure(scene)
+    assert [(b.link, b.at, b.guide.link) for b in st.blocks] == [(3, "K", 0), (2, "A", 3)]
+    for i, frame in enumerate(pic.frames):
+        at = {p: drawing.point_xy(scene, df.iloc[i:i + 1], p)[0] for p in ("A", "K")}
+        for block, (p, deg) in zip(_shapes(frame, "block"), (("K", 0.0), ("A", 90.0)), strict=True):
+            assert np.allclose(block.xy.mean(axis=0), at[p], atol=1e-12)
+            edge = block.xy[1] - block.xy[0]
+            assert math.isclose(math.degrees(math.atan2(edge[1], edge[0])) % 180, deg, abs_tol=1e-9)
+        (slot,) = _shapes(frame, "slot")
+        a, b = slot.xy
+        u = (b - a) / np.hypot(*(b - a))
+        for p in ("A", "K"):
+            rel = at[p] - a
+            assert abs(rel[0] * u[1] - rel[1] * u[0]) < 1e-12     # on the slot's line
+
+
 def test_svg_is_to_scale_and_paths_follow_compute():
     """The crank pin's path is a circle in the picture (equal scale): every vertex of it is
     L1 * pixels-per-metre from the pivot."""
