@@ -16,7 +16,6 @@ from typing import cast
 import numpy as np
 
 from sheetkin.groups import kind_of
-from sheetkin.groups.group import Group
 from sheetkin.groups.motion import FRAME, Motion, Rotation, Slide, carried_point, cramer, fixed, inverse_det  # noqa: F401 (the API)
 
 from .scene import Crank, Group, Point, Scene
