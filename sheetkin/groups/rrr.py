@@ -148,7 +148,8 @@ def solve_rrr(j1: Motion, j2: Motion, l2: float, l3: float, branch: int):
 
 def solve(g: Group, known: dict[str, Motion], rot: dict[int, Rotation], scale: float) -> GroupMotion:
     (j1, n, j2), (a, b) = g.joints, g.links
-    joint, ra, rb, disc, toggle = solve_rrr(known[j1], known[j2], *g.lengths, g.branch)
+    l2, l3 = g.lengths
+    joint, ra, rb, disc, toggle = solve_rrr(known[j1], known[j2], l2, l3, g.branch)
     return GroupMotion({n: joint}, {a: ra, b: rb}, {}, disc, toggle)
 
 

@@ -707,8 +707,9 @@ def override_crank(text: str, source: str = "<scene>", **values) -> tuple[str, S
         literal = repr(value) if isinstance(value, (int, float)) else f'"{value}"'
         no = loc._key_line(header, key)
         if no:
-            lines[no - 1] = re.sub(rf"^(\s*{key}\s*=\s*)[^#]*?(\s*(#.*)?)$",
-                                   lambda m, literal=literal: f"{m.group(1)}{literal}{m.group(2) or ''}", lines[no - 1])
+            def keep_comment(m: re.Match[str], literal: str = literal) -> str:
+                return f"{m.group(1)}{literal}{m.group(2) or ''}"
+            lines[no - 1] = re.sub(rf"^(\s*{key}\s*=\s*)[^#]*?(\s*(#.*)?)$", keep_comment, lines[no - 1])
         else:
             lines.insert(header, f"{key} = {literal}")
             loc = KeyLocator("\n".join(lines))

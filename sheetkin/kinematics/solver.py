@@ -16,7 +16,17 @@ from typing import cast
 import numpy as np
 
 from sheetkin.groups import kind_of
-from sheetkin.groups.motion import FRAME, Motion, Rotation, Slide, carried_point, cramer, fixed, inverse_det  # noqa: F401 (the API)
+from sheetkin.groups.motion import (  # noqa: F401 (the API)
+    FRAME,
+    Motion,
+    Rotation,
+    Slide,
+    Values,
+    carried_point,
+    cramer,
+    fixed,
+    inverse_det,
+)
 
 from .scene import Crank, Group, Point, Scene
 
@@ -27,7 +37,7 @@ class Solution:
     points: dict[str, Motion] = field(default_factory=dict)
     links: dict[int, Rotation] = field(default_factory=dict)
     slides: dict[str, Slide] = field(default_factory=dict)
-    det: dict[int, np.ndarray] = field(default_factory=dict)      # group index -> toggle measure
+    det: dict[int, Values] = field(default_factory=dict)          # group index -> toggle measure
     failed: dict[int, np.ndarray] = field(default_factory=dict)   # group index -> cannot assemble
 
 

@@ -112,7 +112,7 @@ def sheet_rows(scene: Scene) -> Builder:
         if kind == "group":
             kind_of(item).rows(b, cast(Group, item))
         elif kind == "point":
-            _point_rows(b, item)
+            _point_rows(b, cast(Point, item))
     if scene.has_dynamics:
         energy_rows(b)
         kinetostatics_rows(b)
@@ -427,7 +427,8 @@ def fingerprint(source) -> dict:
         source.save(buf)
         source = buf
     wb = load_workbook(source)
-    out = {ws.title: (ws.sheet_state, {c.coordinate: c.value for row in ws.iter_rows() for c in row
+    out: dict[str, object] = {
+        ws.title: (ws.sheet_state, {c.coordinate: c.value for row in ws.iter_rows() for c in row
                                        if c.value is not None}) for ws in wb.worksheets}
     if hasattr(source, "seek"):
         source.seek(0)

@@ -183,7 +183,7 @@ def _hull(pts: np.ndarray) -> np.ndarray:
     if len(pts) < 3:
         return pts
     def half(seq):
-        out = []
+        out: list[np.ndarray] = []
         for p in seq:
             while len(out) >= 2 and _cross(out[-1] - out[-2], p - out[-2]) <= 1e-15:
                 out.pop()
@@ -302,12 +302,12 @@ def frame_shapes(scene: Scene, row, st: Structure, spans, r: float, *, vectors: 
             out.append(Shape("dot", xy[None, :], "joint" if p in joints else "point"))
     if vectors:
         for p in _moving(scene):
-            xy = at.get(p)
-            if xy is None or not np.isfinite(xy).all():
+            tail = at.get(p)
+            if tail is None or not np.isfinite(tail).all():
                 continue
             v = np.array([float(row[f"vx_{p}"].iloc[0]), float(row[f"vy_{p}"].iloc[0])])
             if np.isfinite(v).all() and np.hypot(*v) * vectors > 0.2 * r:
-                out.append(Shape("arrow", np.array([xy, xy + vectors * v]), "vector", f"v_{p}"))
+                out.append(Shape("arrow", np.array([tail, tail + vectors * v]), "vector", f"v_{p}"))
     if labels:
         for p, xy in at.items():
             if np.isfinite(xy).all():
