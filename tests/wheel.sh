@@ -7,9 +7,10 @@ set -euo pipefail
 repo="$(cd "$(dirname "$0")/.." && pwd)"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
-python -m pip wheel -q --no-deps -w "$work/dist" "$repo" >/dev/null
-python -m venv "$work/venv"
-"$work/venv/bin/python" -m pip install -q "$work"/dist/sheetkin-*.whl
+py="${PYTHON:-python}"
+"$py" -m pip wheel -q --no-deps -w "$work/dist" "$repo" >/dev/null
+"$py" -m venv "$work/venv"
+"$work/venv/bin/python" -m pip install -q "$work"/dist/sheetkin-*.whl 2>&1 | { grep -v "^WARNING: Location" || true; }
 export PATH="$work/venv/bin:$PATH"
 cd "$work"                    # nothing of the repository on the path from here on
 test "$(python -c 'import sheetkin, os; print(os.path.dirname(sheetkin.__file__))')" != "$repo/sheetkin"
