@@ -17,9 +17,11 @@ from __future__ import annotations
 from openpyxl.formatting.rule import FormulaRule
 from openpyxl.styles import Alignment, Font, PatternFill
 
-GREEN = PatternFill("solid", fgColor="C6EFCE")
-RED = PatternFill("solid", fgColor="FFC7CE")
-GREY = PatternFill("solid", fgColor="D9D9D9")
+# A conditional format's solid fill (a dxf) is painted with bgColor by Excel and with
+# fgColor by LibreOffice and Gnumeric: both carry the colour, so all three paint it.
+GREEN = PatternFill("solid", fgColor="C6EFCE", bgColor="C6EFCE")
+RED = PatternFill("solid", fgColor="FFC7CE", bgColor="FFC7CE")
+GREY = PatternFill("solid", fgColor="D9D9D9", bgColor="D9D9D9")
 
 STATUS = {
     "ru": {"na": "н/д", "unfilled": "не заполнено", "pass": "все проверки выполнены",

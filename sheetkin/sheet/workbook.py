@@ -43,6 +43,7 @@ from sheetkin.groups.rows import (
 )
 from sheetkin.kinematics.scene import Point, Scene
 
+from .cached import CachedWorkbook
 from .checks import colour_check_row, status_formula, write_summary
 from .dynamics import dynamics_inputs, energy_rows, kinetostatics_rows
 
@@ -245,7 +246,7 @@ def build_workbook(scene: Scene, *, lang: str = "ru", exercise: bool = False,
     kinds = {r.name: r.kind for r in rows}
     cols = [get_column_letter(FIRST_COL + k) for k in range(n)]
 
-    wb = Workbook()
+    wb = CachedWorkbook()        # saved with every formula's value (sheetkin/sheet/cached.py)
     ws = wb.active
     ws.title = SHEET_TITLES[lang][0]
     _text_cell(ws["A1"], scene.title)
@@ -330,15 +331,13 @@ def _add_charts(wb, ws, scene: Scene, where, cols, lang, rows_info):
     """The mechanism at a chosen position and the trajectories, to scale
     (sheetkin/sheet/charts.py); speeds and accelerations against the crank angle,
     angular velocities of the links."""
-    from .charts import add_drawing_charts
+    from .charts import add_drawing_charts, add_plotted_sheet
     cs = wb.create_sheet(SHEET_TITLES[lang][1])
     cs.page_setup.orientation = "landscape"
     cs.sheet_properties.pageSetUpPr.fitToPage = True
     first, last = FIRST_COL, FIRST_COL + len(cols) - 1
-    row_ref = lambda name: Reference(ws, min_col=first, max_col=last, min_row=where[name], max_row=where[name])
     points = scene.moving_joints + [p.name for p in scene.points]
     ru = lang == "ru"
-    top = add_drawing_charts(wb, cs, scene, rows_info)
     specs = [
         ("Скорости точек" if ru else "Speeds of points", "phi_1, deg", "v, m/s",
          [("phi_1", f"v_{p}", f"v_{p}") for p in points]),
@@ -353,8 +352,16 @@ def _add_charts(wb, ws, scene: Scene, where, cols, lang, rows_info):
                       "N m, W", [("phi_1", n, n) for n in ("M_bal", "P_bal", "P_ext", "T_t") if n in where]))
         specs.append(("Реакции в кинематических парах" if ru else "Joint reactions", "phi_1, deg", "R, N",
                       [("phi_1", f"R_{p.tag}", f"R_{p.tag}") for p in reaction_pairs(scene)]))
+    # the charts read the hidden sheet `plotted`: numbers or #N/A, never text (charts.py)
+    data = add_plotted_sheet(wb, rows_info, [n for *_, ser in specs for x, y, _ in ser for n in (x, y)]
+                             + [f"{q}_{p}" for p in points for q in "xy"])
+
+    def row_ref(name: str) -> Reference:
+        return Reference(data, min_col=first, max_col=last, min_row=where[name], max_row=where[name])
+    top = add_drawing_charts(wb, cs, scene, rows_info)
     for k, (title, xt, yt, series) in enumerate(specs):
         ch = ScatterChart()
+        ch.scatterStyle = "lineMarker"   # required by the schema; each series sets its own lines and markers
         ch.title, ch.style, ch.height, ch.width = title, 2, 9, 16
         ch.x_axis.title, ch.y_axis.title = xt, yt
         for axis in (ch.x_axis, ch.y_axis):
@@ -423,7 +430,7 @@ def fingerprint(source) -> dict:
     import zipfile
     if isinstance(source, Workbook):
         buf = io.BytesIO()
-        source.save(buf)
+        Workbook.save(source, buf)      # formulas as written: no need for the cached values
         source = buf
     wb = load_workbook(source)
     out = {ws.title: (ws.sheet_state, {c.coordinate: c.value for row in ws.iter_rows() for c in row
