@@ -55,6 +55,12 @@ ISSUED_LABELS = ("variant", "seal")  # scene sheet B1:B2, values in C1:C2 (sheet
 # but not at 4-5 deg for the quick-return ones (slotted lever, shaper).
 FD_MAX_STEP_DEG = 3.0
 MARKERS = {"ru": "не собирается", "en": "cannot assemble"}
+# Bounded work (docs/verification.md, "Caps"): a workbook is refused in one line past these.
+# 4,000 rows hold a chain of 55 groups (about 72 rows a group, 20 a point); the cells cap
+# keeps a book within about a minute and 2 GB to build, evaluate and save (measured).
+WORKBOOK_MAX_ROWS = 4_000
+WORKBOOK_MAX_CELLS = 1_000_000      # position cells: rows x positions
+MAX_FORMULA_CHARS = 8_192           # Excel's limit on a formula's length
 SHEET_TITLES = {"ru": ("Кинематика", "Графики"), "en": ("Kinematics", "Charts")}
 
 # the student's identity rows, first in the input block (name, ru, en)
@@ -63,6 +69,19 @@ IDENTITY_ROWS = (("student", "студент: фамилия, имя", "student:
 INPUT_FILL = PatternFill("solid", fgColor="FFF2CC")
 ACCEPTED_FILL = PatternFill("solid", fgColor="DDEBF7")
 SECTION_FONT = Font(bold=True)
+
+
+class WorkbookTooLarge(ValueError):
+    """A scene whose workbook would pass the caps above; str() is one line."""
+
+
+def _check_rows(b: Builder, what: str) -> None:
+    # checked as the rows grow, so that a scene of 20,000 points is refused in a moment
+    # (its 400,000 rows would take minutes to build)
+    if len(b.rows) > WORKBOOK_MAX_ROWS:
+        raise WorkbookTooLarge(f"the workbook would have more than {WORKBOOK_MAX_ROWS:,} rows (the cap; "
+                               f"passed at {what}): a workbook is for up to about 55 groups or 200 points; "
+                               "`sheetkin compute` takes the whole scene")
 
 
 # --------------------------------------------------------------------------- the rows
@@ -107,15 +126,19 @@ def sheet_rows(scene: Scene) -> Builder:
     for g in scene.groups:
         for k, joints in kind_of(g).carries(g).items():
             b.on_link.setdefault(k, []).extend(j for j in joints if j not in b.on_link.get(k, []))
+    _check_rows(b, "the input block")
     _crank_rows(b)
     for kind, item in scene.plan:
         if kind == "group":
             kind_of(item).rows(b, item)
+            _check_rows(b, f"group {item.index}")
         elif kind == "point":
             _point_rows(b, item)
+            _check_rows(b, f"point {item.name}")
     if scene.has_dynamics:
         energy_rows(b)
         kinetostatics_rows(b)
+        _check_rows(b, "the dynamics")
     return b
 
 
@@ -223,6 +246,12 @@ def _compile(rows: list[Row], first_row: int, last_col: str):
     for r in rows:
         if r.formula:
             templates[r.name] = "=" + _REF.sub(ref, r.formula)
+            # the longest a cell's formula gets: {c} {p} {n} become up to 3 letters, and the
+            # guard and numeric-derivative wrappers add less than 200 characters
+            longest = len(templates[r.name]) - 1 + templates[r.name].count("{") + 200
+            if longest > MAX_FORMULA_CHARS:
+                raise WorkbookTooLarge(f"row {r.name!r}: its formula would pass Excel's {MAX_FORMULA_CHARS:,} "
+                                       "characters (too many masses or forces for one workbook)")
     return where, templates
 
 
@@ -241,6 +270,10 @@ def build_workbook(scene: Scene, *, lang: str = "ru", exercise: bool = False,
     n = scene.crank.positions
     last_col = get_column_letter(FIRST_COL + n - 1)
     first_row = 5
+    if len(rows) * n > WORKBOOK_MAX_CELLS:
+        raise WorkbookTooLarge(f"{len(rows):,} rows x {n:,} positions would pass the workbook's cap of "
+                               f"{WORKBOOK_MAX_CELLS:,} cells; use at most {WORKBOOK_MAX_CELLS // len(rows):,} "
+                               "positions (`sheetkin compute` takes more)")
     where, templates = _compile(rows, first_row, last_col)
     marker = MARKERS[lang]
     kinds = {r.name: r.kind for r in rows}
@@ -315,7 +348,12 @@ def build_workbook(scene: Scene, *, lang: str = "ru", exercise: bool = False,
             ws.cell(r, 4, status_formula(lang, rng, tol, [fd_range.format(r=k) for k in reads], expected))
             status_cells.append(f"D{r}")
             colour_check_row(ws, rng, f"{cols[0]}{r}", f"D{r}", tol)
-    write_summary(ws, lang, status_cells, f"D{first_row}:D{first_row + len(rows) - 1}")
+    last_row = first_row + len(rows) - 1
+    first_status = min((where[r.name] for r in rows if r.kind in ("check", "fdcheck")), default=last_row)
+    # the summary counts the statuses by range: no input or derived value may sit in it
+    if any(where[r.name] >= first_status for r in rows if r.kind in ("input", "derived")):
+        raise RuntimeError("workbook layout: an input row below the first check row")
+    write_summary(ws, lang, status_cells, f"D{first_status}:D{last_row}")
     ws.freeze_panes = f"{cols[0]}5"
     from .printing import setup_page  # widths, alignment, pages (sheetkin/sheet/printing.py)
     setup_page(ws, rows, where, cols, FIRST_COL)
