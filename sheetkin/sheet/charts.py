@@ -13,7 +13,11 @@
   hidden sheet `paths` repeats the kinematics sheet's rows that the coordinates depend on,
   at the same row numbers with the same formulas, for FINE + 1 columns; its input cells
   refer to the kinematics sheet's, only its step is 360/FINE deg (the sign of Delta_Fi).
-  An exercise workbook gets no `paths` sheet (it would hold the answers).
+  An exercise workbook gets no `paths` sheet (it would hold the answers), nor does a book
+  whose paths sheet would pass PATHS_MAX_CELLS (a long chain): both draw the sheet's own
+  positions.
+* The charts read the hidden sheet `plotted` (add_plotted_sheet), never the kinematics
+  sheet's cells themselves: numbers or #N/A there, as Excel plots text as 0.
 
 Nothing here knows a group kind: the links' points, guides and blocks come from
 sheetkin.views.drawing.structure; the input cells of a frame guide are found by the workbook's
@@ -42,6 +46,9 @@ from sheetkin.kinematics.table import compute
 from sheetkin.views.drawing import FINE_POSITIONS, bounds, guide_span, revolution, structure
 
 PATHS_SHEET = "paths"
+# bounded work: the paths sheet repeats the rows the coordinates need at FINE + 1 positions;
+# a long chain (hundreds of such rows) draws the sheet's own positions instead
+PATHS_MAX_CELLS = 150_000
 PLOTTED_SHEET = "plotted"
 POSITION_CELL = "$B$1"
 HELPER_COL = 30                    # AD: the drawing's helper cells
@@ -338,10 +345,11 @@ def add_drawing_charts(wb, cs, scene: Scene, info: SheetRows, top: int = 3) -> i
     cs["D1"].number_format = "0.00"
 
     h = _Helper(cs, text["helper"])
-    paths = None if info.exercise else add_paths_sheet(wb, info, scene)
+    moving = scene.moving_joints + [p.name for p in scene.points]
+    fine_cells = len(needed_rows(info, [f"{q}_{p}" for p in moving for q in "xy"])) * (FINE_POSITIONS + 1)
+    paths = None if info.exercise or fine_cells > PATHS_MAX_CELLS else add_paths_sheet(wb, info, scene)
     mech = _chart(text["mech"], box, PLOT, legend=False)
     traj = _chart(text["traj"], box, PLOT_LEGEND, legend=True)
-    moving = scene.moving_joints + [p.name for p in scene.points]
     first, last = 5, 4 + n
     for k, p in enumerate(moving):
         color = COLORS[k % len(COLORS)]
@@ -355,7 +363,7 @@ def add_drawing_charts(wb, cs, scene: Scene, info: SheetRows, top: int = 3) -> i
         data = info.plotted or info.ws
         s = Series(_ref(data, yr, first, last), _ref(data, xr, first, last), title=p)
         traj.series.append(_style(s, color, 0, "circle"))
-        if not paths:               # the exercise's paths: the student's own positions
+        if not paths:               # the exercise's paths (or a long chain's): the sheet's own positions
             s = Series(_ref(data, yr, first, last), _ref(data, xr, first, last), title=p)
             mech.series.append(_style(s, "9BB7D4", 0.75))
 

@@ -56,10 +56,10 @@ ISSUED_LABELS = ("variant", "seal")  # scene sheet B1:B2, values in C1:C2 (sheet
 FD_MAX_STEP_DEG = 3.0
 MARKERS = {"ru": "не собирается", "en": "cannot assemble"}
 # Bounded work (docs/verification.md, "Caps"): a workbook is refused in one line past these.
-# 4,000 rows hold a chain of 55 groups (about 72 rows a group, 20 a point); the cells cap
-# keeps a book within about a minute and 2 GB to build, evaluate and save (measured).
-WORKBOOK_MAX_ROWS = 4_000
-WORKBOOK_MAX_CELLS = 1_000_000      # position cells: rows x positions
+# 3,000 rows hold a chain of 41 groups (about 72 rows a group, 20 a point); the cells cap
+# keeps a book within a minute and 1 GB to build, evaluate and save (measured there).
+WORKBOOK_MAX_ROWS = 3_000
+WORKBOOK_MAX_CELLS = 500_000        # position cells: rows x positions
 MAX_FORMULA_CHARS = 8_192           # Excel's limit on a formula's length
 SHEET_TITLES = {"ru": ("Кинематика", "Графики"), "en": ("Kinematics", "Charts")}
 
@@ -80,7 +80,7 @@ def _check_rows(b: Builder, what: str) -> None:
     # (its 400,000 rows would take minutes to build)
     if len(b.rows) > WORKBOOK_MAX_ROWS:
         raise WorkbookTooLarge(f"the workbook would have more than {WORKBOOK_MAX_ROWS:,} rows (the cap; "
-                               f"passed at {what}): a workbook is for up to about 55 groups or 200 points; "
+                               f"passed at {what}): a workbook holds about 40 groups or 140 points; "
                                "`sheetkin compute` takes the whole scene")
 
 
