@@ -188,7 +188,7 @@ def test_charts_never_plot_text(tmp_path):
 def _allowed(errors: list[str]) -> list[str]:
     # [MS-OI29500] 2.1.678: Excel writes xml:space on <t> (the standard does not mention it);
     # openpyxl writes it where a text keeps leading or trailing spaces (the embedded scene)
-    return [e for e in errors if not ("}t', attribute '{http://www.w3.org/XML/1998/namespace}space'" in e)]
+    return [e for e in errors if "}t', attribute '{http://www.w3.org/XML/1998/namespace}space'" not in e]
 
 
 @pytest.mark.parametrize("stem", BUNDLED)
@@ -203,7 +203,8 @@ def test_bundled_books_are_schema_valid(tmp_path, capsys, stem):
 def test_exercise_variants_synthesis_and_english_books_are_schema_valid(tmp_path, capsys):
     books = [_write(tmp_path, "shaper_dynamics", exercise=True)[0],
              _write(tmp_path, "gaps", GAPS, lang="en")[0]]
-    code, _, err = run(capsys, "variants", WORKBOOKS / "fourbar.toml", "-n", "2", "--seed", "1", "--out", tmp_path / "v")
+    code, _, err = run(capsys, "variants", WORKBOOKS / "fourbar.toml", "-n", "2", "--seed", "1",
+                       "--out", tmp_path / "v")
     assert code == 0, err
     books += sorted((tmp_path / "v").glob("*.xlsx"))
     synth = tmp_path / "synth.xlsx"
