@@ -20,6 +20,7 @@ from pathlib import Path
 from xml.sax.saxutils import escape
 
 from openpyxl import Workbook
+from openpyxl.utils import get_column_letter
 
 from sheetkin.xlsx.cells import Sheet
 from sheetkin.xlsx.evaluator import Book, evaluate_sheets
@@ -74,7 +75,6 @@ def evaluate_workbook(wb: Workbook) -> Book:
 
 def _cached_xml(book: Book, sheet: str) -> dict[bytes, tuple[bytes, bytes]]:
     """Cell reference -> (type attribute, <v> text) of every formula cell of `sheet`."""
-    from openpyxl.utils import get_column_letter
     sh = book.sheets[sheet]
     num, tag, txt = book.num[sheet], book.tag[sheet], book.txt[sheet]
     out = {}
