@@ -127,7 +127,7 @@ def cmd_compute(args) -> int:
 
 
 def cmd_workbook(args) -> int:
-    from sheetkin.sheet.workbook import build_workbook, fingerprint  # openpyxl is needed only here
+    from sheetkin.sheet.workbook import WorkbookTooLarge, build_workbook, fingerprint  # openpyxl only here
     from sheetkin.studies.synthesis import add_scene_synthesis_sheet, parse_synthesis
 
     if args.output and len(args.scenes) > 1:
@@ -147,7 +147,10 @@ def cmd_workbook(args) -> int:
         if synthesis is None and args.synthesis:
             raise SceneError(f"{path}: --synthesis: the scene has no [synthesis] table (the data "
                              "of `sheetkin synth crank-rocker`, which writes it with -o)")
-        wb = build_workbook(scene, lang=args.lang, exercise=args.exercise, scene_text=text)
+        try:
+            wb = build_workbook(scene, lang=args.lang, exercise=args.exercise, scene_text=text)
+        except WorkbookTooLarge as e:
+            raise SceneError(f"{path}: {e}") from None
         if synthesis is not None:
             for w in add_scene_synthesis_sheet(wb, scene, synthesis, lang=args.lang):
                 print(f"sheetkin: warning: {path}: {w}: the synthesis sheet's check rows "

@@ -30,7 +30,7 @@ import numpy as np
 
 from sheetkin.groups import kind_of
 from sheetkin.kinematics.scene import Scene, SceneError, parse_scene
-from sheetkin.sheet.charts import PATHS_SHEET
+from sheetkin.sheet.charts import PATHS_SHEET, PLOTTED_SHEET
 from sheetkin.sheet.checks import failing as check_fails
 from sheetkin.sheet.checks import not_applicable as check_na
 from sheetkin.sheet.checks import passing as check_passes
@@ -367,9 +367,10 @@ def _text(v) -> str:
 
 
 def _evaluate_student(raw) -> Book:
-    # the charts' hidden `paths` sheet (360 positions of the coordinates) is not graded and
-    # nothing on the kinematics sheet refers to it: leaving it out halves the work
-    sheets = {n: sh for n, sh in raw.sheets.items() if n != PATHS_SHEET}
+    # the charts' hidden `paths` and `plotted` sheets (360 positions of the coordinates; the
+    # plotted rows as numbers or #N/A) are not graded and nothing on the kinematics sheet
+    # refers to them: leaving them out halves the work
+    sheets = {n: sh for n, sh in raw.sheets.items() if n not in (PATHS_SHEET, PLOTTED_SHEET)}
     return evaluate_sheets(raw.path, sheets, [n for n in raw.order if n in sheets], raw.names, strict=False)
 
 

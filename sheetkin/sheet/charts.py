@@ -13,7 +13,11 @@
   hidden sheet `paths` repeats the kinematics sheet's rows that the coordinates depend on,
   at the same row numbers with the same formulas, for FINE + 1 columns; its input cells
   refer to the kinematics sheet's, only its step is 360/FINE deg (the sign of Delta_Fi).
-  An exercise workbook gets no `paths` sheet (it would hold the answers).
+  An exercise workbook gets no `paths` sheet (it would hold the answers), nor does a book
+  whose paths sheet would pass PATHS_MAX_CELLS (a long chain): both draw the sheet's own
+  positions.
+* The charts read the hidden sheet `plotted` (add_plotted_sheet), never the kinematics
+  sheet's cells themselves: numbers or #N/A there, as Excel plots text as 0.
 
 Nothing here knows a group kind: the links' points, guides and blocks come from
 sheetkin.views.drawing.structure, that is from each kind's `parts(g)`; a guide names the
@@ -43,6 +47,10 @@ from sheetkin.kinematics.table import compute
 from sheetkin.views.drawing import FINE_POSITIONS, bounds, guide_span, revolution, structure
 
 PATHS_SHEET = "paths"
+# bounded work: the paths sheet repeats the rows the coordinates need at FINE + 1 positions;
+# a long chain (hundreds of such rows) draws the sheet's own positions instead
+PATHS_MAX_CELLS = 150_000
+PLOTTED_SHEET = "plotted"
 POSITION_CELL = "$B$1"
 HELPER_COL = 30                    # AD: the drawing's helper cells
 INPUT_FILL = PatternFill("solid", fgColor="FFF2CC")
@@ -73,6 +81,7 @@ class SheetRows:
     marker: str                     # the "cannot assemble" text of guarded cells
     lang: str = "ru"
     exercise: bool = False
+    plotted: object = None          # the hidden sheet of the plotted rows (add_plotted_sheet)
 
 
 # --------------------------------------------------------------------------- the paths sheet
@@ -101,7 +110,8 @@ def add_paths_sheet(wb, info: SheetRows, scene: Scene, fine: int = FINE_POSITION
     ps.sheet_state = "hidden"
     kin = quote_sheetname(info.ws.title)
     points = scene.moving_joints + [p.name for p in scene.points]
-    need = set(needed_rows(info, [f"{q}_{p}" for p in points for q in "xy"]))
+    plotted = {f"{q}_{p}" for p in points for q in "xy"}
+    need = set(needed_rows(info, plotted))
     first = info.ws.cell(1, 5).column          # E
     cols = [get_column_letter(first + k) for k in range(fine + 1)]
     ps["A1"] = f"{scene.title}: coordinates at {fine} positions over a revolution (sheetkin)"
@@ -122,11 +132,32 @@ def add_paths_sheet(wb, info: SheetRows, scene: Scene, fine: int = FINE_POSITION
                 ps.cell(r, first + k, k)
         elif row.name in info.templates:
             tpl = info.templates[row.name]
-            if row.guard:
-                tpl = f'=IF({{c}}{info.where[row.guard]},{tpl[1:]},"{info.marker}")'
+            if row.guard:       # #N/A, not the marker's text: a chart leaves #N/A out
+                tpl = f'=IF({{c}}{info.where[row.guard]},{tpl[1:]},NA())'
+            if row.name in plotted:     # a chart plots any other error as 0
+                tpl = f"=IFERROR({tpl[1:]},NA())"
             for k, c in enumerate(cols):
                 ps.cell(r, first + k, tpl.format(c=c, p=c, n=c))
     return ps, cols
+
+
+def add_plotted_sheet(wb, info: SheetRows, names) -> object:
+    """The hidden sheet `plotted`: the kinematics sheet's rows that the charts plot, at the
+    same row and column, as numbers or #N/A. Excel plots a text cell (the "cannot assemble"
+    marker, "n/a") or an error other than #N/A as 0, and one text cell among a series' X
+    values turns all of them into 1, 2, 3 ...; #N/A is left out by every spreadsheet."""
+    ps = wb.create_sheet(PLOTTED_SHEET)
+    ps.sheet_state = "hidden"
+    kin = quote_sheetname(info.ws.title)
+    ps["A1"] = "the charts' data: the kinematics sheet's rows, #N/A where a cell is not a number (sheetkin)"
+    first = info.ws.cell(1, 5).column          # E
+    for name in dict.fromkeys(names):
+        r = info.where[name]
+        ps.cell(r, 1, name)
+        for k, c in enumerate(info.cols):
+            ps.cell(r, first + k, f"=IF(ISNUMBER({kin}!{c}{r}),{kin}!{c}{r},NA())")
+    info.plotted = ps
+    return ps
 
 
 # --------------------------------------------------------------------------- helper cells
@@ -244,6 +275,7 @@ def equal_axes(box, plot=PLOT, width=WIDTH, height=HEIGHT):
 
 def _chart(title: str, box, plot, legend: bool) -> ScatterChart:
     ch = ScatterChart()
+    ch.scatterStyle = "lineMarker"   # required by the schema; each series sets its own lines and markers
     ch.title, ch.style, ch.width, ch.height = title, 2, WIDTH, HEIGHT
     ch.visible_cells_only = False            # helper cells may sit in hidden rows
     x0, x1, y0, y1, unit = equal_axes(box, plot)
@@ -317,10 +349,11 @@ def add_drawing_charts(wb, cs, scene: Scene, info: SheetRows, top: int = 3) -> i
     cs["D1"].number_format = "0.00"
 
     h = _Helper(cs, text["helper"])
-    paths = None if info.exercise else add_paths_sheet(wb, info, scene)
+    moving = scene.moving_joints + [p.name for p in scene.points]
+    fine_cells = len(needed_rows(info, [f"{q}_{p}" for p in moving for q in "xy"])) * (FINE_POSITIONS + 1)
+    paths = None if info.exercise or fine_cells > PATHS_MAX_CELLS else add_paths_sheet(wb, info, scene)
     mech = _chart(text["mech"], box, PLOT, legend=False)
     traj = _chart(text["traj"], box, PLOT_LEGEND, legend=True)
-    moving = scene.moving_joints + [p.name for p in scene.points]
     first, last = 5, 4 + n
     for k, p in enumerate(moving):
         color = COLORS[k % len(COLORS)]
@@ -331,10 +364,11 @@ def add_drawing_charts(wb, cs, scene: Scene, info: SheetRows, top: int = 3) -> i
             for ch in (mech, traj):
                 s = Series(_ref(ps, yr, 5, pc1), _ref(ps, xr, 5, pc1), title=f"{p} ({len(pcols) - 1})")
                 ch.series.append(_style(s, "9BB7D4" if ch is mech else color, 1.0))
-        s = Series(_ref(info.ws, yr, first, last), _ref(info.ws, xr, first, last), title=p)
+        data = info.plotted or info.ws
+        s = Series(_ref(data, yr, first, last), _ref(data, xr, first, last), title=p)
         traj.series.append(_style(s, color, 0, "circle"))
-        if not paths:               # the exercise's paths: the student's own positions
-            s = Series(_ref(info.ws, yr, first, last), _ref(info.ws, xr, first, last), title=p)
+        if not paths:               # the exercise's paths (or a long chain's): the sheet's own positions
+            s = Series(_ref(data, yr, first, last), _ref(data, xr, first, last), title=p)
             mech.series.append(_style(s, "9BB7D4", 0.75))
 
     def add(label, pts, color, width, marker="none", dash=None, fill=None):

@@ -17,9 +17,11 @@ from __future__ import annotations
 from openpyxl.formatting.rule import FormulaRule
 from openpyxl.styles import Alignment, Font, PatternFill
 
-GREEN = PatternFill("solid", fgColor="C6EFCE")
-RED = PatternFill("solid", fgColor="FFC7CE")
-GREY = PatternFill("solid", fgColor="D9D9D9")
+# A conditional format's solid fill (a dxf) is painted with bgColor by Excel and with
+# fgColor by LibreOffice and Gnumeric: both carry the colour, so all three paint it.
+GREEN = PatternFill("solid", fgColor="C6EFCE", bgColor="C6EFCE")
+RED = PatternFill("solid", fgColor="FFC7CE", bgColor="FFC7CE")
+GREY = PatternFill("solid", fgColor="D9D9D9", bgColor="D9D9D9")
 
 STATUS = {
     "ru": {"na": "н/д", "unfilled": "не заполнено", "pass": "все проверки выполнены",
@@ -92,16 +94,17 @@ def colour_check_row(ws, rng: str, top: str, status: str, tol: str) -> None:
 
 def write_summary(ws, lang: str, status_cells: list[str], status_range: str) -> None:
     """The counts in E2:I2 and the sentence in D3 (see the module's docstring).
-    status_range: column D from the first to the last row (for the text statuses; the
-    numbers of the input block are never those texts)."""
+    status_range: column D from the first check row to the last row; it holds the check
+    rows' statuses and nothing else (the input block's numbers are above it), so the counts
+    are a few functions of one range whatever the number of groups: Excel's 8,192
+    characters and 255 arguments per formula are never near (a list of the status cells
+    grew by about 290 characters a group and passed 8,192 at 31 groups)."""
     t = STATUS[lang]
-    chunks = [",".join(status_cells[k:k + 200]) for k in range(0, len(status_cells), 200)]  # 255 arguments at most
-    numbers = "+".join(f"COUNT({c})" for c in chunks) or "0"
-    failing = "+".join(f"SUM({c})" for c in chunks) or "0"
+    numbers, failing = f"COUNT({status_range})", f"SUM({status_range})"
     na = f'SUMPRODUCT(--({status_range}="{t["na"]}"))'
     unfilled = f'SUMPRODUCT(--({status_range}="{t["unfilled"]}"))'
     c = COUNT_CELLS
-    formulas = {"filled": f"={len(status_cells)}-{c['unfilled']}", "passing": f"={numbers}-({failing})",
+    formulas = {"filled": f"={len(status_cells)}-{c['unfilled']}", "passing": f"={numbers}-{failing}",
                 "failing": f"={failing}", "na": f"={na}", "unfilled": f"={unfilled}"}
     grey, fit = Font(color="808080", size=9), Alignment(horizontal="right", shrink_to_fit=True)
     for key, cell in c.items():

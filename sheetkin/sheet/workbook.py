@@ -44,6 +44,7 @@ from sheetkin.groups.rows import (
 )
 from sheetkin.kinematics.scene import Group, Point, Scene
 
+from .cached import CachedWorkbook
 from .checks import colour_check_row, status_formula, write_summary
 from .dynamics import dynamics_inputs, energy_rows, kinetostatics_rows
 
@@ -55,6 +56,12 @@ ISSUED_LABELS = ("variant", "seal")  # scene sheet B1:B2, values in C1:C2 (sheet
 # but not at 4-5 deg for the quick-return ones (slotted lever, shaper).
 FD_MAX_STEP_DEG = 3.0
 MARKERS = {"ru": "не собирается", "en": "cannot assemble"}
+# Bounded work (docs/verification.md, "Caps"): a workbook is refused in one line past these.
+# 3,000 rows hold a chain of 41 groups (about 72 rows a group, 20 a point); the cells cap
+# keeps a book within a minute and 1 GB to build, evaluate and save (measured there).
+WORKBOOK_MAX_ROWS = 3_000
+WORKBOOK_MAX_CELLS = 500_000        # position cells: rows x positions
+MAX_FORMULA_CHARS = 8_192           # Excel's limit on a formula's length
 SHEET_TITLES = {"ru": ("Кинематика", "Графики"), "en": ("Kinematics", "Charts")}
 
 # the student's identity rows, first in the input block (name, ru, en)
@@ -63,6 +70,19 @@ IDENTITY_ROWS = (("student", "студент: фамилия, имя", "student:
 INPUT_FILL = PatternFill("solid", fgColor="FFF2CC")
 ACCEPTED_FILL = PatternFill("solid", fgColor="DDEBF7")
 SECTION_FONT = Font(bold=True)
+
+
+class WorkbookTooLarge(ValueError):
+    """A scene whose workbook would pass the caps above; str() is one line."""
+
+
+def _check_rows(b: Builder, what: str) -> None:
+    # checked as the rows grow, so that a scene of 20,000 points is refused in a moment
+    # (its 400,000 rows would take minutes to build)
+    if len(b.rows) > WORKBOOK_MAX_ROWS:
+        raise WorkbookTooLarge(f"the workbook would have more than {WORKBOOK_MAX_ROWS:,} rows (the cap; "
+                               f"passed at {what}): a workbook holds about 40 groups or 140 points; "
+                               "`sheetkin compute` takes the whole scene")
 
 
 # --------------------------------------------------------------------------- the rows
@@ -107,15 +127,19 @@ def sheet_rows(scene: Scene) -> Builder:
     for g in scene.groups:
         for k, joints in kind_of(g).carries(g).items():
             b.on_link.setdefault(k, []).extend(j for j in joints if j not in b.on_link.get(k, []))
+    _check_rows(b, "the input block")
     _crank_rows(b)
     for kind, item in scene.plan:
         if kind == "group":
             kind_of(item).rows(b, cast(Group, item))
+            _check_rows(b, f"group {cast(Group, item).index}")
         elif kind == "point":
             _point_rows(b, cast(Point, item))
+            _check_rows(b, f"point {cast(Point, item).name}")
     if scene.has_dynamics:
         energy_rows(b)
         kinetostatics_rows(b)
+        _check_rows(b, "the dynamics")
     return b
 
 
@@ -223,6 +247,12 @@ def _compile(rows: list[Row], first_row: int, last_col: str):
     for r in rows:
         if r.formula:
             templates[r.name] = "=" + _REF.sub(ref, r.formula)
+            # the longest a cell's formula gets: {c} {p} {n} become up to 3 letters, and the
+            # guard and numeric-derivative wrappers add less than 200 characters
+            longest = len(templates[r.name]) - 1 + templates[r.name].count("{") + 200
+            if longest > MAX_FORMULA_CHARS:
+                raise WorkbookTooLarge(f"row {r.name!r}: its formula would pass Excel's {MAX_FORMULA_CHARS:,} "
+                                       "characters (too many masses or forces for one workbook)")
     return where, templates
 
 
@@ -241,12 +271,16 @@ def build_workbook(scene: Scene, *, lang: str = "ru", exercise: bool = False,
     n = scene.crank.positions
     last_col = get_column_letter(FIRST_COL + n - 1)
     first_row = 5
+    if len(rows) * n > WORKBOOK_MAX_CELLS:
+        raise WorkbookTooLarge(f"{len(rows):,} rows x {n:,} positions would pass the workbook's cap of "
+                               f"{WORKBOOK_MAX_CELLS:,} cells; use at most {WORKBOOK_MAX_CELLS // len(rows):,} "
+                               "positions (`sheetkin compute` takes more)")
     where, templates = _compile(rows, first_row, last_col)
     marker = MARKERS[lang]
     kinds = {r.name: r.kind for r in rows}
     cols = [get_column_letter(FIRST_COL + k) for k in range(n)]
 
-    wb = Workbook()
+    wb = CachedWorkbook()        # saved with every formula's value (sheetkin/sheet/cached.py)
     ws = wb.active
     ws.title = SHEET_TITLES[lang][0]
     _text_cell(ws["A1"], scene.title)
@@ -315,7 +349,12 @@ def build_workbook(scene: Scene, *, lang: str = "ru", exercise: bool = False,
             ws.cell(r, 4, status_formula(lang, rng, tol, [fd_range.format(r=k) for k in reads], expected))
             status_cells.append(f"D{r}")
             colour_check_row(ws, rng, f"{cols[0]}{r}", f"D{r}", tol)
-    write_summary(ws, lang, status_cells, f"D{first_row}:D{first_row + len(rows) - 1}")
+    last_row = first_row + len(rows) - 1
+    first_status = min((where[r.name] for r in rows if r.kind in ("check", "fdcheck")), default=last_row)
+    # the summary counts the statuses by range: no input or derived value may sit in it
+    if any(where[r.name] >= first_status for r in rows if r.kind in ("input", "derived")):
+        raise RuntimeError("workbook layout: an input row below the first check row")
+    write_summary(ws, lang, status_cells, f"D{first_status}:D{last_row}")
     ws.freeze_panes = f"{cols[0]}5"
     from .printing import setup_page  # widths, alignment, pages (sheetkin/sheet/printing.py)
     setup_page(ws, rows, where, cols, FIRST_COL)
@@ -331,15 +370,13 @@ def _add_charts(wb, ws, scene: Scene, where, cols, lang, rows_info):
     """The mechanism at a chosen position and the trajectories, to scale
     (sheetkin/sheet/charts.py); speeds and accelerations against the crank angle,
     angular velocities of the links."""
-    from .charts import add_drawing_charts
+    from .charts import add_drawing_charts, add_plotted_sheet
     cs = wb.create_sheet(SHEET_TITLES[lang][1])
     cs.page_setup.orientation = "landscape"
     cs.sheet_properties.pageSetUpPr.fitToPage = True
     first, last = FIRST_COL, FIRST_COL + len(cols) - 1
-    row_ref = lambda name: Reference(ws, min_col=first, max_col=last, min_row=where[name], max_row=where[name])
     points = scene.moving_joints + [p.name for p in scene.points]
     ru = lang == "ru"
-    top = add_drawing_charts(wb, cs, scene, rows_info)
     specs = [
         ("Скорости точек" if ru else "Speeds of points", "phi_1, deg", "v, m/s",
          [("phi_1", f"v_{p}", f"v_{p}") for p in points]),
@@ -354,8 +391,16 @@ def _add_charts(wb, ws, scene: Scene, where, cols, lang, rows_info):
                       "N m, W", [("phi_1", n, n) for n in ("M_bal", "P_bal", "P_ext", "T_t") if n in where]))
         specs.append(("Реакции в кинематических парах" if ru else "Joint reactions", "phi_1, deg", "R, N",
                       [("phi_1", f"R_{p.tag}", f"R_{p.tag}") for p in reaction_pairs(scene)]))
+    # the charts read the hidden sheet `plotted`: numbers or #N/A, never text (charts.py)
+    data = add_plotted_sheet(wb, rows_info, [n for *_, ser in specs for x, y, _ in ser for n in (x, y)]
+                             + [f"{q}_{p}" for p in points for q in "xy"])
+
+    def row_ref(name: str) -> Reference:
+        return Reference(data, min_col=first, max_col=last, min_row=where[name], max_row=where[name])
+    top = add_drawing_charts(wb, cs, scene, rows_info)
     for k, (title, xt, yt, series) in enumerate(specs):
         ch = ScatterChart()
+        ch.scatterStyle = "lineMarker"   # required by the schema; each series sets its own lines and markers
         ch.title, ch.style, ch.height, ch.width = title, 2, 9, 16
         ch.x_axis.title, ch.y_axis.title = xt, yt
         for axis in (ch.x_axis, ch.y_axis):
@@ -424,7 +469,7 @@ def fingerprint(source) -> dict:
     import zipfile
     if isinstance(source, Workbook):
         buf = io.BytesIO()
-        source.save(buf)
+        Workbook.save(source, buf)      # formulas as written: no need for the cached values
         source = buf
     wb = load_workbook(source)
     out: dict[str, object] = {

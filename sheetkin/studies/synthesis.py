@@ -594,6 +594,7 @@ def add_synthesis_sheet(wb, kw: float, l3: float, yd: float, gamma1_deg: float,
     ws.column_dimensions["E"].width = 16
 
     ch = ScatterChart()
+    ch.scatterStyle = "lineMarker"   # required by the schema; each series sets its own lines and markers
     ch.title, ch.style, ch.height, ch.width = text["chart"], 2, 12, 14
     ch.x_axis.title, ch.y_axis.title = "x, m", "y, m"
     for axis in (ch.x_axis, ch.y_axis):
@@ -622,9 +623,9 @@ def build_synthesis_workbook(kw: float, l3: float, yd: float, gamma1_deg: float,
                              gamma2_deg: float, *, lang: str = "ru", tol: float = 1e-9,
                              phi_ref_deg: float = 30.0):
     """A workbook of one sheet: add_synthesis_sheet's."""
-    from openpyxl import Workbook
+    from sheetkin.sheet.cached import CachedWorkbook
 
-    wb = Workbook()
+    wb = CachedWorkbook()           # saved with every formula's value
     wb.remove(wb.active)
     add_synthesis_sheet(wb, kw, l3, yd, gamma1_deg, gamma2_deg, lang, tol=tol,
                         phi_ref_deg=phi_ref_deg)

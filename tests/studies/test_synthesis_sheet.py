@@ -154,7 +154,7 @@ def test_scenes_workbook_has_the_synthesis_sheet(recalculated, key, data, lang):
     wb = openpyxl.load_workbook(paths[key][0])
     kin, charts = {"en": ("Kinematics", "Charts"), "ru": ("Кинематика", "Графики")}[lang]
     title = SYNTH_SHEET_TITLES[lang]
-    assert wb.sheetnames == [kin, charts, "paths", title, "scene"]      # paths: the charts' fine paths
+    assert wb.sheetnames == [kin, charts, "plotted", "paths", title, "scene"]      # the charts: data, fine paths
     assert wb["scene"].sheet_state == "hidden" and wb[title].sheet_state == "visible"
     rows = _rows(wb[title])
     v = values[key][title]
