@@ -41,6 +41,7 @@ from sheetkin.xlsx.package import Limits, UnusableWorkbook
 
 from . import issued
 from .copies import submission_marks  # the raw cells copy detection compares
+from .layout import find_layout, standard_view
 from .localjudge import judge, name_causes
 from .localjudge import typed_tolerance as _typed_tolerance
 
@@ -245,20 +246,27 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
         if broken.startswith("scene sheet edited"):
             raise UnusableInput(f"{path}: {broken}; and it no longer reads: {e}") from e
         raise
-    main = book.order[0]
-    sh = book.sheets[main]
-    evaluated = _evaluate_student(book)
+    # the graded sheet and its columns, found by their content (sheetkin/course/layout.py);
+    # graded through a view in the issued layout (names A, value D, positions from E)
+    ref_rows = sheet_rows(scene).rows
+    issued_positions = scene.crank.positions
+    layout = find_layout(book.sheets, book.order, {r.name for r in ref_rows if r.kind != "section"}, "",
+                         issued_positions, list(range(issued_positions)), {SCENE_SHEET, PATHS_SHEET})
+    if layout is None:
+        raise UnusableInput(f"{path}: no sheet holds the rows of the issued table (names such as "
+                            f"{', '.join(r.name for r in ref_rows if r.kind == 'calc')[:60]}... in a column)")
+    main = layout.sheet
+    evaluated, sh = standard_view(_evaluate_student(book), layout)
     names: dict[str, int] = {}
     for r in range(5, sh.max_row + 1):
         v = sh.consts.get((r, 1))
         if isinstance(v, str) and v and v not in names:
             names[v] = r
     # the variant: the student's input block and columns
-    ref_rows = sheet_rows(scene).rows
     input_names = {r.name for r in ref_rows if r.kind == "input"}
-    where = {n: f"{main}!D{r}" for n, r in names.items()}
+    where = {n: f"{main}!{layout.cell(r, 4)}" for n, r in names.items()}
     inputs = _inputs(evaluated, main, {n: r for n, r in names.items() if n in input_names})
-    positions = max([c for (rr, c) in list(sh.formulas) + list(sh.consts) if rr >= 5 and c >= FIRST_COL] or [FIRST_COL]) - FIRST_COL + 1
+    positions = issued_positions          # the issued ones, whatever lies right of the table
     # the given data: graded against the issued variant unless the changes are accepted
     given = issued.check_given(scene, scene_text, book.sheets[SCENE_SHEET].consts, inputs, where, options)
     accept = bool(options and options.accept_changed)
@@ -271,7 +279,9 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
                     student=_identity(evaluated, main, sh, names.get("student")),
                     group=_identity(evaluated, main, sh, names.get("group")),
                     variant=given.variant, given_changed=given.changed, seal=given.seal,
-                    accepted_changes=accept, notes=given.notes)
+                    accepted_changes=accept, notes=given.notes + layout.notes
+                    + ([layout.outside_line()] if layout.outside else []))
+    report.layout = layout                  # not a field: the student's cells (report texts)
     report.position_names = [(ref_book.value(ref_sheet, ref_names["i"], FIRST_COL + k),
                               ref_book.value(ref_sheet, ref_names["phi_1"], FIRST_COL + k)) for k in range(positions)]
     report.variant_scene = student_scene    # not a field (not in to_dict): the report's picture
