@@ -33,6 +33,7 @@ from sheetkin.kinematics.scene import Scene, SceneError, parse_scene
 from sheetkin.sheet.charts import PATHS_SHEET
 from sheetkin.sheet.checks import failing as check_fails
 from sheetkin.sheet.checks import not_applicable as check_na
+from sheetkin.sheet.checks import STATUS as CHECK_STATUS
 from sheetkin.sheet.checks import passing as check_passes
 from sheetkin.sheet.workbook import FIRST_COL, SCENE_SHEET, build_workbook, sheet_rows
 from sheetkin.xlsx.cells import Sheet, read_book
@@ -42,7 +43,7 @@ from sheetkin.xlsx.package import Limits, UnusableWorkbook
 from . import issued
 from .copies import submission_marks  # the raw cells copy detection compares
 from .layout import find_layout, standard_view
-from .localjudge import judge, name_causes
+from .localjudge import TURN, angle_difference, judge, name_causes
 from .localjudge import typed_tolerance as _typed_tolerance
 
 RTOL = 1e-9            # formulas: the same numbers up to rounding
@@ -69,6 +70,10 @@ class RowReport:
     source: str = "formula"          # formula | typed | cached
     local: str = ""                  # right | wrong | "" (not judged): on the student's own inputs
     note: str = ""                   # for a cause: one line why (a typed number: cell, digits, error below)
+    # issue 21: positions (1-based) where the row holds a typed value, no formula: a computed
+    # row earns credit only where it computes (sheetkin/course/grades.py)
+    typed_cells: list[int] = field(default_factory=list)
+    formula_cells: int = 0           # cells holding a formula (their own, or an array's)
 
 
 @dataclass
@@ -93,6 +98,12 @@ class Report:
     given_changed: list[dict] = field(default_factory=list)
     seal: str = ""                   # "" not checked | "ok" | why it fails
     accepted_changes: bool = False   # --accept-changed-inputs: graded on the student's inputs
+    accepted_typed: bool = False     # --accept-typed: typed numbers right to their digits earn credit
+    # issue 21: the issued check rows deleted from the sheet, and those whose status (column
+    # D) is typed over its formula: they lose their share of the grade
+    checks_deleted: list[str] = field(default_factory=list)
+    checks_typed: list[str] = field(default_factory=list)
+    checks_issued: int = 0
     notes: list[str] = field(default_factory=list)
 
     @property
@@ -116,16 +127,24 @@ class Report:
         return self.error[len(self.path) + 2:] if self.error.startswith(self.path + ": ") else self.error
 
     @property
+    def typed(self) -> list[RowReport]:
+        """Rows holding typed values where formulas belong ("typed, not computed")."""
+        return [r for r in self.rows if r.typed_cells and r.status not in ("missing", "empty")]
+
+    @property
     def ok(self) -> bool:
-        return (self.error is None and not self.wrong and not self.missing
-                and (not self.given_changed or self.accepted_changes) and self.seal in ("", "ok"))
+        """"all correct": full marks (sheetkin/course/grades.py, the one rule every report uses)."""
+        from .grades import verdict
+        return verdict(self) == "all correct"
 
     def to_dict(self) -> dict:
+        from .grades import counts, explain, score, verdict
         d = dataclasses.asdict(self)
         d["ok"] = self.ok
-        d["summary"] = {"correct": sum(r.status == "correct" for r in self.rows),
-                        "wrong": len(self.wrong), "missing": len(self.missing),
-                        "causes": [r.name for r in self.causes]}
+        d["verdict"] = verdict(self)
+        d["score"] = None if self.error else score(self)
+        d["score_explained"] = explain(self)
+        d["summary"] = {**counts(self), "causes": [r.name for r in self.causes]}
         return d
 
 
@@ -186,7 +205,7 @@ def row_ancestors(scene: Scene) -> dict[str, set[str]]:
     return out
 
 
-def _close(got, exp, name: str, typed: bool):
+def _close(got, exp, name: str, typed: bool, period: float | None = None):
     """(ok, error) of one cell against its reference."""
     if isinstance(exp, bool) or isinstance(got, bool):
         return (isinstance(got, bool) and isinstance(exp, bool) and got == exp), (0.0 if got == exp else 1.0)
@@ -195,9 +214,7 @@ def _close(got, exp, name: str, typed: bool):
         return (not isinstance(got, float)), (0.0 if not isinstance(got, float) else math.inf)
     if not isinstance(got, float):
         return False, math.inf
-    d = abs(got - exp)
-    if name.startswith("phi_"):
-        d = min(d, abs(360.0 - d))
+    d = float(angle_difference(abs(got - exp), period))      # angles: modulo a full turn
     tol = max(ATOL, RTOL * abs(exp))
     if typed:
         tol = max(tol, _typed_tolerance(got))
@@ -279,7 +296,8 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
                     student=_identity(evaluated, main, sh, names.get("student")),
                     group=_identity(evaluated, main, sh, names.get("group")),
                     variant=given.variant, given_changed=given.changed, seal=given.seal,
-                    accepted_changes=accept, notes=given.notes + layout.notes
+                    accepted_changes=accept, accepted_typed=bool(options and getattr(options, "accept_typed", False)),
+                    notes=given.notes + layout.notes
                     + ([layout.outside_line()] if layout.outside else []))
     report.layout = layout                  # not a field: the student's cells (report texts)
     report.position_names = [(ref_book.value(ref_sheet, ref_names["i"], FIRST_COL + k),
@@ -287,6 +305,7 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
     report.variant_scene = student_scene    # not a field (not in to_dict): the report's picture
     ancestors = row_ancestors(student_scene)
     kinds = {r.name: r.kind for r in ref_rows}
+    periods = {r.name: TURN[r.unit] for r in ref_rows if r.unit in TURN}
     # not fields (not in to_dict): the raw cells copy detection compares (sheetkin/course/copies.py),
     # and how many check rows the sheet has (grades: checks passing / total)
     computed = {r.name: names[r.name] for r in ref_rows
@@ -313,10 +332,14 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
             if not typed and evaluated.tag[main][r, c] == 14 and (r, c) in sh.cached:
                 got, rep.source = sh.cached[(r, c)], "cached"        # a formula we cannot evaluate
                 got = float(got) if isinstance(got, (int, float)) and not isinstance(got, bool) else got
+            if not typed:
+                rep.formula_cells += 1
             if typed:
                 rep.source = "typed"
+                if got is not None:
+                    rep.typed_cells.append(k + 1)
             exp = ref_book.value(ref_sheet, rr, c)
-            ok, err = _close(got, exp, row.name, typed)
+            ok, err = _close(got, exp, row.name, typed, periods.get(row.name))
             if not ok:
                 rep.wrong_cells.append(k + 1)
                 if rep.first_wrong is None:
@@ -332,7 +355,7 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
     graded = {r.name for r in report.rows if r.status in ("correct", "wrong")}
     judged = [r.name for r in ref_rows if r.name in graded or (r.kind == "derived" and r.name in names)]
     local = judge(ref_book, evaluated, main, names, judged,
-                  {r.name for r in report.rows if r.status in ("missing", "empty")})
+                  {r.name for r in report.rows if r.status in ("missing", "empty")}, periods)
 
     def derived_row(name: str, col: int) -> RowReport:
         return RowReport(name, names[name], "correct", kind="derived",
@@ -345,14 +368,24 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
     statuses = {n: evaluated.value(main, r, 4) if sh.computed(r, 4) else "#TYPED"
                 for n, r in names.items()
                 if n.startswith(("chk", "fd_")) and kinds.get(n) in ("check", "fdcheck")}
-    typed = [n for n, v in statuses.items() if v == "#TYPED"]
-    if typed:
-        report.notes.append(f"check status typed over its formula (column D; counted as failing): {', '.join(typed)}")
-    report.failing_checks = [n for n, s in statuses.items() if check_fails(s)]
+    # issue 21: the check rows are part of the work (the lecture's step 10): a check row
+    # deleted, or its status typed over, loses its share of the grade
+    issued_checks = [r.name for r in ref_rows if r.kind in ("check", "fdcheck")]
+    report.checks_issued = len(issued_checks)
+    report.checks_deleted = [n for n in issued_checks if n not in names]
+    report.checks_typed = [n for n, v in statuses.items() if v == "#TYPED"]
+    if report.checks_typed:
+        report.notes.append(f"check status typed over its formula (column D; its share of the grade lost): "
+                            f"{', '.join(report.checks_typed)}")
+    if report.checks_deleted:
+        report.notes.append(f"check rows deleted (their share of the grade lost): {', '.join(report.checks_deleted)}")
+    report.failing_checks = [n for n, s in statuses.items() if s != "#TYPED" and check_fails(s)]
     # not fields: grades count the checks that pass (0) of those that apply (not "н/д"), as the
     # sheet's summary does; "не заполнено" and "н/д" are not passing (an empty book passes none)
     report.checks_passing = sum(check_passes(s) for s in statuses.values())
     report.checks_na = sum(check_na(s) for s in statuses.values())
+    unfilled = {t["unfilled"] for t in CHECK_STATUS.values()}
+    report.checks_unfilled = sum(isinstance(s, str) and s in unfilled for s in statuses.values())
     return report
 
 
