@@ -119,6 +119,14 @@ class Recipe:
         self.ops.append(["formulas", "main", [[r, c, template.format(c=get_column_letter(c), r=r)] for c in cols]])
         return self
 
+    def wrap(self, name: str, template: str) -> Recipe:
+        """Row `name`'s key formulas typed wrapped: template "=MOD({f},2*PI())" ({f}: the
+        key's formula without "=")."""
+        r = self._rows()[name]
+        self.ops.append(["formulas", "main", [[rr, c, template.format(f=f[1:])]
+                                              for rr, c, f in key_formulas(self.exercise, self.key) if rr == r]])
+        return self
+
     def _positions(self) -> int:
         ws = openpyxl.load_workbook(self.exercise).worksheets[0]
         r = self._rows()["i"]

@@ -11,7 +11,8 @@ The score of a submission (docs/grading.md; issue 21), 0..100 to one decimal:
     (then a typed number right to its last digit counts as right);
   * a check row earns its share when it is there with its status formula and the rows it
     checks are filled in (its status is not "не заполнено"): deleted, its status typed over,
-    or checking empty rows, it does not;
+    or checking empty rows, it does not; deleted or typed over, it also counts as failing
+    (hiding a failing check never pays);
   * a book with no formula in its computed rows scores at most NO_FORMULA_CAP (10) and fails;
   * 0 when the given data differ from the issued variant (unless --accept-changed-inputs),
     when the workbook's seal fails (the hidden scene sheet edited), or when the file is
@@ -89,9 +90,12 @@ def counts(rep, accept_typed: bool | None = None) -> dict:
     by = [row_verdict(r, acc) for r in rows]
     out = {k: by.count(k) for k in ("correct", "typed", "wrong", "missing")}
     out["total"] = len(rows)
-    out["formula_rows"] = sum(1 for r in rows if getattr(r, "formula_cells", 1))
-    out["checks_issued"] = getattr(rep, "checks_issued", 0) or getattr(rep, "checks_total", 0) or 0
+    # rows holding a formula somewhere (a row of typed values only is not one)
+    out["formula_rows"] = sum(1 for r in rows if r.status not in ("missing", "empty")
+                              and (getattr(r, "formula_cells", 0) or not getattr(r, "typed_cells", None)))
+    out["checks_issued"] = getattr(rep, "checks_issued", 0) or 0
     out["checks_passing"] = getattr(rep, "checks_passing", 0) or 0
+    out["checks_apply"] = getattr(rep, "checks_apply", out["checks_issued"])
     out["checks_na"] = getattr(rep, "checks_na", 0) or 0
     out["checks_failing"] = len(rep.failing_checks)
     out["checks_deleted"] = len(getattr(rep, "checks_deleted", []) or [])
@@ -107,15 +111,20 @@ def rows_correct(rep) -> tuple[int, int]:
 
 
 def checks_counts(rep) -> tuple[int | None, int | None]:
-    """(check rows passing, check rows issued); None where unknown (unusable).
+    """(check rows passing, check rows that apply); None where unknown (unusable).
 
     Passing is a status 0 (green) only: "не заполнено" is not passing (an empty exercise
-    passes no check); the total is the issued check rows, the same for every book of a
-    variant (deleted ones included)."""
+    passes no check); the total is the issued check rows that apply to the variant (not
+    "н/д" in its reference), the same for every book of the variant, deleted ones included."""
     if rep.error or getattr(rep, "checks_total", None) is None:
         return None, None
-    c = counts(rep)
-    return c["checks_passing"], c["checks_issued"]
+    total = getattr(rep, "checks_apply", None)
+    if total is None:                           # a report made without the reference's checks
+        total = rep.checks_total - getattr(rep, "checks_na", 0)
+    passing = getattr(rep, "checks_passing", None)
+    if passing is None:                         # a report made without the statuses
+        passing = max(0, total - len(rep.failing_checks))
+    return passing, total
 
 
 def given_changed(rep, accept_changed: bool = False) -> bool:
@@ -141,14 +150,15 @@ def score_parts(rep, accept_changed: bool | None = None, accept_typed: bool | No
     c = counts(rep, accept_typed)
     if c["total"] == 0:
         return 0.0, ["no computed rows to grade"]
-    unit = ROWS_SHARE / c["total"]
-    parts = [f"{c['correct']} of {c['total']} rows computed right: {unit * c['correct']:.1f} of {ROWS_SHARE:g}"]
+    issued = c["checks_issued"]
+    share = ROWS_SHARE if issued else ROWS_SHARE + CHECKS_SHARE     # a sheet without check rows: all rows
+    unit = share / c["total"]
+    parts = [f"{c['correct']} of {c['total']} rows computed right: {unit * c['correct']:.1f} of {share:g}"]
     for key, what in (("typed", "typed, not computed"), ("wrong", "wrong"), ("missing", "missing or empty")):
         if c[key]:
             parts.append(f"{c[key]} {what}: -{unit * c[key]:.1f}")
-    issued = c["checks_issued"]
     lost = c["checks_deleted"] + c["checks_typed"] + c["checks_unfilled"]
-    checks = CHECKS_SHARE * (issued - lost) / issued if issued else CHECKS_SHARE * (c["correct"] > 0)
+    checks = CHECKS_SHARE * (issued - lost) / issued if issued else 0.0
     if issued:
         parts.append(f"{issued - lost} of {issued} check rows intact and filled in: {checks:.1f} of {CHECKS_SHARE:g}")
         for key, what in (("checks_deleted", "deleted"), ("checks_typed", "status typed over"),

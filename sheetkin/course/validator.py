@@ -372,14 +372,22 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
     # deleted, or its status typed over, loses its share of the grade
     issued_checks = [r.name for r in ref_rows if r.kind in ("check", "fdcheck")]
     report.checks_issued = len(issued_checks)
+    # the check rows that apply: those with a number at some position of the reference (the
+    # others are "н/д" in every book of the variant: numeric derivatives above 3 deg ...)
+    report.checks_apply = sum(any(isinstance(ref_book.value(ref_sheet, ref_names[n], FIRST_COL + k), float)
+                                  for k in range(positions)) for n in issued_checks if n in ref_names)
     report.checks_deleted = [n for n in issued_checks if n not in names]
     report.checks_typed = [n for n, v in statuses.items() if v == "#TYPED"]
     if report.checks_typed:
-        report.notes.append(f"check status typed over its formula (column D; its share of the grade lost): "
+        report.notes.append(f"check status typed over its formula (column D; counted as failing, its share of "
+                            "the grade lost): "
                             f"{', '.join(report.checks_typed)}")
     if report.checks_deleted:
-        report.notes.append(f"check rows deleted (their share of the grade lost): {', '.join(report.checks_deleted)}")
-    report.failing_checks = [n for n, s in statuses.items() if s != "#TYPED" and check_fails(s)]
+        report.notes.append(f"check rows deleted (counted as failing, their share of the grade lost): "
+                            f"{', '.join(report.checks_deleted)}")
+    # deleted or typed over, a check row also counts as failing: hiding a failing check
+    # must never pay (it costs its share and the failing check's points)
+    report.failing_checks = [n for n, s in statuses.items() if check_fails(s)] + report.checks_deleted
     # not fields: grades count the checks that pass (0) of those that apply (not "н/д"), as the
     # sheet's summary does; "не заполнено" and "н/д" are not passing (an empty book passes none)
     report.checks_passing = sum(check_passes(s) for s in statuses.values())
@@ -465,8 +473,10 @@ def _template_sheet(scene: Scene) -> tuple[Sheet, dict[str, int]]:
     # the sheet's own check rows, their status cells and the summary above are not graded
     # against a reference (the student's checks are read from the student's sheet): left
     # out, they would be half of each variant's evaluation (SUMPRODUCT, COUNT, IF per row)
+    # (their cells per position stay: which check rows apply, not "н/д", is the reference's)
     unchecked = {r for n, r in input_rows.items() if n in _check_rows(scene)}
-    sheet.formulas = {(r, c): f for (r, c), f in sheet.formulas.items() if r >= 5 and r not in unchecked}
+    sheet.formulas = {(r, c): f for (r, c), f in sheet.formulas.items()
+                      if r >= 5 and (r not in unchecked or c >= FIRST_COL)}
     return sheet, input_rows
 
 
