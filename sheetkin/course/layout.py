@@ -25,8 +25,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import re
+
 import numpy as np
-from openpyxl.utils import get_column_letter
+from openpyxl.utils import column_index_from_string, get_column_letter
 
 from sheetkin.sheet.workbook import FIRST_COL, HEADERS
 from sheetkin.xlsx.cells import Sheet
@@ -152,6 +154,72 @@ def _outside(sh: Sheet, used_cols: set[int], name_col: int) -> list[str]:
     cells = sorted({rc for rc in list(sh.consts) + list(sh.formulas)
                     if rc[1] not in used_cols or rc[0] > last})
     return [f"{get_column_letter(c)}{r}" for r, c in cells]
+
+
+_CELL = re.compile(r"(?<![A-Za-z0-9_.])\$?([A-Za-z]{1,3})\$?(\d+)(?![A-Za-z0-9_(])")
+_WHOLE = re.compile(r"(?<![A-Za-z0-9_.$])\$?([A-Za-z]{1,3}|\d+):\$?([A-Za-z]{1,3}|\d+)(?![A-Za-z0-9_($])")
+
+
+def _reach(texts) -> tuple[float, float]:
+    """(last row, last column) any formula or defined name may read: the largest cell
+    address in their texts; infinite where one uses a whole row or column (A:A, 2:2)."""
+    rows = cols = 0.0
+    for t in texts:
+        if not isinstance(t, str):
+            continue
+        for a, b in _WHOLE.findall(t):
+            if a.isdigit() != b.isdigit() or (a.isdigit() and b.isdigit()):
+                return np.inf, np.inf                  # whole rows (2:2) or columns (A:A)
+            if not a.isdigit():
+                return np.inf, np.inf
+        for letters, digits in _CELL.findall(t):
+            try:
+                cols = max(cols, column_index_from_string(letters.upper()))
+            except ValueError:
+                continue
+            rows = max(rows, int(digits))
+    return rows, cols
+
+
+def without_unread(sheets: dict[str, Sheet], names: dict, layout: Layout, skip: set[str]) -> dict[str, Sheet]:
+    """The sheets to evaluate: a cell outside the issued table (the graded sheet) or on
+    another sheet (a scratch sheet) that lies beyond every cell a formula or a defined name
+    refers to is left out: no formula can read it, and a "1" typed far away (row 99,999,
+    column 3,999) then costs no time or memory (it is still named as outside the table)."""
+    texts = [f for sh in sheets.values() for f in sh.formulas.values()]
+    texts += [str(v) for k, v in names.items() if not str(k).startswith("_xlnm.")]
+    # (print titles and areas, _xlnm.*, are read by no formula)
+    texts += [str(v) for sh in sheets.values() for k, v in sh.names.items() if not str(k).startswith("_xlnm.")]
+    rows, cols = _reach(texts)
+    if rows == np.inf:
+        return sheets
+    table = set(layout.columns.values())
+    out = {}
+    for n, sh in sheets.items():
+        if n in skip:
+            out[n] = sh
+            continue
+        if n == layout.sheet:
+            last = max((r for (r, c), v in sh.consts.items() if c == layout.columns[1] and isinstance(v, str)),
+                       default=0)
+
+            def keep(r, c, table=table, last=last):
+                return (c in table and r <= last) or (r <= rows and c <= cols)
+        else:
+            def keep(r, c):
+                return r <= rows and c <= cols
+        dropped = [rc for rc in list(sh.consts) + list(sh.formulas) if not keep(*rc)]
+        if not dropped:
+            out[n] = sh
+            continue
+        consts = {rc: v for rc, v in sh.consts.items() if keep(*rc)}
+        formulas = {rc: v for rc, v in sh.formulas.items() if keep(*rc)}
+        cells = list(consts) + list(formulas) + [rc for rc in sh.arrays.values()]
+        out[n] = Sheet(sh.name, sh.state, consts=consts, formulas=formulas,
+                       cached={rc: v for rc, v in sh.cached.items() if keep(*rc)},
+                       max_row=max((r for r, _ in cells), default=0), max_col=max((c for _, c in cells), default=0),
+                       arrays=sh.arrays, names=sh.names, dangling=sh.dangling)
+    return out
 
 
 def standard_view(book: Book, layout: Layout) -> tuple[Book, Sheet]:

@@ -42,7 +42,7 @@ from sheetkin.xlsx.package import Limits, UnusableWorkbook
 
 from . import issued
 from .copies import submission_marks  # the raw cells copy detection compares
-from .layout import find_layout, standard_view
+from .layout import find_layout, standard_view, without_unread
 from .localjudge import TURN, angle_difference, judge, name_causes
 from .localjudge import typed_tolerance as _typed_tolerance
 
@@ -273,7 +273,7 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
         raise UnusableInput(f"{path}: no sheet holds the rows of the issued table (names such as "
                             f"{', '.join(r.name for r in ref_rows if r.kind == 'calc')[:60]}... in a column)")
     main = layout.sheet
-    evaluated, sh = standard_view(_evaluate_student(book), layout)
+    evaluated, sh = standard_view(_evaluate_student(book, layout), layout)
     names: dict[str, int] = {}
     for r in range(5, sh.max_row + 1):
         v = sh.consts.get((r, 1))
@@ -417,10 +417,12 @@ def _text(v) -> str:
     return " ".join(str(v).split())[:200]
 
 
-def _evaluate_student(raw) -> Book:
+def _evaluate_student(raw, layout=None) -> Book:
     # the charts' hidden `paths` sheet (360 positions of the coordinates) is not graded and
     # nothing on the kinematics sheet refers to it: leaving it out halves the work
     sheets = {n: sh for n, sh in raw.sheets.items() if n != PATHS_SHEET}
+    if layout is not None:        # cells no formula can read, outside the table: not evaluated
+        sheets = without_unread(sheets, raw.names, layout, {SCENE_SHEET})
     return evaluate_sheets(raw.path, sheets, [n for n in raw.order if n in sheets], raw.names, strict=False)
 
 
