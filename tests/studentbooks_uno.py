@@ -15,6 +15,7 @@ as issued, found by name before any op moves it):
   ["delete_rows", sheet, row, count]
   ["name_range", name, sheet, "$E$31:$Q$31"]       a named range (Insert > Names > Define)
 """
+import contextlib
 import json
 import subprocess
 import sys
@@ -94,7 +95,8 @@ def run_job(desktop, job):
 
 def main():
     jobs_path, port, profile = sys.argv[1], sys.argv[2], sys.argv[3]
-    jobs = json.load(open(jobs_path, encoding="utf-8"))
+    with open(jobs_path, encoding="utf-8") as f:
+        jobs = json.load(f)
     proc = subprocess.Popen(["soffice", f"-env:UserInstallation=file://{profile}", "--headless", "--invisible",
                              "--norestore", "--nologo", "--nolockcheck",
                              f"--accept=socket,host=127.0.0.1,port={port};urp;"],
@@ -103,10 +105,8 @@ def main():
         desktop = connect(port)
         for job in jobs:
             run_job(desktop, job)
-        try:
+        with contextlib.suppress(Exception):       # soffice may close the bridge while quitting
             desktop.terminate()
-        except Exception:
-            pass
     finally:
         try:
             proc.wait(timeout=20)

@@ -23,9 +23,8 @@ D, positions from E), built by moving columns, so the rest of the grading is unc
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import re
+from dataclasses import dataclass, field
 
 import numpy as np
 from openpyxl.utils import column_index_from_string, get_column_letter

@@ -185,6 +185,7 @@ class Local:
     judgements: dict[str, Judgement] = field(default_factory=dict)
     same: np.ndarray | None = None   # per cell: the student's value equals the reference's
     periods: dict[str, float] = field(default_factory=dict)    # angle rows: name -> a full turn
+    columns: dict[int, int] = field(default_factory=dict)      # issued column -> the student's (layout)
 
     def carried(self, name: str, cols: list[int]) -> set[int]:
         """Positions (from 1) among columns `cols` where a row differs from the reference:
@@ -207,7 +208,7 @@ class Local:
 
     def cell(self, name: str, col: int) -> str:
         """The student's cell of a row: G72."""
-        return f"{get_column_letter(col)}{self.student_rows[name]}"
+        return f"{get_column_letter(self.columns.get(col, col))}{self.student_rows[name]}"
 
     def changed(self, name: str) -> bool:
         """Whether the student's value of an input (column D) differs from the reference's."""
@@ -294,18 +295,21 @@ def _compare(name: str, s, st, lv, lt, typed, tol, period: float | None = None) 
 
 
 def judge(reference: Book, student: Book, sheet: str, names: dict[str, int], judged: list[str],
-          unavailable: set[str] = frozenset(), periods: dict[str, float] | None = None) -> Local:
+          unavailable: set[str] = frozenset(), periods: dict[str, float] | None = None,
+          columns: dict[int, int] | None = None) -> Local:
     """Each of the rows `judged` (names, in sheet order) judged on the student's own values.
     reference: the evaluated reference (its first sheet is the generated sheet, formulas
     and all); student: the student's evaluated workbook, `sheet` its graded sheet, `names`
     its rows by name (column A); unavailable: rows missing or empty in the student's sheet;
-    periods: the angle rows' full turn (TURN by unit), compared modulo it."""
+    periods: the angle rows' full turn (TURN by unit), compared modulo it; columns: where
+    the student's columns are (sheetkin/course/layout.py), to name their cells."""
     ref_sheet = reference.sheets[reference.order[0]]
     plan = _plan(ref_sheet, tuple(judged))
     num, tag, txt = _student_store(reference, student, sheet, plan, names)
     rs = reference.order[0]
     local = Local(plan, names, num, tag, txt, np.zeros_like(num), np.full(tag.shape, EMPTY, np.int8),
-                  reference.num[rs], reference.tag[rs], reference.txt[rs], periods=dict(periods or {}))
+                  reference.num[rs], reference.tag[rs], reference.txt[rs], periods=dict(periods or {}),
+                  columns=dict(columns or {}))
     missing = set(unavailable) | {n for n in plan.rows if n not in names}
     todo = [n for n in judged if n in plan.runs and n in names and n not in missing
             and not (plan.reads[n] & missing)]

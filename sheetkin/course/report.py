@@ -76,7 +76,8 @@ def counts_line(rep: Report) -> str:
     c = counts(rep)
     return (f"  {c['correct']} of {c['total']} rows correct (computed), {c['typed']} typed (not computed), "
             f"{c['wrong']} wrong, {c['missing']} missing or empty; check rows: {c['checks_passing']} of "
-            f"{c['checks_apply']} that apply passing" + (f", {c['checks_failing']} failing" if c['checks_failing'] else "")
+            f"{c['checks_apply']} that apply passing"
+            + (f", {c['checks_failing']} failing" if c['checks_failing'] else "")
             + (f", {c['checks_deleted']} deleted" if c['checks_deleted'] else "")
             + (f", {c['checks_typed']} typed over" if c['checks_typed'] else ""))
 

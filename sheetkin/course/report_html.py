@@ -172,7 +172,8 @@ def _summary_row(rep: Report, k: int, copy: str = "") -> str:
             f"<td class='num'>{'' if rep.error else c['typed']}</td>"
             f"<td class='num'>{'' if rep.error else c['wrong']}</td>"
             f"<td>{e(causes)}</td><td class='num' data-sort='{c['missing']}'>{c['missing'] or ''}"
-            f"{' (' + e(_cut(missing, 80)) + ')' if missing else ''}</td><td class='{'wrong' if copy else ''}'>{copy}</td>"
+            f"{' (' + e(_cut(missing, 80)) + ')' if missing else ''}</td>"
+            f"<td class='{'wrong' if copy else ''}'>{copy}</td>"
             f"<td>{e(rep.path)}</td></tr>")
 
 

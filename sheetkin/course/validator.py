@@ -31,9 +31,9 @@ import numpy as np
 from sheetkin.groups import kind_of
 from sheetkin.kinematics.scene import Scene, SceneError, parse_scene
 from sheetkin.sheet.charts import PATHS_SHEET
+from sheetkin.sheet.checks import STATUS as CHECK_STATUS
 from sheetkin.sheet.checks import failing as check_fails
 from sheetkin.sheet.checks import not_applicable as check_na
-from sheetkin.sheet.checks import STATUS as CHECK_STATUS
 from sheetkin.sheet.checks import passing as check_passes
 from sheetkin.sheet.workbook import FIRST_COL, SCENE_SHEET, build_workbook, sheet_rows
 from sheetkin.xlsx.cells import Sheet, read_book
@@ -355,13 +355,14 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
     graded = {r.name for r in report.rows if r.status in ("correct", "wrong")}
     judged = [r.name for r in ref_rows if r.name in graded or (r.kind == "derived" and r.name in names)]
     local = judge(ref_book, evaluated, main, names, judged,
-                  {r.name for r in report.rows if r.status in ("missing", "empty")}, periods)
+                  {r.name for r in report.rows if r.status in ("missing", "empty")}, periods, layout.columns)
 
     def derived_row(name: str, col: int) -> RowReport:
         return RowReport(name, names[name], "correct", kind="derived",
                          source="formula" if sh.computed(names[name], col) else "typed")
     name_causes(report.rows, local, ancestors, input_names, derived_row)
-    report.cache_mismatch = _cache_mismatches(evaluated, main, {r for n, r in names.items() if n.startswith("phi_")})
+    report.cache_mismatch = _cache_mismatches(evaluated, main, {r for n, r in names.items() if n.startswith("phi_")},
+                                              columns=layout.columns)
     # status 1 or an error fails; 0, n/a and "not filled in" do not (sheetkin/sheet/checks.py)
     # a status typed over its formula (a 0 typed to make the row green) says nothing: it
     # fails, as an error would (it once hid the failing checks and raised the score)
@@ -510,7 +511,8 @@ def _build_reference(scene: Scene, evaluate: bool = True):
     return evaluate_sheets("<reference>", sheets, order, {}, strict=True)
 
 
-def _cache_mismatches(book: Book, sheet: str, angle_rows: set[int] = frozenset(), limit: int = 50) -> list[str]:
+def _cache_mismatches(book: Book, sheet: str, angle_rows: set[int] = frozenset(), limit: int = 50,
+                      columns: dict[int, int] | None = None) -> list[str]:
     """Formula cells whose value, as the spreadsheet last saved it, differs from what the
     formula gives now (stale values, or a number pasted over a formula's result). On the
     rows of link angles, in [0, 360), 359.99999999999994 and 0 are the same angle (MOD's
@@ -530,7 +532,8 @@ def _cache_mismatches(book: Book, sheet: str, angle_rows: set[int] = frozenset()
             continue
         elif isinstance(cached, str) and isinstance(now, str) and now.startswith("#") and cached.startswith("#"):
             continue                                     # errors: LibreOffice and Excel name some differently
-        out.append(f"{sheet}!{get_column_letter(c)}{r} (formula gives {now!r}, saved value {cached!r})")
+        out.append(f"{sheet}!{get_column_letter((columns or {}).get(c, c))}{r} (formula gives {now!r}, "
+                   f"saved value {cached!r})")
         if len(out) >= limit:
             break
     return out

@@ -11,11 +11,10 @@ import io
 import json
 from pathlib import Path
 
+import openpyxl
 import pytest
 from clirun import run
 from studentbooks import Recipe, key_values, make_books, rows_by_name, uno_available
-
-import openpyxl
 
 from sheetkin.course import grades
 from sheetkin.course.report import json_report, text_report
