@@ -363,6 +363,16 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
     name_causes(report.rows, local, ancestors, input_names, derived_row)
     report.cache_mismatch = _cache_mismatches(evaluated, main, {r for n, r in names.items() if n.startswith("phi_")},
                                               columns=layout.columns)
+    _read_checks(report, evaluated, main, sh, names, ref_rows, ref_book, ref_names)
+    return report
+
+
+def _read_checks(report: Report, evaluated: Book, main: str, sh: Sheet, names: dict[str, int], ref_rows,
+                 ref_book: Book, ref_names: dict) -> None:
+    """The student's check rows (issue 21, item 3): their statuses, which fail, which were
+    deleted or typed over, and how many of the issued ones apply to the variant."""
+    kinds = {r.name: r.kind for r in ref_rows}
+    ref_sheet, positions = ref_book.order[0], report.positions
     # status 1 or an error fails; 0, n/a and "not filled in" do not (sheetkin/sheet/checks.py)
     # a status typed over its formula (a 0 typed to make the row green) says nothing: it
     # fails, as an error would (it once hid the failing checks and raised the score)
@@ -395,7 +405,6 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
     report.checks_na = sum(check_na(s) for s in statuses.values())
     unfilled = {t["unfilled"] for t in CHECK_STATUS.values()}
     report.checks_unfilled = sum(isinstance(s, str) and s in unfilled for s in statuses.values())
-    return report
 
 
 def _identity(evaluated, main: str, sh, row: int | None) -> str:
