@@ -200,8 +200,8 @@ def verdict(rep) -> str:
     if given_changed(rep, _accept_changed(rep, None)):
         return "given data changed"
     c = counts(rep)
-    if c["formula_rows"] == 0 and c["typed"]:
-        return "typed, not computed"
+    if c["formula_rows"] == 0 and any(getattr(r, "typed_cells", None) for r in graded_rows(rep)):
+        return "typed, not computed"           # with --accept-typed too: no formula at all
     return "all correct" if score(rep) >= 100.0 else "mistakes"
 
 

@@ -156,6 +156,31 @@ def html_report(reports: list[Report], copies: dict | None = None) -> str:
 
 
 def copies_lines(reports: list[Report], copies: dict) -> str:
-    """After the summary table: each possible copy (sheetkin/course/copies.py), a pair a line."""
+    """After the summary table: the possible copies (sheetkin/course/copies.py), one line per
+    group of books linked by them (a pair: "a and b: why"), so that a class with many copies
+    of one book gives one line, not every pair (issue 21, item 7)."""
     pairs = sorted({(min(i, j), max(i, j)): why for i, found in copies.items() for j, why in found}.items())
-    return "".join(f"possible copy: {reports[i].path} and {reports[j].path}: {why}\n" for (i, j), why in pairs)
+    parent = list(range(len(reports)))
+
+    def root(i: int) -> int:
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+    for (i, j), _ in pairs:
+        parent[root(j)] = root(i)
+    groups: dict[int, list] = {}
+    for (i, j), why in pairs:
+        groups.setdefault(root(i), []).append((i, j, why))
+    out = []
+    for links in groups.values():
+        books = sorted({k for i, j, _ in links for k in (i, j)})
+        if len(books) == 2:
+            i, j, why = links[0]
+            out.append(f"possible copy: {reports[i].path} and {reports[j].path}: {why}\n")
+            continue
+        whys = list(dict.fromkeys(why for _, _, why in links))
+        out.append(f"possible copy: {len(books)} books linked: " + ", ".join(reports[k].path for k in books)
+                   + ": " + "; ".join(whys[:3]) + (f"; and {len(whys) - 3} more reasons" if len(whys) > 3 else "")
+                   + "\n")
+    return "".join(out)
