@@ -187,6 +187,10 @@ def build_parser() -> argparse.ArgumentParser:
     v.add_argument("--accept-changed-inputs", action="store_true",
                    help="grade each book against the student's own input block even where it "
                         "differs from the issued variant (still reported, no longer a failure)")
+    v.add_argument("--accept-typed", action="store_true",
+                   help="let a number typed where a formula belongs earn credit when it is right "
+                        "to its last digit (default: a computed row earns credit only where it "
+                        "computes; still reported as typed, not computed; docs/grading.md)")
     b = sub.add_parser(
         "bench", help="time and accuracy of each way of computing a scene",
         description="For each method (the closed-form solver; Newton on the loop-closure "

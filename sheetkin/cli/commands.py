@@ -381,7 +381,7 @@ def cmd_validate(args) -> int:
     if print_once:
         print(f"sheetkin: warning: {print_once}", file=sys.stderr)
     if args.json:
-        sys.stdout.write(json_report(reports))
+        sys.stdout.write(json_report(reports, copies))
     elif len(reports) > 1:
         sys.stdout.write("\n" + summary_table(reports) + copies_lines(reports, copies))
     if args.html:
@@ -419,7 +419,7 @@ def _issued_options(args):
         key = read_key(key_path)
     keyless = "" if key else ("no key (--key FILE, or .sheetkin-key next to --roster): the scene "
                               "sheets' seals are not checked")
-    return Options(roster, key, args.accept_changed_inputs), keyless
+    return Options(roster, key, args.accept_changed_inputs, bool(getattr(args, "accept_typed", False))), keyless
 
 
 def cmd_bench(args) -> int:

@@ -1,12 +1,24 @@
 """`sheetkin validate FILES --grades grades.csv`: one line per submission, for the teacher
 and for Moodle's gradebook import (Grades > Import > CSV file).
 
-The score of a submission (README, "Running a class" > "Grades"):
-    100 * rows correct / rows graded  -  CHECK_PENALTY per failing check row of the sheet,
-    at least 0, to one decimal;
-    0 when the given data differ from the issued variant (unless --accept-changed-inputs),
+The score of a submission (docs/grading.md; issue 21), 0..100 to one decimal:
+    ROWS_SHARE (90) x rows computed right / rows graded
+  + CHECKS_SHARE (10) x check rows intact and filled in / check rows issued
+  - CHECK_PENALTY (2) per check row of the sheet that fails, at least 0;
+  * a row is computed right when every cell holds a formula (or an array formula's value)
+    and equals the reference; a cell with a typed value and no formula earns nothing,
+    whatever its value ("typed, not computed"), unless the teacher gives --accept-typed
+    (then a typed number right to its last digit counts as right);
+  * a check row earns its share when it is there with its status formula and the rows it
+    checks are filled in (its status is not "не заполнено"): deleted, its status typed over,
+    or checking empty rows, it does not; deleted or typed over, it also counts as failing
+    (hiding a failing check never pays);
+  * a book with no formula in its computed rows scores at most NO_FORMULA_CAP (10) and fails;
+  * 0 when the given data differ from the issued variant (unless --accept-changed-inputs),
     when the workbook's seal fails (the hidden scene sheet edited), or when the file is
     unusable (the reason is in the "likely causes" column).
+"all correct" means full marks (verdict); every report (text, HTML, JSON, grades.csv) takes
+its counts, verdict and score from here, and explain() says what cost how much.
 A possible copy (sheetkin/course/copies.py) does not change the score: it is flagged for the
 teacher, who decides.
 
@@ -28,9 +40,13 @@ import re
 from dataclasses import dataclass
 
 CHECK_PENALTY = 2.0        # points off per failing check row (the sheet showed the mistake)
+ROWS_SHARE = 90.0          # the computed rows' share of the score
+CHECKS_SHARE = 10.0        # the check rows' share: lost by the rows deleted or typed over
+NO_FORMULA_CAP = 10.0      # the most a book with no formula in its computed rows scores
 ID_HEADERS = ("Email address", "ID number", "Username")      # Moodle's export names them so
-COLUMNS = ("student", "group", "variant", "file", "rows correct", "rows total", "checks passing",
-           "checks total", "given data changed", "likely causes", "possible copy of", "score")
+COLUMNS = ("student", "group", "variant", "file", "verdict", "rows correct", "rows typed", "rows total",
+           "checks passing", "checks total", "given data changed", "likely causes", "possible copy of", "score",
+           "score explained")
 _FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
 
 
@@ -45,26 +61,70 @@ def safe_text(text: object) -> str:
     return "'" + s if s.startswith(_FORMULA_START) else s
 
 
-def rows_correct(rep) -> tuple[int, int]:
-    """(rows correct, rows graded): every computed row the reference has, except those the
-    exercise gives filled in (phi_1, the guards): an empty exercise scores 0."""
+def graded_rows(rep) -> list:
+    """Every computed row the reference has, except those the exercise gives filled in
+    (phi_1, the guards): an empty exercise scores 0."""
     from sheetkin.sheet.workbook import prefilled_in_exercise
-    graded = [r for r in rep.rows if not prefilled_in_exercise(r.name, r.kind)]
-    return sum(r.status == "correct" for r in graded), len(graded)
+    return [r for r in rep.rows if not prefilled_in_exercise(r.name, r.kind)]
+
+
+def _typed_ok(rep, accept_typed: bool | None) -> bool:
+    return bool(getattr(rep, "accepted_typed", False) if accept_typed is None else accept_typed)
+
+
+def row_verdict(row, accept_typed: bool = False) -> str:
+    """One graded row: correct (computed right) | typed (a typed value where a formula
+    belongs; with accept_typed, a typed row right to its digits is correct) | wrong | missing."""
+    if row.status in ("missing", "empty"):
+        return "missing"
+    if getattr(row, "typed_cells", None) and not (accept_typed and row.status == "correct"):
+        return "typed"
+    return "correct" if row.status == "correct" else "wrong"
+
+
+def counts(rep, accept_typed: bool | None = None) -> dict:
+    """The graded rows by verdict: correct + typed + wrong + missing == total; the check
+    rows: issued, passing, failing, n/a, deleted, typed over (every report shows these)."""
+    rows = graded_rows(rep)
+    acc = _typed_ok(rep, accept_typed)
+    by = [row_verdict(r, acc) for r in rows]
+    out = {k: by.count(k) for k in ("correct", "typed", "wrong", "missing")}
+    out["total"] = len(rows)
+    # rows holding a formula somewhere (a row of typed values only is not one)
+    out["formula_rows"] = sum(1 for r in rows if r.status not in ("missing", "empty")
+                              and (getattr(r, "formula_cells", 0) or not getattr(r, "typed_cells", None)))
+    out["checks_issued"] = getattr(rep, "checks_issued", 0) or 0
+    out["checks_passing"] = getattr(rep, "checks_passing", 0) or 0
+    out["checks_apply"] = getattr(rep, "checks_apply", out["checks_issued"])
+    out["checks_na"] = getattr(rep, "checks_na", 0) or 0
+    out["checks_failing"] = len(rep.failing_checks)
+    out["checks_deleted"] = len(getattr(rep, "checks_deleted", []) or [])
+    out["checks_typed"] = len(getattr(rep, "checks_typed", []) or [])
+    out["checks_unfilled"] = getattr(rep, "checks_unfilled", 0) or 0
+    return out
+
+
+def rows_correct(rep) -> tuple[int, int]:
+    """(rows computed right, rows graded)."""
+    c = counts(rep)
+    return c["correct"], c["total"]
 
 
 def checks_counts(rep) -> tuple[int | None, int | None]:
     """(check rows passing, check rows that apply); None where unknown (unusable).
 
     Passing is a status 0 (green) only: "не заполнено" is not passing (an empty exercise
-    passes no check), and "н/д" rows (numeric derivatives above 3 deg) are not counted."""
-    total = getattr(rep, "checks_total", None)
-    if rep.error or total is None:
+    passes no check); the total is the issued check rows that apply to the variant (not
+    "н/д" in its reference), the same for every book of the variant, deleted ones included."""
+    if rep.error or getattr(rep, "checks_total", None) is None:
         return None, None
+    total = getattr(rep, "checks_apply", None)
+    if total is None:                           # a report made without the reference's checks
+        total = rep.checks_total - getattr(rep, "checks_na", 0)
     passing = getattr(rep, "checks_passing", None)
     if passing is None:                         # a report made without the statuses
-        return max(0, total - len(rep.failing_checks)), total
-    return passing, total - getattr(rep, "checks_na", 0)
+        passing = max(0, total - len(rep.failing_checks))
+    return passing, total
 
 
 def given_changed(rep, accept_changed: bool = False) -> bool:
@@ -75,15 +135,74 @@ def seal_failed(rep) -> bool:
     return getattr(rep, "seal", "") not in ("", "ok", None)
 
 
-def score(rep, accept_changed: bool = False) -> float:
+def _accept_changed(rep, accept_changed: bool | None) -> bool:
+    return bool(getattr(rep, "accepted_changes", False) if accept_changed is None else accept_changed)
+
+
+def score_parts(rep, accept_changed: bool | None = None, accept_typed: bool | None = None) -> tuple[float, list[str]]:
+    """(score, what cost how much: one phrase each), the module docstring's rule."""
+    if rep.error:
+        return 0.0, ["unusable: " + rep.reason]
+    if given_changed(rep, _accept_changed(rep, accept_changed)):
+        return 0.0, ["given data changed: 0 (graded against the issued variant)"]
+    if seal_failed(rep):
+        return 0.0, ["seal broken: 0"]
+    c = counts(rep, accept_typed)
+    if c["total"] == 0:
+        return 0.0, ["no computed rows to grade"]
+    issued = c["checks_issued"]
+    share = ROWS_SHARE if issued else ROWS_SHARE + CHECKS_SHARE     # a sheet without check rows: all rows
+    unit = share / c["total"]
+    parts = [f"{c['correct']} of {c['total']} rows computed right: {unit * c['correct']:.1f} of {share:g}"]
+    for key, what in (("typed", "typed, not computed"), ("wrong", "wrong"), ("missing", "missing or empty")):
+        if c[key]:
+            parts.append(f"{c[key]} {what}: -{unit * c[key]:.1f}")
+    lost = c["checks_deleted"] + c["checks_typed"] + c["checks_unfilled"]
+    checks = CHECKS_SHARE * (issued - lost) / issued if issued else 0.0
+    if issued:
+        parts.append(f"{issued - lost} of {issued} check rows intact and filled in: {checks:.1f} of {CHECKS_SHARE:g}")
+        for key, what in (("checks_deleted", "deleted"), ("checks_typed", "status typed over"),
+                          ("checks_unfilled", "not filled in (rows they check are empty)")):
+            if c[key]:
+                parts.append(f"{c[key]} check rows {what}: -{CHECKS_SHARE * c[key] / issued:.1f}")
+    s = unit * c["correct"] + checks
+    if c["checks_failing"]:
+        s -= CHECK_PENALTY * c["checks_failing"]
+        parts.append(f"{c['checks_failing']} check rows failing: -{CHECK_PENALTY * c['checks_failing']:g}")
+    s = max(0.0, s)
+    if c["formula_rows"] == 0 and s > NO_FORMULA_CAP:
+        s = NO_FORMULA_CAP
+        parts.append(f"no formula in the computed rows: at most {NO_FORMULA_CAP:g}")
+    return round(s, 1), parts
+
+
+def score(rep, accept_changed: bool | None = None, accept_typed: bool | None = None) -> float:
     """The documented score (module docstring), 0..100, one decimal."""
-    if rep.error or given_changed(rep, accept_changed) or seal_failed(rep):
-        return 0.0
-    correct, total = rows_correct(rep)
-    if total == 0:
-        return 0.0
-    s = 100.0 * correct / total - CHECK_PENALTY * len(rep.failing_checks)
-    return round(max(0.0, s), 1)
+    return score_parts(rep, accept_changed, accept_typed)[0]
+
+
+def explain(rep) -> str:
+    """'72.5: 50 of 60 rows computed right: 75.0 of 90; 5 typed, not computed: -7.5; ...'."""
+    s, parts = score_parts(rep)
+    return f"{s:.1f}: " + "; ".join(parts)
+
+
+VERDICTS = ("all correct", "mistakes", "typed, not computed", "given data changed", "seal broken", "unusable")
+
+
+def verdict(rep) -> str:
+    """The one verdict every report gives: unusable, seal broken, given data changed, typed,
+    not computed (no formula in the computed rows), all correct (full marks), or mistakes."""
+    if rep.error:
+        return "unusable"
+    if seal_failed(rep):
+        return "seal broken"
+    if given_changed(rep, _accept_changed(rep, None)):
+        return "given data changed"
+    c = counts(rep)
+    if c["formula_rows"] == 0 and any(getattr(r, "typed_cells", None) for r in graded_rows(rep)):
+        return "typed, not computed"           # with --accept-typed too: no formula at all
+    return "all correct" if score(rep) >= 100.0 else "mistakes"
 
 
 def who(rep) -> str:
@@ -187,15 +306,17 @@ def grade_lines(reports, copies: dict, class_list: ClassList | None = None,
             ident = "" if key in class_list.ambiguous else class_list.ids.get(key, "")
             if not ident:
                 unmatched.append(f"{rep.path} ({student or 'no name typed'})")
-        correct, total = rows_correct(rep)
+        c = counts(rep)
         passing, checks = checks_counts(rep)
+        value, _ = score_parts(rep, accept_changed or None)
         lines.append([ident, safe_text(student), safe_text(getattr(rep, "group", "") or ""),
-                      safe_text(getattr(rep, "variant", "") or ""), safe_text(rep.path),
-                      "" if rep.error else str(correct), "" if rep.error else str(total),
+                      safe_text(getattr(rep, "variant", "") or ""), safe_text(rep.path), verdict(rep),
+                      "" if rep.error else str(c["correct"]), "" if rep.error else str(c["typed"]),
+                      "" if rep.error else str(c["total"]),
                       "" if passing is None else str(passing), "" if checks is None else str(checks),
                       "yes" if given_changed(rep) else "no",             # a fact, accepted or not
                       safe_text(causes_text(rep)), safe_text(copy_text(reports, i, copies)),
-                      f"{score(rep, accept_changed):.1f}"])
+                      f"{value:.1f}", safe_text(explain(rep))])
     warnings = []
     if class_list is None:
         warnings.append(f"no --class-list: the column '{id_header}' is empty; Moodle identifies a student "

@@ -240,6 +240,7 @@ class Options:
     roster: Roster | None = None
     key: bytes | None = None
     accept_changed: bool = False
+    accept_typed: bool = False       # --accept-typed (sheetkin/course/grades.py)
 
 
 @dataclass

@@ -50,6 +50,20 @@ ATOL = 1e-9
 DERIVED_COL = 4        # column D: the input block's values and the derived rows' formulas
 
 
+# a full turn in a row's unit: angles are compared modulo it (an angle taken MOD 2*PI() or
+# MOD 360, or one turn more, is the same angle)
+TURN = {"deg": 360.0, "rad": 2.0 * np.pi}
+
+
+def angle_difference(d, period: float | None):
+    """|a - b| (d) of two angles as the shorter way round a full turn `period`; d itself
+    when the row is not an angle (period None)."""
+    if not period:
+        return d
+    m = np.mod(d, period)
+    return np.minimum(m, period - m)
+
+
 def typed_tolerance(x: float) -> float:
     """A number typed by hand is right to half a unit of its last typed digit."""
     text = repr(float(x))
@@ -170,6 +184,8 @@ class Local:
     rtxt: np.ndarray
     judgements: dict[str, Judgement] = field(default_factory=dict)
     same: np.ndarray | None = None   # per cell: the student's value equals the reference's
+    periods: dict[str, float] = field(default_factory=dict)    # angle rows: name -> a full turn
+    columns: dict[int, int] = field(default_factory=dict)      # issued column -> the student's (layout)
 
     def carried(self, name: str, cols: list[int]) -> set[int]:
         """Positions (from 1) among columns `cols` where a row differs from the reference:
@@ -192,7 +208,7 @@ class Local:
 
     def cell(self, name: str, col: int) -> str:
         """The student's cell of a row: G72."""
-        return f"{get_column_letter(col)}{self.student_rows[name]}"
+        return f"{get_column_letter(self.columns.get(col, col))}{self.student_rows[name]}"
 
     def changed(self, name: str) -> bool:
         """Whether the student's value of an input (column D) differs from the reference's."""
@@ -218,9 +234,7 @@ class Local:
         both = (rt == NUM) & (st == NUM)
         if not both.any():
             return 0.0
-        d = np.abs(s[both] - ref[both])
-        if name.startswith("phi_"):
-            d = np.minimum(d, np.abs(360.0 - d))
+        d = angle_difference(np.abs(s[both] - ref[both]), self.periods.get(name))
         return float(d.max() / scale) if scale > 0 else float(d.max())
 
 
@@ -265,14 +279,12 @@ def _student_store(reference: Book, student: Book, sheet: str, plan: _Plan, name
     return num, tag, txt
 
 
-def _compare(name: str, s, st, lv, lt, typed, tol) -> np.ndarray:
+def _compare(name: str, s, st, lv, lt, typed, tol, period: float | None = None) -> np.ndarray:
     """Per cell 0 right, 1 rounded, 2 wrong: the student's values (s, st) against the
     reference formula's over them (lv, lt); typed cells within tol (their digits)."""
     out = np.full(len(s), 2, np.int8)
     both = (st == NUM) & (lt == NUM)
-    d = np.abs(s - lv)
-    if name.startswith("phi_"):
-        d = np.minimum(d, np.abs(360.0 - d))          # angles in [0, 360): 0 and 360 agree
+    d = angle_difference(np.abs(s - lv), period)      # angles: 0 and 360 agree
     with np.errstate(invalid="ignore"):
         tight = d <= np.maximum(ATOL, RTOL * np.abs(lv))
         out[both & tight] = 0
@@ -283,17 +295,21 @@ def _compare(name: str, s, st, lv, lt, typed, tol) -> np.ndarray:
 
 
 def judge(reference: Book, student: Book, sheet: str, names: dict[str, int], judged: list[str],
-          unavailable: set[str] = frozenset()) -> Local:
+          unavailable: set[str] = frozenset(), periods: dict[str, float] | None = None,
+          columns: dict[int, int] | None = None) -> Local:
     """Each of the rows `judged` (names, in sheet order) judged on the student's own values.
     reference: the evaluated reference (its first sheet is the generated sheet, formulas
     and all); student: the student's evaluated workbook, `sheet` its graded sheet, `names`
-    its rows by name (column A); unavailable: rows missing or empty in the student's sheet."""
+    its rows by name (column A); unavailable: rows missing or empty in the student's sheet;
+    periods: the angle rows' full turn (TURN by unit), compared modulo it; columns: where
+    the student's columns are (sheetkin/course/layout.py), to name their cells."""
     ref_sheet = reference.sheets[reference.order[0]]
     plan = _plan(ref_sheet, tuple(judged))
     num, tag, txt = _student_store(reference, student, sheet, plan, names)
     rs = reference.order[0]
     local = Local(plan, names, num, tag, txt, np.zeros_like(num), np.full(tag.shape, EMPTY, np.int8),
-                  reference.num[rs], reference.tag[rs], reference.txt[rs])
+                  reference.num[rs], reference.tag[rs], reference.txt[rs], periods=dict(periods or {}),
+                  columns=dict(columns or {}))
     missing = set(unavailable) | {n for n in plan.rows if n not in names}
     todo = [n for n in judged if n in plan.runs and n in names and n not in missing
             and not (plan.reads[n] & missing)]
@@ -324,7 +340,7 @@ def judge(reference: Book, student: Book, sheet: str, names: dict[str, int], jud
     for n in todo:
         j, r = local.judgements[n], plan.rows[n]
         j.state = _compare(n, num[r, j.cols], tag[r, j.cols], local.lnum[r, j.cols], local.ltag[r, j.cols],
-                           j.typed, tols[n] + prop.get(n, 0.0))
+                           j.typed, tols[n] + prop.get(n, 0.0), local.periods.get(n))
         j.local = "wrong" if (j.state == 2).any() else "right"
     for n in judged:
         local.judgements.setdefault(n, Judgement(n))

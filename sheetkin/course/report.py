@@ -4,6 +4,7 @@ from __future__ import annotations
 import json
 import math
 
+from .grades import counts, explain, score, verdict
 from .issued import changed_line
 from .report_html import position_list, position_name
 from .validator import Report
@@ -22,9 +23,13 @@ def text_report(rep: Report) -> str:
     who = ", ".join(x for x in (rep.author, rep.title) if x)
     lines = [f"{head}" + (f" ({who})" if who else "") + f", {rep.positions} positions"]
     lines += issued_lines(rep)
-    correct = sum(r.status == "correct" for r in rep.rows)
-    lines.append(f"  {correct} rows correct, {len(rep.wrong)} wrong, {len(rep.missing)} missing or empty"
-                 + ("  -> all correct" if rep.ok else ""))
+    lines += [counts_line(rep), f"  {verdict(rep)}; score {explain(rep)}"]
+    typed = rep.typed
+    if typed:
+        lines.append(f"  typed, not computed ({len(typed)}): " + ", ".join(
+            f"{r.name} (row {r.row}, {position_list(rep, r.typed_cells)})" for r in typed[:12])
+            + (" ..." if len(typed) > 12 else "")
+            + ("; accepted (--accept-typed)" if getattr(rep, "accepted_typed", False) else "; they earn nothing"))
     # the causes with a note (typed numbers: cell, digits, the error they carry) first
     for r in sorted(rep.causes, key=lambda r: not getattr(r, "note", "")):
         where = f"{r.name} (row {r.row}, {r.source})"
@@ -66,6 +71,17 @@ def text_report(rep: Report) -> str:
     return "\n".join(lines) + "\n"
 
 
+def counts_line(rep: Report) -> str:
+    """The graded rows by verdict, the same counts as the HTML, the JSON and grades.csv."""
+    c = counts(rep)
+    return (f"  {c['correct']} of {c['total']} rows correct (computed), {c['typed']} typed (not computed), "
+            f"{c['wrong']} wrong, {c['missing']} missing or empty; check rows: {c['checks_passing']} of "
+            f"{c['checks_apply']} that apply passing"
+            + (f", {c['checks_failing']} failing" if c['checks_failing'] else "")
+            + (f", {c['checks_deleted']} deleted" if c['checks_deleted'] else "")
+            + (f", {c['checks_typed']} typed over" if c['checks_typed'] else ""))
+
+
 def issued_lines(rep: Report) -> list[str]:
     """Issue 13: the given data changed and the seal, first and prominently; then who
     filled it in and the variant."""
@@ -85,18 +101,16 @@ def issued_lines(rep: Report) -> list[str]:
 
 
 def summary_table(reports: list[Report]) -> str:
-    rows = [("file", "student", "result", "wrong", "missing", "first cause")]
+    rows = [("file", "student", "result", "score", "correct", "typed", "wrong", "missing", "first cause")]
     for r in reports:
         if r.error:
-            rows.append((r.path, "", "unusable", "", "", r.reason[:60]))
+            rows.append((r.path, "", "unusable", "", "", "", "", "", r.reason[:60]))
         else:
             # the student's own cells (A2, the author, is the scheme's, not the student's)
             who = ", ".join(x for x in (getattr(r, "student", ""), getattr(r, "group", "")) if x)
-            result = ("correct" if r.ok else "data changed" if getattr(r, "given_changed", None)
-                      and not getattr(r, "accepted_changes", False) else "seal broken"
-                      if getattr(r, "seal", "") not in ("", "ok") else "mistakes")
-            rows.append((r.path, who, result, str(len(r.wrong)),
-                         str(len(r.missing)), r.causes[0].name if r.causes else ""))
+            c = counts(r)
+            rows.append((r.path, who, verdict(r), f"{score(r):.1f}", str(c["correct"]), str(c["typed"]),
+                         str(c["wrong"]), str(c["missing"]), r.causes[0].name if r.causes else ""))
     widths = [max(len(x[i]) for x in rows) for i in range(len(rows[0]))]
     return "\n".join("  ".join(x[i].ljust(widths[i]) for i in range(len(x))).rstrip() for x in rows) + "\n"
 
@@ -114,7 +128,9 @@ def _named_positions(rep: Report) -> dict:
     return d
 
 
-def json_report(reports: list[Report]) -> str:
+def json_report(reports: list[Report], copies: dict | None = None) -> str:
+    """Every report (Report.to_dict: verdict, score, score_explained, summary counts), each
+    with its possible copies (sheetkin/course/copies.py): file, student and why."""
     def clean(o):
         if isinstance(o, float) and not math.isfinite(o):
             return None if math.isnan(o) else ("inf" if o > 0 else "-inf")
@@ -123,7 +139,13 @@ def json_report(reports: list[Report]) -> str:
         if isinstance(o, list):
             return [clean(v) for v in o]
         return o
-    return json.dumps(clean({"reports": [_named_positions(r) for r in reports],
+    out = []
+    for i, r in enumerate(reports):
+        d = _named_positions(r)
+        d["possible_copy_of"] = [{"file": reports[j].path, "student": getattr(reports[j], "student", ""), "why": why}
+                                 for j, why in (copies or {}).get(i, [])]
+        out.append(d)
+    return json.dumps(clean({"reports": out,
                              "all_correct": all(r.ok for r in reports)}), indent=1, ensure_ascii=False) + "\n"
 
 
@@ -134,6 +156,31 @@ def html_report(reports: list[Report], copies: dict | None = None) -> str:
 
 
 def copies_lines(reports: list[Report], copies: dict) -> str:
-    """After the summary table: each possible copy (sheetkin/course/copies.py), a pair a line."""
+    """After the summary table: the possible copies (sheetkin/course/copies.py), one line per
+    group of books linked by them (a pair: "a and b: why"), so that a class with many copies
+    of one book gives one line, not every pair (issue 21, item 7)."""
     pairs = sorted({(min(i, j), max(i, j)): why for i, found in copies.items() for j, why in found}.items())
-    return "".join(f"possible copy: {reports[i].path} and {reports[j].path}: {why}\n" for (i, j), why in pairs)
+    parent = list(range(len(reports)))
+
+    def root(i: int) -> int:
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+    for (i, j), _ in pairs:
+        parent[root(j)] = root(i)
+    groups: dict[int, list] = {}
+    for (i, j), why in pairs:
+        groups.setdefault(root(i), []).append((i, j, why))
+    out = []
+    for links in groups.values():
+        books = sorted({k for i, j, _ in links for k in (i, j)})
+        if len(books) == 2:
+            i, j, why = links[0]
+            out.append(f"possible copy: {reports[i].path} and {reports[j].path}: {why}\n")
+            continue
+        whys = list(dict.fromkeys(why for _, _, why in links))
+        out.append(f"possible copy: {len(books)} books linked: " + ", ".join(reports[k].path for k in books)
+                   + ": " + "; ".join(whys[:3]) + (f"; and {len(whys) - 3} more reasons" if len(whys) > 3 else "")
+                   + "\n")
+    return "".join(out)

@@ -155,8 +155,10 @@ def _summary_row(rep: Report, k: int, copy: str = "") -> str:
     who = getattr(rep, "student", "") or _file(rep)
     group = getattr(rep, "group", "")
     variant = getattr(rep, "variant", None) or ""
-    res = "unusable" if rep.error else ("correct" if rep.ok else "mistakes")
-    cls = "ok" if res == "correct" else "wrong"
+    from .grades import VERDICTS, counts, verdict
+    res = verdict(rep)
+    cls = "ok" if res == "all correct" else "wrong"
+    c = counts(rep)
     sc = score(rep)
     causes = ", ".join(c.name for c in rep.causes) if not rep.error else rep.reason[:80]
     missing = ", ".join(r.name for r in rep.missing)
@@ -165,17 +167,21 @@ def _summary_row(rep: Report, k: int, copy: str = "") -> str:
     return (f"<tr><td><a href='#{_anchor(rep, k)}' data-open='{_anchor(rep, k)}'>{e(who or rep.path)}</a></td>"
             f"<td>{e(group)}</td><td>{e(str(variant))}</td>"
             f"<td class='num' data-sort='{'' if sc is None else f'{sc:.3f}'}'>{'' if sc is None else f'{sc:.0f}'}</td>"
-            f"<td class='{cls}' data-sort='{ {'correct': 0, 'mistakes': 1, 'unusable': 2}[res] }'>{res}</td>"
-            f"<td class='num'>{'' if rep.error else len(rep.wrong)}</td>"
-            f"<td>{e(causes)}</td><td class='num' data-sort='{len(rep.missing)}'>{len(rep.missing) or ''}"
-            f"{' (' + e(_cut(missing, 80)) + ')' if missing else ''}</td><td class='{'wrong' if copy else ''}'>{copy}</td>"
+            f"<td class='{cls}' data-sort='{VERDICTS.index(res)}'>{res}</td>"
+            f"<td class='num'>{'' if rep.error else c['correct']}</td>"
+            f"<td class='num'>{'' if rep.error else c['typed']}</td>"
+            f"<td class='num'>{'' if rep.error else c['wrong']}</td>"
+            f"<td>{e(causes)}</td><td class='num' data-sort='{c['missing']}'>{c['missing'] or ''}"
+            f"{' (' + e(_cut(missing, 80)) + ')' if missing else ''}</td>"
+            f"<td class='{'wrong' if copy else ''}'>{copy}</td>"
             f"<td>{e(rep.path)}</td></tr>")
 
 
 def _details(rep: Report, k: int, copy: str = "") -> list[str]:
     e = html.escape
     who = getattr(rep, "student", "") or _file(rep)
-    res = "unusable" if rep.error else ("all correct" if rep.ok else f"{len(rep.wrong)} wrong, {len(rep.missing)} missing")
+    from .grades import counts, explain, verdict
+    res = verdict(rep)
     out = [f"<details id='{_anchor(rep, k)}'><summary>{e(who)}: {e(res)}</summary>",
            f"<p class='note'>{e(rep.path)}{' - ' + e(rep.title) if rep.title else ''}</p>"]
     if rep.error:
@@ -193,11 +199,13 @@ def _details(rep: Report, k: int, copy: str = "") -> list[str]:
                    + "</p>")
     if copy:
         out.append(f"<p class='wrong'>possible copy of: {copy}</p>")
-    sc = score(rep)
-    if sc is not None:
-        out.append(f"<p>score {sc:.1f} (README: Running a class, Grades)</p>")
-    out.append(f"<p>{sum(x.status == 'correct' for x in rep.rows)} rows correct, {len(rep.wrong)} wrong, "
-               f"{len(rep.missing)} missing or empty.</p>")
+    c = counts(rep)
+    out.append(f"<p>score {e(explain(rep))} (docs/grading.md)</p>")
+    out.append(f"<p>{c['correct']} of {c['total']} rows correct (computed), {c['typed']} typed (not computed), "
+               f"{c['wrong']} wrong, {c['missing']} missing or empty.</p>")
+    typed = rep.typed
+    if typed:
+        out.append("<p class='wrong'>typed, not computed: " + e(", ".join(x.name for x in typed)) + "</p>")
     for c in rep.causes:
         out.append(f"<p class='cause'>likely cause: {e(c.name)} (row {c.row}, {e(c.source)}): wrong from "
                    f"{e(position_name(rep, c.first_wrong or 1))}, expected {e(_num(c.expected))}, got "
@@ -224,6 +232,9 @@ def _details(rep: Report, k: int, copy: str = "") -> list[str]:
                        f"{cells}<td>{e(note)}</td></tr>")
         out.append("</table>")
     for title, items in (("Check rows of the sheet that fail", rep.failing_checks),
+                         ("Check rows deleted", getattr(rep, "checks_deleted", [])),
+                         ("Check statuses typed over their formulas", getattr(rep, "checks_typed", [])),
+                         ("Notes", getattr(rep, "notes", [])),
                          ("Formula and saved value disagree", rep.cache_mismatch),
                          ("Cannot evaluate", rep.problems)):
         if items:
@@ -239,12 +250,13 @@ def html_page(reports: list[Report], copies: dict | None = None) -> str:
            "<link rel='icon' href='data:,'><title>sheetkin validation</title>"
            f"<style>{_CSS}</style></head><body>",
            f"<h1>sheetkin: validation of {len(reports)} workbook(s)</h1>",
-           f"<p>{correct} all correct, {len(reports) - correct} with mistakes or unusable. Click a column's "
+           f"<p>{correct} all correct (full marks), {len(reports) - correct} not. Click a column's "
            "header to sort, a name to open the student's details. Positions are named as in the sheet: "
            "its row i and the crank angle phi_1.</p>",
            "<table id='summary'><thead><tr>" + "".join(
                f"<th><button type='button'>{h}</button></th>" for h in
-               ("student", "group", "variant", "score", "result", "wrong rows", "likely causes",
+               ("student", "group", "variant", "score", "result", "rows correct", "rows typed", "wrong rows",
+                "likely causes",
                 "missing rows", "possible copy of", "file")) + "</tr></thead><tbody>"]
     out += [_summary_row(r, k, _copy_links(reports, k, copies, False)) for k, r in enumerate(reports)]
     out.append("</tbody></table>")

@@ -31,6 +31,7 @@ import numpy as np
 from sheetkin.groups import kind_of
 from sheetkin.kinematics.scene import Scene, SceneError, parse_scene
 from sheetkin.sheet.charts import PATHS_SHEET, PLOTTED_SHEET
+from sheetkin.sheet.checks import STATUS as CHECK_STATUS
 from sheetkin.sheet.checks import failing as check_fails
 from sheetkin.sheet.checks import not_applicable as check_na
 from sheetkin.sheet.checks import passing as check_passes
@@ -41,7 +42,8 @@ from sheetkin.xlsx.package import Limits, UnusableWorkbook
 
 from . import issued
 from .copies import submission_marks  # the raw cells copy detection compares
-from .localjudge import judge, name_causes
+from .layout import find_layout, standard_view, without_unread
+from .localjudge import TURN, angle_difference, judge, name_causes
 from .localjudge import typed_tolerance as _typed_tolerance
 
 RTOL = 1e-9            # formulas: the same numbers up to rounding
@@ -68,6 +70,10 @@ class RowReport:
     source: str = "formula"          # formula | typed | cached
     local: str = ""                  # right | wrong | "" (not judged): on the student's own inputs
     note: str = ""                   # for a cause: one line why (a typed number: cell, digits, error below)
+    # issue 21: positions (1-based) where the row holds a typed value, no formula: a computed
+    # row earns credit only where it computes (sheetkin/course/grades.py)
+    typed_cells: list[int] = field(default_factory=list)
+    formula_cells: int = 0           # cells holding a formula (their own, or an array's)
 
 
 @dataclass
@@ -92,6 +98,12 @@ class Report:
     given_changed: list[dict] = field(default_factory=list)
     seal: str = ""                   # "" not checked | "ok" | why it fails
     accepted_changes: bool = False   # --accept-changed-inputs: graded on the student's inputs
+    accepted_typed: bool = False     # --accept-typed: typed numbers right to their digits earn credit
+    # issue 21: the issued check rows deleted from the sheet, and those whose status (column
+    # D) is typed over its formula: they lose their share of the grade
+    checks_deleted: list[str] = field(default_factory=list)
+    checks_typed: list[str] = field(default_factory=list)
+    checks_issued: int = 0
     notes: list[str] = field(default_factory=list)
 
     @property
@@ -115,16 +127,24 @@ class Report:
         return self.error[len(self.path) + 2:] if self.error.startswith(self.path + ": ") else self.error
 
     @property
+    def typed(self) -> list[RowReport]:
+        """Rows holding typed values where formulas belong ("typed, not computed")."""
+        return [r for r in self.rows if r.typed_cells and r.status not in ("missing", "empty")]
+
+    @property
     def ok(self) -> bool:
-        return (self.error is None and not self.wrong and not self.missing
-                and (not self.given_changed or self.accepted_changes) and self.seal in ("", "ok"))
+        """"all correct": full marks (sheetkin/course/grades.py, the one rule every report uses)."""
+        from .grades import verdict
+        return verdict(self) == "all correct"
 
     def to_dict(self) -> dict:
+        from .grades import counts, explain, score, verdict
         d = dataclasses.asdict(self)
         d["ok"] = self.ok
-        d["summary"] = {"correct": sum(r.status == "correct" for r in self.rows),
-                        "wrong": len(self.wrong), "missing": len(self.missing),
-                        "causes": [r.name for r in self.causes]}
+        d["verdict"] = verdict(self)
+        d["score"] = None if self.error else score(self)
+        d["score_explained"] = explain(self)
+        d["summary"] = {**counts(self), "causes": [r.name for r in self.causes]}
         return d
 
 
@@ -185,7 +205,7 @@ def row_ancestors(scene: Scene) -> dict[str, set[str]]:
     return out
 
 
-def _close(got, exp, name: str, typed: bool):
+def _close(got, exp, name: str, typed: bool, period: float | None = None):
     """(ok, error) of one cell against its reference."""
     if isinstance(exp, bool) or isinstance(got, bool):
         return (isinstance(got, bool) and isinstance(exp, bool) and got == exp), (0.0 if got == exp else 1.0)
@@ -194,9 +214,7 @@ def _close(got, exp, name: str, typed: bool):
         return (not isinstance(got, float)), (0.0 if not isinstance(got, float) else math.inf)
     if not isinstance(got, float):
         return False, math.inf
-    d = abs(got - exp)
-    if name.startswith("phi_"):
-        d = min(d, abs(360.0 - d))
+    d = float(angle_difference(abs(got - exp), period))      # angles: modulo a full turn
     tol = max(ATOL, RTOL * abs(exp))
     if typed:
         tol = max(tol, _typed_tolerance(got))
@@ -245,20 +263,27 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
         if broken.startswith("scene sheet edited"):
             raise UnusableInput(f"{path}: {broken}; and it no longer reads: {e}") from e
         raise
-    main = book.order[0]
-    sh = book.sheets[main]
-    evaluated = _evaluate_student(book)
+    # the graded sheet and its columns, found by their content (sheetkin/course/layout.py);
+    # graded through a view in the issued layout (names A, value D, positions from E)
+    ref_rows = sheet_rows(scene).rows
+    issued_positions = scene.crank.positions
+    layout = find_layout(book.sheets, book.order, {r.name for r in ref_rows if r.kind != "section"}, "",
+                         issued_positions, list(range(issued_positions)), {SCENE_SHEET, PATHS_SHEET})
+    if layout is None:
+        raise UnusableInput(f"{path}: no sheet holds the rows of the issued table (names such as "
+                            f"{', '.join(r.name for r in ref_rows if r.kind == 'calc')[:60]}... in a column)")
+    main = layout.sheet
+    evaluated, sh = standard_view(_evaluate_student(book, layout), layout)
     names: dict[str, int] = {}
     for r in range(5, sh.max_row + 1):
         v = sh.consts.get((r, 1))
         if isinstance(v, str) and v and v not in names:
             names[v] = r
     # the variant: the student's input block and columns
-    ref_rows = sheet_rows(scene).rows
     input_names = {r.name for r in ref_rows if r.kind == "input"}
-    where = {n: f"{main}!D{r}" for n, r in names.items()}
+    where = {n: f"{main}!{layout.cell(r, 4)}" for n, r in names.items()}
     inputs = _inputs(evaluated, main, {n: r for n, r in names.items() if n in input_names})
-    positions = max([c for (rr, c) in list(sh.formulas) + list(sh.consts) if rr >= 5 and c >= FIRST_COL] or [FIRST_COL]) - FIRST_COL + 1
+    positions = issued_positions          # the issued ones, whatever lies right of the table
     # the given data: graded against the issued variant unless the changes are accepted
     given = issued.check_given(scene, scene_text, book.sheets[SCENE_SHEET].consts, inputs, where, options)
     accept = bool(options and options.accept_changed)
@@ -271,12 +296,16 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
                     student=_identity(evaluated, main, sh, names.get("student")),
                     group=_identity(evaluated, main, sh, names.get("group")),
                     variant=given.variant, given_changed=given.changed, seal=given.seal,
-                    accepted_changes=accept, notes=given.notes)
+                    accepted_changes=accept, accepted_typed=bool(options and getattr(options, "accept_typed", False)),
+                    notes=given.notes + layout.notes
+                    + ([layout.outside_line()] if layout.outside else []))
+    report.layout = layout                  # not a field: the student's cells (report texts)
     report.position_names = [(ref_book.value(ref_sheet, ref_names["i"], FIRST_COL + k),
                               ref_book.value(ref_sheet, ref_names["phi_1"], FIRST_COL + k)) for k in range(positions)]
     report.variant_scene = student_scene    # not a field (not in to_dict): the report's picture
     ancestors = row_ancestors(student_scene)
     kinds = {r.name: r.kind for r in ref_rows}
+    periods = {r.name: TURN[r.unit] for r in ref_rows if r.unit in TURN}
     # not fields (not in to_dict): the raw cells copy detection compares (sheetkin/course/copies.py),
     # and how many check rows the sheet has (grades: checks passing / total)
     computed = {r.name: names[r.name] for r in ref_rows
@@ -303,10 +332,14 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
             if not typed and evaluated.tag[main][r, c] == 14 and (r, c) in sh.cached:
                 got, rep.source = sh.cached[(r, c)], "cached"        # a formula we cannot evaluate
                 got = float(got) if isinstance(got, (int, float)) and not isinstance(got, bool) else got
+            if not typed:
+                rep.formula_cells += 1
             if typed:
                 rep.source = "typed"
+                if got is not None:
+                    rep.typed_cells.append(k + 1)
             exp = ref_book.value(ref_sheet, rr, c)
-            ok, err = _close(got, exp, row.name, typed)
+            ok, err = _close(got, exp, row.name, typed, periods.get(row.name))
             if not ok:
                 rep.wrong_cells.append(k + 1)
                 if rep.first_wrong is None:
@@ -322,28 +355,56 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
     graded = {r.name for r in report.rows if r.status in ("correct", "wrong")}
     judged = [r.name for r in ref_rows if r.name in graded or (r.kind == "derived" and r.name in names)]
     local = judge(ref_book, evaluated, main, names, judged,
-                  {r.name for r in report.rows if r.status in ("missing", "empty")})
+                  {r.name for r in report.rows if r.status in ("missing", "empty")}, periods, layout.columns)
 
     def derived_row(name: str, col: int) -> RowReport:
         return RowReport(name, names[name], "correct", kind="derived",
                          source="formula" if sh.computed(names[name], col) else "typed")
     name_causes(report.rows, local, ancestors, input_names, derived_row)
-    report.cache_mismatch = _cache_mismatches(evaluated, main, {r for n, r in names.items() if n.startswith("phi_")})
+    report.cache_mismatch = _cache_mismatches(evaluated, main, {r for n, r in names.items() if n.startswith("phi_")},
+                                              columns=layout.columns)
+    _read_checks(report, evaluated, main, sh, names, ref_rows, ref_book, ref_names)
+    return report
+
+
+def _read_checks(report: Report, evaluated: Book, main: str, sh: Sheet, names: dict[str, int], ref_rows,
+                 ref_book: Book, ref_names: dict) -> None:
+    """The student's check rows (issue 21, item 3): their statuses, which fail, which were
+    deleted or typed over, and how many of the issued ones apply to the variant."""
+    kinds = {r.name: r.kind for r in ref_rows}
+    ref_sheet, positions = ref_book.order[0], report.positions
     # status 1 or an error fails; 0, n/a and "not filled in" do not (sheetkin/sheet/checks.py)
     # a status typed over its formula (a 0 typed to make the row green) says nothing: it
     # fails, as an error would (it once hid the failing checks and raised the score)
     statuses = {n: evaluated.value(main, r, 4) if sh.computed(r, 4) else "#TYPED"
                 for n, r in names.items()
                 if n.startswith(("chk", "fd_")) and kinds.get(n) in ("check", "fdcheck")}
-    typed = [n for n, v in statuses.items() if v == "#TYPED"]
-    if typed:
-        report.notes.append(f"check status typed over its formula (column D; counted as failing): {', '.join(typed)}")
-    report.failing_checks = [n for n, s in statuses.items() if check_fails(s)]
+    # issue 21: the check rows are part of the work (the lecture's step 10): a check row
+    # deleted, or its status typed over, loses its share of the grade
+    issued_checks = [r.name for r in ref_rows if r.kind in ("check", "fdcheck")]
+    report.checks_issued = len(issued_checks)
+    # the check rows that apply: those with a number at some position of the reference (the
+    # others are "н/д" in every book of the variant: numeric derivatives above 3 deg ...)
+    report.checks_apply = sum(any(isinstance(ref_book.value(ref_sheet, ref_names[n], FIRST_COL + k), float)
+                                  for k in range(positions)) for n in issued_checks if n in ref_names)
+    report.checks_deleted = [n for n in issued_checks if n not in names]
+    report.checks_typed = [n for n, v in statuses.items() if v == "#TYPED"]
+    if report.checks_typed:
+        report.notes.append(f"check status typed over its formula (column D; counted as failing, its share of "
+                            "the grade lost): "
+                            f"{', '.join(report.checks_typed)}")
+    if report.checks_deleted:
+        report.notes.append(f"check rows deleted (counted as failing, their share of the grade lost): "
+                            f"{', '.join(report.checks_deleted)}")
+    # deleted or typed over, a check row also counts as failing: hiding a failing check
+    # must never pay (it costs its share and the failing check's points)
+    report.failing_checks = [n for n, s in statuses.items() if check_fails(s)] + report.checks_deleted
     # not fields: grades count the checks that pass (0) of those that apply (not "н/д"), as the
     # sheet's summary does; "не заполнено" and "н/д" are not passing (an empty book passes none)
     report.checks_passing = sum(check_passes(s) for s in statuses.values())
     report.checks_na = sum(check_na(s) for s in statuses.values())
-    return report
+    unfilled = {t["unfilled"] for t in CHECK_STATUS.values()}
+    report.checks_unfilled = sum(isinstance(s, str) and s in unfilled for s in statuses.values())
 
 
 def _identity(evaluated, main: str, sh, row: int | None) -> str:
@@ -366,11 +427,13 @@ def _text(v) -> str:
     return " ".join(str(v).split())[:200]
 
 
-def _evaluate_student(raw) -> Book:
+def _evaluate_student(raw, layout=None) -> Book:
     # the charts' hidden `paths` and `plotted` sheets (360 positions of the coordinates; the
     # plotted rows as numbers or #N/A) are not graded and nothing on the kinematics sheet
     # refers to them: leaving them out halves the work
     sheets = {n: sh for n, sh in raw.sheets.items() if n not in (PATHS_SHEET, PLOTTED_SHEET)}
+    if layout is not None:        # cells no formula can read, outside the table: not evaluated
+        sheets = without_unread(sheets, raw.names, layout, {SCENE_SHEET})
     return evaluate_sheets(raw.path, sheets, [n for n in raw.order if n in sheets], raw.names, strict=False)
 
 
@@ -423,8 +486,10 @@ def _template_sheet(scene: Scene) -> tuple[Sheet, dict[str, int]]:
     # the sheet's own check rows, their status cells and the summary above are not graded
     # against a reference (the student's checks are read from the student's sheet): left
     # out, they would be half of each variant's evaluation (SUMPRODUCT, COUNT, IF per row)
+    # (their cells per position stay: which check rows apply, not "н/д", is the reference's)
     unchecked = {r for n, r in input_rows.items() if n in _check_rows(scene)}
-    sheet.formulas = {(r, c): f for (r, c), f in sheet.formulas.items() if r >= 5 and r not in unchecked}
+    sheet.formulas = {(r, c): f for (r, c), f in sheet.formulas.items()
+                      if r >= 5 and (r not in unchecked or c >= FIRST_COL)}
     return sheet, input_rows
 
 
@@ -456,7 +521,8 @@ def _build_reference(scene: Scene, evaluate: bool = True):
     return evaluate_sheets("<reference>", sheets, order, {}, strict=True)
 
 
-def _cache_mismatches(book: Book, sheet: str, angle_rows: set[int] = frozenset(), limit: int = 50) -> list[str]:
+def _cache_mismatches(book: Book, sheet: str, angle_rows: set[int] = frozenset(), limit: int = 50,
+                      columns: dict[int, int] | None = None) -> list[str]:
     """Formula cells whose value, as the spreadsheet last saved it, differs from what the
     formula gives now (stale values, or a number pasted over a formula's result). On the
     rows of link angles, in [0, 360), 359.99999999999994 and 0 are the same angle (MOD's
@@ -476,7 +542,8 @@ def _cache_mismatches(book: Book, sheet: str, angle_rows: set[int] = frozenset()
             continue
         elif isinstance(cached, str) and isinstance(now, str) and now.startswith("#") and cached.startswith("#"):
             continue                                     # errors: LibreOffice and Excel name some differently
-        out.append(f"{sheet}!{get_column_letter(c)}{r} (formula gives {now!r}, saved value {cached!r})")
+        out.append(f"{sheet}!{get_column_letter((columns or {}).get(c, c))}{r} (formula gives {now!r}, "
+                   f"saved value {cached!r})")
         if len(out) >= limit:
             break
     return out

@@ -214,6 +214,9 @@ _TEXT = {
            "na": "n/a", "author": "author", "pos": "position"},
 }
 _EXERCISE_KEEP = {"i", "phi_1"}
+# the header row's texts in every language, by column (name, unit, desc, value): the
+# validator finds a student's columns by them (sheetkin/course/layout.py)
+HEADERS = {key: frozenset(t[key] for t in _TEXT.values()) for key in ("name", "unit", "desc", "value")}
 
 
 def prefilled_in_exercise(name: str, kind: str) -> bool:

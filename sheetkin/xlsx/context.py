@@ -70,11 +70,49 @@ def _rows_cols(r1: int, r2: int, c1: int, c2: int, nr: int, nc: int) -> tuple[np
     return np.arange(r1, r2 + 1), np.arange(c1, c2 + 1)
 
 
+# functions whose arguments are single values: a range there is intersected (the others,
+# SUM, SUMPRODUCT, INDEX, CHOOSE ..., read their arguments whole)
+SCALAR_CONTEXT = frozenset(SCALAR_FUNCS) | frozenset(fx.ROUNDING) | {
+    "PI", "IF", "IFERROR", "NOT", "ISNUMBER", "ISERROR", "ISTEXT", "NA", "TRUE", "FALSE", "TRUNC"}
+
+
+def intersect(v: Val, ref: Ref, run: Run) -> Val:
+    """Implicit intersection of the range `ref` (its value v, shape (k0, R, C)) with each cell
+    of the run: the cell in the formula's row (a column range) or column (a row range);
+    #VALUE! where the formula's row or column misses the range."""
+    k0, R, C = v.shape
+    k = len(run.cols)
+    r1, _, c1, _ = _target_block(run, ref)
+    i = np.full(k, run.row - r1) if R > 1 else np.zeros(k, np.int64)
+    j = (run.cols - c1) if C > 1 else np.zeros(k, np.int64)
+    bad = (i < 0) | (i >= R) | (j < 0) | (j >= C)
+    i, j = np.where(bad, 0, i), np.where(bad, 0, j)
+    cells = np.arange(k) if k0 == k else np.zeros(k, np.int64)
+    pick = (cells, i, j)
+    out = Val(v.num[pick].reshape(k, 1, 1), v.tag[pick].reshape(k, 1, 1).astype(np.int8),
+              None if v.txt is None else np.asarray(v.txt)[pick].reshape(k, 1, 1))
+    return _with_error(out, np.where(bad, VALUE, 0).astype(np.int8).reshape(k, 1, 1))
+
+
 class _Context:
     def __init__(self, num, tag, txt, scopes):
         self.num, self.tag, self.txt, self.scopes = num, tag, txt, scopes
         self.open_names: set = set()          # the names being evaluated (a cycle: #REF!)
         self.arrays: dict = {}                # sheet -> its array formulas (Sheet.arrays)
+        # Excel's implicit intersection: in a formula that is not an array formula, a range
+        # where one value is expected (=RADIANS(phi) with phi = $E$31:$Q$31, =E1:I1*2) is
+        # the cell in the formula's column (a row range) or row (a column range); off
+        # inside the arguments of functions that take ranges (SUM, SUMPRODUCT, INDEX ...),
+        # which Excel evaluates as arrays. Set per run by formula().
+        self.implicit = False
+
+    def formula(self, tree, run: Run) -> Val:
+        """A run's formula evaluated, with implicit intersection unless it is an array formula."""
+        self.implicit = run.array is None
+        try:
+            return self.eval(tree, run)
+        finally:
+            self.implicit = False
 
     def name(self, name: str, run: Run):
         """The tree a name stands for in a formula of run's sheet, or None."""
@@ -152,7 +190,8 @@ class _Context:
         if kind == "const":
             return _const(node[1])
         if kind == "ref":
-            return self.ref(node[1], run)
+            v = self.ref(node[1], run)
+            return intersect(v, node[1], run) if self.implicit and v.shape[1:] != (1, 1) else v
         if kind == "name":
             tree = self.name(node[1], run)
             if tree is None:
@@ -185,6 +224,15 @@ class _Context:
         raise EvaluationError(f"cannot evaluate {node!r}")
 
     def call(self, name: str, args, run: Run) -> Val:
+        if self.implicit and name not in SCALAR_CONTEXT:
+            self.implicit = False             # its arguments are ranges or arrays (Excel)
+            try:
+                return self._call(name, args, run)
+            finally:
+                self.implicit = True
+        return self._call(name, args, run)
+
+    def _call(self, name: str, args, run: Run) -> Val:
         lazy = LAZY.get(name)
         if lazy is not None:
             return lazy.hook(self, args, run)
@@ -223,22 +271,12 @@ class _Context:
         if len(args) != 1:
             return _const("#VALUE!", len(run.cols))
         v = self.eval(args[0], run)
-        k0, R, C = v.shape
-        k = len(run.cols)
+        _, R, C = v.shape
         if (R, C) == (1, 1):
             return v
         if args[0][0] != "ref":
             return Val(v.num[:, :1, :1], v.tag[:, :1, :1], None if v.txt is None else v.txt[:, :1, :1])
-        r1, _, c1, _ = _target_block(run, args[0][1])
-        i = np.full(k, run.row - r1) if R > 1 else np.zeros(k, np.int64)
-        j = (run.cols - c1) if C > 1 else np.zeros(k, np.int64)
-        bad = (i < 0) | (i >= R) | (j < 0) | (j >= C)
-        i, j = np.where(bad, 0, i), np.where(bad, 0, j)
-        cells = np.arange(k) if k0 == k else np.zeros(k, np.int64)
-        pick = (cells, i, j)
-        out = Val(v.num[pick].reshape(k, 1, 1), v.tag[pick].reshape(k, 1, 1).astype(np.int8),
-                  None if v.txt is None else np.asarray(v.txt)[pick].reshape(k, 1, 1))
-        return _with_error(out, np.where(bad, VALUE, 0).astype(np.int8).reshape(k, 1, 1))
+        return intersect(v, args[0][1], run)
 
     def index(self, args, run: Run) -> Val:
         """INDEX(array, row, [column]): one element per cell of the run, or a whole row or

@@ -196,9 +196,9 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
                 else:
                     try:
                         if part.array is not None:
-                            _write_array(ctx.eval(part.tree, part), part, num, tag, txt)
+                            _write_array(ctx.formula(part.tree, part), part, num, tag, txt)
                             continue
-                        v = _as_cells(ctx.eval(part.tree, part), k)
+                        v = _as_cells(ctx.formula(part.tree, part), k)
                     except (EvaluationError, UnusableWorkbook):
                         raise
                     except Exception as e:      # noqa: BLE001 - the cell's problem, not the process's
@@ -506,7 +506,7 @@ def evaluate_runs(runs: list[Run], num: dict, tag: dict, txt: dict) -> list[tupl
         for run in runs:
             k = len(run.cols)
             try:
-                v = _as_cells(ctx.eval(run.tree, run), k)
+                v = _as_cells(ctx.formula(run.tree, run), k)
             except Exception:      # noqa: BLE001 - the cell's problem, not the caller's
                 v = _const("#VALUE!", k)
             out.append((run, v.num[:, 0, 0], v.tag[:, 0, 0]))

@@ -296,7 +296,7 @@ def test_empty_and_missing_rows_are_one_line_each():
     lines = text_report(rep).splitlines()
     assert sum(line.startswith("  empty (60): r0 (row 30), r1 (row 31), ") for line in lines) == 1
     assert "  missing (1): omega_3 (no row of that name in column A)" in lines
-    assert len(lines) == 4
+    assert len(lines) == 5          # the file, the counts, the verdict and score (issue 21), empty, missing
 
 
 def test_another_class_key_or_roster_is_one_warning(issued, tmp_path, capsys):

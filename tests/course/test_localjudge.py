@@ -160,7 +160,8 @@ def test_the_causes_are_the_rows_at_fault(books, mistake):
             assert r.because_of and set(r.because_of) <= CAUSES[mistake], r
             # right on its inputs (omega_2 typed from the key is right, but not on its inputs)
             assert r.local == "right" or (mistake, r.name) == ("copied_over_broken_chain", "omega_2")
-    assert rep.ok == (not CAUSES[mistake])
+    # a typed number earns nothing even when right (issue 21): such a book is not "all correct"
+    assert rep.ok == (not CAUSES[mistake] and not rep.typed)
 
 
 def test_rounded_typed_number_is_named_with_its_cell_and_digits(books, values, fourbar):
@@ -210,7 +211,8 @@ def test_typed_over_a_formula(books, values):
     saying what its inputs give."""
     rep = validate(books["full_digits_over_formula"])
     om = by_name(rep)["omega_2"]
-    assert rep.ok and om.source == "typed" and om.local == "right" and not om.cause and not om.note
+    assert om.source == "typed" and om.local == "right" and not om.cause and not om.note
+    assert not rep.wrong and [r.name for r in rep.typed] == ["omega_2"] and not rep.ok     # typed, not computed
     rep = validate(books["wrong_number_over_formula"])
     om = by_name(rep)["omega_3"]
     typed = round(1.1 * values["omega_3", OMEGA_COL], 3)

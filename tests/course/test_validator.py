@@ -203,8 +203,14 @@ def test_only_values(saved_by_libreoffice, tmp_path):
                     c.value = vs.cell(c.row, c.column).value
     wb.save(tmp_path / "values.xlsx")
     rep = validate(tmp_path / "values.xlsx")
-    assert rep.ok, [(r.name, r.expected, r.got) for r in rep.wrong][:3]
+    # the values are right (to the digits LibreOffice saved) ...
+    assert not rep.wrong, [(r.name, r.expected, r.got) for r in rep.wrong][:3]
     assert {r.source for r in rep.rows} == {"typed"}
+    # ... but a computed row earns credit only when it computes (issue 21): no formula, at
+    # most 10 of 100, and the book fails
+    from sheetkin.course import grades
+    assert not rep.ok and grades.verdict(rep) == "typed, not computed"
+    assert grades.score(rep) <= grades.NO_FORMULA_CAP and grades.counts(rep)["correct"] == 0
 
 
 def test_unusable_inputs_in_a_batch(fourbar, tmp_path, capsys):
@@ -231,7 +237,7 @@ def test_unusable_inputs_in_a_batch(fourbar, tmp_path, capsys):
     assert main(["validate", str(folder / "text_input.xlsx"), "--accept-changed-inputs"]) == 2
     assert "UNUSABLE" in capsys.readouterr().out
     # the summary table; its student column is the student's own cells (blank here), not A2
-    assert re.search(r"good\.xlsx\s+correct", out) and "sheetkin example  " not in out
+    assert re.search(r"good\.xlsx\s+all correct", out) and "sheetkin example  " not in out
     after = {p.name: hashlib.sha256(p.read_bytes()).hexdigest() for p in folder.iterdir()}
     assert before == after                                                    # never modified
 
