@@ -133,7 +133,13 @@ def html_report(reports: list[Report], copies: dict | None = None) -> str:
     return html_page(reports, copies)
 
 
-def copies_lines(reports: list[Report], copies: dict) -> str:
-    """After the summary table: each possible copy (sheetkin/course/copies.py), a pair a line."""
-    pairs = sorted({(min(i, j), max(i, j)): why for i, found in copies.items() for j, why in found}.items())
-    return "".join(f"possible copy: {reports[i].path} and {reports[j].path}: {why}\n" for (i, j), why in pairs)
+def copies_lines(reports: list[Report], copies) -> str:
+    """After the summary table: each cluster of possible copies (sheetkin/course/copies.py)
+    a line, its files and its reasons (each reason's files when not the whole cluster)."""
+    out = []
+    for c in getattr(copies, "clusters", []):
+        files = ", ".join(reports[i].path for i in c.members)
+        why = "; ".join(t if len(m) == len(c.members) else f"{t} ({', '.join(reports[i].path for i in m)})"
+                        for t, m in c.reasons)
+        out.append(f"possible copy: {len(c.members)} files {files}: {why}\n")
+    return "".join(out)

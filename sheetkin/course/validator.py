@@ -92,6 +92,7 @@ class Report:
     given_changed: list[dict] = field(default_factory=list)
     seal: str = ""                   # "" not checked | "ok" | why it fails
     accepted_changes: bool = False   # --accept-changed-inputs: graded on the student's inputs
+    issued_to: str = ""              # the identifier sealed in it by `variants --class-list`
     notes: list[str] = field(default_factory=list)
 
     @property
@@ -271,7 +272,8 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
                     student=_identity(evaluated, main, sh, names.get("student")),
                     group=_identity(evaluated, main, sh, names.get("group")),
                     variant=given.variant, given_changed=given.changed, seal=given.seal,
-                    accepted_changes=accept, notes=given.notes)
+                    accepted_changes=accept, notes=given.notes, issued_to=given.student)
+    report.roster_differs = given.roster_differs   # not a field: one warning for the class (cli)
     report.position_names = [(ref_book.value(ref_sheet, ref_names["i"], FIRST_COL + k),
                               ref_book.value(ref_sheet, ref_names["phi_1"], FIRST_COL + k)) for k in range(positions)]
     report.variant_scene = student_scene    # not a field (not in to_dict): the report's picture
