@@ -199,7 +199,7 @@ def read_roster(path) -> Roster:
             text = raw.decode("cp1251")          # re-saved by a Russian Excel ("CSV (разделители - запятые)")
         except UnicodeDecodeError:
             line = raw[:e.start].count(b"\n") + 1
-            raise RosterError(one_line(f"{p}:{line}: neither UTF-8 nor Windows-1251 text; expected roster.csv "
+            raise RosterError(one_line(f"{p}:{line}: not UTF-8 (nor Windows-1251) text; expected roster.csv "
                                        "as `sheetkin variants` writes it")) from None
     return parse_roster(text, p)
 
