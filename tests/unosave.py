@@ -6,7 +6,6 @@ from __future__ import annotations
 import json
 import shutil
 import subprocess
-import sys
 import tempfile
 from pathlib import Path
 
@@ -61,8 +60,10 @@ def save_as(jobs: list[tuple[Path, Path, str | None]], timeout: float = 240) -> 
     spec = [[str(Path(s).resolve()), str(Path(d).resolve()), FILTERS[Path(d).suffix.lower()], p]
             for s, d, p in jobs]
     with tempfile.TemporaryDirectory(prefix="sheetkin-uno-") as profile:
-        subprocess.run(["/usr/bin/python3", "-c", _SCRIPT, json.dumps(spec), soffice, Path(profile).as_uri()],
-                       check=True, timeout=timeout, stdout=sys.stderr, stderr=sys.stderr)
+        done = subprocess.run(["/usr/bin/python3", "-c", _SCRIPT, json.dumps(spec), soffice, Path(profile).as_uri()],
+                              timeout=timeout, capture_output=True, text=True)
+    if done.returncode:
+        raise RuntimeError(f"the UNO script failed ({done.returncode}): {done.stderr[-2000:]}")
     for _, d, _ in jobs:
         if not Path(d).is_file():
             raise RuntimeError(f"LibreOffice did not write {d}")
