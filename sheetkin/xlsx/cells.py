@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import gc
 import io
+import os
 import re
 import shutil
 import tempfile
@@ -658,7 +659,11 @@ _SNIFF_BYTES = 1 << 16      # what is read to tell a file's kind (never the whol
 
 
 def _head(path, n: int = _SNIFF_BYTES) -> bytes:
+    """The file's first n bytes; b"" for anything but a regular file (a FIFO would block)."""
+    import stat
     try:
+        if not stat.S_ISREG(os.stat(path).st_mode):
+            return b""
         with open(path, "rb") as fh:
             return fh.read(n)
     except (OSError, ValueError):
@@ -669,7 +674,7 @@ def _ole_streams(path) -> dict[str, tuple[int, int]]:
     """{stream name: (first sector's offset, size)} of an OLE compound file (.xls, or an
     encrypted Office file), from its first directory sector; {} when it is not one."""
     import struct
-    head = _head(path, 512)
+    head = _head(path, 512)          # a regular file's, or b"" (then nothing else is opened)
     if len(head) < 512 or not head.startswith(_OLE):
         return {}
     shift = struct.unpack_from("<H", head, 0x1E)[0]
