@@ -5,7 +5,10 @@ scene whose given data (lengths, coordinates, ...) differ from the others'. The 
 carries the variant's id and scene (hidden sheet `scene`, workbook.ISSUED_LABELS), and a
 seal: HMAC-SHA256, under the teacher's key, of the id and the scene's text. The key is a
 file the teacher keeps (DIR/.sheetkin-key, written by `variants`), never in a workbook, so a
-student who edits the hidden sheet cannot make a matching seal.
+student who edits the hidden sheet cannot make a matching seal. A book issued to one
+student (`variants --class-list`) holds their identifier in C3 (label in B3), under the
+same seal. A book whose seal checks is graded against its sealed data; keys of earlier
+issues, kept dated beside the key by `variants --force`, still check their books.
 
 The validator asks `check_given` which values were issued (from roster.csv, or else from
 the embedded scene) and which of them the student's input block changed. A leaf below the
