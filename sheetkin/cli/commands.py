@@ -351,8 +351,10 @@ def cmd_validate(args) -> int:
     mtimes = [_mtime(p) for p in real]
     identities = identify(reports, class_list, assignment, mtimes)
     digests = [None if r.error else file_digest(p) for r, p in zip(reports, real, strict=True)]
+    from sheetkin.course.copies import roster_variants
+    variants = roster_variants(options.roster, assignment) if options.roster is not None else None
     copies = possible_copies(reports, digests, [m.who for m in identities],
-                             assignment.assigned() if assignment else None) if len(reports) > 1 else Copies()
+                             assignment.assigned() if assignment else None, variants) if reports else Copies()
     if show:
         sys.stderr.write("\n")
     if keyless and any(r.variant for r in reports):

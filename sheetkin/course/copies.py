@@ -291,17 +291,86 @@ def _computed_sources(reports, wrong) -> dict[tuple[int, int], int]:
     return found
 
 
+def _variant_sources(reports, wrong, variants: dict, linked: set[int]) -> list[tuple[str, list[int]]]:
+    """Books whose typed numbers (wrong there) equal another variant's computed values (its
+    key's): a classmate's results, or a key, typed in. variants: {variant id: (label, a
+    function giving {(row, position): value})}, computed once each, only when needed."""
+    from .localjudge import typed_digits, typed_tolerance
+    cache: dict = {}
+    out = []
+    for i, rep in enumerate(reports):
+        marks = getattr(rep, "marks", None)
+        if not marks or rep.error or i in linked:
+            continue
+        cells = {c: v for c, v in marks["typed"].items() if c in wrong[i] and typed_digits(v) >= 3}
+        if len(cells) < COPY_TYPED_CELLS:
+            continue
+        for vid, (label, values) in variants.items():
+            if vid == getattr(rep, "variant", ""):
+                continue
+            if vid not in cache:
+                try:
+                    cache[vid] = values()
+                except Exception:       # noqa: BLE001 - a variant that cannot be computed is no source
+                    cache[vid] = {}
+            got = cache[vid]
+            n = sum(1 for c, v in cells.items() if c in got and abs(got[c] - v) <= typed_tolerance(v))
+            if n >= COPY_TYPED_CELLS:
+                out.append((f"{n} typed numbers equal to variant {vid}'s computed values ({label})", [i]))
+    return out
+
+
+def roster_variants(roster, assignment=None) -> dict:
+    """{variant id: (label, values)} for _variant_sources from the roster's scene files: the
+    label names the variant's key file and the students it was issued to (assignment)."""
+    from pathlib import Path
+    folder = Path(roster.path).parent
+    issued_to: dict[str, list[str]] = defaultdict(list)
+    for name, vid, _ in (assignment.people.values() if assignment else ()):
+        issued_to[vid].append(name)
+    out = {}
+    for vid, files in roster.files.items():
+        scene_file = folder / files.get("scene", "")
+        if not files.get("scene") or not scene_file.is_file():
+            continue
+        who = f", issued to {', '.join(issued_to[vid])}" if issued_to.get(vid) else ""
+        out[vid] = (f"key {folder / files.get('key', '')}{who}", lambda p=scene_file: _computed_values(p))
+    return out
+
+
+def _computed_values(scene_file) -> dict:
+    """{(row name, position): value} of the computed rows of a scene's reference sheet."""
+    from sheetkin.kinematics.scene import parse_scene
+    from sheetkin.sheet.workbook import FIRST_COL, sheet_rows
+
+    from .validator import _reference
+    scene = parse_scene(scene_file.read_text(encoding="utf-8"), str(scene_file))
+    book = _reference(scene)
+    sheet = book.order[0]
+    rows = {book.sheets[sheet].consts.get((r, 1)): r for r in range(5, book.sheets[sheet].max_row + 1)}
+    out = {}
+    for row in sheet_rows(scene).rows:
+        if row.kind in ("calc", "accepted", "guard") and row.name in rows:
+            for k in range(scene.crank.positions):
+                v = book.value(sheet, rows[row.name], FIRST_COL + k)
+                if isinstance(v, float) and v == v:
+                    out[(row.name, k + 1)] = v
+    return out
+
+
 def _label(reports, i: int) -> str:
     name = str(getattr(reports[i], "student", "") or "")
     return f"{reports[i].path}{f' ({name})' if name else ''}"
 
 
 def possible_copies(reports, digests: list | None = None, who: list | None = None,
-                    assigned: dict | None = None) -> Copies:
+                    assigned: dict | None = None, variants: dict | None = None) -> Copies:
     """The clusters of submissions that look copied (the module's rules). digests:
     file_digest of each report's file (computed here when not given); who: each report's
     submitter (a Moodle identifier, or ""), for the identity rules; assigned: {variant:
-    students it was issued to} from an assignment (None: no assignment)."""
+    students it was issued to} from an assignment (None: no assignment); variants: the
+    issued variants' computed values (roster_variants), for typed numbers taken from a
+    variant no submission computed (a key, an absent classmate)."""
     if digests is None:
         digests = [None if r.error else file_digest(r.path) for r in reports]
     who = list(who) if who is not None else [_name_of(r) for r in reports]
@@ -315,9 +384,13 @@ def possible_copies(reports, digests: list | None = None, who: list | None = Non
     for i, found in sorted(links.items()):          # one group per book: linear in the class
         most = max(n for _, n in found)
         groups.append((f"{most} identical typed numbers, wrong for one variant at least", [i, *(j for j, _ in found)]))
+    linked = set()
     for (i, j), n in sorted(_computed_sources(reports, wrong).items()):
         if n >= COPY_TYPED_CELLS:
             groups.append((f"{n} typed numbers equal to what {_label(reports, j)} computed", [i, j]))
+            linked.add(i)
+    if variants:
+        groups += _variant_sources(reports, wrong, variants, linked)
     groups += _identity_groups(reports, who, assigned)
     formula_at = defaultdict(list)
     for i, rep in enumerate(reports):
