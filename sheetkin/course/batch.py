@@ -92,6 +92,7 @@ def submission_files(paths, strict: bool = True, unpack: bool = True) -> Submiss
     seen: dict[tuple, str] = {}
 
     def add(f: Path, shown: str) -> None:
+        key: tuple
         try:
             st = f.stat()
             key = (st.st_dev, st.st_ino)

@@ -179,7 +179,7 @@ def read_class_list(path: str) -> ClassList:
         raise ClassListError(f"{path}:1: --class-list: expected columns 'First name' and 'Last name' (or "
                              f"'Full name') and one of {', '.join(repr(h) for h in ID_HEADERS)}; got "
                              f"{', '.join(repr(h) for h in rows[0])}"[:600])
-    out = ClassList(id_header, {}, set(), [], path)
+    out = ClassList(id_header or ID_HEADERS[0], {}, set(), [], path)
     for line, row in enumerate(rows[1:], 2):
         if not any(c.strip() for c in row):
             continue

@@ -183,7 +183,7 @@ class Copies(dict):
     """possible_copies' answer: {report index: its Cluster}, and `clusters` in order.
     Every consumer names a cluster once, and a book's line names at most MAX_LISTED others."""
 
-    def __init__(self, clusters: list[Cluster] = ()):
+    def __init__(self, clusters: list[Cluster] | tuple = ()):
         super().__init__()
         self.clusters = list(clusters)
         for c in self.clusters:
