@@ -219,6 +219,8 @@ def parse_roster(text: str, p: str = "roster.csv") -> Roster:
         if not header or not any(h.strip() for h in header):
             raise RosterError(one_line(f"{p}:1:1: empty; expected a header: {','.join(ROSTER_FIXED)},<given data>..."))
         header = [h.strip() for h in header]
+        while len(header) > len(ROSTER_FIXED) and not header[-1]:
+            header.pop()                  # Excel's empty trailing columns
         for k, want in enumerate(ROSTER_FIXED):
             if k >= len(header) or header[k] != want:
                 got = header[k] if k < len(header) else "nothing"
@@ -235,6 +237,8 @@ def parse_roster(text: str, p: str = "roster.csv") -> Roster:
             line = reader.line_num
             if not fields or all(not f.strip() for f in fields):
                 continue
+            while len(fields) > len(header) and not fields[-1].strip():
+                fields = fields[:-1]          # Excel pads a row with empty fields (";;;")
             if len(fields) != len(header):
                 raise RosterError(one_line(f"{p}:{line}:{min(len(fields), len(header)) + 1}: {len(fields)} "
                                            f"fields, expected {len(header)} (as the header)"))

@@ -166,7 +166,7 @@ def test_typed_numbers_equal_to_what_a_classmate_computed():
 def test_roster_from_a_russian_excel(tmp_path):
     """roster.csv re-saved by a Russian Excel: ";" between fields, decimal commas, Windows-1251."""
     text = "variant,exercise,key,scene,L1,x_D\nfourbar-01,a.xlsx,b.xlsx,c.toml,0.141,-0.25\n"
-    excel = "variant;exercise;key;scene;L1;x_D\r\nfourbar-01;a.xlsx;b.xlsx;c.toml;0,141;-0,25\r\n"
+    excel = "variant;exercise;key;scene;L1;x_D;;\r\nfourbar-01;a.xlsx;b.xlsx;c.toml;0,141;-0,25;;\r\n;;;;;;;\r\n"
     path = tmp_path / "roster.csv"
     path.write_bytes(excel.encode("cp1251"))
     assert read_roster(path).rows == parse_roster(text).rows == {"fourbar-01": {"L1": 0.141, "x_D": -0.25}}
