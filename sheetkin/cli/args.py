@@ -157,8 +157,10 @@ def build_parser() -> argparse.ArgumentParser:
                     "inputs, and the report names the wrong rows, the likely causes (rows wrong "
                     "on their own inputs, rounded typed numbers) and the rows wrong only because "
                     "of them. Exit 0 all correct, 1 mistakes found, 2 unusable input.")
-    v.add_argument("paths", metavar="FILE|FOLDER", nargs="+",
-                   help=".xlsx files, or folders searched for them (recursively)")
+    v.add_argument("paths", metavar="FILE|FOLDER|ZIP", nargs="+",
+                   help=".xlsx, .xlsm, .xls, .ods or .fods files, folders searched for them (recursively), "
+                        "or the zip of Moodle's \"download all submissions\"; a file given twice is "
+                        "validated once")
     v.add_argument("--json", action="store_true", help="print the reports as JSON")
     v.add_argument("--html", metavar="REPORT.html", help="also write a readable HTML page")
     v.add_argument("--grades", metavar="GRADES.csv",
@@ -167,8 +169,9 @@ def build_parser() -> argparse.ArgumentParser:
                         "and a score (README: Running a class); a CSV file Moodle's gradebook imports")
     v.add_argument("--class-list", metavar="STUDENTS.csv",
                    help="with --grades: the class as Moodle exports it (First name, Last name, Email "
-                        "address or ID number); fills grades.csv's identifier column by the name each "
-                        "student typed in their workbook")
+                        "address or ID number); fills grades.csv's identifier column from the Moodle "
+                        "folder each book came in, else the name the student typed (Russian forms: "
+                        "'Иванов И.', 'Петрова Анна Сергеевна'); one grade per student (the newest file)")
     v.add_argument("--progress", choices=["auto", "always", "never"], default="auto",
                    help="progress bar on stderr for several files (auto: when stderr is a terminal)")
     v.add_argument("--jobs", type=_positive_int, metavar="N",
@@ -325,12 +328,19 @@ def _add_variants_parser(sub):
                     "(at least one grid step). Writes in DIR, per variant ID: ID.toml (its scene), "
                     "ID-exercise.xlsx (computed rows empty, student and group cells blank), "
                     "ID-key.xlsx (the answer key); and roster.csv (variant, exercise, key, scene, "
-                    f"then every given value) and the teacher's key {'.sheetkin-key'} (kept if it exists; "
-                    "never put in a workbook: `validate --roster` uses it to check the books' seals). "
+                    f"then every given value) and the teacher's key {'.sheetkin-key'} (never put in a "
+                    "workbook: `validate --roster` uses it to check the books' seals). "
                     f"Refuses, with one line, a scheme with fewer than N acceptable variants in {TRIES}*N "
                     "tries.")
     x.add_argument("scene", metavar="SCENE.toml", help="the scheme's scene file")
-    x.add_argument("-n", type=_positive_int, default=30, metavar="N", help="number of variants (default 30)")
+    x.add_argument("-n", type=_positive_int, default=None, metavar="N",
+                   help="number of variants (default: one per student of --class-list, else 30)")
+    x.add_argument("--class-list", metavar="STUDENTS.csv",
+                   help="the class as Moodle exports it (First name, Last name, Email address or ID "
+                        "number; comma or semicolon; UTF-8 or Windows-1251): the k-th student of the "
+                        "list (from 0) gets variant k mod N, so more students than variants is allowed; "
+                        "each student's exercise ID-NAME-exercise.xlsx has their name in their cell and "
+                        "their identifier sealed in it; assignment.csv lists who got what")
     x.add_argument("--out", metavar="DIR", required=True, help="folder for the variants (created if missing)")
     x.add_argument("--seed", type=int, metavar="S",
                    help="random seed: the same seed gives byte-identical scenes and roster.csv "
@@ -342,7 +352,10 @@ def _add_variants_parser(sub):
                    help=f"least |det| of every group at every position (default {MIN_DET:g}: for RRR "
                         "the transmission angle stays above 14.5 deg)")
     x.add_argument("--lang", choices=["ru", "en"], default="ru", help="language of the workbooks (default ru)")
-    x.add_argument("--force", action="store_true", help="overwrite files already in DIR")
+    x.add_argument("--force", action="store_true",
+                   help="overwrite the workbooks already in DIR; an issued roster.csv, .sheetkin-key and "
+                        "assignment.csv are kept beside the new ones, dated (validate still checks the "
+                        "books sealed with the older key)")
 
 
 def _add_examples_parser(sub) -> None:

@@ -46,14 +46,25 @@ EXIT_INTERNAL = 70          # a bug (BSD's EX_SOFTWARE): one line, and a request
 def cmd_variants(args) -> int:
     import secrets
 
-    from sheetkin.course.variants import make_variants, write_variants
+    from sheetkin.course.variants import MAX_VARIANTS, make_variants, write_variants
     load_scene(args.scene)                       # one line naming file, line and key
+    class_list = None
+    if getattr(args, "class_list", None):
+        from sheetkin.course.classlist import read_class_list
+        class_list = read_class_list(args.class_list)
+    n = args.n or (min(len({p.ident for p in class_list.people}), MAX_VARIANTS) if class_list else 30)
     text = Path(args.scene).read_text(encoding="utf-8-sig")
     seed = args.seed if args.seed is not None else secrets.randbelow(10 ** 6)
-    variants = make_variants(text, args.scene, args.n, seed, args.vary, args.min_det)
-    roster = write_variants(variants, args.out, force=args.force, lang=args.lang)
+    variants = make_variants(text, args.scene, max(n, 1), seed, args.vary, args.min_det)
+    kept: list = []
+    roster = write_variants(variants, args.out, force=args.force, lang=args.lang, class_list=class_list, kept=kept)
+    for k in kept:
+        print(f"sheetkin: {k}: the previous issue's {k.name.split('-2')[0].lstrip('.')} kept "
+              "(validate still checks the books sealed with it)", file=sys.stderr)
+    who = f", assigned to the {len(class_list.people)} students of {args.class_list} (assignment.csv)" \
+        if class_list else ""
     print(f"{args.out}: {len(variants)} variants of {args.scene} (seed {seed}: --seed {seed} makes the "
-          f"same again); {roster}; the key {Path(args.out) / '.sheetkin-key'} stays with you", file=sys.stderr)
+          f"same again){who}; {roster}; the key {Path(args.out) / '.sheetkin-key'} stays with you", file=sys.stderr)
     return 0
 
 
@@ -312,21 +323,10 @@ def refuse_overwriting_inputs(args) -> None:
                 raise SceneError(f"{path}: both {opt} and {opt2} name this file; choose two names")
 
 
-SPREADSHEET_SUFFIXES = (".xlsx", ".xlsm", ".xltx", ".xltm", ".xls", ".ods", ".fods")
-
-
 def _validation_files(paths: list[str], strict: bool = True) -> list[Path]:
-    out = []
-    for p in map(Path, paths):
-        if p.is_dir():
-            found = sorted(f for f in p.rglob("*") if f.suffix.lower() in SPREADSHEET_SUFFIXES
-                           and not f.name.startswith("~$") and f.is_file())
-            if not found and strict:
-                raise SceneError(f"{p}: no spreadsheet files (.xlsx) in this folder")
-            out += found
-        else:
-            out.append(p)
-    return out
+    """The files a validation reads as the user named them (a zip as itself: the input)."""
+    from sheetkin.course.batch import submission_files
+    return submission_files(paths, strict=strict, unpack=False).files
 
 
 def _grades_first(args):
@@ -341,10 +341,11 @@ def _grades_first(args):
     return read_class_list(args.class_list) if args.class_list else None
 
 
-def _write_grades(args, reports, copies, class_list) -> None:
+def _write_grades(args, reports, copies, class_list, identities=None) -> None:
     from sheetkin.course.grades import grade_lines, grades_csv, write_grades
     lines, warnings = grade_lines(reports, copies, class_list,
-                                  accept_changed=bool(getattr(args, "accept_changed_inputs", False)))
+                                  accept_changed=bool(getattr(args, "accept_changed_inputs", False)),
+                                  identities=identities)
     write_grades(args.grades, grades_csv(lines))
     print(f"{args.grades}: {len(lines) - 1} submission(s) graded", file=sys.stderr)
     for w in warnings:
@@ -352,10 +353,13 @@ def _write_grades(args, reports, copies, class_list) -> None:
 
 
 def cmd_validate(args) -> int:
-    from sheetkin.course.batch import validate_many
+    from sheetkin.course.batch import submission_files, validate_many
     from sheetkin.course.report import copies_lines, html_report, json_report, summary_table, text_report
-    files = _validation_files(args.paths)
+    found = submission_files(args.paths)
+    files = found.files
     class_list = _grades_first(args)
+    for shown in found.twice:
+        print(f"sheetkin: note: {shown}: given twice; validated once", file=sys.stderr)
     show = args.progress == "always" or (args.progress == "auto" and sys.stderr.isatty() and len(files) > 1)
     from sheetkin.xlsx.cells import convert_opendocument  # a class's .ods files: one LibreOffice run
     convert_opendocument(files, note=(lambda t: print(f"sheetkin: {t}", file=sys.stderr)) if show else None)
@@ -366,20 +370,32 @@ def cmd_validate(args) -> int:
         sys.stderr.write(f"\r[{'#' * bar}{'.' * (30 - bar)}] {done}/{len(files)} {f.name[:40]:<40}")
         sys.stderr.flush()
     options, keyless = _issued_options(args)
-    reports = []
-    for rep in validate_many(files, args.jobs, progress if show else None, options):
+    reports, real = [], []
+    for path, rep in zip(files, validate_many(files, args.jobs, progress if show else None, options), strict=False):
+        real.append(str(path))
+        _show_as(rep, str(path), found.name(path))
         reports.append(rep)
         if not args.json:
             sys.stdout.write(text_report(rep))
-    from sheetkin.course.copies import possible_copies
-    copies = possible_copies(reports) if len(reports) > 1 else {}
+    from sheetkin.course.copies import Copies, file_digest, possible_copies
+    from sheetkin.course.identity import find_assignment, identify
+    assignment = find_assignment(args.roster)
+    if class_list is None and assignment is not None and args.grades:
+        class_list = assignment.as_class_list()
+    mtimes = [_mtime(p) for p in real]
+    identities = identify(reports, class_list, assignment, mtimes)
+    digests = [None if r.error else file_digest(p) for r, p in zip(reports, real, strict=True)]
+    from sheetkin.course.copies import roster_variants
+    variants = roster_variants(options.roster, assignment) if options.roster is not None else None
+    copies = possible_copies(reports, digests, [m.who for m in identities],
+                             assignment.assigned() if assignment else None, variants) if reports else Copies()
     if show:
         sys.stderr.write("\n")
     if keyless and any(r.variant for r in reports):
         print(f"sheetkin: note: {keyless}", file=sys.stderr)
-    print_once = _mismatched_key(reports, options)
-    if print_once:
-        print(f"sheetkin: warning: {print_once}", file=sys.stderr)
+    for warning in (_mismatched_key(reports, options), _roster_contradicts(reports, options)):
+        if warning:
+            print(f"sheetkin: warning: {warning}", file=sys.stderr)
     if args.json:
         sys.stdout.write(json_report(reports, copies))
     elif len(reports) > 1:
@@ -387,10 +403,44 @@ def cmd_validate(args) -> int:
     if args.html:
         _write(args.html, html_report(reports, copies))
     if args.grades:
-        _write_grades(args, reports, copies, class_list)
+        _write_grades(args, reports, copies, class_list, identities)
+    else:
+        for i, me in enumerate(identities):
+            for flag in me.flags:
+                if flag.startswith(("issued to", "found in", "not graded")):
+                    print(f"sheetkin: warning: {reports[i].path}: {flag}", file=sys.stderr)
     if any(r.error for r in reports):
         return EXIT_INPUT
     return 0 if all(r.ok for r in reports) else 1
+
+
+def _show_as(rep, real: str, shown: str) -> None:
+    """A report of a file unpacked from a zip names it as the teacher knows it."""
+    if shown == real:
+        return
+    rep.path = shown
+    if rep.error and rep.error.startswith(real):
+        rep.error = shown + rep.error[len(real):]
+
+
+def _mtime(path: str) -> float:
+    try:
+        return os.stat(path).st_mtime
+    except (OSError, ValueError):           # a name with a NUL character
+        return 0.0
+
+
+def _roster_contradicts(reports, options) -> str:
+    """One warning when most sealed books' seals check but the roster gives other data for
+    them: a roster re-written (`variants --force` before this version) or another class's.
+    Each such book was graded against its sealed data."""
+    sealed = [r for r in reports if not r.error and r.variant and r.seal == "ok"]
+    differ = [r for r in sealed if getattr(r, "roster_differs", False)]
+    if options.roster is None or not differ or 2 * len(differ) < len(sealed):
+        return ""
+    return (f"{options.roster.path} contradicts {len(differ)} of the {len(sealed)} sealed books (their seals "
+            "check, the roster's given data differ): is it another class's roster, or re-written? Each "
+            "sealed book is graded against its sealed data")
 
 
 def _mismatched_key(reports, options) -> str:
@@ -411,15 +461,18 @@ def _mismatched_key(reports, options) -> str:
 def _issued_options(args):
     """issued.Options from --roster, --key, --accept-changed-inputs, and the one-line note
     to give when there is no key (seals not checked)."""
-    from sheetkin.course.issued import KEY_FILE, Options, read_key, read_roster
+    from sheetkin.course.issued import KEY_FILE, OLDER_KEYS, Options, read_key, read_roster
     roster = read_roster(args.roster) if args.roster else None
     key_path = args.key or (Path(args.roster).parent / KEY_FILE if args.roster else None)
-    key = None
+    key, older = None, ()
     if args.key or (key_path and key_path.exists()):
         key = read_key(key_path)
+        # the keys of earlier issues, kept dated beside it by `variants --force`
+        older = tuple(read_key(p) for p in sorted(Path(key_path).parent.glob(OLDER_KEYS)) if p.is_file())
     keyless = "" if key else ("no key (--key FILE, or .sheetkin-key next to --roster): the scene "
                               "sheets' seals are not checked")
-    return Options(roster, key, args.accept_changed_inputs, bool(getattr(args, "accept_typed", False))), keyless
+    return Options(roster, key, args.accept_changed_inputs, bool(getattr(args, "accept_typed", False)),
+                   older), keyless
 
 
 def cmd_bench(args) -> int:

@@ -16,7 +16,15 @@ formulas are expected and say nothing. What does signal a copy:
 4. the same name in the student's cell (a copy whose name was left, or a student handing
    in twice);
 5. the same issued variant (its id, embedded by `sheetkin variants`) in two books, its
-   given data changed in one: a book taken from its owner, the copier's data typed in.
+   given data changed in one: a book taken from its owner, the copier's data typed in;
+6. numbers typed in one book, wrong there, that equal (to the digits typed) what another
+   book's formulas computed in the same cells: the source is named by file and student;
+7. one issued book handed in by two students (its sealed student, or with an assignment a
+   variant issued to one student only); without an assignment, one variant from different
+   students (listed for the teacher: nothing says who got which variant).
+The answer is clusters (Copies): one per group of books linked by these rules, each rule
+with the books it concerns, never every pair, so a report of 200 identical books is one
+cluster, linear in the class (issue 23: 19,900 pairs were a 10.6 MB HTML page).
 Honest students on different variants share only right formulas and typed numbers that
 are right in both books (e.g. phi_1, which the variants share): never flagged. A copy
 re-saved by a spreadsheet program, its name changed, every formula the lecture's and no
@@ -30,6 +38,7 @@ from __future__ import annotations
 import hashlib
 import re
 from collections import defaultdict
+from dataclasses import dataclass, field
 
 COPY_TYPED_CELLS = 3       # shared typed numbers (wrong in one book at least) that flag a copy
 
@@ -72,13 +81,19 @@ def submission_marks(sheet, rows: dict[str, int], first_col: int, positions: int
     {row name: digest of the row's relative formulas} of the rows whose formulas are not
     the lecture's (the reference sheet's, at ref_rows): the lecture's formulas are
     everybody's; `inputs`: the given data as typed, and `depends`: {row name with a typed
-    number: the given data it depends on} (from `ancestors`, the validator's)."""
-    typed, formulas = {}, {}
+    number: the given data it depends on} (from `ancestors`, the validator's); `values`:
+    {(row name, position): number} that the formulas computed, as the spreadsheet saved them
+    (a classmate who typed them in is found by them)."""
+    typed, formulas, values = {}, {}, {}
+    cached = getattr(sheet, "cached", {})
     for name, r in rows.items():
         for k in range(positions):
             v = sheet.consts.get((r, first_col + k))
             if isinstance(v, (int, float)) and not isinstance(v, bool) and (r, first_col + k) not in sheet.formulas:
                 typed[(name, k + 1)] = float(v)
+            c = cached.get((r, first_col + k)) if (r, first_col + k) in sheet.formulas else None
+            if isinstance(c, (int, float)) and not isinstance(c, bool) and c == c and abs(c) != float("inf"):
+                values[(name, k + 1)] = float(c)
         texts = _row_formulas(sheet, r, first_col, positions)
         if not any(texts):
             continue
@@ -89,7 +104,7 @@ def submission_marks(sheet, rows: dict[str, int], first_col: int, positions: int
         formulas[name] = hashlib.sha256("\n".join(t or "" for t in texts).encode()).hexdigest()[:16]
     inputs = {n: v for n, v in (inputs or {}).items() if isinstance(v, (int, float, str)) and not isinstance(v, bool)}
     depends = {n: sorted((ancestors or {}).get(n, set()) & inputs.keys()) for n in {n for n, _ in typed}}
-    return {"typed": typed, "formulas": formulas, "inputs": inputs, "depends": depends}
+    return {"typed": typed, "formulas": formulas, "inputs": inputs, "depends": depends, "values": values}
 
 
 def file_digest(path) -> str | None:
@@ -130,84 +145,293 @@ def _given_differ(a, b, row: str) -> bool:
                for n in set(ma["depends"].get(row, ())) | set(mb["depends"].get(row, ())))
 
 
-def _same_identity(reports, why) -> None:
-    """The same name typed in the student's cell of two files (a copy whose name was left,
-    or one student handing in twice); the same issued book (variant id) handed in twice,
-    its given data retyped in one (a book taken from its owner, the copier's data typed)."""
-    by_name, by_variant = defaultdict(list), defaultdict(list)
-    for i, rep in enumerate(reports):
-        if rep.error:
-            continue
-        name = " ".join(str(getattr(rep, "student", "") or "").casefold().split())
-        if name:
-            by_name[name].append(i)
-        if getattr(rep, "variant", ""):
-            by_variant[rep.variant].append(i)
-    for idx in by_name.values():
-        for a in range(len(idx)):
-            for j in idx[a + 1:]:
-                why[idx[a], j].append("the same student name")
-    for variant, idx in by_variant.items():
-        for a in range(len(idx)):
-            for j in idx[a + 1:]:
-                if getattr(reports[idx[a]], "given_changed", None) or getattr(reports[j], "given_changed", None):
-                    why[idx[a], j].append(f"the same issued variant {variant}, its given data changed in one")
+MAX_GROUP = 32             # books compared pair by pair within one shared number (the rest: with these)
+MAX_LISTED = 3             # other members of a cluster a book's line names ("... and N more")
 
 
-def possible_copies(reports, digests: list | None = None) -> dict[int, list[tuple[int, str]]]:
-    """{index of a report: [(index of the other report, why), ...]} for every pair that
-    looks copied (the module's rules), both ways. digests: file_digest of each report's
-    file (computed here when not given)."""
-    if digests is None:
-        digests = [None if r.error else file_digest(r.path) for r in reports]
-    why: dict[tuple[int, int], list[str]] = defaultdict(list)
-    by_digest = defaultdict(list)
-    for i, d in enumerate(digests):
-        if d:
-            by_digest[d].append(i)
-    for same in by_digest.values():
-        for a in range(len(same)):
-            for b in same[a + 1:]:
-                why[same[a], b].append("byte-identical files")
-    # the same typed number at the same cell: index by (row, position, value)
+class _Union:
+    """Union-find over report indices: the clusters of copies."""
+
+    def __init__(self):
+        self.parent: dict[int, int] = {}
+
+    def find(self, i: int) -> int:
+        self.parent.setdefault(i, i)
+        while self.parent[i] != i:
+            self.parent[i] = self.parent[self.parent[i]]
+            i = self.parent[i]
+        return i
+
+    def join(self, members) -> None:
+        members = list(members)
+        for j in members[1:]:
+            a, b = self.find(members[0]), self.find(j)
+            if a != b:
+                self.parent[max(a, b)] = min(a, b)
+
+
+@dataclass
+class Cluster:
+    """Submissions that look copied from one another, and why: each reason is a text and
+    the members it concerns (a group, never every pair: the report stays linear)."""
+    members: list[int]
+    reasons: list[tuple[str, list[int]]] = field(default_factory=list)     # one per text, merged
+    links: list[tuple[str, list[int]]] = field(default_factory=list)       # as found (pairs_of)
+
+
+class Copies(dict):
+    """possible_copies' answer: {report index: its Cluster}, and `clusters` in order.
+    Every consumer names a cluster once, and a book's line names at most MAX_LISTED others."""
+
+    def __init__(self, clusters: list[Cluster] | tuple = ()):
+        super().__init__()
+        self.clusters = list(clusters)
+        for c in self.clusters:
+            for i in c.members:
+                self[i] = c
+
+    def others(self, i: int) -> list[int]:
+        c = self.get(i)
+        return [] if c is None else [j for j in c.members if j != i]
+
+    def why(self, i: int) -> str:
+        """The reasons that concern report i, "; "-joined."""
+        c = self.get(i)
+        return "" if c is None else "; ".join(dict.fromkeys(t for t, m in c.reasons if i in m))
+
+
+def _by_key(keys) -> list[list[int]]:
+    groups: dict = defaultdict(list)
+    for i, k in enumerate(keys):
+        if k:
+            groups[k].append(i)
+    return [g for g in groups.values() if len(g) > 1]
+
+
+def _name_of(rep) -> str:
+    return " ".join(str(getattr(rep, "student", "") or "").casefold().replace("ё", "е").split())
+
+
+def _identity_groups(reports, who, assigned) -> list[tuple[str, list[int]]]:
+    """The same name typed in two files (a copy whose name was left, or one student handing
+    in twice); one issued book handed in by two students (its sealed student, or a variant
+    issued to one student only: `assigned` counts them); without an assignment, one variant
+    from different students; one variant handed in twice, its given data retyped in one."""
+    out = []
+    usable = [not r.error for r in reports]
+    for g in _by_key(_name_of(r) if ok else "" for r, ok in zip(reports, usable, strict=True)):
+        out.append(("the same student name", g))
+    for g in _by_key((r.variant, getattr(r, "issued_to", "")) if ok and r.variant else ""
+                     for r, ok in zip(reports, usable, strict=True)):
+        rep = reports[g[0]]
+        v, to = rep.variant, getattr(rep, "issued_to", "")
+        hands = {who[i] for i in g if who[i]}
+        if len(hands) > 1 and (to or (assigned is not None and assigned.get(v, 0) <= 1)):
+            what = f"issued to {to}" if to else "issued to one student"
+            out.append((f"one issued book (variant {v}, {what}) handed in by {len(hands)} students", g))
+        elif len(hands) > 1 and assigned is None:
+            out.append((f"the same variant {v} from {len(hands)} students (no assignment: "
+                        "`variants --class-list` gives each student their own)", g))
+        if any(getattr(reports[i], "given_changed", None) for i in g):
+            out.append((f"the same issued variant {v}, its given data changed in one", g))
+    return out
+
+
+def _typed_pairs(reports, wrong) -> dict[tuple[int, int], int]:
+    """{(i, j): shared typed numbers that are wrong in one book at least, or sit on given
+    data that differ}; pairs counted within MAX_GROUP books per number (the others are
+    counted against those): bounded by the class's size, not its square."""
     typed_at = defaultdict(list)
-    formula_at = defaultdict(list)
-    wrong = []
     for i, rep in enumerate(reports):
         marks = getattr(rep, "marks", None)
-        wrong.append(_wrong_cells(rep) if marks else set())
-        if not marks or rep.error:
-            continue
-        for (name, k), v in marks["typed"].items():
-            typed_at[name, k, v].append(i)
-        bad = _wrong_rows(rep)
-        for name, digest in marks["formulas"].items():
-            if name in bad:
-                formula_at[name, digest].append(i)
-    shared_typed = defaultdict(int)
+        if marks and not rep.error:
+            for (name, k), v in marks["typed"].items():
+                typed_at[name, k, v].append(i)
+    shared: dict[tuple[int, int], int] = defaultdict(int)
     for (name, k, _), idx in typed_at.items():
         if len(idx) < 2 or (not any((name, k) in wrong[i] for i in idx)
-                            and len({_given_of(reports[i], name) for i in idx}) == 1):
+                            and len({_given_of(reports[i], name) for i in idx[:MAX_GROUP]}) == 1):
             continue          # right in every book, on the same given data: a class on one variant
-        for a in range(len(idx)):
-            for j in idx[a + 1:]:
-                i = idx[a]
+        for b, j in enumerate(idx[1:], 1):
+            for i in idx[:min(b, MAX_GROUP)]:
                 if (name, k) in wrong[i] or (name, k) in wrong[j] or _given_differ(reports[i], reports[j], name):
-                    shared_typed[i, j] += 1
-    for (i, j), n in shared_typed.items():
+                    shared[i, j] += 1
+    return shared
+
+
+def _computed_sources(reports, wrong) -> dict[tuple[int, int], int]:
+    """{(i, j): numbers typed in book i, wrong there, that equal (to the digits typed) what
+    book j's formulas computed in the same cell}: i typed j's results."""
+    import bisect
+
+    from .localjudge import typed_digits, typed_tolerance
+    computed = defaultdict(list)
+    for j, rep in enumerate(reports):
+        marks = getattr(rep, "marks", None)
+        if marks and not rep.error:
+            for cell, v in marks.get("values", {}).items():
+                computed[cell].append((v, j))
+    for lst in computed.values():
+        lst.sort()
+    found: dict[tuple[int, int], int] = defaultdict(int)
+    for i, rep in enumerate(reports):
+        marks = getattr(rep, "marks", None)
+        if not marks or rep.error:
+            continue
+        for cell, v in marks["typed"].items():
+            if cell not in wrong[i] or typed_digits(v) < 3 or cell not in computed:
+                continue
+            lst, tol = computed[cell], typed_tolerance(v)
+            at = bisect.bisect_left(lst, (v - tol, -1))
+            for c, j in lst[at:at + MAX_GROUP]:
+                if c > v + tol:
+                    break
+                if j != i:
+                    found[i, j] += 1
+    return found
+
+
+def _variant_sources(reports, wrong, variants: dict, linked: set[int]) -> list[tuple[str, list[int]]]:
+    """Books whose typed numbers (wrong there) equal another variant's computed values (its
+    key's): a classmate's results, or a key, typed in. variants: {variant id: (label, a
+    function giving {(row, position): value})}, computed once each, only when needed."""
+    from .localjudge import typed_digits, typed_tolerance
+    cache: dict = {}
+    out = []
+    for i, rep in enumerate(reports):
+        marks = getattr(rep, "marks", None)
+        if not marks or rep.error or i in linked:
+            continue
+        cells = {c: v for c, v in marks["typed"].items() if c in wrong[i] and typed_digits(v) >= 3}
+        if len(cells) < COPY_TYPED_CELLS:
+            continue
+        for vid, (label, values) in variants.items():
+            if vid == getattr(rep, "variant", ""):
+                continue
+            if vid not in cache:
+                try:
+                    cache[vid] = values()
+                except Exception:       # noqa: BLE001 - a variant that cannot be computed is no source
+                    cache[vid] = {}
+            got = cache[vid]
+            n = sum(1 for c, v in cells.items() if c in got and abs(got[c] - v) <= typed_tolerance(v))
+            if n >= COPY_TYPED_CELLS:
+                out.append((f"{n} typed numbers equal to variant {vid}'s computed values ({label})", [i]))
+    return out
+
+
+def roster_variants(roster, assignment=None) -> dict:
+    """{variant id: (label, values)} for _variant_sources from the roster's scene files: the
+    label names the variant's key file and the students it was issued to (assignment)."""
+    from pathlib import Path
+    folder = Path(roster.path).parent
+    issued_to: dict[str, list[str]] = defaultdict(list)
+    for name, vid, _ in (assignment.people.values() if assignment else ()):
+        issued_to[vid].append(name)
+    out = {}
+    for vid, files in roster.files.items():
+        scene_file = folder / files.get("scene", "")
+        if not files.get("scene") or not scene_file.is_file():
+            continue
+        who = f", issued to {', '.join(issued_to[vid])}" if issued_to.get(vid) else ""
+        out[vid] = (f"key {folder / files.get('key', '')}{who}", lambda p=scene_file: _computed_values(p))
+    return out
+
+
+def _computed_values(scene_file) -> dict:
+    """{(row name, position): value} of the computed rows of a scene's reference sheet."""
+    from sheetkin.kinematics.scene import parse_scene
+    from sheetkin.sheet.workbook import FIRST_COL, sheet_rows
+
+    from .validator import _reference
+    scene = parse_scene(scene_file.read_text(encoding="utf-8"), str(scene_file))
+    book = _reference(scene)
+    sheet = book.order[0]
+    rows = {book.sheets[sheet].consts.get((r, 1)): r for r in range(5, book.sheets[sheet].max_row + 1)}
+    out = {}
+    for row in sheet_rows(scene).rows:
+        if row.kind in ("calc", "accepted", "guard") and row.name in rows:
+            for k in range(scene.crank.positions):
+                v = book.value(sheet, rows[row.name], FIRST_COL + k)
+                if isinstance(v, float) and v == v:
+                    out[(row.name, k + 1)] = v
+    return out
+
+
+def _label(reports, i: int) -> str:
+    name = str(getattr(reports[i], "student", "") or "")
+    return f"{reports[i].path}{f' ({name})' if name else ''}"
+
+
+def possible_copies(reports, digests: list | None = None, who: list | None = None,
+                    assigned: dict | None = None, variants: dict | None = None) -> Copies:
+    """The clusters of submissions that look copied (the module's rules). digests:
+    file_digest of each report's file (computed here when not given); who: each report's
+    submitter (a Moodle identifier, or ""), for the identity rules; assigned: {variant:
+    students it was issued to} from an assignment (None: no assignment); variants: the
+    issued variants' computed values (roster_variants), for typed numbers taken from a
+    variant no submission computed (a key, an absent classmate)."""
+    if digests is None:
+        digests = [None if r.error else file_digest(r.path) for r in reports]
+    who = list(who) if who is not None else [_name_of(r) for r in reports]
+    groups: list[tuple[str, list[int]]] = [("byte-identical files", g) for g in _by_key(digests)]
+    wrong = [_wrong_cells(r) if getattr(r, "marks", None) else set() for r in reports]
+    pairs = _typed_pairs(reports, wrong)
+    links = defaultdict(list)
+    for (i, j), n in pairs.items():
         if n >= COPY_TYPED_CELLS:
-            why[i, j].append(f"{n} identical typed numbers, wrong for one variant at least")
-    _same_identity(reports, why)
-    shared_formulas = defaultdict(list)
-    for (name, _), idx in formula_at.items():
-        for a in range(len(idx)):
-            for b in idx[a + 1:]:
-                shared_formulas[idx[a], b].append(name)
-    for (i, j), names in shared_formulas.items():
-        why[i, j].append(f"the same wrong formula in {', '.join(sorted(names))}")
-    out: dict[int, list[tuple[int, str]]] = defaultdict(list)
-    for (i, j), reasons in sorted(why.items()):
-        text = "; ".join(reasons)
-        out[i].append((j, text))
-        out[j].append((i, text))
-    return dict(out)
+            links[i].append((j, n))
+    for i, found in sorted(links.items()):          # one group per book: linear in the class
+        most = max(n for _, n in found)
+        groups.append((f"{most} identical typed numbers, wrong for one variant at least", [i, *(j for j, _ in found)]))
+    linked = set()
+    for (i, j), n in sorted(_computed_sources(reports, wrong).items()):
+        if n >= COPY_TYPED_CELLS:
+            groups.append((f"{n} typed numbers equal to what {_label(reports, j)} computed", [i, j]))
+            linked.add(i)
+    if variants:
+        groups += _variant_sources(reports, wrong, variants, linked)
+    groups += _identity_groups(reports, who, assigned)
+    formula_at = defaultdict(list)
+    for i, rep in enumerate(reports):
+        marks = getattr(rep, "marks", None)
+        if marks and not rep.error:
+            bad = _wrong_rows(rep)
+            for name, digest in marks["formulas"].items():
+                if name in bad:
+                    formula_at[name, digest].append(i)
+    for (name, _), idx in sorted(formula_at.items()):
+        if len(idx) > 1:
+            groups.append((f"the same wrong formula in {name}", idx))
+    return _clusters(groups)
+
+
+def _clusters(groups: list[tuple[str, list[int]]]) -> Copies:
+    union = _Union()
+    for _, members in groups:
+        union.join(members)
+    by_root: dict[int, Cluster] = {}
+    for text, members in groups:
+        c = by_root.setdefault(union.find(members[0]), Cluster([]))
+        c.links.append((text, members))
+        merged = next((m for t, m in c.reasons if t == text), None)
+        if merged is None:
+            c.reasons.append((text, sorted(set(members))))
+        else:
+            merged[:] = sorted(set(merged) | set(members))
+    for i in sorted(union.parent):
+        by_root[union.find(i)].members.append(i)
+    return Copies(sorted(by_root.values(), key=lambda c: c.members[0]))
+
+
+def pairs_of(copies: Copies) -> dict[tuple[int, int], str]:
+    """{(i, j): why} for i < j named together by a reason (tests and small classes only:
+    quadratic). Two books in one cluster only through a third are not a pair."""
+    out = {}
+    for c in copies.clusters:
+        for a, i in enumerate(c.members):
+            for j in c.members[a + 1:]:
+                why = [t for t, m in c.links if i in m and j in m]
+                if why:
+                    out[i, j] = "; ".join(dict.fromkeys(why))
+    return out

@@ -36,8 +36,11 @@ from __future__ import annotations
 import csv
 import io
 import os
-import re
-from dataclasses import dataclass
+
+# the class list is read and matched in sheetkin/course/classlist.py (Russian name forms,
+# Moodle's folders); its names stay importable from here
+from .classlist import ClassList, name_key, read_class_list  # noqa: F401
+from .classlist import ClassListError as GradesError  # noqa: F401 (--grades, --class-list: one line)
 
 CHECK_PENALTY = 2.0        # points off per failing check row (the sheet showed the mistake)
 ROWS_SHARE = 90.0          # the computed rows' share of the score
@@ -46,12 +49,10 @@ NO_FORMULA_CAP = 10.0      # the most a book with no formula in its computed row
 ID_HEADERS = ("Email address", "ID number", "Username")      # Moodle's export names them so
 COLUMNS = ("student", "group", "variant", "file", "verdict", "rows correct", "rows typed", "rows total",
            "checks passing", "checks total", "given data changed", "likely causes", "possible copy of", "score",
-           "score explained")
+           "score explained", "identity")
 _FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
 
 
-class GradesError(ValueError):
-    """A problem with --grades or --class-list: one line naming the file."""
 
 
 def safe_text(text: object) -> str:
@@ -210,13 +211,16 @@ def who(rep) -> str:
     return str(getattr(rep, "student", "") or "")
 
 
-def copy_text(reports, i: int, copies: dict) -> str:
-    """'b.xlsx (Petrov): byte-identical files; c.xlsx: ...' for report i."""
-    out = []
-    for j, why in copies.get(i, []):
-        name = who(reports[j])
-        out.append(f"{reports[j].path}{f' ({name})' if name else ''}: {why}")
-    return "; ".join(out)
+def copy_text(reports, i: int, copies) -> str:
+    """'b.xlsx (Petrov), c.xlsx and 3 more: byte-identical files; ...' for report i: at
+    most MAX_LISTED others of its cluster (sheetkin/course/copies.py), a line stays short."""
+    from .copies import MAX_LISTED
+    others = copies.others(i) if hasattr(copies, "others") else []
+    if not others:
+        return ""
+    names = [f"{reports[j].path}{f' ({who(reports[j])})' if who(reports[j]) else ''}" for j in others[:MAX_LISTED]]
+    more = f" and {len(others) - MAX_LISTED} more" if len(others) > MAX_LISTED else ""
+    return f"{', '.join(names)}{more}: {copies.why(i)}"
 
 
 def causes_text(rep) -> str:
@@ -225,105 +229,54 @@ def causes_text(rep) -> str:
     return ";".join(c.name for c in rep.causes)
 
 
-# --------------------------------------------------------------------------- the class list
-@dataclass
-class ClassList:
-    id_header: str                       # Moodle's name of the identifier column
-    ids: dict                            # name key -> identifier
-    ambiguous: set                       # name keys of two people or more
-
-
-_NAME_HEADERS = {"first": ("first name", "имя"), "last": ("last name", "surname", "фамилия"),
-                 "full": ("full name", "student", "фио", "студент")}
-_ID_ALIASES = {"Email address": ("email address", "email", "e-mail", "адрес электронной почты"),
-               "ID number": ("id number", "idnumber", "индивидуальный номер", "идентификационный номер"),
-               "Username": ("username", "логин", "имя пользователя")}
-
-
-def name_key(text: str) -> frozenset:
-    """A name in any word order, case, with or without commas, ё as е: 'Иванов, Иван' ==
-    'иван иванов'."""
-    words = re.findall(r"[^\W\d_]+(?:[-'][^\W\d_]+)*", str(text).casefold().replace("ё", "е"))
-    return frozenset(words)
-
-
-def read_class_list(path: str) -> ClassList:
-    """The teacher's list of students: a CSV file with a header, its name columns ("First
-    name" and "Last name"/"Surname", or "Full name") and an identifier column ("Email
-    address", "ID number" or "Username"), as Moodle exports them; comma, semicolon or tab."""
-    try:
-        with open(path, encoding="utf-8-sig", newline="") as f:
-            text = f.read()
-    except UnicodeDecodeError as e:
-        raise GradesError(f"{path}: --class-list: not UTF-8 text (byte {e.start}); save it as CSV UTF-8") from None
-    first = text.split("\n", 1)[0]
-    delim = max((",", ";", "\t"), key=first.count)
-    try:
-        rows = list(csv.reader(io.StringIO(text), delimiter=delim))
-    except csv.Error as e:
-        raise GradesError(f"{path}: --class-list: not a CSV file this reads ({e})") from None
-    if not rows:
-        raise GradesError(f"{path}: --class-list: empty; expected a header and one line per student")
-    head = [h.strip().casefold() for h in rows[0]]
-
-    def column(aliases):
-        return next((k for k, h in enumerate(head) if h in aliases), None)
-    id_header, id_col = next(((h, column(a)) for h, a in _ID_ALIASES.items() if column(a) is not None), (None, None))
-    first_col, last_col, full_col = (column(_NAME_HEADERS[k]) for k in ("first", "last", "full"))
-    if id_col is None or (full_col is None and (first_col is None or last_col is None)):
-        raise GradesError(f"{path}:1: --class-list: expected columns 'First name' and 'Last name' (or "
-                          f"'Full name') and one of {', '.join(repr(h) for h in ID_HEADERS)}; got "
-                          f"{', '.join(repr(h) for h in rows[0])}")
-    ids, ambiguous = {}, set()
-    for line, row in enumerate(rows[1:], 2):
-        if not any(c.strip() for c in row):
-            continue
-
-        def cell(k):
-            return row[k].strip() if k is not None and k < len(row) else ""
-        name = cell(full_col) if full_col is not None else f"{cell(first_col)} {cell(last_col)}"
-        key, ident = name_key(name), cell(id_col)
-        if not key or not ident:
-            raise GradesError(f"{path}:{line}: --class-list: a line without a name or a {id_header}")
-        if key in ids and ids[key] != ident:
-            ambiguous.add(key)
-        ids[key] = ident
-    return ClassList(id_header, ids, ambiguous)
-
-
 # --------------------------------------------------------------------------- grades.csv
-def grade_lines(reports, copies: dict, class_list: ClassList | None = None,
-                accept_changed: bool = False) -> tuple[list[list[str]], list[str]]:
-    """The header and one line per report (in their order), and warnings (students the
-    class list does not name)."""
+def grade_lines(reports, copies, class_list: ClassList | None = None,
+                accept_changed: bool = False, identities: list | None = None) -> tuple[list[list[str]], list[str]]:
+    """The header and one line per graded report (in their order), and warnings: the
+    students the class list does not name, the older files of a student (not graded: one
+    grade per Moodle user), the books handed in by someone other than their student.
+    identities: sheetkin.course.identity.identify's (made here from class_list if None)."""
+    from .identity import identify
+    if identities is None:
+        identities = identify(reports, class_list)
     id_header = class_list.id_header if class_list else ID_HEADERS[0]
-    lines, unmatched = [[id_header, *COLUMNS]], []
+    lines, unmatched, older, flagged = [[id_header, *COLUMNS]], [], [], []
     for i, rep in enumerate(reports):
+        me = identities[i]
+        if me.superseded_by is not None:
+            older.append(f"{rep.path} (newer: {reports[me.superseded_by].path})")
+            continue
         student = who(rep)
-        ident = ""
-        if class_list is not None:
-            key = name_key(student)
-            ident = "" if key in class_list.ambiguous else class_list.ids.get(key, "")
-            if not ident:
-                unmatched.append(f"{rep.path} ({student or 'no name typed'})")
+        if class_list is not None and not me.ident:
+            unmatched.append(f"{rep.path} ({me.unmatched or 'no name typed'})")
+        if me.flags and any(f.startswith(("issued to", "found in")) for f in me.flags):
+            flagged.append(f"{rep.path}: {'; '.join(f for f in me.flags if f.startswith(('issued to', 'found in')))}")
         c = counts(rep)
         passing, checks = checks_counts(rep)
         value, _ = score_parts(rep, accept_changed or None)
-        lines.append([ident, safe_text(student), safe_text(getattr(rep, "group", "") or ""),
+        lines.append([me.ident if class_list is not None else "", safe_text(student),
+                      safe_text(getattr(rep, "group", "") or ""),
                       safe_text(getattr(rep, "variant", "") or ""), safe_text(rep.path), verdict(rep),
                       "" if rep.error else str(c["correct"]), "" if rep.error else str(c["typed"]),
                       "" if rep.error else str(c["total"]),
                       "" if passing is None else str(passing), "" if checks is None else str(checks),
                       "yes" if given_changed(rep) else "no",             # a fact, accepted or not
                       safe_text(causes_text(rep)), safe_text(copy_text(reports, i, copies)),
-                      f"{value:.1f}", safe_text(explain(rep))])
+                      f"{value:.1f}", safe_text(explain(rep)), safe_text("; ".join(me.flags))])
     warnings = []
+
+    def listed(items: list[str]) -> str:
+        return ", ".join(items[:10]) + (" ..." if len(items) > 10 else "")
     if class_list is None:
         warnings.append(f"no --class-list: the column '{id_header}' is empty; Moodle identifies a student "
                         "by it, not by name (fill it in, or give Moodle's participants export as --class-list)")
     elif unmatched:
         warnings.append(f"{len(unmatched)} submission(s) not found (or found twice) in the class list, their "
-                        f"'{id_header}' left empty: " + ", ".join(unmatched[:10]) + (" ..." if len(unmatched) > 10 else ""))
+                        f"'{id_header}' left empty: " + listed(unmatched))
+    if older:
+        warnings.append(f"one grade per student: {len(older)} older file(s) not graded: " + listed(older))
+    if flagged:
+        warnings.append(f"{len(flagged)} book(s) not handed in by their own student: " + listed(flagged))
     return lines, warnings
 
 

@@ -5,7 +5,10 @@ scene whose given data (lengths, coordinates, ...) differ from the others'. The 
 carries the variant's id and scene (hidden sheet `scene`, workbook.ISSUED_LABELS), and a
 seal: HMAC-SHA256, under the teacher's key, of the id and the scene's text. The key is a
 file the teacher keeps (DIR/.sheetkin-key, written by `variants`), never in a workbook, so a
-student who edits the hidden sheet cannot make a matching seal.
+student who edits the hidden sheet cannot make a matching seal. A book issued to one
+student (`variants --class-list`) holds their identifier in C3 (label in B3), under the
+same seal. A book whose seal checks is graded against its sealed data; keys of earlier
+issues, kept dated beside the key by `variants --force`, still check their books.
 
 The validator asks `check_given` which values were issued (from roster.csv, or else from
 the embedded scene) and which of them the student's input block changed. A leaf below the
@@ -31,6 +34,8 @@ ROSTER_FIXED = ("variant", "exercise", "key", "scene")   # roster.csv's first co
 MAX_ROSTER_BYTES = 5_000_000        # a class of 30 is a few KB
 RTOL = 1e-9                         # a given value read back (LibreOffice writes 15 digits) is the same
 _IDENTITY = {name for name, _, _ in IDENTITY_ROWS}
+STUDENT_LABEL, STUDENT_ROW = "student", len(ISSUED_LABELS) + 1   # scene!B3: the student it was issued to
+OLDER_KEYS = ".sheetkin-key-*"      # earlier keys kept dated by `variants --force`
 
 
 class RosterError(SceneError):
@@ -85,21 +90,29 @@ def _canonical(scene_text: str) -> str:
     return "\n".join(lines)
 
 
-def seal(key: bytes, variant: str, scene_text: str) -> str:
-    """HMAC-SHA256 of the issued data (variant id and scene text) under the teacher's key."""
-    msg = f"sheetkin variant\0{variant}\0{_canonical(scene_text)}".encode()
-    return hmac.new(key, msg, hashlib.sha256).hexdigest()
+def seal(key: bytes, variant: str, scene_text: str, student: str = "") -> str:
+    """HMAC-SHA256 of the issued data (variant id, scene text and, for a book issued to one
+    student by `variants --class-list`, their identifier) under the teacher's key. Without a
+    student the message is the one books were sealed with before: they still check."""
+    msg = f"sheetkin variant\0{variant}\0{_canonical(scene_text)}"
+    if student:
+        msg += f"\0student\0{student}"
+    return hmac.new(key, msg.encode(), hashlib.sha256).hexdigest()
 
 
-def seal_status(key: bytes | None, variant: str, scene_text: str, found: str) -> str:
-    """"" (no key: not checked), "ok", or the one-line reason the seal fails."""
+def seal_status(key: bytes | None, variant: str, scene_text: str, found: str, student: str = "",
+                older: tuple[bytes, ...] = ()) -> str:
+    """"" (no key: not checked), "ok", or the one-line reason the seal fails. `older`: the
+    keys of earlier issues kept beside the key (`variants --force`): a book issued then
+    still checks."""
     if key is None:
         return ""
     if not found:
         return "scene sheet edited: its seal (scene!C2) is missing"
-    if hmac.compare_digest(seal(key, variant, scene_text), found.strip().lower()):
-        return "ok"
-    return ("scene sheet edited: the seal does not match the embedded scene and variant id "
+    for k in (key, *older):
+        if hmac.compare_digest(seal(k, variant, scene_text, student), found.strip().lower()):
+            return "ok"
+    return ("scene sheet edited: the seal does not match the embedded scene, variant id and student "
             "under the teacher's key (or the key is another class's)")
 
 
@@ -136,6 +149,15 @@ def marks(consts: dict) -> tuple[str, str]:
         v = consts.get((r, 3)) if consts.get((r, 2)) == label else None
         out.append("" if v is None else (str(int(v)) if isinstance(v, float) and v.is_integer() else str(v)).strip())
     return out[0], out[1]
+
+
+def student_mark(consts: dict) -> str:
+    """The identifier sealed in a book issued to one student (scene!C3 beside its label
+    STUDENT_LABEL in B3; `variants --class-list`); "" otherwise."""
+    if consts.get((STUDENT_ROW, 2)) != STUDENT_LABEL:
+        return ""
+    v = consts.get((STUDENT_ROW, 3))
+    return "" if v is None else " ".join(str(v).split())
 
 
 # --------------------------------------------------------------------------- roster.csv
@@ -176,8 +198,12 @@ def read_roster(path) -> Roster:
     try:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as e:
-        line = raw[:e.start].count(b"\n") + 1
-        raise RosterError(one_line(f"{p}:{line}: not UTF-8 text; expected roster.csv as `sheetkin variants` writes it")) from None
+        try:
+            text = raw.decode("cp1251")          # re-saved by a Russian Excel ("CSV (разделители - запятые)")
+        except UnicodeDecodeError:
+            line = raw[:e.start].count(b"\n") + 1
+            raise RosterError(one_line(f"{p}:{line}: not UTF-8 (nor Windows-1251) text; expected roster.csv "
+                                       "as `sheetkin variants` writes it")) from None
     return parse_roster(text, p)
 
 
@@ -185,12 +211,16 @@ def parse_roster(text: str, p: str = "roster.csv") -> Roster:
     if "\0" in text:
         line = text[:text.index("\0")].count("\n") + 1
         raise RosterError(one_line(f"{p}:{line}: a NUL character; expected a CSV text file"))
-    reader = csv.reader(io.StringIO(text, newline=""))
+    # a Russian Excel saves CSV with ";" between fields and "," as the decimal point
+    delim = ";" if text.split("\n", 1)[0].count(";") > text.split("\n", 1)[0].count(",") else ","
+    reader = csv.reader(io.StringIO(text, newline=""), delimiter=delim)
     try:
         header = next(reader, None)
         if not header or not any(h.strip() for h in header):
             raise RosterError(one_line(f"{p}:1:1: empty; expected a header: {','.join(ROSTER_FIXED)},<given data>..."))
         header = [h.strip() for h in header]
+        while len(header) > len(ROSTER_FIXED) and not header[-1]:
+            header.pop()                  # Excel's empty trailing columns
         for k, want in enumerate(ROSTER_FIXED):
             if k >= len(header) or header[k] != want:
                 got = header[k] if k < len(header) else "nothing"
@@ -207,6 +237,8 @@ def parse_roster(text: str, p: str = "roster.csv") -> Roster:
             line = reader.line_num
             if not fields or all(not f.strip() for f in fields):
                 continue
+            while len(fields) > len(header) and not fields[-1].strip():
+                fields = fields[:-1]          # Excel pads a row with empty fields (";;;")
             if len(fields) != len(header):
                 raise RosterError(one_line(f"{p}:{line}:{min(len(fields), len(header)) + 1}: {len(fields)} "
                                            f"fields, expected {len(header)} (as the header)"))
@@ -218,7 +250,7 @@ def parse_roster(text: str, p: str = "roster.csv") -> Roster:
             values = {}
             for k, (n, f) in enumerate(zip(names, fields[len(ROSTER_FIXED):], strict=False), len(ROSTER_FIXED) + 1):
                 try:
-                    v = float(f)
+                    v = float(f.strip().replace(",", ".") if delim == ";" else f)
                 except ValueError:
                     v = math.nan
                 if not math.isfinite(v):
@@ -241,6 +273,7 @@ class Options:
     key: bytes | None = None
     accept_changed: bool = False
     accept_typed: bool = False       # --accept-typed (sheetkin/course/grades.py)
+    older_keys: tuple[bytes, ...] = ()          # earlier issues' keys (dated, beside the key)
 
 
 @dataclass
@@ -250,6 +283,8 @@ class Given:
     changed: list[dict] = field(default_factory=list)
     seal: str = ""
     notes: list[str] = field(default_factory=list)
+    student: str = ""                    # the identifier sealed in it (variants --class-list)
+    roster_differs: bool = False         # its seal checks, the roster's row says other data
 
 
 def check_given(scene: Scene, scene_text: str, consts: dict, inputs: dict[str, object],
@@ -264,7 +299,7 @@ def check_given(scene: Scene, scene_text: str, consts: dict, inputs: dict[str, o
     own variant, as before issue 13."""
     opts = opts or Options()
     vid, found = marks(consts)
-    out = Given(variant=vid)
+    out = Given(variant=vid, student=student_mark(consts))
     roster = opts.roster
     if not vid:
         if roster is not None:
@@ -273,13 +308,18 @@ def check_given(scene: Scene, scene_text: str, consts: dict, inputs: dict[str, o
         out.issued = given_values(scene)
         out.changed = changes(out.issued, inputs, where)
         return out
-    out.seal = seal_status(opts.key, vid, scene_text, found)
+    out.seal = seal_status(opts.key, vid, scene_text, found, out.student, opts.older_keys)
     embedded = given_values(scene)
-    if roster is not None:
+    out.issued = embedded
+    if roster is not None and out.seal == "ok":
+        # the seal proves the embedded data were issued: they are graded, whatever the roster
+        # says (a roster re-written by `variants --force`, or another class's: one warning)
+        row = roster.rows.get(vid)
+        out.roster_differs = row is None or any(n in row and not _same(row[n], v) for n, v in embedded.items())
+    elif roster is not None:
         if vid not in roster.rows:
             out.seal = out.seal if out.seal.startswith("scene sheet edited") else \
                 f"variant {vid!r} is not in {roster.path}: checked against the embedded scene"
-            out.issued = embedded
         else:
             out.issued = {n: roster.rows[vid][n] for n in roster.names if n in embedded}
             missing = [n for n in embedded if n not in roster.rows[vid]]
@@ -287,7 +327,5 @@ def check_given(scene: Scene, scene_text: str, consts: dict, inputs: dict[str, o
                 out.notes.append(f"{roster.path} has no column for {', '.join(missing)}: "
                                  "those are checked against the embedded scene")
                 out.issued.update({n: embedded[n] for n in missing})
-    else:
-        out.issued = embedded
     out.changed = changes(out.issued, inputs, where)
     return out

@@ -4,6 +4,7 @@ from __future__ import annotations
 import json
 import math
 
+from .copies import MAX_LISTED
 from .grades import counts, explain, score, verdict
 from .issued import changed_line
 from .report_html import position_list, position_name
@@ -128,7 +129,7 @@ def _named_positions(rep: Report) -> dict:
     return d
 
 
-def json_report(reports: list[Report], copies: dict | None = None) -> str:
+def json_report(reports: list[Report], copies=None) -> str:
     """Every report (Report.to_dict: verdict, score, score_explained, summary counts), each
     with its possible copies (sheetkin/course/copies.py): file, student and why."""
     def clean(o):
@@ -142,8 +143,10 @@ def json_report(reports: list[Report], copies: dict | None = None) -> str:
     out = []
     for i, r in enumerate(reports):
         d = _named_positions(r)
-        d["possible_copy_of"] = [{"file": reports[j].path, "student": getattr(reports[j], "student", ""), "why": why}
-                                 for j, why in (copies or {}).get(i, [])]
+        # at most MAX_LISTED others of its cluster: the report stays linear in the class
+        others = copies.others(i)[:MAX_LISTED] if copies is not None else []
+        d["possible_copy_of"] = [{"file": reports[j].path, "student": getattr(reports[j], "student", ""),
+                                  "why": copies.why(i)} for j in others]
         out.append(d)
     return json.dumps(clean({"reports": out,
                              "all_correct": all(r.ok for r in reports)}), indent=1, ensure_ascii=False) + "\n"
@@ -155,32 +158,13 @@ def html_report(reports: list[Report], copies: dict | None = None) -> str:
     return html_page(reports, copies)
 
 
-def copies_lines(reports: list[Report], copies: dict) -> str:
-    """After the summary table: the possible copies (sheetkin/course/copies.py), one line per
-    group of books linked by them (a pair: "a and b: why"), so that a class with many copies
-    of one book gives one line, not every pair (issue 21, item 7)."""
-    pairs = sorted({(min(i, j), max(i, j)): why for i, found in copies.items() for j, why in found}.items())
-    parent = list(range(len(reports)))
-
-    def root(i: int) -> int:
-        while parent[i] != i:
-            parent[i] = parent[parent[i]]
-            i = parent[i]
-        return i
-    for (i, j), _ in pairs:
-        parent[root(j)] = root(i)
-    groups: dict[int, list] = {}
-    for (i, j), why in pairs:
-        groups.setdefault(root(i), []).append((i, j, why))
+def copies_lines(reports: list[Report], copies) -> str:
+    """After the summary table: each cluster of possible copies (sheetkin/course/copies.py)
+    a line, its files and its reasons (each reason's files when not the whole cluster)."""
     out = []
-    for links in groups.values():
-        books = sorted({k for i, j, _ in links for k in (i, j)})
-        if len(books) == 2:
-            i, j, why = links[0]
-            out.append(f"possible copy: {reports[i].path} and {reports[j].path}: {why}\n")
-            continue
-        whys = list(dict.fromkeys(why for _, _, why in links))
-        out.append(f"possible copy: {len(books)} books linked: " + ", ".join(reports[k].path for k in books)
-                   + ": " + "; ".join(whys[:3]) + (f"; and {len(whys) - 3} more reasons" if len(whys) > 3 else "")
-                   + "\n")
+    for c in getattr(copies, "clusters", []):
+        files = ", ".join(reports[i].path for i in c.members)
+        why = "; ".join(t if len(m) == len(c.members) else f"{t} ({', '.join(reports[i].path for i in m)})"
+                        for t, m in c.reasons)
+        out.append(f"possible copy: {len(c.members)} files {files}: {why}\n")
     return "".join(out)

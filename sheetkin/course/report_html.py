@@ -101,16 +101,22 @@ def _given_changed(ch) -> str:
     return f"{ch.get('name', '?')}{cell}: {_num(ch.get('issued'))} -> {_num(ch.get('got'))}"
 
 
-def _copy_links(reports, k: int, copies: dict, with_reason: bool) -> str:
-    """Links to the submissions report k may be copied from (or to)."""
+def _copy_links(reports, k: int, copies, with_reason: bool) -> str:
+    """Links to the submissions report k may be copied from (or to): at most MAX_LISTED of
+    its cluster (sheetkin/course/copies.py), so that the page stays linear in the class."""
+    from .copies import MAX_LISTED
     e = html.escape
     out = []
-    for j, why in copies.get(k, []):
+    others = copies.others(k) if hasattr(copies, "others") else []
+    for j in others[:MAX_LISTED]:
         other = reports[j]
         name = getattr(other, "student", "") or _file(other)
         out.append(f"<a href='#{_anchor(other, j)}' data-open='{_anchor(other, j)}'>{e(name)}</a>"
-                   + (f" ({e(other.path)}: {e(why)})" if with_reason else ""))
-    return ", ".join(out)
+                   + (f" ({e(other.path)})" if with_reason else ""))
+    if len(others) > MAX_LISTED:
+        out.append(f"and {len(others) - MAX_LISTED} more")
+    text = ", ".join(out)
+    return text + (f": {e(copies.why(k))}" if with_reason and text else "")
 
 
 def _cut(names: str, width: int) -> str:

@@ -104,6 +104,7 @@ class Report:
     checks_deleted: list[str] = field(default_factory=list)
     checks_typed: list[str] = field(default_factory=list)
     checks_issued: int = 0
+    issued_to: str = ""              # the identifier sealed in it by `variants --class-list`
     notes: list[str] = field(default_factory=list)
 
     @property
@@ -298,8 +299,9 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
                     variant=given.variant, given_changed=given.changed, seal=given.seal,
                     accepted_changes=accept, accepted_typed=bool(options and getattr(options, "accept_typed", False)),
                     notes=given.notes + layout.notes
-                    + ([layout.outside_line()] if layout.outside else []))
+                    + ([layout.outside_line()] if layout.outside else []), issued_to=given.student)
     report.layout = layout                  # not a field: the student's cells (report texts)
+    report.roster_differs = given.roster_differs   # not a field: one warning for the class (cli)
     report.position_names = [(ref_book.value(ref_sheet, ref_names["i"], FIRST_COL + k),
                               ref_book.value(ref_sheet, ref_names["phi_1"], FIRST_COL + k)) for k in range(positions)]
     report.variant_scene = student_scene    # not a field (not in to_dict): the report's picture

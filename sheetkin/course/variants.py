@@ -29,6 +29,7 @@ import math
 import os
 import random
 import re
+import shutil
 import sys
 import tempfile
 from dataclasses import dataclass
@@ -41,6 +42,7 @@ from sheetkin.kinematics.scene import Scene, SceneError, one_line, parse_scene
 from sheetkin.kinematics.solver import solve
 from sheetkin.sheet.workbook import build_workbook, sheet_rows
 
+from .identity import ASSIGNMENT_FILE, assignment_text
 from .issued import KEY_FILE, ROSTER_FILE, given_values, new_key, roster_text, seal
 
 BAND = 0.10                 # default range: the scene's value +- 10 %
@@ -332,27 +334,33 @@ def file_names(vid: str) -> dict[str, str]:
 
 
 def write_variants(variants: list[Variant], out: str | Path, *, force: bool = False, lang: str = "ru",
-                   charts: bool = True, note=None) -> Path:
-    """Write the variants' scenes, exercise and key workbooks, roster.csv and (if there is
-    none) the teacher's key in `out`. Refuses to overwrite a file unless force; an existing
-    key is kept (the books already handed out stay checkable). Returns the roster's path."""
+                   charts: bool = True, note=None, class_list=None, kept: list | None = None) -> Path:
+    """Write the variants' scenes, exercise and key workbooks, roster.csv and the teacher's
+    key in `out`; with a class list (classlist.ClassList) each student's own exercise too,
+    and assignment.csv (assign()). Refuses to overwrite a file unless force. An issued
+    class's roster, key and assignment are never overwritten: with force they are renamed
+    beside the new ones, dated (roster-20261126-113000.csv, .sheetkin-key-20261126-113000),
+    and `validate` still checks the books sealed with the older keys (their names are
+    appended to `kept`). Returns the roster."""
     out = Path(out)
-    targets = [out / ROSTER_FILE] + [out / f for v in variants for f in file_names(v.id).values()]
+    people = assign(variants, class_list) if class_list is not None else []
+    targets = ([out / ROSTER_FILE, out / KEY_FILE, out / ASSIGNMENT_FILE]
+               + [out / f for v in variants for f in file_names(v.id).values()]
+               + [out / exercise for _, _, _, exercise in people])
     if not force:
         for t in targets:
             if t.exists():
-                raise SceneError(one_line(f"{t}: exists; refusing to overwrite it (use --force, or another --out)"))
+                raise SceneError(one_line(f"{t}: exists; refusing to overwrite it (use --force: an issued "
+                                          "roster and key are then kept beside the new ones, dated; or another --out)"))
     if out.exists() and not out.is_dir():
         raise SceneError(one_line(f"--out {out}: not a folder"))
     out.mkdir(parents=True, exist_ok=True)
-    key_path = out / KEY_FILE
-    if key_path.exists():
-        from .issued import read_key
-        key = read_key(key_path)
-    else:
-        key_hex = new_key()
-        _atomic(key_path, key_hex + "\n", private=True)
-        key = bytes.fromhex(key_hex)
+    done = keep_issued(out)
+    if kept is not None:
+        kept += done
+    key_hex = new_key()
+    _atomic(out / KEY_FILE, key_hex + "\n", private=True)
+    key = bytes.fromhex(key_hex)
     names = list(given_values(variants[0].scene))
     rows = []
     for k, v in enumerate(variants, 1):
@@ -366,9 +374,92 @@ def write_variants(variants: list[Variant], out: str | Path, *, force: bool = Fa
         rows.append((v.id, files, given_values(v.scene)))
         if note:
             note(k, v)
+    by_id = {v.id: v for v in variants}
+    for name, ident, vid, exercise in people:
+        v = by_id[vid]
+        wb = build_workbook(v.scene, lang=lang, exercise=True, scene_text=v.text,
+                            issued=(vid, seal(key, vid, v.text, ident)), charts=charts)
+        _seal_student(wb, name, ident)
+        _atomic_book(out / exercise, wb)
+    if people:
+        _atomic(out / ASSIGNMENT_FILE, assignment_text(class_list.id_header, people))
     roster = out / ROSTER_FILE
     _atomic(roster, roster_text(names, rows))
     return roster
+
+
+def assign(variants: list[Variant], class_list) -> list[tuple[str, str, str, str]]:
+    """(name, identifier, variant id, exercise file) for each student of the class list, in
+    the list's order: the k-th student (from 0) gets variant k mod N. More students than
+    variants is allowed (a variant is then shared, each student's book sealed with their
+    own identity); a student listed twice (one identifier) gets one variant."""
+    out, seen, files = [], set(), set()
+    for person in class_list.people:
+        if person.ident in seen:
+            continue
+        seen.add(person.ident)
+        v = variants[len(out) % len(variants)]
+        stem = f"{v.id}-{_file_part(person.name)}"
+        exercise, n = f"{stem}-exercise.xlsx", 2
+        while exercise.casefold() in files:            # two students of one name
+            exercise, n = f"{stem}-{n}-exercise.xlsx", n + 1
+        files.add(exercise.casefold())
+        out.append((person.name, person.ident, v.id, exercise))
+    if not out:
+        raise SceneError(one_line(f"{class_list.path}: --class-list names no student"))
+    return out
+
+
+def _file_part(name: str) -> str:
+    """A student's name as part of a file name: letters, digits and - kept, spaces _."""
+    return re.sub(r"[^\w-]+", "_", name, flags=re.UNICODE).strip("_")[:60] or "student"
+
+
+def _seal_student(wb, name: str, ident: str) -> None:
+    """The student's name in their own cell of the exercise (column D of the row `student`),
+    and their identifier beside the seal (scene!B3:C3, under it)."""
+    from sheetkin.sheet.workbook import SCENE_SHEET
+
+    from .issued import STUDENT_LABEL, STUDENT_ROW
+    ws = wb.worksheets[0]
+    for r in range(1, ws.max_row + 1):
+        if ws.cell(r, 1).value == "student":
+            ws.cell(r, 4).value = name
+            ws.cell(r, 4).data_type = "s"
+            break
+    sc = wb[SCENE_SHEET]
+    for col, value in ((2, STUDENT_LABEL), (3, ident)):
+        sc.cell(STUDENT_ROW, col).value = value
+        sc.cell(STUDENT_ROW, col).data_type = "s"
+
+
+def keep_issued(out: Path) -> list[Path]:
+    """Rename an issued class's roster, key and assignment in `out` to dated names beside
+    them (never overwritten, never deleted); returns the new names."""
+    import datetime
+    stamp = datetime.datetime.now().strftime("%Y%m%d-%H%M%S")
+    kept = []
+    for name in (ROSTER_FILE, KEY_FILE, ASSIGNMENT_FILE):
+        old = out / name
+        if not old.exists():
+            continue
+        base, dot, ext = name.rpartition(".") if not name.startswith(".") else (name, "", "")
+        n = 1
+        while True:
+            dated = out / (f"{base}-{stamp}{'-' + str(n) if n > 1 else ''}{dot}{ext}")
+            if not dated.exists():
+                break
+            n += 1
+        try:
+            os.link(old, dated)            # the very file (its permissions too); the new one replaces the name
+        except OSError:
+            try:
+                shutil.copy2(old, dated)   # a file system without hard links
+            except OSError as e:
+                raise SceneError(one_line(f"{old}: cannot keep it as {dated.name} ({e.strerror or e}); "
+                                          "nothing issued was changed")) from None
+        kept.append(dated)
+    return kept
 
 
 def _atomic(path: Path, text: str, private: bool = False) -> None:

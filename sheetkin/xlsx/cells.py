@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import gc
 import io
+import os
 import re
 import shutil
 import tempfile
@@ -643,9 +644,112 @@ def read_book(path: str | Path, limits: Limits = Limits(), *, convert_timeout: f
     """Read an .xlsx safely (xlsxsafe): never modified, never trusted. An OpenDocument
     spreadsheet (.ods, .fods) is converted to .xlsx by LibreOffice first (see
     `_read_opendocument`)."""
-    if _opendocument(path):
+    locked = password_protected(path)
+    if locked:
+        raise UnusableWorkbook(str(path), f"password-protected ({locked})",
+                               "a workbook saved without a password (File > Save As, untick the password)")
+    if _opendocument(path) or _old_excel(path):
         return _read_opendocument(path, limits, convert_timeout)
     return _read_xlsx(path, limits)
+
+
+# ----------------------------------------------------------------- passwords, old Excel (.xls)
+_OLE = b"\xd0\xcf\x11\xe0\xa1\xb1\x1a\xe1"
+_SNIFF_BYTES = 1 << 16      # what is read to tell a file's kind (never the whole file)
+
+
+def _head(path, n: int = _SNIFF_BYTES) -> bytes:
+    """The file's first n bytes; b"" for anything but a regular file (a FIFO would block)."""
+    import stat
+    try:
+        if not stat.S_ISREG(os.stat(path).st_mode):
+            return b""
+        with open(path, "rb") as fh:
+            return fh.read(n)
+    except (OSError, ValueError):
+        return b""              # the gate says what is wrong with the path
+
+
+def _ole_streams(path) -> dict[str, tuple[int, int]]:
+    """{stream name: (first sector's offset, size)} of an OLE compound file (.xls, or an
+    encrypted Office file), from its first directory sector; {} when it is not one."""
+    import struct
+    head = _head(path, 512)          # a regular file's, or b"" (then nothing else is opened)
+    if len(head) < 512 or not head.startswith(_OLE):
+        return {}
+    shift = struct.unpack_from("<H", head, 0x1E)[0]
+    if shift not in (9, 12):
+        return {}
+    size = 1 << shift
+    first_dir = struct.unpack_from("<I", head, 0x30)[0]
+    try:
+        with open(path, "rb") as fh:
+            fh.seek((first_dir + 1) * size)
+            block = fh.read(size)
+    except (OSError, ValueError, OverflowError):
+        return {}
+    out = {}
+    for k in range(0, len(block) - 127, 128):
+        entry = block[k:k + 128]
+        n = struct.unpack_from("<H", entry, 64)[0]
+        if entry[66] not in (1, 2, 5) or not 2 <= n <= 64:
+            continue
+        name = entry[:n - 2].decode("utf-16-le", "replace")
+        start, length = struct.unpack_from("<II", entry, 116)
+        out[name] = ((start + 1) * size, length)
+    return out
+
+
+def _biff_filepass(path, offset: int) -> bool:
+    """Whether a BIFF workbook stream starting at `offset` is encrypted: its first record
+    is BOF (0x0809) and the next FILEPASS (0x002F), as Excel writes a password-protected
+    .xls (only the stream's first sector is read)."""
+    import struct
+    try:
+        with open(path, "rb") as fh:
+            fh.seek(offset)
+            data = fh.read(512)
+    except (OSError, ValueError, OverflowError):
+        return False
+    if len(data) < 8:
+        return False
+    kind, length = struct.unpack_from("<HH", data, 0)
+    if kind != 0x0809 or 4 + length + 4 > len(data):
+        return False
+    return struct.unpack_from("<H", data, 4 + length)[0] == 0x002F
+
+
+def _old_excel(path) -> bool:
+    """An Excel 97-2003 workbook (.xls, BIFF in an OLE file): LibreOffice converts it."""
+    streams = _ole_streams(path)
+    return any(n in streams for n in ("Workbook", "Book")) and "EncryptedPackage" not in streams
+
+
+def password_protected(path) -> str:
+    """What kind of password-protected file `path` is ("" when it is not one): an
+    encrypted Office file (.xlsx saved with a password: OLE with EncryptedPackage), an
+    .xls with FILEPASS, an OpenDocument file with encrypted entries (its manifest)."""
+    head = _head(path, 8)
+    if head.startswith(_OLE):
+        streams = _ole_streams(path)
+        if "EncryptedPackage" in streams or "EncryptionInfo" in streams:
+            return "an encrypted Excel workbook"
+        for name in ("Workbook", "Book"):
+            if name in streams and streams[name][1] >= 4096 and _biff_filepass(path, streams[name][0]):
+                return "an encrypted .xls workbook"
+        return ""
+    if head.startswith(b"PK\x03\x04") and _opendocument(path):
+        import zipfile
+        try:
+            with zipfile.ZipFile(path) as zf:
+                info = zf.getinfo("META-INF/manifest.xml")
+                if info.file_size > 1 << 20:
+                    return ""
+                if b"encryption-data" in zf.read(info):
+                    return "an encrypted OpenDocument spreadsheet"
+        except (zipfile.BadZipFile, KeyError, OSError, RuntimeError, ValueError, EOFError):
+            return ""
+    return ""
 
 
 # ----------------------------------------------------------------- OpenDocument (.ods, .fods)
@@ -674,16 +778,16 @@ def _read_opendocument(path, limits: Limits, timeout: float) -> RawBook:
     from . import libreoffice
     shown = str(path)
     how = f"convert it to .xlsx: soffice --headless --convert-to xlsx {shown!r}"
+    what = "an Excel 97-2003 workbook (.xls)" if _old_excel(path) else "an OpenDocument spreadsheet"
     size = Path(path).stat().st_size
     if size > limits.max_file_bytes:
-        raise UnusableWorkbook(shown, f"an OpenDocument spreadsheet of {size} bytes",
+        raise UnusableWorkbook(shown, f"{what} of {size} bytes",
                                f"at most {limits.max_file_bytes} bytes")
     done = _CONVERTED.get(_signature(path))
     if done is not None and done.is_file():
         return _read_converted(done, shown, limits)
     if libreoffice.soffice_path() is None:
-        raise UnusableWorkbook(shown, "an OpenDocument spreadsheet, and LibreOffice (soffice) is not "
-                               "installed to read it", how)
+        raise UnusableWorkbook(shown, f"{what}, and LibreOffice (soffice) is not installed to read it", how)
     with tempfile.TemporaryDirectory(prefix="sheetkin-ods-") as tmp:
         src = Path(tmp) / "in"
         src.mkdir()
@@ -708,6 +812,9 @@ def _read_converted(out: Path, shown: str, limits: Limits) -> RawBook:
 
 
 def _odf_suffix(path) -> str:
+    """The suffix LibreOffice is given the copy under (it picks its reader by content)."""
+    if _old_excel(path):
+        return ".xls"
     return ".fods" if Path(path).suffix.lower() == ".fods" else ".ods"
 
 
@@ -740,7 +847,8 @@ def _convert_batch(paths, limits: Limits, timeout_per_file: float, note) -> int:
     todo = []
     for p in paths:
         try:
-            if _opendocument(p) and Path(p).stat().st_size <= limits.max_file_bytes:
+            if ((_opendocument(p) or _old_excel(p)) and not password_protected(p)
+                    and Path(p).stat().st_size <= limits.max_file_bytes):
                 todo.append(p)
         except OSError:
             continue

@@ -11,6 +11,7 @@ import csv
 import io
 import re
 import shutil
+import zipfile
 from pathlib import Path
 
 import openpyxl
@@ -86,7 +87,8 @@ def check_class(grades: dict[str, dict], page: str, with_identity: bool) -> None
         assert g[honest]["score"] == "100.0" and g[honest]["likely causes"] == ""
         assert g[honest]["given data changed"] == "no"
     assert g["petrova"]["possible copy of"] == ""
-    assert "copier_bytes.xlsx" in g["ivanov"]["possible copy of"] and "byte-identical" in g["ivanov"]["possible copy of"]
+    assert "copier_bytes.xlsx" in g["ivanov"]["possible copy of"]
+    assert "byte-identical" in g["ivanov"]["possible copy of"]
     assert g["sidorov"]["likely causes"] == "omega_3" and float(g["sidorov"]["score"]) < 100
     assert "copier_formula.xlsx" in g["sidorov"]["possible copy of"]
     assert "the same wrong formula in omega_3" in g["sidorov"]["possible copy of"]
@@ -151,15 +153,105 @@ def test_class_loop_with_variants(tmp_path, soffice, capsys):
     class_list.write_text("First name,Last name,Email address\n" + "".join(
         f"{n.split()[1]},{n.split()[0]},{k}@example.org\n" for k, n in NAMES.items() if " " in n
         and not n.startswith("=")), encoding="utf-8")
+    # as Moodle's "download all submissions" gives them: a folder per student (one of them
+    # under blind marking); the identity is the folder's, matched with the class list
+    for k, name in enumerate(NAMES):
+        who = "Participant" if NAMES[name].startswith("=") else " ".join(reversed(NAMES[name].split()))
+        folder = saved / f"{who}_{101 + k}_assignsubmission_file_"
+        folder.mkdir()
+        (saved / f"{name}.xlsx").rename(folder / f"{name}.xlsx")
     grades, html = tmp_path / "grades.csv", tmp_path / "report.html"
     code = main(["validate", str(saved), "--roster", str(issued_dir / "roster.csv"), "--grades", str(grades),
                  "--class-list", str(class_list), "--html", str(html), "--progress", "never"])
     assert code == 1
     g = read_grades(grades)
     check_class(g, html.read_text(encoding="utf-8"), with_identity=True)
+    # each book graded under its folder's student; Orlov handed in Ivanov's book: flagged
     assert {k: r["Email address"] for k, r in g.items()} == {
-        k: ("" if k == "copier_formula" else "ivanov@example.org" if k == "copier_bytes" else f"{k}@example.org")
-        for k in NAMES}
+        k: ("" if k == "copier_formula" else f"{k}@example.org") for k in NAMES}
+    assert "found in the folder of Орлов Денис, but Иванов Иван's name is typed in it" in g["copier_bytes"]["identity"]
     assert all(r["variant"] for r in g.values())
     # a copier's given data differ from the variant they were issued
     assert g["copier_typed"]["given data changed"] == "yes" and g["copier_typed"]["score"] == "0.0"
+
+
+ASSIGNED = (("Иванов", "Иван"), ("Петрова", "Анна"), ("Сидоров", "Пётр"), ("Кузнецов", "Олег"),
+            ("Смирнов", "Илья"), ("Орлова", "Дарья"))
+
+
+def test_class_loop_with_assignment(tmp_path, soffice, capsys):
+    """Issue 21: `variants --class-list` gives six students four variants (two share one),
+    each their own exercise with their identity sealed; the books are filled in, saved by
+    LibreOffice and handed in as Moodle's zip; the teacher then re-runs `variants --force`
+    by mistake. Kuznetsov hands in Ivanov's book; Sidorov types Petrova's computed values
+    into his; Orlova pastes her own key's values (a typed book, no copy)."""
+    out = tmp_path / "issued"
+    cl = tmp_path / "class.csv"            # a Russian Excel's export: ";" and Windows-1251
+    cl.write_bytes(("Фамилия;Имя;Адрес электронной почты\n" + "".join(
+        f"{last};{first};s{k}@example.org\n" for k, (last, first) in enumerate(ASSIGNED))).encode("cp1251"))
+    assert main(["variants", str(WORKBOOKS / "fourbar.toml"), "-n", "4", "--class-list", str(cl), "--out", str(out),
+                 "--seed", "3"]) == 0
+    rows = list(csv.DictReader(io.StringIO((out / "assignment.csv").read_text(encoding="utf-8"))))
+    given = {r["identifier"]: r for r in rows if not r["student"].startswith("#")}
+    assert [given[f"s{k}@example.org"]["variant"] for k in range(6)] == [
+        "fourbar-01", "fourbar-02", "fourbar-03", "fourbar-04", "fourbar-01", "fourbar-02"]    # k mod 4
+    keys = {vid: ex_key[1] for vid, ex_key in _issued_books(out).items()}
+
+    def book(k, change=None):
+        r = given[f"s{k}@example.org"]
+        ex = out / r["exercise"]
+        assert openpyxl.load_workbook(ex).worksheets[0].cell(
+            rows_of(openpyxl.load_workbook(ex).worksheets[0])["student"], 4).value == r["student"]
+        return fill(ex, keys[r["variant"]], tmp_path / "filled" / f"s{k}.xlsx", change=change)
+    (tmp_path / "filled").mkdir()
+    petrova = {n: row_values(keys["fourbar-02"], n) for n in ("omega_2", "omega_3")}
+    own = row_values(keys["fourbar-02"], "omega_2")
+    for k in (0, 1, 3, 4):
+        book(k)
+    book(2, both(*(type_numbers(n, v, 6) for n, v in petrova.items())))      # Petrova's numbers, typed
+    book(5, type_numbers("omega_2", own, 9))                                  # her own key's values, typed
+    saved = tmp_path / "saved"
+    recalculate(sorted((tmp_path / "filled").glob("*.xlsx")), saved)
+    zpath = tmp_path / "submissions.zip"
+    with zipfile.ZipFile(zpath, "w") as zf:
+        for k, (last, first) in enumerate(ASSIGNED):
+            src = "s0.xlsx" if k == 3 else f"s{k}.xlsx"              # Kuznetsov hands in Ivanov's book
+            zf.write(saved / src, f"{first} {last}_{700 + k}_assignsubmission_file_/{src}")
+    # the teacher's mistake: the class issued again into its folder
+    assert main(["variants", str(WORKBOOKS / "fourbar.toml"), "-n", "4", "--class-list", str(cl), "--out", str(out),
+                 "--seed", "4"]) == 2
+    assert main(["variants", str(WORKBOOKS / "fourbar.toml"), "-n", "4", "--class-list", str(cl), "--out", str(out),
+                 "--seed", "4", "--force"]) == 0
+    assert len(list(out.glob("roster-*.csv"))) == 1 and len(list(out.glob(".sheetkin-key-*"))) == 1
+    assert len(list(out.glob("assignment-*.csv"))) == 1
+    capsys.readouterr()
+    grades, html = tmp_path / "grades.csv", tmp_path / "report.html"
+    code = main(["validate", str(zpath), "--roster", str(out / "roster.csv"), "--class-list", str(cl),
+                 "--grades", str(grades), "--html", str(html), "--progress", "never"])
+    text, err = capsys.readouterr()
+    assert code == 1
+    warnings = [line for line in err.splitlines() if "contradicts" in line]
+    assert len(warnings) == 1 and "graded against its sealed data" in warnings[0]
+    g = {r["Email address"]: r for r in read_grades_rows(grades)}
+    assert set(g) == {f"s{k}@example.org" for k in range(6)}
+    for k in (0, 1, 4):                       # honest: sealed by the first key, graded on its data
+        assert g[f"s{k}@example.org"]["score"] == "100.0", g[f"s{k}@example.org"]
+    assert g["s4@example.org"]["possible copy of"] == ""            # shares fourbar-01 with Ivanov: issued so
+    assert "Олег Кузнецов_703" in g["s0@example.org"]["possible copy of"]   # the book Kuznetsov handed in
+    kuz = g["s3@example.org"]
+    assert "issued to Иванов Иван (s0@example.org), handed in by Олег Кузнецов" in kuz["identity"]
+    assert "s0.xlsx" in kuz["possible copy of"] and "byte-identical" in kuz["possible copy of"]
+    assert "one issued book (variant fourbar-01" in kuz["possible copy of"]
+    sid = g["s2@example.org"]
+    assert "typed numbers equal to what" in sid["possible copy of"] and "(Петрова Анна)" in sid["possible copy of"]
+    # Orlova's typed book copies nobody: she is named only as a source (she computed, on
+    # Petrova's variant, the omega_3 that Sidorov typed)
+    orl = g["s5@example.org"]["possible copy of"]
+    assert "identical typed numbers" not in orl and all(
+        why.endswith("(Орлова Дарья) computed") for why in orl.split(": ", 1)[1].split("; "))
+    assert text.count("possible copy: ") == 2                     # two clusters
+    assert "not handed in by their own student" in err
+
+
+def read_grades_rows(path: Path) -> list[dict]:
+    return list(csv.DictReader(io.StringIO(path.read_bytes().decode("utf-8-sig"), newline="")))

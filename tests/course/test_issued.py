@@ -172,7 +172,7 @@ def test_roster_errors_name_file_line_column(text, where, what):
 def test_roster_file_errors(tmp_path):
     with pytest.raises(RosterError, match="no such roster file"):
         read_roster(tmp_path / "none.csv")
-    (tmp_path / "bin.csv").write_bytes(HEAD.encode() + b"\xff\xfe,1\n")
+    (tmp_path / "bin.csv").write_bytes(HEAD.encode() + b"\x98\x98,1\n")   # not Windows-1251 either
     with pytest.raises(RosterError, match=r"bin.csv:2: not UTF-8"):
         read_roster(tmp_path / "bin.csv")
     (tmp_path / "k").write_text("not hex")

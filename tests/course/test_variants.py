@@ -9,6 +9,7 @@ from __future__ import annotations
 import csv
 import itertools
 import math
+import re
 import zipfile
 from pathlib import Path
 
@@ -191,7 +192,14 @@ def test_same_seed_same_files_and_no_overwriting(written, tmp_path, capsys):
     assert code == 2 and err.count("\n") == 1 and "exists; refusing to overwrite" in err and "--force" in err
     code, _, err = run(capsys, "variants", ROOT / "workbooks" / "fourbar.toml", "-n", 3, "--out", again,
                        "--seed", 13, "--force")
-    assert code == 0 and (again / KEY_FILE).read_bytes() == key       # the key is kept
+    # an issued class's key and roster are never overwritten: kept beside the new ones, dated
+    assert code == 0 and (again / KEY_FILE).read_bytes() != key
+    kept_keys = list(again.glob(KEY_FILE + "-*"))
+    kept_rosters = list(again.glob("roster-*.csv"))
+    assert [k.read_bytes() for k in kept_keys] == [key] and len(kept_rosters) == 1
+    assert re.fullmatch(r"\.sheetkin-key-\d{8}-\d{6}", kept_keys[0].name)
+    assert kept_rosters[0].read_bytes() == (written / "roster.csv").read_bytes()
+    assert "kept (validate still checks the books sealed with it)" in err
 
 
 def test_every_bundled_scene_writes_its_books(tmp_path):

@@ -1,0 +1,232 @@
+"""The class list (Moodle's participants or grades export) and who a name is in it.
+
+A student types their name as people in Russia write it: "Иванов И.", "Иванов И.И.",
+"Петрова Анна Сергеевна" (with the patronymic the list does not hold), "СИДОРОВ П.",
+"Пётр Сидоров" (any order, case, ё for е). `ClassList.match(text)` finds the people whose
+name it can be (docs/teacher-guide.md, "Running a class"):
+  * the surname is one of the typed words;
+  * every other typed word is one of the person's given names (first name, patronymic
+    when the list has it), or looks like a patronymic (-вич, -вна, -ична, -ич, -оглы,
+    -кызы) when the list has none;
+  * each typed initial ("И.", "И.С.") is the first letter of the person's given names, in
+    order (first name, then patronymic);
+  * a lone surname matches every person of that surname.
+Exactly one person: matched; none or several: listed for the teacher (`validate` says so).
+
+A Moodle download's folder ("Иван Иванов_12345_assignsubmission_file_") gives the name
+Moodle shows and the participant number (moodle_submitter).
+"""
+from __future__ import annotations
+
+import contextlib
+import csv
+import io
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+MAX_CLASS_LIST_BYTES = 5_000_000       # a year's class is a few hundred KB
+ID_HEADERS = ("Email address", "ID number", "Username")      # Moodle's export names them so
+_NAME_HEADERS = {"first": ("first name", "имя"), "last": ("last name", "surname", "фамилия"),
+                 "full": ("full name", "student", "фио", "студент", "полное имя")}
+_ID_ALIASES = {"Email address": ("email address", "email", "e-mail", "адрес электронной почты",
+                                 "электронная почта"),
+               "ID number": ("id number", "idnumber", "индивидуальный номер", "идентификационный номер"),
+               "Username": ("username", "логин", "имя пользователя")}
+_PATRONYMIC = re.compile(r"(вич|вна|ична|инична|ич|оглы|кызы)$")
+_WORD = re.compile(r"[^\W\d_]+(?:[-'][^\W\d_]+)*\.?")
+
+
+class ClassListError(ValueError):
+    """--class-list cannot be used: one line naming the file and line."""
+
+
+def _fold(text: str) -> str:
+    return str(text).casefold().replace("ё", "е")
+
+
+def name_key(text: str) -> frozenset:
+    """A name in any word order, case, with or without commas, ё as е: 'Иванов, Иван' ==
+    'иван иванов'."""
+    return frozenset(w.rstrip(".") for w in _WORD.findall(_fold(text)))
+
+
+def _tokens(text: str) -> list[str]:
+    """A typed name's words and initials in order: "Иванов И.С." -> ["иванов", "и.", "с."]."""
+    out = []
+    for tok in _WORD.findall(_fold(text).replace(".", ". ")):
+        bare = tok.rstrip(".")
+        out.append(bare[0] + "." if len(bare) == 1 or (tok.endswith(".") and len(bare) <= 2) else bare)
+    return out
+
+
+@dataclass(frozen=True)
+class Person:
+    name: str                      # as the list writes it: "Иванов Иван"
+    ident: str                     # the identifier column's value
+    surname: str                   # folded
+    given: tuple[str, ...]         # folded: first name, then patronymic if the list has it
+    line: int = 0
+
+    def fits(self, tokens: list[str]) -> bool:
+        """Whether the typed tokens (_tokens) can name this person (the module's rules)."""
+        surnames = set(self.surname.split())
+        if not any(t in surnames for t in tokens):
+            return False
+        rest = [t for t in tokens if t not in surnames]
+        for k, tok in enumerate(rest):
+            initial = tok.endswith(".")
+            if k < len(self.given):
+                if not (self.given[k].startswith(tok[0]) if initial else self.given[k] == tok):
+                    return False
+            elif k != 1 or not (initial or _PATRONYMIC.search(tok)):
+                return False         # a patronymic the list does not hold, nothing more
+        return True
+
+
+@dataclass
+class ClassList:
+    id_header: str                       # Moodle's name of the identifier column
+    ids: dict                            # name key -> identifier (the whole name, any order)
+    ambiguous: set                       # name keys of two people or more
+    people: list[Person] = field(default_factory=list)
+    path: str = ""
+
+    def match(self, text: str) -> list[Person]:
+        """Everyone `text` can name (the module's rules): one person, or none, or several."""
+        text = str(text or "").strip()
+        if not text:
+            return []
+        key = name_key(text)
+        exact = [p for p in self.people if name_key(p.name) == key]
+        if exact:
+            return exact
+        tokens = _tokens(text)
+        return [p for p in self.people if p.fits(tokens)]
+
+    def ident_of(self, text: str) -> str:
+        """The identifier of the one person `text` names; "" for none or several."""
+        found = {p.ident for p in self.match(text)}
+        return found.pop() if len(found) == 1 else ""
+
+    def by_ident(self, ident: str) -> Person | None:
+        return next((p for p in self.people if p.ident == ident), None)
+
+
+def decode_table(raw: bytes, path: str, what: str) -> str:
+    """A CSV file's text: UTF-8 (with or without a byte-order mark), else Windows-1251 (what
+    a Russian Excel saves as "CSV (разделители - запятые)")."""
+    try:
+        return raw.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        pass
+    if b"\0" in raw or raw.startswith(b"PK\x03\x04"):
+        raise ClassListError(f"{path}: {what}: not UTF-8 text but a binary file (a workbook?); save it as "
+                             "CSV UTF-8") from None
+    try:
+        return raw.decode("cp1251")
+    except UnicodeDecodeError as e:
+        line = raw[:e.start].count(b"\n") + 1
+        raise ClassListError(f"{path}:{line}: {what}: not UTF-8 (nor Windows-1251) text; "
+                             "save it as CSV UTF-8") from None
+
+
+def delimiter(header_line: str) -> str:
+    """The separator a header line uses: ",", ";" (a Russian Excel) or a tab."""
+    return max((",", ";", "\t"), key=header_line.count)
+
+
+def read_bounded(path: str, limit: int, what: str) -> bytes:
+    """At most `limit` bytes of a regular file: a FIFO or device is refused before reading,
+    a larger file refused as it is read (never read whole first)."""
+    import os
+    import stat
+    try:
+        st = os.stat(path)
+        if not stat.S_ISREG(st.st_mode):
+            raise ClassListError(f"{path}: {what}: not a regular file")
+        with open(path, "rb") as f:
+            raw = f.read(limit + 1)
+    except FileNotFoundError:
+        raise ClassListError(f"{path}: {what}: no such file") from None
+    except OSError as e:
+        raise ClassListError(f"{path}: {what}: cannot read it ({e.strerror or e})") from None
+    if len(raw) > limit:
+        raise ClassListError(f"{path}: {what}: more than {limit:,} bytes; a class list is a few KB")
+    return raw
+
+
+def read_class_list(path: str) -> ClassList:
+    """The teacher's list of students: a CSV file with a header, its name columns ("First
+    name" and "Last name"/"Surname", or "Full name") and an identifier column ("Email
+    address", "ID number" or "Username"), as Moodle exports them; comma, semicolon or tab;
+    UTF-8 or Windows-1251."""
+    text = decode_table(read_bounded(path, MAX_CLASS_LIST_BYTES, "--class-list"), path, "--class-list")
+    delim = delimiter(text.split("\n", 1)[0])
+    try:
+        rows = list(csv.reader(io.StringIO(text, newline=""), delimiter=delim))
+    except csv.Error as e:
+        raise ClassListError(f"{path}: --class-list: not a CSV file this reads ({e})") from None
+    if not rows:
+        raise ClassListError(f"{path}: --class-list: empty; expected a header and one line per student")
+    head = [h.strip().casefold() for h in rows[0]]
+
+    def column(aliases):
+        return next((k for k, h in enumerate(head) if h in aliases), None)
+    id_header, id_col = next(((h, column(a)) for h, a in _ID_ALIASES.items() if column(a) is not None), (None, None))
+    first_col, last_col, full_col = (column(_NAME_HEADERS[k]) for k in ("first", "last", "full"))
+    if id_col is None or (full_col is None and (first_col is None or last_col is None)):
+        raise ClassListError(f"{path}:1: --class-list: expected columns 'First name' and 'Last name' (or "
+                             f"'Full name') and one of {', '.join(repr(h) for h in ID_HEADERS)}; got "
+                             f"{', '.join(repr(h) for h in rows[0])}"[:600])
+    out = ClassList(id_header or ID_HEADERS[0], {}, set(), [], path)
+    for line, row in enumerate(rows[1:], 2):
+        if not any(c.strip() for c in row):
+            continue
+
+        def cell(k, row=row):
+            return " ".join(row[k].split()) if k is not None and k < len(row) else ""
+        ident = cell(id_col)
+        if full_col is not None:
+            name = cell(full_col)
+            words = [w.rstrip(".") for w in _WORD.findall(_fold(name))]
+            surname, given = (words[0], tuple(words[1:])) if words else ("", ())
+        else:
+            name = f"{cell(last_col)} {cell(first_col)}".strip()
+            surname = " ".join(w.rstrip(".") for w in _WORD.findall(_fold(cell(last_col))))
+            given = tuple(w.rstrip(".") for w in _WORD.findall(_fold(cell(first_col))))
+        key = name_key(name)
+        if not key or not ident:
+            raise ClassListError(f"{path}:{line}: --class-list: a line without a name or a {id_header}")
+        if key in out.ids and out.ids[key] != ident:
+            out.ambiguous.add(key)
+        out.ids[key] = ident
+        out.people.append(Person(name, ident, surname, given, line))
+    return out
+
+
+# --------------------------------------------------------------------------- Moodle's download
+_MOODLE = re.compile(r"^(?P<name>.*?)_(?P<pid>\d+)_assign(?:submission|feedback)_[a-z]+_(?P<rest>.*)$", re.S)
+
+
+@dataclass(frozen=True)
+class Submitter:
+    name: str            # the full name Moodle shows ("Participant" under blind marking)
+    participant: str     # the assignment's participant number
+    where: str           # the folder (or flat file) name it came from
+
+
+def moodle_submitter(path: str | Path, root: str | Path | None = None) -> Submitter | None:
+    """Who handed in `path`, from Moodle's "download all submissions" names: a folder
+    `{full name}_{participant id}_assignsubmission_file_` above it (below `root`), or a
+    flat file `{full name}_{participant id}_assignsubmission_file_{original name}`."""
+    p = Path(path)
+    parts = list(p.parts)
+    if root is not None:
+        with contextlib.suppress(ValueError):
+            parts = list(p.relative_to(root).parts)
+    for part in reversed(parts):
+        m = _MOODLE.match(part)
+        if m:
+            return Submitter(" ".join(m.group("name").split()), m.group("pid"), part)
+    return None

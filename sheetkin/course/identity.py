@@ -1,0 +1,189 @@
+"""Who handed in each book, under which Moodle identifier it is graded, and what does not fit.
+
+Three sources name a book's student (docs/teacher-guide.md, "Running a class"):
+  * the Moodle folder (or flat file name) it came in: who handed it in;
+  * the name typed in the book's student cell;
+  * the identity sealed in it by `variants --class-list` (scene!C3, under the seal): whom
+    it was issued to.
+The grade goes to who handed it in: the folder's student, else the typed name's, else the
+sealed one's; each name is matched with the class list (sheetkin/course/classlist.py). A
+book issued to one student and handed in by another, or found in one student's folder with
+another student's name typed in it, is flagged. One grade per Moodle user: of several
+books of one student the newest file (its modification time, as Moodle's zip keeps it) is
+graded and the others are listed, not graded.
+"""
+from __future__ import annotations
+
+import csv
+import io
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .classlist import ClassList, ClassListError, Person, decode_table, delimiter, moodle_submitter, read_bounded
+
+ASSIGNMENT_FILE = "assignment.csv"       # written by `variants --class-list` beside roster.csv
+ASSIGNMENT_COLUMNS = ("student", "identifier", "variant", "exercise")
+MAX_ASSIGNMENT_BYTES = 5_000_000
+
+
+@dataclass
+class Identity:
+    ident: str = ""                  # the Moodle identifier the book is graded under ("": none)
+    who: str = ""                    # a key for "the same submitter" (identifier, participant, or name)
+    submitter: str = ""              # who handed it in, as the teacher reads it
+    flags: list[str] = field(default_factory=list)
+    unmatched: str = ""              # why the class list names no one (or several)
+    superseded_by: int | None = None   # an older book of the same student: not graded
+
+
+@dataclass
+class Assignment:
+    path: str
+    id_header: str
+    people: dict[str, tuple[str, str, str]]     # identifier -> (name, variant, exercise)
+
+    def assigned(self) -> dict[str, int]:
+        """{variant: how many students it was issued to}."""
+        out: dict[str, int] = {}
+        for _, v, _ in self.people.values():
+            out[v] = out.get(v, 0) + 1
+        return out
+
+    def as_class_list(self) -> ClassList:
+        """The students of the assignment as a class list (when --class-list is not given)."""
+        from .classlist import _WORD, _fold, name_key
+        cl = ClassList(self.id_header, {}, set(), [], self.path)
+        for ident, (name, _, _) in self.people.items():
+            words = [w.rstrip(".") for w in _WORD.findall(_fold(name))]
+            cl.people.append(Person(name, ident, words[0] if words else "", tuple(words[1:])))
+            cl.ids[name_key(name)] = ident
+        return cl
+
+
+def assignment_text(id_header: str, rows: list[tuple[str, str, str, str]]) -> str:
+    """assignment.csv: student, identifier, variant, exercise; the identifier column's own
+    name (Moodle's: Email address, ID number, Username) on the first line as a comment."""
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(ASSIGNMENT_COLUMNS)
+    w.writerow([f"# {id_header}", "", "", ""])
+    w.writerows(rows)
+    return buf.getvalue()
+
+
+def read_assignment(path) -> Assignment:
+    """assignment.csv as `variants --class-list` writes it; one-line errors naming file:line."""
+    p = str(path)
+    text = decode_table(read_bounded(p, MAX_ASSIGNMENT_BYTES, "assignment"), p, "assignment")
+    rows = list(csv.reader(io.StringIO(text, newline=""), delimiter=delimiter(text.split("\n", 1)[0])))
+    if not rows or tuple(h.strip() for h in rows[0][:4]) != ASSIGNMENT_COLUMNS:
+        raise ClassListError(f"{p}:1: expected the header {','.join(ASSIGNMENT_COLUMNS)} (as `sheetkin variants "
+                             "--class-list` writes it)")
+    id_header, people = "Email address", {}
+    for line, row in enumerate(rows[1:], 2):
+        if row and row[0].startswith("# "):
+            id_header = row[0][2:].strip() or id_header
+            continue
+        if not any(c.strip() for c in row):
+            continue
+        if len(row) < 4 or not row[1].strip() or not row[2].strip():
+            raise ClassListError(f"{p}:{line}: expected a student, their identifier, a variant and an exercise")
+        people[row[1].strip()] = (row[0].strip(), row[2].strip(), row[3].strip())
+    return Assignment(p, id_header, people)
+
+
+def _one(people: list[Person]) -> Person | None:
+    return people[0] if len({p.ident for p in people}) == 1 else None
+
+
+def _describe(text: str, people: list[Person]) -> str:
+    if not people:
+        return f"no one in the class list is named {text!r}"
+    return f"{text!r} can be {', '.join(f'{p.name} ({p.ident})' for p in people[:5])}"
+
+
+def identify(reports, class_list: ClassList | None = None, assignment: Assignment | None = None,
+             mtimes: list[float] | None = None) -> list[Identity]:
+    """Each report's Identity (the module's rules), in the reports' order. mtimes: each
+    file's modification time (default: read from report.path)."""
+    if class_list is None and assignment is not None:
+        class_list = assignment.as_class_list()
+    out = []
+    for rep in reports:
+        out.append(_identify_one(rep, class_list, assignment))
+    _newest_only(reports, out, mtimes or [_mtime(r.path) for r in reports])
+    return out
+
+
+def _identify_one(rep, cl: ClassList | None, assignment: Assignment | None) -> Identity:
+    me = Identity()
+    typed = " ".join(str(getattr(rep, "student", "") or "").split())
+    sealed = str(getattr(rep, "issued_to", "") or "")
+    sub = moodle_submitter(rep.path)
+    sealed_name = ""
+    if sealed:
+        person = cl.by_ident(sealed) if cl else None
+        sealed_name = person.name if person else (assignment.people.get(sealed, ("",))[0] if assignment else "")
+    folder = typed_person = None
+    if cl is not None:
+        folder = _one(cl.match(sub.name)) if sub else None
+        typed_person = _one(cl.match(typed)) if typed else None
+    if sub is not None:
+        me.submitter = f"{sub.name} (Moodle participant {sub.participant})"
+        me.who = folder.ident if folder else f"participant {sub.participant}"
+        me.ident = folder.ident if folder else ""
+        if cl is not None and folder is None:
+            me.unmatched = f"the folder {sub.where!r}: " + _describe(sub.name, cl.match(sub.name))
+        if folder and typed and typed_person is not None and typed_person.ident != folder.ident:
+            me.flags.append(f"found in the folder of {folder.name}, but {typed_person.name}'s name is typed in it")
+    elif typed:
+        me.submitter = typed
+        me.who = typed_person.ident if typed_person else " ".join(typed.casefold().replace("ё", "е").split())
+        me.ident = typed_person.ident if typed_person else ""
+        if cl is not None and typed_person is None:
+            me.unmatched = _describe(typed, cl.match(typed))
+    elif sealed:
+        me.submitter, me.who = sealed_name or sealed, sealed
+        me.ident = sealed if cl is None or cl.by_ident(sealed) else ""
+    if sealed and me.ident and sealed != me.ident:
+        me.flags.append(f"issued to {sealed_name or sealed} ({sealed}), handed in by {me.submitter}")
+    elif sealed and not me.ident and sub is not None and sealed_name and sub.name:
+        from .classlist import name_key
+        if name_key(sealed_name) != name_key(sub.name):
+            me.flags.append(f"issued to {sealed_name} ({sealed}), handed in by {me.submitter}")
+    return me
+
+
+def _mtime(path: str) -> float:
+    try:
+        return os.stat(path).st_mtime
+    except (OSError, ValueError):           # a name with a NUL character
+        return 0.0
+
+
+def _newest_only(reports, ids: list[Identity], mtimes: list[float]) -> None:
+    """One grade per Moodle user: the newest of a student's files is graded, the others
+    point at it (superseded_by) and are listed."""
+    by_ident: dict[str, list[int]] = {}
+    for i, me in enumerate(ids):
+        if me.ident:
+            by_ident.setdefault(me.ident, []).append(i)
+    for ident, idx in by_ident.items():
+        if len(idx) < 2:
+            continue
+        newest = max(idx, key=lambda i: (mtimes[i], i))
+        for i in idx:
+            if i != newest:
+                ids[i].superseded_by = newest
+                ids[i].flags.append(f"not graded: {ident} handed in {reports[newest].path} too, which is newer")
+        ids[newest].flags.append("graded; older files of this student not graded: "
+                                 + ", ".join(reports[i].path for i in idx if i != newest)[:300])
+
+
+def find_assignment(roster_path: str | None) -> Assignment | None:
+    """assignment.csv beside --roster, when `variants --class-list` wrote one."""
+    if not roster_path:
+        return None
+    p = Path(roster_path).parent / ASSIGNMENT_FILE
+    return read_assignment(p) if p.is_file() else None
