@@ -36,6 +36,12 @@ def pdftoppm() -> str:
     return _require(shutil.which("pdftoppm"), "pdftoppm not found: run `bash tests/setup.sh` (poppler-utils)")
 
 
+@pytest.fixture(scope="session")
+def ssconvert() -> str:
+    """Path of Gnumeric's ssconvert (books re-saved as Gnumeric saves them)."""
+    return _require(shutil.which("ssconvert"), "ssconvert not found: run `bash tests/setup.sh` (gnumeric)")
+
+
 # Markers from what a test needs, so `pytest -m "not libreoffice and not browser and not gnumeric"`
 # is the fast lane (CI still runs every test). A test that asks for the `soffice` fixture runs
 # LibreOffice; one that asks for `ssconvert` runs Gnumeric; the *_browser modules drive Chromium.

@@ -29,7 +29,7 @@ TYPED_ROWS = ["Fi", "dFi", "Fi_t", "Fi_tt", "cos_1", "sin_1", "x_A", "y_A", "v_A
 
 
 @pytest.fixture(scope="module")
-def cls(tmp_path_factory, soffice):
+def cls(tmp_path_factory, soffice, ssconvert):
     """A class of 2 variants issued by this version, and the books (name -> path)."""
     d = tmp_path_factory.mktemp("class")
     from sheetkin.cli.commands import main
