@@ -384,6 +384,8 @@ def cmd_validate(args) -> int:
         class_list = assignment.as_class_list()
     mtimes = [_mtime(p) for p in real]
     identities = identify(reports, class_list, assignment, mtimes)
+    for rep, me in zip(reports, identities, strict=True):
+        rep.notes += [f"identity: {flag}" for flag in me.flags]      # --json carries them
     digests = [None if r.error else file_digest(p) for r, p in zip(reports, real, strict=True)]
     from sheetkin.course.copies import roster_variants
     variants = roster_variants(options.roster, assignment) if options.roster is not None else None

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import csv
 import io
+import json
 import os
 import shutil
 import struct
@@ -282,6 +283,11 @@ def test_moodle_zip_read_as_it_is(tmp_path, soffice, capsys):
     # Сидоров's newest file is his own (petrova_copy is older): graded; the copy is listed
     assert "petrova_copy.xlsx" in err
     assert "possible copy" in out and "byte-identical" in out
+    assert main(["validate", str(zpath), "--class-list", str(cl), "--grades", str(tmp_path / "g2.csv"), "--json",
+                 "--progress", "never"]) == 1
+    books = json.loads(capsys.readouterr().out)
+    notes = [n for b in books["reports"] for n in b["notes"] if n.startswith("identity: ")]
+    assert any("older files of this student not graded" in n for n in notes)
 
 
 def _date(stamp: float) -> tuple:
