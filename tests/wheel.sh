@@ -30,4 +30,8 @@ sheetkin variants ex/fourbar.toml -n 2 --out class --seed 1 >/dev/null 2>&1
 # student: a filled book is the key's formulas in the exercise; the key itself grades as all correct
 sheetkin validate class/*-key.xlsx --roster class/roster.csv >validate.txt
 grep -q "all correct" validate.txt
+# the documentation pages ship in the wheel (package data sheetkin.docs) and help points to them
+sheetkin docs | grep -q '^scene-format '
+sheetkin docs scene-format | head -n 1 | grep -q '^# The scene format'
+sheetkin --help | grep -q 'sheetkin docs scene-format'
 echo "tests/wheel.sh: the wheel installs and its quickstarts run ($(ls dist))"

@@ -1,7 +1,7 @@
 """`sheetkin validate FILES --grades grades.csv`: one line per submission, for the teacher
 and for Moodle's gradebook import (Grades > Import > CSV file).
 
-The score of a submission (README, "Running a class" > "Grades"):
+The score of a submission (`sheetkin docs class`, "Grades"):
     100 * rows correct / rows graded  -  CHECK_PENALTY per failing check row of the sheet,
     at least 0, to one decimal;
     0 when the given data differ from the issued variant (unless --accept-changed-inputs),

@@ -195,7 +195,7 @@ def _details(rep: Report, k: int, copy: str = "") -> list[str]:
         out.append(f"<p class='wrong'>possible copy of: {copy}</p>")
     sc = score(rep)
     if sc is not None:
-        out.append(f"<p>score {sc:.1f} (README: Running a class, Grades)</p>")
+        out.append(f"<p>score {sc:.1f} (the rules: <code>sheetkin docs class</code>, Grades)</p>")
     out.append(f"<p>{sum(x.status == 'correct' for x in rep.rows)} rows correct, {len(rep.wrong)} wrong, "
                f"{len(rep.missing)} missing or empty.</p>")
     for c in rep.causes:
