@@ -31,7 +31,8 @@ sheetkin variants ex/fourbar.toml -n 2 --out class --seed 1 >/dev/null 2>&1
 sheetkin validate class/*-key.xlsx --roster class/roster.csv >validate.txt
 grep -q "all correct" validate.txt
 # the documentation pages ship in the wheel (package data sheetkin.docs) and help points to them
-sheetkin docs | grep -q '^scene-format '
-sheetkin docs scene-format | head -n 1 | grep -q '^# The scene format'
-sheetkin --help | grep -q 'sheetkin docs scene-format'
+# (into files first: grep -q leaves a pipe early, and sheetkin then exits 141, as a reader that left)
+sheetkin docs >pages.txt && grep -q '^scene-format ' pages.txt
+sheetkin docs scene-format >scene-format.md && grep -q '^# The scene format' scene-format.md
+sheetkin --help >help.txt && grep -q 'sheetkin docs scene-format' help.txt
 echo "tests/wheel.sh: the wheel installs and its quickstarts run ($(ls dist))"
