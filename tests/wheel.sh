@@ -31,4 +31,9 @@ sheetkin variants ex/fourbar.toml -n 2 --out class --seed 1 >/dev/null 2>&1
 # student: a filled book is the key's formulas in the exercise; the key itself grades as all correct
 sheetkin validate class/*-key.xlsx --roster class/roster.csv >validate.txt
 grep -q "all correct" validate.txt
+# the documentation pages ship in the wheel (package data sheetkin.docs) and help points to them
+# (into files first: grep -q leaves a pipe early, and sheetkin then exits 141, as a reader that left)
+sheetkin docs >pages.txt && grep -q '^scene-format ' pages.txt
+sheetkin docs scene-format >scene-format.md && grep -q '^# The scene format' scene-format.md
+sheetkin --help >help.txt && grep -q 'sheetkin docs scene-format' help.txt
 echo "tests/wheel.sh: the wheel installs and its quickstarts run ($(ls dist))"

@@ -24,7 +24,7 @@ def _finite_float(text: str) -> float:
         raise argparse.ArgumentTypeError(f"expected a number of degrees, got {text!r}") from None
     if not math.isfinite(v):
         raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
-    if abs(v) > MAX_MAGNITUDE:      # the scene's cap on numbers (README, "Scene files")
+    if abs(v) > MAX_MAGNITUDE:      # the scene's cap on numbers (docs/mechanisms.md, "Caps")
         raise argparse.ArgumentTypeError(f"expected a magnitude of at most {MAX_MAGNITUDE:g}, got {text!r}")
     return v
 
@@ -70,15 +70,16 @@ def build_parser() -> argparse.ArgumentParser:
         prog="sheetkin",
         description="Kinematic analysis of planar linkages in the spreadsheet workflow of "
                     "Alyushin's course (MGGU). Scene files (every key, group kind and output "
-                    "name): docs/scene-format.md in the repository.")
+                    "name): see `sheetkin docs scene-format`; every page: `sheetkin docs`.")
     parser.add_argument("--version", action="version", version=f"sheetkin {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     p = sub.add_parser(
         "compute", help="positions, velocities and accelerations of every link and point",
-        description="Compute the kinematics of a scene (docs/scene-format.md) at every "
+        description="Compute the kinematics of a scene (`sheetkin docs scene-format`) at every "
                     "crank position: link angles, angular velocities and accelerations; "
                     "coordinates, velocities and accelerations of every moving joint and point; "
-                    "slides of sliders. The scene format and the names: docs/scene-format.md.")
+                    "slides of sliders. The scene format and the names: `sheetkin docs scene-format`; "
+                    "the options at length: `sheetkin docs compute`.")
     p.add_argument("scene", metavar="SCENE.toml", help="the scene file")
     p.add_argument("--format", choices=["table", "csv", "json", "parquet"], default="table",
                    help="table: one row per quantity, readable (default); csv: one row per "
@@ -166,7 +167,7 @@ def build_parser() -> argparse.ArgumentParser:
     v.add_argument("--grades", metavar="GRADES.csv",
                    help="also write one line per submission: student, group, variant, file, rows "
                         "correct, checks passing, given data changed, likely causes, possible copies "
-                        "and a score (README: Running a class); a CSV file Moodle's gradebook imports")
+                        "and a score (see `sheetkin docs class`); a CSV file Moodle's gradebook imports")
     v.add_argument("--class-list", metavar="STUDENTS.csv",
                    help="with --grades: the class as Moodle exports it (First name, Last name, Email "
                         "address or ID number); fills grades.csv's identifier column from the Moodle "
@@ -270,6 +271,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_animate_parser(sub)
     _add_variants_parser(sub)
     _add_examples_parser(sub)
+    _add_docs_parser(sub)
     w.add_argument("--check", action="store_true",
                    help="write nothing: exit 1 if an existing workbook differs from what would be "
                         "written (stale) or is missing")
@@ -365,3 +367,12 @@ def _add_examples_parser(sub) -> None:
                     "shaper, crank-slider, slotted levers, kulisas, chains) to DIR, and list "
                     "them with their titles. An existing file is never overwritten.")
     x.add_argument("dir", metavar="DIR", help="the folder to write them to (made if missing)")
+
+
+def _add_docs_parser(sub) -> None:
+    x = sub.add_parser(
+        "docs", help="list the documentation pages, or print one",
+        description="The documentation that comes with sheetkin, as Markdown pages: without "
+                    "PAGE, their names and titles; with PAGE (e.g. scene-format, tutorial, class), "
+                    "that page printed.")
+    x.add_argument("page", metavar="PAGE", nargs="?", help="the page's name (as listed)")

@@ -110,6 +110,48 @@ def cmd_examples(args) -> int:
     return 0
 
 
+def _docs_folder() -> Path | None:
+    """The documentation pages: package data `sheetkin.docs` in an installed wheel; in a
+    checkout run from its source folder (not installed), the repository's docs/ beside it."""
+    from importlib.resources import files
+    try:
+        return Path(str(files("sheetkin.docs")))
+    except ModuleNotFoundError:
+        here = Path(__file__).resolve().parents[2] / "docs"
+        return here if (here / "index.md").is_file() else None
+
+
+def _page_title(path: Path) -> str:
+    for line in path.read_text(encoding="utf-8").splitlines():
+        if line.startswith("# "):
+            return line[2:].strip()
+    return ""
+
+
+def cmd_docs(args) -> int:
+    """The documentation pages (docs/*.md, shipped as `sheetkin.docs`): listed, or one printed."""
+    folder = _docs_folder()
+    pages = {p.stem: p for p in sorted(folder.glob("*.md"))} if folder else {}
+    if not pages:
+        raise SceneError("the documentation pages are not installed (sheetkin.docs is missing)")
+    if args.page is None:
+        width = max(map(len, pages))
+        for name, path in pages.items():
+            print(f"{name:<{width}}  {_page_title(path)}")
+        print("\nsheetkin docs PAGE prints a page (Markdown), e.g. sheetkin docs scene-format")
+        return 0
+    name = args.page.removesuffix(".md")
+    if name not in pages:
+        raise SceneError(f"no documentation page {args.page!r}; the pages: {', '.join(pages)}")
+    text = pages[name].read_text(encoding="utf-8")
+    # the CLI reference is generated from the parser when the site is built; here, the same text
+    text = text.replace("<!-- cli-reference -->", "See `sheetkin --help` and `sheetkin COMMAND --help`.")
+    # the site includes the changelog from the repository's root (pymdownx.snippets)
+    text = text.replace('--8<-- "CHANGELOG.md"', "The changelog is CHANGELOG.md in sheetkin's source.")
+    sys.stdout.write(text)
+    return 0
+
+
 def cmd_compute(args) -> int:
     import numpy as np
 
@@ -119,7 +161,7 @@ def cmd_compute(args) -> int:
     scene = load_scene(args.scene)
     if args.dynamics and not scene.has_dynamics:
         raise SceneError(f"{args.scene}: --dynamics needs [[mass]] and/or [[force]] tables in the "
-                         "scene (and `gravity = [gx, gy]` for weight); see the README")
+                         "scene (and `gravity = [gx, gy]` for weight); see `sheetkin docs dynamics`")
     phi: AngleRange | np.ndarray     # a --range streams in blocks; other angles are one array
     if args.range is not None:
         phi = parse_range(args.range)
@@ -571,7 +613,7 @@ def _run(args) -> int:
         code = {"compute": cmd_compute, "workbook": cmd_workbook, "evaluate": cmd_evaluate,
                 "validate": cmd_validate, "bench": cmd_bench,
                 "synth": cmd_synth, "animate": cmd_animate, "variants": cmd_variants,
-                "examples": cmd_examples}[args.command](args)
+                "examples": cmd_examples, "docs": cmd_docs}[args.command](args)
         _flush_stdout()
         return code
     except SceneError as e:

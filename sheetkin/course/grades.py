@@ -1,7 +1,7 @@
 """`sheetkin validate FILES --grades grades.csv`: one line per submission, for the teacher
 and for Moodle's gradebook import (Grades > Import > CSV file).
 
-The score of a submission (docs/grading.md; issue 21), 0..100 to one decimal:
+The score of a submission (`sheetkin docs grading`), 0..100 to one decimal:
     ROWS_SHARE (90) x rows computed right / rows graded
   + CHECKS_SHARE (10) x check rows intact and filled in / check rows issued
   - CHECK_PENALTY (2) per check row of the sheet that fails, at least 0;

@@ -206,7 +206,7 @@ def _details(rep: Report, k: int, copy: str = "") -> list[str]:
     if copy:
         out.append(f"<p class='wrong'>possible copy of: {copy}</p>")
     c = counts(rep)
-    out.append(f"<p>score {e(explain(rep))} (docs/grading.md)</p>")
+    out.append(f"<p>score {e(explain(rep))} (the rules: <code>sheetkin docs grading</code>)</p>")
     out.append(f"<p>{c['correct']} of {c['total']} rows correct (computed), {c['typed']} typed (not computed), "
                f"{c['wrong']} wrong, {c['missing']} missing or empty.</p>")
     typed = rep.typed

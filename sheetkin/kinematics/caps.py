@@ -1,5 +1,5 @@
 """Scene files' generic limits: the caps on what a TOML scene may hold and the checks that
-apply to every value whatever its key (README, "Scene files", "Caps").
+apply to every value whatever its key (`sheetkin docs mechanisms`, "Caps").
 
 `load_toml` reads the text (every tomllib failure one SceneError line), `check_values`
 walks the document once, iteratively, and refuses NaN and inf, magnitudes above
@@ -15,7 +15,7 @@ import reprlib
 import tomllib
 from typing import Any
 
-# Caps on what a scene may hold (README, "Scene files"); a file past them gets one line.
+# Caps on what a scene may hold (`sheetkin docs mechanisms`, "Caps"); a file past them gets one line.
 # Magnitudes: a kinematic chain multiplies up to about six of its numbers (mass x length x
 # omega^2 x velocity ...), so 1e12 keeps every product far below float overflow (1e308)
 # while no real mechanism (metres, rad/s, kg) comes near it.

@@ -328,7 +328,7 @@ def compute(scene: Scene | str | Path, at=None, *, analogs: bool = False, allow_
     scene = as_scene(scene)          # a Scene, a path or the scene's text
     if dynamics and not scene.has_dynamics:
         raise ValueError(f"{scene.source}: no [[mass]] or [[force]] tables, so there is nothing for "
-                         "the dynamics to compute (see the README: masses, forces, gravity)")
+                         "the dynamics to compute (masses, forces, gravity: see `sheetkin docs dynamics`)")
     c = scene.crank
     # refused before anything is allocated (touching 1e8 fresh angles alone takes seconds)
     check_table_fits(scene, c.positions if at is None else np.size(at),

@@ -11,7 +11,7 @@ from sheetkin.kinematics.dynamics import point_owners
 
 
 def dynamics_inputs(b: Builder):
-    """Masses, moments of inertia, gravity and external loads (README: "Masses and forces")."""
+    """Masses, moments of inertia, gravity and external loads (docs: `sheetkin docs dynamics`)."""
     sc = b.scene
     if any(sc.gravity):
         b.input("g_x", "m/s^2", "ускорение свободного падения: проекция на x", "gravity, x component", sc.gravity[0])

@@ -16,7 +16,7 @@ marked `pure` and take fast paths (no coercion, no error tags, references as vie
 value stores); any NaN or infinity sends an operation back to the general path, which
 names the error.
 
-Real files (see README, "What files the evaluator reads"): a defined name is a dependency of
+Real files (see `sheetkin docs evaluator`, "What files the evaluator reads"): a defined name is a dependency of
 the formulas that use it (the references behind it, through names of names, join the run's
 references); a name scoped to a sheet shadows the workbook's; an array formula (CSE or a
 dynamic-array spill) is a run of its own that fills its whole range (_write_array); whole
