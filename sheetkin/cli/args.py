@@ -194,7 +194,7 @@ def build_parser() -> argparse.ArgumentParser:
     v.add_argument("--accept-typed", action="store_true",
                    help="let a number typed where a formula belongs earn credit when it is right "
                         "to its last digit (default: a computed row earns credit only where it "
-                        "computes; still reported as typed, not computed; docs/grading.md)")
+                        "computes; still reported as typed, not computed; see `sheetkin docs grading`)")
     b = sub.add_parser(
         "bench", help="time and accuracy of each way of computing a scene",
         description="For each method (the closed-form solver; Newton on the loop-closure "
