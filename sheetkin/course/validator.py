@@ -229,7 +229,7 @@ def internal_error(path: str, e: BaseException) -> str:
 
 
 def _validate(path: str, limits: Limits, options: issued.Options | None = None) -> Report:
-    book = read_book(path, limits)
+    book = read_book(path, limits, skip=frozenset({PATHS_SHEET}))    # never graded: not parsed
     if SCENE_SHEET not in book.sheets:
         raise UnusableInput(f"{path}: no embedded scene (hidden sheet '{SCENE_SHEET}'); "
                             "expected a workbook made by `sheetkin workbook`")
@@ -460,7 +460,7 @@ def _cache_mismatches(book: Book, sheet: str, angle_rows: set[int] = frozenset()
     formula gives now (stale values, or a number pasted over a formula's result). On the
     rows of link angles, in [0, 360), 359.99999999999994 and 0 are the same angle (MOD's
     last bit differs between spreadsheets)."""
-    from openpyxl.utils import get_column_letter
+    from sheetkin.xlsx.coords import get_column_letter
     out = []
     sh = book.sheets[sheet]
     for (r, c), cached in sorted(sh.cached.items()):

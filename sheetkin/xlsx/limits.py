@@ -15,10 +15,9 @@ from __future__ import annotations
 import dataclasses
 from operator import itemgetter
 
-from openpyxl.utils import get_column_letter
-
 from .cells import Sheet
 from .context import PAD_CELLS
+from .coords import get_column_letter
 from .package import Limits, UnusableWorkbook, _show
 from .parse import Note, Ref, _nodes, arity_problem, functions_of, refs_of
 from .runs import Run, _span

@@ -935,3 +935,23 @@ def test_date_cells_and_malformed_values(tmp_path, monkeypatch, capsys):
     assert main(["evaluate", str(bad)]) == 2
     err = capsys.readouterr().err.strip()
     assert "cell A1 has the value '12abc'" in err and "\n" not in err
+
+
+def test_column_letters_and_tokenizer_are_openpyxls():
+    # sheetkin.xlsx.coords spares `evaluate` the import of openpyxl (issue 24): the same rules
+    import openpyxl.formula.tokenizer as real
+    from openpyxl.utils import column_index_from_string, get_column_letter
+
+    from sheetkin.xlsx import coords
+    for c in (1, 25, 26, 27, 52, 53, 701, 702, 703, 16384, 18277, 18278):
+        assert coords.get_column_letter(c) == get_column_letter(c)
+        assert coords.column_index_from_string(get_column_letter(c).lower()) == c
+    for bad in (0, 18279, -1):
+        with pytest.raises(ValueError):
+            coords.get_column_letter(bad)
+    for bad in ("", "AAAA", "A1", "Ä"):
+        with pytest.raises(ValueError):
+            coords.column_index_from_string(bad)
+    text = '=IF(A1<>"x",SUM($B$2:C3)*-1.5E-3%,{1,2;3,4})&"н/д"'
+    ours = [(t.value, t.type, t.subtype) for t in coords.Tokenizer(text).items]
+    assert ours == [(t.value, t.type, t.subtype) for t in real.Tokenizer(text).items]
