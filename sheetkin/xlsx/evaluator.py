@@ -55,6 +55,7 @@ from .limits import (  # noqa: F401
     _names_used,
     _run_notes,
     _store_dims,
+    dims_signature,
 )
 from .package import Limits, UnusableWorkbook, _show
 from .parse import (  # noqa: F401
@@ -185,11 +186,11 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
     _check_reads(path, order_runs, dims, name_refs, limits)  # runs split into cells read more
     ctx = _Context(num, tag, txt, scopes)
     ctx.arrays = {n: sh.arrays for n, sh in sheets.items()}
-    cells = 0
+    cells, dims_key = 0, dims_signature(dims)
     with np.errstate(all="ignore"):
         for run in order_runs:
             cells += len(run.cols)
-            for part in _chunks(run, dims, name_refs):
+            for part in _chunks(run, dims, name_refs, dims_key):
                 k = len(part.cols)
                 if part.error:
                     v = _const(getattr(part.error, "code", "#NAME?"), k)
@@ -255,7 +256,7 @@ def _name_scopes(names: dict, sheets: dict[str, Sheet], bound, notes: dict | Non
 
 
 def _has_names(tree) -> bool:
-    return any(node[0] == "name" for node in _nodes(tree))
+    return bool(_names_used(tree))             # kept per tree (limits._names_used)
 
 
 def _names_in(tree, out: list):
