@@ -158,7 +158,7 @@ def main():
             res["variants_40_vs_1"] = {"one_variant": t_same, "forty": t_dist, "ratio": t_dist / t_same,
                                        "one_variant_jobs1": t_same1, "forty_jobs1": t_dist1,
                                        "ratio_jobs1": t_dist1 / t_same1}
-            print(f"\n{nf} files, 13 columns: one variant {t_same:.2f} s, 40 variants {t_dist:.2f} s: "
+            print(f"\n{nf} files, 13 columns: one variant {t_same:.2f} s, {nf} variants {t_dist:.2f} s: "
                   f"ratio {t_dist / t_same:.2f} (--jobs 1: {t_same1:.2f} s, {t_dist1:.2f} s, "
                   f"ratio {t_dist1 / t_same1:.2f}); target <= 4")
             base, row = bases[13]
