@@ -340,7 +340,8 @@ def main(argv=None) -> int:
                 if single is None:
                     notes.append("LibreOffice (soffice) not found: skipped")
                 else:
-                    rows.append((f"{stem}{cols}", "LibreOffice: 1 file, 1 soffice run", single, None, ratio(single, best)))
+                    rows.append((f"{stem}{cols}", "LibreOffice: 1 file, 1 soffice run", single, None,
+                                 ratio(single, best)))
                     rows.append((f"{stem}{cols}", "  LibreOffice 1 file / `sheetkin evaluate` process", single, None,
                                  f"{single / cbest:.1f}x (target >= 8x)"))
                     rows.append((f"{stem}{cols}", f"LibreOffice: per file, {args.copies} in 1 run", per_file, None,

@@ -1,12 +1,13 @@
 """`sheetkin compute`'s output: the table, CSV, JSON and parquet, written block by block.
 
-CSV is written by polars, block by block (issue 24: 1.7-4x faster than our own formatter on
-the same arrays; its notation, the shortest decimal that reads back as the same double, is
+CSV is written by polars, block by block (issue 24: 2x faster than our own formatter on the
+same arrays; its notation, the shortest decimal that reads back as the same double, is
 in docs/output-formats.md); JSON's numbers are formatted in bulk by sheetkin.views.floatfmt
 (Python's repr, byte for byte what json.dumps writes). Positions are computed and written in
-blocks of compute.BLOCK, so 1e7 positions stream at bounded memory. Never "nan" or "inf": a value that is not a finite number is an empty
-cell in CSV, null in JSON and parquet, "-" in the table; where the group assembles
-(outside --allow-gaps' gaps) a warning names the columns and crank angles.
+blocks of compute.BLOCK, so 1e7 positions stream at bounded memory. Never "nan" or "inf":
+a value that is not a finite number is an empty cell in CSV, null in JSON and parquet, "-"
+in the table; where the group assembles (outside --allow-gaps' gaps) a warning names the
+columns and crank angles.
 """
 from __future__ import annotations
 
