@@ -107,7 +107,65 @@ def output_speed(n: int, repeat: int) -> dict:
         json.dumps({"positions": records}, indent=1)
         t_json = time.perf_counter() - t
         out["before"] = {"dataframe": t_df, "to_csv": t_csv, "json_dumps": t_json}
+    out["writers"] = writers(scene, phi, repeat)
     return out
+
+
+def writers(scene, phi, repeat: int) -> dict:
+    """CSV writers on the same arrays (the blocks of compute_blocks, already computed): the
+    command's (polars since issue 24), polars and pyarrow directly, our own formatter
+    (sheetkin.views.floatfmt, which still writes JSON) and pandas; best of `repeat` (s)."""
+    import io
+
+    import numpy as np
+    import pandas as pd
+    import polars as pl
+    import pyarrow as pa
+    import pyarrow.csv as pacsv
+
+    from sheetkin.kinematics.table import compute_blocks, table_names
+    from sheetkin.views.floatfmt import repr_slots
+    from sheetkin.views.output import _Text
+    names = table_names(scene, False, False)
+    blocks = list(compute_blocks(scene, phi))
+
+    def command():
+        w = _Text("csv", names, len(scene.groups), False, "")
+        return w.head() + b"".join(w.rows(b) for b in blocks)
+
+    def polars():
+        out = io.BytesIO()
+        for i, b in enumerate(blocks):
+            pl.DataFrame({n: b.table[j] for j, n in enumerate(names)}).write_csv(out, include_header=i == 0)
+        return out.getvalue()
+
+    def pyarrow():
+        out = io.BytesIO()
+        for i, b in enumerate(blocks):
+            pacsv.write_csv(pa.table({n: b.table[j] for j, n in enumerate(names)}), out,
+                            pacsv.WriteOptions(include_header=i == 0))
+        return out.getvalue()
+
+    def floatfmt():
+        # the numbers' text only (what the formatter did before issue 24, without the row assembly)
+        return sum(int(repr_slots(np.ascontiguousarray(b.table.T).reshape(-1))[0].nbytes) for b in blocks)
+
+    def pandas():
+        out = io.StringIO()
+        for i, b in enumerate(blocks):
+            pd.DataFrame({n: b.table[j] for j, n in enumerate(names)}).to_csv(out, index=False, header=i == 0)
+        return out.getvalue()
+
+    res = {}
+    for name, f in (("command (polars)", command), ("polars", polars), ("pyarrow", pyarrow),
+                    ("floatfmt (numbers only)", floatfmt), ("pandas", pandas)):
+        times = []
+        for _ in range(repeat):
+            t = time.perf_counter()
+            f()
+            times.append(time.perf_counter() - t)
+        res[name] = best_median(times)
+    return res
 
 
 def streaming(n: int) -> dict:
@@ -149,7 +207,10 @@ def main():
     ap.add_argument("--startup-runs", type=int, default=20)
     ap.add_argument("--only", choices=["output", "stream", "startup"], action="append")
     ap.add_argument("--json", metavar="FILE", help="also write the results as JSON")
+    ap.add_argument("--tiny", action="store_true", help="a smoke run for CI: 1e3 positions, 1e4 streamed, once")
     args = ap.parse_args()
+    if args.tiny:
+        args.repeat, args.positions, args.stream, args.startup_runs = 1, 1e3, 1e4, 1
     parts = args.only or ["startup", "output", "stream"]
     res = {"load_before": os.getloadavg()}
     if "startup" in parts:
@@ -171,6 +232,14 @@ def main():
         b = o["before"]
         print(f"  before: DataFrame {b['dataframe']:.3f}, pandas to_csv {b['to_csv']:.3f}, "
               f"json.dumps of the records {b['json_dumps']:.3f}")
+        w = o["writers"]
+        fastest = min(v[0] for k, v in w.items() if k in ("polars", "pyarrow"))
+        print("  CSV writers on the same arrays (best / median, s; ratio to the fastest library):")
+        for k, (bt, md) in w.items():
+            print(f"    {k:<26} {bt:8.3f} {md:8.3f}  {bt / fastest:5.2f}x")
+        if "startup" in res:
+            base = res["startup"]["sheetkin compute workbooks/fourbar.toml"][0]
+            print(f"  csv process / 13-position compute process: {o['csv']['process'][0] / base:.2f}x (target <= 3x)")
     if "stream" in parts and args.stream:
         res["stream"] = st = streaming(int(args.stream))
         print(f"\nstreaming {st['positions']:.0e} positions as CSV (--range {st['range']}):")

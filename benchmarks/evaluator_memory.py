@@ -220,7 +220,11 @@ def main(argv=None) -> int:
     ap.add_argument("--out", metavar="DIR", help="write DIR/evaluator_memory.json")
     ap.add_argument("--keep", action="store_true", help="keep the workbook (printed path)")
     ap.add_argument("--parts", default="distinct,runs,notes", help="sheets besides Data (default distinct,runs,notes)")
+    ap.add_argument("--tiny", action="store_true", help="a smoke run for CI: the Data sheet only")
     args = ap.parse_args(argv)
+    if args.tiny:
+        global DATA_ROWS, DATA_COLS
+        args.parts, DATA_ROWS, DATA_COLS = "", 14, 10
     limits = Limits()
     tmp = Path(tempfile.mkdtemp(prefix="sheetkin_mem_"))
     path = tmp / "at_the_limits.xlsx"

@@ -27,7 +27,10 @@ from hypothesis import strategies as st  # noqa: E402
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--examples", type=int, default=5000, help="cases per generator (default 5000)")
+    ap.add_argument("--tiny", action="store_true", help="a smoke run for CI: 20 cases per generator")
     args = ap.parse_args()
+    if args.tiny:
+        args.examples = 20
     counts: dict[str, collections.Counter] = {}
     crashes = []
 

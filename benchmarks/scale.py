@@ -348,6 +348,8 @@ def main(argv=None) -> int:
     ap.add_argument("--chain-positions", type=float, nargs="+", default=[1e5, 1e6])
     ap.add_argument("--groups", type=int, nargs="+", default=[1, 2, 5, 10, 20, 50])
     ap.add_argument("--quick", action="store_true", help="1e2..1e5 positions, chains at 1e4 (a smoke run)")
+    ap.add_argument("--tiny", action="store_true",
+                    help="a smoke run for CI: 1e2..1e3 positions, 1 and 2 groups, once")
     ap.add_argument("--memory-child", nargs=3, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.memory_child:
@@ -356,6 +358,9 @@ def main(argv=None) -> int:
         return 0
     if args.quick:
         args.max_positions, args.chain_positions, args.repeat = 1e5, [1e4], 2
+    if args.tiny:
+        args.max_positions, args.compute_max, args.chain_positions = 1e3, 1e3, [1e2]
+        args.groups, args.repeat = [1, 2], 1
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     print(f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, python "
@@ -406,6 +411,8 @@ def main(argv=None) -> int:
         t = np.array([r["best"] for r in rows])
         per = t / (k * n) * 1e9
         sel = k >= 5
+        if sel.sum() < 2:                   # a smoke run (--tiny): too few chains for a slope
+            continue
         expo = np.polyfit(np.log(k[sel]), np.log(t[sel]), 1)[0]
         steps = ", ".join(f"{int(k[i])}->{int(k[i + 1])}: {math.log(t[i + 1] / t[i]) / math.log(k[i + 1] / k[i]):.2f}"
                           for i in range(len(k) - 1))

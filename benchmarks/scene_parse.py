@@ -26,7 +26,10 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--points", type=int, default=20_000)
     ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--tiny", action="store_true", help="a smoke run for CI: 200 points, once")
     args = ap.parse_args()
+    if args.tiny:
+        args.points, args.repeat = 200, 1
     base = (ROOT / "workbooks" / "fourbar.toml").read_text(encoding="utf-8")
     n = args.points
     flat = "".join(f'[[point]]\nname = "P{i}"\nlink = 2\nfrom = "A"\nalong = {i * 1e-5}\n' for i in range(n))

@@ -68,7 +68,11 @@ def main(argv=None) -> int:
     ap.add_argument("--scene", default=str(ROOT / "workbooks" / "fourbar.toml"))
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--memory-child", type=int, help=argparse.SUPPRESS)
+    ap.add_argument("--tiny", action="store_true", help="a smoke run for CI: 1e3 positions, once")
     args = ap.parse_args(argv)
+    sizes, child = (1_000, 100_000, 1_000_000), 1_000_000
+    if args.tiny:
+        args.repeat, sizes, child = 1, (1_000,), 10_000
     if args.memory_child:
         memory_child(args.scene, args.memory_child)
         return 0
@@ -78,7 +82,7 @@ def main(argv=None) -> int:
     dyn = scene.has_dynamics
     print(f"{'positions':>10} {'solve_table pos/s best / median':>32} {'compute pos/s best / median':>30}"
           + (f" {'dynamics pos/s best / median':>30}" if dyn else ""))
-    for n in (1_000, 100_000, 1_000_000):
+    for n in sizes:
         phi = np.linspace(0.0, 360.0, n, endpoint=False)
         s_best, s_med = timings(lambda phi=phi: solve_table(scene, phi), args.repeat)
         c_best, c_med = timings(lambda phi=phi: sheetkin.compute(scene, phi), args.repeat)
@@ -87,14 +91,14 @@ def main(argv=None) -> int:
             d_best, d_med = timings(lambda phi=phi: sheetkin.compute(scene, phi, dynamics=True), args.repeat)
             line += f" {n / d_best:>18.3g} / {n / d_med:<9.3g}"
         print(line)
-    out = subprocess.run([sys.executable, __file__, "--scene", args.scene, "--memory-child", "1000000"],
+    out = subprocess.run([sys.executable, __file__, "--scene", args.scene, "--memory-child", str(child)],
                          capture_output=True, text=True, check=True)
     mem = json.loads(out.stdout)
-    print(f"memory at 1e6 (compute, fresh process): peak RSS {mem['peak_mb']:.0f} MB, "
+    print(f"memory at {child:.0e} (compute, fresh process): peak RSS {mem['peak_mb']:.0f} MB, "
           f"{mem['peak_mb'] - mem['base_mb']:.0f} MB above the imported baseline; "
           f"the DataFrame holds {mem['frame_mb']:.0f} MB")
-    print(f"first (cold) compute of 1e6 in that process: {mem['first_run_s']:.2f} s "
-          f"({1e6 / mem['first_run_s']:.3g} pos/s; fresh memory from the kernel costs page faults)")
+    print(f"first (cold) compute of {child:.0e} in that process: {mem['first_run_s']:.2f} s "
+          f"({child / mem['first_run_s']:.3g} pos/s; fresh memory from the kernel costs page faults)")
     return 0
 
 

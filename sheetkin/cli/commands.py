@@ -255,20 +255,20 @@ def existing_fingerprint(path) -> dict:
 
 def cmd_evaluate(args) -> int:
     from sheetkin.views.output import fmt_cell as _fmt
-    from sheetkin.xlsx.evaluator import evaluate, rows_frame
+    from sheetkin.xlsx.evaluator import evaluate, rows_csv, rows_table  # no pandas: rows_frame is the API's
     book = _evaluate_one_line(evaluate, args.book)
     if args.sheet and args.sheet not in book.sheets:
         raise SceneError(f"{args.book}: no sheet {args.sheet!r}; sheets: {', '.join(book.order)}")
-    df = rows_frame(book, args.sheet)
     if args.format == "csv":
-        text = df.to_csv(lineterminator="\n")
-    elif args.format == "json":
-        text = json.dumps({"file": args.book, "sheet": args.sheet or book.order[0],
-                           "rows": {n: list(r) for n, r in zip(df.index, df.itertuples(index=False), strict=False)}},
-                          indent=1, ensure_ascii=False) + "\n"
+        text = rows_csv(book, args.sheet)
     else:
-        text = "\n".join(f"{n:<16}" + "".join(f"{_fmt(v):>13}" for v in row)
-                         for n, row in zip(df.index, df.itertuples(index=False), strict=False)) + "\n"
+        names, data, _ = rows_table(book, args.sheet)
+        if args.format == "json":
+            text = json.dumps({"file": args.book, "sheet": args.sheet or book.order[0],
+                               "rows": dict(zip(names, data, strict=True))}, indent=1, ensure_ascii=False) + "\n"
+        else:
+            text = "\n".join(f"{n:<16}" + "".join(f"{_fmt(v):>13}" for v in row)
+                             for n, row in zip(names, data, strict=True)) + "\n"
     _write(args.output, text)
     return 0
 

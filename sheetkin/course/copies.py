@@ -39,6 +39,7 @@ import hashlib
 import re
 from collections import defaultdict
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 COPY_TYPED_CELLS = 3       # shared typed numbers (wrong in one book at least) that flag a copy
 
@@ -54,10 +55,12 @@ def _column_number(letters: str) -> int:
     return n
 
 
+@lru_cache(maxsize=1 << 18)
 def relative_formula(formula: str, row: int, col: int) -> str:
     """The formula with its references written relative to its cell (R[-3]C[0]; absolute
     parts kept: R7C4), upper case, without spaces: the same text in every column of a
-    row filled by dragging, and in every book with the same layout."""
+    row filled by dragging, and in every book with the same layout. Kept per (text, cell):
+    a class's books repeat the layout, so each book after the first costs lookups (issue 24)."""
     def sub(m):
         if m.group("str") is not None:
             return m.group(0)
@@ -71,6 +74,17 @@ def relative_formula(formula: str, row: int, col: int) -> str:
 def _row_formulas(sheet, r: int, first_col: int, positions: int) -> list[str | None]:
     return [None if (f := sheet.formulas.get((r, first_col + k))) is None else relative_formula(f, r, first_col + k)
             for k in range(positions)]
+
+
+def _as_lecture(sheet, r: int, reference, rr: int, first_col: int, positions: int) -> bool:
+    """Whether the row holds, on the reference's own row, the reference's formula texts
+    (or nothing) in every position: then its relative formulas are the lecture's, which
+    say nothing about copying; the honest book's common case, decided without a regex."""
+    if r != rr:
+        return False
+    got, lecture = sheet.formulas, reference.formulas
+    return all((f := got.get((r, c))) is None or f == lecture.get((rr, c))
+               for c in range(first_col, first_col + positions))
 
 
 def submission_marks(sheet, rows: dict[str, int], first_col: int, positions: int,
@@ -94,6 +108,9 @@ def submission_marks(sheet, rows: dict[str, int], first_col: int, positions: int
             c = cached.get((r, first_col + k)) if (r, first_col + k) in sheet.formulas else None
             if isinstance(c, (int, float)) and not isinstance(c, bool) and c == c and abs(c) != float("inf"):
                 values[(name, k + 1)] = float(c)
+        if reference is not None and name in (ref_rows or {}) and _as_lecture(sheet, r, reference, ref_rows[name],
+                                                                           first_col, positions):
+            continue                                # the lecture's texts in the lecture's cells: nothing to hash
         texts = _row_formulas(sheet, r, first_col, positions)
         if not any(texts):
             continue

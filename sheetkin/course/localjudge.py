@@ -39,9 +39,9 @@ import re
 from dataclasses import dataclass, field
 
 import numpy as np
-from openpyxl.utils import get_column_letter
 
 from sheetkin.sheet.workbook import FIRST_COL
+from sheetkin.xlsx.coords import get_column_letter
 from sheetkin.xlsx.evaluator import BOOL, EMPTY, NUM, TEXT, Book, Run, evaluate_runs, parse_rows, store_value
 from sheetkin.xlsx.functions import ERROR_TEXT, NAME
 

@@ -248,7 +248,7 @@ def internal_error(path: str, e: BaseException) -> str:
 
 
 def _validate(path: str, limits: Limits, options: issued.Options | None = None) -> Report:
-    book = read_book(path, limits)
+    book = read_book(path, limits, skip=frozenset({PATHS_SHEET}))    # never graded: not parsed
     if SCENE_SHEET not in book.sheets:
         raise UnusableInput(f"{path}: no embedded scene (hidden sheet '{SCENE_SHEET}'); "
                             "expected a workbook made by `sheetkin workbook`")
@@ -489,7 +489,8 @@ def _template_sheet(scene: Scene) -> tuple[Sheet, dict[str, int]]:
     # against a reference (the student's checks are read from the student's sheet): left
     # out, they would be half of each variant's evaluation (SUMPRODUCT, COUNT, IF per row)
     # (their cells per position stay: which check rows apply, not "н/д", is the reference's)
-    unchecked = {r for n, r in input_rows.items() if n in _check_rows(scene)}
+    checks = _check_rows(scene)              # once: sheet_rows costs ~3 ms a call
+    unchecked = {r for n, r in input_rows.items() if n in checks}
     sheet.formulas = {(r, c): f for (r, c), f in sheet.formulas.items()
                       if r >= 5 and (r not in unchecked or c >= FIRST_COL)}
     return sheet, input_rows
@@ -529,7 +530,7 @@ def _cache_mismatches(book: Book, sheet: str, angle_rows: set[int] = frozenset()
     formula gives now (stale values, or a number pasted over a formula's result). On the
     rows of link angles, in [0, 360), 359.99999999999994 and 0 are the same angle (MOD's
     last bit differs between spreadsheets)."""
-    from openpyxl.utils import get_column_letter
+    from sheetkin.xlsx.coords import get_column_letter
     out = []
     sh = book.sheets[sheet]
     for (r, c), cached in sorted(sh.cached.items()):

@@ -1,14 +1,17 @@
 """`sheetkin compute`'s output: the table, CSV, JSON and parquet, written block by block.
 
-The numbers are formatted in bulk (sheetkin.views.floatfmt: Python's repr, the shortest decimal
-that reads back as the same double, byte for byte what pandas and json.dumps wrote before),
-and positions are computed and written in blocks of compute.BLOCK, so 1e7 positions stream
-at bounded memory. Never "nan" or "inf": a value that is not a finite number is an empty
-cell in CSV, null in JSON and parquet, "-" in the table; where the group assembles
-(outside --allow-gaps' gaps) a warning names the columns and crank angles.
+CSV is written by polars, block by block (issue 24: 2x faster than our own formatter on the
+same arrays; its notation, the shortest decimal that reads back as the same double, is
+in docs/output-formats.md); JSON's numbers are formatted in bulk by sheetkin.views.floatfmt
+(Python's repr, byte for byte what json.dumps writes). Positions are computed and written in
+blocks of compute.BLOCK, so 1e7 positions stream at bounded memory. Never "nan" or "inf":
+a value that is not a finite number is an empty cell in CSV, null in JSON and parquet, "-"
+in the table; where the group assembles (outside --allow-gaps' gaps) a warning names the
+columns and crank angles.
 """
 from __future__ import annotations
 
+import io
 import json
 import math
 import os
@@ -36,6 +39,7 @@ from sheetkin.kinematics.table import (
 from .floatfmt import WIDTH, repr_slots
 
 FORMATS = ("table", "csv", "json", "parquet")
+
 _SHOWN = 8                       # crank angles listed in a warning before " ..."
 # --dynamics: positions where the energy balance misses by more than this share of its terms
 # are named (next to a toggle the reactions grow without bound and lose their digits)
@@ -191,7 +195,7 @@ class _Text:
 
     def head(self) -> bytes:
         if self.fmt == "csv":
-            return ",".join(self.columns).encode()
+            return ",".join(self.columns).encode() + b"\n"
         units = {c: unit(c) for c in self.columns if unit(c)}
         text = json.dumps({"title": self.title, "units": units, "positions": None}, indent=1)
         return text[:text.rindex("null")].encode() + b"["
@@ -200,22 +204,24 @@ class _Text:
         return self._csv(blk) if self.fmt == "csv" else self._json(blk)
 
     def _csv(self, blk: Block) -> bytes:
-        """A row: "\n" and the cells, each carrying its separator in its first byte."""
-        n = blk.table.shape[1]
-        cells = _cells(np.ascontiguousarray(blk.table.T), b"")
-        sep = cells.reshape(n, -1, WIDTH)
-        sep[:, :, 0] = ord(",")
-        sep[:, 0, 0] = ord("\n")
-        if self.gaps:                       # "assembled" between the main columns and det_g*
-            cut = self.main * WIDTH
-            pieces = [cells[:, :cut], _labels([b",False", b",True"], (~blk.fail).astype(np.intp)),
-                      cells[:, cut:]]
-        else:
-            pieces = [cells]
-        labels = [b"," + (f'"{t}"' if "," in t else t).encode() for t in blk.labels]
-        pieces.append(_labels(labels, blk.codes))
+        """The block's rows, each ending in "\\n", written by polars (issue 24: 1.7-4x faster
+        than our formatter on the same arrays): numbers in polars' shortest round-trip
+        notation (docs/output-formats.md), an empty cell where a value is not finite."""
+        import polars as pl  # only here: the table and JSON do not need it
+        columns: dict[str, pl.Series] = {}
+        for j, name in enumerate(self.names):
+            if j == self.main and self.gaps:    # "assembled" between the main columns and det_g*
+                truth = pl.Series("assembled", ["False", "True"])      # as pandas wrote it
+                columns["assembled"] = truth.gather((~blk.fail).astype(np.uint32))
+            v = blk.table[j]
+            finite = np.isfinite(v)
+            columns[name] = pl.Series(name, v if finite.all() else np.where(finite, v, np.nan), nan_to_null=True)
+        labels = pl.Series("near_toggle", [t or None for t in blk.labels], dtype=pl.String)
+        columns["near_toggle"] = labels.gather(blk.codes.astype(np.uint32))
+        out = io.BytesIO()
+        pl.DataFrame(columns).write_csv(out, include_header=False, line_terminator="\n", null_value="")
         self.first = False
-        return _assemble(n, pieces)
+        return out.getvalue()
 
     def _json(self, blk: Block) -> bytes:
         """A record as json.dumps(indent=1) lays it out, null where there is no value."""
@@ -240,7 +246,7 @@ class _Text:
 
     def tail(self, warnings: list[str]) -> bytes:
         if self.fmt == "csv":
-            return b"\n"
+            return b""
         w = json.dumps({"warnings": warnings}, indent=1)
         return b"\n ],\n " + w[w.index('"warnings"'):].encode() + b"\n"
 

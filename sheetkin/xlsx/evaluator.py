@@ -38,13 +38,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
-from openpyxl.utils import get_column_letter
 
 from .cells import _MAX_COL, _MAX_ROW, Sheet, read_book
 from .context import _Context, _lookup
+from .coords import get_column_letter
 from .functions import DIV0, ERROR_TEXT, ERRORS, NA, NAME, NULL, NUMERR, REF, VALUE  # noqa: F401
 from .limits import (  # noqa: F401
     MAX_EVAL_DEPTH,
@@ -55,6 +55,7 @@ from .limits import (  # noqa: F401
     _names_used,
     _run_notes,
     _store_dims,
+    dims_signature,
 )
 from .package import Limits, UnusableWorkbook, _show
 from .parse import (  # noqa: F401
@@ -73,6 +74,9 @@ from .parse import (  # noqa: F401
 )
 from .runs import _TEMPLATES, EvaluationError, Run, _group_runs, _span, _split  # noqa: F401
 from .values import AGGREGATES, BOOL, EMPTY, LAZY, NUM, SCALAR_FUNCS, SUPPORTED, TEXT, Val, _const  # noqa: F401
+
+if TYPE_CHECKING:
+    import pandas as pd  # only rows_frame builds a DataFrame: `sheetkin evaluate` loads no pandas
 
 
 # --------------------------------------------------------------------------- the workbook evaluated
@@ -182,11 +186,11 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
     _check_reads(path, order_runs, dims, name_refs, limits)  # runs split into cells read more
     ctx = _Context(num, tag, txt, scopes)
     ctx.arrays = {n: sh.arrays for n, sh in sheets.items()}
-    cells = 0
+    cells, dims_key = 0, dims_signature(dims)
     with np.errstate(all="ignore"):
         for run in order_runs:
             cells += len(run.cols)
-            for part in _chunks(run, dims, name_refs):
+            for part in _chunks(run, dims, name_refs, dims_key):
                 k = len(part.cols)
                 if part.error:
                     v = _const(getattr(part.error, "code", "#NAME?"), k)
@@ -252,7 +256,7 @@ def _name_scopes(names: dict, sheets: dict[str, Sheet], bound, notes: dict | Non
 
 
 def _has_names(tree) -> bool:
-    return any(node[0] == "name" for node in _nodes(tree))
+    return bool(_names_used(tree))             # kept per tree (limits._names_used)
 
 
 def _names_in(tree, out: list):
@@ -514,10 +518,10 @@ def evaluate_runs(runs: list[Run], num: dict, tag: dict, txt: dict) -> list[tupl
 
 
 # --------------------------------------------------------------------------- results as tables
-def rows_frame(book: Book, sheet: str | None = None, first_col: int = 5) -> pd.DataFrame:
-    """One sheet as a table: rows named by column A, columns = positions (column E on).
-    Rows without a name in column A are left out; values are floats, text, booleans or
-    error texts such as '#NUM!'."""
+def rows_table(book: Book, sheet: str | None = None, first_col: int = 5) -> tuple[list[str], list[list], int]:
+    """One sheet as (row names, rows of values, positions): rows named by column A, columns =
+    positions (column E on), every row `positions` long. Rows without a name in column A are
+    left out; values are floats, text, booleans, None (empty) or error texts such as '#NUM!'."""
     sheet = sheet or book.order[0]
     sh = book.sheets[sheet]
     # the table's rows start at 5: cells above (a workbook's summary counts) do not widen it
@@ -537,7 +541,30 @@ def rows_frame(book: Book, sheet: str | None = None, first_col: int = 5) -> pd.D
         else:
             values = [book.value(sheet, r, c) for c in range(first_col, stop)]
         data.append(values + [None] * (last + 1 - max(stop, first_col)))
-    df = pd.DataFrame(data, index=names, columns=list(range(1, last - first_col + 2)), dtype=object)
+    return names, data, last - first_col + 1
+
+
+def rows_csv(book: Book, sheet: str | None = None, first_col: int = 5) -> str:
+    """rows_table as CSV text, byte for byte what pandas' `rows_frame(...).to_csv(lineterminator="\\n")`
+    writes (the csv module's minimal quoting, numbers as repr, empty cells empty), without pandas."""
+    import csv
+    import io
+    names, data, width = rows_table(book, sheet, first_col)
+    out = io.StringIO()
+    w = csv.writer(out, lineterminator="\n")
+    w.writerow(["name", *range(1, width + 1)])
+    for name, row in zip(names, data, strict=True):
+        w.writerow([name, *("" if v is None else v for v in row)])
+    return out.getvalue()
+
+
+def rows_frame(book: Book, sheet: str | None = None, first_col: int = 5) -> pd.DataFrame:
+    """One sheet as a table (pandas): rows named by column A, columns = positions (column E
+    on). Rows without a name in column A are left out; values are floats, text, booleans or
+    error texts such as '#NUM!'."""
+    import pandas as pd
+    names, data, width = rows_table(book, sheet, first_col)
+    df = pd.DataFrame(data, index=names, columns=list(range(1, width + 1)), dtype=object)
     df.index.name = "name"
     return df
 

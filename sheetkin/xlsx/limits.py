@@ -15,10 +15,9 @@ from __future__ import annotations
 import dataclasses
 from operator import itemgetter
 
-from openpyxl.utils import get_column_letter
-
 from .cells import Sheet
 from .context import PAD_CELLS
+from .coords import get_column_letter
 from .package import Limits, UnusableWorkbook, _show
 from .parse import Note, Ref, _nodes, arity_problem, functions_of, refs_of
 from .runs import Run, _span
@@ -49,8 +48,21 @@ def _depth(tree, weights: dict | None = None) -> int:
     return best
 
 
-def _names_used(tree) -> list[str]:
-    return [node[1] for node in _nodes(tree) if node[0] == "name"]
+_NAMES_USED: dict[int, tuple[object, tuple[str, ...]]] = {}     # id(tree) -> (tree, its names)
+
+
+def _names_used(tree) -> tuple[str, ...]:
+    """The defined names a tree uses, in order. Kept per tree (by identity, the tree held so
+    that its id is not reused): parsed trees are shared by every book of a run (_PARSED),
+    and this walk was asked 4-5 times per run per book (issue 24: 31k tree walks a book)."""
+    hit = _NAMES_USED.get(id(tree))
+    if hit is not None and hit[0] is tree:
+        return hit[1]
+    names = tuple(node[1] for node in _nodes(tree) if node[0] == "name")
+    if len(_NAMES_USED) > 200_000:
+        _NAMES_USED.clear()
+    _NAMES_USED[id(tree)] = (tree, names)
+    return names
 
 
 def _check_names(name_refs: dict) -> dict[str, Note]:
@@ -183,7 +195,32 @@ def _ref_reads(run: Run, ref: Ref, dims: dict, k: int) -> tuple[int, int]:
     return 0, rows * width
 
 
-def _run_reads(run: Run, dims: dict, name_refs: dict) -> tuple[int, int]:
+_READS: dict[tuple, tuple[object, tuple[int, int]]] = {}
+
+
+def dims_signature(dims: dict) -> tuple:
+    """The stores' shapes as a key of _READS."""
+    return tuple((n, d[0], d[1]) for n, d in dims.items())
+
+
+def _run_reads(run: Run, dims: dict, name_refs: dict, dims_key: tuple | None = None) -> tuple[int, int]:
+    """(cells read once, cells read per cell) by a run. Kept, for runs that use no names,
+    per (its references' list, its place, the stores' shapes): the same in every book of a
+    class (the list is the parse cache's, held in the entry so that its id stays its own)."""
+    if dims_key is not None and run.refs is not None and (run.tree is None or not _names_used(run.tree)):
+        key = (id(run.refs), run.sheet, run.row, int(run.cols[0]), int(run.cols[-1]), len(run.cols), dims_key)
+        hit = _READS.get(key)
+        if hit is not None and hit[0] is run.refs:
+            return hit[1]
+        value = _count_reads(run, dims, name_refs)
+        if len(_READS) > 200_000:
+            _READS.clear()
+        _READS[key] = (run.refs, value)
+        return value
+    return _count_reads(run, dims, name_refs)
+
+
+def _count_reads(run: Run, dims: dict, name_refs: dict) -> tuple[int, int]:
     k = len(run.cols)
     once = per_cell = 0
     refs = list(run.refs or [])
@@ -201,10 +238,11 @@ def _check_reads(path: str, runs: list[Run], dims: dict, name_refs: dict, limits
     """Refuse (one line) a workbook whose formulas read more than limits.max_reads cells
     in all (the evaluation's time is about proportional)."""
     total = 0
+    dims_key = dims_signature(dims)
     for run in runs:
         if run.error:
             continue
-        once, per_cell = _run_reads(run, dims, name_refs)
+        once, per_cell = _run_reads(run, dims, name_refs, dims_key)
         total += once + per_cell * len(run.cols)
         if total > limits.max_reads:
             raise UnusableWorkbook(path, f"its formulas read more than {limits.max_reads:,} cells in all "
@@ -222,14 +260,14 @@ def _check_formula_text(path: str, runs: list[Run], limits: Limits) -> None:
                                f"expected at most {limits.max_formula_chars:,} (sheetkin's limit for a workbook)")
 
 
-def _chunks(run: Run, dims: dict, name_refs: dict) -> list[Run]:
+def _chunks(run: Run, dims: dict, name_refs: dict, dims_key: tuple | None = None) -> list[Run]:
     """A run in pieces small enough that its relative ranges, read for every cell at once,
     stay below CHUNK_READS cells (a row of =SUM(A1:A100000) filled right is read 1000
     columns at a time, not 4000)."""
     k = len(run.cols)
     if k == 1 or run.error:
         return [run]
-    per_cell = _run_reads(run, dims, name_refs)[1]
+    per_cell = _run_reads(run, dims, name_refs, dims_key)[1]
     step = max(1, CHUNK_READS // max(per_cell, 1))
     if step >= k:
         return [run]

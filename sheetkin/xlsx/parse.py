@@ -15,10 +15,8 @@ import math
 import re
 from dataclasses import dataclass
 
-from openpyxl.formula.tokenizer import Token, Tokenizer
-from openpyxl.utils import column_index_from_string
-
 from .cells import _MAX_COL, _MAX_ROW
+from .coords import Token, Tokenizer, column_index_from_string
 from .package import _show
 
 _CELL = re.compile(r"^(\$?)([A-Za-z]{1,3})(\$?)(\d+)$")

@@ -15,9 +15,9 @@ from dataclasses import dataclass
 from operator import itemgetter
 
 import numpy as np
-from openpyxl.utils import get_column_letter
 
 from .cells import _MAX_COL, Sheet, _Template
+from .coords import get_column_letter
 from .parse import Ref
 
 

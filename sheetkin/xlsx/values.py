@@ -190,6 +190,10 @@ def _rank(tag):
     return np.where(tag == TEXT, 1, np.where(tag == BOOL, 2, 0))
 
 
+def _all_text(v: Val) -> bool:
+    return v.pure == -1 and v.tag.size <= 4096 and bool((v.tag == TEXT).all())
+
+
 def _compare(op: str, a: Val, b: Val) -> Val:
     if a.pure == NUM and b.pure == NUM:          # the general path's arithmetic, without tags
         an, bn = a.num, b.num
@@ -198,6 +202,12 @@ def _compare(op: str, a: Val, b: Val) -> Val:
             near = np.abs(d) <= 4 * np.finfo(float).eps * np.maximum(np.abs(an), np.abs(bn))
         diff = np.where(near, 0.0, np.sign(d))
         return _pure(_COMPARE[op](diff, 0).astype(float), BOOL)
+    if (a.pure == NUM and _all_text(b)) or (b.pure == NUM and _all_text(a)):
+        # numbers against text (a generated sheet's checks: E34:Q34="" in every status
+        # formula, 85% of a book's evaluation): never equal, numbers rank below text,
+        # no error on either side: the general path's answer without its arrays (issue 24)
+        diff = -1.0 if a.pure == NUM else 1.0
+        return _pure(np.full(np.broadcast_shapes(a.shape, b.shape), float(_COMPARE[op](diff, 0))), BOOL)
     shape = np.broadcast_shapes(a.shape, b.shape)
     at, bt = np.broadcast_to(a.tag, shape), np.broadcast_to(b.tag, shape)
     # an empty cell takes the other side's type (0, "" or FALSE)

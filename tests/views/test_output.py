@@ -176,6 +176,20 @@ def _written(scene, fmt, phi, block, **kw):
         return Path(out).read_bytes(), warnings
 
 
+def _same_as_pandas(text: bytes, df) -> None:
+    """The CSV (polars' notation since issue 24) is pandas' to_csv of compute() cell for cell:
+    the same header, texts and empty cells, and every number reads back as the same double."""
+    ours = text.decode().split("\n")
+    theirs = df.to_csv(index=False, lineterminator="\n").split("\n")
+    assert len(ours) == len(theirs) and ours[0] == theirs[0]
+    for a, b in zip(ours[1:], theirs[1:], strict=True):
+        for x, y in zip(a.split(","), b.split(","), strict=True):
+            if x == y:
+                continue
+            # only the notation differs (1e-05 / 0.00001, 1e-06 / 1e-6): the same bits
+            assert np.float64(x).tobytes() == np.float64(y).tobytes(), (x, y)
+
+
 @pytest.mark.parametrize("name, kw", [("fourbar.toml", {}), ("shaper.toml", {"analogs": True}),
                                       ("shaper_dynamics.toml", {"dynamics": True})])
 def test_csv_in_blocks_is_pandas_csv_of_compute(name, kw):
@@ -184,17 +198,36 @@ def test_csv_in_blocks_is_pandas_csv_of_compute(name, kw):
     text, _ = _written(scene, "csv", phi, block=10, **kw)          # 8 blocks, the last short
     df = sheetkin.compute(scene, phi, **kw)
     if not kw.get("dynamics"):
-        assert text.decode() == df.to_csv(index=False, lineterminator="\n")
+        _same_as_pandas(text, df)
         return
     # the dynamics' sums round differently with the arrays' lengths (round-off at 1e-14 of
-    # the terms): one block is byte for byte pandas', blocks of 10 the same to round-off
+    # the terms): one block is pandas', blocks of 10 the same to round-off
     one, _ = _written(scene, "csv", phi, block=len(phi), **kw)
-    assert one.decode() == df.to_csv(index=False, lineterminator="\n")
+    _same_as_pandas(one, df)
     import pandas as pd
     got = pd.read_csv(io.BytesIO(text), keep_default_na=False)
     for c in df.columns[:-1]:
         scale = np.abs(df[c]).max() + 1e-300
         assert np.allclose(got[c].astype(float), df[c], rtol=0, atol=1e-12 * scale), c
+
+
+def test_csv_numbers_read_back_as_the_same_doubles():
+    """polars writes the CSV's numbers (issue 24): over every kind of double, each reads back
+    bit for bit, and nothing is written as nan or inf."""
+    names = ["phi_1", "omega_2", "det_g1"]
+    rng = np.random.default_rng(24)
+    n = 50_000
+    values = np.concatenate([rng.standard_normal(n) * 10.0 ** rng.integers(-320, 308, n),
+                             np.round(rng.random(n) * 1e4) / 1e4, rng.random(n) * 360,
+                             [0.0, -0.0, 5e-324, -5e-324, 1.7976931348623157e308, 1e-5, 1e-6, 1e16, 1e15,
+                              0.1 + 0.2, 123456789.0, 2.5e-5]])
+    values = values[:values.size // 3 * 3].reshape(3, -1)
+    blk = Block(0, values, np.zeros(values.shape[1], bool), np.zeros(values.shape[1], np.intp), [""])
+    w = _Text("csv", names, 1, False, "t")
+    lines = (w.head() + w.rows(blk) + w.tail([])).decode().splitlines()
+    assert lines[0] == "phi_1,omega_2,det_g1,near_toggle"
+    back = np.array([[float(x) for x in line.split(",")[:3]] for line in lines[1:]]).T
+    assert back.tobytes() == values.tobytes()
 
 
 def test_json_in_blocks_is_json_of_compute():
@@ -216,7 +249,7 @@ def test_gaps_empty_in_csv_null_in_json(tmp_path):
     phi = np.arange(0.0, 360.0, 10.0)
     text, warnings = _written(scene, "csv", phi, block=7, allow_gaps=True)
     df = sheetkin.compute(scene, phi, allow_gaps=True)
-    assert text.decode() == df.to_csv(index=False, lineterminator="\n")
+    _same_as_pandas(text, df)
     assert b"nan" not in text.lower() and b"inf" not in text.lower()
     assert "cannot assemble" in warnings[0]
     text, _ = _written(scene, "json", phi, block=7, allow_gaps=True)

@@ -938,3 +938,41 @@ def test_date_cells_and_malformed_values(tmp_path, monkeypatch, capsys):
     assert main(["evaluate", str(bad)]) == 2
     err = capsys.readouterr().err.strip()
     assert "cell A1 has the value '12abc'" in err and "\n" not in err
+
+
+def test_column_letters_and_tokenizer_are_openpyxls():
+    # sheetkin.xlsx.coords spares `evaluate` the import of openpyxl (issue 24): the same rules
+    import openpyxl.formula.tokenizer as real
+    from openpyxl.utils import column_index_from_string, get_column_letter
+
+    from sheetkin.xlsx import coords
+    for c in (1, 25, 26, 27, 52, 53, 701, 702, 703, 16384, 18277, 18278):
+        assert coords.get_column_letter(c) == get_column_letter(c)
+        assert coords.column_index_from_string(get_column_letter(c).lower()) == c == column_index_from_string(
+            get_column_letter(c))
+    for bad in (0, 18279, -1):
+        with pytest.raises(ValueError):
+            coords.get_column_letter(bad)
+    for bad in ("", "AAAA", "A1", "Ä"):
+        with pytest.raises(ValueError):
+            coords.column_index_from_string(bad)
+    text = '=IF(A1<>"x",SUM($B$2:C3)*-1.5E-3%,{1,2;3,4})&"н/д"'
+    ours = [(t.value, t.type, t.subtype) for t in coords.Tokenizer(text).items]
+    assert ours == [(t.value, t.type, t.subtype) for t in real.Tokenizer(text).items]
+
+
+@pytest.mark.parametrize("op", ["=", "<>", "<", ">", "<=", ">="])
+def test_numbers_against_text_fast_path_is_the_general_one(op):
+    # issue 24: E34:Q34="" in every check status; numbers rank below text, never equal
+    import numpy as np
+
+    from sheetkin.xlsx.values import NUM, TEXT, Val, _compare
+    num = np.array([[[0.0, -1.5, 3e300, 2.0]]])
+    pure = Val(num, None, None, NUM)
+    general = Val(num, np.zeros(num.shape, np.int8))              # the same numbers, not marked pure
+    for text in ("", "abc", "0"):
+        t = Val(np.zeros((1, 1, 1)), np.full((1, 1, 1), TEXT, np.int8), np.array([[[text]]], dtype=object))
+        for a, b, ga, gb in ((pure, t, general, t), (t, pure, t, general)):
+            fast, slow = _compare(op, a, b), _compare(op, ga, gb)
+            assert fast.shape == slow.shape
+            assert np.array_equal(fast.num, slow.num) and np.array_equal(fast.tag, slow.tag), (op, text)
