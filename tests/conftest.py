@@ -5,6 +5,7 @@ import os
 import shutil
 
 import pytest
+from engines import GNUMERIC_HINT, ssconvert_path
 from hypothesis import settings
 from libreoffice import SETUP_HINT, soffice_path
 
@@ -28,6 +29,12 @@ def _require(path: str | None, hint: str) -> str:
 def soffice() -> str:
     """Path of LibreOffice's soffice."""
     return _require(soffice_path(), SETUP_HINT)
+
+
+@pytest.fixture(scope="session")
+def ssconvert() -> str:
+    """Path of Gnumeric's ssconvert (the third spreadsheet engine: `ssconvert --recalc`)."""
+    return _require(ssconvert_path(), GNUMERIC_HINT)
 
 
 @pytest.fixture(scope="session")
