@@ -83,10 +83,11 @@ DEAD_POINT = 1e-12
 
 
 def at_dead_points_zero(disc, size):
-    """`disc` with every value within DEAD_POINT * `size` of zero set to 0 (a dead point:
-    solver.solve counts only disc > 0 as assembled); NaN stays NaN."""
+    """`disc` with every value closer than DEAD_POINT * `size` to zero set to 0 (a dead point:
+    solver.solve counts only disc > 0 as assembled; the workbook's guard, disc >= DEAD_POINT *
+    size, decides the same); NaN stays NaN."""
     with np.errstate(invalid="ignore"):
-        return np.where(np.abs(disc) <= DEAD_POINT * np.abs(size), 0.0, disc)
+        return np.where(np.abs(disc) < DEAD_POINT * np.abs(size), 0.0, disc)
 
 
 def sqrt_or_nan(d):
