@@ -5,6 +5,7 @@ import os
 import shutil
 
 import pytest
+from engines import GNUMERIC_HINT, ssconvert_path
 from hypothesis import settings
 from libreoffice import SETUP_HINT, soffice_path
 
@@ -31,15 +32,16 @@ def soffice() -> str:
 
 
 @pytest.fixture(scope="session")
-def pdftoppm() -> str:
-    """Path of poppler's pdftoppm (renders README pictures)."""
-    return _require(shutil.which("pdftoppm"), "pdftoppm not found: run `bash tests/setup.sh` (poppler-utils)")
+def ssconvert() -> str:
+    """Path of Gnumeric's ssconvert (the third spreadsheet engine, `ssconvert --recalc`; also
+    books re-saved as Gnumeric saves them)."""
+    return _require(ssconvert_path(), GNUMERIC_HINT)
 
 
 @pytest.fixture(scope="session")
-def ssconvert() -> str:
-    """Path of Gnumeric's ssconvert (books re-saved as Gnumeric saves them)."""
-    return _require(shutil.which("ssconvert"), "ssconvert not found: run `bash tests/setup.sh` (gnumeric)")
+def pdftoppm() -> str:
+    """Path of poppler's pdftoppm (renders README pictures)."""
+    return _require(shutil.which("pdftoppm"), "pdftoppm not found: run `bash tests/setup.sh` (poppler-utils)")
 
 
 # Markers from what a test needs, so `pytest -m "not libreoffice and not browser and not gnumeric"`

@@ -51,7 +51,8 @@ class GroupMotion:
     joints: the group's new joints by name (RRR, RRP: N; RPR: none);
     links:  both links' rotations {a: Rotation, b: Rotation};
     slides: slide tag -> Slide (see `slide_names`; RRP: {N}, RPR: {J1});
-    disc:   >= 0 where the group assembles (NaN or < 0 where it cannot);
+    disc:   > 0 where the group assembles; 0 at a dead point (at_dead_points_zero), < 0 or NaN
+            where it cannot;
     toggle: the scale-invariant toggle measure (the Cramer determinant made free of units
             and size; near 0 at a dead position).
     """
@@ -74,6 +75,23 @@ def cramer(m11, m12, m21, m22, b1, b2, inv_det):
 def inverse_det(m11, m12, m21, m22):
     det = m11 * m22 - m12 * m21
     return det, 1.0 / det
+
+
+# A discriminant within DEAD_POINT of zero, relative to the size of its terms, is a dead point: the
+# group does not assemble there (its Cramer determinant is 0 too, so no rate exists). The spreadsheets
+# decide alike: LibreOffice snaps a near-cancelling difference to 0, Gnumeric works in long double,
+# Excel "compensates" near zero (KB 78113), so the sign of a discriminant that is 0 in exact
+# arithmetic is anyone's; the workbook's assembly test (rows.group_guard) has the same margin.
+# docs/dead-points.md.
+DEAD_POINT = 1e-12
+
+
+def at_dead_points_zero(disc, size):
+    """`disc` with every value closer than DEAD_POINT * `size` to zero set to 0 (a dead point:
+    solver.solve counts only disc > 0 as assembled; the workbook's guard, disc >= DEAD_POINT *
+    size, decides the same); NaN stays NaN."""
+    with np.errstate(invalid="ignore"):
+        return np.where(np.abs(disc) < DEAD_POINT * np.abs(size), 0.0, disc)
 
 
 def sqrt_or_nan(d):

@@ -30,9 +30,21 @@ from dataclasses import dataclass
 import numpy as np
 
 from .group import Family, Group, Guide, crank_scene
-from .motion import GroupMotion, Motion, Pair, Rotation, Slide, cramer, guide_line, guide_loop, inverse_det
+from .motion import (
+    DEAD_POINT,
+    GroupMotion,
+    Motion,
+    Pair,
+    Rotation,
+    Slide,
+    cramer,
+    guide_line,
+    guide_loop,
+    inverse_det,
+)
 from .parts import BlockPart, Parts, scene_guide
 from .rows import (
+    DEAD_POINT_TEXT,
     Builder,
     InputRow,
     LoadRows,
@@ -132,7 +144,7 @@ def solve_prp(pa: Motion, ga: Rotation, pb: Motion, gb: Rotation):
                    pa.vx + vs1 * ga.c + s1 * wa * nax, pa.vy + vs1 * ga.s + s1 * wa * nay,
                    pa.ax + as1 * ga.c + ta * nax - ra * ga.c, pa.ay + as1 * ga.s + ta * nay - ra * ga.s)
     sine = -det + np.zeros(np.shape(s1))
-    disc = np.where(sine != 0, sine * sine, -1.0)
+    disc = np.where(np.abs(sine) > DEAD_POINT, sine * sine, -1.0)    # parallel within DEAD_POINT: no crossing
     return joint, Slide(s1, vs1, as1), Slide(s2, vs2, as2), disc, sine
 
 
@@ -243,7 +255,7 @@ def _crossing_rows(b: Builder, g: Group, refs) -> None:
           "cannot assemble)", "calc", f"SIN({{{th}}}-{{{eta}}})", guard=b.guard)
     prev = b.guard
     b.add(f"asm_g{i}", "", f"группа {i} собирается (прямые не параллельны)", f"group {i} assembles (the lines cross)",
-          "guard", f"AND({{{prev}}},{{{D}}}<>0)" if prev else f"{{{D}}}<>0")
+          "guard", f"AND({{{prev}}},ABS({{{D}}})>{DEAD_POINT_TEXT})" if prev else f"ABS({{{D}}})>{DEAD_POINT_TEXT}")
     b.guard = f"asm_g{i}"
     xL, yL = f"xL_g{i}", f"yL_g{i}"
     b.add(xL, "m", "(7) x_L = (n - m)/(tg theta - tg eta), умножено на cos theta cos eta: "

@@ -134,11 +134,20 @@ def cos_sin_rows(b: Builder, k: int, ru: str, en: str):
     b.add(f"sin_{k}", "", f"sin угла звена {k}", f"sin of link {k}'s angle", "calc", f"SIN(RADIANS({{phi_{k}}}))")
 
 
-def group_guard(b: Builder, g, disc: str):
+# groups.motion.DEAD_POINT as the formulas write it (this module imports nothing; a test keeps them equal)
+DEAD_POINT_TEXT = "1E-12"
+
+
+def group_guard(b: Builder, g, disc: str, size: str):
+    """The group's "assembles" row: the discriminant `disc` at least DEAD_POINT times `size` (the
+    size of its terms). Not disc >= 0: at a dead point the discriminant is 0 in exact arithmetic
+    and each spreadsheet program rounds it its own way (docs/dead-points.md). >= rather than >:
+    an exercise's empty rows (0 >= 0) still read as assembling, as before."""
     prev = b.guard
-    b.add(f"asm_g{g.index}", "", f"группа {g.index} собирается (дискриминант >= 0)",
-          f"group {g.index} assembles (discriminant >= 0)",
-          "guard", f"AND({{{prev}}},{{{disc}}}>=0)" if prev else f"{{{disc}}}>=0")
+    test = f"{{{disc}}}>={DEAD_POINT_TEXT}*({size})"
+    b.add(f"asm_g{g.index}", "", f"группа {g.index} собирается (дискриминант > 0, не мёртвая точка)",
+          f"group {g.index} assembles (discriminant > 0, not a dead point)",
+          "guard", f"AND({{{prev}}},{test})" if prev else test)
     b.guard = f"asm_g{g.index}"
 
 

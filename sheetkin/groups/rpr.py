@@ -25,6 +25,7 @@ from .motion import (
     Pair,
     Rotation,
     Slide,
+    at_dead_points_zero,
     cramer,
     cross,
     hinge,
@@ -98,7 +99,7 @@ def solve_rpr(j1: Motion, j2: Motion, offset: float, scale: float):
     e = offset
     dx, dy = j1.x - j2.x, j1.y - j2.y
     r2 = dx * dx + dy * dy
-    disc = np.where(r2 > 0, r2 - e * e, -1.0)   # J1 on J2 with no offset: slot undefined
+    disc = at_dead_points_zero(np.where(r2 > 0, r2 - e * e, -1.0), r2)   # J1 on J2 with no offset: slot undefined
     s = sqrt_or_nan(disc)
     c, sn = (s * dx + e * dy) / r2, (s * dy - e * dx) / r2
     col1x, col1y = -s * sn - e * c, s * c - e * sn      # d/dtheta of (s u + e n)
@@ -149,7 +150,7 @@ def rows(b: Builder, g: Group):
     b.add(D, "m^2", "дискриминант L_TEK^2 - e^2 (< 0: группа не собирается)",
           "discriminant L_TEK^2 - e^2 (< 0: cannot assemble)",
           "calc", f"IF({{{r2}}}>0,{{{r2}}}-{e}^2,-1)", guard=b.guard)
-    group_guard(b, g, D)
+    group_guard(b, g, D, f"{{{r2}}}")
     b.section(f"accepted_g{i}", "Принятые значения", "Accepted values")
     sJ = f"s_{J1}"
     b.add(sJ, "m", f"положение камня {J1} вдоль кулисы (L_TEK при e = 0)",

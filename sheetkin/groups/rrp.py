@@ -28,6 +28,7 @@ from .motion import (
     Pair,
     Rotation,
     Slide,
+    at_dead_points_zero,
     cramer,
     guide_line,
     guide_loop,
@@ -142,7 +143,7 @@ def solve_rrp(j1: Motion, length: float, origin: Motion, u: Rotation, branch: in
     dx, dy = j1.x - origin.x, j1.y - origin.y
     along = dx * ux + dy * uy
     h = -dx * uy + dy * ux                     # left of the guide is positive
-    disc = length * length - h * h
+    disc = at_dead_points_zero(length * length - h * h, length * length)
     ahead = branch * sqrt_or_nan(disc)
     s = along + ahead
     c2, s2 = (ahead * ux + h * uy) / length, (ahead * uy - h * ux) / length
@@ -215,7 +216,7 @@ def _fixed_guide_rows(b: Builder, g: Group):
     b.add(D, "m^2", "дискриминант L^2 - h^2 (< 0: группа не собирается)",
           "discriminant L^2 - h^2 (< 0: cannot assemble)",
           "calc", f"{L}^2-{{{h}}}^2", guard=b.guard)
-    group_guard(b, g, D)
+    group_guard(b, g, D, f"{L}^2")
     for s, sign, ru, en in (("p", "+", "ветвь +1", "branch +1"), ("m", "-", "ветвь -1", "branch -1")):
         b.add(f"s_{s}_g{i}", "m", f"{ru}: s = проекция {sign} sqrt(D)", f"{en}: s = foot {sign} sqrt(D)", "calc",
               f"{{{al}}}{sign}SQRT({{{D}}})")
@@ -329,7 +330,7 @@ def _kulisa_line_rows(b: Builder, g: Group) -> None:
     b.add(D, "m^2", "дискриминант L^2 - h^2 (< 0: группа не собирается)",
           "discriminant L^2 - h^2 (< 0: cannot assemble)",
           "calc", f"{L}^2-{{{h}}}^2")
-    group_guard(b, g, D)
+    group_guard(b, g, D, f"{L}^2")
     for s, sign, ru, en in (("p", "+", "ветвь +1", "branch +1"), ("m", "-", "ветвь -1", "branch -1")):
         b.add(f"s_{s}_g{i}", "m", f"{ru}: L_tek = {G}K {sign} sqrt(D)", f"{en}: L_tek = {G}K {sign} sqrt(D)", "calc",
               f"{{{al}}}{sign}SQRT({{{D}}})")

@@ -24,6 +24,7 @@ from .motion import (
     Motion,
     Pair,
     Rotation,
+    at_dead_points_zero,
     carried_point,
     cramer,
     cross,
@@ -123,7 +124,7 @@ def solve_rrr(j1: Motion, j2: Motion, l2: float, l3: float, branch: int):
     Returns N, rotations of J1->N (psi) and J2->N (xi), the discriminant, sin(psi - xi)."""
     p, q = j2.x - j1.x, j2.y - j1.y
     f = (p * p + q * q + l2 * l2 - l3 * l3) / (2.0 * l2)
-    disc = p * p + q * q - f * f
+    disc = at_dead_points_zero(p * p + q * q - f * f, p * p + q * q)
     root = branch * sqrt_or_nan(disc)
     num1, den1 = q + root, p + f          # the lecture's form
     num2, den2 = f - p, q - root          # the same root, rationalised
@@ -185,7 +186,7 @@ def rows(b: Builder, g: Group):
     b.add(D, "m^2", "дискриминант P^2 + Q^2 - F^2 (< 0: группа не собирается)",
           "discriminant P^2 + Q^2 - F^2 (< 0: cannot assemble)", "calc", f"{{{P}}}^2+{{{Q}}}^2-{{{F}}}^2",
           guard=b.guard)
-    group_guard(b, g, D)
+    group_guard(b, g, D, f"{{{P}}}^2+{{{Q}}}^2")
     for s, sign, ru, en in (("p", "+", "ветвь +1", "branch +1"), ("m", "-", "ветвь -1", "branch -1")):
         # tg(psi/2) = (Q +- sqrt(D)) / (P + F), written as ATAN2 so that P + F = 0 is no division
         b.add(f"psi_{s}_g{i}", "rad", f"{ru}: psi = 2 arctg((Q {sign} sqrt(D)) / (P + F))",

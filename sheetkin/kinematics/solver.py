@@ -83,7 +83,7 @@ def solve(scene: Scene, phi_deg, omega: float | None = None, epsilon: float | No
                     known[name] = sol.points[name] = m
                 rot.update(gm.links)
                 sol.slides.update(gm.slides)
-                fail = reached & ~(gm.disc >= 0)
+                fail = reached & ~(gm.disc > 0)     # 0: a dead point (groups.motion.DEAD_POINT)
                 sol.failed[g.index] = fail
                 sol.det[g.index] = gm.toggle
                 reached &= ~fail

@@ -8,8 +8,9 @@ A check row's status, in the order it is decided:
   0               every residual within the tolerance: green.
 Row 2 holds the counts (filled, passing, failing, n/a, not filled: one cell each, E2:I2)
 and D3 says them in words, with the plural of "проверка" that goes with each number.
-The formulas use only what Excel, LibreOffice and sheetkin's evaluator all have (IF,
-COUNT, SUMPRODUCT over a comparison, ISERROR, MOD), so every spreadsheet shows the same.
+The formulas use only what Excel, LibreOffice, Gnumeric and sheetkin's evaluator all read alike
+(IF, COUNT, SUM, SUMPRODUCT over a comparison, ISERROR of one value, MOD), so every
+spreadsheet shows the same (tests/xlsx/test_three_engines.py).
 Imports nothing from sheetkin.
 """
 from __future__ import annotations
@@ -70,7 +71,9 @@ def status_formula(lang: str, rng: str, tol: str, reads: list[str], expected: st
         judge = f'IF(COUNT({rng})=0,"{t["na"]}",IF(AND({within}),0,1))'
     else:
         judge = f'IF(AND(COUNT({rng})=0,{expected}=0),"{t["na"]}",IF(AND(COUNT({rng})={expected},{within}),0,1))'
-    judge = f"IF(SUMPRODUCT(--ISERROR({rng}))>0,1,{judge})"
+    # any error in the row: SUM passes the first error on. Not SUMPRODUCT(--ISERROR(rng)): Gnumeric
+    # reads ISERROR of a range there by implicit intersection and fails every check
+    judge = f"IF(ISERROR(SUM({rng})),1,{judge})"
     if not reads:
         return "=" + judge
     blanks = "+".join(f'SUMPRODUCT(--({r}=""))' for r in reads)

@@ -112,7 +112,10 @@ def edge_mp(scene: Scene, f: Family, dps: int = 50):
         return mpmath.radians(mpmath.mpf(f.edge))
     near = f.near_deg
     if near is None:
-        near = assembly_gaps(scene, np.arange(0.0, 360.0, 1.0))[0].start_deg
+        # a gap narrower than 1e-3 deg is a dead point the range only touches (the discriminant's
+        # band about a double root, docs/dead-points.md), not the edge of a range
+        near = next(g.start_deg for g in assembly_gaps(scene, np.arange(0.0, 360.0, 1.0))
+                    if g.end_deg - g.start_deg > 1e-3)
     guesses = _unknowns(scene, [near - 0.5])[0]
     with mpmath.workdps(dps + 10):
         root = mpmath.findroot(lambda t: _edge_function_mp(scene, f, t, guesses), mpmath.radians(near),

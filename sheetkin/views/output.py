@@ -213,7 +213,7 @@ class _Text:
             if j == self.main and self.gaps:    # "assembled" between the main columns and det_g*
                 truth = pl.Series("assembled", ["False", "True"])      # as pandas wrote it
                 columns["assembled"] = truth.gather((~blk.fail).astype(np.uint32))
-            v = blk.table[j]
+            v = blk.table[j] + 0.0          # -0.0 + 0.0 is 0.0: a CSV says 0.0, never -0.0
             finite = np.isfinite(v)
             columns[name] = pl.Series(name, v if finite.all() else np.where(finite, v, np.nan), nan_to_null=True)
         labels = pl.Series("near_toggle", [t or None for t in blk.labels], dtype=pl.String)

@@ -152,23 +152,25 @@ def test_solver_at_a_change_point_keeps_its_branch_and_says_when_it_has_no_rates
     table, warnings, edges, _ = study
     assert float(edges["change-point"]) == 180.0
     t = rows(table, "change-point", "solver")
-    # det ~ d: flagged from the first distance on
-    assert set(t["status"]) == {"flagged", "nan"}
-    # at 1e-8 and 1e-10 rad the float discriminant is exactly 0: det = 0, rates NaN
-    assert list(t[t["status"] == "nan"]["d"]) == [1e-8, 1e-10]
-    assert (t[t["status"] == "nan"]["det"] == 0).all()
-    w = warning(warnings, "solver (change-point): no velocities or accelerations")
-    assert named_distances(w) == [1e-8, 1e-10]
+    # det ~ d: flagged from the first distance on; from 1e-6 rad on the discriminant (a double
+    # root, ~d^2) is within 1e-12 of its terms: a dead point, where the group does not assemble
+    # in sheetkin and in every spreadsheet alike (docs/dead-points.md)
+    assert set(t["status"]) == {"flagged", "refused"}
+    assert list(t[t["status"] == "refused"]["d"]) == [1e-6, 1e-7, 1e-8, 1e-9, 1e-10]
+    w = warning(warnings, "solver (change-point): cannot assemble")
+    assert named_distances(w) == [1e-6, 1e-7, 1e-8, 1e-9, 1e-10]
     # positions stay good (error ~ eps / d at worst) ...
     assert (t["err_pos"].dropna() < 1e-8).all()
     # ... the accelerations are lost (flagged): 1e-2 rad away already at 2.6e-8
     acc = t["err_acc"].to_numpy()
-    assert acc[0] < 1e-6 and acc[3] > 0.1 and acc[5] > 1e6
+    assert acc[0] < 1e-6 and acc[3] > 0.1
     # no silent branch flip: B never on the other side of A -> O1 than branch = +1
     scene = stability_scene("change-point")
-    df = compute(scene, at=list(t["phi_deg"]))
+    df = compute(scene, at=list(t["phi_deg"]), allow_gaps=True)
+    df = df[df["assembled"]]
+    assert len(df) == 4
     cross = ((0.5 - df["x_A"]) * (df["y_B"] - df["y_A"]) - (0.0 - df["y_A"]) * (df["x_B"] - df["x_A"]))
-    assert (cross >= -1e-15).all() and (cross[:6] > 0).all()
+    assert (cross > 0).all()
     assert (df["near_toggle"] == "1").all()
 
 
