@@ -5,6 +5,7 @@ rules on books made in LibreOffice: test_grading_rules.py.)"""
 from __future__ import annotations
 
 from sheetkin.course import grades
+from sheetkin.course.copies import Cluster, Copies
 from sheetkin.course.report import copies_lines, text_report
 from sheetkin.course.validator import Report, RowReport
 
@@ -50,8 +51,8 @@ def test_deleted_checks_lose_their_share_and_count_as_failing():
 def test_copies_one_line_per_group():
     n = 40
     reps = [Report(f"s{k}.xlsx") for k in range(n)]
-    copies = {i: [(j, "byte-identical files") for j in range(n) if j != i] for i in range(n)}
+    copies = Copies([Cluster(list(range(n)), [("byte-identical files", list(range(n)))])])
     lines = copies_lines(reps, copies).splitlines()
-    assert len(lines) == 1 and f"{n} books linked" in lines[0]
-    pair = copies_lines(reps[:2], {0: [(1, "x")], 1: [(0, "x")]})
-    assert pair == "possible copy: s0.xlsx and s1.xlsx: x\n"
+    assert len(lines) == 1 and f"{n} files" in lines[0] and lines[0].endswith("byte-identical files")
+    pair = copies_lines(reps[:2], Copies([Cluster([0, 1], [("x", [0, 1])])]))
+    assert pair == "possible copy: 2 files s0.xlsx, s1.xlsx: x\n"
