@@ -115,6 +115,7 @@ def add_paths_sheet(wb, info: SheetRows, scene: Scene, fine: int = FINE_POSITION
     first = info.ws.cell(1, 5).column          # E
     cols = [get_column_letter(first + k) for k in range(fine + 1)]
     ps["A1"] = f"{scene.title}: coordinates at {fine} positions over a revolution (sheetkin)"
+    ps["A1"].data_type = "s"        # text, whatever the title starts with (never a formula)
     for row in info.rows:
         if row.name not in need:
             continue

@@ -311,7 +311,8 @@ def test_workbook_synthesis_option(tmp_path, capsys):
                    "(the data of `sheetkin synth crank-rocker`, which writes it with -o)\n")
     assert main(["workbook", str(plain)]) == 0
     assert "synthesis sheet" not in capsys.readouterr().err
-    assert openpyxl.load_workbook(plain.with_suffix(".xlsx")).sheetnames == ["Кинематика", "Графики", "plotted", "paths", "scene"]
+    assert openpyxl.load_workbook(plain.with_suffix(".xlsx")).sheetnames == ["Кинематика", "Графики", "plotted",
+                                                                            "paths", "scene"]
     assert main(["workbook", str(out), "--synthesis"]) == 0
     assert "synthesis sheet" in capsys.readouterr().err
     wb = openpyxl.load_workbook(out.with_suffix(".xlsx"))
