@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from sheetkin.files import MAX_AT_FILE_BYTES, read_text
 from sheetkin.kinematics.caps import one_line
 from sheetkin.kinematics.scene import SceneError
 from sheetkin.kinematics.table import AngleRange
@@ -84,13 +85,15 @@ def read_angles(spec: str) -> np.ndarray:
     or a CSV file with a header row: the column named COLUMN (FILE:COLUMN) or phi_1."""
     path, column = _split_column(spec)
     try:
-        text = path.read_text(encoding="utf-8-sig")
+        text = read_text(path, MAX_AT_FILE_BYTES, "file of angles (--at-file)")
     except UnicodeDecodeError:
         raise SceneError(f"{path}: not UTF-8 text") from None
     except IsADirectoryError:
         raise SceneError(f"{path}: is a directory, expected a file of angles") from None
     except FileNotFoundError:
         raise SceneError(f"{path}: no such file (--at-file)") from None
+    except OSError as e:
+        raise SceneError(one_line(f"{path}: cannot read: {e.strerror or e}")) from None
     lines = text.splitlines()
     first = next((i for i, s in enumerate(lines) if s.strip() and not s.lstrip().startswith("#")), None)
     if first is None:

@@ -27,6 +27,8 @@ import os
 import re
 from dataclasses import dataclass
 
+from sheetkin.files import MAX_CLASS_LIST_BYTES, read_text
+
 CHECK_PENALTY = 2.0        # points off per failing check row (the sheet showed the mistake)
 ID_HEADERS = ("Email address", "ID number", "Username")      # Moodle's export names them so
 COLUMNS = ("student", "group", "variant", "file", "rows correct", "rows total", "checks passing",
@@ -133,8 +135,7 @@ def read_class_list(path: str) -> ClassList:
     name" and "Last name"/"Surname", or "Full name") and an identifier column ("Email
     address", "ID number" or "Username"), as Moodle exports them; comma, semicolon or tab."""
     try:
-        with open(path, encoding="utf-8-sig", newline="") as f:
-            text = f.read()
+        text = read_text(path, MAX_CLASS_LIST_BYTES, "class list")
     except UnicodeDecodeError as e:
         raise GradesError(f"{path}: --class-list: not UTF-8 text (byte {e.start}); save it as CSV UTF-8") from None
     first = text.split("\n", 1)[0]

@@ -12,8 +12,10 @@ from __future__ import annotations
 
 import gc
 import io
+import os
 import re
 import shutil
+import stat
 import tempfile
 from dataclasses import dataclass, field
 from itertools import compress
@@ -657,7 +659,12 @@ def _opendocument(path) -> bool:
     mimetype (.ods, whatever the file is called), or flat XML (.fods)."""
     p = Path(path)
     try:
-        with open(p, "rb") as fh:
+        # non-blocking, and only a regular file: a FIFO given as a book would otherwise wait
+        # here forever for a writer (the gate, open_package, refuses it in one line)
+        fd = os.open(p, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0))
+        with open(fd, "rb") as fh:
+            if not stat.S_ISREG(os.fstat(fh.fileno()).st_mode):
+                return False
             head = fh.read(4096)
     except OSError:
         return False                 # the gate says what is wrong with the path
