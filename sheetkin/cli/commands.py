@@ -11,6 +11,7 @@ and their help texts are in sheetkin/cli/args.py; this module runs the commands.
 """
 from __future__ import annotations
 
+import contextlib
 import io
 import json
 import os
@@ -21,6 +22,7 @@ from pathlib import Path
 # quickly, and each command imports what it needs (numpy, pandas, openpyxl, matplotlib)
 # inside its function (tests/cli/test_startup.py checks which modules a command loads).
 from sheetkin import __version__
+from sheetkin.files import write_file
 from sheetkin.kinematics.scene import (
     MAX_POSITIONS,
     WORKBOOK_MAX_POSITIONS,
@@ -204,9 +206,10 @@ def _evaluate_one_line(evaluate, path):
 
 
 def _write(path, text):
+    """`text` to the file `path` (all or nothing: sheetkin.files.write_file), or stdout."""
     if path:
-        with _writing(path), open(path, "w", encoding="utf-8", newline="") as f:
-            f.write(text)
+        with _writing(path):
+            write_file(path, text)
     else:
         sys.stdout.write(text)
 
@@ -217,8 +220,8 @@ def save_workbook(wb, path) -> None:
     open zip whose clean-up prints a second error)."""
     buf = io.BytesIO()
     wb.save(buf)
-    with _writing(path), open(path, "wb") as f:
-        f.write(buf.getbuffer())
+    with _writing(path):
+        write_file(path, buf.getvalue())
 
 
 class _writing:
@@ -252,6 +255,12 @@ def _command_files(args) -> tuple[list[tuple[str, str]], list[str]]:
     if args.command == "validate":
         inputs += [str(f) for f in _validation_files(args.paths, strict=False)]
         inputs += [p for p in (args.roster, args.key) if p]
+        if args.roster and not args.key:        # the key beside the roster is read too
+            from sheetkin.course.issued import KEY_FILE
+            inputs.append(str(Path(args.roster).parent / KEY_FILE))
+    if getattr(args, "at_file", None):
+        from .angles import split_column
+        inputs.append(str(split_column(args.at_file)[0]))
     return out, inputs
 
 
@@ -333,10 +342,12 @@ def cmd_validate(args) -> int:
         sys.stderr.flush()
     options, keyless = _issued_options(args)
     reports = []
-    for rep in validate_many(files, args.jobs, progress if show else None, options):
-        reports.append(rep)
-        if not args.json:
-            sys.stdout.write(text_report(rep))
+    # closing(): an interruption while a report is printed also stops the workers at once
+    with contextlib.closing(validate_many(files, args.jobs, progress if show else None, options)) as each:
+        for rep in each:
+            reports.append(rep)
+            if not args.json:
+                sys.stdout.write(text_report(rep))
     from sheetkin.course.copies import possible_copies
     copies = possible_copies(reports) if len(reports) > 1 else {}
     if show:
@@ -449,10 +460,64 @@ def cmd_synth(args) -> int:
     return 0
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM (what `timeout` and `kill` send), raised where the program is, so that every
+    clean-up on the way out runs (temporary files, workers, LibreOffice): exit 143. A
+    KeyboardInterrupt, so that whatever lets a Ctrl-C through lets it through too."""
+
+
+EXIT_SIGINT, EXIT_SIGTERM = 130, 143       # 128 + the signal's number, as a shell reports it
+
+
+class _Signals:
+    """Context: the first SIGINT raises KeyboardInterrupt and the first SIGTERM Terminated,
+    so the command unwinds and cleans up; a second one (an impatient user, `timeout -k`)
+    removes the temporary output files, kills the workers and exits at once. Only in the
+    main thread (signal handlers cannot be set elsewhere); the old handlers come back."""
+
+    def __enter__(self):
+        import signal
+        import threading
+        self.old = {}
+        if threading.current_thread() is not threading.main_thread():
+            return self
+        self.hit = False
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            self.old[sig] = signal.signal(sig, self._handle)
+        return self
+
+    def _handle(self, signum, frame):
+        import signal
+        code = EXIT_SIGINT if signum == signal.SIGINT else EXIT_SIGTERM
+        if self.hit:
+            from sheetkin.files import kill_children, remove_temporaries
+            remove_temporaries()
+            kill_children()
+            os.write(2, b"sheetkin: interrupted again: stopped at once\n")
+            os._exit(code)
+        self.hit = True
+        if signum == signal.SIGINT:
+            raise KeyboardInterrupt
+        raise Terminated
+
+    def __exit__(self, *exc):
+        import signal
+        if getattr(self, "hit", False):
+            # cleaned up, on the way out after a signal: a second one arriving now (or while
+            # the interpreter shuts down) must not turn exit 130/143 into a death by signal
+            for sig in self.old:
+                signal.signal(sig, signal.SIG_IGN)
+            return False
+        for sig, old in self.old.items():
+            signal.signal(sig, old)
+        return False
+
+
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     try:
-        return _run(args)
+        with _Signals():
+            return _run(args)
     except BrokenPipeError:
         # `sheetkin compute x.toml | head -1`: the reader left; say so once, no traceback
         _detach_stdout()
@@ -501,9 +566,12 @@ def _run(args) -> int:
     except MemoryError:
         print("sheetkin: error: out of memory; use fewer positions (or smaller files)", file=sys.stderr)
         return EXIT_INPUT
+    except Terminated:
+        print("sheetkin: terminated", file=sys.stderr)
+        return EXIT_SIGTERM
     except KeyboardInterrupt:
         print("sheetkin: interrupted", file=sys.stderr)
-        return 130
+        return EXIT_SIGINT
     except Exception as e:
         # UnusableWorkbook, EvaluationError and the like: their message is the one line
         if isinstance(e, ValueError) and type(e).__module__.startswith("sheetkin."):
