@@ -106,7 +106,7 @@ class Output:
     A FIFO or a device (/dev/null, /dev/stdout) is written as it is; a FIFO without a
     reader is refused at once (OSError ENXIO), never waited for. `.file` is binary."""
 
-    def __init__(self, path: str | os.PathLike):
+    def __init__(self, path: str | os.PathLike, suffix: str = ".part"):
         import tempfile
         self.path = os.fspath(path)
         self.tmp: str | None = None
@@ -128,7 +128,7 @@ class Output:
                                     self.path)
         self.final = real
         self.mode = stat.S_IMODE(st.st_mode) if st is not None else 0o666 & ~_umask()
-        fd, self.tmp = tempfile.mkstemp(prefix=".sheetkin-", suffix=".part", dir=folder)
+        fd, self.tmp = tempfile.mkstemp(prefix=".sheetkin-", suffix=suffix, dir=folder)
         _TEMPORARIES.add(self.tmp)
         self.file = os.fdopen(fd, "wb")
 
