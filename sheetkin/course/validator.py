@@ -467,6 +467,8 @@ def _cache_mismatches(book: Book, sheet: str, angle_rows: set[int] = frozenset()
         now = book.value(sheet, r, c)
         if isinstance(cached, (int, float)) and not isinstance(cached, bool):
             cached = float(cached)
+            if isinstance(now, bool):    # LibreOffice saves a logical result as 1 or 0 (.ods)
+                now = float(now)
             if isinstance(now, float) and abs(now - cached) <= max(1e-9, 1e-9 * abs(cached)):
                 continue
             if isinstance(now, float) and r in angle_rows and abs(abs(now - cached) - 360.0) <= 1e-9:

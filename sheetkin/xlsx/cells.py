@@ -608,7 +608,18 @@ def _shared_strings(pkg) -> list[str]:
         return []
     root = pkg.xml("xl/sharedStrings.xml")
     ns = root.tag[:root.tag.index("}") + 1] if root.tag.startswith("{") else ""
-    return ["".join(t.text or "" for t in si.iter(f"{ns}t")) for si in root.iter(f"{ns}si")]
+    # the text is <si><t> or the <t> of each run <si><r><t>; a phonetic guide <si><rPh><t>
+    # (furigana over Japanese text) is shown above the text, not part of it, as in Excel
+    t, r = f"{ns}t", f"{ns}r"
+
+    def text(si) -> str:
+        parts = []
+        for child in si:
+            node = child if child.tag == t else child.find(t) if child.tag == r else None
+            if node is not None:
+                parts.append(node.text or "")
+        return "".join(parts)
+    return [text(si) for si in root.iter(f"{ns}si")]
 
 
 def _defined_names(pkg) -> tuple[dict[str, str], dict[int, dict[str, str]]]:
