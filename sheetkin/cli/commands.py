@@ -22,7 +22,7 @@ from pathlib import Path
 # quickly, and each command imports what it needs (numpy, pandas, openpyxl, matplotlib)
 # inside its function (tests/cli/test_startup.py checks which modules a command loads).
 from sheetkin import __version__
-from sheetkin.files import write_file
+from sheetkin.files import shown, write_file
 from sheetkin.kinematics.scene import (
     MAX_POSITIONS,
     WORKBOOK_MAX_POSITIONS,
@@ -178,14 +178,32 @@ def cmd_evaluate(args) -> int:
     if args.format == "csv":
         text = df.to_csv(lineterminator="\n")
     elif args.format == "json":
-        text = json.dumps({"file": args.book, "sheet": args.sheet or book.order[0],
-                           "rows": {n: list(r) for n, r in zip(df.index, df.itertuples(index=False), strict=False)}},
-                          indent=1, ensure_ascii=False) + "\n"
+        rows, bad = strict_json_rows(df)
+        # allow_nan=False: NaN and Infinity are not JSON (a strict reader refuses the file)
+        text = json.dumps({"file": shown(args.book), "sheet": args.sheet or book.order[0], "rows": rows},
+                          indent=1, ensure_ascii=False, allow_nan=False) + "\n"
+        if bad:
+            print(f"sheetkin: warning: {shown(args.book)}: {len(bad)} value(s) not finite (first: "
+                  f"{', '.join(bad[:5])}) written as null", file=sys.stderr)
     else:
         text = "\n".join(f"{n:<16}" + "".join(f"{_fmt(v):>13}" for v in row)
                          for n, row in zip(df.index, df.itertuples(index=False), strict=False)) + "\n"
     _write(args.output, text)
     return 0
+
+
+def strict_json_rows(df) -> tuple[dict, list[str]]:
+    """{row name: values} with every non-finite number as None, and where they were."""
+    import math
+    rows, bad = {}, []
+    for name, row in zip(df.index, df.itertuples(index=False), strict=False):
+        values = list(row)
+        for k, v in enumerate(values):
+            if isinstance(v, float) and not math.isfinite(v):
+                values[k] = None
+                bad.append(f"{name}[{k + 1}] = {v}")
+        rows[str(name)] = values
+    return rows, bad
 
 
 def _evaluate_one_line(evaluate, path):

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import gc
 import io
+import math
 import os
 import re
 import shutil
@@ -165,7 +166,7 @@ def _read_tree(pkg, root, name: str, part: str, state: str, shared: list[str], l
             elif t in ("e", "str", "d") and vtext is not None:
                 value = vtext             # "d": an ISO 8601 date, text to a kinematics sheet
             elif vtext is not None:
-                value = float(vtext)
+                value = number(vtext)
             else:
                 value = None
         except (ValueError, IndexError):
@@ -449,7 +450,7 @@ def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits
     for i in with_value:
         t, v = types[i], vtexts[i] or None
         if v is not None and (t is None or t == b"n"):
-            value = float(v.decode())
+            value = number(v.decode())
         else:
             value = _value(t, v, itexts[i], shared)
             if value is None:
@@ -475,7 +476,7 @@ def _value(t: bytes | None, v: bytes | None, inline: bytes | None, shared: list[
     if t in (b"e", b"str", b"d") and v is not None:
         return _text(v)
     if v is not None:
-        return float(_text(v))
+        return number(_text(v))
     return None
 
 
@@ -563,6 +564,14 @@ class _Shared:
             self.agrees = text == translated
             return translated
         return _shift_formula(self.text, dr, dc)
+
+
+def number(text: str) -> float | str:
+    """A cell's number as the file holds it; NaN and infinities (no spreadsheet writes them,
+    and 1e999 overflows) read as the error #NUM!, what a formula making them would give: a
+    wrong row for the student, never a NaN reaching the validator."""
+    x = float(text)
+    return x if math.isfinite(x) else "#NUM!"
 
 
 def _shift_formula(formula: str, dr: int, dc: int) -> str:
