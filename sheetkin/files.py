@@ -164,7 +164,9 @@ def write_file(path: str | os.PathLike, data: bytes | str) -> None:
     """Write `data` (str: as UTF-8) to `path` through Output: all or nothing."""
     out = Output(path)
     try:
-        out.file.write(data.encode("utf-8") if isinstance(data, str) else data)
+        # backslashreplace: a lone surrogate (a file name that is not UTF-8, see shown()) that
+        # slipped through becomes \udcff, never an error after all the work is done
+        out.file.write(data.encode("utf-8", "backslashreplace") if isinstance(data, str) else data)
         out.commit()
     except BaseException:
         out.abandon()

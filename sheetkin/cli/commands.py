@@ -363,7 +363,7 @@ def cmd_validate(args) -> int:
     # closing(): an interruption while a report is printed also stops the workers at once
     with contextlib.closing(validate_many(files, args.jobs, progress if show else None, options)) as each:
         for rep in each:
-            reports.append(rep)
+            reports.append(_printable(rep))
             if not args.json:
                 sys.stdout.write(text_report(rep))
     from sheetkin.course.copies import possible_copies
@@ -386,6 +386,20 @@ def cmd_validate(args) -> int:
     if any(r.error for r in reports):
         return EXIT_INPUT
     return 0 if all(r.ok for r in reports) else 1
+
+
+def _printable(rep):
+    """The report with every text fit for UTF-8 output: a file name that is not UTF-8 (made
+    on another system) shown with \\xNN escapes (sheetkin.files.shown) in the text, JSON,
+    HTML and grades alike."""
+    import dataclasses
+    for f in dataclasses.fields(rep):
+        v = getattr(rep, f.name)
+        if isinstance(v, str):
+            setattr(rep, f.name, shown(v))
+        elif isinstance(v, list) and v and all(isinstance(x, str) for x in v):
+            setattr(rep, f.name, [shown(x) for x in v])
+    return rep
 
 
 def _mismatched_key(reports, options) -> str:
