@@ -111,17 +111,18 @@ class Output:
         self.path = os.fspath(path)
         self.tmp: str | None = None
         self.special = False
-        real = os.path.realpath(self.path)
         try:
-            st = os.stat(real)
+            st = os.stat(self.path)            # through links
         except FileNotFoundError:
             st = None
         if st is not None and stat.S_ISDIR(st.st_mode):
             raise IsADirectoryError(errno.EISDIR, "Is a directory", self.path)
         if st is not None and not stat.S_ISREG(st.st_mode):
+            # by its own name: /dev/stdout resolves to /proc/PID/fd/pipe:[N], no path to open
             self.special = True
-            self.file = _open_special(real, self.path)
+            self.file = _open_special(self.path, self.path)
             return
+        real = os.path.realpath(self.path)
         folder = os.path.dirname(real)
         if not os.path.isdir(folder):
             raise FileNotFoundError(errno.ENOENT, "No such file or directory (the folder does not exist)",
