@@ -24,7 +24,7 @@ import stat
 # sheetkin.xlsx.package.Limits and the scene's are sheetkin.kinematics.caps.
 MAX_KEY_BYTES = 4_096               # a key is one line of 32-64 hex digits
 MAX_CLASS_LIST_BYTES = 5_000_000    # Moodle's export of a class of 30 is a few KB
-MAX_AT_FILE_BYTES = 200_000_000     # --at-file: ten million angles of 20 characters
+MAX_AT_FILE_BYTES = 20_000_000      # --at-file: a million angles of 20 characters (~250 MB to read)
 
 
 class RefusedFile(OSError):
