@@ -244,8 +244,10 @@ def cases(d: Path, heavy: bool):
                                                               "-o", d / "a.html")
     yield f"animate --size {MAX_SIZE}", "animate .png", sk("animate", FOURBAR, "--size", MAX_SIZE, "-o", d / "a.png")
     if heavy:
-        yield f"animate --frames {MAX_FRAMES} --size 320", "animate .gif", sk(
-            "animate", FOURBAR, "--frames", MAX_FRAMES, "-o", d / "a.gif")
+        yield "animate --frames 990 --size 320 (the GIF pixel cap)", "animate .gif", sk(
+            "animate", FOURBAR, "--frames", 990, "-o", d / "a.gif")
+        yield f"animate --frames {MAX_FRAMES} (past the GIF pixel cap)", "animate .gif", sk(
+            "animate", FOURBAR, "--frames", MAX_FRAMES, "-o", d / "b.gif")
     klass = d / "class"
     klass.mkdir()
     for i in range(40):
@@ -259,7 +261,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results" / "worst_case"))
     ap.add_argument("--only", nargs="*", help="run the cases whose name contains one of these")
-    ap.add_argument("--skip-heavy", action="store_true", help="leave out the 3600-frame GIF")
+    ap.add_argument("--skip-heavy", action="store_true", help="leave out the GIFs")
     a = ap.parse_args()
     out = Path(a.out)
     out.mkdir(parents=True, exist_ok=True)

@@ -27,6 +27,9 @@ FORMATS = (".gif", ".html", ".png")
 MAX_FRAMES = 3600
 MAX_SIZE = 4000
 MIN_FPS, MAX_FPS = 0.1, 100.0
+# A GIF's frames are kept until its shared palette is made (about 3 bytes a pixel): frames x
+# width x height at most this (about 1,000 frames at 320 px; 3,600 took 1.6 GB)
+MAX_GIF_PIXELS = 150_000_000
 
 
 class AnimationError(ValueError):
@@ -251,6 +254,15 @@ def animate(scene: Scene, out, *, frames: int = 36, fps: float = 12, size: int =
     if suffix == ".html":
         write_file(out, html_page(pic, fps, size))
         return pic
+    if suffix == ".gif":
+        x0, y0, x1, y1 = pic.bounds
+        height = size * (y1 - y0) / (x1 - x0) + 40
+        pixels = len(pic.frames) * size * height
+        if pixels > MAX_GIF_PIXELS:
+            raise AnimationError(f"{out}: {len(pic.frames):,} frames of {size} x {height:.0f} px are "
+                                 f"{pixels / 1e6:,.0f} million pixels; a GIF may hold at most "
+                                 f"{MAX_GIF_PIXELS / 1e6:,.0f} million (use fewer --frames or a smaller "
+                                 "--size, or an .html page)")
     # matplotlib and Pillow write by name (the suffix names the format): into a temporary
     # file beside the output, renamed when complete; a device or a FIFO gets its bytes after
     target = Output(out, suffix=".part" + suffix)
