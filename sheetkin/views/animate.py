@@ -27,9 +27,9 @@ FORMATS = (".gif", ".html", ".png")
 MAX_FRAMES = 3600
 MAX_SIZE = 4000
 MIN_FPS, MAX_FPS = 0.1, 100.0
-# A GIF's frames are kept until its shared palette is made (about 3 bytes a pixel): frames x
-# width x height at most this (about 1,000 frames at 320 px; 3,600 took 1.6 GB)
-MAX_GIF_PIXELS = 150_000_000
+# A GIF's frames are kept until its shared palette is made (about 11 bytes a pixel): frames x
+# width x height at most this (about 265 frames at 320 px; 990 frames took 1.7 GB and 6 min)
+MAX_GIF_PIXELS = 40_000_000
 
 
 class AnimationError(ValueError):
