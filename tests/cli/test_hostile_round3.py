@@ -335,3 +335,12 @@ def test_strict_json_rows_nulls_non_finite_values():
     assert rows == {"a": [1.0, None], "b": [None, "x"]}
     assert bad == ["a[2] = nan", "b[1] = -inf"]
     json.dumps(rows, allow_nan=False)
+
+
+def test_gif_pixel_cap(capsys, tmp_path):
+    """Ten frames at 4,000 px: about 120 million pixels, past MAX_GIF_PIXELS (990 frames at
+    320 px took 1.7 GB): refused before drawing, nothing written."""
+    line = one_error(*run(capsys, "animate", FOURBAR, "-o", tmp_path / "x.gif", "--frames", "10",
+                          "--size", "4000")[::2])
+    assert "million pixels" in line and f"{animate.MAX_GIF_PIXELS / 1e6:,.0f} million" in line
+    assert not list(tmp_path.iterdir())
