@@ -234,7 +234,7 @@ def check_writable(path: str) -> None:
 def write_grades(path: str, data: bytes) -> None:
     """Written beside its final name and renamed when complete (sheetkin.files): a failure
     leaves an existing file as it was; an OSError names `path`."""
-    from sheetkin.files import write_file      # also an interruption leaves no temporary file
+    from sheetkin.files import write_file  # also an interruption leaves no temporary file
     try:
         write_file(path, data)
     except OSError as e:
