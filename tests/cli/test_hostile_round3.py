@@ -344,3 +344,17 @@ def test_gif_pixel_cap(capsys, tmp_path):
                           "--size", "4000")[::2])
     assert "million pixels" in line and f"{animate.MAX_GIF_PIXELS / 1e6:,.0f} million" in line
     assert not list(tmp_path.iterdir())
+
+
+def test_ods_submission_has_no_false_disagreements(capsys, tmp_path, soffice):
+    """The four-bar's book saved as .ods by LibreOffice (as a student would) and validated:
+    its logical check cells are saved as 1/0, which equal TRUE/FALSE (every .ods submission
+    was told "formula and saved value disagree")."""
+    from sheetkin.xlsx import libreoffice
+    src = tmp_path / "in" / "fourbar.xlsx"
+    src.parent.mkdir()
+    src.write_bytes(BOOK.read_bytes())
+    libreoffice._convert([src], tmp_path, "ods", "ods", 300)
+    code, out, err = run(capsys, "validate", tmp_path / "fourbar.ods")
+    assert code == 0, out + err
+    assert "disagree" not in out and "all correct" in out
