@@ -23,9 +23,10 @@ from pathlib import Path
 # quickly, and each command imports what it needs (numpy, pandas, openpyxl, matplotlib)
 # inside its function (tests/cli/test_startup.py checks which modules a command loads).
 from sheetkin import __version__
-from sheetkin.files import shown, write_file
+from sheetkin.files import read_text, shown, write_file
 from sheetkin.kinematics.scene import (
     MAX_POSITIONS,
+    MAX_SCENE_BYTES,
     WORKBOOK_MAX_POSITIONS,
     AssemblyError,
     SceneError,
@@ -46,9 +47,10 @@ def cmd_variants(args) -> int:
 
     from sheetkin.course.variants import make_variants, write_variants
     load_scene(args.scene)                       # one line naming file, line and key
-    text = Path(args.scene).read_text(encoding="utf-8-sig")
+    text = read_text(args.scene, MAX_SCENE_BYTES, "scene .toml file")
     seed = args.seed if args.seed is not None else secrets.randbelow(10 ** 6)
-    variants = make_variants(text, args.scene, args.n, seed, args.vary, args.min_det)
+    # the scene's name goes into every variant's text: escaped if it is not UTF-8 (files.shown)
+    variants = make_variants(text, shown(args.scene), args.n, seed, args.vary, args.min_det)
     roster = write_variants(variants, args.out, force=args.force, lang=args.lang)
     print(f"{args.out}: {len(variants)} variants of {args.scene} (seed {seed}: --seed {seed} makes the "
           f"same again); {roster}; the key {Path(args.out) / '.sheetkin-key'} stays with you", file=sys.stderr)
@@ -109,7 +111,7 @@ def cmd_workbook(args) -> int:
     stale = 0
     for path in args.scenes:
         scene = load_scene(path)        # validates, with the file's own line numbers
-        text = Path(path).read_text(encoding="utf-8-sig")
+        text = read_text(path, MAX_SCENE_BYTES, "scene .toml file")
         if overrides:
             text, scene = override_crank(text, path, **overrides)
         check_workbook_positions(scene, text, path, "positions" in overrides)

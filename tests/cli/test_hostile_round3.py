@@ -358,3 +358,12 @@ def test_ods_submission_has_no_false_disagreements(capsys, tmp_path, soffice):
     code, out, err = run(capsys, "validate", tmp_path / "fourbar.ods")
     assert code == 0, out + err
     assert "disagree" not in out and "all correct" in out
+
+
+def test_variants_of_an_undecodable_scene_name(tmp_path):
+    scene = tmp_path / os.fsdecode(b"sc\xffene.toml")
+    scene.write_bytes(FOURBAR.read_bytes())
+    res = run_process("variants", scene, "-n", "2", "--seed", "1", "--out", tmp_path / "v", timeout=300)
+    assert res.returncode == 0, res.stderr                # was exit 70 writing the variants' scenes
+    text = next((tmp_path / "v").glob("*.toml")).read_text(encoding="utf-8")
+    assert "sc\\xffene" in text
