@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from sheetkin.files import MAX_AT_FILE_BYTES, read_text
 from sheetkin.kinematics.caps import one_line
 from sheetkin.kinematics.scene import SceneError
 from sheetkin.kinematics.table import AngleRange
@@ -32,6 +33,12 @@ def _decimal(text: str, what: str, spec: str):
         raise SceneError(f"--range {spec}: {what} {text!r} is not a number of degrees") from None
     if not d.is_finite():
         raise SceneError(f"--range {spec}: {what} {text!r} is not a finite number")
+    # by its exponent alone, before any arithmetic: 1E+1000000 overflows the decimal context,
+    # 1E-999999999 underflows to 0 (each was an internal error)
+    if d and d.adjusted() >= 12:
+        raise SceneError(f"--range {spec}: {what} {text!r}: expected a magnitude below 1e12 degrees")
+    if d and d.adjusted() < -_MAX_DECIMALS:
+        raise SceneError(f"--range {spec}: {what} {text!r}: at most {_MAX_DECIMALS} decimal places")
     return d
 
 
@@ -71,7 +78,7 @@ def _number(text: str, where: str) -> float:
     return v
 
 
-def _split_column(spec: str) -> tuple[Path, str | None]:
+def split_column(spec: str) -> tuple[Path, str | None]:
     """FILE or FILE:COLUMN (the file as given wins when it exists, so a ':' in a name works)."""
     if Path(spec).exists() or ":" not in spec:
         return Path(spec), None
@@ -82,15 +89,17 @@ def _split_column(spec: str) -> tuple[Path, str | None]:
 def read_angles(spec: str) -> np.ndarray:
     """--at-file FILE (one angle a line; blank lines and lines starting with # skipped),
     or a CSV file with a header row: the column named COLUMN (FILE:COLUMN) or phi_1."""
-    path, column = _split_column(spec)
+    path, column = split_column(spec)
     try:
-        text = path.read_text(encoding="utf-8-sig")
+        text = read_text(path, MAX_AT_FILE_BYTES, "file of angles (--at-file)")
     except UnicodeDecodeError:
         raise SceneError(f"{path}: not UTF-8 text") from None
     except IsADirectoryError:
         raise SceneError(f"{path}: is a directory, expected a file of angles") from None
     except FileNotFoundError:
         raise SceneError(f"{path}: no such file (--at-file)") from None
+    except OSError as e:
+        raise SceneError(one_line(f"{path}: cannot read: {e.strerror or e}")) from None
     lines = text.splitlines()
     first = next((i for i, s in enumerate(lines) if s.strip() and not s.lstrip().startswith("#")), None)
     if first is None:

@@ -41,6 +41,30 @@ def _positive_int(text: str) -> int:
     return v
 
 
+# sheetkin.course.batch.max_jobs() and sheetkin.views.animate's caps, without importing them
+# for --help (tests/cli/test_hostile_input.py checks they are equal)
+MAX_JOBS = max(4, 2 * (os.cpu_count() or 1))
+ANIMATE_CAPS = {"frames": 3600, "size": 4000, "fps": (0.1, 100.0)}
+
+
+def _capped_int(cap: int, why: str):
+    def parse(text: str) -> int:
+        v = _positive_int(text)
+        if v > cap:
+            raise argparse.ArgumentTypeError(f"expected at most {cap:,} ({why}), got {text!r}")
+        return v
+    return parse
+
+
+def _fps(text: str) -> float:
+    lo, hi = ANIMATE_CAPS["fps"]
+    v = _positive_float(text)
+    if not lo <= v <= hi:
+        raise argparse.ArgumentTypeError(f"expected {lo:g} to {hi:g} frames per second (a GIF counts "
+                                         f"in hundredths of a second), got {text!r}")
+    return v
+
+
 def _positive_float(text: str) -> float:
     v = _finite_float(text)
     if v <= 0:
@@ -175,10 +199,12 @@ def build_parser() -> argparse.ArgumentParser:
                         "'Иванов И.', 'Петрова Анна Сергеевна'); one grade per student (the newest file)")
     v.add_argument("--progress", choices=["auto", "always", "never"], default="auto",
                    help="progress bar on stderr for several files (auto: when stderr is a terminal)")
-    v.add_argument("--jobs", type=_positive_int, metavar="N",
+    v.add_argument("--jobs", type=_capped_int(MAX_JOBS, "two processes per core; each holds a workbook"),
+                   metavar="N",
                    help="validate in N processes (default: one per core, here "
-                        f"{os.cpu_count() or 1}); 1: in this process. Reports come "
-                        "in the order of the files either way")
+                        f"{os.cpu_count() or 1}; at most {MAX_JOBS}); 1: in this process. Reports come "
+                        "in the order of the files either way; a process that dies (out of memory) "
+                        "costs its file only")
     v.add_argument("--roster", metavar="roster.csv",
                    help="the issued variants (written by `sheetkin variants`): each book's input "
                         "block is compared with its variant's row (found by the variant id in the "
@@ -292,11 +318,15 @@ def _add_animate_parser(sub):
     a.add_argument("scene", metavar="SCENE.toml", help="the scene file")
     a.add_argument("-o", "--output", metavar="OUT", required=True,
                    help="mechanism.gif, mechanism.html or mechanism.png")
-    a.add_argument("--frames", type=_positive_int, default=36, metavar="N",
-                   help="positions over the revolution (default 36, every 10 deg)")
-    a.add_argument("--fps", type=_positive_float, default=12.0, help="frames per second (default 12)")
-    a.add_argument("--size", type=_positive_int, default=320, metavar="PX",
-                   help="width of the drawing in pixels (default 320); the height follows at equal scale")
+    a.add_argument("--frames", type=_capped_int(ANIMATE_CAPS["frames"], "every 0.1 deg"), default=36,
+                   metavar="N", help="positions over the revolution (default 36, every 10 deg; at most "
+                                     f"{ANIMATE_CAPS['frames']:,})")
+    a.add_argument("--fps", type=_fps, default=12.0,
+                   help=f"frames per second (default 12; {ANIMATE_CAPS['fps'][0]:g} to {ANIMATE_CAPS['fps'][1]:g})")
+    a.add_argument("--size", type=_capped_int(ANIMATE_CAPS["size"], "pixels"), default=320, metavar="PX",
+                   help="width of the drawing in pixels (default 320, at most "
+                        f"{ANIMATE_CAPS['size']:,}); the height follows at equal scale, "
+                        f"at most {ANIMATE_CAPS['size']:,} too (the width shrinks for a tall mechanism)")
     a.add_argument("--vectors", action="store_true",
                    help="draw the points' velocity vectors (one scale for the whole revolution)")
     a.add_argument("--no-labels", action="store_true", help="leave out the names of joints and links")

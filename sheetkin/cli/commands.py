@@ -11,9 +11,11 @@ and their help texts are in sheetkin/cli/args.py; this module runs the commands.
 """
 from __future__ import annotations
 
+import contextlib
 import io
 import json
 import os
+import re
 import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -22,8 +24,10 @@ from typing import TYPE_CHECKING
 # quickly, and each command imports what it needs (numpy, pandas, openpyxl, matplotlib)
 # inside its function (tests/cli/test_startup.py checks which modules a command loads).
 from sheetkin import __version__
+from sheetkin.files import read_text, shown, write_file
 from sheetkin.kinematics.scene import (
     MAX_POSITIONS,
+    MAX_SCENE_BYTES,
     WORKBOOK_MAX_POSITIONS,
     AssemblyError,
     SceneError,
@@ -53,9 +57,10 @@ def cmd_variants(args) -> int:
         from sheetkin.course.classlist import read_class_list
         class_list = read_class_list(args.class_list)
     n = args.n or (min(len({p.ident for p in class_list.people}), MAX_VARIANTS) if class_list else 30)
-    text = Path(args.scene).read_text(encoding="utf-8-sig")
+    text = read_text(args.scene, MAX_SCENE_BYTES, "scene .toml file")
     seed = args.seed if args.seed is not None else secrets.randbelow(10 ** 6)
-    variants = make_variants(text, args.scene, max(n, 1), seed, args.vary, args.min_det)
+    # the scene's name goes into every variant's text: escaped if it is not UTF-8 (files.shown)
+    variants = make_variants(text, shown(args.scene), max(n, 1), seed, args.vary, args.min_det)
     kept: list = []
     roster = write_variants(variants, args.out, force=args.force, lang=args.lang, class_list=class_list, kept=kept)
     for k in kept:
@@ -180,7 +185,7 @@ def cmd_compute(args) -> int:
 
 
 def cmd_workbook(args) -> int:
-    from sheetkin.sheet.workbook import WorkbookTooLarge, build_workbook, fingerprint  # openpyxl only here
+    from sheetkin.sheet.workbook import WorkbookTooLarge, build_workbook  # openpyxl only here
     from sheetkin.studies.synthesis import add_scene_synthesis_sheet, parse_synthesis
 
     if args.output and len(args.scenes) > 1:
@@ -190,7 +195,7 @@ def cmd_workbook(args) -> int:
     stale = 0
     for path in args.scenes:
         scene = load_scene(path)        # validates, with the file's own line numbers
-        text = Path(path).read_text(encoding="utf-8-sig")
+        text = read_text(path, MAX_SCENE_BYTES, "scene .toml file")
         if overrides:
             text, scene = override_crank(text, path, **overrides)
         check_workbook_positions(scene, text, path, "positions" in overrides)
@@ -212,7 +217,7 @@ def cmd_workbook(args) -> int:
             if not out.exists():
                 print(f"sheetkin: {out}: missing (regenerate: sheetkin workbook {path})")
                 stale += 1
-            elif existing_fingerprint(out) != fingerprint(wb):
+            elif existing_fingerprint(out) != built_fingerprint(wb):
                 print(f"sheetkin: {out}: stale, differs from {path} (regenerate: sheetkin workbook {path})")
                 stale += 1
             else:
@@ -241,16 +246,30 @@ def check_workbook_positions(scene, text: str, path: str, from_option: bool) -> 
 
 
 def existing_fingerprint(path) -> dict:
-    """fingerprint() of a workbook on disk, read through the input gate (xlsxsafe), as
-    `validate` reads: `workbook --check` may meet any file under that name."""
-    from sheetkin.sheet.workbook import fingerprint
-    from sheetkin.xlsx.package import UnusableWorkbook, open_package
+    """What a workbook on disk says (every sheet's state, constants and formulas as written,
+    its charts' data references), read by the reader `validate` uses, through the same gate
+    and limits (sheetkin.xlsx.cells.read_book): `workbook --check` may meet any file under
+    that name (openpyxl took 2.66 GB and 101 s on a 41 MB one)."""
+    from sheetkin.xlsx.cells import read_book
+    from sheetkin.xlsx.package import open_package
+    raw = read_book(path)
+    out: dict = {name: (sh.state, sh.consts, sh.formulas) for name, sh in raw.sheets.items()}
     pkg = open_package(path)
-    try:
-        return fingerprint(io.BytesIO(pkg.data))
-    except Exception as e:        # openpyxl on a file that passed the gate but is not its shape
-        raise UnusableWorkbook(path, f"openpyxl cannot read it ({type(e).__name__}: {e})",
-                               "a workbook written by `sheetkin workbook`") from None
+    charts = sorted(n for n in pkg.names if n.startswith("xl/charts/chart"))
+    out["charts"] = [re.findall(r"<(?:c:)?f>([^<]*)</(?:c:)?f>", pkg.read(n).decode("utf-8", "replace"))
+                     for n in charts]
+    return out
+
+
+def built_fingerprint(wb) -> dict:
+    """existing_fingerprint() of an openpyxl workbook as it would be saved."""
+    import tempfile
+    with tempfile.TemporaryDirectory(prefix="sheetkin-check-") as tmp:
+        path = Path(tmp) / "built.xlsx"
+        # formulas as written: the cached values (CachedWorkbook.save evaluates them) are not compared
+        from openpyxl import Workbook
+        Workbook.save(wb, path)
+        return existing_fingerprint(path)
 
 
 def cmd_evaluate(args) -> int:
@@ -264,13 +283,33 @@ def cmd_evaluate(args) -> int:
     else:
         names, data, _ = rows_table(book, args.sheet)
         if args.format == "json":
-            text = json.dumps({"file": args.book, "sheet": args.sheet or book.order[0],
-                               "rows": dict(zip(names, data, strict=True))}, indent=1, ensure_ascii=False) + "\n"
+            rows, bad = strict_json_rows(names, data)
+            # allow_nan=False: NaN and Infinity are not JSON (a strict reader refuses the file)
+            text = json.dumps({"file": shown(args.book), "sheet": args.sheet or book.order[0], "rows": rows},
+                              indent=1, ensure_ascii=False, allow_nan=False) + "\n"
+            if bad:
+                print(f"sheetkin: warning: {shown(args.book)}: {len(bad)} value(s) not finite (first: "
+                      f"{', '.join(bad[:5])}) written as null", file=sys.stderr)
         else:
             text = "\n".join(f"{n:<16}" + "".join(f"{_fmt(v):>13}" for v in row)
                              for n, row in zip(names, data, strict=True)) + "\n"
     _write(args.output, text)
     return 0
+
+
+def strict_json_rows(names: list[str], data: list[list]) -> tuple[dict, list[str]]:
+    """{row name: values} with every non-finite number as None, and where they were."""
+    import math
+    rows: dict[str, list] = {}
+    bad: list[str] = []
+    for name, row in zip(names, data, strict=True):
+        values = list(row)
+        for k, v in enumerate(values):
+            if isinstance(v, float) and not math.isfinite(v):
+                values[k] = None
+                bad.append(f"{name}[{k + 1}] = {v}")
+        rows[str(name)] = values
+    return rows, bad
 
 
 def _evaluate_one_line(evaluate, path):
@@ -291,9 +330,10 @@ def _evaluate_one_line(evaluate, path):
 
 
 def _write(path, text):
+    """`text` to the file `path` (all or nothing: sheetkin.files.write_file), or stdout."""
     if path:
-        with _writing(path), open(path, "w", encoding="utf-8", newline="") as f:
-            f.write(text)
+        with _writing(path):
+            write_file(path, text)
     else:
         sys.stdout.write(text)
 
@@ -304,8 +344,8 @@ def save_workbook(wb, path) -> None:
     open zip whose clean-up prints a second error)."""
     buf = io.BytesIO()
     wb.save(buf)
-    with _writing(path), open(path, "wb") as f:
-        f.write(buf.getbuffer())
+    with _writing(path):
+        write_file(path, buf.getvalue())
 
 
 class _writing:
@@ -339,6 +379,12 @@ def _command_files(args) -> tuple[list[tuple[str, str]], list[str]]:
     if args.command == "validate":
         inputs += [str(f) for f in _validation_files(args.paths, strict=False)]
         inputs += [p for p in (args.roster, args.key) if p]
+        if args.roster and not args.key:        # the key beside the roster is read too
+            from sheetkin.course.issued import KEY_FILE
+            inputs.append(str(Path(args.roster).parent / KEY_FILE))
+    if getattr(args, "at_file", None):
+        from .angles import split_column
+        inputs.append(str(split_column(args.at_file)[0]))
     return out, inputs
 
 
@@ -400,8 +446,8 @@ def cmd_validate(args) -> int:
     found = submission_files(args.paths)
     files = found.files
     class_list = _grades_first(args)
-    for shown in found.twice:
-        print(f"sheetkin: note: {shown}: given twice; validated once", file=sys.stderr)
+    for twice in found.twice:
+        print(f"sheetkin: note: {twice}: given twice; validated once", file=sys.stderr)
     show = args.progress == "always" or (args.progress == "auto" and sys.stderr.isatty() and len(files) > 1)
     from sheetkin.xlsx.cells import convert_opendocument  # a class's .ods files: one LibreOffice run
     convert_opendocument(files, note=(lambda t: print(f"sheetkin: {t}", file=sys.stderr)) if show else None)
@@ -413,12 +459,14 @@ def cmd_validate(args) -> int:
         sys.stderr.flush()
     options, keyless = _issued_options(args)
     reports, real = [], []
-    for path, rep in zip(files, validate_many(files, args.jobs, progress if show else None, options), strict=False):
-        real.append(str(path))
-        _show_as(rep, str(path), found.name(path))
-        reports.append(rep)
-        if not args.json:
-            sys.stdout.write(text_report(rep))
+    # closing(): an interruption while a report is printed also stops the workers at once
+    with contextlib.closing(validate_many(files, args.jobs, progress if show else None, options)) as each:
+        for path, rep in zip(files, each, strict=False):
+            real.append(str(path))
+            _show_as(rep, str(path), found.name(path))
+            reports.append(_printable(rep))
+            if not args.json:
+                sys.stdout.write(text_report(rep))
     from sheetkin.course.copies import Copies, file_digest, possible_copies
     from sheetkin.course.identity import find_assignment, identify
     assignment = find_assignment(args.roster)
@@ -458,13 +506,13 @@ def cmd_validate(args) -> int:
     return 0 if all(r.ok for r in reports) else 1
 
 
-def _show_as(rep, real: str, shown: str) -> None:
+def _show_as(rep, real: str, name: str) -> None:
     """A report of a file unpacked from a zip names it as the teacher knows it."""
-    if shown == real:
+    if name == real:
         return
-    rep.path = shown
+    rep.path = name
     if rep.error and rep.error.startswith(real):
-        rep.error = shown + rep.error[len(real):]
+        rep.error = name + rep.error[len(real):]
 
 
 def _mtime(path: str) -> float:
@@ -485,6 +533,20 @@ def _roster_contradicts(reports, options) -> str:
     return (f"{options.roster.path} contradicts {len(differ)} of the {len(sealed)} sealed books (their seals "
             "check, the roster's given data differ): is it another class's roster, or re-written? Each "
             "sealed book is graded against its sealed data")
+
+
+def _printable(rep):
+    """The report with every text fit for UTF-8 output: a file name that is not UTF-8 (made
+    on another system) shown with \\xNN escapes (sheetkin.files.shown) in the text, JSON,
+    HTML and grades alike."""
+    import dataclasses
+    for f in dataclasses.fields(rep):
+        v = getattr(rep, f.name)
+        if isinstance(v, str):
+            setattr(rep, f.name, shown(v))
+        elif isinstance(v, list) and v and all(isinstance(x, str) for x in v):
+            setattr(rep, f.name, [shown(x) for x in v])
+    return rep
 
 
 def _mismatched_key(reports, options) -> str:
@@ -580,10 +642,64 @@ def cmd_synth(args) -> int:
     return 0
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM (what `timeout` and `kill` send), raised where the program is, so that every
+    clean-up on the way out runs (temporary files, workers, LibreOffice): exit 143. A
+    KeyboardInterrupt, so that whatever lets a Ctrl-C through lets it through too."""
+
+
+EXIT_SIGINT, EXIT_SIGTERM = 130, 143       # 128 + the signal's number, as a shell reports it
+
+
+class _Signals:
+    """Context: the first SIGINT raises KeyboardInterrupt and the first SIGTERM Terminated,
+    so the command unwinds and cleans up; a second one (an impatient user, `timeout -k`)
+    removes the temporary output files, kills the workers and exits at once. Only in the
+    main thread (signal handlers cannot be set elsewhere); the old handlers come back."""
+
+    def __enter__(self):
+        import signal
+        import threading
+        self.old = {}
+        if threading.current_thread() is not threading.main_thread():
+            return self
+        self.hit = False
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            self.old[sig] = signal.signal(sig, self._handle)
+        return self
+
+    def _handle(self, signum, frame):
+        import signal
+        code = EXIT_SIGINT if signum == signal.SIGINT else EXIT_SIGTERM
+        if self.hit:
+            from sheetkin.files import kill_children, remove_temporaries
+            remove_temporaries()
+            kill_children()
+            os.write(2, b"sheetkin: interrupted again: stopped at once\n")
+            os._exit(code)
+        self.hit = True
+        if signum == signal.SIGINT:
+            raise KeyboardInterrupt
+        raise Terminated
+
+    def __exit__(self, *exc):
+        import signal
+        if getattr(self, "hit", False):
+            # cleaned up, on the way out after a signal: a second one arriving now (or while
+            # the interpreter shuts down) must not turn exit 130/143 into a death by signal
+            for sig in self.old:
+                signal.signal(sig, signal.SIG_IGN)
+            return False
+        for sig, old in self.old.items():
+            signal.signal(sig, old)
+        return False
+
+
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     try:
-        return _run(args)
+        with _Signals():
+            return _run(args)
     except BrokenPipeError:
         # `sheetkin compute x.toml | head -1`: the reader has what it wanted. End quietly, as
         # command-line tools do (they die of SIGPIPE: 128 + 13, which a shell's pipefail sees)
@@ -635,9 +751,12 @@ def _run(args) -> int:
     except MemoryError:
         print("sheetkin: error: out of memory; use fewer positions (or smaller files)", file=sys.stderr)
         return EXIT_INPUT
+    except Terminated:
+        print("sheetkin: terminated", file=sys.stderr)
+        return EXIT_SIGTERM
     except KeyboardInterrupt:
         print("sheetkin: interrupted", file=sys.stderr)
-        return 130
+        return EXIT_SIGINT
     except Exception as e:
         # UnusableWorkbook, EvaluationError and the like: their message is the one line
         if isinstance(e, ValueError) and type(e).__module__.startswith("sheetkin."):

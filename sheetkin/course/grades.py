@@ -305,15 +305,10 @@ def check_writable(path: str) -> None:
 
 
 def write_grades(path: str, data: bytes) -> None:
-    """Written beside its final name and renamed when complete (sheetkin.views.output): a failure
+    """Written beside its final name and renamed when complete (sheetkin.files): a failure
     leaves an existing file as it was; an OSError names `path`."""
-    from sheetkin.views.output import _Target
-    target = None
+    from sheetkin.files import write_file  # also an interruption leaves no temporary file
     try:
-        target = _Target(path)
-        target.file.write(data)
-        target.commit()
+        write_file(path, data)
     except OSError as e:
-        if target is not None:
-            target.abandon()
         raise OSError(e.errno, e.strerror or str(e), path) from None

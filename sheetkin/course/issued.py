@@ -25,6 +25,7 @@ import secrets
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from sheetkin.files import MAX_KEY_BYTES, read_bytes, read_text
 from sheetkin.kinematics.scene import Scene, SceneError, one_line
 from sheetkin.sheet.workbook import IDENTITY_ROWS, ISSUED_LABELS, sheet_rows
 
@@ -125,7 +126,7 @@ def read_key(path) -> bytes:
     """The teacher's key from its file (64 hex digits); one-line errors."""
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8").strip()
+        text = read_text(path, MAX_KEY_BYTES, "key file", "utf-8").strip()
     except FileNotFoundError:
         raise RosterError(one_line(f"{path}: no such key file (`sheetkin variants` writes "
                                    f"{KEY_FILE} in its --out folder)")) from None
@@ -188,7 +189,7 @@ def read_roster(path) -> Roster:
     """roster.csv as `variants` writes it; every mistake one line naming file:line:column."""
     p = str(path)
     try:
-        raw = Path(path).read_bytes()
+        raw = read_bytes(path, MAX_ROSTER_BYTES, "roster")
     except FileNotFoundError:
         raise RosterError(one_line(f"{p}: no such roster file")) from None
     except OSError as e:

@@ -50,6 +50,33 @@ RTOL = 1e-9            # formulas: the same numbers up to rounding
 ATOL = 1e-9
 
 
+# Caps on the scene embedded in a book, for validation (docs/reliability.md): the course's
+# scenes have 1-3 groups and 0-3 points; a reference of rows x positions cells is built
+# and evaluated for each variant, so these bound a book's work whatever its scene sheet says.
+MAX_EMBEDDED_GROUPS = 12
+MAX_EMBEDDED_POINTS = 40
+MAX_REFERENCE_CELLS = 1_000_000
+
+
+def check_embedded_size(scene_text: str, path: str) -> None:
+    """Count the tables before parsing (a 400-group scene sheet took minutes to read)."""
+    heads = re.findall(r"(?m)^\s*\[\[\s*(group|point)\s*\]\]", scene_text)
+    for kind, cap in (("group", MAX_EMBEDDED_GROUPS), ("point", MAX_EMBEDDED_POINTS)):
+        n = heads.count(kind)
+        if n > cap:
+            raise UnusableInput(f"{path}: the embedded scene has {n} [[{kind}]] tables; a book "
+                                f"sheetkin validates may have at most {cap}")
+
+
+def check_embedded_scene(scene: Scene, path: str) -> None:
+    rows = len(sheet_rows(scene).rows)
+    cells = rows * scene.crank.positions
+    if cells > MAX_REFERENCE_CELLS:
+        raise UnusableInput(f"{path}: the embedded scene needs a reference of {rows:,} rows x "
+                            f"{scene.crank.positions:,} positions = {cells:,} cells; sheetkin validates "
+                            f"books of at most {MAX_REFERENCE_CELLS:,}")
+
+
 class UnusableInput(ValueError):
     """A workbook that cannot be validated at all; str() is one line naming the file."""
 
@@ -254,6 +281,7 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
                             "expected a workbook made by `sheetkin workbook`")
     lines = [book.sheets[SCENE_SHEET].consts.get((r, 1), "") for r in range(1, book.sheets[SCENE_SHEET].max_row + 1)]
     scene_text = "\n".join(str(x) for x in lines) + "\n"
+    check_embedded_size(scene_text, path)
     try:
         scene = parse_scene(scene_text, f"{path} (embedded scene)")
     except SceneError as e:
@@ -264,6 +292,7 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
         if broken.startswith("scene sheet edited"):
             raise UnusableInput(f"{path}: {broken}; and it no longer reads: {e}") from e
         raise
+    check_embedded_scene(scene, path)
     # the graded sheet and its columns, found by their content (sheetkin/course/layout.py);
     # graded through a view in the issued layout (names A, value D, positions from E)
     ref_rows = sheet_rows(scene).rows
@@ -537,6 +566,8 @@ def _cache_mismatches(book: Book, sheet: str, angle_rows: set[int] = frozenset()
         now = book.value(sheet, r, c)
         if isinstance(cached, (int, float)) and not isinstance(cached, bool):
             cached = float(cached)
+            if isinstance(now, bool):    # LibreOffice saves a logical result as 1 or 0 (.ods)
+                now = float(now)
             if isinstance(now, float) and abs(now - cached) <= max(1e-9, 1e-9 * abs(cached)):
                 continue
             if isinstance(now, float) and r in angle_rows and abs(abs(now - cached) - 360.0) <= 1e-9:

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import NoReturn
 
+from sheetkin.files import read_text
 from sheetkin.groups import KINDS, kind_of
 from sheetkin.groups.group import Group, Guide, slide_names
 
@@ -300,7 +301,8 @@ def load_scene(path: str | Path) -> Scene:
                          "sheetkin.parse_scene(text) (compute() takes either)")
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8-sig")   # tolerate Notepad's byte-order mark
+        # bounded and non-blocking: /dev/zero or a FIFO is refused before a byte is read
+        text = read_text(path, MAX_SCENE_BYTES, "scene .toml file")   # utf-8-sig: Notepad's byte-order mark
     except FileNotFoundError:
         raise SceneError(one_line(f"{path}: no such file")) from None
     except IsADirectoryError:

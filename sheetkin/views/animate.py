@@ -8,16 +8,51 @@ when a GIF or PNG is drawn.
 from __future__ import annotations
 
 import json
+import math
 import sys
+import tempfile
 from pathlib import Path
 
 import numpy as np
 
+from sheetkin.files import Output, write_file
 from sheetkin.kinematics.scene import Scene
 
 from .drawing import STYLES, Picture, picture, revolution
 
 FORMATS = (".gif", ".html", ".png")
+# Caps (docs/reliability.md; `sheetkin animate` refuses more in one line): frames every 0.1
+# deg, a drawing of at most 4000 px a side (a GIF frame is width x height bytes), and a
+# frame rate a GIF can hold (its delays are hundredths of a second).
+MAX_FRAMES = 3600
+MAX_SIZE = 4000
+MIN_FPS, MAX_FPS = 0.1, 100.0
+# A GIF's frames are kept until its shared palette is made (about 11 bytes a pixel): frames x
+# width x height at most this (about 265 frames at 320 px; 990 frames took 1.7 GB and 6 min)
+MAX_GIF_PIXELS = 40_000_000
+
+
+class AnimationError(ValueError):
+    """An animation past its caps: one line."""
+
+
+def check_caps(frames: int, fps: float, size: int) -> None:
+    if not 1 <= frames <= MAX_FRAMES:
+        raise AnimationError(f"--frames {frames}: expected 1 to {MAX_FRAMES:,}")
+    if not 1 <= size <= MAX_SIZE:
+        raise AnimationError(f"--size {size}: expected 1 to {MAX_SIZE:,} pixels")
+    if not MIN_FPS <= fps <= MAX_FPS:        # also NaN
+        raise AnimationError(f"--fps {fps}: expected {MIN_FPS:g} to {MAX_FPS:g} frames per second")
+
+
+def fitted_size(pic: Picture, size: int) -> int:
+    """The width to draw at: `size`, or less for a tall mechanism, so the height (at equal
+    scale) stays within MAX_SIZE."""
+    x0, y0, x1, y1 = pic.bounds
+    ratio = (y1 - y0) / (x1 - x0) if x1 > x0 else 1.0
+    if not math.isfinite(ratio) or ratio <= 0:
+        return size
+    return max(1, min(size, int(MAX_SIZE / ratio)))
 
 
 def animation_picture(scene: Scene, frames: int = 36, *, vectors: bool = False, labels: bool = True,
@@ -207,15 +242,43 @@ def animate(scene: Scene, out, *, frames: int = 36, fps: float = 12, size: int =
     """Write `out` (.gif, .html, or .png: the first position) and return the Picture."""
     suffix = Path(out).suffix.lower()
     if suffix not in FORMATS:
-        raise ValueError(f"{out}: expected a file name ending in {', '.join(FORMATS)}")
+        raise AnimationError(f"{out}: expected a file name ending in {', '.join(FORMATS)}")
+    check_caps(frames, fps, size)
     pic = animation_picture(scene, frames, vectors=vectors, labels=labels, allow_gaps=allow_gaps,
                             toggle_threshold=toggle_threshold)
+    fitted = fitted_size(pic, size)
+    if fitted < size:
+        pic.notes.append(f"drawn {fitted} px wide, not {size}: at equal scale the mechanism would be "
+                         f"more than {MAX_SIZE} px tall")
+        size = fitted
+    if suffix == ".html":
+        write_file(out, html_page(pic, fps, size))
+        return pic
     if suffix == ".gif":
-        write_gif(pic, out, fps, size, progress)
-    elif suffix == ".png":
-        write_png(pic, out, 0, size)
-    else:
-        Path(out).write_text(html_page(pic, fps, size), encoding="utf-8")
+        x0, y0, x1, y1 = pic.bounds
+        height = size * (y1 - y0) / (x1 - x0) + 40
+        pixels = len(pic.frames) * size * height
+        if pixels > MAX_GIF_PIXELS:
+            raise AnimationError(f"{out}: {len(pic.frames):,} frames of {size} x {height:.0f} px are "
+                                 f"{pixels / 1e6:,.0f} million pixels; a GIF may hold at most "
+                                 f"{MAX_GIF_PIXELS / 1e6:,.0f} million (use fewer --frames or a smaller "
+                                 "--size, or an .html page)")
+    # matplotlib and Pillow write by name (the suffix names the format): into a temporary
+    # file beside the output, renamed when complete; a device or a FIFO gets its bytes after
+    target = Output(out, suffix=".part" + suffix)
+    try:
+        with tempfile.TemporaryDirectory(prefix="sheetkin-animate-") as scratch:
+            dest = target.tmp or str(Path(scratch) / ("out" + suffix))
+            if suffix == ".gif":
+                write_gif(pic, dest, fps, size, progress)
+            else:
+                write_png(pic, dest, 0, size)
+            if target.tmp is None:
+                target.file.write(Path(dest).read_bytes())
+        target.commit()
+    except BaseException:
+        target.abandon()
+        raise
     return pic
 
 

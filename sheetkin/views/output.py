@@ -14,15 +14,13 @@ from __future__ import annotations
 import io
 import json
 import math
-import os
 import shutil
-import stat
 import sys
-import tempfile
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from sheetkin.files import Output
 from sheetkin.kinematics.scene import Scene, SceneError
 from sheetkin.kinematics.table import (
     BLOCK,
@@ -346,50 +344,28 @@ def _parquet_writer(path: str):
 
 # --------------------------------------------------------------------------- the command
 class _Target:
-    """Where the output goes: stdout; a new or regular file, written beside its final name
-    and renamed when complete (a failure leaves nothing half-written and an existing file as
-    it was; its permissions are kept); anything else (a device such as /dev/null, a pipe, a
-    symbolic link) is opened and written as it is."""
+    """Where the output goes: stdout, or sheetkin.files.Output (a new or regular file, also
+    behind a link, written beside its final name and renamed when complete; a device or a
+    FIFO written as it is)."""
 
     def __init__(self, path: str | None):
-        self.path, self.tmp = path, None
+        self.path, self.tmp, self.out = path, None, None
         if path is None:
             sys.stdout.flush()
             self.file = getattr(sys.stdout, "buffer", None) or _TextSink(sys.stdout)
             return
-        try:
-            st = os.lstat(path)
-        except FileNotFoundError:
-            st = None
-        if st is not None and not stat.S_ISREG(st.st_mode):
-            self.file = open(path, "wb")
-            return
-        folder = os.path.dirname(os.path.abspath(path))
-        if not os.path.isdir(folder):
-            raise OSError(2, "No such file or directory", path)
-        fd, self.tmp = tempfile.mkstemp(prefix=".sheetkin-", suffix=".part", dir=folder)
-        self.mode = stat.S_IMODE(st.st_mode) if st is not None else 0o666 & ~_umask()
-        self.file = os.fdopen(fd, "wb")
+        self.out = Output(path)
+        self.file, self.tmp = self.out.file, self.out.tmp
 
     def commit(self):
-        if self.tmp is None:
+        if self.out is None:
             self.file.flush()
-            if self.path is not None:
-                self.file.close()
-            return
-        self.file.close()
-        os.chmod(self.tmp, self.mode)
-        os.replace(self.tmp, self.path)
+        else:
+            self.out.commit()
 
     def abandon(self):
-        if self.path is None:
-            return
-        try:
-            self.file.close()            # may fail again (a full disk): the first error counts
-        except OSError:
-            pass
-        if self.tmp is not None and os.path.exists(self.tmp):
-            os.unlink(self.tmp)
+        if self.out is not None:
+            self.out.abandon()
 
 
 class _TextSink:
@@ -403,12 +379,6 @@ class _TextSink:
 
     def flush(self):
         self.stream.flush()
-
-
-def _umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
 
 
 def write_compute(scene: Scene, phi, fmt: str, output: str | None, *, analogs=False,
@@ -443,8 +413,11 @@ def write_compute(scene: Scene, phi, fmt: str, output: str | None, *, analogs=Fa
     target = _Target(output)
     try:
         if fmt == "parquet":
-            target.file.close()
-            write, close = _parquet_writer(target.tmp)
+            # pyarrow writes to the temporary file by name; to a device or a FIFO through
+            # the open file (it writes sequentially)
+            write, close = _parquet_writer(target.tmp if target.tmp is not None else target.file)
+            if target.tmp is not None:
+                target.file.close()
             for blk in blocks():
                 write(names, n_det, gaps, blk)
             close()

@@ -12,9 +12,11 @@ from __future__ import annotations
 
 import gc
 import io
+import math
 import os
 import re
 import shutil
+import stat
 import tempfile
 from dataclasses import dataclass, field
 from itertools import compress
@@ -163,7 +165,7 @@ def _read_tree(pkg, root, name: str, part: str, state: str, shared: list[str], l
             elif t in ("e", "str", "d") and vtext is not None:
                 value = vtext             # "d": an ISO 8601 date, text to a kinematics sheet
             elif vtext is not None:
-                value = float(vtext)
+                value = number(vtext)
             else:
                 value = None
         except (ValueError, IndexError):
@@ -464,7 +466,7 @@ def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits
     for i in with_value:
         t, v = types[i], vtexts[i] or None
         if v is not None and (t is None or t == b"n"):
-            value = float(v.decode())
+            value = number(v.decode())
         else:
             value = _value(t, v, itexts[i], shared)
             if value is None:
@@ -490,7 +492,7 @@ def _value(t: bytes | None, v: bytes | None, inline: bytes | None, shared: list[
     if t in (b"e", b"str", b"d") and v is not None:
         return _text(v)
     if v is not None:
-        return float(_text(v))
+        return number(_text(v))
     return None
 
 
@@ -580,6 +582,14 @@ class _Shared:
         return _shift_formula(self.text, dr, dc)
 
 
+def number(text: str) -> float | str:
+    """A cell's number as the file holds it; NaN and infinities (no spreadsheet writes them,
+    and 1e999 overflows) read as the error #NUM!, what a formula making them would give: a
+    wrong row for the student, never a NaN reaching the validator."""
+    x = float(text)
+    return x if math.isfinite(x) else "#NUM!"
+
+
 def _shift_formula(formula: str, dr: int, dc: int) -> str:
     """The formula moved dr rows and dc columns (either may be negative: Excel writes a
     block ref="Y142:AR153" whose master cell is not its top-left corner). Absolute parts
@@ -623,7 +633,18 @@ def _shared_strings(pkg) -> list[str]:
         return []
     root = pkg.xml("xl/sharedStrings.xml")
     ns = root.tag[:root.tag.index("}") + 1] if root.tag.startswith("{") else ""
-    return ["".join(t.text or "" for t in si.iter(f"{ns}t")) for si in root.iter(f"{ns}si")]
+    # the text is <si><t> or the <t> of each run <si><r><t>; a phonetic guide <si><rPh><t>
+    # (furigana over Japanese text) is shown above the text, not part of it, as in Excel
+    t, r = f"{ns}t", f"{ns}r"
+
+    def text(si) -> str:
+        parts = []
+        for child in si:
+            node = child if child.tag == t else child.find(t) if child.tag == r else None
+            if node is not None:
+                parts.append(node.text or "")
+        return "".join(parts)
+    return [text(si) for si in root.iter(f"{ns}si")]
 
 
 def _defined_names(pkg) -> tuple[dict[str, str], dict[int, dict[str, str]]]:
@@ -780,7 +801,12 @@ def _opendocument(path) -> bool:
     mimetype (.ods, whatever the file is called), or flat XML (.fods)."""
     p = Path(path)
     try:
-        with open(p, "rb") as fh:
+        # non-blocking, and only a regular file: a FIFO given as a book would otherwise wait
+        # here forever for a writer (the gate, open_package, refuses it in one line)
+        fd = os.open(p, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0))
+        with open(fd, "rb") as fh:
+            if not stat.S_ISREG(os.fstat(fh.fileno()).st_mode):
+                return False
             head = fh.read(4096)
     except OSError:
         return False                 # the gate says what is wrong with the path
@@ -805,6 +831,7 @@ def _read_opendocument(path, limits: Limits, timeout: float) -> RawBook:
     done = _CONVERTED.get(_signature(path))
     if done is not None and done.is_file():
         return _read_converted(done, shown, limits)
+    check_opendocument(path, limits)
     if libreoffice.soffice_path() is None:
         raise UnusableWorkbook(shown, f"{what}, and LibreOffice (soffice) is not installed to read it", how)
     with tempfile.TemporaryDirectory(prefix="sheetkin-ods-") as tmp:
@@ -868,8 +895,10 @@ def _convert_batch(paths, limits: Limits, timeout_per_file: float, note) -> int:
         try:
             if ((_opendocument(p) or _old_excel(p)) and not password_protected(p)
                     and Path(p).stat().st_size <= limits.max_file_bytes):
+                if _opendocument(p):
+                    check_opendocument(p, limits)    # refused ones are converted (refused) alone
                 todo.append(p)
-        except OSError:
+        except (OSError, UnusableWorkbook):
             continue
     if len(todo) < 2 or libreoffice.soffice_path() is None:
         return 0
@@ -914,3 +943,118 @@ def _read_xlsx(path, limits: Limits, skip: frozenset[str] = frozenset()) -> RawB
     return RawBook(str(path), sheets, order, names)
 
 
+
+
+# ----------------------------------------------------------------- the OpenDocument gate
+_ODF_TABLE = "urn:oasis:names:tc:opendocument:xmlns:table:1.0"
+_ODF_OFFICE = "urn:oasis:names:tc:opendocument:xmlns:office:1.0"
+_ROW, _CELL, _COVERED = (f"{{{_ODF_TABLE}}}{t}" for t in ("table-row", "table-cell", "covered-table-cell"))
+_ROWS_REP, _COLS_REP = f"{{{_ODF_TABLE}}}number-rows-repeated", f"{{{_ODF_TABLE}}}number-columns-repeated"
+_VALUE_TYPE, _FORMULA = f"{{{_ODF_OFFICE}}}value-type", f"{{{_ODF_TABLE}}}formula"
+_TABLE = f"{{{_ODF_TABLE}}}table"
+
+
+def check_opendocument(path, limits: Limits = Limits()) -> None:
+    """The gate an OpenDocument spreadsheet passes before LibreOffice sees it (a 1,337-byte
+    .fods repeating one row a million times took LibreOffice to 3.7 GB): the file's size; for
+    .ods the zip's parts (count, sizes, ratio) as open_package checks an .xlsx; then one
+    streaming pass over the content (defusedxml: no DTD, no entities) counting what the
+    repeat attributes expand to: rows and columns up to the last cell holding something,
+    and those cells, all sheets together, within the .xlsx limits (max_rows, max_cols,
+    max_cells). Styled emptiness repeated to the sheet's end costs nothing and passes."""
+    import zipfile
+
+    shown = str(path)
+
+    def fail(problem: str, expected: str):
+        raise UnusableWorkbook(shown, problem, expected)
+    try:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0))
+        with open(fd, "rb") as fh:
+            st = os.fstat(fh.fileno())
+            if not stat.S_ISREG(st.st_mode):
+                fail("is not a regular file", "expected an OpenDocument spreadsheet file")
+            if st.st_size > limits.max_file_bytes:
+                fail(f"an OpenDocument spreadsheet of {st.st_size:,} bytes",
+                     f"at most {limits.max_file_bytes:,} bytes (sheetkin's limit for a workbook)")
+            data = fh.read(limits.max_file_bytes + 1)
+    except OSError as e:
+        fail(f"cannot be read ({e.strerror or e})", "expected a readable spreadsheet file")
+    if len(data) > limits.max_file_bytes:
+        fail("more than the size limit", f"at most {limits.max_file_bytes:,} bytes")
+    if data.startswith(b"PK"):
+        try:
+            archive = zipfile.ZipFile(io.BytesIO(data))
+            infos = archive.infolist()
+        except (zipfile.BadZipFile, zipfile.LargeZipFile, EOFError, OSError, ValueError, NotImplementedError) as e:
+            fail(f"a damaged .ods file ({str(e)[:100]})", "expected an OpenDocument spreadsheet saved whole")
+        if len(infos) > limits.max_parts:
+            fail(f"{len(infos):,} parts in the .ods zip", f"at most {limits.max_parts:,}")
+        total = 0
+        for info in infos:
+            total += info.file_size
+            ratio = info.file_size / max(1, info.compress_size)
+            if info.file_size > limits.max_part_bytes or total > limits.max_total_bytes:
+                fail(f"{info.filename[:100]} inflates to {info.file_size:,} bytes",
+                     f"at most {limits.max_part_bytes:,} a part, {limits.max_total_bytes:,} in all")
+            if info.file_size > limits.ratio_min_bytes and ratio > limits.max_ratio:
+                fail(f"{info.filename[:100]} inflates {ratio:.0f} times (a zip bomb's mark)",
+                     f"at most {limits.max_ratio:g}:1")
+        if "content.xml" not in archive.namelist():
+            fail("an .ods file without content.xml", "expected an OpenDocument spreadsheet")
+        stream = archive.open("content.xml")
+    else:
+        stream = io.BytesIO(data)
+    _check_odf_expansion(stream, shown, limits)
+
+
+def _check_odf_expansion(stream, shown: str, limits: Limits) -> None:
+    import defusedxml.ElementTree as DET
+    from defusedxml import DefusedXmlException
+
+    cells = 0
+    row = last_row = 0
+    try:
+        for event, el in DET.iterparse(stream, events=("start", "end")):
+            if event == "start":
+                if el.tag == _TABLE:
+                    row = 0
+                continue
+            if el.tag != _ROW:
+                continue
+            reps = _repeat(el.get(_ROWS_REP))
+            col = last_col = held = 0
+            for c in el:
+                if c.tag not in (_CELL, _COVERED):
+                    continue
+                n = _repeat(c.get(_COLS_REP))
+                col += n
+                if c.get(_VALUE_TYPE) is not None or c.get(_FORMULA) is not None or len(c):
+                    held += n
+                    last_col = col
+            if held:
+                cells += held * reps
+                last_row = row + reps
+                if last_col > limits.max_cols or last_row > limits.max_rows or cells > limits.max_cells:
+                    raise UnusableWorkbook(
+                        shown, f"its repeated rows and cells expand to {last_row:,} rows, {last_col:,} "
+                        f"columns, {cells:,} cells holding something",
+                        f"at most {limits.max_rows:,} rows, {limits.max_cols:,} columns and "
+                        f"{limits.max_cells:,} cells (sheetkin's limits for a workbook)")
+            row += reps
+            el.clear()
+    except UnusableWorkbook:
+        raise
+    except (DET.ParseError, DefusedXmlException, ValueError, EOFError, OSError) as e:
+        raise UnusableWorkbook(shown, f"its content is not well-formed XML or is refused ({type(e).__name__}: "
+                               f"{str(e)[:120]})", "an OpenDocument spreadsheet as a spreadsheet program "
+                               "saves it") from None
+
+
+def _repeat(text: str | None) -> int:
+    if text is None:
+        return 1
+    try:
+        return max(1, int(text))
+    except ValueError:
+        return 1

@@ -11,9 +11,13 @@ from __future__ import annotations
 import numpy as np
 
 # Excel's error values and the codes the evaluator tags them with (>= 10: an error)
-ERRORS = {"#NULL!": 10, "#DIV/0!": 11, "#VALUE!": 12, "#REF!": 13, "#NAME?": 14, "#NUM!": 15, "#N/A": 16}
+ERRORS = {"#NULL!": 10, "#DIV/0!": 11, "#VALUE!": 12, "#REF!": 13, "#NAME?": 14, "#NUM!": 15, "#N/A": 16,
+          # Excel 365's newer errors: no formula here makes them, but a saved value or a
+          # literal may hold one, and ISERROR/IFERROR must see an error, not a text
+          "#SPILL!": 17, "#CALC!": 18, "#GETTING_DATA": 19, "#FIELD!": 20, "#BLOCKED!": 21,
+          "#CONNECT!": 22, "#BUSY!": 23, "#UNKNOWN!": 24, "#PYTHON!": 25}
 ERROR_TEXT = {v: k for k, v in ERRORS.items()}
-NULL, DIV0, VALUE, REF, NAME, NUMERR, NA = (ERRORS[k] for k in ERRORS)
+NULL, DIV0, VALUE, REF, NAME, NUMERR, NA = (ERRORS[k] for k in list(ERRORS)[:7])
 
 
 def _approx(q: np.ndarray) -> np.ndarray:
@@ -39,7 +43,12 @@ def trunc(x, digits=None):
     d = np.trunc(digits)
     with np.errstate(all="ignore"):
         f = 10.0 ** d
-        return np.where(d == 0, np.trunc(x), np.trunc(_approx(x * f)) / f)
+        r = np.trunc(_approx(x * f)) / f
+        # x * f past the largest double (TRUNC(1E308, 2)), or x an integer already (|x| >=
+        # 2**52 has no fraction): x itself, as in Excel; 10**d below the smallest: 0
+        r = np.where(np.isfinite(r), r, np.where(d > 0, x, 0.0))
+        r = np.where((d > 0) & (np.abs(x) >= 2.0 ** 52), x, r)
+        return np.where(d == 0, np.trunc(x), r)
 
 
 def floor_check(x, s):

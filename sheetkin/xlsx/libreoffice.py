@@ -19,6 +19,7 @@ What LibreOffice 7.4 does, found while writing this (see tests/xlsx/test_libreof
 """
 from __future__ import annotations
 
+import contextlib
 import os
 import re
 import shutil
@@ -108,6 +109,11 @@ def _convert(paths, outdir: Path, target: str, ext: str, timeout: float) -> dict
             raise RuntimeError(
                 f"soffice timed out after {timeout} s\ncommand: {cmd}\nstdout:\n{out}\nstderr:\n{err}"
             ) from None
+        except BaseException:
+            # Ctrl-C, SIGTERM (as an exception), an error: its own session keeps soffice
+            # from the terminal's signals, so it would convert on alone (issue 23: 3.35 GB)
+            _kill_group(proc)
+            raise
 
     missing = [p for p, o in expected.items() if not o.is_file()]
     if missing:
@@ -116,6 +122,14 @@ def _convert(paths, outdir: Path, target: str, ext: str, timeout: float) -> dict
             f"command: {cmd}\nstdout:\n{out}\nstderr:\n{err}"
         )
     return expected
+
+
+def _kill_group(proc: subprocess.Popen) -> None:
+    """SIGKILL soffice's process group (the wrapper and soffice.bin) and reap the wrapper."""
+    with contextlib.suppress(OSError):          # already gone
+        os.killpg(proc.pid, signal.SIGKILL)
+    with contextlib.suppress(subprocess.TimeoutExpired, OSError):
+        proc.wait(5)
 
 
 def recalculate(paths: list[Path], outdir: Path, timeout: float = 300) -> dict[Path, Path]:

@@ -636,10 +636,17 @@ def sheet_parts(pkg: Package) -> list[SheetPart]:
     root = pkg.xml(wb)
     sheets_node = next((n for n in root if _local(n.tag) == "sheets"), None)
     out: list[SheetPart] = []
+    seen: set[str] = set()
     for node in [] if sheets_node is None else sheets_node:
         if _local(node.tag) != "sheet":
             continue
         name = node.get("name", "")
+        # Excel refuses two sheets whose names differ only in case; read on, the later
+        # would replace the earlier (a book graded against a hidden sheet of the same name)
+        if name.casefold() in seen:
+            pkg._fail(f"two sheets named '{_show(name, 100)}' (sheet names are compared ignoring case)",
+                      "expected distinct sheet names, as Excel requires", wb)
+        seen.add(name.casefold())
         rid = next((v for k, v in node.attrib.items()
                     if _local(k) == "id" and k.startswith("{") and "relationships" in k), None)
         if rid is None or rid not in rels:

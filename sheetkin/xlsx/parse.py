@@ -17,9 +17,16 @@ from dataclasses import dataclass
 
 from .cells import _MAX_COL, _MAX_ROW
 from .coords import Token, Tokenizer, column_index_from_string
+from .functions import ERRORS
 from .package import _show
 
 _CELL = re.compile(r"^(\$?)([A-Za-z]{1,3})(\$?)(\d+)$")
+
+
+class _Tokenizer(Tokenizer):
+    """openpyxl's tokenizer, knowing Excel 365's newer error literals (=ISERROR(#SPILL!)
+    was "not a formula"): every error of sheetkin.xlsx.functions.ERRORS."""
+    ERROR_CODES = tuple(ERRORS)
 
 
 @dataclass(frozen=True)
@@ -214,7 +221,7 @@ def parse_formula(formula: str, host_r: int, host_c: int, names: dict):
     if len(formula) > MAX_FORMULA_CHARS + 1:              # + 1: the "="
         raise ParseError(f"longer than {MAX_FORMULA_CHARS} characters (Excel's limit)", "#VALUE!")
     try:
-        tokens = _merge_exponents([t for t in Tokenizer(formula).items if t.type != Token.WSPACE])
+        tokens = _merge_exponents([t for t in _Tokenizer(formula).items if t.type != Token.WSPACE])
     except Exception as e:      # noqa: BLE001 - the tokenizer's own errors (TokenizerError, IndexError...)
         raise ParseError(f"not a formula ({type(e).__name__}: {_show(e, 100)})") from None
     _check_limits(tokens)

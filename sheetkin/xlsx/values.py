@@ -28,6 +28,7 @@ from . import functions as fx
 from .functions import DIV0, ERRORS, NUMERR, VALUE
 
 NUM, BOOL, TEXT, EMPTY = 0, 1, 2, 3
+MAX_TEXT = 32_767          # characters of one cell's text, Excel's limit (#VALUE! past it)
 
 
 # --------------------------------------------------------------------------- values
@@ -244,9 +245,16 @@ def _concat(a: Val, b: Val) -> Val:
     shape = np.broadcast_shapes(ta.shape, tb.shape)
     ta, tb = np.broadcast_to(ta, shape), np.broadcast_to(tb, shape)
     out = np.empty(shape, dtype=object)
-    for idx in np.ndindex(shape):
-        out[idx] = ta[idx] + tb[idx]
     err = _error_of(ea, eb)
+    for idx in np.ndindex(shape):
+        # Excel's cap on a cell's text: longer is #VALUE! (a text doubled 40 times by `&`
+        # reached 2 GB before this)
+        if len(ta[idx]) + len(tb[idx]) > MAX_TEXT:
+            out[idx] = ""
+            if not err[idx]:
+                err[idx] = VALUE
+        else:
+            out[idx] = ta[idx] + tb[idx]
     return Val(np.zeros(shape), np.where(err == 0, TEXT, err).astype(np.int8), out)
 
 
