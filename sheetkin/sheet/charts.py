@@ -1,8 +1,8 @@
 """The charts sheet's pictures of the mechanism, live in the spreadsheet.
 
 * A drawing of the mechanism at the position typed in the charts sheet's yellow cell B1
-  (a position number, 1..N): the frame pivots, fixed guides, every link as a segment (a
-  closed polygon for a link with three or more points), slider blocks turned along their
+  (the kinematics sheet's position i, 0..N-1): the frame pivots, fixed guides, every link
+  as a segment (a closed polygon for a link with three or more points), slider blocks turned along their
   guides, slots, and the points' paths behind them. Its data are helper cells (columns
   AD onwards, headed "drawing data") that pick the chosen position's column of the
   kinematics sheet's own rows with INDEX, so a changed position or length redraws it.
@@ -55,10 +55,13 @@ COLORS = ["1F77B4", "FF7F0E", "2CA02C", "D62728", "9467BD", "8C564B", "E377C2", 
           "BCBD22", "17BECF"]
 _TEXT = {"ru": {"pos": "положение i =", "phi": "phi_1, град", "mech": "Механизм в положении i",
                 "traj": "Траектории точек", "helper": "данные чертежа (вспомогательные ячейки)",
-                "hint": "введите номер положения 1..{n}"},
+                "hint": "введите номер положения i: 0..{n}"},
+         "uk": {"pos": "положення i =", "phi": "phi_1, град", "mech": "Механізм у положенні i",
+                "traj": "Траєкторії точок", "helper": "дані креслення (допоміжні клітинки)",
+                "hint": "введіть номер положення i: 0..{n}"},
          "en": {"pos": "position i =", "phi": "phi_1, deg", "mech": "The mechanism at position i",
                 "traj": "Trajectories of points", "helper": "drawing data (helper cells)",
-                "hint": "type a position number 1..{n}"}}
+                "hint": "type a position number i: 0..{n}"}}
 
 
 @dataclass
@@ -180,7 +183,7 @@ class _Cells:
 
     def at(self, name: str) -> str:
         r = self.info.where[name]
-        return _na(f"INDEX({self.kin}!{self.span.format(r=r)},{POSITION_CELL})")
+        return _na(f"INDEX({self.kin}!{self.span.format(r=r)},{POSITION_CELL}+1)")
 
     def xy(self, p) -> tuple[str, str]:
         if isinstance(p, tuple):
@@ -298,12 +301,12 @@ def add_drawing_charts(wb, cs, scene: Scene, info: SheetRows, top: int = 3) -> i
     cs.column_dimensions["C"].width = 12
     cs["A1"] = text["pos"]
     cs["A1"].font = Font(bold=True)
-    cs["B1"] = 1
+    cs["B1"] = 0                      # the kinematics sheet's row i: positions from 0
     cs["B1"].fill = INPUT_FILL
     cs["B1"].font = Font(bold=True)
-    dv = DataValidation(type="whole", operator="between", formula1="1", formula2=str(n), allow_blank=False,
-                        showErrorMessage=True, promptTitle=text["pos"], prompt=text["hint"].format(n=n),
-                        errorTitle=text["pos"], error=text["hint"].format(n=n))
+    dv = DataValidation(type="whole", operator="between", formula1="0", formula2=str(n - 1), allow_blank=False,
+                        showErrorMessage=True, promptTitle=text["pos"], prompt=text["hint"].format(n=n - 1),
+                        errorTitle=text["pos"], error=text["hint"].format(n=n - 1))
     dv.showInputMessage = True
     cs.add_data_validation(dv)
     dv.add("B1")
@@ -364,5 +367,5 @@ def add_drawing_charts(wb, cs, scene: Scene, info: SheetRows, top: int = 3) -> i
         add("frame", [c.xy(p) for p in st.pivots], "595959", 0, "triangle", fill="BFBFBF")
     cs.add_chart(mech, f"A{top}")
     cs.add_chart(traj, f"K{top}")
-    cs.cell(2, HELPER_COL, "x, y: INDEX(...; B1); #N/A where the mechanism cannot assemble").font = Font(italic=True)
+    cs.cell(2, HELPER_COL, "x, y: INDEX(...; B1+1); #N/A").font = Font(italic=True)
     return top + ROWS_PER_CHART
