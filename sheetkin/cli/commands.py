@@ -320,6 +320,7 @@ def _write_grades(args, reports, copies, class_list) -> None:
 def cmd_validate(args) -> int:
     from sheetkin.course.batch import validate_many
     from sheetkin.course.report import copies_lines, html_report, json_report, summary_table, text_report
+    from sheetkin.course.report_texts import class_lang
     files = _validation_files(args.paths)
     class_list = _grades_first(args)
     show = args.progress == "always" or (args.progress == "auto" and sys.stderr.isatty() and len(files) > 1)
@@ -336,7 +337,7 @@ def cmd_validate(args) -> int:
     for rep in validate_many(files, args.jobs, progress if show else None, options):
         reports.append(rep)
         if not args.json:
-            sys.stdout.write(text_report(rep))
+            sys.stdout.write(text_report(rep, args.lang or getattr(rep, "lang", "") or "ru"))
     from sheetkin.course.copies import possible_copies
     copies = possible_copies(reports) if len(reports) > 1 else {}
     if show:
@@ -346,12 +347,13 @@ def cmd_validate(args) -> int:
     print_once = _mismatched_key(reports, options)
     if print_once:
         print(f"sheetkin: warning: {print_once}", file=sys.stderr)
+    lang = args.lang or class_lang(reports)
     if args.json:
         sys.stdout.write(json_report(reports))
     elif len(reports) > 1:
-        sys.stdout.write("\n" + summary_table(reports) + copies_lines(reports, copies))
+        sys.stdout.write("\n" + summary_table(reports, lang) + copies_lines(reports, copies))
     if args.html:
-        _write(args.html, html_report(reports, copies))
+        _write(args.html, html_report(reports, copies, lang))
     if args.grades:
         _write_grades(args, reports, copies, class_list)
     if any(r.error for r in reports):

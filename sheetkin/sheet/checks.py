@@ -128,6 +128,9 @@ def write_summary(ws, lang: str, status_cells: list[str], status_range: str) -> 
     f = c["failing"]
     ws["D3"] = f'={head}&IF({f}>0,": "&{f}&" "&{plural_formula(f, lang)},"")'
     ws["D3"].font = Font(bold=True)
+    # right-aligned, the sentence runs to the left over the empty B3:C3, which print on
+    # every page with D (to the right, over E3 ..., it was cut at each page's edge)
+    ws["D3"].alignment = Alignment(horizontal="right")
     cf = ws.conditional_formatting
     cf.add("D3", FormulaRule(formula=[f"{c['failing']}>0"], fill=RED, stopIfTrue=True))
     cf.add("D3", FormulaRule(formula=[f"{c['unfilled']}>0"], fill=GREY, stopIfTrue=True))

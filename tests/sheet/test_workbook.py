@@ -342,7 +342,7 @@ def test_names_units_descriptions_and_language():
     ru = build_workbook(scene).worksheets[0]
     en = build_workbook(scene, lang="en").worksheets[0]
     r = rows_of(ru)["omega_3"]
-    assert (ru.cell(r, 1).value, ru.cell(r, 2).value) == ("omega_3", "rad/s")
+    assert (ru.cell(r, 1).value, ru.cell(r, 2).value, en.cell(r, 2).value) == ("omega_3", "рад/с", "rad/s")
     assert re.search("[а-я]", ru.cell(r, 3).value) and not re.search("[а-я]", en.cell(r, 3).value)
     assert ru.title == "Кинематика" and en.title == "Kinematics"
     # every computed cell is a formula; nothing is baked in
