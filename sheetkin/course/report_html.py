@@ -261,6 +261,17 @@ def html_page(reports: list[Report], copies: dict | None = None, lang: str = "en
     return "\n".join(out)
 
 
+def _share_table(ident: str, what: str, counts: list[tuple[str, int]], books: int, t: dict) -> str:
+    """A table of names with how many books got each wrong and that share as a bar."""
+    e = html.escape
+    out = [f"<table id='{ident}'><tr><th>{what}</th><th>{t['books']}</th><th>{t['share']}</th></tr>"]
+    for n, c in counts:
+        share = c / books
+        out.append(f"<tr data-row='{e(n)}' data-share='{share:.4f}'><td>{e(n)}</td><td class='num'>{c}</td>"
+                   f"<td><span class='bar' style='width:{share * 20:.2f}em'></span> {100 * share:.0f}%</td></tr>")
+    return "".join(out) + "</table>"
+
+
 def class_at_a_glance(reports: list[Report], lang: str = "en") -> list[str]:
     """Issue 22: the picture of the class before the list of students. Each row's share of
     wrong books (wrong, missing or empty: not done right), in the lecture's order (the
@@ -283,14 +294,14 @@ def class_at_a_glance(reports: list[Report], lang: str = "en") -> list[str]:
     if not shown:
         out.append(f"<p class='note'>{t['none_wrong']}</p>")
     else:
-        out.append(f"<table id='class-rows'><tr><th>{t['row']}</th><th>{t['books']}</th>"
-                   f"<th>{t['share']}</th></tr>")
-        for n in shown:
-            share = wrong[n] / len(usable)
-            out.append(f"<tr data-row='{e(n)}' data-share='{share:.4f}'><td>{e(n)}</td>"
-                       f"<td class='num'>{wrong[n]}</td><td><span class='bar' style='width:{share * 20:.2f}em'>"
-                       f"</span> {100 * share:.0f}%</td></tr>")
-        out.append("</table>")
+        out.append(_share_table("class-rows", t["row"], [(n, wrong[n]) for n in shown], len(usable), t))
+    failing: dict[str, int] = {}
+    for r in usable:                    # in the sheet's order, as each book lists them
+        for n in r.failing_checks:
+            failing[n] = failing.get(n, 0) + 1
+    if failing:
+        out.append(f"<h3>{e(t['class_checks'])}</h3>")
+        out.append(_share_table("class-checks", t["check"], list(failing.items()), len(usable), t))
     scores = [score(r) or 0.0 for r in reports]
     bins = [0] * 10
     for sc in scores:

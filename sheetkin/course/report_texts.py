@@ -36,7 +36,8 @@ WORDS: dict[str, dict[str, str]] = {
         "class": "The class at a glance", "class_rows": "Which rows the class got wrong: each row's share of "
         "wrong books, in the lecture's order (usable books: {n})", "class_scores": "Scores ({n} books)",
         "books": "books", "share": "share wrong", "none_wrong": "no row is wrong in any book",
-        "students": "Students",
+        "students": "Students", "class_checks": "The sheet's check rows that fail: each one's share of books",
+        "check": "check",
     },
     "ru": {
         "unusable": "НЕ ПРОВЕРЯЕТСЯ", "positions": "положений",
@@ -65,8 +66,9 @@ WORDS: dict[str, dict[str, str]] = {
         "failing_checks": "Невыполненные проверки листа", "disagree_h": "Формула и сохранённое значение расходятся",
         "cannot_h": "Не вычисляется", "no_picture": "нет рисунка",
         "class": "Группа одним взглядом", "class_rows": "Какие строки группа сделала неверно: доля книг с неверной "
-        "строкой, в порядке лекции (проверено книг: {n})", "class_scores": "Баллы ({n} книг)", "books": "книг",
-        "share": "доля неверных", "none_wrong": "ни в одной книге нет неверных строк", "students": "Студенты",
+        "строкой, в порядке лекции (проверено книг: {n})", "class_scores": "Баллы (книг: {n})", "books": "книг",
+        "share": "доля неверных", "class_checks": "Проверки листа, которые не выполнены: доля книг",
+        "check": "проверка", "none_wrong": "ни в одной книге нет неверных строк", "students": "Студенты",
     },
     "uk": {
         "unusable": "НЕ ПЕРЕВІРЯЄТЬСЯ", "positions": "положень",
@@ -96,9 +98,10 @@ WORDS: dict[str, dict[str, str]] = {
         "failing_checks": "Невиконані перевірки аркуша", "disagree_h": "Формула і збережене значення розходяться",
         "cannot_h": "Не обчислюється", "no_picture": "немає рисунка",
         "class": "Група одним поглядом", "class_rows": "Які рядки група зробила неправильно: частка книг із "
-        "неправильним рядком, у порядку лекції (перевірено книг: {n})", "class_scores": "Бали ({n} книг)",
+        "неправильним рядком, у порядку лекції (перевірено книг: {n})", "class_scores": "Бали (книг: {n})",
         "books": "книг", "share": "частка неправильних", "none_wrong": "у жодній книзі немає неправильних рядків",
-        "students": "Студенти",
+        "students": "Студенти", "class_checks": "Перевірки аркуша, які не виконано: частка книг",
+        "check": "перевірка",
     },
 }
 
