@@ -75,7 +75,7 @@ UK_WORDS = _pairs("""
 """)
 # the lecture's codes of the groups: В (вращательная) is О (обертальна) in Ukrainian
 UK_CODES = {"ВВВ": "ООО", "ВВП": "ООП", "ВПВ": "ОПО", "ПВП": "ПОП", "ВПП": "ОПП"}
-_WORD = re.compile(r"[А-Яа-яЁё]+")
+_WORD = re.compile(r"(?<!/)[А-Яа-яЁё]+")          # not a unit's "с" in "м/с"
 
 
 def _uk_word(m: re.Match) -> str:

@@ -55,13 +55,26 @@ COLORS = ["1F77B4", "FF7F0E", "2CA02C", "D62728", "9467BD", "8C564B", "E377C2", 
           "BCBD22", "17BECF"]
 _TEXT = {"ru": {"pos": "положение i =", "phi": "phi_1, град", "mech": "Механизм в положении i",
                 "traj": "Траектории точек", "helper": "данные чертежа (вспомогательные ячейки)",
-                "hint": "введите номер положения i: 0..{n}"},
+                "hint": "введите номер положения i: 0..{n}", "link": "звено {k}: {pts}",
+                "guide": "направляющая г{i}", "slot": "паз г{i}", "block": "ползун {k} в {at}", "frame": "стойка"},
          "uk": {"pos": "положення i =", "phi": "phi_1, град", "mech": "Механізм у положенні i",
                 "traj": "Траєкторії точок", "helper": "дані креслення (допоміжні клітинки)",
-                "hint": "введіть номер положення i: 0..{n}"},
+                "hint": "введіть номер положення i: 0..{n}", "link": "ланка {k}: {pts}",
+                "guide": "напрямна г{i}", "slot": "паз г{i}", "block": "повзун {k} у {at}", "frame": "стояк"},
          "en": {"pos": "position i =", "phi": "phi_1, deg", "mech": "The mechanism at position i",
                 "traj": "Trajectories of points", "helper": "drawing data (helper cells)",
-                "hint": "type a position number i: 0..{n}"}}
+                "hint": "type a position number i: 0..{n}",
+                "link": "link {k}: {pts}", "guide": "guide g{i}", "slot": "slot g{i}", "block": "block {k} at {at}",
+                "frame": "frame"}}
+
+
+# the helper scalars' labels (written in English where the cells are made)
+HELPER_WORDS = {
+    "ru": {"angle, deg": "угол, град", "slider's distance from the lever's joint": "смещение ползуна от шарнира",
+           "base x": "x основания", "base y": "y основания"},
+    "uk": {"angle, deg": "кут, град", "slider's distance from the lever's joint": "зміщення повзуна від шарніра",
+           "base x": "x основи", "base y": "y основи"},
+}
 
 
 @dataclass
@@ -136,8 +149,9 @@ class _Helper:
     """Helper cells on the charts sheet: series blocks (label, x, y per row) in AD:AF and
     scalars (label, value) in AH:AI."""
 
-    def __init__(self, cs, title: str):
+    def __init__(self, cs, title: str, words: dict[str, str] | None = None):
         self.cs, self.row, self.srow = cs, 3, 3
+        self.words = words or {}          # the scalars' labels in the book's language
         self.x = get_column_letter(HELPER_COL + 1)
         self.y = get_column_letter(HELPER_COL + 2)
         cs.cell(1, HELPER_COL, title).font = Font(bold=True)
@@ -154,7 +168,8 @@ class _Helper:
 
     def scalar(self, label: str, formula: str) -> str:
         r = self.srow
-        self.cs.cell(r, HELPER_COL + 4, label)
+        tag, _, what = label.rpartition(": ")
+        self.cs.cell(r, HELPER_COL + 4, f"{tag}: {self.words.get(what, what)}" if tag else label)
         self.cs.cell(r, HELPER_COL + 5, "=" + formula).number_format = "0.000000"
         self.srow += 1
         return f"${get_column_letter(HELPER_COL + 5)}${r}"
@@ -315,7 +330,7 @@ def add_drawing_charts(wb, cs, scene: Scene, info: SheetRows, top: int = 3) -> i
     cs["D1"] = "=" + c.at("phi_1")
     cs["D1"].number_format = "0.00"
 
-    h = _Helper(cs, text["helper"])
+    h = _Helper(cs, text["helper"], HELPER_WORDS.get(info.lang))
     paths = None if info.exercise else add_paths_sheet(wb, info, scene)
     mech = _chart(text["mech"], box, PLOT, legend=False)
     traj = _chart(text["traj"], box, PLOT_LEGEND, legend=True)
@@ -343,7 +358,7 @@ def add_drawing_charts(wb, cs, scene: Scene, info: SheetRows, top: int = 3) -> i
         mech.series.append(_style(s, color, width, marker, dash, fill))
 
     for g, (t0, t1) in zip(st.guides, spans, strict=False):
-        tag = f"guide g{g.group}" if g.link == 0 else f"slot g{g.group}"
+        tag = text["guide" if g.link == 0 else "slot"].format(i=g.group)
         bx, by, ux, uy = _guide_cells(h, c, g, tag)
         a, b = (_num(t0 - 1.5 * r), _num(t1 + 1.5 * r)) if g.link == 0 else (_num(t0 - r), _num(t1 + r))
         add(tag, [(f"{bx}+({a})*{ux}", f"{by}+({a})*{uy}"), (f"{bx}+({b})*{ux}", f"{by}+({b})*{uy}")],
@@ -353,9 +368,10 @@ def add_drawing_charts(wb, cs, scene: Scene, info: SheetRows, top: int = 3) -> i
         if len(pts) < 2:
             continue
         ring = list(pts) + ([pts[0]] if len(pts) >= 3 else [])
-        add(f"link {k}: {'-'.join(pts)}", [c.xy(p) for p in ring], "1F4E79", 2.25, "circle", fill="FFFFFF")
+        add(text["link"].format(k=k, pts="-".join(pts)), [c.xy(p) for p in ring], "1F4E79", 2.25, "circle",
+            fill="FFFFFF")
     for b in st.blocks:
-        tag = f"block {b.link} at {b.at}"
+        tag = text["block"].format(k=b.link, at=b.at)
         _, _, ux, uy = _guide_cells(h, c, b.guide, tag)
         cx, cy = c.xy(b.at)
         hl, hw = 1.3 * r, 0.75 * r
@@ -364,7 +380,7 @@ def add_drawing_charts(wb, cs, scene: Scene, info: SheetRows, top: int = 3) -> i
                    f"{cy}+({_num(i * hl)})*{uy}+({_num(j * hw)})*{ux}")
                   for i, j in corners], "B8860B", 1.5)
     if st.pivots:
-        add("frame", [c.xy(p) for p in st.pivots], "595959", 0, "triangle", fill="BFBFBF")
+        add(text["frame"], [c.xy(p) for p in st.pivots], "595959", 0, "triangle", fill="BFBFBF")
     cs.add_chart(mech, f"A{top}")
     cs.add_chart(traj, f"K{top}")
     cs.cell(2, HELPER_COL, "x, y: INDEX(...; B1+1); #N/A").font = Font(italic=True)

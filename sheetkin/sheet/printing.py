@@ -27,7 +27,8 @@ LINE_HEIGHT = 15.0          # pt, the default row height of one line
 PAGE_HEIGHT = 570.0
 
 
-def setup_page(ws, rows, where: dict[str, int], cols: list[str], first_col: int = 5) -> None:
+def setup_page(ws, rows, where: dict[str, int], cols: list[str], first_col: int = 5,
+               title_cell: str = "E1") -> None:
     """Column widths, alignment and the page setup of the kinematics sheet."""
     # the width a page across leaves over its positions goes to the descriptions (fewer
     # wrapped rows, fewer pages): 13 positions print 5 a page, C gains one position's width
@@ -68,6 +69,9 @@ def setup_page(ws, rows, where: dict[str, int], cols: list[str], first_col: int 
     ws.page_margins.left = ws.page_margins.right = 0.35
     ws.page_margins.top, ws.page_margins.bottom = 0.4, 0.5
     ws.print_options.gridLines = True
+    # the scheme's title on every page (E1 prints only on the pages of the first positions)
+    ws.oddHeader.center.text = str(ws[title_cell].value or "").replace("&", "&&")
+    ws.oddHeader.center.size = 9
     ws.oddFooter.center.text = "&P / &N"
     ws.oddFooter.right.text = "&A"
     breaks = ColBreak()
