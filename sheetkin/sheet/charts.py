@@ -56,16 +56,18 @@ COLORS = ["1F77B4", "FF7F0E", "2CA02C", "D62728", "9467BD", "8C564B", "E377C2", 
 _TEXT = {"ru": {"pos": "положение i =", "phi": "phi_1, град", "mech": "Механизм в положении i",
                 "traj": "Траектории точек", "helper": "данные чертежа (вспомогательные ячейки)",
                 "hint": "введите номер положения i: 0..{n}", "link": "звено {k}: {pts}",
-                "guide": "направляющая г{i}", "slot": "паз г{i}", "block": "ползун {k} в {at}", "frame": "стойка"},
+                "guide": "направляющая г{i}", "slot": "паз г{i}", "block": "ползун {k} в {at}", "frame": "стойка",
+                "axes": ("x, м", "y, м")},
          "uk": {"pos": "положення i =", "phi": "phi_1, град", "mech": "Механізм у положенні i",
                 "traj": "Траєкторії точок", "helper": "дані креслення (допоміжні клітинки)",
                 "hint": "введіть номер положення i: 0..{n}", "link": "ланка {k}: {pts}",
-                "guide": "напрямна г{i}", "slot": "паз г{i}", "block": "повзун {k} у {at}", "frame": "стояк"},
+                "guide": "напрямна г{i}", "slot": "паз г{i}", "block": "повзун {k} у {at}", "frame": "стояк",
+                "axes": ("x, м", "y, м")},
          "en": {"pos": "position i =", "phi": "phi_1, deg", "mech": "The mechanism at position i",
                 "traj": "Trajectories of points", "helper": "drawing data (helper cells)",
                 "hint": "type a position number i: 0..{n}",
                 "link": "link {k}: {pts}", "guide": "guide g{i}", "slot": "slot g{i}", "block": "block {k} at {at}",
-                "frame": "frame"}}
+                "frame": "frame", "axes": ("x, m", "y, m")}}
 
 
 # the helper scalars' labels (written in English where the cells are made)
@@ -256,7 +258,7 @@ def equal_axes(box, plot=PLOT, width=WIDTH, height=HEIGHT):
     return xmin, xmin + k * wp, ymin, ymin + k * hp, unit
 
 
-def _chart(title: str, box, plot, legend: bool) -> ScatterChart:
+def _chart(title: str, box, plot, legend: bool, axes: tuple[str, str] = ("x, m", "y, m")) -> ScatterChart:
     ch = ScatterChart()
     ch.title, ch.style, ch.width, ch.height = title, 2, WIDTH, HEIGHT
     ch.visible_cells_only = False            # helper cells may sit in hidden rows
@@ -267,7 +269,7 @@ def _chart(title: str, box, plot, legend: bool) -> ScatterChart:
         # not General: the ticks min + k unit carry round-off (1.1E-16 for 0)
         axis.numFmt = NumFmt(formatCode="0.0##", sourceLinked=False)
         axis.scaling.min, axis.scaling.max, axis.majorUnit = round(lo, 12), round(hi, 12), unit
-    ch.x_axis.title, ch.y_axis.title = "x, m", "y, m"
+    ch.x_axis.title, ch.y_axis.title = axes
     ch.x_axis.majorGridlines = ChartLines()
     # (openpyxl writes the plot area's layout from chart.layout, not plot_area.layout)
     ch.layout = Layout(manualLayout=ManualLayout(layoutTarget="inner", xMode="edge", yMode="edge",
@@ -332,8 +334,8 @@ def add_drawing_charts(wb, cs, scene: Scene, info: SheetRows, top: int = 3) -> i
 
     h = _Helper(cs, text["helper"], HELPER_WORDS.get(info.lang))
     paths = None if info.exercise else add_paths_sheet(wb, info, scene)
-    mech = _chart(text["mech"], box, PLOT, legend=False)
-    traj = _chart(text["traj"], box, PLOT_LEGEND, legend=True)
+    mech = _chart(text["mech"], box, PLOT, legend=False, axes=text["axes"])
+    traj = _chart(text["traj"], box, PLOT_LEGEND, legend=True, axes=text["axes"])
     moving = scene.moving_joints + [p.name for p in scene.points]
     first, last = 5, 4 + n
     for k, p in enumerate(moving):
