@@ -90,9 +90,16 @@ def _uk_word(m: re.Match) -> str:
     return t[0].upper() + t[1:] if w[0].isupper() else t
 
 
+# where a Russian form is two Ukrainian ones: the accusative after a preposition
+UK_AFTER = {"через ланка ": "через ланку ", "на ланка ": "на ланку ", "за модулям ": "за модулями "}
+
+
 def ukrainian(ru: str) -> str:
     """The Ukrainian of a description written in Russian, word form by word form."""
-    return _WORD.sub(_uk_word, ru)
+    uk = _WORD.sub(_uk_word, ru)
+    for a, b in UK_AFTER.items():
+        uk = uk.replace(a, b)
+    return uk
 
 
 def text(ru: str, en: str, lang: str) -> str:

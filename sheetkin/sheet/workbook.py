@@ -350,7 +350,7 @@ def _head_rows(ws, scene: Scene, lang: str) -> None:
         cell.fill, cell.protection = INPUT_FILL, UNLOCKED
     title = _VARIANT.sub(lambda m: f" ({text['variant']} {m.group(1)})", scene.title)
     _text_cell(ws[TITLE_CELL], title)
-    ws[TITLE_CELL].font = Font(bold=True, size=13)
+    ws[TITLE_CELL].font = Font(bold=True)       # 11 pt: it prints over the first page's 4-6 positions
 
 
 def _protect(ws) -> None:
