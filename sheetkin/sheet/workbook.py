@@ -101,19 +101,29 @@ def sheet_rows(scene: Scene) -> Builder:
             if not r.early:
                 b.input(r.name, r.unit, r.ru, r.en, r.value)
     for p in scene.points:
-        b.input(f"along_{p.name}", "m", f"точка {p.name}: вдоль звена {p.link} от {p.origin}", f"point {p.name}: along link {p.link} from {p.origin}", p.along)
-        b.input(f"across_{p.name}", "m", f"точка {p.name}: поперёк звена {p.link} (влево +)", f"point {p.name}: across link {p.link} (left +)", p.across)
+        b.input(f"along_{p.name}", "m", f"точка {p.name}: вдоль звена {p.link} от {p.origin}",
+                f"point {p.name}: along link {p.link} from {p.origin}", p.along)
+        b.input(f"across_{p.name}", "m", f"точка {p.name}: поперёк звена {p.link} (влево +)",
+                f"point {p.name}: across link {p.link} (left +)", p.across)
     b.input("Fi0", "deg", "начальный угол кривошипа", "crank angle of the first position", c.phi0_deg)
     b.input("Fi_t0", "rad/s", "(Fi_t)0: угловая скорость кривошипа", "(Fi_t)0: the crank's angular velocity", c.omega)
-    b.input("Fi_tt0", "rad/s^2", "(Fi_tt)0: угловое ускорение кривошипа", "(Fi_tt)0: the crank's angular acceleration", c.epsilon)
+    b.input("Fi_tt0", "rad/s^2", "(Fi_tt)0: угловое ускорение кривошипа", "(Fi_tt)0: the crank's angular acceleration",
+            c.epsilon)
     b.input("Delta_Fi", "deg", "шаг по углу кривошипа (градусы)", "crank angle step (degrees)", c.step_deg)
-    b.add("Delta_Fi_rad", "rad", "шаг по углу кривошипа (радианы)", "crank angle step (radians)", kind="derived", formula="RADIANS({Delta_Fi})")
-    b.add("Alfa_A", "m", f"начальная координата x шарнира {c.joint} относительно {c.pivot}", f"initial x of hinge {c.joint} from {c.pivot}", kind="derived", formula="{L1}*COS(RADIANS({Fi0}))")
-    b.add("Betta_A", "m", f"начальная координата y шарнира {c.joint} относительно {c.pivot}", f"initial y of hinge {c.joint} from {c.pivot}", kind="derived", formula="{L1}*SIN(RADIANS({Fi0}))")
     if scene.has_dynamics:
         dynamics_inputs(b)
     b.input("Tol", "", "допуск проверок (невязки)", "tolerance of the checks (residuals)", 1e-9)
-    b.input("Tol_FD", "", f"допуск сравнения с численным дифференцированием (шаг <= {FD_MAX_STEP_DEG:g} град)", f"tolerance against numeric derivatives (step <= {FD_MAX_STEP_DEG:g} deg)", 0.01)
+    b.input("Tol_FD", "", f"допуск сравнения с численным дифференцированием (шаг <= {FD_MAX_STEP_DEG:g} град)",
+            f"tolerance against numeric derivatives (step <= {FD_MAX_STEP_DEG:g} deg)", 0.01)
+    # computed from the given data in column D: the student's first formulas (an exercise
+    # leaves them blank, lilac), apart from the given data they must not change
+    b.section("derived", "Вычисляемые данные (заполните сиреневые ячейки)", "Derived data (fill in the lilac cells)")
+    b.add("Delta_Fi_rad", "rad", "шаг по углу кривошипа (радианы)", "crank angle step (radians)",
+          kind="derived", formula="RADIANS({Delta_Fi})")
+    b.add("Alfa_A", "m", f"начальная координата x шарнира {c.joint} относительно {c.pivot}",
+          f"initial x of hinge {c.joint} from {c.pivot}", kind="derived", formula="{L1}*COS(RADIANS({Fi0}))")
+    b.add("Betta_A", "m", f"начальная координата y шарнира {c.joint} относительно {c.pivot}",
+          f"initial y of hinge {c.joint} from {c.pivot}", kind="derived", formula="{L1}*SIN(RADIANS({Fi0}))")
 
     # the joints each link carries: a [[point]]'s velocity is checked through a second one
     b.on_link[1] = [scene.crank.pivot, scene.crank.joint]
@@ -139,12 +149,14 @@ def _crank_rows(b: Builder):
     b.add("i", "", "номер положения", "position number", kind="index")
     b.add("phi_1", "deg", "угол поворота кривошипа", "crank angle", "accepted", "{Fi0}+{i}*{Delta_Fi}")
     b.add("Fi", "rad", "угол поворота кривошипа (радианы)", "crank angle (radians)", "calc", "RADIANS({phi_1})")
-    b.add("dFi", "rad", "поворот от начального положения", "rotation from the first position", "calc", "{Fi}-RADIANS({Fi0})")
+    b.add("dFi", "rad", "поворот от начального положения", "rotation from the first position", "calc",
+          "{Fi}-RADIANS({Fi0})")
     b.add("Fi_t", "rad/s", "угловая скорость кривошипа", "the crank's angular velocity", "calc", "{Fi_t0}")
     b.add("Fi_tt", "rad/s^2", "угловое ускорение кривошипа", "the crank's angular acceleration", "calc", "{Fi_tt0}")
     b.add("cos_1", "", "cos угла кривошипа", "cos of the crank angle", "calc", "COS({Fi})")
     b.add("sin_1", "", "sin угла кривошипа", "sin of the crank angle", "calc", "SIN({Fi})")
-    b.add("chk_Fi", "rad", "проверка: Fi - (Fi0 + i Delta_Fi) в радианах", "check: Fi - (Fi0 + i Delta_Fi) in radians", "check",
+    b.add("chk_Fi", "rad", "проверка: Fi - (Fi0 + i Delta_Fi) в радианах", "check: Fi - (Fi0 + i Delta_Fi) in radians",
+          "check",
           "{Fi}-(RADIANS({Fi0})+{i}*{Delta_Fi_rad})")
     b.rot[1] = ("cos_1", "sin_1", "Fi_t", "Fi_tt")
     b.section(f"hinge_{A}", f"Шарнир {A} кривошипа (слайд 6: x = Alfa cos dFi - Betta sin dFi)",
@@ -156,7 +168,8 @@ def _crank_rows(b: Builder):
                  f"-{{Fi_t}}*{ry}", f"{{Fi_t}}*{rx}",
                  f"-{{Fi_tt}}*{ry}-{{Fi_t}}*{{vy_{A}}}", f"{{Fi_tt}}*{rx}+{{Fi_t}}*{{vx_{A}}}")
     distance_check(b, f"chk_{O}{A}", O, A, "{L1}", f"проверка: |{O}{A}| - L1", f"check: |{O}{A}| - L1")
-    b.add(f"chk_v_{A}", "m^2/s", f"проверка: скорость {A} перпендикулярна {O}{A}", f"check: velocity of {A} perpendicular to {O}{A}",
+    b.add(f"chk_v_{A}", "m^2/s", f"проверка: скорость {A} перпендикулярна {O}{A}",
+          f"check: velocity of {A} perpendicular to {O}{A}",
           "check", f"{{vx_{A}}}*{rx}+{{vy_{A}}}*{ry}")
     # the crank in the other form of slide 6, x = L1 cos Fi, and its derivatives: each of
     # the hinge's rows against a formula that does not use it (free of the step)
