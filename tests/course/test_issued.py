@@ -92,7 +92,8 @@ def test_changed_given_data_fail_and_are_graded_against_the_issued_variant(issue
     # --accept-changed-inputs: graded against the student's own inputs, as before issue 13
     rep3 = validate(book, options=opts(issued, accept_changed=True))
     assert rep3.given_changed and rep3.ok and all(r.status == "correct" for r in rep3.rows)
-    code, out, _ = run(capsys, "validate", "--lang", "en", book, "--roster", issued / "roster.csv", "--accept-changed-inputs")
+    code, out, _ = run(capsys, "validate", "--lang", "en", book, "--roster", issued / "roster.csv",
+                       "--accept-changed-inputs")
     assert code == 0 and "(graded against the student's own inputs" in out
 
 
@@ -100,7 +101,8 @@ def test_unchanged_key_book_passes_with_its_seal(issued, capsys):
     rep = validate(issued / "fourbar-02-key.xlsx", options=opts(issued))
     assert rep.ok and rep.given_changed == [] and rep.seal == "ok" and rep.variant == "fourbar-02"
     assert (rep.student, rep.group) == ("", "")
-    code, out, err = run(capsys, "validate", "--lang", "en", issued / "fourbar-02-key.xlsx", "--roster", issued / "roster.csv")
+    code, out, err = run(capsys, "validate", "--lang", "en", issued / "fourbar-02-key.xlsx", "--roster",
+                         issued / "roster.csv")
     assert code == 0 and "seal ok" in out and "note" not in err      # the key found next to the roster
 
 
@@ -226,9 +228,8 @@ def test_books_saved_by_libreoffice_validate_with_the_roster(issued, tmp_path, s
         for c in row:
             if isinstance(c.value, str) and c.value.startswith("="):
                 fws.cell(c.row, c.column).value = c.value
-    at = row_numbers(fws)
-    fws.cell(at["student"], 4).value = "Петров Пётр"
-    fws.cell(at["group"], 4).value = "101"
+    fws["D1"] = "Петров Пётр"             # the student's own cells, rows 1-2
+    fws["D2"] = "101"
     filled.save(src / "filled.xlsx")
     edited(src / "filled.xlsx", src / "changed.xlsx", {"L1": 0.05})
     edited(src / "filled.xlsx", src / "tampered.xlsx", scene_line=("length = ", "length = 0.05"))
@@ -307,7 +308,8 @@ def test_another_class_key_or_roster_is_one_warning(issued, tmp_path, capsys):
                  "--seed", "5"]) == 0
     capsys.readouterr()
     books = sorted(str(p) for p in issued.glob("*-key.xlsx"))
-    code, out, err = run(capsys, "validate", "--lang", "en", *books, "--roster", issued / "roster.csv", "--key", other / KEY_FILE)
+    code, out, err = run(capsys, "validate", "--lang", "en", *books, "--roster", issued / "roster.csv",
+                         "--key", other / KEY_FILE)
     assert code == 1 and "none of the 2 issued books' seals matches the key" in err
     assert "scene sheet edited" in out
     code, out, err = run(capsys, "validate", "--lang", "en", *books, "--roster", issued / "roster.csv")
