@@ -47,8 +47,8 @@ def demo_class(folder: Path) -> Path:
         wb = openpyxl.load_workbook(ROOT / "workbooks" / f"{stem}.xlsx")
         ws = wb.worksheets[0]
         rows = {ws.cell(r, 1).value: r for r in range(1, ws.max_row + 1)}
-        ws.cell(rows["student"], 4).value = student          # the student's own cells, not A2
-        ws.cell(rows["group"], 4).value = "ГИ-21"
+        ws["D1"] = student                  # the student's own cells (rows 1-2), not the scene's author
+        ws["D2"] = "ГИ-21"
         if change:
             change(ws, rows)
         return wb

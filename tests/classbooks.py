@@ -9,7 +9,7 @@ import openpyxl
 from scenes import FOURBAR
 
 import sheetkin
-from sheetkin.sheet.workbook import write_workbook
+from sheetkin.sheet.workbook import IDENTITY_CELLS, write_workbook
 
 # five variants of the spec's four-bar: the crank's length differs (the teacher's variants
 # would differ in more; one given value is enough to make every computed row differ)
@@ -53,9 +53,9 @@ def fill(exercise: Path, key: Path, dst: Path, *, student: str = "", group: str 
                 ws.cell(c.row, c.column).value = c.value
     rows = rows_of(ws)
     for name, text in (("student", student), ("group", group)):
-        if name in rows and text:               # the identity cells of issued variants
-            ws.cell(rows[name], 4).value = text
-            ws.cell(rows[name], 4).data_type = "s"
+        if text:                                # the student's own cells: D1, D2 (rows 1-2)
+            cell = ws.cell(*IDENTITY_CELLS[name])
+            cell.value, cell.data_type = text, "s"
     if change is not None:
         change(ws, rows)
     wb.save(dst)

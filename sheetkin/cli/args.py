@@ -151,8 +151,9 @@ def build_parser() -> argparse.ArgumentParser:
                     "(SCENE-exercise.xlsx with --exercise).")
     w.add_argument("scenes", metavar="SCENE.toml", nargs="+", help="scene file(s)")
     w.add_argument("-o", "--output", metavar="FILE.xlsx", help="where to write (one scene only)")
-    w.add_argument("--lang", choices=["ru", "en"], default="ru",
-                   help="language of the descriptions in column C (default ru, as the course)")
+    w.add_argument("--lang", choices=["ru", "uk", "en"], default="ru",
+                   help="the book's language: every word, unit and chart title (default ru, as the course; "
+                        "uk Ukrainian; en English)")
     w.add_argument("--exercise", action="store_true",
                    help="leave the computed rows empty for students to fill (inputs, names, "
                         "units and check rows kept)")
@@ -188,6 +189,8 @@ def build_parser() -> argparse.ArgumentParser:
                         "validated once")
     v.add_argument("--json", action="store_true", help="print the reports as JSON")
     v.add_argument("--html", metavar="REPORT.html", help="also write a readable HTML page")
+    v.add_argument("--lang", choices=["ru", "uk", "en"], default=None,
+                   help="language of the reports, text and HTML (default: the books' own language)")
     v.add_argument("--grades", metavar="GRADES.csv",
                    help="also write one line per submission: student, group, variant, file, rows "
                         "correct, checks passing, given data changed, likely causes, possible copies "
@@ -383,7 +386,7 @@ def _add_variants_parser(sub):
     x.add_argument("--min-det", type=_positive_float, default=MIN_DET, metavar="X",
                    help=f"least |det| of every group at every position (default {MIN_DET:g}: for RRR "
                         "the transmission angle stays above 14.5 deg)")
-    x.add_argument("--lang", choices=["ru", "en"], default="ru", help="language of the workbooks (default ru)")
+    x.add_argument("--lang", choices=["ru", "uk", "en"], default="ru", help="language of the workbooks (default ru)")
     x.add_argument("--force", action="store_true",
                    help="overwrite the workbooks already in DIR; an issued roster.csv, .sheetkin-key and "
                         "assignment.csv are kept beside the new ones, dated (validate still checks the "

@@ -205,6 +205,9 @@ def cmd_workbook(args) -> int:
         if synthesis is None and args.synthesis:
             raise SceneError(f"{path}: --synthesis: the scene has no [synthesis] table (the data "
                              "of `sheetkin synth crank-rocker`, which writes it with -o)")
+        if synthesis is not None and args.lang == "uk":
+            raise SceneError(f"{path}: [synthesis]: the synthesis sheet is written in Russian or English only "
+                             "(--lang ru or --lang en), not yet in Ukrainian")
         try:
             wb = build_workbook(scene, lang=args.lang, exercise=args.exercise, scene_text=text)
         except WorkbookTooLarge as e:
@@ -443,6 +446,7 @@ def _write_grades(args, reports, copies, class_list, identities=None) -> None:
 def cmd_validate(args) -> int:
     from sheetkin.course.batch import submission_files, validate_many
     from sheetkin.course.report import copies_lines, html_report, json_report, summary_table, text_report
+    from sheetkin.course.report_texts import class_lang
     found = submission_files(args.paths)
     files = found.files
     class_list = _grades_first(args)
@@ -466,7 +470,7 @@ def cmd_validate(args) -> int:
             _show_as(rep, str(path), found.name(path))
             reports.append(_printable(rep))
             if not args.json:
-                sys.stdout.write(text_report(rep))
+                sys.stdout.write(text_report(rep, args.lang or getattr(rep, "lang", "") or "ru"))
     from sheetkin.course.copies import Copies, file_digest, possible_copies
     from sheetkin.course.identity import find_assignment, identify
     assignment = find_assignment(args.roster)
@@ -488,12 +492,13 @@ def cmd_validate(args) -> int:
     for warning in (_mismatched_key(reports, options), _roster_contradicts(reports, options)):
         if warning:
             print(f"sheetkin: warning: {warning}", file=sys.stderr)
+    lang = args.lang or class_lang(reports)
     if args.json:
         sys.stdout.write(json_report(reports, copies))
     elif len(reports) > 1:
-        sys.stdout.write("\n" + summary_table(reports) + copies_lines(reports, copies))
+        sys.stdout.write("\n" + summary_table(reports, lang) + copies_lines(reports, copies))
     if args.html:
-        _write(args.html, html_report(reports, copies))
+        _write(args.html, html_report(reports, copies, lang))
     if args.grades:
         _write_grades(args, reports, copies, class_list, identities)
     else:

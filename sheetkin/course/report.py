@@ -8,6 +8,7 @@ from .copies import MAX_LISTED
 from .grades import counts, explain, score, verdict
 from .issued import changed_line
 from .report_html import position_list, position_name
+from .report_texts import words
 from .validator import Report
 
 
@@ -17,58 +18,62 @@ def _num(v) -> str:
     return "empty" if v is None else str(v)
 
 
-def text_report(rep: Report) -> str:
+def text_report(rep: Report, lang: str = "en") -> str:
+    """The report of one book for the terminal, in `lang` (ru, uk, en)."""
+    t = words(lang)
     head = f"{rep.path}"
     if rep.error:
-        return f"{head}: UNUSABLE: {rep.error}\n"
-    who = ", ".join(x for x in (rep.author, rep.title) if x)
-    lines = [f"{head}" + (f" ({who})" if who else "") + f", {rep.positions} positions"]
-    lines += issued_lines(rep)
-    lines += [counts_line(rep), f"  {verdict(rep)}; score {explain(rep)}"]
+        return f"{head}: {t['unusable']}: {rep.error}\n"
+    # who: the student (their own cells D1, D2), never the scheme's author
+    who = ", ".join(x for x in (getattr(rep, "student", ""), rep.title) if x)
+    lines = [f"{head}" + (f" ({who})" if who else "") + f", {rep.positions} {t['positions']}"]
+    lines += issued_lines(rep, lang)
+    # the counts, the verdict and the score: one vocabulary with the HTML, JSON and grades.csv
+    lines += [counts_line(rep), f"  {verdict(rep)}; {t['score']} {explain(rep)}"]
     typed = rep.typed
     if typed:
         lines.append(f"  typed, not computed ({len(typed)}): " + ", ".join(
-            f"{r.name} (row {r.row}, {position_list(rep, r.typed_cells)})" for r in typed[:12])
+            f"{r.name} ({t['row']} {r.row}, {position_list(rep, r.typed_cells, lang)})" for r in typed[:12])
             + (" ..." if len(typed) > 12 else "")
             + ("; accepted (--accept-typed)" if getattr(rep, "accepted_typed", False) else "; they earn nothing"))
     # the causes with a note (typed numbers: cell, digits, the error they carry) first
     for r in sorted(rep.causes, key=lambda r: not getattr(r, "note", "")):
-        where = f"{r.name} (row {r.row}, {r.source})"
+        where = f"{r.name} ({t['row']} {r.row}, {t.get(r.source, r.source)})"
         note = getattr(r, "note", "")
         if note:
-            lines.append(f"  likely cause: {where}: {note}"
-                         + (f"; wrong at {position_list(rep, r.wrong_cells)}" if r.wrong_cells else ""))
+            lines.append(f"  {t['cause']}: {where}: {note}"
+                         + (f"; {t['wrong_at']} {position_list(rep, r.wrong_cells, lang)}" if r.wrong_cells else ""))
         elif r.first_wrong is None:           # a value of column D (a derived row)
-            lines.append(f"  likely cause: {where}: expected {_num(r.expected)}, got {_num(r.got)}")
+            lines.append(f"  {t['cause']}: {where}: {t['expected']} {_num(r.expected)}, {t['got']} {_num(r.got)}")
         else:
-            lines.append(f"  likely cause: {where}: wrong from {position_name(rep, r.first_wrong)}"
-                         f" (expected {_num(r.expected)}, got {_num(r.got)}); wrong at "
-                         f"{position_list(rep, r.wrong_cells)}; "
-                         + ("an error value or text where a number belongs" if math.isinf(r.max_error)
-                            else f"largest error {_num(r.max_error)}"))
+            lines.append(f"  {t['cause']}: {where}: {t['wrong_from']} {position_name(rep, r.first_wrong, lang)}"
+                         f" ({t['expected']} {_num(r.expected)}, {t['got']} {_num(r.got)}); {t['wrong_at']} "
+                         f"{position_list(rep, r.wrong_cells, lang)}; "
+                         + (t["error_value"] if math.isinf(r.max_error) else f"{t['largest']} {_num(r.max_error)}"))
     dependents = [r for r in rep.wrong if not r.cause]
     for cause in rep.causes:
         deps = [r.name for r in dependents if cause.name in r.because_of]
         if deps:
-            lines.append(f"  wrong only because they depend on {cause.name}: {', '.join(deps)}")
+            lines.append(f"  {t['depend']} {cause.name}: {', '.join(deps)}")
     causes = {r.name for r in rep.causes}
     given = sorted({n for r in dependents for n in r.because_of if n not in causes})
     for n in given:         # given data that differ from the reference's (the issued variant's)
         deps = [r.name for r in dependents if n in r.because_of]
-        lines.append(f"  wrong only because they depend on {n}: {', '.join(deps)}")
+        lines.append(f"  {t['depend']} {n}: {', '.join(deps)}")
     # one line per kind (an empty exercise once printed 60 lines "empty: Fi (row 32)" ...)
-    for status, why in (("missing", " (no row of that name in column A)"), ("empty", "")):
+    for status in ("missing", "empty"):
         rows = [r for r in rep.missing if r.status == status]
         if rows:
-            lines.append(f"  {status} ({len(rows)}): " + ", ".join(
-                r.name + (f" (row {r.row})" if r.row else "") for r in rows) + (why if status == "missing" else ""))
+            lines.append(f"  {t[status]} ({len(rows)}): " + ", ".join(
+                r.name + (f" ({t['row']} {r.row})" if r.row else "") for r in rows)
+                + (t["no_row"] if status == "missing" else ""))
     if rep.failing_checks:
-        lines.append(f"  the sheet's own check rows that fail: {', '.join(rep.failing_checks)}")
+        lines.append(f"  {t['own_checks']}: {', '.join(rep.failing_checks)}")
     if rep.cache_mismatch:
-        lines.append(f"  formula and saved value disagree at {len(rep.cache_mismatch)} cell(s): "
+        lines.append("  " + t["disagree"].format(n=len(rep.cache_mismatch)) + ": "
                      + "; ".join(rep.cache_mismatch[:5]) + (" ..." if len(rep.cache_mismatch) > 5 else ""))
     for p in rep.problems[:5]:
-        lines.append(f"  cannot evaluate: {p} (the saved values were used)")
+        lines.append(f"  {t['cannot']}: {p} {t['saved_used']}")
     return "\n".join(lines) + "\n"
 
 
@@ -83,31 +88,33 @@ def counts_line(rep: Report) -> str:
             + (f", {c['checks_typed']} typed over" if c['checks_typed'] else ""))
 
 
-def issued_lines(rep: Report) -> list[str]:
+def issued_lines(rep: Report, lang: str = "en") -> list[str]:
     """Issue 13: the given data changed and the seal, first and prominently; then who
     filled it in and the variant."""
+    t = words(lang)
     out = []
     if rep.given_changed:
-        how = ("graded against the student's own inputs (--accept-changed-inputs)" if rep.accepted_changes
-               else "FAIL; graded against the issued variant")
+        how = t["own_inputs"] if rep.accepted_changes else t["fail_issued"]
         out.append(f"  !! {changed_line(rep.given_changed)} ({how})")
     if rep.seal and rep.seal != "ok":
         out.append(f"  !! {rep.seal}")
-    who = ", ".join(f"{k} {v}" for k, v in (("student", rep.student), ("group", rep.group),
-                                           ("variant", rep.variant)) if v)
+    who = ", ".join(f"{t[k]} {v}" for k, v in (("student", rep.student), ("group", rep.group),
+                                              ("variant", rep.variant)) if v)
     if who:
-        out.append(f"  {who}" + (", seal ok" if rep.seal == "ok" else ""))
-    out += [f"  note: {n}" for n in rep.notes]
+        out.append(f"  {who}" + (f", {t['seal_ok']}" if rep.seal == "ok" else ""))
+    out += [f"  {t['note']}: {n}" for n in rep.notes]
     return out
 
 
-def summary_table(reports: list[Report]) -> str:
-    rows = [("file", "student", "result", "score", "correct", "typed", "wrong", "missing", "first cause")]
+def summary_table(reports: list[Report], lang: str = "en") -> str:
+    t = words(lang)
+    rows = [(t["file"], t["student"], t["result"], t["score"], t["correct"], t["typed"], t["wrong"], t["missing"],
+             t["first_cause"])]
     for r in reports:
         if r.error:
-            rows.append((r.path, "", "unusable", "", "", "", "", "", r.reason[:60]))
+            rows.append((r.path, "", t["unusable"].lower(), "", "", "", "", "", r.reason[:60]))
         else:
-            # the student's own cells (A2, the author, is the scheme's, not the student's)
+            # the student's own cells (D1, D2), never the scheme's author
             who = ", ".join(x for x in (getattr(r, "student", ""), getattr(r, "group", "")) if x)
             c = counts(r)
             rows.append((r.path, who, verdict(r), f"{score(r):.1f}", str(c["correct"]), str(c["typed"]),
@@ -152,10 +159,11 @@ def json_report(reports: list[Report], copies=None) -> str:
                              "all_correct": all(r.ok for r in reports)}), indent=1, ensure_ascii=False) + "\n"
 
 
-def html_report(reports: list[Report], copies: dict | None = None) -> str:
-    """One offline page: sortable summary, per-student details, pictures (report_html.py)."""
+def html_report(reports: list[Report], copies: dict | None = None, lang: str = "en") -> str:
+    """One offline page: the class at a glance, a sortable summary, per-student details,
+    pictures (report_html.py), in `lang`."""
     from .report_html import html_page
-    return html_page(reports, copies)
+    return html_page(reports, copies, lang)
 
 
 def copies_lines(reports: list[Report], copies) -> str:

@@ -18,6 +18,7 @@ import html
 import math
 from pathlib import Path
 
+from .report_texts import words
 from .validator import Report
 
 _CSS = """body{font-family:sans-serif;margin:1.2em;color:#222}
@@ -27,7 +28,9 @@ th[aria-sort=ascending] button::after{content:" \\25B2"}th[aria-sort=descending]
 td.num{text-align:right}.wrong{background:#ffc7ce}.ok{background:#c6efce}.cause{font-weight:bold}
 .unusable{color:#9c0006}details{margin:.6em 0;border:1px solid #ddd;padding:.3em .6em}
 summary{cursor:pointer;font-weight:bold}.pic{float:right;margin:0 0 .5em 1em}.cells td{min-width:1.2em}
-.note{color:#555;font-size:90%}.clear{clear:both}"""
+.note{color:#555;font-size:90%}.clear{clear:both}
+.bar{display:inline-block;height:.8em;background:#c0504d;vertical-align:middle}
+#class-scores .bar{background:#4f81bd}#class td{border:0;padding:1px 6px}"""
 
 _SCRIPT = """
 "use strict";
@@ -61,16 +64,17 @@ def _num(v) -> str:
     return "empty" if v is None else str(v)
 
 
-def position_name(rep: Report, k: int) -> str:
+def position_name(rep: Report, k: int, lang: str = "en") -> str:
     """Position column k (1-based) as the sheet names it: 'i = 3 (phi_1 = 90 deg)'."""
+    t = words(lang)
     names = getattr(rep, "position_names", None) or []
     if k is not None and 0 < k <= len(names):
         i, phi = names[k - 1]
-        return f"i = {i:g} (phi_1 = {phi:g} deg)"
-    return f"position {k}"
+        return f"i = {i:g} (phi_1 = {phi:g} {t['deg']})"
+    return f"{t['position']} {k}"
 
 
-def position_list(rep: Report, cells: list[int]) -> str:
+def position_list(rep: Report, cells: list[int], lang: str = "en") -> str:
     """Wrong position columns as the sheet's i values, runs shortened: 'i = 0-2, 6'."""
     names = getattr(rep, "position_names", None) or []
     ids = [int(names[k - 1][0]) if 0 < k <= len(names) else k for k in cells]
@@ -81,7 +85,7 @@ def position_list(rep: Report, cells: list[int]) -> str:
         if n + 1 == len(ids) or ids[n + 1] != c + 1:
             out.append(f"{start}" if start == c else f"{start}-{c}")
             start = None
-    return ("i = " if names else "positions ") + ", ".join(out)
+    return ("i = " if names else words(lang)["positions"] + " ") + ", ".join(out)
 
 
 def score(rep: Report) -> float | None:
@@ -130,7 +134,7 @@ def _anchor(rep: Report, k: int) -> str:
     return f"s{k}"
 
 
-def _picture(rep: Report) -> str:
+def _picture(rep: Report, lang: str = "en") -> str:
     """The student's mechanism (their variant) at the first position where the first likely
     cause is wrong, else at the first position; '' when it cannot be drawn."""
     scene = getattr(rep, "variant_scene", None)
@@ -144,10 +148,10 @@ def _picture(rep: Report) -> str:
         phi = names[k - 1][1] if 0 < k <= len(names) else at[min(k, len(at)) - 1]
         pic = picture(scene, [phi])
         cap = pic.captions[0]                    # "phi_1 = 90 deg[: cannot assemble ...]"
-        pic.captions[0] = position_name(rep, k) + (cap.split(" deg", 1)[1] if " deg" in cap else "")
+        pic.captions[0] = position_name(rep, k, lang) + (cap.split(" deg", 1)[1] if " deg" in cap else "")
         return svg(pic, 0, 360)
     except Exception as exc:           # a picture is a help, never a reason to lose the report
-        return f"<p class='note'>(no picture: {html.escape(str(exc))})</p>"
+        return f"<p class='note'>({words(lang)['no_picture']}: {html.escape(str(exc))})</p>"
 
 
 def _file(rep: Report) -> str:
@@ -156,8 +160,8 @@ def _file(rep: Report) -> str:
     return Path(rep.path).name or rep.path
 
 
-def _summary_row(rep: Report, k: int, copy: str = "") -> str:
-    e = html.escape
+def _summary_row(rep: Report, k: int, copy: str = "", lang: str = "en") -> str:
+    e, t = html.escape, words(lang)
     who = getattr(rep, "student", "") or _file(rep)
     group = getattr(rep, "group", "")
     variant = getattr(rep, "variant", None) or ""
@@ -169,7 +173,7 @@ def _summary_row(rep: Report, k: int, copy: str = "") -> str:
     causes = ", ".join(c.name for c in rep.causes) if not rep.error else rep.reason[:80]
     missing = ", ".join(r.name for r in rep.missing)
     if getattr(rep, "given_changed", None):
-        causes = "given data changed" + (f"; {causes}" if causes else "")
+        causes = t["given_changed"] + (f"; {causes}" if causes else "")
     return (f"<tr><td><a href='#{_anchor(rep, k)}' data-open='{_anchor(rep, k)}'>{e(who or rep.path)}</a></td>"
             f"<td>{e(group)}</td><td>{e(str(variant))}</td>"
             f"<td class='num' data-sort='{'' if sc is None else f'{sc:.3f}'}'>{'' if sc is None else f'{sc:.0f}'}</td>"
@@ -183,28 +187,28 @@ def _summary_row(rep: Report, k: int, copy: str = "") -> str:
             f"<td>{e(rep.path)}</td></tr>")
 
 
-def _details(rep: Report, k: int, copy: str = "") -> list[str]:
-    e = html.escape
+def _details(rep: Report, k: int, copy: str = "", lang: str = "en") -> list[str]:
+    e, t = html.escape, words(lang)
     who = getattr(rep, "student", "") or _file(rep)
     from .grades import counts, explain, verdict
     res = verdict(rep)
     out = [f"<details id='{_anchor(rep, k)}'><summary>{e(who)}: {e(res)}</summary>",
            f"<p class='note'>{e(rep.path)}{' - ' + e(rep.title) if rep.title else ''}</p>"]
     if rep.error:
-        out.append(f"<p class='unusable'>Unusable: {e(rep.error)}</p></details>")
+        out.append(f"<p class='unusable'>{t['unusable_p']}: {e(rep.error)}</p></details>")
         return out
-    out.append(f"<div class='pic'>{_picture(rep)}</div>")
+    out.append(f"<div class='pic'>{_picture(rep, lang)}</div>")
     for label, attr in (("student", "student"), ("group", "group"), ("variant", "variant"),
-                        ("graded against", "graded_against"), ("seal", "seal")):
+                        ("graded_against", "graded_against"), ("seal", "seal")):
         v = getattr(rep, attr, None)
         if v:
-            out.append(f"<p class='note'>{label}: {e(str(v))}</p>")
+            out.append(f"<p class='note'>{t[label]}: {e(str(v))}</p>")
     changed = getattr(rep, "given_changed", None) or []
     if changed:
-        out.append("<p class='wrong'>given data changed: " + e(", ".join(_given_changed(c) for c in changed))
+        out.append(f"<p class='wrong'>{t['given_changed']}: " + e(", ".join(_given_changed(c) for c in changed))
                    + "</p>")
     if copy:
-        out.append(f"<p class='wrong'>possible copy of: {copy}</p>")
+        out.append(f"<p class='wrong'>{t['copy_of']}: {copy}</p>")
     c = counts(rep)
     out.append(f"<p>score {e(explain(rep))} (the rules: <code>sheetkin docs grading</code>)</p>")
     out.append(f"<p>{c['correct']} of {c['total']} rows correct (computed), {c['typed']} typed (not computed), "
@@ -213,60 +217,116 @@ def _details(rep: Report, k: int, copy: str = "") -> list[str]:
     if typed:
         out.append("<p class='wrong'>typed, not computed: " + e(", ".join(x.name for x in typed)) + "</p>")
     for c in rep.causes:
-        out.append(f"<p class='cause'>likely cause: {e(c.name)} (row {c.row}, {e(c.source)}): wrong from "
-                   f"{e(position_name(rep, c.first_wrong or 1))}, expected {e(_num(c.expected))}, got "
-                   f"{e(_num(c.got))}; wrong at {e(position_list(rep, c.wrong_cells))}"
+        out.append(f"<p class='cause'>{t['cause']}: {e(c.name)} ({t['row']} {c.row}, {e(t.get(c.source, c.source))}):"
+                   f" {t['wrong_from']} {e(position_name(rep, c.first_wrong or 1, lang))}, {t['expected']} "
+                   f"{e(_num(c.expected))}, {t['got']} {e(_num(c.got))}; {t['wrong_at']} "
+                   f"{e(position_list(rep, c.wrong_cells, lang))}"
                    + (f"<br>{e(c.note)}" if getattr(c, "note", "") else "") + "</p>")
     bad = [x for x in rep.rows if x.status != "correct"]
     if bad:
         names = getattr(rep, "position_names", None) or []
-        head = "".join(f"<th title='phi_1 = {names[j][1]:g} deg'>{names[j][0]:g}<br>{names[j][1]:g}&deg;</th>"
-                       if j < len(names) else f"<th>{j + 1}</th>" for j in range(rep.positions))
-        out.append("<table class='cells'><caption class='note'>the rows that are not right, position by "
-                   "position (headers: the sheet's i and phi_1)</caption>"
-                   f"<tr><th>row</th><th>status</th>{head}<th>note</th></tr>")
+        head = "".join(f"<th title='phi_1 = {names[j][1]:g} {t['deg']}'>{names[j][0]:g}<br>{names[j][1]:g}&deg;</th>"
+                       if j < len(names) else f"<th>{j}</th>" for j in range(rep.positions))
+        out.append(f"<table class='cells'><caption class='note'>{t['cells_caption']}</caption>"
+                   f"<tr><th>{t['row']}</th><th>{t['status']}</th>{head}<th>{t['note']}</th></tr>")
         for x in bad:
             cells = "".join(
-                f"<td class='{'wrong' if j in x.wrong_cells else 'ok'}' title='{e(position_name(rep, j))}: "
-                f"{'wrong' if j in x.wrong_cells else 'right'}'></td>" for j in range(1, rep.positions + 1))
-            note = ("likely cause" if x.cause else
-                    f"depends on {', '.join(x.because_of)}" if x.because_of else "")
+                f"<td class='{'wrong' if j in x.wrong_cells else 'ok'}' title='{e(position_name(rep, j, lang))}: "
+                f"{t['wrong'] if j in x.wrong_cells else t['right']}'></td>" for j in range(1, rep.positions + 1))
+            note = (t["cause"] if x.cause else
+                    f"{t['depends_on']} {', '.join(x.because_of)}" if x.because_of else "")
             if x.status == "wrong":
-                note += (f"; first at {position_name(rep, x.first_wrong or 1)}: expected {_num(x.expected)}, "
-                         f"got {_num(x.got)}")
-            out.append(f"<tr><td class='{'cause' if x.cause else ''}'>{e(x.name)}</td><td>{x.status}</td>"
+                note += (f"; {t['first_at']} {position_name(rep, x.first_wrong or 1, lang)}: {t['expected']} "
+                         f"{_num(x.expected)}, {t['got']} {_num(x.got)}")
+            out.append(f"<tr><td class='{'cause' if x.cause else ''}'>{e(x.name)}</td>"
+                       f"<td>{t.get(x.status, x.status)}</td>"
                        f"{cells}<td>{e(note)}</td></tr>")
         out.append("</table>")
-    for title, items in (("Check rows of the sheet that fail", rep.failing_checks),
+    for title, items in ((t["failing_checks"], rep.failing_checks),
                          ("Check rows deleted", getattr(rep, "checks_deleted", [])),
                          ("Check statuses typed over their formulas", getattr(rep, "checks_typed", [])),
                          ("Notes", getattr(rep, "notes", [])),
-                         ("Formula and saved value disagree", rep.cache_mismatch),
-                         ("Cannot evaluate", rep.problems)):
+                         (t["disagree_h"], rep.cache_mismatch),
+                         (t["cannot_h"], rep.problems)):
         if items:
             out.append(f"<p>{title}:</p><ul>" + "".join(f"<li>{e(i)}</li>" for i in items) + "</ul>")
     out.append("<div class='clear'></div></details>")
     return out
 
 
-def html_page(reports: list[Report], copies: dict | None = None) -> str:
+def html_page(reports: list[Report], copies: dict | None = None, lang: str = "en") -> str:
+    t = words(lang)
     correct = sum(r.ok for r in reports)
     copies = copies or {}
-    out = ["<!doctype html><html lang='en'><head><meta charset='utf-8'>"
-           "<link rel='icon' href='data:,'><title>sheetkin validation</title>"
+    out = [f"<!doctype html><html lang='{lang}'><head><meta charset='utf-8'>"
+           f"<link rel='icon' href='data:,'><title>{t['title']}</title>"
            f"<style>{_CSS}</style></head><body>",
-           f"<h1>sheetkin: validation of {len(reports)} workbook(s)</h1>",
-           f"<p>{correct} all correct (full marks), {len(reports) - correct} not. Click a column's "
-           "header to sort, a name to open the student's details. Positions are named as in the sheet: "
-           "its row i and the crank angle phi_1.</p>",
-           "<table id='summary'><thead><tr>" + "".join(
-               f"<th><button type='button'>{h}</button></th>" for h in
-               ("student", "group", "variant", "score", "result", "rows correct", "rows typed", "wrong rows",
-                "likely causes",
-                "missing rows", "possible copy of", "file")) + "</tr></thead><tbody>"]
-    out += [_summary_row(r, k, _copy_links(reports, k, copies, False)) for k, r in enumerate(reports)]
+           f"<h1>{html.escape(t['h1'].format(n=len(reports)))}</h1>",
+           f"<p>{html.escape(t['intro'].format(c=correct, o=len(reports) - correct))}</p>"]
+    out += class_at_a_glance(reports, lang)
+    out += [f"<h2>{t['students']}</h2>",
+            "<table id='summary'><thead><tr>" + "".join(
+                f"<th><button type='button'>{t.get(h, h)}</button></th>" for h in
+                ("student", "group", "variant", "score", "result", "rows correct", "rows typed", "wrong_rows",
+                 "likely_causes", "missing_rows", "copy_of", "file")) + "</tr></thead><tbody>"]
+    out += [_summary_row(r, k, _copy_links(reports, k, copies, False), lang) for k, r in enumerate(reports)]
     out.append("</tbody></table>")
     for k, r in enumerate(reports):
-        out += _details(r, k, _copy_links(reports, k, copies, True))
+        out += _details(r, k, _copy_links(reports, k, copies, True), lang)
     out.append(f"<script>{_SCRIPT}</script></body></html>\n")
     return "\n".join(out)
+
+
+def _share_table(ident: str, what: str, counts: list[tuple[str, int]], books: int, t: dict) -> str:
+    """A table of names with how many books got each wrong and that share as a bar."""
+    e = html.escape
+    out = [f"<table id='{ident}'><tr><th>{what}</th><th>{t['books']}</th><th>{t['share']}</th></tr>"]
+    for n, c in counts:
+        share = c / books
+        out.append(f"<tr data-row='{e(n)}' data-share='{share:.4f}'><td>{e(n)}</td><td class='num'>{c}</td>"
+                   f"<td><span class='bar' style='width:{share * 20:.2f}em'></span> {100 * share:.0f}%</td></tr>")
+    return "".join(out) + "</table>"
+
+
+def class_at_a_glance(reports: list[Report], lang: str = "en") -> list[str]:
+    """Issue 22: the picture of the class before the list of students. Each row's share of
+    wrong books (wrong, missing or empty: not done right), in the lecture's order (the
+    order of the rows in the sheet), as bars; then the distribution of scores in tens.
+    Rows right in every book are left out; the bars are plain HTML (no script needed)."""
+    e, t = html.escape, words(lang)
+    usable = [r for r in reports if not r.error]
+    out = [f"<section id='class'><h2>{t['class']}</h2>"]
+    order: list[str] = []
+    wrong: dict[str, int] = {}
+    for r in usable:
+        for x in r.rows:
+            if x.name not in wrong:
+                order.append(x.name)
+                wrong[x.name] = 0
+            if x.status != "correct":
+                wrong[x.name] += 1
+    shown = [n for n in order if wrong[n]]
+    out.append(f"<h3>{e(t['class_rows'].format(n=len(usable)))}</h3>")
+    if not shown:
+        out.append(f"<p class='note'>{t['none_wrong']}</p>")
+    else:
+        out.append(_share_table("class-rows", t["row"], [(n, wrong[n]) for n in shown], len(usable), t))
+    failing: dict[str, int] = {}
+    for r in usable:                    # in the sheet's order, as each book lists them
+        for n in r.failing_checks:
+            failing[n] = failing.get(n, 0) + 1
+    if failing:
+        out.append(f"<h3>{e(t['class_checks'])}</h3>")
+        out.append(_share_table("class-checks", t["check"], list(failing.items()), len(usable), t))
+    scores = [score(r) or 0.0 for r in reports]
+    bins = [0] * 10
+    for sc in scores:
+        bins[min(int(sc // 10), 9)] += 1
+    top = max(bins) or 1
+    out.append(f"<h3>{e(t['class_scores'].format(n=len(scores)))}</h3><table id='class-scores'>")
+    for k, c in enumerate(bins):
+        label = f"{10 * k}-{10 * k + 9 if k < 9 else 100}"
+        out.append(f"<tr data-bin='{label}' data-count='{c}'><td>{label}</td><td class='num'>{c}</td>"
+                   f"<td><span class='bar' style='width:{12 * c / top:.2f}em'></span></td></tr>")
+    out.append("</table></section>")
+    return out

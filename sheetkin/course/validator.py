@@ -35,7 +35,7 @@ from sheetkin.sheet.checks import STATUS as CHECK_STATUS
 from sheetkin.sheet.checks import failing as check_fails
 from sheetkin.sheet.checks import not_applicable as check_na
 from sheetkin.sheet.checks import passing as check_passes
-from sheetkin.sheet.workbook import FIRST_COL, SCENE_SHEET, build_workbook, sheet_rows
+from sheetkin.sheet.workbook import FIRST_COL, SCENE_SHEET, SHEET_TITLES, build_workbook, sheet_rows
 from sheetkin.xlsx.cells import Sheet, read_book
 from sheetkin.xlsx.evaluator import Book, EvaluationError, evaluate_sheets
 from sheetkin.xlsx.package import Limits, UnusableWorkbook
@@ -321,10 +321,13 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
     ref_book = _reference(student_scene)
     ref_sheet = ref_book.order[0]
     ref_names = {ref_book.sheets[ref_sheet].consts.get((r, 1)): r for r in range(5, ref_book.sheets[ref_sheet].max_row + 1)}
-    report = Report(path, author=str(sh.consts.get((2, 1), "") or ""), title=str(sh.consts.get((1, 1), "") or ""),
+    # who filled it in: D1, D2 (the lecture's rows 1-2); books issued before 0.16 had input
+    # rows "student", "group" (A1 the title, A2 the scheme's author, then)
+    old = "student" in names
+    report = Report(path, author=scene.author or "", title=str(sh.consts.get((1, 1) if old else TITLE_AT, "") or ""),
                     positions=positions, problems=list(evaluated.problems),
-                    student=_identity(evaluated, main, sh, names.get("student")),
-                    group=_identity(evaluated, main, sh, names.get("group")),
+                    student=_identity(evaluated, main, sh, names.get("student") if old else 1),
+                    group=_identity(evaluated, main, sh, names.get("group") if old else 2),
                     variant=given.variant, given_changed=given.changed, seal=given.seal,
                     accepted_changes=accept, accepted_typed=bool(options and getattr(options, "accept_typed", False)),
                     notes=given.notes + layout.notes
@@ -333,6 +336,7 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
     report.roster_differs = given.roster_differs   # not a field: one warning for the class (cli)
     report.position_names = [(ref_book.value(ref_sheet, ref_names["i"], FIRST_COL + k),
                               ref_book.value(ref_sheet, ref_names["phi_1"], FIRST_COL + k)) for k in range(positions)]
+    report.lang = book_lang(main)           # not a field: the reports' default language
     report.variant_scene = student_scene    # not a field (not in to_dict): the report's picture
     ancestors = row_ancestors(student_scene)
     kinds = {r.name: r.kind for r in ref_rows}
@@ -436,6 +440,14 @@ def _read_checks(report: Report, evaluated: Book, main: str, sh: Sheet, names: d
     report.checks_na = sum(check_na(s) for s in statuses.values())
     unfilled = {t["unfilled"] for t in CHECK_STATUS.values()}
     report.checks_unfilled = sum(isinstance(s, str) and s in unfilled for s in statuses.values())
+
+
+TITLE_AT = (1, 5)       # E1: the scheme's title (sheetkin.sheet.workbook.TITLE_CELL)
+
+
+def book_lang(sheet_title: str) -> str:
+    """The language a book was written in, told by its first sheet's title; ru otherwise."""
+    return next((lang for lang, (kin, _) in SHEET_TITLES.items() if kin == sheet_title), "ru")
 
 
 def _identity(evaluated, main: str, sh, row: int | None) -> str:

@@ -1,8 +1,8 @@
 """The charts sheet's pictures of the mechanism, live in the spreadsheet.
 
 * A drawing of the mechanism at the position typed in the charts sheet's yellow cell B1
-  (a position number, 1..N): the frame pivots, fixed guides, every link as a segment (a
-  closed polygon for a link with three or more points), slider blocks turned along their
+  (the kinematics sheet's position i, 0..N-1): the frame pivots, fixed guides, every link
+  as a segment (a closed polygon for a link with three or more points), slider blocks turned along their
   guides, slots, and the points' paths behind them. Its data are helper cells (columns
   AD onwards, headed "drawing data") that pick the chosen position's column of the
   kinematics sheet's own rows with INDEX, so a changed position or length redraws it.
@@ -64,10 +64,28 @@ COLORS = ["1F77B4", "FF7F0E", "2CA02C", "D62728", "9467BD", "8C564B", "E377C2", 
           "BCBD22", "17BECF"]
 _TEXT = {"ru": {"pos": "положение i =", "phi": "phi_1, град", "mech": "Механизм в положении i",
                 "traj": "Траектории точек", "helper": "данные чертежа (вспомогательные ячейки)",
-                "hint": "введите номер положения 1..{n}"},
+                "hint": "введите номер положения i: 0..{n}", "link": "звено {k}: {pts}",
+                "guide": "направляющая г{i}", "slot": "паз г{i}", "block": "ползун {k} в {at}", "frame": "стойка",
+                "axes": ("x, м", "y, м")},
+         "uk": {"pos": "положення i =", "phi": "phi_1, град", "mech": "Механізм у положенні i",
+                "traj": "Траєкторії точок", "helper": "дані креслення (допоміжні клітинки)",
+                "hint": "введіть номер положення i: 0..{n}", "link": "ланка {k}: {pts}",
+                "guide": "напрямна г{i}", "slot": "паз г{i}", "block": "повзун {k} у {at}", "frame": "стояк",
+                "axes": ("x, м", "y, м")},
          "en": {"pos": "position i =", "phi": "phi_1, deg", "mech": "The mechanism at position i",
                 "traj": "Trajectories of points", "helper": "drawing data (helper cells)",
-                "hint": "type a position number 1..{n}"}}
+                "hint": "type a position number i: 0..{n}",
+                "link": "link {k}: {pts}", "guide": "guide g{i}", "slot": "slot g{i}", "block": "block {k} at {at}",
+                "frame": "frame", "axes": ("x, m", "y, m")}}
+
+
+# the helper scalars' labels (written in English where the cells are made)
+HELPER_WORDS = {
+    "ru": {"angle, deg": "угол, град", "slider's distance from the lever's joint": "смещение ползуна от шарнира",
+           "base x": "x основания", "base y": "y основания"},
+    "uk": {"angle, deg": "кут, град", "slider's distance from the lever's joint": "зміщення повзуна від шарніра",
+           "base x": "x основи", "base y": "y основи"},
+}
 
 
 @dataclass
@@ -166,8 +184,9 @@ class _Helper:
     """Helper cells on the charts sheet: series blocks (label, x, y per row) in AD:AF and
     scalars (label, value) in AH:AI."""
 
-    def __init__(self, cs, title: str):
+    def __init__(self, cs, title: str, words: dict[str, str] | None = None):
         self.cs, self.row, self.srow = cs, 3, 3
+        self.words = words or {}          # the scalars' labels in the book's language
         self.x = get_column_letter(HELPER_COL + 1)
         self.y = get_column_letter(HELPER_COL + 2)
         cs.cell(1, HELPER_COL, title).font = Font(bold=True)
@@ -184,7 +203,8 @@ class _Helper:
 
     def scalar(self, label: str, formula: str) -> str:
         r = self.srow
-        self.cs.cell(r, HELPER_COL + 4, label)
+        tag, _, what = label.rpartition(": ")
+        self.cs.cell(r, HELPER_COL + 4, f"{tag}: {self.words.get(what, what)}" if tag else label)
         self.cs.cell(r, HELPER_COL + 5, "=" + formula).number_format = "0.000000"
         self.srow += 1
         return f"${get_column_letter(HELPER_COL + 5)}${r}"
@@ -213,7 +233,7 @@ class _Cells:
 
     def at(self, name: str) -> str:
         r = self.info.where[name]
-        return _na(f"INDEX({self.kin}!{self.span.format(r=r)},{POSITION_CELL})")
+        return _na(f"INDEX({self.kin}!{self.span.format(r=r)},{POSITION_CELL}+1)")
 
     def xy(self, p) -> tuple[str, str]:
         if isinstance(p, tuple):
@@ -274,7 +294,7 @@ def equal_axes(box, plot=PLOT, width=WIDTH, height=HEIGHT):
     return xmin, xmin + k * wp, ymin, ymin + k * hp, unit
 
 
-def _chart(title: str, box, plot, legend: bool) -> ScatterChart:
+def _chart(title: str, box, plot, legend: bool, axes: tuple[str, str] = ("x, m", "y, m")) -> ScatterChart:
     ch = ScatterChart()
     ch.scatterStyle = "lineMarker"   # required by the schema; each series sets its own lines and markers
     ch.title, ch.style, ch.width, ch.height = title, 2, WIDTH, HEIGHT
@@ -286,7 +306,7 @@ def _chart(title: str, box, plot, legend: bool) -> ScatterChart:
         # not General: the ticks min + k unit carry round-off (1.1E-16 for 0)
         axis.numFmt = NumFmt(formatCode="0.0##", sourceLinked=False)
         axis.scaling.min, axis.scaling.max, axis.majorUnit = round(lo, 12), round(hi, 12), unit
-    ch.x_axis.title, ch.y_axis.title = "x, m", "y, m"
+    ch.x_axis.title, ch.y_axis.title = axes
     ch.x_axis.majorGridlines = ChartLines()
     # (openpyxl writes the plot area's layout from chart.layout, not plot_area.layout)
     ch.layout = Layout(manualLayout=ManualLayout(layoutTarget="inner", xMode="edge", yMode="edge",
@@ -335,12 +355,12 @@ def add_drawing_charts(wb, cs, scene: Scene, info: SheetRows, top: int = 3) -> i
     cs.column_dimensions["C"].width = 12
     cs["A1"] = text["pos"]
     cs["A1"].font = Font(bold=True)
-    cs["B1"] = 1
+    cs["B1"] = 0                      # the kinematics sheet's row i: positions from 0
     cs["B1"].fill = INPUT_FILL
     cs["B1"].font = Font(bold=True)
-    dv = DataValidation(type="whole", operator="between", formula1="1", formula2=str(n), allow_blank=False,
-                        showErrorMessage=True, promptTitle=text["pos"], prompt=text["hint"].format(n=n),
-                        errorTitle=text["pos"], error=text["hint"].format(n=n))
+    dv = DataValidation(type="whole", operator="between", formula1="0", formula2=str(n - 1), allow_blank=False,
+                        showErrorMessage=True, promptTitle=text["pos"], prompt=text["hint"].format(n=n - 1),
+                        errorTitle=text["pos"], error=text["hint"].format(n=n - 1))
     dv.showInputMessage = True
     cs.add_data_validation(dv)
     dv.add("B1")
@@ -349,12 +369,12 @@ def add_drawing_charts(wb, cs, scene: Scene, info: SheetRows, top: int = 3) -> i
     cs["D1"] = "=" + c.at("phi_1")
     cs["D1"].number_format = "0.00"
 
-    h = _Helper(cs, text["helper"])
+    h = _Helper(cs, text["helper"], HELPER_WORDS.get(info.lang))
     moving = scene.moving_joints + [p.name for p in scene.points]
     fine_cells = len(needed_rows(info, [f"{q}_{p}" for p in moving for q in "xy"])) * (FINE_POSITIONS + 1)
     paths = None if info.exercise or fine_cells > PATHS_MAX_CELLS else add_paths_sheet(wb, info, scene)
-    mech = _chart(text["mech"], box, PLOT, legend=False)
-    traj = _chart(text["traj"], box, PLOT_LEGEND, legend=True)
+    mech = _chart(text["mech"], box, PLOT, legend=False, axes=text["axes"])
+    traj = _chart(text["traj"], box, PLOT_LEGEND, legend=True, axes=text["axes"])
     first, last = 5, 4 + n
     for k, p in enumerate(moving):
         color = COLORS[k % len(COLORS)]
@@ -379,7 +399,7 @@ def add_drawing_charts(wb, cs, scene: Scene, info: SheetRows, top: int = 3) -> i
         mech.series.append(_style(s, color, width, marker, dash, fill))
 
     for g, (t0, t1) in zip(st.guides, spans, strict=False):
-        tag = f"guide g{g.group}" if g.link == 0 else f"slot g{g.group}"
+        tag = text["guide" if g.link == 0 else "slot"].format(i=g.group)
         bx, by, ux, uy = _guide_cells(h, c, g, tag)
         a, b = (_num(t0 - 1.5 * r), _num(t1 + 1.5 * r)) if g.link == 0 else (_num(t0 - r), _num(t1 + r))
         add(tag, [(f"{bx}+({a})*{ux}", f"{by}+({a})*{uy}"), (f"{bx}+({b})*{ux}", f"{by}+({b})*{uy}")],
@@ -389,9 +409,10 @@ def add_drawing_charts(wb, cs, scene: Scene, info: SheetRows, top: int = 3) -> i
         if len(pts) < 2:
             continue
         ring = list(pts) + ([pts[0]] if len(pts) >= 3 else [])
-        add(f"link {k}: {'-'.join(pts)}", [c.xy(p) for p in ring], "1F4E79", 2.25, "circle", fill="FFFFFF")
+        add(text["link"].format(k=k, pts="-".join(pts)), [c.xy(p) for p in ring], "1F4E79", 2.25, "circle",
+            fill="FFFFFF")
     for b in st.blocks:
-        tag = f"block {b.link} at {b.at}"
+        tag = text["block"].format(k=b.link, at=b.at)
         _, _, ux, uy = _guide_cells(h, c, b.guide, tag)
         cx, cy = c.xy(b.at)
         hl, hw = 1.3 * r, 0.75 * r
@@ -400,8 +421,8 @@ def add_drawing_charts(wb, cs, scene: Scene, info: SheetRows, top: int = 3) -> i
                    f"{cy}+({_num(i * hl)})*{uy}+({_num(j * hw)})*{ux}")
                   for i, j in corners], "B8860B", 1.5)
     if st.pivots:
-        add("frame", [c.xy(p) for p in st.pivots], "595959", 0, "triangle", fill="BFBFBF")
+        add(text["frame"], [c.xy(p) for p in st.pivots], "595959", 0, "triangle", fill="BFBFBF")
     cs.add_chart(mech, f"A{top}")
     cs.add_chart(traj, f"K{top}")
-    cs.cell(2, HELPER_COL, "x, y: INDEX(...; B1); #N/A where the mechanism cannot assemble").font = Font(italic=True)
+    cs.cell(2, HELPER_COL, "x, y: INDEX(...; B1+1); #N/A").font = Font(italic=True)
     return top + ROWS_PER_CHART

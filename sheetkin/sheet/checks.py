@@ -6,8 +6,9 @@ A check row's status, in the order it is decided:
   "н/д"           no position to check (a numeric-derivative check above 3 deg, or a group
                   that assembles nowhere): grey, not a green 0;
   0               every residual within the tolerance: green.
-Row 2 holds the counts (filled, passing, failing, n/a, not filled: one cell each, E2:I2)
-and D3 says them in words, with the plural of "проверка" that goes with each number.
+Row 2 holds the counts (filled, passing, failing, n/a, not filled: one cell each, E2:I2,
+labelled by their number formats) and D3 the verdict, with the number of failing checks
+and the plural of "проверка" that goes with it: short, as D3 prints on every page.
 The formulas use only what Excel, LibreOffice, Gnumeric and sheetkin's evaluator all read alike
 (IF, COUNT, SUM, SUMPRODUCT over a comparison, ISERROR of one value, MOD), so every
 spreadsheet shows the same (tests/xlsx/test_three_engines.py).
@@ -23,12 +24,18 @@ from openpyxl.styles import Alignment, Font, PatternFill
 GREEN = PatternFill("solid", fgColor="C6EFCE", bgColor="C6EFCE")
 RED = PatternFill("solid", fgColor="FFC7CE", bgColor="FFC7CE")
 GREY = PatternFill("solid", fgColor="D9D9D9", bgColor="D9D9D9")
+WHITE = PatternFill("solid", fgColor="FFFFFF", bgColor="FFFFFF")
+HIDDEN = Font(color="FFFFFF")
 
 STATUS = {
     "ru": {"na": "н/д", "unfilled": "не заполнено", "pass": "все проверки выполнены",
            "fail": "есть невыполненные проверки", "partial": "заполнены не все строки",
            "filled": "заполнено", "passing": "выполнено", "failing": "не выполнено",
            "forms": ("проверка", "проверки", "проверок")},
+    "uk": {"na": "н/д", "unfilled": "не заповнено", "pass": "усі перевірки виконано",
+           "fail": "є невиконані перевірки", "partial": "заповнено не всі рядки",
+           "filled": "заповнено", "passing": "виконано", "failing": "не виконано",
+           "forms": ("перевірка", "перевірки", "перевірок")},
     "en": {"na": "n/a", "unfilled": "not filled in", "pass": "all checks pass",
            "fail": "checks fail", "partial": "not all rows filled in",
            "filled": "filled in", "passing": "pass", "failing": "fail",
@@ -41,9 +48,10 @@ COUNT_CELLS = {"filled": "E2", "passing": "F2", "failing": "G2", "na": "H2", "un
 
 def plural(n: int, lang: str = "ru") -> str:
     """The form of "проверка" after the number n: 1, 21, 101 проверка; 2-4, 22-24
-    проверки; 0, 5-20, 11-14, 25-30 проверок. English: 1 check, otherwise checks."""
+    проверки; 0, 5-20, 11-14, 25-30 проверок (Ukrainian: the same rule, "перевірка").
+    English: 1 check, otherwise checks."""
     one, few, many = STATUS[lang]["forms"]
-    if lang != "ru":
+    if lang == "en":
         return one if n == 1 else many
     if n % 10 == 1 and n % 100 != 11:
         return one
@@ -55,7 +63,7 @@ def plural(n: int, lang: str = "ru") -> str:
 def plural_formula(cell: str, lang: str) -> str:
     """plural() as a spreadsheet formula of the number in `cell`."""
     one, few, many = (f'"{w}"' for w in STATUS[lang]["forms"])
-    if lang != "ru":
+    if lang == "en":
         return f"IF({cell}=1,{one},{many})"
     return (f"IF(AND(MOD({cell},10)=1,MOD({cell},100)<>11),{one},"
             f"IF(AND(MOD({cell},10)>=2,MOD({cell},10)<=4,OR(MOD({cell},100)<12,MOD({cell},100)>14)),{few},{many}))")
@@ -80,11 +88,15 @@ def status_formula(lang: str, rng: str, tol: str, reads: list[str], expected: st
     return f'=IF(IFERROR({blanks},0)>0,"{t["unfilled"]}",{judge})'
 
 
-def colour_check_row(ws, rng: str, top: str, status: str, tol: str) -> None:
-    """The row's cells: green within the tolerance, red past it or an error, grey while the
-    row's status is text (n/a, not filled in). The status cell: green 0, red 1, grey text."""
+def colour_check_row(ws, rng: str, top: str, status: str, tol: str, lang: str = "ru") -> None:
+    """The row's cells: blank (white on white) while the rows the check reads are not
+    filled in (a residual of empty cells is a number, and a grey "0.0E+00" read as a pass),
+    green within the tolerance, red past it or an error, grey while the status is n/a.
+    The status cell: green 0, red 1, grey text."""
     d = f"${status[0]}{status[1:]}"
     cf = ws.conditional_formatting
+    cf.add(rng, FormulaRule(formula=[f'{d}="{STATUS[lang]["unfilled"]}"'], font=HIDDEN, fill=WHITE,
+                            stopIfTrue=True))
     cf.add(rng, FormulaRule(formula=[f"NOT(ISNUMBER({d}))"], fill=GREY, stopIfTrue=True))
     cf.add(rng, FormulaRule(formula=[f"ISERROR({top})"], fill=RED))
     cf.add(rng, FormulaRule(formula=[f"AND(ISNUMBER({top}),ABS({top})<={tol})"], fill=GREEN))
@@ -115,14 +127,16 @@ def write_summary(ws, lang: str, status_cells: list[str], status_range: str) -> 
         ws[cell].number_format = f'"{t[key]}: "0'
         ws[cell].font, ws[cell].alignment = grey, fit
 
-    def part(key):
-        return f'"{t[key]}: "&{c[key]}&" "&{plural_formula(c[key], lang)}'
-
     head = (f'IF(AND({c["failing"]}=0,{c["unfilled"]}=0),"{t["pass"]}",'
             f'IF({c["failing"]}>0,"{t["fail"]}","{t["partial"]}"))')
-    ws["D3"] = (f'={head}&" ("&{part("filled")}&"; "&{part("passing")}&"; "&{part("failing")}'
-                f'&IF({c["na"]}>0,"; "&{part("na")},"")&IF({c["unfilled"]}>0,"; "&{part("unfilled")},"")&")"')
+    # D3 prints on every page (rows 1-4 and columns A-D repeat): the verdict and the
+    # failing count, short enough for the narrowest page; the counts are in E2:I2
+    f = c["failing"]
+    ws["D3"] = f'={head}&IF({f}>0,": "&{f}&" "&{plural_formula(f, lang)},"")'
     ws["D3"].font = Font(bold=True)
+    # right-aligned, the sentence runs to the left over the empty B3:C3, which print on
+    # every page with D (to the right, over E3 ..., it was cut at each page's edge)
+    ws["D3"].alignment = Alignment(horizontal="right")
     cf = ws.conditional_formatting
     cf.add("D3", FormulaRule(formula=[f"{c['failing']}>0"], fill=RED, stopIfTrue=True))
     cf.add("D3", FormulaRule(formula=[f"{c['unfilled']}>0"], fill=GREY, stopIfTrue=True))

@@ -1,9 +1,12 @@
 """The lecture's workbook (seed 003, steps 7-10) with live formulas, written with openpyxl.
 
 Layout of the sheet, top to bottom (the lecture's "programming by rows"):
-  rows 1-2  title (scheme) and author; row 3 the summary of all checks;
-  input block: lengths, frame points, Alfa_A, Betta_A, Fi0, Fi_t, Fi_tt, Delta_Fi (deg
-            and rad), branches, points' offsets, tolerances: the values a user may edit;
+  rows 1-2  the student's name and group (their own cells D1, D2) and the scheme's title
+            (E1); row 3 the summary of all checks; row 4 the headers (positions by i);
+  the instruction block (what to fill, in which order, the legend of the statuses);
+  given data: lengths, frame points, Fi0, Fi_t, Fi_tt, Delta_Fi (deg), branches, points'
+            offsets, tolerances (locked: the sheet is protected without a password), then
+            Delta_Fi_rad, Alfa_A, Betta_A (computed: the student's in an exercise);
   crank block ("angular characteristics of the crank"), hinge A;
   for each group its kinematic-constraint block: intermediate variables (P, Q, F ...),
             every solution branch, check rows that put each branch back into the
@@ -11,9 +14,10 @@ Layout of the sheet, top to bottom (the lecture's "programming by rows"):
             later rows reference, then velocities and accelerations (Cramer's rule);
   driven joints and points, each followed by its check rows.
 Columns: A the row's name (contract names on accepted rows), B the unit, C a
-description (Russian by default, English with lang="en"), D the input value (input
-rows) or the row's check status (check rows: 0 pass, 1 fail), E... one column per crank
-position. Every computed cell is a formula referring to the input block.
+description, D the input value (input rows) or the row's check status (check rows: 0
+pass, 1 fail), E... one column per crank position. Every computed cell is a formula
+referring to the input block. Every word is in the book's language (ru, the default;
+uk; en: sheetkin.groups.lang, sheetkin.sheet.texts).
 
 Rows are built as records whose formulas name other rows ("{x_A}", "{L1}",
 "{x_A@prev}"); they are compiled once into per-column templates, so a 360-column
@@ -28,10 +32,13 @@ from typing import cast
 from openpyxl import Workbook, load_workbook
 from openpyxl.chart import Reference, ScatterChart, Series
 from openpyxl.chart.data_source import NumFmt
-from openpyxl.styles import Font, PatternFill
+from openpyxl.styles import Font, PatternFill, Protection
 from openpyxl.utils import get_column_letter
 
 from sheetkin.groups import kind_of
+from sheetkin.groups.lang import check_lang
+from sheetkin.groups.lang import text as say
+from sheetkin.groups.lang import unit as say_unit
 from sheetkin.groups.rows import (
     Builder,
     Row,
@@ -47,6 +54,7 @@ from sheetkin.kinematics.scene import Group, Point, Scene
 from .cached import CachedWorkbook
 from .checks import colour_check_row, status_formula, write_summary
 from .dynamics import dynamics_inputs, energy_rows, kinetostatics_rows
+from .texts import CHARTS, GUIDE, SHEET, guide_line
 
 FIRST_COL = 5                      # column E: the first crank position
 SCENE_SHEET = "scene"              # hidden sheet holding the scene's TOML text
@@ -55,21 +63,29 @@ ISSUED_LABELS = ("variant", "seal")  # scene sheet B1:B2, values in C1:C2 (sheet
 # derivative, is within Tol_FD = 1% of a row's scale at 3 deg for every bundled mechanism,
 # but not at 4-5 deg for the quick-return ones (slotted lever, shaper).
 FD_MAX_STEP_DEG = 3.0
-MARKERS = {"ru": "не собирается", "en": "cannot assemble"}
+MARKERS = {"ru": "не собирается", "uk": "не збирається", "en": "cannot assemble"}
 # Bounded work (docs/verification.md, "Caps"): a workbook is refused in one line past these.
 # 3,000 rows hold a chain of 41 groups (about 72 rows a group, 20 a point); the cells cap
 # keeps a book within a minute and 1 GB to build, evaluate and save (measured there).
 WORKBOOK_MAX_ROWS = 3_000
 WORKBOOK_MAX_CELLS = 500_000        # position cells: rows x positions
 MAX_FORMULA_CHARS = 8_192           # Excel's limit on a formula's length
-SHEET_TITLES = {"ru": ("Кинематика", "Графики"), "en": ("Kinematics", "Charts")}
+SHEET_TITLES = {"ru": ("Кинематика", "Графики"), "uk": ("Кінематика", "Графіки"), "en": ("Kinematics", "Charts")}
 
-# the student's identity rows, first in the input block (name, ru, en)
+# the student's identity: books issued before 0.16 had these input rows (name, ru, en),
+# the validator still reads them there; a book now has them in rows 1-2 (IDENTITY_CELLS)
 IDENTITY_ROWS = (("student", "студент: фамилия, имя", "student: family name, first name"),
                  ("group", "учебная группа", "the student's group"))
+# the lecture's step 7.1: the author of the work and the group in rows 1-2 (label in A,
+# what it is in C, the student's own text in D, unlocked); the scheme's title in E1
+IDENTITY_CELLS = {"student": (1, 4), "group": (2, 4)}
+TITLE_CELL = "E1"
 INPUT_FILL = PatternFill("solid", fgColor="FFF2CC")
 ACCEPTED_FILL = PatternFill("solid", fgColor="DDEBF7")
+TO_FILL = PatternFill("solid", fgColor="E4DFEC")      # column D cells the student computes (exercise)
 SECTION_FONT = Font(bold=True)
+GUIDE_FONT = Font(italic=True, color="404040")
+UNLOCKED = Protection(locked=False)
 
 
 class WorkbookTooLarge(ValueError):
@@ -90,11 +106,9 @@ def sheet_rows(scene: Scene) -> Builder:
     """The kinematics sheet's rows, top to bottom (see the module's docstring)."""
     b = Builder(scene)
     c = scene.crank
-    b.section("input", "Исходные данные (можно изменять)", "Input data (editable)")
-    # who filled the sheet in: the student's own cells (A2 is the scheme's author), text,
-    # blank as issued; the validator reports them (Report.student, Report.group)
-    for name, ru, en in IDENTITY_ROWS:
-        b.input(name, "", ru, en, None)
+    for k in range(len(GUIDE["ru"])):             # what to fill and how to read the checks
+        b.section(f"guide_{k + 1}", GUIDE["ru"][k], GUIDE["en"][k])
+    b.section("input", "Исходные данные (не изменять)", "Given data (do not change)")
     b.input("L1", "m", f"длина кривошипа {c.pivot}{c.joint}", f"crank length {c.pivot}{c.joint}", c.length)
     for g in scene.groups:
         for r in kind_of(g).input_rows(g):
@@ -108,19 +122,29 @@ def sheet_rows(scene: Scene) -> Builder:
             if not r.early:
                 b.input(r.name, r.unit, r.ru, r.en, r.value)
     for p in scene.points:
-        b.input(f"along_{p.name}", "m", f"точка {p.name}: вдоль звена {p.link} от {p.origin}", f"point {p.name}: along link {p.link} from {p.origin}", p.along)
-        b.input(f"across_{p.name}", "m", f"точка {p.name}: поперёк звена {p.link} (влево +)", f"point {p.name}: across link {p.link} (left +)", p.across)
+        b.input(f"along_{p.name}", "m", f"точка {p.name}: вдоль звена {p.link} от {p.origin}",
+                f"point {p.name}: along link {p.link} from {p.origin}", p.along)
+        b.input(f"across_{p.name}", "m", f"точка {p.name}: поперёк звена {p.link} (влево +)",
+                f"point {p.name}: across link {p.link} (left +)", p.across)
     b.input("Fi0", "deg", "начальный угол кривошипа", "crank angle of the first position", c.phi0_deg)
     b.input("Fi_t0", "rad/s", "(Fi_t)0: угловая скорость кривошипа", "(Fi_t)0: the crank's angular velocity", c.omega)
-    b.input("Fi_tt0", "rad/s^2", "(Fi_tt)0: угловое ускорение кривошипа", "(Fi_tt)0: the crank's angular acceleration", c.epsilon)
+    b.input("Fi_tt0", "rad/s^2", "(Fi_tt)0: угловое ускорение кривошипа", "(Fi_tt)0: the crank's angular acceleration",
+            c.epsilon)
     b.input("Delta_Fi", "deg", "шаг по углу кривошипа (градусы)", "crank angle step (degrees)", c.step_deg)
-    b.add("Delta_Fi_rad", "rad", "шаг по углу кривошипа (радианы)", "crank angle step (radians)", kind="derived", formula="RADIANS({Delta_Fi})")
-    b.add("Alfa_A", "m", f"начальная координата x шарнира {c.joint} относительно {c.pivot}", f"initial x of hinge {c.joint} from {c.pivot}", kind="derived", formula="{L1}*COS(RADIANS({Fi0}))")
-    b.add("Betta_A", "m", f"начальная координата y шарнира {c.joint} относительно {c.pivot}", f"initial y of hinge {c.joint} from {c.pivot}", kind="derived", formula="{L1}*SIN(RADIANS({Fi0}))")
     if scene.has_dynamics:
         dynamics_inputs(b)
     b.input("Tol", "", "допуск проверок (невязки)", "tolerance of the checks (residuals)", 1e-9)
-    b.input("Tol_FD", "", f"допуск сравнения с численным дифференцированием (шаг <= {FD_MAX_STEP_DEG:g} град)", f"tolerance against numeric derivatives (step <= {FD_MAX_STEP_DEG:g} deg)", 0.01)
+    b.input("Tol_FD", "", f"допуск сравнения с численным дифференцированием (шаг <= {FD_MAX_STEP_DEG:g} град)",
+            f"tolerance against numeric derivatives (step <= {FD_MAX_STEP_DEG:g} deg)", 0.01)
+    # computed from the given data in column D: the student's first formulas (an exercise
+    # leaves them blank, lilac), apart from the given data they must not change
+    b.section("derived", "Вычисляемые данные (заполните сиреневые ячейки)", "Derived data (fill in the lilac cells)")
+    b.add("Delta_Fi_rad", "rad", "шаг по углу кривошипа (радианы)", "crank angle step (radians)",
+          kind="derived", formula="RADIANS({Delta_Fi})")
+    b.add("Alfa_A", "m", f"начальная координата x шарнира {c.joint} относительно {c.pivot}",
+          f"initial x of hinge {c.joint} from {c.pivot}", kind="derived", formula="{L1}*COS(RADIANS({Fi0}))")
+    b.add("Betta_A", "m", f"начальная координата y шарнира {c.joint} относительно {c.pivot}",
+          f"initial y of hinge {c.joint} from {c.pivot}", kind="derived", formula="{L1}*SIN(RADIANS({Fi0}))")
 
     # the joints each link carries: a [[point]]'s velocity is checked through a second one
     b.on_link[1] = [scene.crank.pivot, scene.crank.joint]
@@ -150,12 +174,14 @@ def _crank_rows(b: Builder):
     b.add("i", "", "номер положения", "position number", kind="index")
     b.add("phi_1", "deg", "угол поворота кривошипа", "crank angle", "accepted", "{Fi0}+{i}*{Delta_Fi}")
     b.add("Fi", "rad", "угол поворота кривошипа (радианы)", "crank angle (radians)", "calc", "RADIANS({phi_1})")
-    b.add("dFi", "rad", "поворот от начального положения", "rotation from the first position", "calc", "{Fi}-RADIANS({Fi0})")
+    b.add("dFi", "rad", "поворот от начального положения", "rotation from the first position", "calc",
+          "{Fi}-RADIANS({Fi0})")
     b.add("Fi_t", "rad/s", "угловая скорость кривошипа", "the crank's angular velocity", "calc", "{Fi_t0}")
     b.add("Fi_tt", "rad/s^2", "угловое ускорение кривошипа", "the crank's angular acceleration", "calc", "{Fi_tt0}")
     b.add("cos_1", "", "cos угла кривошипа", "cos of the crank angle", "calc", "COS({Fi})")
     b.add("sin_1", "", "sin угла кривошипа", "sin of the crank angle", "calc", "SIN({Fi})")
-    b.add("chk_Fi", "rad", "проверка: Fi - (Fi0 + i Delta_Fi) в радианах", "check: Fi - (Fi0 + i Delta_Fi) in radians", "check",
+    b.add("chk_Fi", "rad", "проверка: Fi - (Fi0 + i Delta_Fi) в радианах", "check: Fi - (Fi0 + i Delta_Fi) in radians",
+          "check",
           "{Fi}-(RADIANS({Fi0})+{i}*{Delta_Fi_rad})")
     b.rot[1] = ("cos_1", "sin_1", "Fi_t", "Fi_tt")
     b.section(f"hinge_{A}", f"Шарнир {A} кривошипа (слайд 6: x = Alfa cos dFi - Betta sin dFi)",
@@ -167,7 +193,8 @@ def _crank_rows(b: Builder):
                  f"-{{Fi_t}}*{ry}", f"{{Fi_t}}*{rx}",
                  f"-{{Fi_tt}}*{ry}-{{Fi_t}}*{{vy_{A}}}", f"{{Fi_tt}}*{rx}+{{Fi_t}}*{{vx_{A}}}")
     distance_check(b, f"chk_{O}{A}", O, A, "{L1}", f"проверка: |{O}{A}| - L1", f"check: |{O}{A}| - L1")
-    b.add(f"chk_v_{A}", "m^2/s", f"проверка: скорость {A} перпендикулярна {O}{A}", f"check: velocity of {A} perpendicular to {O}{A}",
+    b.add(f"chk_v_{A}", "m^2/s", f"проверка: скорость {A} перпендикулярна {O}{A}",
+          f"check: velocity of {A} perpendicular to {O}{A}",
           "check", f"{{vx_{A}}}*{rx}+{{vy_{A}}}*{ry}")
     # the crank in the other form of slide 6, x = L1 cos Fi, and its derivatives: each of
     # the hinge's rows against a formula that does not use it (free of the step)
@@ -205,18 +232,11 @@ def _point_rows(b: Builder, p: Point):
 
 # --------------------------------------------------------------------------- writing
 _REF = re.compile(r"\{(scale:)?([^{}@:]+)(?:@(prev|next))?\}")
-_TEXT = {
-    "ru": {"name": "имя", "unit": "ед.", "desc": "описание", "value": "значение / проверка",
-           "checks": "проверки",
-           "na": "н/д", "author": "автор", "pos": "положение"},
-    "en": {"name": "name", "unit": "unit", "desc": "description", "value": "value / check",
-           "checks": "checks",
-           "na": "n/a", "author": "author", "pos": "position"},
-}
+_VARIANT = re.compile(r" \(variant ([^()]+)\)$")
 _EXERCISE_KEEP = {"i", "phi_1"}
 # the header row's texts in every language, by column (name, unit, desc, value): the
 # validator finds a student's columns by them (sheetkin/course/layout.py)
-HEADERS = {key: frozenset(t[key] for t in _TEXT.values()) for key in ("name", "unit", "desc", "value")}
+HEADERS = {key: frozenset(t[key] for t in SHEET.values()) for key in ("name", "unit", "desc", "value")}
 
 
 def prefilled_in_exercise(name: str, kind: str) -> bool:
@@ -266,9 +286,7 @@ def build_workbook(scene: Scene, *, lang: str = "ru", exercise: bool = False,
     out the charts sheet (and its hidden paths sheet): the validator's reference needs only
     the kinematics sheet. issued = (variant id, seal): a variant made by `sheetkin
     variants`, recorded beside the embedded scene (sheetkin/course/issued.py reads them back)."""
-    if lang not in _TEXT:
-        raise ValueError(f"lang must be one of {', '.join(_TEXT)}, got {lang!r}")
-    text = _TEXT[lang]
+    text = SHEET[check_lang(lang)]
     b = sheet_rows(scene)
     rows = b.rows
     n = scene.crank.positions
@@ -286,42 +304,46 @@ def build_workbook(scene: Scene, *, lang: str = "ru", exercise: bool = False,
     wb = CachedWorkbook()        # saved with every formula's value (sheetkin/sheet/cached.py)
     ws = wb.active
     ws.title = SHEET_TITLES[lang][0]
-    _text_cell(ws["A1"], scene.title)
-    ws["A1"].font = Font(bold=True, size=14)
-    _text_cell(ws["A2"], scene.author or "")
+    _head_rows(ws, scene, lang)
     ws["A3"] = text["checks"]
     ws["A3"].font = SECTION_FONT
     for col, key in zip("ABCD", ("name", "unit", "desc", "value"), strict=False):
         ws[f"{col}4"] = text[key]
         ws[f"{col}4"].font = SECTION_FONT
     for k, c in enumerate(cols):
-        ws[f"{c}4"] = k + 1                 # the position's number
+        ws[f"{c}4"] = k                     # the position's number: the row i's, from 0
         ws[f"{c}4"].font = SECTION_FONT
 
     status_cells, fd_range = [], f"{cols[0]}{{r}}:{cols[-1]}{{r}}"
     for row in rows:
         r = where[row.name]
         if row.kind == "section":
-            ws.cell(r, 1, (row.ru if lang == "ru" else row.en)).font = SECTION_FONT
+            guide = guide_line(row.name, lang)
+            ws.cell(r, 1, say(row.ru, row.en, lang) if guide is None else guide).font = (
+                SECTION_FONT if guide is None or row.name == "guide_1" else GUIDE_FONT)
             continue
         ws.cell(r, 1, row.name)
-        ws.cell(r, 2, row.unit)
-        ws.cell(r, 3, row.ru if lang == "ru" else row.en)
+        ws.cell(r, 2, say_unit(row.unit, lang))
+        ws.cell(r, 3, say(row.ru, row.en, lang))
         if row.kind == "input":
             ws.cell(r, 4, row.value).fill = INPUT_FILL
-            if row.value is None:               # the identity rows: text, whatever is typed
-                ws.cell(r, 4).number_format = "@"
             continue
         if row.kind == "derived":
             if not exercise:
                 ws.cell(r, 4, templates[row.name])
+            else:
+                ws.cell(r, 4).fill = TO_FILL
+            ws.cell(r, 4).protection = UNLOCKED
             continue
         if row.kind == "index":
             for k, c in enumerate(cols):
                 ws.cell(r, FIRST_COL + k, k)
             continue
-        if exercise and row.kind in ("calc", "accepted") and row.name not in _EXERCISE_KEEP:
-            continue
+        if row.kind in ("calc", "accepted") and row.name not in _EXERCISE_KEEP:
+            for k in range(n):              # the student's cells: open under the sheet's protection
+                ws.cell(r, FIRST_COL + k).protection = UNLOCKED
+            if exercise:
+                continue
         tpl = templates[row.name]
         fd = "{p}" in tpl or "{n}" in tpl
         if fd:
@@ -351,7 +373,7 @@ def build_workbook(scene: Scene, *, lang: str = "ru", exercise: bool = False,
                             if kinds[m.group(2)] in ("calc", "accepted")})
             ws.cell(r, 4, status_formula(lang, rng, tol, [fd_range.format(r=k) for k in reads], expected))
             status_cells.append(f"D{r}")
-            colour_check_row(ws, rng, f"{cols[0]}{r}", f"D{r}", tol)
+            colour_check_row(ws, rng, f"{cols[0]}{r}", f"D{r}", tol, lang)
     last_row = first_row + len(rows) - 1
     first_status = min((where[r.name] for r in rows if r.kind in ("check", "fdcheck")), default=last_row)
     # the summary counts the statuses by range: no input or derived value may sit in it
@@ -359,6 +381,7 @@ def build_workbook(scene: Scene, *, lang: str = "ru", exercise: bool = False,
         raise RuntimeError("workbook layout: an input row below the first check row")
     write_summary(ws, lang, status_cells, f"D{first_status}:D{last_row}")
     ws.freeze_panes = f"{cols[0]}5"
+    _protect(ws)
     from .printing import setup_page  # widths, alignment, pages (sheetkin/sheet/printing.py)
     setup_page(ws, rows, where, cols, FIRST_COL)
     if charts:
@@ -367,6 +390,33 @@ def build_workbook(scene: Scene, *, lang: str = "ru", exercise: bool = False,
                     SheetRows(ws, rows, where, templates, cols, marker, lang, exercise))
     _embed_scene(wb, scene, scene_text, issued)
     return wb
+
+
+def _head_rows(ws, scene: Scene, lang: str) -> None:
+    """Rows 1-2 (the lecture's step 7.1): the student's name and group, their cells in D
+    (yellow, unlocked, text), and the scheme's title in E1 ("variant" in the book's
+    language). The scheme's author stays in the embedded scene."""
+    text = SHEET[lang]
+    for key, (r, c) in IDENTITY_CELLS.items():
+        label, desc = text[key]
+        ws.cell(r, 1, label).font = SECTION_FONT
+        ws.cell(r, 3, desc)
+        cell = ws.cell(r, c)
+        cell.number_format = "@"            # text, whatever is typed (a group "101" stays "101")
+        cell.fill, cell.protection = INPUT_FILL, UNLOCKED
+    title = _VARIANT.sub(lambda m: f" ({text['variant']} {m.group(1)})", scene.title)
+    _text_cell(ws[TITLE_CELL], title)
+    ws[TITLE_CELL].font = Font(bold=True)       # 11 pt: it prints over the first page's 4-6 positions
+
+
+def _protect(ws) -> None:
+    """The given data are given: the sheet is protected without a password, so a slip cannot
+    change them (the seal still catches a deliberate edit, sheetkin/course/issued.py); the
+    student's cells are unlocked. Column widths and row heights stay free."""
+    p = ws.protection
+    p.sheet = True
+    p.formatColumns = p.formatRows = p.formatCells = False      # False: allowed
+    p.selectLockedCells = p.selectUnlockedCells = False
 
 
 def _add_charts(wb, ws, scene: Scene, where, cols, lang, rows_info):
@@ -379,20 +429,17 @@ def _add_charts(wb, ws, scene: Scene, where, cols, lang, rows_info):
     cs.sheet_properties.pageSetUpPr.fitToPage = True
     first, last = FIRST_COL, FIRST_COL + len(cols) - 1
     points = scene.moving_joints + [p.name for p in scene.points]
-    ru = lang == "ru"
+    t = CHARTS[lang]
     specs = [
-        ("Скорости точек" if ru else "Speeds of points", "phi_1, deg", "v, m/s",
-         [("phi_1", f"v_{p}", f"v_{p}") for p in points]),
-        ("Ускорения точек" if ru else "Accelerations of points", "phi_1, deg", "a, m/s^2",
-         [("phi_1", f"a_{p}", f"a_{p}") for p in points]),
-        ("Угловые скорости звеньев" if ru else "Angular velocities of links", "phi_1, deg", "omega, rad/s",
-         [("phi_1", f"omega_{k}", f"omega_{k}") for k in scene.links]),
+        (t["speeds"], t["phi"], t["v"], [("phi_1", f"v_{p}", f"v_{p}") for p in points]),
+        (t["accs"], t["phi"], t["a"], [("phi_1", f"a_{p}", f"a_{p}") for p in points]),
+        (t["omegas"], t["phi"], t["w"], [("phi_1", f"omega_{k}", f"omega_{k}") for k in scene.links]),
     ]
     if scene.has_dynamics:
         from sheetkin.kinematics.dynamics import reaction_pairs
-        specs.append(("Уравновешивающий момент и мощности" if ru else "Balancing moment and powers", "phi_1, deg",
-                      "N m, W", [("phi_1", n, n) for n in ("M_bal", "P_bal", "P_ext", "T_t") if n in where]))
-        specs.append(("Реакции в кинематических парах" if ru else "Joint reactions", "phi_1, deg", "R, N",
+        specs.append((t["power"], t["phi"], t["pw"],
+                      [("phi_1", n, n) for n in ("M_bal", "P_bal", "P_ext", "T_t") if n in where]))
+        specs.append((t["reactions"], t["phi"], t["r"],
                       [("phi_1", f"R_{p.tag}", f"R_{p.tag}") for p in reaction_pairs(scene)]))
     # the charts read the hidden sheet `plotted`: numbers or #N/A, never text (charts.py)
     data = add_plotted_sheet(wb, rows_info, [n for *_, ser in specs for x, y, _ in ser for n in (x, y)]

@@ -210,7 +210,8 @@ const pos = document.getElementById("pos"), cap = document.getElementById("cap")
 let i = 0, timer = null;
 function show(k) {{ i = k; pos.value = k; g.clearRect(0, 0, cv.width, cv.height);
   g.fillStyle = "#fff"; g.fillRect(0, 0, cv.width, cv.height);
-  draw(D.background); draw(D.frames[k]); cap.textContent = "position " + (k + 1) + "/" + D.frames.length + ": " + D.captions[k]; }}
+  draw(D.background); draw(D.frames[k]);
+  cap.textContent = "i = " + k + " / " + (D.frames.length - 1) + ": " + D.captions[k]; }}
 function play() {{ timer = setInterval(() => show((i + 1) % D.frames.length), 1000 / D.fps); btn.textContent = "pause"; }}
 function pause() {{ clearInterval(timer); timer = null; btn.textContent = "play"; }}
 btn.addEventListener("click", () => timer ? pause() : play());
@@ -220,19 +221,43 @@ show(0); play();
 """
 
 
+# the canvas of an HTML animation: its shortest link at least SHORTEST_PX long (labels
+# apart), within MAX_W x MAX_H, MARGIN_PX around everything drawn (arrows, labels)
+SHORTEST_PX, LEAST_PX, MAX_W, MAX_H, MARGIN_PX, LABEL_PX = 90.0, 560.0, 1100.0, 760.0, 16.0, 40.0
+
+
+def canvas_bounds(pic: Picture, size: int) -> tuple[list[float], int, int]:
+    """Bounds (model units) and the canvas's width and height in px, sized to the
+    mechanism: every shape of every frame inside (vectors and labels too: a fixed 320 px
+    cut the shaper's arrows and piled its labels), the shortest link SHORTEST_PX long or
+    the width `size` or the larger side LEAST_PX, whichever is largest, within MAX_W x MAX_H."""
+    pts = [s.xy for f in [pic.background, *pic.frames] for s in f if len(s.xy)]
+    xy = np.vstack(pts) if pts else np.array([pic.bounds[:2], pic.bounds[2:]])
+    x0, y0 = np.nanmin(xy, axis=0)
+    x1, y1 = np.nanmax(xy, axis=0)
+    w, h = max(x1 - x0, 1e-9), max(y1 - y0, 1e-9)
+    links = [np.hypot(*np.diff(s.xy, axis=0).T).min() for s in pic.frames[0] if s.role == "link" and len(s.xy) > 1]
+    shortest = min([v for v in links if v > 0] or [w])
+    scale = max(size / w, SHORTEST_PX / shortest, LEAST_PX / max(w, h))
+    scale = min(scale, (MAX_W - 2 * MARGIN_PX - LABEL_PX) / w, (MAX_H - 2 * MARGIN_PX) / h)
+    m, lab = MARGIN_PX / scale, LABEL_PX / scale
+    bounds = [float(x0 - m), float(y0 - m), float(x1 + m + lab), float(y1 + m)]
+    return bounds, int(round((bounds[2] - bounds[0]) * scale)), int(round((bounds[3] - bounds[1]) * scale))
+
+
 def html_page(pic: Picture, fps: float = 12, size: int = 480) -> str:
     """A self-contained page: the frames' coordinates as JSON, drawn on a canvas by an
-    inline script, with play/pause and a position slider."""
+    inline script, with play/pause and a position slider (positions named i = 0, 1 ...,
+    as the sheet names its columns)."""
     import html
-    x0, y0, x1, y1 = pic.bounds
-    data = {"bounds": [x0, y0, x1, y1], "fps": fps, "styles": STYLES, "captions": pic.captions,
+    bounds, width, height = canvas_bounds(pic, size)
+    data = {"bounds": bounds, "fps": fps, "styles": STYLES, "captions": pic.captions,
             "background": [_shape_json(s) for s in pic.background],
             "frames": [[_shape_json(s) for s in f] for f in pic.frames]}
     notes = "".join(f"<p class='note'>{html.escape(n)}</p>" for n in pic.notes)
     # "</" would end the script element early: JSON may escape the slash
     blob = json.dumps(data, separators=(",", ":")).replace("</", "<\\/")
-    return _PAGE.format(title=html.escape(pic.title), width=size,
-                        height=int(round(size * (y1 - y0) / (x1 - x0))), last=len(pic.frames) - 1,
+    return _PAGE.format(title=html.escape(pic.title), width=width, height=height, last=len(pic.frames) - 1,
                         notes=notes, data=blob)
 
 

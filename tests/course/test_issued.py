@@ -45,7 +45,7 @@ def edited(src: Path, dst: Path, inputs: dict | None = None, scene_line: tuple[s
     replaced, or the variant id removed: what a student could do with openpyxl or by hand."""
     wb = openpyxl.load_workbook(src)
     ws = wb.worksheets[0]
-    at = row_numbers(ws)
+    at = {**row_numbers(ws), "student": 1, "group": 2}     # the student's own cells: D1, D2
     for name, v in (inputs or {}).items():
         ws.cell(at[name], 4).value = v
     sc = wb["scene"]
@@ -84,7 +84,7 @@ def test_changed_given_data_fail_and_are_graded_against_the_issued_variant(issue
     assert by["phi_1"].status == "correct"
     text = text_report(rep).splitlines()
     assert text[1] == f"  !! given data changed: L1 {l1:g} -> 0.05, Fi_t0 20 -> 1 (FAIL; graded against the issued variant)"
-    code, out, err = run(capsys, "validate", book, "--roster", issued / "roster.csv")
+    code, out, err = run(capsys, "validate", "--lang", "en", book, "--roster", issued / "roster.csv")
     assert code == 1 and "given data changed: L1" in out.splitlines()[1]
     # without a roster: the scene embedded at generation is the issued variant
     rep2 = validate(book)
@@ -92,7 +92,8 @@ def test_changed_given_data_fail_and_are_graded_against_the_issued_variant(issue
     # --accept-changed-inputs: graded against the student's own inputs, as before issue 13
     rep3 = validate(book, options=opts(issued, accept_changed=True))
     assert rep3.given_changed and rep3.ok and all(r.status == "correct" for r in rep3.rows)
-    code, out, _ = run(capsys, "validate", book, "--roster", issued / "roster.csv", "--accept-changed-inputs")
+    code, out, _ = run(capsys, "validate", "--lang", "en", book, "--roster", issued / "roster.csv",
+                       "--accept-changed-inputs")
     assert code == 0 and "(graded against the student's own inputs" in out
 
 
@@ -100,7 +101,8 @@ def test_unchanged_key_book_passes_with_its_seal(issued, capsys):
     rep = validate(issued / "fourbar-02-key.xlsx", options=opts(issued))
     assert rep.ok and rep.given_changed == [] and rep.seal == "ok" and rep.variant == "fourbar-02"
     assert (rep.student, rep.group) == ("", "")
-    code, out, err = run(capsys, "validate", issued / "fourbar-02-key.xlsx", "--roster", issued / "roster.csv")
+    code, out, err = run(capsys, "validate", "--lang", "en", issued / "fourbar-02-key.xlsx", "--roster",
+                         issued / "roster.csv")
     assert code == 0 and "seal ok" in out and "note" not in err      # the key found next to the roster
 
 
@@ -113,10 +115,10 @@ def test_the_seal_catches_an_edited_scene_sheet(issued, tmp_path, capsys):
     rep = validate(book, options=Options(key=key))
     assert rep.given_changed == [] and rep.seal.startswith("scene sheet edited") and not rep.ok
     assert "  !! scene sheet edited" in text_report(rep)
-    code, out, err = run(capsys, "validate", book, "--key", issued / KEY_FILE)
+    code, out, err = run(capsys, "validate", "--lang", "en", book, "--key", issued / KEY_FILE)
     assert code == 1 and "scene sheet edited" in out
     # without a key the seal is not checked, and the command says so once
-    code, out, err = run(capsys, "validate", book, book)
+    code, out, err = run(capsys, "validate", "--lang", "en", book, book)
     assert code == 0 and err.count("seals are not checked") == 1
     # with the roster the issued values come from it: the change shows too
     rep = validate(book, options=opts(issued))
@@ -183,7 +185,7 @@ def test_roster_file_errors(tmp_path):
 def test_cli_roster_errors_are_one_line(issued, tmp_path, capsys):
     bad = tmp_path / "roster.csv"
     bad.write_text(HEAD + "v1,a,b,c,0.1,x\n", encoding="utf-8")
-    code, _, err = run(capsys, "validate", issued / "fourbar-01-key.xlsx", "--roster", bad)
+    code, _, err = run(capsys, "validate", "--lang", "en", issued / "fourbar-01-key.xlsx", "--roster", bad)
     assert code == 2 and err.count("\n") == 1 and f"{bad}:2:6: L2: expected a number" in err
 
 
@@ -226,9 +228,8 @@ def test_books_saved_by_libreoffice_validate_with_the_roster(issued, tmp_path, s
         for c in row:
             if isinstance(c.value, str) and c.value.startswith("="):
                 fws.cell(c.row, c.column).value = c.value
-    at = row_numbers(fws)
-    fws.cell(at["student"], 4).value = "Петров Пётр"
-    fws.cell(at["group"], 4).value = "101"
+    fws["D1"] = "Петров Пётр"             # the student's own cells, rows 1-2
+    fws["D2"] = "101"
     filled.save(src / "filled.xlsx")
     edited(src / "filled.xlsx", src / "changed.xlsx", {"L1": 0.05})
     edited(src / "filled.xlsx", src / "tampered.xlsx", scene_line=("length = ", "length = 0.05"))
@@ -307,8 +308,9 @@ def test_another_class_key_or_roster_is_one_warning(issued, tmp_path, capsys):
                  "--seed", "5"]) == 0
     capsys.readouterr()
     books = sorted(str(p) for p in issued.glob("*-key.xlsx"))
-    code, out, err = run(capsys, "validate", *books, "--roster", issued / "roster.csv", "--key", other / KEY_FILE)
+    code, out, err = run(capsys, "validate", "--lang", "en", *books, "--roster", issued / "roster.csv",
+                         "--key", other / KEY_FILE)
     assert code == 1 and "none of the 2 issued books' seals matches the key" in err
     assert "scene sheet edited" in out
-    code, out, err = run(capsys, "validate", *books, "--roster", issued / "roster.csv")
+    code, out, err = run(capsys, "validate", "--lang", "en", *books, "--roster", issued / "roster.csv")
     assert code == 0 and "warning" not in err                      # the right key: no warning

@@ -2,12 +2,15 @@
 from __future__ import annotations
 
 import re
+from pathlib import Path
 
 import pytest
-from browser import HINT, chrome, chromium_paths, demo_class
+from browser import HINT, ROOT, chrome, chromium_paths, demo_class
 from conftest import _require
 
 from sheetkin.cli.commands import main
+
+RU: dict[str, Path] = {}
 
 
 @pytest.fixture(scope="module")
@@ -16,7 +19,10 @@ def page(tmp_path_factory):
     d = tmp_path_factory.mktemp("class")
     demo_class(d / "submissions")
     html = d / "report.html"
-    assert main(["validate", str(d / "submissions"), "--html", str(html), "--progress", "never"]) == 2
+    assert main(["validate", "--lang", "en", str(d / "submissions"), "--html", str(html), "--progress", "never"]) == 2
+    # the same class in the books' own language (Russian: no --lang)
+    RU["page"] = d / "ru.html"
+    assert main(["validate", str(d / "submissions"), "--html", str(RU["page"]), "--progress", "never"]) == 2
     driver = chrome(*paths)
     driver.get(html.as_uri())
     yield driver, html.read_text(encoding="utf-8")
@@ -71,3 +77,40 @@ def test_no_console_errors_and_nothing_fetched(page):
     refs = re.findall(r"(?:src|href)\s*=\s*['\"]([^'\"]*)", source)
     assert refs and all(r.startswith(("#", "data:")) for r in refs), refs
     assert not re.search(r"https?://(?!www\.w3\.org/2000/svg)", source)
+
+
+def test_the_class_at_a_glance_opens_the_page_in_the_books_language(page):
+    """Issue 22: the Russian page (the books' language by default, <html lang="ru">) opens
+    with the class: the rows the class got wrong, each with its share of books as a bar as
+    long as the share, in the lecture's order, then the distribution of scores; only then
+    the list of students. The author shown is the student, never the scheme's author."""
+    from selenium.webdriver.common.by import By
+    driver, _ = page
+    src = driver.current_url
+    driver.get(RU["page"].as_uri())
+    try:
+        assert driver.execute_script("return document.documentElement.lang") == "ru"
+        glance = driver.find_element(By.ID, "class")
+        summary = driver.find_element(By.ID, "summary")
+        assert glance.location["y"] < summary.location["y"]
+        rows = driver.find_elements(By.CSS_SELECTOR, "#class-rows tr[data-row]")
+        names = [r.get_attribute("data-row") for r in rows]
+        # sidorov's omega_3 and the rows fed by it, in the sheet's order; 1 of 3 usable books
+        assert names[0] == "omega_3" and {"vx_S3", "vy_S3"} <= set(names)
+        import sheetkin
+        from sheetkin.sheet.workbook import sheet_rows
+        order = [r.name for r in sheet_rows(sheetkin.load_scene(ROOT / "workbooks" / "fourbar.toml")).rows]
+        assert names == sorted(names, key=order.index)
+        widths = [r.find_element(By.CLASS_NAME, "bar").size["width"] for r in rows]
+        shares = [float(r.get_attribute("data-share")) for r in rows]
+        assert shares[0] == pytest.approx(1 / 3, abs=1e-3)
+        assert all(abs(w / widths[0] - s / shares[0]) < 0.05 for w, s in zip(widths, shares, strict=True))
+        bins = driver.find_elements(By.CSS_SELECTOR, "#class-scores tr[data-bin]")
+        assert sum(int(b.get_attribute("data-count")) for b in bins) == 4       # every book, unusable: 0
+        assert "Группа одним взглядом" in glance.text and "доля неверных" in glance.text
+        heads = [h.text for h in driver.find_elements(By.CSS_SELECTOR, "#summary th button")]
+        assert heads[:3] == ["студент", "группа", "вариант"]
+        body = driver.find_element(By.TAG_NAME, "body").text
+        assert "sheetkin example" not in body and "Sidorov A." in body
+    finally:
+        driver.get(src)

@@ -223,7 +223,7 @@ def test_unusable_inputs_in_a_batch(fourbar, tmp_path, capsys):
     wb.active["A1"] = 1
     wb.save(folder / "foreign.xlsx")
     before = {p.name: hashlib.sha256(p.read_bytes()).hexdigest() for p in folder.iterdir()}
-    code = main(["validate", str(folder)])
+    code = main(["validate", "--lang", "en", str(folder)])
     out = capsys.readouterr().out
     assert code == 2
     lines = {p: [ln for ln in out.splitlines() if p in ln] for p in before}
@@ -234,7 +234,7 @@ def test_unusable_inputs_in_a_batch(fourbar, tmp_path, capsys):
     # text typed over a given number is a change of the given data (graded against the
     # issued 0.14); only when the student's own inputs are graded is it unusable
     assert "given data changed: L1 0.14 -> '0.14 m'" in out
-    assert main(["validate", str(folder / "text_input.xlsx"), "--accept-changed-inputs"]) == 2
+    assert main(["validate", "--lang", "en", str(folder / "text_input.xlsx"), "--accept-changed-inputs"]) == 2
     assert "UNUSABLE" in capsys.readouterr().out
     # the summary table; its student column is the student's own cells (blank here), not A2
     assert re.search(r"good\.xlsx\s+all correct", out) and "sheetkin example  " not in out
@@ -246,7 +246,8 @@ def test_json_html_and_progress(fourbar, tmp_path, capsys):
     bad = edit(fourbar, tmp_path / "bad.xlsx",
                lambda ws, rows: [setattr(ws.cell(rows["omega_2"], 5 + k), "value", 1.0) for k in range(13)])
     html = tmp_path / "r.html"
-    code = main(["validate", str(fourbar), str(bad), "--json", "--html", str(html), "--progress", "always"])
+    code = main(["validate", "--lang", "en", str(fourbar), str(bad), "--json", "--html", str(html),
+                 "--progress", "always"])
     captured = capsys.readouterr()
     assert code == 1
     data = json.loads(captured.out)

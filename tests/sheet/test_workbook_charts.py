@@ -49,7 +49,7 @@ CASES = {
     "crank_slider": ((WB / "crank_slider.toml").read_text(), 10, {"L1": 0.09}),
     "slotted_lever": ((WB / "slotted_lever.toml").read_text(), 2, {}),
     "two_rockers_slotted": ((WB / "two_rockers_slotted.toml").read_text(), 5, {}),   # a moving guide
-    "gap": (SHORT, 6, {}),            # position 6 (150 deg) cannot assemble
+    "gap": (SHORT, 5, {}),            # position i = 5 (150 deg) cannot assemble
     # PRP: its fixed guide's angle is the input gamma2_g2 (a name no stage hard-codes)
     "slider_on_coupler": ((WB / "slider_on_coupler.toml").read_text(), 3, {"gamma2_g2": 80.0}),
 }
@@ -95,7 +95,7 @@ def test_drawing_follows_position_and_lengths(books, key):
     wb, _ = books[key]
     cs = wb.worksheets[1]
     scene, pos = _changed(key)
-    phi = scene.crank_angles_deg()[pos - 1]
+    phi = scene.crank_angles_deg()[pos]          # B1 is the sheet's i, from 0
     df = sheetkin.compute(scene, [phi])
     assert cs["D1"].value == pytest.approx(phi, abs=1e-9)
     series = _helper_series(cs)
@@ -104,14 +104,14 @@ def test_drawing_follows_position_and_lengths(books, key):
     for k, pts in st.members.items():
         if len(pts) < 2:
             continue
-        label = f"link {k}: {'-'.join(pts)}"
+        label = f"звено {k}: {'-'.join(pts)}"
         got = np.array(series[label], dtype=float)
         want = np.array([drawing.point_xy(scene, df, p)[0] for p in pts])
         assert np.allclose(got[:len(pts)], want, rtol=1e-9, atol=1e-12), label
         drawn += 1
     assert drawn >= 2
     for b in st.blocks:               # the block's centre is the slider's point
-        corners = np.array(series[f"block {b.link} at {b.at}"], dtype=float)[:4]
+        corners = np.array(series[f"ползун {b.link} в {b.at}"], dtype=float)[:4]
         assert np.allclose(corners.mean(axis=0), drawing.point_xy(scene, df, b.at)[0], atol=1e-12)
 
 
@@ -158,9 +158,9 @@ def test_paths_sheet_equals_compute_over_a_revolution(books):
 def test_position_in_a_gap_draws_nothing_but_the_crank(books):
     wb, _ = books["gap"]
     series = _helper_series(wb.worksheets[1])
-    assert all(is_error(v) for v in series["link 2: A-B"][1])      # B: #N/A, not plotted
-    assert all(is_error(v) for v in series["link 3: O1-B"][1])
-    assert np.allclose(np.array(series["link 1: O-A"], dtype=float)[1],
+    assert all(is_error(v) for v in series["звено 2: A-B"][1])      # B: #N/A, not plotted
+    assert all(is_error(v) for v in series["звено 3: O1-B"][1])
+    assert np.allclose(np.array(series["звено 1: O-A"], dtype=float)[1],
                        [0.2 * np.cos(np.radians(150)), 0.2 * np.sin(np.radians(150))])
     ps = wb[PATHS_SHEET]
     rows = _rows(ps)
