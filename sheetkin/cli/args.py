@@ -44,7 +44,9 @@ def _positive_int(text: str) -> int:
 # sheetkin.course.batch.max_jobs() and sheetkin.views.animate's caps, without importing them
 # for --help (tests/cli/test_hostile_input.py checks they are equal)
 MAX_JOBS = max(4, 2 * (os.cpu_count() or 1))
-ANIMATE_CAPS = {"frames": 3600, "size": 4000, "fps": (0.1, 100.0)}
+MAX_FRAMES, MAX_SIZE = 3600, 4000           # animate's caps (views.animate's, tested equal)
+FPS_RANGE = (0.1, 100.0)
+ANIMATE_CAPS: dict[str, object] = {"frames": MAX_FRAMES, "size": MAX_SIZE, "fps": FPS_RANGE}
 
 
 def _capped_int(cap: int, why: str):
@@ -57,7 +59,7 @@ def _capped_int(cap: int, why: str):
 
 
 def _fps(text: str) -> float:
-    lo, hi = ANIMATE_CAPS["fps"]
+    lo, hi = FPS_RANGE
     v = _positive_float(text)
     if not lo <= v <= hi:
         raise argparse.ArgumentTypeError(f"expected {lo:g} to {hi:g} frames per second (a GIF counts "
@@ -97,6 +99,15 @@ def build_parser() -> argparse.ArgumentParser:
                     "name): see `sheetkin docs scene-format`; every page: `sheetkin docs`.")
     parser.add_argument("--version", action="version", version=f"sheetkin {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    for add in (_add_compute_parser, _add_workbook_parser, _add_evaluate_parser, _add_validate_parser,
+                _add_bench_parser, _add_synth_parser, _add_animate_parser, _add_variants_parser,
+                _add_examples_parser, _add_docs_parser):
+        add(sub)
+    return parser
+
+
+def _add_compute_parser(sub) -> None:
+    """`sheetkin compute`: the kinematics of a scene at its crank positions."""
     p = sub.add_parser(
         "compute", help="positions, velocities and accelerations of every link and point",
         description="Compute the kinematics of a scene (`sheetkin docs scene-format`) at every "
@@ -140,6 +151,9 @@ def build_parser() -> argparse.ArgumentParser:
                    f"(sine of the transmission angle for RRR) is below X (default {TOGGLE_THRESHOLD})")
     p.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of stdout")
 
+
+def _add_workbook_parser(sub) -> None:
+    """`sheetkin workbook`: the lecture's workbook with live formulas."""
     w = sub.add_parser(
         "workbook", help="the lecture's Excel workbook with live formulas",
         description="Write the lecture's row-structured workbook (seed 003, steps 7-10) for "
@@ -165,6 +179,13 @@ def build_parser() -> argparse.ArgumentParser:
                    help="require the synthesis sheet (seed 002): exit 2 if the scene has no "
                         "[synthesis] table (`synth crank-rocker -o` writes one). Without this "
                         "option the sheet is added whenever the scene has the table")
+    w.add_argument("--check", action="store_true",
+                   help="write nothing: exit 1 if an existing workbook differs from what would be "
+                        "written (stale) or is missing")
+
+
+def _add_evaluate_parser(sub) -> None:
+    """`sheetkin evaluate`: a workbook's formulas computed headlessly."""
     e = sub.add_parser(
         "evaluate", help="compute a workbook's formulas without a spreadsheet program",
         description="Evaluate every formula of an .xlsx workbook headlessly (numpy) and print "
@@ -174,6 +195,9 @@ def build_parser() -> argparse.ArgumentParser:
     e.add_argument("--sheet", help="the sheet to print (default: the first)")
     e.add_argument("-o", "--output", metavar="FILE", help="write to FILE instead of stdout")
 
+
+def _add_validate_parser(sub) -> None:
+    """`sheetkin validate`: students' workbooks graded row by row."""
     v = sub.add_parser(
         "validate", help="check students' workbooks against the reference solver",
         description="Validate filled workbooks (made by `sheetkin workbook` or `sheetkin "
@@ -224,6 +248,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help="let a number typed where a formula belongs earn credit when it is right "
                         "to its last digit (default: a computed row earns credit only where it "
                         "computes; still reported as typed, not computed; see `sheetkin docs grading`)")
+
+
+def _add_bench_parser(sub) -> None:
+    """`sheetkin bench`: speed against accuracy of each method."""
     b = sub.add_parser(
         "bench", help="time and accuracy of each way of computing a scene",
         description="For each method (the closed-form solver; Newton on the loop-closure "
@@ -253,11 +281,20 @@ def build_parser() -> argparse.ArgumentParser:
                    help="N crank positions over one revolution from phi0 (default: the scene's)")
     b.add_argument("--no-libreoffice", action="store_true",
                    help="skip the LibreOffice recalculation (the slowest method)")
+
+
+def _add_synth_parser(sub) -> None:
+    """`sheetkin synth KIND`: a mechanism from its design data."""
     s = sub.add_parser(
         "synth", help="synthesize a mechanism from design data (seed 002)",
         description="Synthesize a mechanism from its design data and print its dimensions; "
                     "with -o, write a scene file ready for `compute` and `workbook`.")
     ssub = s.add_subparsers(dest="kind", metavar="KIND", required=True)
+    _add_crank_rocker_parser(ssub)
+
+
+def _add_crank_rocker_parser(ssub) -> None:
+    """`sheetkin synth crank-rocker`: the four-bar from its time-ratio coefficient."""
     cr = ssub.add_parser(
         "crank-rocker", help="crank-rocker four-bar from the time-ratio coefficient K_w",
         description="Seed 002: from the time-ratio coefficient K_w (overlap angle theta = "
@@ -297,14 +334,6 @@ def build_parser() -> argparse.ArgumentParser:
                     help="crank positions in the written scene (default 13)")
     cr.add_argument("--step-deg", type=_finite_float, default=30.0, metavar="DEG",
                     help="crank angle step in the written scene (default 30)")
-    _add_animate_parser(sub)
-    _add_variants_parser(sub)
-    _add_examples_parser(sub)
-    _add_docs_parser(sub)
-    w.add_argument("--check", action="store_true",
-                   help="write nothing: exit 1 if an existing workbook differs from what would be "
-                        "written (stale) or is missing")
-    return parser
 
 
 def _add_animate_parser(sub):
@@ -321,15 +350,15 @@ def _add_animate_parser(sub):
     a.add_argument("scene", metavar="SCENE.toml", help="the scene file")
     a.add_argument("-o", "--output", metavar="OUT", required=True,
                    help="mechanism.gif, mechanism.html or mechanism.png")
-    a.add_argument("--frames", type=_capped_int(ANIMATE_CAPS["frames"], "every 0.1 deg"), default=36,
+    a.add_argument("--frames", type=_capped_int(MAX_FRAMES, "every 0.1 deg"), default=36,
                    metavar="N", help="positions over the revolution (default 36, every 10 deg; at most "
-                                     f"{ANIMATE_CAPS['frames']:,})")
+                                     f"{MAX_FRAMES:,})")
     a.add_argument("--fps", type=_fps, default=12.0,
-                   help=f"frames per second (default 12; {ANIMATE_CAPS['fps'][0]:g} to {ANIMATE_CAPS['fps'][1]:g})")
-    a.add_argument("--size", type=_capped_int(ANIMATE_CAPS["size"], "pixels"), default=320, metavar="PX",
+                   help=f"frames per second (default 12; {FPS_RANGE[0]:g} to {FPS_RANGE[1]:g})")
+    a.add_argument("--size", type=_capped_int(MAX_SIZE, "pixels"), default=320, metavar="PX",
                    help="width of the drawing in pixels (default 320, at most "
-                        f"{ANIMATE_CAPS['size']:,}); the height follows at equal scale, "
-                        f"at most {ANIMATE_CAPS['size']:,} too (the width shrinks for a tall mechanism)")
+                        f"{MAX_SIZE:,}); the height follows at equal scale, "
+                        f"at most {MAX_SIZE:,} too (the width shrinks for a tall mechanism)")
     a.add_argument("--vectors", action="store_true",
                    help="draw the points' velocity vectors (one scale for the whole revolution)")
     a.add_argument("--no-labels", action="store_true", help="leave out the names of joints and links")

@@ -575,8 +575,9 @@ def _issued_options(args):
     from sheetkin.course.issued import KEY_FILE, OLDER_KEYS, Options, read_key, read_roster
     roster = read_roster(args.roster) if args.roster else None
     key_path = args.key or (Path(args.roster).parent / KEY_FILE if args.roster else None)
-    key, older = None, ()
-    if args.key or (key_path and key_path.exists()):
+    key: bytes | None = None
+    older: tuple[bytes, ...] = ()
+    if key_path is not None and (args.key or Path(key_path).exists()):
         key = read_key(key_path)
         # the keys of earlier issues, kept dated beside it by `variants --force`
         older = tuple(read_key(p) for p in sorted(Path(key_path).parent.glob(OLDER_KEYS)) if p.is_file())

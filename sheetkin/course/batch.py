@@ -23,7 +23,7 @@ import signal
 import tempfile
 import zipfile
 from collections import deque
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Generator, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 
@@ -47,7 +47,7 @@ def max_jobs() -> int:
 
 
 def validate_many(paths: list[Path], jobs: int | None = None,
-                  progress: Callable[[int, Path], None] | None = None, options=None) -> Iterator:
+                  progress: Callable[[int, Path], None] | None = None, options=None) -> Generator[Report, None, None]:
     """Yield validate(path) for every path, in order. jobs: processes (default: one per
     core; at most max_jobs()); 1, or a single file, validates in this process.
     progress(done, path) is called before each report is yielded. options: issued.Options
