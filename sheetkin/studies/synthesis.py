@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -459,6 +460,31 @@ _SYNTH_TEXT = {
 }
 
 
+@dataclass
+class _SynthSheet:
+    """The synthesis sheet being written: where each named row sits, and how its formula
+    templates become cell formulas ({name} an absolute cell, D{name}/E{name} a root's)."""
+    ws: Any
+    text: dict[str, str]
+    lang: str
+    where: dict[str, int]
+    pts: dict[str, int]
+    arc: dict[str, int]
+    after: int
+    arc0: int
+    kinematics: dict[str, str] | None
+
+    def fill(self, tpl: str, col: str = "D") -> str:
+        import re
+        where = self.where
+        tpl = tpl.replace("{marker}", self.text["marker"])
+        tpl = re.sub(r"\{kin:(\w+)\}", lambda m: (self.kinematics or {})[m.group(1)], tpl)
+        tpl = re.sub(r"\{c\}@(\w+)", lambda m: f"{col}{where[m.group(1)]}", tpl)
+        tpl = re.sub(r"D\{(\w+)\}", lambda m: f"D{where[m.group(1)]}", tpl)
+        tpl = re.sub(r"E\{(\w+)\}", lambda m: f"E{where[m.group(1)]}", tpl)
+        return re.sub(r"\{(\w+)\}", lambda m: f"$D${where[m.group(1)]}", tpl)
+
+
 def add_synthesis_sheet(wb, kw: float, l3: float, yd: float, gamma1_deg: float,
                         gamma2_deg: float, lang: str = "ru", *, tol: float = 1e-9,
                         phi_ref_deg: float = 30.0, kinematics: dict[str, str] | None = None,
@@ -471,43 +497,40 @@ def add_synthesis_sheet(wb, kw: float, l3: float, yd: float, gamma1_deg: float,
     chart of both. With `kinematics` ({"L1", "L2", "L3", "x_O", "y_O", "x_D", "y_D", "branch"}
     -> a cell of another sheet), check rows compare those cells with the solution as well.
     Returns the sheet."""
-    import re
-
-    from openpyxl.chart import Reference, ScatterChart, Series
-    from openpyxl.chart.data_source import NumFmt
-    from openpyxl.formatting.rule import FormulaRule
-    from openpyxl.styles import Font
-    from openpyxl.utils import get_column_letter
-
-    from sheetkin.sheet.checks import GREEN, RED
-    from sheetkin.sheet.workbook import INPUT_FILL, SECTION_FONT
-
     if lang not in _SYNTH_TEXT:
         raise ValueError(f"lang must be one of {', '.join(_SYNTH_TEXT)}, got {lang!r}")
-    text = _SYNTH_TEXT[lang]
     values = {"K_w": kw, "l3": l3, "Y_D": yd, "gamma1_deg": gamma1_deg,
               "gamma2_deg": gamma2_deg, "phi_ref_deg": phi_ref_deg, "Tol": tol}
     rows = _SYNTH_ROWS + (_LINK_ROWS if kinematics else [])
     first = 5
-    where = {}
-    for k, row in enumerate(rows):
-        if row[0] != "#":
-            where[row[0]] = first + k
+    where = {row[0]: first + k for k, row in enumerate(rows) if row[0] != "#"}
     after = first + len(rows) + 1
     pts = {"X_H": after + 1, "Y_H": after + 2, "X_K": after + 3, "Y_K": after + 4}
     arc0 = after + 6
     arc = {"k": arc0 + 1, "gamma_arc": arc0 + 2, "X_arc": arc0 + 3, "Y_arc": arc0 + 4}
     where.update(pts)
-
-    def fill(tpl: str, col: str = "D") -> str:
-        tpl = tpl.replace("{marker}", text["marker"])
-        tpl = re.sub(r"\{kin:(\w+)\}", lambda m: (kinematics or {})[m.group(1)], tpl)
-        tpl = re.sub(r"\{c\}@(\w+)", lambda m: f"{col}{where[m.group(1)]}", tpl)
-        tpl = re.sub(r"D\{(\w+)\}", lambda m: f"D{where[m.group(1)]}", tpl)
-        tpl = re.sub(r"E\{(\w+)\}", lambda m: f"E{where[m.group(1)]}", tpl)
-        return re.sub(r"\{(\w+)\}", lambda m: f"$D${where[m.group(1)]}", tpl)
-
     ws = wb.create_sheet(SYNTH_SHEET_TITLES[lang], index)
+    sheet = _SynthSheet(ws, _SYNTH_TEXT[lang], lang, where, pts, arc, after, arc0, kinematics)
+    _synthesis_rows(sheet, rows, values, first)
+    _synthesis_verdict(sheet)
+    _dead_position_rows(sheet)
+    _rocker_arc_rows(sheet)
+    _synthesis_chart(sheet)
+    ws.freeze_panes = "D5"
+    ws.page_setup.orientation = "landscape"
+    ws.page_setup.paperSize = ws.PAPERSIZE_A4
+    ws.sheet_properties.pageSetUpPr.fitToPage = True
+    ws.page_setup.fitToWidth, ws.page_setup.fitToHeight = 1, 0
+    return ws
+
+
+def _synthesis_rows(sheet: _SynthSheet, rows, values: dict[str, float], first: int) -> None:
+    """The title, the headers, the given data (yellow) and the solution's rows: a root per
+    column (D, E) where a row has two candidates."""
+    from openpyxl.styles import Font
+
+    from sheetkin.sheet.workbook import INPUT_FILL, SECTION_FONT
+    ws, text, lang = sheet.ws, sheet.text, sheet.lang
     ws["A1"] = text["title"]
     ws["A1"].font = Font(bold=True, size=14)
     ws["A3"] = text["checks"]
@@ -533,10 +556,19 @@ def add_synthesis_sheet(wb, kw: float, l3: float, yd: float, gamma1_deg: float,
         if row[4] == "cand":
             tpls = row[5:] if len(row) == 7 else (row[5], row[5])
             for col, tpl in zip("DE", tpls, strict=False):
-                ws[f"{col}{r}"] = fill(tpl, col)
+                ws[f"{col}{r}"] = sheet.fill(tpl, col)
                 ws[f"{col}{r}"].number_format = fmt
         else:
-            ws.cell(r, 4, fill(row[4])).number_format = fmt
+            ws.cell(r, 4, sheet.fill(row[4])).number_format = fmt
+
+
+def _synthesis_verdict(sheet: _SynthSheet) -> None:
+    """The residuals green within Tol, red past it, and D3's verdict over all of them."""
+    from openpyxl.formatting.rule import FormulaRule
+
+    from sheetkin.sheet.checks import GREEN, RED
+    from sheetkin.sheet.workbook import SECTION_FONT
+    ws, text, where = sheet.ws, sheet.text, sheet.where
     tolc = f"$D${where['Tol']}"
     res = [f"D{r}" for name, r in where.items() if name.startswith(("res_", "kin_"))]
     for c in res:
@@ -549,11 +581,14 @@ def add_synthesis_sheet(wb, kw: float, l3: float, yd: float, gamma1_deg: float,
     ws.conditional_formatting.add("D3", FormulaRule(formula=[f'D3="{text["pass"]}"'], fill=GREEN))
     ws.conditional_formatting.add("D3", FormulaRule(formula=[f'D3<>"{text["pass"]}"'], fill=RED))
 
-    # the dead positions' points O, A, B, D (columns D..G), as in the seed
-    ws.cell(after, 1, text["points"]).font = SECTION_FONT
+
+def _dead_position_rows(sheet: _SynthSheet) -> None:
+    """The dead positions' points O, A, B, D (columns D..G), as in the seed."""
+    from sheetkin.sheet.workbook import SECTION_FONT
+    ws, after = sheet.ws, sheet.after
+    ws.cell(after, 1, sheet.text["points"]).font = SECTION_FONT
     for j, p in enumerate("OABD"):
         ws.cell(after, 4 + j, p).font = SECTION_FONT
-    t = fill
     pt = {"X_H": ("0", "={l1}*COS({phi1H})", "=({l1}+{l2})*COS({phi1H})", "={X_D}"),
           "Y_H": ("0", "={l1}*SIN({phi1H})", "=({l1}+{l2})*SIN({phi1H})", "={Y_D}"),
           "X_K": ("0", "={l1}*COS({phi1H}+{theta}+PI())", "=({l2}-{l1})*COS({phi1H}+{theta})", "={X_D}"),
@@ -562,15 +597,22 @@ def add_synthesis_sheet(wb, kw: float, l3: float, yd: float, gamma1_deg: float,
             "Y_H": ("ординаты, начальное положение", "ordinates, extended position"),
             "X_K": ("абсциссы, конечное положение", "abscissae, folded position"),
             "Y_K": ("ординаты, конечное положение", "ordinates, folded position")}
-    for name, r in pts.items():
+    for name, r in sheet.pts.items():
         ws.cell(r, 1, name)
         ws.cell(r, 2, "m")
-        ws.cell(r, 3, desc[name][0 if lang == "ru" else 1])
+        ws.cell(r, 3, desc[name][0 if sheet.lang == "ru" else 1])
         for j, f in enumerate(pt[name]):
-            cell = ws.cell(r, 4 + j, 0.0 if f == "0" else t(f))
+            cell = ws.cell(r, 4 + j, 0.0 if f == "0" else sheet.fill(f))
             cell.number_format = "0.000000"
-    # the rocker's arc: gamma1 .. gamma2 in _ARC_POINTS points (columns D..)
-    ws.cell(arc0, 1, text["arc"]).font = SECTION_FONT
+
+
+def _rocker_arc_rows(sheet: _SynthSheet) -> None:
+    """The rocker's arc: gamma1 .. gamma2 in _ARC_POINTS points (columns D..)."""
+    from openpyxl.utils import get_column_letter
+
+    from sheetkin.sheet.workbook import SECTION_FONT
+    ws, text, arc = sheet.ws, sheet.text, sheet.arc
+    ws.cell(sheet.arc0, 1, text["arc"]).font = SECTION_FONT
     n = _ARC_POINTS
     cols = [get_column_letter(4 + k) for k in range(n)]
     labels = {"k": ("", text["k"]), "gamma_arc": ("deg", text["gamma"]),
@@ -586,13 +628,16 @@ def add_synthesis_sheet(wb, kw: float, l3: float, yd: float, gamma1_deg: float,
             f = {"gamma_arc": f"={{gamma1_deg}}+({{gamma2_deg}}-{{gamma1_deg}})*{c}{arc['k']}/{n - 1}",
                  "X_arc": f"={{X_D}}+{{l3}}*COS(RADIANS({c}{arc['gamma_arc']}))",
                  "Y_arc": f"={{Y_D}}+{{l3}}*SIN(RADIANS({c}{arc['gamma_arc']}))"}[name]
-            ws.cell(r, 4 + k, fill(f)).number_format = "0.00" if name == "gamma_arc" else "0.0000"
-    ws.column_dimensions["A"].width = 14
-    ws.column_dimensions["B"].width = 6
-    ws.column_dimensions["C"].width = 56
-    ws.column_dimensions["D"].width = 16
-    ws.column_dimensions["E"].width = 16
+            ws.cell(r, 4 + k, sheet.fill(f)).number_format = "0.00" if name == "gamma_arc" else "0.0000"
+    for col, width in zip("ABCDE", (14, 6, 56, 16, 16), strict=True):
+        ws.column_dimensions[col].width = width
 
+
+def _synthesis_chart(sheet: _SynthSheet) -> None:
+    """The mechanism in its dead positions and the rocker's arc, at G3."""
+    from openpyxl.chart import Reference, ScatterChart, Series
+    from openpyxl.chart.data_source import NumFmt
+    ws, text, pts, arc = sheet.ws, sheet.text, sheet.pts, sheet.arc
     ch = ScatterChart()
     ch.scatterStyle = "lineMarker"   # required by the schema; each series sets its own lines and markers
     ch.title, ch.style, ch.height, ch.width = text["chart"], 2, 12, 14
@@ -605,18 +650,12 @@ def add_synthesis_sheet(wb, kw: float, l3: float, yd: float, gamma1_deg: float,
         return Reference(ws, min_col=c0, max_col=c1, min_row=r, max_row=r)
     for xs, ys, label, c1 in ((pts["X_H"], pts["Y_H"], text["H"], 7),
                               (pts["X_K"], pts["Y_K"], text["K"], 7),
-                              (arc["X_arc"], arc["Y_arc"], text["arcs"], 3 + n)):
+                              (arc["X_arc"], arc["Y_arc"], text["arcs"], 3 + _ARC_POINTS)):
         s = Series(row_ref(ys, 4, c1), row_ref(xs, 4, c1), title=label)
         s.marker.symbol = "circle" if c1 == 7 else "none"
         s.smooth = False
         ch.series.append(s)
     ws.add_chart(ch, "G3")
-    ws.freeze_panes = "D5"
-    ws.page_setup.orientation = "landscape"
-    ws.page_setup.paperSize = ws.PAPERSIZE_A4
-    ws.sheet_properties.pageSetUpPr.fitToPage = True
-    ws.page_setup.fitToWidth, ws.page_setup.fitToHeight = 1, 0
-    return ws
 
 
 def build_synthesis_workbook(kw: float, l3: float, yd: float, gamma1_deg: float,
