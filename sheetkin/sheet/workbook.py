@@ -26,6 +26,7 @@ workbook costs one str.format per cell.
 from __future__ import annotations
 
 import re
+from dataclasses import dataclass
 from pathlib import Path
 from typing import cast
 
@@ -313,67 +314,8 @@ def build_workbook(scene: Scene, *, lang: str = "ru", exercise: bool = False,
     for k, c in enumerate(cols):
         ws[f"{c}4"] = k                     # the position's number: the row i's, from 0
         ws[f"{c}4"].font = SECTION_FONT
-
-    status_cells, fd_range = [], f"{cols[0]}{{r}}:{cols[-1]}{{r}}"
-    for row in rows:
-        r = where[row.name]
-        if row.kind == "section":
-            guide = guide_line(row.name, lang)
-            ws.cell(r, 1, say(row.ru, row.en, lang) if guide is None else guide).font = (
-                SECTION_FONT if guide is None or row.name == "guide_1" else GUIDE_FONT)
-            continue
-        ws.cell(r, 1, row.name)
-        ws.cell(r, 2, say_unit(row.unit, lang))
-        ws.cell(r, 3, say(row.ru, row.en, lang))
-        if row.kind == "input":
-            ws.cell(r, 4, row.value).fill = INPUT_FILL
-            continue
-        if row.kind == "derived":
-            if not exercise:
-                ws.cell(r, 4, templates[row.name])
-            else:
-                ws.cell(r, 4).fill = TO_FILL
-            ws.cell(r, 4).protection = UNLOCKED
-            continue
-        if row.kind == "index":
-            for k, c in enumerate(cols):
-                ws.cell(r, FIRST_COL + k, k)
-            continue
-        if row.kind in ("calc", "accepted") and row.name not in _EXERCISE_KEEP:
-            for k in range(n):              # the student's cells: open under the sheet's protection
-                ws.cell(r, FIRST_COL + k).protection = UNLOCKED
-            if exercise:
-                continue
-        tpl = templates[row.name]
-        fd = "{p}" in tpl or "{n}" in tpl
-        if fd:
-            # central differences: only where the step allows and the crank turns
-            tpl = (f'=IF(OR(ABS($D${where["Delta_Fi"]})>{FD_MAX_STEP_DEG:g},$D${where["Fi_t0"]}=0),'
-                   f'"{text["na"]}",{tpl[1:]})')
-        if row.guard:
-            tpl = f'=IF({{c}}{where[row.guard]},{tpl[1:]},"{marker}")'
-        fmt = {"check": "0.0E+00", "fdcheck": "0.0E+00", "guard": "General"}.get(row.kind, "0.000000")
-        for k, c in enumerate(cols):
-            if fd and (k == 0 or k == n - 1):
-                ws.cell(r, FIRST_COL + k, text["na"])
-                continue
-            p = cols[k - 1] if k else c
-            nx = cols[k + 1] if k + 1 < n else c
-            ws.cell(r, FIRST_COL + k, tpl.format(c=c, p=p, n=nx)).number_format = fmt
-        if row.kind == "accepted":
-            ws.cell(r, 1).fill = ACCEPTED_FILL
-        if row.kind in ("check", "fdcheck"):
-            rng = fd_range.format(r=r)
-            tol = f"$D${where['Tol_FD' if row.kind == 'fdcheck' else 'Tol']}"
-            expected = None
-            if row.kind == "check":
-                expected = (f"SUMPRODUCT(--({cols[0]}{where[row.guard]}:{cols[-1]}{where[row.guard]}))"
-                            if row.guard else str(n))
-            reads = sorted({where[m.group(2)] for m in _REF.finditer(row.formula)
-                            if kinds[m.group(2)] in ("calc", "accepted")})
-            ws.cell(r, 4, status_formula(lang, rng, tol, [fd_range.format(r=k) for k in reads], expected))
-            status_cells.append(f"D{r}")
-            colour_check_row(ws, rng, f"{cols[0]}{r}", f"D{r}", tol, lang)
+    book = _Layout(where, templates, cols, kinds, text, marker, lang, exercise)
+    status_cells = [cell for row in rows if (cell := _write_row(ws, row, book))]
     last_row = first_row + len(rows) - 1
     first_status = min((where[r.name] for r in rows if r.kind in ("check", "fdcheck")), default=last_row)
     # the summary counts the statuses by range: no input or derived value may sit in it
@@ -390,6 +332,98 @@ def build_workbook(scene: Scene, *, lang: str = "ru", exercise: bool = False,
                     SheetRows(ws, rows, where, templates, cols, marker, lang, exercise))
     _embed_scene(wb, scene, scene_text, issued)
     return wb
+
+
+@dataclass
+class _Layout:
+    """Where build_workbook writes: each row's number, its formula template, the position
+    columns, each row's kind, the sheet's texts and marker, its language, an exercise or not."""
+    where: dict[str, int]
+    templates: dict[str, str]
+    cols: list[str]
+    kinds: dict[str, str]
+    text: dict[str, str]
+    marker: str
+    lang: str
+    exercise: bool
+
+
+def _write_row(ws, row, book: _Layout) -> str | None:
+    """One row of the kinematics sheet in the lecture's columns (name, unit, description,
+    value, then a cell per position); returns its status cell for a check row."""
+    r, lang, n = book.where[row.name], book.lang, len(book.cols)
+    if row.kind == "section":
+        guide = guide_line(row.name, lang)
+        ws.cell(r, 1, say(row.ru, row.en, lang) if guide is None else guide).font = (
+            SECTION_FONT if guide is None or row.name == "guide_1" else GUIDE_FONT)
+        return None
+    ws.cell(r, 1, row.name)
+    ws.cell(r, 2, say_unit(row.unit, lang))
+    ws.cell(r, 3, say(row.ru, row.en, lang))
+    if row.kind == "input":
+        ws.cell(r, 4, row.value).fill = INPUT_FILL
+        return None
+    if row.kind == "derived":
+        if not book.exercise:
+            ws.cell(r, 4, book.templates[row.name])
+        else:
+            ws.cell(r, 4).fill = TO_FILL
+        ws.cell(r, 4).protection = UNLOCKED
+        return None
+    if row.kind == "index":
+        for k in range(n):
+            ws.cell(r, FIRST_COL + k, k)
+        return None
+    if row.kind in ("calc", "accepted") and row.name not in _EXERCISE_KEEP:
+        for k in range(n):              # the student's cells: open under the sheet's protection
+            ws.cell(r, FIRST_COL + k).protection = UNLOCKED
+        if book.exercise:
+            return None
+    _position_cells(ws, row, r, book)
+    if row.kind == "accepted":
+        ws.cell(r, 1).fill = ACCEPTED_FILL
+    if row.kind in ("check", "fdcheck"):
+        return _check_status(ws, row, r, book)
+    return None
+
+
+def _position_cells(ws, row, r: int, book: _Layout) -> None:
+    """The row's formula at every position: guarded where its group may not assemble, and
+    a numeric derivative only where the step allows and the crank turns."""
+    where, cols, n, text = book.where, book.cols, len(book.cols), book.text
+    tpl = book.templates[row.name]
+    fd = "{p}" in tpl or "{n}" in tpl
+    if fd:
+        # central differences: only where the step allows and the crank turns
+        tpl = (f'=IF(OR(ABS($D${where["Delta_Fi"]})>{FD_MAX_STEP_DEG:g},$D${where["Fi_t0"]}=0),'
+               f'"{text["na"]}",{tpl[1:]})')
+    if row.guard:
+        tpl = f'=IF({{c}}{where[row.guard]},{tpl[1:]},"{book.marker}")'
+    fmt = {"check": "0.0E+00", "fdcheck": "0.0E+00", "guard": "General"}.get(row.kind, "0.000000")
+    for k, c in enumerate(cols):
+        if fd and (k == 0 or k == n - 1):
+            ws.cell(r, FIRST_COL + k, text["na"])
+            continue
+        p = cols[k - 1] if k else c
+        nx = cols[k + 1] if k + 1 < n else c
+        ws.cell(r, FIRST_COL + k, tpl.format(c=c, p=p, n=nx)).number_format = fmt
+
+
+def _check_status(ws, row, r: int, book: _Layout) -> str:
+    """A check row's status (column D) and its colours; returns the status cell."""
+    where, cols, n = book.where, book.cols, len(book.cols)
+    fd_range = f"{cols[0]}{{r}}:{cols[-1]}{{r}}"
+    rng = fd_range.format(r=r)
+    tol = f"$D${where['Tol_FD' if row.kind == 'fdcheck' else 'Tol']}"
+    expected = None
+    if row.kind == "check":
+        expected = (f"SUMPRODUCT(--({cols[0]}{where[row.guard]}:{cols[-1]}{where[row.guard]}))"
+                    if row.guard else str(n))
+    reads = sorted({where[m.group(2)] for m in _REF.finditer(row.formula)
+                    if book.kinds[m.group(2)] in ("calc", "accepted")})
+    ws.cell(r, 4, status_formula(book.lang, rng, tol, [fd_range.format(r=k) for k in reads], expected))
+    colour_check_row(ws, rng, f"{cols[0]}{r}", f"D{r}", tol, book.lang)
+    return f"D{r}"
 
 
 def _head_rows(ws, scene: Scene, lang: str) -> None:
