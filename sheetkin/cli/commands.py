@@ -136,7 +136,7 @@ def _page_title(path: Path) -> str:
 def cmd_docs(args) -> int:
     """The documentation pages (docs/*.md, shipped as `sheetkin.docs`): listed, or one printed."""
     folder = _docs_folder()
-    pages = {p.stem: p for p in sorted(folder.glob("*.md"))} if folder else {}
+    pages = {p.stem: p for p in sorted(folder.glob("*.md"), key=lambda p: p.stem)} if folder else {}
     if not pages:
         raise SceneError("the documentation pages are not installed (sheetkin.docs is missing)")
     if args.page is None:
