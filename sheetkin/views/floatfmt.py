@@ -195,10 +195,10 @@ def _layout_tables():
             else:
                 text = b"0" * q + b"." + b"0" * (keep - q)
                 mask = (1 << (8 * q)) - 1
-            text = int.from_bytes(text, "little")
+            text_word = int.from_bytes(text, "little")
             for w in range(3):
                 before[w, code] = (mask >> (64 * w)) & ((1 << 64) - 1)
-                chars[w, code] = (text >> (64 * w)) & ((1 << 64) - 1)
+                chars[w, code] = (text_word >> (64 * w)) & ((1 << 64) - 1)
     return point, least * 18, word0, expo, before, chars
 
 

@@ -17,6 +17,7 @@ import math
 import shutil
 import sys
 from dataclasses import dataclass, field
+from typing import BinaryIO, cast
 
 import numpy as np
 
@@ -229,7 +230,7 @@ class _Text:
         keys = [(b',\n  {\n   ' if j == 0 else b',\n   ') + json.dumps(name).encode() + b": "
                 for j, name in enumerate(self.names)]
         cut = self.main * WIDTH
-        pieces = [_Keyed(keys[:self.main], cells[:, :cut])]
+        pieces: list[bytes | np.ndarray | _Keyed] = [_Keyed(keys[:self.main], cells[:, :cut])]
         if self.gaps:
             pieces += [b',\n   "assembled": ', _labels([b"false", b"true"], (~blk.fail).astype(np.intp))]
         if self.main < len(keys):
@@ -294,7 +295,7 @@ def format_table(title: str, columns: dict, width: int | None = None) -> str:
 
 def _table_text(scene: Scene, names, n_det, gaps, blocks) -> str:
     main = len(names) - n_det
-    cols = {name: [] for name in names[:main]}
+    cols: dict[str, list] = {name: [] for name in names[:main]}
     if gaps:
         cols["assembled"] = []
     cols.update({name: [] for name in names[main:]})
@@ -309,7 +310,7 @@ def _table_text(scene: Scene, names, n_det, gaps, blocks) -> str:
 
 
 # --------------------------------------------------------------------------- parquet
-def _parquet_writer(path: str):
+def _parquet_writer(path: str | BinaryIO):
     try:
         import pyarrow as pa
         import pyarrow.parquet as pq
@@ -392,8 +393,8 @@ def write_compute(scene: Scene, phi, fmt: str, output: str | None, *, analogs=Fa
     fail = failing(scene, phi, block)          # decides the columns; refuses before writing
     if fail.any() and not allow_gaps:
         angles = phi.take(0, len(phi)) if isinstance(phi, AngleRange) else np.asarray(phi)
-        gaps = assembly_gaps(scene, angles[fail])
-        raise AssemblyError("; ".join(map(str, gaps)) +
+        found = assembly_gaps(scene, angles[fail])
+        raise AssemblyError("; ".join(map(str, found)) +
                             f" ({int(fail.sum())} of {fail.size} positions; use --allow-gaps to keep the rest)")
     gaps = bool(fail.any())
     del fail
@@ -409,15 +410,18 @@ def write_compute(scene: Scene, phi, fmt: str, output: str | None, *, analogs=Fa
             notes.add(names, blk, dynamics)
             yield blk
 
-    write = _parquet_writer(output) if fmt == "parquet" else None     # pyarrow missing: before any file
+    # (parquet without an output was refused above)
+    write = _parquet_writer(cast(str, output)) if fmt == "parquet" else None     # pyarrow missing: before any file
     target = _Target(output)
     try:
         if fmt == "parquet":
             # pyarrow writes to the temporary file by name; to a device or a FIFO through
             # the open file (it writes sequentially)
-            write, close = _parquet_writer(target.tmp if target.tmp is not None else target.file)
+            # parquet has an output (refused above without): an Output's file, never stdout
+            file = cast(BinaryIO, target.file)
+            write, close = _parquet_writer(target.tmp if target.tmp is not None else file)
             if target.tmp is not None:
-                target.file.close()
+                file.close()
             for blk in blocks():
                 write(names, n_det, gaps, blk)
             close()

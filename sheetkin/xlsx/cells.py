@@ -18,6 +18,7 @@ import re
 import shutil
 import stat
 import tempfile
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from itertools import compress
 from pathlib import Path
@@ -155,6 +156,7 @@ def _read_tree(pkg, root, name: str, part: str, state: str, shared: list[str], l
             sh.max_col = col
         t = c.get("t", "n")
         vtext = v.text if v is not None else None
+        value: float | str | bool | None
         try:
             if t == "s" and vtext is not None:
                 value = shared[int(vtext)]
@@ -240,7 +242,8 @@ def _shifted(sh: Sheet, master: _Shared, row: int, col: int, si) -> str | None:
     try:
         return master.at(row, col)
     except Exception as e:      # noqa: BLE001 - the cell's problem: evaluated as #N/A with a note
-        sh.dangling[(row, col)] = f"a shared formula (si={str(si)[:20]}) whose text cannot be shifted ({type(e).__name__})"
+        sh.dangling[(row, col)] = (f"a shared formula (si={str(si)[:20]}) whose text cannot be shifted "
+                                   f"({type(e).__name__})")
         return None
 
 
@@ -253,7 +256,8 @@ def _resolve_pending(sh: Sheet, pending: list, masters: dict, formulas: dict) ->
         if text:
             formulas[(row, col)] = text
         elif (row, col) not in sh.dangling:
-            sh.dangling[(row, col)] = f"a shared formula (si={str(si)[:20]}) without its first cell, which holds the text"
+            sh.dangling[(row, col)] = (f"a shared formula (si={str(si)[:20]}) without its first cell, "
+                                       "which holds the text")
 
 
 # ----------------------------------------------------------------- the fast path: one regex
@@ -277,7 +281,8 @@ _CELLS = re.compile(
     rb'<c r="([A-Z]{1,3}+)([0-9]{1,7}+)"(?: s="[0-9]*+")?(?: t="([A-Za-z]*+)")?'
     rb"(?:" + _WS + rb"++(?!t=|xmlns)" + _NAME + b"=" + _VALUE + rb")*+" + _WS + rb"*+"
     rb"(?:/>|>"
-    rb"(?:<f((?:" + _WS + rb"++(?!xmlns)" + _NAME + b"=" + _VALUE + rb")*+)" + _WS + rb"*+(?:/>|>(" + _TEXT + rb")</f>))?"
+    rb"(?:<f((?:" + _WS + rb"++(?!xmlns)" + _NAME + b"=" + _VALUE + rb")*+)" + _WS
+    + rb"*+(?:/>|>(" + _TEXT + rb")</f>))?"
     rb"(?:<v" + _WS + rb"*+(?:/>|>(" + _TEXT + rb")</v>))?"
     rb'(?:<is><t(?: xml:space="[a-z]*+")?' + _WS + rb"*+(>" + _TEXT + rb")</t></is>)?"
     rb"</c>)"
@@ -368,6 +373,7 @@ def _read_fast(pkg, data: bytes, name: str, state: str, shared: list[str], limit
     gc_was = gc.isenabled()
     gc.disable()                # tens of thousands of small tuples, none of them cyclic
     try:
+        masters: dict[str | None, _Shared]
         sh, masters, pos = Sheet(name, state), {}, start + 11
         while pos < end:                            # pieces of <sheetData>, never a copy of all of it
             cut = end
@@ -442,8 +448,8 @@ def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits
                     ref = _REF.search(fattrs[i])
                     sh.arrays[keys[i]] = _array_end(ref and ref.group(1).decode("ascii"), *keys[i])
                 continue
-            si = _SI.search(fattrs[i])
-            si = si.group(1).decode("utf-8", "replace") if si else None
+            si_match = _SI.search(fattrs[i])
+            si = si_match.group(1).decode("utf-8", "replace") if si_match else None
             if ftexts[i]:
                 masters[si] = _Shared(formulas[keys[i]], rows[i], cols[i])
             else:
@@ -459,7 +465,7 @@ def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits
             _resolve_pending(sh, pending, masters, formulas)
         formulas = {key: formulas[key] for key in keys if key in formulas}     # document order
     # values: constants, and the values saved for formula cells
-    with_value = compress(range(len(keys)), vtexts)
+    with_value: Iterable[int] = compress(range(len(keys)), vtexts)
     if any(itexts):
         with_value = sorted(set(with_value) | set(compress(range(len(keys)), itexts)))
     consts, cached = sh.consts, sh.cached

@@ -12,6 +12,8 @@ for the workbook and writes the results into the stores; this module never impor
 """
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
 
 from . import functions as fx
@@ -182,7 +184,8 @@ class _Context:
         idx = (np.where(rows < nr, rows, 0)[None, :, None], np.where(cols < nc, cols, 0)[:, None, :])
         tag = np.where(inside, self.tag[sheet][idx], EMPTY).astype(np.int8)
         num = np.where(inside, self.num[sheet][idx], 0.0)
-        txt = np.where(inside, self.txt[sheet][idx], None) if (tag == TEXT).any() else None
+        # numpy's stubs refuse None as where's fill (numpy takes it: an object array of text)
+        txt = cast(np.ndarray, np.where(inside, self.txt[sheet][idx], None)) if (tag == TEXT).any() else None
         return Val(num, tag, txt, NUM if not tag.any() else -1)
 
     def eval(self, node, run: Run) -> Val:

@@ -38,7 +38,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
@@ -206,13 +206,15 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
                     except (EvaluationError, UnusableWorkbook):
                         raise
                     except Exception as e:      # noqa: BLE001 - the cell's problem, not the process's
-                        note = f"{part.where()}: internal error of the evaluator ({type(e).__name__}: {_show(e, 120)}): #VALUE!"
+                        note = (f"{part.where()}: internal error of the evaluator "
+                                f"({type(e).__name__}: {_show(e, 120)}): #VALUE!")
                         if strict:
                             raise EvaluationError(f"{path}: {note}") from e
                         problems.append(note)
                         v = _const("#VALUE!", k)
                 n = part.sheet
-                where = (part.row, slice(int(part.cols[0]), int(part.cols[0]) + k)) if part.contiguous else (part.row, part.cols)
+                where = ((part.row, slice(int(part.cols[0]), int(part.cols[0]) + k)) if part.contiguous
+                         else (part.row, part.cols))
                 num[n][where] = v.num[:, 0, 0]
                 tag[n][where] = v.tag[:, 0, 0]
                 if v.txt is not None:
@@ -239,7 +241,7 @@ def _name_scopes(names: dict, sheets: dict[str, Sheet], bound, notes: dict | Non
                     f"the name {_show(n, 60)} is not a formula (={_show(text, 60)}: {e})", "#VALUE!")
             out[n.upper()] = _bound_whole(tree, bound)
         return out
-    scopes = {None: parsed(names, None)}
+    scopes: dict[str | None, dict] = {None: parsed(names, None)}
     notes.setdefault(None, {}).update(_check_names(scopes[None]))
     for n, sh in sheets.items():
         scopes[n] = parsed(sh.names, n) if sh.names else {}
@@ -339,7 +341,7 @@ def _write_array(v: Val, run: Run, num, tag, txt) -> None:
     across the range; cells past the result's size are #N/A. A one-cell array formula holds
     the top-left element ({=IFERROR(A10:B10,"x")} in one cell)."""
     r0, c0 = run.row, int(run.cols[0])
-    r2, c2 = run.array
+    r2, c2 = cast(tuple, run.array)     # called only for an array formula: array is set
     h, w = r2 - r0 + 1, c2 - c0 + 1
     _, R, C = v.shape
     i = np.arange(h)[:, None] if R > 1 else np.zeros((h, 1), np.int64)
@@ -401,7 +403,8 @@ def _schedule(path, runs: list[Run], dims, sheets, *, strict: bool = True, probl
         split = set()
         for i, run in enumerate(runs):
             d = set()
-            for ref in (run.refs if not run.error else ()):
+            # a run without an error has its references (set by _parse_run)
+            for ref in (cast(list, run.refs) if not run.error else ()):
                 target = ref.sheet or run.sheet
                 if target not in owner:
                     continue

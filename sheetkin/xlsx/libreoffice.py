@@ -44,12 +44,16 @@ __all__ = [
 SETUP_HINT = "LibreOffice (soffice) not found: run `bash tests/setup.sh` (as root, Debian/Ubuntu)"
 
 # 0 = always recalculate on load, 1 = never (the default), 2 = ask.
-_REGISTRY = """<?xml version="1.0" encoding="UTF-8"?>
-<oor:items xmlns:oor="http://openoffice.org/2001/registry" xmlns:xs="http://www.w3.org/2001/XMLSchema" xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance">
-<item oor:path="/org.openoffice.Office.Calc/Formula/Load"><prop oor:name="OOXMLRecalcMode" oor:op="fuse"><value>0</value></prop></item>
-<item oor:path="/org.openoffice.Office.Calc/Formula/Load"><prop oor:name="ODFRecalcMode" oor:op="fuse"><value>0</value></prop></item>
-</oor:items>
-"""
+_REGISTRY = (
+    '<?xml version="1.0" encoding="UTF-8"?>\n'
+    '<oor:items xmlns:oor="http://openoffice.org/2001/registry" xmlns:xs="http://www.w3.org/2001/XMLSchema" '
+    'xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance">\n'
+    '<item oor:path="/org.openoffice.Office.Calc/Formula/Load">'
+    '<prop oor:name="OOXMLRecalcMode" oor:op="fuse"><value>0</value></prop></item>\n'
+    '<item oor:path="/org.openoffice.Office.Calc/Formula/Load">'
+    '<prop oor:name="ODFRecalcMode" oor:op="fuse"><value>0</value></prop></item>\n'
+    "</oor:items>\n"
+)
 
 _ERROR_CODES = frozenset(
     {"#NULL!", "#DIV/0!", "#VALUE!", "#REF!", "#NAME?", "#NUM!", "#N/A", "#SPILL!", "#CALC!",
@@ -79,11 +83,11 @@ def _convert(paths, outdir: Path, target: str, ext: str, timeout: float) -> dict
     expected = {p: outdir / f"{p.stem}.{ext}" for p in inputs}
     if len(set(expected.values())) != len(inputs):
         raise ValueError(f"two inputs would have the same output name in {outdir}: {inputs}")
-    for p, out in expected.items():
-        if out == p:
+    for p, dest in expected.items():
+        if dest == p:
             raise ValueError(f"output would overwrite its input: {p}")
-    for out in expected.values():
-        out.unlink(missing_ok=True)  # a stale output must not pass for a fresh one
+    for dest in expected.values():
+        dest.unlink(missing_ok=True)  # a stale output must not pass for a fresh one
     soffice = soffice_path()
     if soffice is None:
         raise RuntimeError(SETUP_HINT)

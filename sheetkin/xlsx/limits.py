@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import dataclasses
 from operator import itemgetter
+from typing import cast
 
 from .cells import Sheet
 from .context import PAD_CELLS
@@ -75,9 +76,10 @@ def _check_names(name_refs: dict) -> dict[str, Note]:
     for n, tree in list(name_refs.items()):
         bad = sorted(f for f in functions_of(tree) if f not in SUPPORTED)
         wrong = None if bad else arity_problem(tree)
-        if bad or wrong:
+        problem = f"unsupported function {', '.join(bad)}" if bad else wrong
+        if problem:
             code = "#NAME?" if bad else "#VALUE!"
-            notes[n] = Note(f"the name {n}: " + (f"unsupported function {', '.join(bad)}" if bad else wrong), code)
+            notes[n] = Note(f"the name {n}: " + problem, code)
             name_refs[n] = ("const", code)
     uses = {n: [m for m in _names_used(t) if m in name_refs] for n, t in name_refs.items()}
     state: dict[str, int] = {}          # 1 being visited, 2 done
@@ -118,7 +120,7 @@ def _run_notes(run: Run, sheets: dict, name_refs: dict, name_notes: dict) -> lis
     """Notes for a run that parsed: a sheet that does not exist (#REF!), a name that could
     not be evaluated, formulas nested too deep through names (the run becomes #VALUE!)."""
     out = []
-    for ref in run.refs:
+    for ref in cast(list, run.refs):        # called for a run that parsed: refs is set
         if ref.sheet is not None and ref.sheet not in sheets:
             out.append(f"{run.where()}: refers to the sheet '{_show(ref.sheet, 60)}', which does not exist: #REF!")
             break

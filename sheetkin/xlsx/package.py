@@ -80,10 +80,10 @@ import stat
 import struct
 import zipfile
 import zlib
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import PurePath
-from typing import NamedTuple
+from typing import NamedTuple, NoReturn
 from urllib.parse import unquote
 from xml.etree.ElementTree import Element, ParseError
 
@@ -216,10 +216,10 @@ class Package:
         self._sheets: list[SheetPart] | None = None
 
     # -- errors ---------------------------------------------------------------------------
-    def _fail(self, problem: str, expected: str | None = None, part: str | None = None):
+    def _fail(self, problem: str, expected: str | None = None, part: str | None = None) -> NoReturn:
         raise UnusableWorkbook(self.path, problem, expected, part)
 
-    def _corrupt(self, part: str, what: str):
+    def _corrupt(self, part: str, what: str) -> NoReturn:
         self._fail(f"corrupt zip archive ({what})",
                    "expected an intact .xlsx file: save the workbook again", part)
 
@@ -289,6 +289,7 @@ class Package:
             inflater = zlib.decompressobj(-zlib.MAX_WBITS)
             pos = 0
             while not inflater.eof:
+                buf: bytes | memoryview
                 if inflater.unconsumed_tail:
                     buf = inflater.unconsumed_tail
                 else:
@@ -333,7 +334,7 @@ class Package:
         except Exception as e:  # noqa: BLE001
             self._xml_error(name, e)
 
-    def _xml_error(self, name: str, e: Exception):
+    def _xml_error(self, name: str, e: Exception) -> NoReturn:
         if isinstance(e, defusedxml.DefusedXmlException):
             self._fail("XML with a DTD or entity declarations (possible entity bomb)",
                        "refused: Excel and LibreOffice never write one", name)
@@ -423,63 +424,11 @@ def open_package(path, limits: Limits = Limits()) -> Package:
     """Read and check the workbook at `path` (see the module docstring); never writes to it."""
     shown = os.fspath(path)
 
-    def fail(problem: str, expected: str | None = None, part: str | None = None):
+    def fail(problem: str, expected: str | None = None, part: str | None = None) -> NoReturn:
         raise UnusableWorkbook(shown, problem, expected, part)
 
-    # 1. the path
-    try:
-        st = os.stat(path)
-    except FileNotFoundError:
-        fail("no such file", "expected an .xlsx workbook")
-    except (OSError, ValueError) as e:
-        fail(f"cannot be read ({_show(getattr(e, 'strerror', None) or e)})",
-             "expected a readable .xlsx file")
-    if stat.S_ISDIR(st.st_mode):
-        fail("is a directory", "expected an .xlsx file")
-    try:
-        # Read-only; non-blocking in case a FIFO replaced the file since the stat.
-        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0))
-        with open(fd, "rb") as f:
-            st = os.fstat(f.fileno())
-            if not stat.S_ISREG(st.st_mode):
-                fail("is not a regular file", "expected an .xlsx file")
-            if st.st_size > limits.max_file_bytes:
-                fail(f"file is {_size(st.st_size)}", f"expected at most "
-                     f"{_size(limits.max_file_bytes)} (sheetkin's limit for a workbook)")
-            data = f.read(limits.max_file_bytes + 1)
-    except OSError as e:
-        fail(f"cannot be read ({_show(e.strerror or e)})", "expected a readable .xlsx file")
-    if len(data) > limits.max_file_bytes:
-        fail(f"file is more than {_size(limits.max_file_bytes)}",
-             f"expected at most {_size(limits.max_file_bytes)} (sheetkin's limit for a workbook)")
-    if not data:
-        fail("empty file (0 bytes)", "expected an .xlsx workbook")
-
-    # 2. the container
-    if not data.startswith((b"PK\x03\x04", b"PK\x05\x06")):
-        what = _sniff(data[:65536])
-        if data.startswith(_OLE_MAGIC):
-            fail(f"not an .xlsx file ({what})", "expected .xlsx: save it as Excel Workbook (.xlsx) "
-                 "without a password")
-        fail(f"not an .xlsx file ({what})", "expected an Excel workbook saved as .xlsx")
-    try:
-        archive = zipfile.ZipFile(io.BytesIO(data))
-        infos = archive.infolist()
-    except (zipfile.BadZipFile, zipfile.LargeZipFile, EOFError, OSError, ValueError,
-            NotImplementedError, struct.error, UnicodeError) as e:
-        detail = "its end is missing" if str(e) == "File is not a zip file" else _show(e, 120)
-        fail(f"corrupt or truncated zip archive ({detail})",
-             "expected a complete .xlsx file: save or copy it again")
-    pkg = Package(path, data, archive, limits)
-    mimetype = pkg.find("mimetype")
-    if mimetype is not None and pkg.info(mimetype).file_size <= 200:
-        kind = pkg.read(mimetype, limit=200).decode("ascii", "replace").strip()
-        if kind.startswith("application/vnd.oasis.opendocument.spreadsheet"):
-            fail("not an .xlsx file (an OpenDocument spreadsheet, .ods)",
-                 "expected .xlsx: in LibreOffice, File > Save As > Excel 2007-365 (.xlsx)")
-        if kind.startswith("application/vnd.oasis.opendocument"):
-            fail(f"not an .xlsx file (an OpenDocument file, {_show(kind, 80)})",
-                 "expected an Excel workbook saved as .xlsx")
+    data = _read_file(path, limits, fail)                    # 1. the path
+    pkg, infos = _open_zip(path, data, limits, fail)        # 2. the container
 
     # 3. the central directory, nothing inflated
     seen: set[str] = set()
@@ -502,7 +451,8 @@ def open_package(path, limits: Limits = Limits()) -> Package:
         fail("not a spreadsheet (a Word document)", expected_xlsx)
     if pkg.find("ppt/presentation.xml") is not None:
         fail("not a spreadsheet (a PowerPoint presentation)", expected_xlsx)
-    if pkg.find("[Content_Types].xml") is None:
+    ct_name = pkg.find("[Content_Types].xml")
+    if ct_name is None:
         fail("not a spreadsheet package (a zip archive without [Content_Types].xml)", expected_xlsx)
     if pkg.find("xl/workbook.xml") is None and pkg.find("_rels/.rels") is None:
         fail("not a spreadsheet package (no xl/workbook.xml)", expected_xlsx)
@@ -533,8 +483,91 @@ def open_package(path, limits: Limits = Limits()) -> Package:
         fail(f"{_size(total)} uncompressed in all",
              f"expected at most {_size(limits.max_total_bytes)} (sheetkin's limit for a workbook)")
 
-    # 4. one streaming pass over every part: real sizes, CRCs, DTDs
-    ct_name = pkg.find("[Content_Types].xml")
+    _scan_parts(pkg, ct_name, infos, limits, fail)  # 4. one streaming pass: real sizes, CRCs, DTDs
+
+    # 5. the content
+    _check_content(pkg, macro_hint, external_hint, fail)
+    office = [t for _i, rtype, t, mode in pkg.relationships("")
+              if _rel_tail(rtype) == "officeDocument" and mode != "External" and t in pkg]
+    if office:
+        pkg.workbook_part = office[0]
+    elif (workbook_xml := pkg.find("xl/workbook.xml")) is not None:
+        pkg.workbook_part = workbook_xml
+    else:
+        fail("not a spreadsheet package (no workbook part)", expected_xlsx)
+    # The sheets must resolve. Their <dimension ref> is not a limit: LibreOffice writes
+    # A1:XFD1048576 for a sheet whose empty rows and columns are styled to the end; the
+    # row/column limits apply to the cells that hold something (the reader counts them).
+    sheet_parts(pkg)
+    return pkg
+
+
+def _read_file(path, limits: Limits, fail: Callable[..., NoReturn]) -> bytes:
+    """open_package's step 1, the path: the file's bytes, refused if it is no regular file or too big."""
+    try:
+        st = os.stat(path)
+    except FileNotFoundError:
+        fail("no such file", "expected an .xlsx workbook")
+    except (OSError, ValueError) as e:
+        fail(f"cannot be read ({_show(getattr(e, 'strerror', None) or e)})",
+             "expected a readable .xlsx file")
+    if stat.S_ISDIR(st.st_mode):
+        fail("is a directory", "expected an .xlsx file")
+    try:
+        # Read-only; non-blocking in case a FIFO replaced the file since the stat.
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0))
+        with open(fd, "rb") as f:
+            st = os.fstat(f.fileno())
+            if not stat.S_ISREG(st.st_mode):
+                fail("is not a regular file", "expected an .xlsx file")
+            if st.st_size > limits.max_file_bytes:
+                fail(f"file is {_size(st.st_size)}", f"expected at most "
+                     f"{_size(limits.max_file_bytes)} (sheetkin's limit for a workbook)")
+            data = f.read(limits.max_file_bytes + 1)
+    except OSError as e:
+        fail(f"cannot be read ({_show(e.strerror or e)})", "expected a readable .xlsx file")
+    if len(data) > limits.max_file_bytes:
+        fail(f"file is more than {_size(limits.max_file_bytes)}",
+             f"expected at most {_size(limits.max_file_bytes)} (sheetkin's limit for a workbook)")
+    if not data:
+        fail("empty file (0 bytes)", "expected an .xlsx workbook")
+    return data
+
+
+def _open_zip(path, data: bytes, limits: Limits,
+              fail: Callable[..., NoReturn]) -> tuple[Package, list[zipfile.ZipInfo]]:
+    """open_package's step 2, the container: a zip archive, not an OpenDocument file."""
+    if not data.startswith((b"PK\x03\x04", b"PK\x05\x06")):
+        what = _sniff(data[:65536])
+        if data.startswith(_OLE_MAGIC):
+            fail(f"not an .xlsx file ({what})", "expected .xlsx: save it as Excel Workbook (.xlsx) "
+                 "without a password")
+        fail(f"not an .xlsx file ({what})", "expected an Excel workbook saved as .xlsx")
+    try:
+        archive = zipfile.ZipFile(io.BytesIO(data))
+        infos = archive.infolist()
+    except (zipfile.BadZipFile, zipfile.LargeZipFile, EOFError, OSError, ValueError,
+            NotImplementedError, struct.error, UnicodeError) as e:
+        detail = "its end is missing" if str(e) == "File is not a zip file" else _show(e, 120)
+        fail(f"corrupt or truncated zip archive ({detail})",
+             "expected a complete .xlsx file: save or copy it again")
+    pkg = Package(path, data, archive, limits)
+    mimetype = pkg.find("mimetype")
+    if mimetype is not None and pkg.info(mimetype).file_size <= 200:
+        kind = pkg.read(mimetype, limit=200).decode("ascii", "replace").strip()
+        if kind.startswith("application/vnd.oasis.opendocument.spreadsheet"):
+            fail("not an .xlsx file (an OpenDocument spreadsheet, .ods)",
+                 "expected .xlsx: in LibreOffice, File > Save As > Excel 2007-365 (.xlsx)")
+        if kind.startswith("application/vnd.oasis.opendocument"):
+            fail(f"not an .xlsx file (an OpenDocument file, {_show(kind, 80)})",
+                 "expected an Excel workbook saved as .xlsx")
+    return pkg, infos
+
+
+def _scan_parts(pkg: Package, ct_name: str, infos: list[zipfile.ZipInfo], limits: Limits,
+                fail: Callable[..., NoReturn]) -> None:
+    """open_package's step 4, one streaming pass over every part: the content types, real
+    sizes, CRCs, no DTD, a declared encoding of UTF-8 or UTF-16."""
     for node in pkg.xml(ct_name):
         tag = _local(node.tag)
         if tag == "Default":
@@ -567,33 +600,23 @@ def open_package(path, limits: Limits = Limits()) -> Package:
             fail(f"more than {_size(limits.max_total_bytes)} uncompressed in all",
                  f"expected at most {_size(limits.max_total_bytes)}")
 
-    # 5. the content
+
+def _check_content(pkg: Package, macro_hint: str, external_hint: str, fail: Callable[..., NoReturn]) -> None:
+    """open_package's step 5 (its first part): no macros by content type or relationship, no
+    links to other files."""
     for name in pkg.names:
         ct = (pkg.content_type(name) or "").lower()
         if "macroenabled" in ct or "vbaproject" in ct or "macrosheet" in ct:
             fail(f"contains macros or is macro-enabled (content type of {_show(name)})", macro_hint)
     for rels in [n for n in pkg.names if n.lower().endswith(".rels")]:
         for _id, rtype, target, mode in pkg._parse_rels(rels, posixpath.dirname(posixpath.dirname(rels))):
-            tail = _rel_tail(rtype).lower()
-            if "vbaproject" in tail or "macrosheet" in tail:
+            rel_kind = _rel_tail(rtype).lower()
+            if "vbaproject" in rel_kind or "macrosheet" in rel_kind:
                 fail(f"contains macros ({_show(_rel_tail(rtype))} relationship in {_show(rels)})",
                      macro_hint)
-            if "externallink" in tail or (mode == "External" and tail != "hyperlink"):
+            if "externallink" in rel_kind or (mode == "External" and rel_kind != "hyperlink"):
                 fail(f"links to other files ({_show(_rel_tail(rtype))} relationship to "
                      f"{_show(target, 120)} in {_show(rels)})", external_hint)
-    office = [t for _i, rtype, t, mode in pkg.relationships("")
-              if _rel_tail(rtype) == "officeDocument" and mode != "External" and t in pkg]
-    if office:
-        pkg.workbook_part = office[0]
-    elif pkg.find("xl/workbook.xml") is not None:
-        pkg.workbook_part = pkg.find("xl/workbook.xml")
-    else:
-        fail("not a spreadsheet package (no workbook part)", expected_xlsx)
-    # The sheets must resolve. Their <dimension ref> is not a limit: LibreOffice writes
-    # A1:XFD1048576 for a sheet whose empty rows and columns are styled to the end; the
-    # row/column limits apply to the cells that hold something (the reader counts them).
-    sheet_parts(pkg)
-    return pkg
 
 
 def _declared_encoding(head: bytes) -> str | None:

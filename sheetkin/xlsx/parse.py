@@ -265,7 +265,7 @@ def parse_formula(formula: str, host_r: int, host_c: int, names: dict):
             return postfix(node)
         if t.type == Token.FUNC and t.subtype == Token.OPEN:
             name = t.value[:-1].upper().removeprefix("_XLFN.")
-            args = []
+            args: list[tuple] = []
             if peek() and peek().type == Token.FUNC and peek().subtype == Token.CLOSE:
                 take()
                 return postfix(("fn", name, args))

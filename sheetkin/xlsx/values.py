@@ -20,7 +20,7 @@ import math
 import re
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any, Protocol
+from typing import Any, Protocol, cast
 
 import numpy as np
 
@@ -110,8 +110,9 @@ def _to_number(v: Val):
     text = v.tag == TEXT
     if text.any():
         num = num.copy()
+        txt = cast(np.ndarray, v.txt)           # a TEXT tag: txt is set (Val's invariant)
         for idx in zip(*np.nonzero(text), strict=False):
-            t = str(v.txt[idx])
+            t = str(txt[idx])
             if _NUMERIC_TEXT.match(t):          # not Python's float(): "1_000", "inf" are not numbers
                 num[idx] = float(t)
             else:
@@ -149,8 +150,11 @@ def _to_text(v: Val) -> tuple[np.ndarray, np.ndarray]:
     out = np.empty(v.shape, dtype=object)
     for idx in np.ndindex(v.shape):
         t = v.tag[idx]
-        out[idx] = (v.txt[idx] if t == TEXT else "" if t == EMPTY else
-                    ("TRUE" if v.num[idx] else "FALSE") if t == BOOL else _number_text(v.num[idx]))
+        # txt is read only where the tag is TEXT, so it is set (Val's invariant); a full
+        # index into num gives one float64, a float
+        out[idx] = (cast(np.ndarray, v.txt)[idx] if t == TEXT else "" if t == EMPTY else
+                    ("TRUE" if v.num[idx] else "FALSE") if t == BOOL
+                    else _number_text(cast(float, v.num[idx])))
     return out, np.where(v.tag >= 10, v.tag, 0).astype(np.int8)
 
 
@@ -207,8 +211,8 @@ def _compare(op: str, a: Val, b: Val) -> Val:
         # numbers against text (a generated sheet's checks: E34:Q34="" in every status
         # formula, 85% of a book's evaluation): never equal, numbers rank below text,
         # no error on either side: the general path's answer without its arrays (issue 24)
-        diff = -1.0 if a.pure == NUM else 1.0
-        return _pure(np.full(np.broadcast_shapes(a.shape, b.shape), float(_COMPARE[op](diff, 0))), BOOL)
+        sign = -1.0 if a.pure == NUM else 1.0
+        return _pure(np.full(np.broadcast_shapes(a.shape, b.shape), float(_COMPARE[op](sign, 0))), BOOL)
     shape = np.broadcast_shapes(a.shape, b.shape)
     at, bt = np.broadcast_to(a.tag, shape), np.broadcast_to(b.tag, shape)
     # an empty cell takes the other side's type (0, "" or FALSE)
@@ -376,10 +380,10 @@ def _values_of(args: list[Val], ranges: list[bool], *, numbers_only_in_ranges=Tr
         uses.append(use.reshape(k, -1))
         errs.append(err.reshape(k, -1))
     k = max(x.shape[0] for x in nums)
-    nums = np.concatenate([np.broadcast_to(x, (k, x.shape[1])) for x in nums], axis=1)
-    uses = np.concatenate([np.broadcast_to(x, (k, x.shape[1])) for x in uses], axis=1)
-    errs = np.concatenate([np.broadcast_to(x, (k, x.shape[1])) for x in errs], axis=1)
-    return nums, uses, _first_error(errs)
+    num_cols = np.concatenate([np.broadcast_to(x, (k, x.shape[1])) for x in nums], axis=1)
+    use_cols = np.concatenate([np.broadcast_to(x, (k, x.shape[1])) for x in uses], axis=1)
+    err_cols = np.concatenate([np.broadcast_to(x, (k, x.shape[1])) for x in errs], axis=1)
+    return num_cols, use_cols, _first_error(err_cols)
 
 
 def _first_error(errs: np.ndarray) -> np.ndarray:
@@ -472,6 +476,7 @@ def _agg_count(args, ranges):
                                          otypes=[bool])(v.tag, _texts(v))
         c = hit.reshape(v.shape[0], -1).sum(axis=1)
         counts = c if counts is None else counts + c
+    counts = cast(np.ndarray, counts)       # COUNT has at least one argument (the parser's rule)
     return Val(counts.astype(float).reshape(-1, 1, 1), np.zeros((counts.size, 1, 1), np.int8), None, NUM)
 
 
@@ -484,6 +489,8 @@ def _agg_sumproduct(args, ranges):
         e = np.where(v.tag >= 10, v.tag, 0).astype(np.int8)
         prod = n if prod is None else prod * n
         err = e if err is None else _error_of(err, e)
+    # SUMPRODUCT has at least one argument (the parser's rule): both are set
+    prod, err = cast(np.ndarray, prod), cast(np.ndarray, err)
     k = prod.shape[0]
     return _scalar(prod.reshape(k, -1).sum(axis=1), _first_error(err.reshape(k, -1)))
 
@@ -507,6 +514,8 @@ def _agg_logical(all_: bool):
             seen = s if seen is None else seen | s
             first = _first_error(e)
             err = first if err is None else _error_of(err, first)
+        # AND/OR have at least one argument (the parser's rule): all three are set
+        acc, seen, err = cast(np.ndarray, acc), cast(np.ndarray, seen), cast(np.ndarray, err)
         err = np.where((err == 0) & ~seen, VALUE, err).astype(np.int8)
         return Val(np.where(err == 0, acc.astype(float), 0.0).reshape(-1, 1, 1),
                    np.where(err == 0, BOOL, err).astype(np.int8).reshape(-1, 1, 1))
