@@ -204,9 +204,9 @@ def cramer_rows(b: Builder, m, det: str, unknowns, rhs: tuple[str, str], check: 
     x = (b1 m22 - b2 m12) / det, y = (m11 b2 - m21 b1) / det; then the check that puts
     them back into the system. `unknowns` = ((name, unit, ru, en), (name, unit, ru, en))."""
     m11, m12, m21, m22 = m
-    (n1, *d1), (n2, *d2) = unknowns
-    b.add(n1, *d1, "accepted", f"({rhs[0]}*{m22}-{rhs[1]}*{m12})/{{{det}}}")
-    b.add(n2, *d2, "accepted", f"({m11}*{rhs[1]}-{m21}*{rhs[0]})/{{{det}}}")
+    (n1, u1, ru1, en1), (n2, u2, ru2, en2) = unknowns
+    b.add(n1, u1, ru1, en1, "accepted", f"({rhs[0]}*{m22}-{rhs[1]}*{m12})/{{{det}}}")
+    b.add(n2, u2, ru2, en2, "accepted", f"({m11}*{rhs[1]}-{m21}*{rhs[0]})/{{{det}}}")
     system_check(b, check[0], check[1:], m, f"{{{n1}}}", f"{{{n2}}}", rhs)
 
 

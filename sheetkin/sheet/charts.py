@@ -31,6 +31,7 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass
+from typing import Any, cast
 
 from openpyxl.chart import Reference, ScatterChart, Series
 from openpyxl.chart.axis import ChartLines
@@ -62,7 +63,8 @@ PLOT_LEGEND = (0.11, 0.13, 0.66, 0.74)     # room for a legend on the right
 ROWS_PER_CHART = 25                         # 12 cm of default-height rows, and a gap
 COLORS = ["1F77B4", "FF7F0E", "2CA02C", "D62728", "9467BD", "8C564B", "E377C2", "7F7F7F",
           "BCBD22", "17BECF"]
-_TEXT = {"ru": {"pos": "положение i =", "phi": "phi_1, град", "mech": "Механизм в положении i",
+# the charts sheet's words: texts, and (x, y) axis titles under "axes"
+_TEXT: dict[str, dict[str, Any]] = {"ru": {"pos": "положение i =", "phi": "phi_1, град", "mech": "Механизм в положении i",
                 "traj": "Траектории точек", "helper": "данные чертежа (вспомогательные ячейки)",
                 "hint": "введите номер положения i: 0..{n}", "link": "звено {k}: {pts}",
                 "guide": "направляющая г{i}", "slot": "паз г{i}", "block": "ползун {k} в {at}", "frame": "стойка",
@@ -91,7 +93,7 @@ HELPER_WORDS = {
 @dataclass
 class SheetRows:
     """What the charts need from the kinematics sheet as written by sheetkin.sheet.workbook."""
-    ws: object                      # the kinematics worksheet
+    ws: Any                         # the kinematics worksheet (openpyxl)
     rows: list                      # its Row records (name, kind, guard)
     where: dict[str, int]           # row of each name
     templates: dict[str, str]       # compiled formulas: {c} this column, $D$r inputs
@@ -99,7 +101,7 @@ class SheetRows:
     marker: str                     # the "cannot assemble" text of guarded cells
     lang: str = "ru"
     exercise: bool = False
-    plotted: object = None          # the hidden sheet of the plotted rows (add_plotted_sheet)
+    plotted: Any = None             # the hidden sheet of the plotted rows (add_plotted_sheet)
 
 
 # --------------------------------------------------------------------------- the paths sheet
@@ -239,7 +241,8 @@ class _Cells:
         if isinstance(p, tuple):
             return _num(p[0]), _num(p[1])
         if p in self.scene.frame:
-            return self.input(f"x_{p}"), self.input(f"y_{p}")
+            # a frame point's coordinates are inputs of the sheet: they always have rows
+            return cast(str, self.input(f"x_{p}")), cast(str, self.input(f"y_{p}"))
         return self.at(f"x_{p}"), self.at(f"y_{p}")
 
     def angle(self, link: int) -> str:
@@ -411,10 +414,10 @@ def add_drawing_charts(wb, cs, scene: Scene, info: SheetRows, top: int = 3) -> i
         ring = list(pts) + ([pts[0]] if len(pts) >= 3 else [])
         add(text["link"].format(k=k, pts="-".join(pts)), [c.xy(p) for p in ring], "1F4E79", 2.25, "circle",
             fill="FFFFFF")
-    for b in st.blocks:
-        tag = text["block"].format(k=b.link, at=b.at)
-        _, _, ux, uy = _guide_cells(h, c, b.guide, tag)
-        cx, cy = c.xy(b.at)
+    for blk in st.blocks:
+        tag = text["block"].format(k=blk.link, at=blk.at)
+        _, _, ux, uy = _guide_cells(h, c, blk.guide, tag)
+        cx, cy = c.xy(blk.at)
         hl, hw = 1.3 * r, 0.75 * r
         corners = [(-1, -1), (1, -1), (1, 1), (-1, 1), (-1, -1)]
         add(tag, [(f"{cx}+({_num(i * hl)})*{ux}-({_num(j * hw)})*{uy}",

@@ -9,7 +9,9 @@ Imports nothing from sheetkin.
 """
 from __future__ import annotations
 
-SHEET = {
+from typing import Any
+
+SHEET: dict[str, dict[str, Any]] = {   # texts, and (text, text) pairs
     "ru": {"name": "имя", "unit": "ед.", "desc": "описание", "value": "значение / проверка",
            "checks": "проверки", "na": "н/д", "pos": "положение i",
            "student": ("студент", "фамилия, имя"), "group": ("группа", "учебная группа"),

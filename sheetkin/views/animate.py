@@ -102,7 +102,7 @@ def _figure(pic: Picture, size: int):
     h = size * (y1 - y0) / (x1 - x0)
     dpi = 100
     fig = plt.figure(figsize=(size / dpi, (h + 40) / dpi), dpi=dpi)
-    ax = fig.add_axes([0, 22 / (h + 40), 1, h / (h + 40)])
+    ax = fig.add_axes((0, 22 / (h + 40), 1, h / (h + 40)))
     ax.set_xlim(x0, x1)
     ax.set_ylim(y0, y1)
     ax.set_aspect("equal")          # a circle stays round
@@ -158,7 +158,8 @@ def write_gif(pic: Picture, path, fps: float = 12, size: int = 320, progress=Non
 
     anim = FuncAnimation(fig, update, frames=len(pic.frames), blit=False)
     try:
-        anim.save(str(path), writer=SharedPalette(fps=fps), dpi=100,
+        # matplotlib's stub types fps as int; the writer takes any fps (0.1 to 100 here)
+        anim.save(str(path), writer=SharedPalette(fps=fps), dpi=100,  # type: ignore[arg-type]
                   progress_callback=(lambda i, n: progress(i + 1, n)) if progress else None)
     finally:
         plt.close(fig)
