@@ -139,21 +139,21 @@ def delimiter(header_line: str) -> str:
 def read_bounded(path: str, limit: int, what: str) -> bytes:
     """At most `limit` bytes of a regular file: a FIFO or device is refused before reading,
     a larger file refused as it is read (never read whole first)."""
-    import os
-    import stat
+    import errno
+
+    from sheetkin.files import RefusedFile, read_bytes
+    # the capped reader every input goes through (reliability): it names what the path is
+    # ("a character device, not a regular file") and never blocks on a FIFO
     try:
-        st = os.stat(path)
-        if not stat.S_ISREG(st.st_mode):
-            raise ClassListError(f"{path}: {what}: not a regular file")
-        with open(path, "rb") as f:
-            raw = f.read(limit + 1)
+        return read_bytes(path, limit, what.lstrip("-").replace("-", " "))
     except FileNotFoundError:
         raise ClassListError(f"{path}: {what}: no such file") from None
+    except RefusedFile as e:
+        if e.errno == errno.EFBIG:
+            raise ClassListError(f"{path}: {what}: more than {limit:,} bytes; a class list is a few KB") from None
+        raise ClassListError(f"{path}: {what}: {e.strerror}") from None
     except OSError as e:
         raise ClassListError(f"{path}: {what}: cannot read it ({e.strerror or e})") from None
-    if len(raw) > limit:
-        raise ClassListError(f"{path}: {what}: more than {limit:,} bytes; a class list is a few KB")
-    return raw
 
 
 def read_class_list(path: str) -> ClassList:

@@ -108,13 +108,13 @@ def submission_marks(sheet, rows: dict[str, int], first_col: int, positions: int
             c = cached.get((r, first_col + k)) if (r, first_col + k) in sheet.formulas else None
             if isinstance(c, (int, float)) and not isinstance(c, bool) and c == c and abs(c) != float("inf"):
                 values[(name, k + 1)] = float(c)
-        if reference is not None and name in (ref_rows or {}) and _as_lecture(sheet, r, reference, ref_rows[name],
-                                                                           first_col, positions):
+        if (reference is not None and ref_rows is not None and name in ref_rows
+                and _as_lecture(sheet, r, reference, ref_rows[name], first_col, positions)):
             continue                                # the lecture's texts in the lecture's cells: nothing to hash
         texts = _row_formulas(sheet, r, first_col, positions)
         if not any(texts):
             continue
-        if reference is not None and name in (ref_rows or {}):
+        if reference is not None and ref_rows is not None and name in ref_rows:
             lecture = _row_formulas(reference, ref_rows[name], first_col, positions)
             if all(t is None or t == l for t, l in zip(texts, lecture, strict=False)):
                 continue

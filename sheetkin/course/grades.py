@@ -93,7 +93,7 @@ def counts(rep, accept_typed: bool | None = None) -> dict:
     out["total"] = len(rows)
     # rows holding a formula somewhere (a row of typed values only is not one)
     out["formula_rows"] = sum(1 for r in rows if r.status not in ("missing", "empty")
-                              and (getattr(r, "formula_cells", 0) or not getattr(r, "typed_cells", None)))
+                              and (bool(getattr(r, "formula_cells", 0)) or not getattr(r, "typed_cells", None)))
     out["checks_issued"] = getattr(rep, "checks_issued", 0) or 0
     out["checks_passing"] = getattr(rep, "checks_passing", 0) or 0
     out["checks_apply"] = getattr(rep, "checks_apply", out["checks_issued"])

@@ -24,6 +24,7 @@ import math
 import secrets
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import cast
 
 from sheetkin.files import MAX_KEY_BYTES, read_bytes, read_text
 from sheetkin.kinematics.scene import Scene, SceneError, one_line
@@ -47,7 +48,8 @@ class RosterError(SceneError):
 def given_values(scene: Scene) -> dict[str, float]:
     """The scene's input block as the workbook writes it (name -> value), without the
     student's identity rows: the given data of the variant, in the sheet's order."""
-    return {r.name: r.value for r in sheet_rows(scene).rows
+    # every input row but the identity rows is written with the scene's number
+    return {r.name: cast(float, r.value) for r in sheet_rows(scene).rows
             if r.kind == "input" and r.name not in _IDENTITY}
 
 

@@ -9,8 +9,8 @@ delete rows, and leave notes, dragged formulas and scratch cells around the tabl
   with the issued sheet's name, then to the first;
 * the name column is the column of that sheet holding the most row names; the header row is
   the row where that column says "имя" / "name"; the unit, description and value columns
-  are found by their headers in that row, the positions by their numbers 1..N in it (N: the
-  issued positions, from the embedded scene); a header a student edited falls back to the
+  are found by their headers in that row, the positions by their numbers 0..N-1 in it (N: the
+  issued positions, from the embedded scene; numbered by i, as row i is); a header a student edited falls back to the
   issued offsets (unit, description, value right of the name; then the positions), and a
   position whose number is gone to row `i`'s value (0..N-1);
 * rows are found by their names (the validator), so inserted and deleted rows do no harm;
@@ -24,7 +24,9 @@ D, positions from E), built by moving columns, so the rest of the grading is unc
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import cast
 
 import numpy as np
 from openpyxl.utils import column_index_from_string, get_column_letter
@@ -106,22 +108,22 @@ def find_layout(sheets: dict[str, Sheet], order: list[str], names: set[str], iss
     cols = {1: name_col}
     row_texts = {c: _text(v) for (r, c), v in sh.consts.items() if r == header} if header else {}
     for std, key in ((2, "unit"), (3, "desc"), (4, "value")):
-        found = [c for c, t in sorted(row_texts.items()) if c > name_col and t in {h.casefold() for h in HEADERS[key]}]
+        found = [c for c, t in sorted(row_texts.items()) if c > name_col and t in _headers(key)]
         cols[std] = found[0] if found else cols[std - 1] + 1
     i_row = next((r for (r, c), v in sh.consts.items() if c == name_col and v == "i"), None)
-    nums = {}
+    nums: dict[float, int] = {}     # a number in the header row -> its column
     if header:
         for (r, c), v in sh.consts.items():
             if r == header and c > cols[4] and isinstance(v, (int, float)) and not isinstance(v, bool):
                 nums.setdefault(float(v), c)
-    i_cols = {}
+    i_cols: dict[float, int] = {}   # a value of row i -> its column
     if i_row is not None:
         for (r, c), v in sh.consts.items():
             if r == i_row and c > cols[4] and isinstance(v, (int, float)) and not isinstance(v, bool):
                 i_cols.setdefault(float(v), c)
     last = cols[4]
     for k in range(positions):
-        c = nums.get(float(k + 1))
+        c = nums.get(float(k))          # the header numbers positions by i, from 0 (as row i does)
         if c is None and k < len(i_values):
             c = i_cols.get(float(i_values[k]))
         if c is None or c <= last:
@@ -139,8 +141,14 @@ def find_layout(sheets: dict[str, Sheet], order: list[str], names: set[str], iss
     return layout
 
 
+def _headers(key: str) -> set[str]:
+    """The column's header texts in every language, casefolded."""
+    # the name, unit, desc and value headers are plain texts (texts.SHEET): no tuple among them
+    return {cast(str, h).casefold() for h in HEADERS[key]}
+
+
 def _header_row(sh: Sheet, name_col: int) -> int | None:
-    heads = {h.casefold() for h in HEADERS["name"]}
+    heads = _headers("name")
     rows = [r for (r, c), v in sh.consts.items() if c == name_col and _text(v) in heads]
     return min(rows) if rows else None
 
@@ -198,15 +206,18 @@ def without_unread(sheets: dict[str, Sheet], names: dict, layout: Layout, skip: 
         if n in skip:
             out[n] = sh
             continue
+        keep: Callable[[int, int], bool]
         if n == layout.sheet:
             last = max((r for (r, c), v in sh.consts.items() if c == layout.columns[1] and isinstance(v, str)),
                        default=0)
 
-            def keep(r, c, table=table, last=last):
+            def keep_table(r: int, c: int, table: set[int] = table, last: int = last) -> bool:
                 return (c in table and r <= last) or (r <= rows and c <= cols)
+            keep = keep_table
         else:
-            def keep(r, c):
+            def keep_reach(r: int, c: int) -> bool:
                 return r <= rows and c <= cols
+            keep = keep_reach
         dropped = [rc for rc in list(sh.consts) + list(sh.formulas) if not keep(*rc)]
         if not dropped:
             out[n] = sh

@@ -36,7 +36,9 @@ A number typed over a formula with all its digits is not a cause: it equals its 
 from __future__ import annotations
 
 import re
+from collections.abc import Set
 from dataclasses import dataclass, field
+from typing import cast
 
 import numpy as np
 
@@ -136,7 +138,7 @@ def _plan(sheet, judged: tuple[str, ...]) -> _Plan:
         n = wanted[run.row]
         runs.setdefault(n, []).append(run)
         got = reads.setdefault(n, set())
-        for ref in run.refs:
+        for ref in cast(list, run.refs):   # parse_rows returns only parsed runs: refs is set
             if ref.sheet not in (None, sheet.name):
                 continue
             r1 = ref.r1 if ref.r1_abs else run.row + ref.r1
@@ -191,7 +193,8 @@ class Local:
         """Positions (from 1) among columns `cols` where a row differs from the reference:
         the error it passes down; every position for a value of column D."""
         r = self.plan.rows[name]
-        off = [int(c) for c in cols if not self.same[r, c]]
+        same = cast(np.ndarray, self.same)   # judge sets it before name_causes asks
+        off = [int(c) for c in cols if not same[r, c]]
         if off and off[0] == DERIVED_COL:
             return set(range(1, self.num.shape[1] - FIRST_COL + 1))
         return {c - FIRST_COL + 1 for c in off}
@@ -295,7 +298,7 @@ def _compare(name: str, s, st, lv, lt, typed, tol, period: float | None = None) 
 
 
 def judge(reference: Book, student: Book, sheet: str, names: dict[str, int], judged: list[str],
-          unavailable: set[str] = frozenset(), periods: dict[str, float] | None = None,
+          unavailable: Set[str] = frozenset(), periods: dict[str, float] | None = None,
           columns: dict[int, int] | None = None) -> Local:
     """Each of the rows `judged` (names, in sheet order) judged on the student's own values.
     reference: the evaluated reference (its first sheet is the generated sheet, formulas
@@ -316,7 +319,7 @@ def judge(reference: Book, student: Book, sheet: str, names: dict[str, int], jud
     # a row equal to the reference, reading only rows equal to the reference, is right on
     # its inputs without evaluating it (most rows of most books: the cost stays small)
     local.same = _same_cells(local)
-    exact = local.same.all(axis=1)
+    exact = cast(np.ndarray, local.same.all(axis=1))   # a 2-D array reduced along one axis
     for n in todo:
         if exact[plan.rows[n]] and all(exact[plan.rows[x]] for x in plan.reads[n]):
             cols = plan.cols[n]
@@ -376,7 +379,8 @@ def _propagated(local: Local, todo: list[str], tols: dict[str, np.ndarray]) -> d
     typed numbers are coarser than formula precision is moved by their half units once, and
     the change of the typed cells of the rows reading it is added up (|d row/d input| x
     half unit, summed over inputs: a bound to first order)."""
-    plan, out = local.plan, {}
+    plan = local.plan
+    out: dict[str, np.ndarray] = {}
     typed_rows = [n for n in todo if local.judgements[n].typed.any()]
     for x in todo:
         r, cols, tol = plan.rows[x], plan.cols[x], tols[x]

@@ -23,13 +23,16 @@ from __future__ import annotations
 import dataclasses
 import math
 import re
+from collections.abc import Set
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import cast
 
 import numpy as np
 
 from sheetkin.groups import kind_of
-from sheetkin.kinematics.scene import Scene, SceneError, parse_scene
+from sheetkin.groups.group import Group
+from sheetkin.kinematics.scene import Point, Scene, SceneError, parse_scene
 from sheetkin.sheet.charts import PATHS_SHEET, PLOTTED_SHEET
 from sheetkin.sheet.checks import STATUS as CHECK_STATUS
 from sheetkin.sheet.checks import failing as check_fails
@@ -42,7 +45,7 @@ from sheetkin.xlsx.package import Limits, UnusableWorkbook
 
 from . import issued
 from .copies import submission_marks  # the raw cells copy detection compares
-from .layout import find_layout, standard_view, without_unread
+from .layout import Layout, find_layout, standard_view, without_unread
 from .localjudge import TURN, angle_difference, judge, name_causes
 from .localjudge import typed_tolerance as _typed_tolerance
 
@@ -103,8 +106,24 @@ class RowReport:
     formula_cells: int = 0           # cells holding a formula (their own, or an array's)
 
 
+class _UsableBookParts:
+    """What validate sets on the report of a usable book only: not fields (not in to_dict,
+    and a plain base class, so no dataclass field), absent on a report that stopped early
+    (readers getattr them with a default). Declared here for the types only."""
+    layout: Layout                   # the student's cells (report texts)
+    roster_differs: bool             # one warning for the class (cli)
+    lang: str                        # the reports' default language
+    variant_scene: Scene             # the report's picture
+    marks: dict                      # the raw cells copy detection compares (copies.py)
+    checks_total: int                # check rows in the sheet
+    checks_apply: int                # issued check rows with a number somewhere
+    checks_passing: int
+    checks_na: int
+    checks_unfilled: int
+
+
 @dataclass
-class Report:
+class Report(_UsableBookParts):
     path: str
     author: str = ""
     title: str = ""
@@ -203,8 +222,9 @@ def variant_scene(scene: Scene, inputs: dict[str, object], positions: int, where
     points = tuple(dataclasses.replace(p, along=num(f"along_{p.name}", p.along),
                                        across=num(f"across_{p.name}", p.across)) for p in scene.points)
     by_index, by_name = {g.index: g for g in groups}, {p.name: p for p in points}
-    plan = tuple((k, crank if k == "crank" else by_index[it.index] if k == "group" else by_name[it.name])
-                 for k, it in scene.plan)
+    # scene.plan pairs each kind with its item: ("group", Group), ("point", Point)
+    plan = tuple((k, crank if k == "crank" else by_index[cast(Group, it).index] if k == "group"
+                  else by_name[cast(Point, it).name]) for k, it in scene.plan)
     gravity = (num("g_x", scene.gravity[0]), num("g_y", scene.gravity[1]))
     masses = tuple(dataclasses.replace(m, mass=num(f"m_{m.link}", m.mass), inertia=num(f"J_{m.link}", m.inertia))
                    for m in scene.masses)
@@ -320,7 +340,8 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
     student_scene = variant_scene(scene, inputs if accept else {**inputs, **given.issued}, positions, where)
     ref_book = _reference(student_scene)
     ref_sheet = ref_book.order[0]
-    ref_names = {ref_book.sheets[ref_sheet].consts.get((r, 1)): r for r in range(5, ref_book.sheets[ref_sheet].max_row + 1)}
+    ref_names = {ref_book.sheets[ref_sheet].consts.get((r, 1)): r
+                 for r in range(5, ref_book.sheets[ref_sheet].max_row + 1)}
     # who filled it in: D1, D2 (the lecture's rows 1-2); books issued before 0.16 had input
     # rows "student", "group" (A1 the title, A2 the scheme's author, then)
     old = "student" in names
@@ -345,8 +366,9 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
     # and how many check rows the sheet has (grades: checks passing / total)
     computed = {r.name: names[r.name] for r in ref_rows
                 if r.kind in ("calc", "accepted", "guard") and r.name != "i" and r.name in names}
-    report.marks = submission_marks(sh, computed, FIRST_COL, positions, ref_book.sheets[ref_sheet], ref_names,
-                                    inputs, ancestors)
+    # ref_names is looked up by row name only (the None of unnamed rows is never asked for)
+    report.marks = submission_marks(sh, computed, FIRST_COL, positions, ref_book.sheets[ref_sheet],
+                                    cast(dict[str, int], ref_names), inputs, ancestors)
     report.checks_total = sum(kinds.get(n) in ("check", "fdcheck") for n in names)
     for row in ref_rows:
         if row.kind not in ("calc", "accepted", "guard") or row.name in ("i",):
@@ -361,28 +383,7 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
         if not any(c in sh.formulas or c in sh.consts for c in cells):
             rep.status = "empty"
             continue
-        for k, (_, c) in enumerate(cells):
-            got = evaluated.value(main, r, c)
-            typed = not sh.computed(r, c)                 # a spilled cell is computed, not typed
-            if not typed and evaluated.tag[main][r, c] == 14 and (r, c) in sh.cached:
-                got, rep.source = sh.cached[(r, c)], "cached"        # a formula we cannot evaluate
-                got = float(got) if isinstance(got, (int, float)) and not isinstance(got, bool) else got
-            if not typed:
-                rep.formula_cells += 1
-            if typed:
-                rep.source = "typed"
-                if got is not None:
-                    rep.typed_cells.append(k + 1)
-            exp = ref_book.value(ref_sheet, rr, c)
-            ok, err = _close(got, exp, row.name, typed, periods.get(row.name))
-            if not ok:
-                rep.wrong_cells.append(k + 1)
-                if rep.first_wrong is None:
-                    rep.first_wrong, rep.expected, rep.got = k + 1, exp, got
-            if np.isfinite(err):
-                rep.max_error = max(rep.max_error, err)
-            else:
-                rep.max_error = math.inf
+        _compare_cells(rep, cells, evaluated, main, sh, ref_book, ref_sheet, rr, periods.get(row.name))
         if rep.wrong_cells:
             rep.status = "wrong"
     # likely causes: each row judged on the student's own values of what it reads
@@ -400,6 +401,34 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
                                               columns=layout.columns)
     _read_checks(report, evaluated, main, sh, names, ref_rows, ref_book, ref_names)
     return report
+
+
+def _compare_cells(rep: RowReport, cells: list[tuple[int, int]], evaluated: Book, main: str, sh: Sheet,
+                   ref_book: Book, ref_sheet: str, rr: int, period: float | None) -> None:
+    """A row's cells (r, c) against the reference's row rr: where it computes or holds typed
+    numbers, its wrong cells, the first wrong one, its largest error."""
+    for k, (r, c) in enumerate(cells):
+        got = evaluated.value(main, r, c)
+        typed = not sh.computed(r, c)                 # a spilled cell is computed, not typed
+        if not typed and evaluated.tag[main][r, c] == 14 and (r, c) in sh.cached:
+            got, rep.source = sh.cached[(r, c)], "cached"        # a formula we cannot evaluate
+            got = float(got) if isinstance(got, (int, float)) and not isinstance(got, bool) else got
+        if not typed:
+            rep.formula_cells += 1
+        if typed:
+            rep.source = "typed"
+            if got is not None:
+                rep.typed_cells.append(k + 1)
+        exp = ref_book.value(ref_sheet, rr, c)
+        ok, err = _close(got, exp, rep.name, typed, period)
+        if not ok:
+            rep.wrong_cells.append(k + 1)
+            if rep.first_wrong is None:
+                rep.first_wrong, rep.expected, rep.got = k + 1, exp, got
+        if np.isfinite(err):
+            rep.max_error = max(rep.max_error, err)
+        else:
+            rep.max_error = math.inf
 
 
 def _read_checks(report: Report, evaluated: Book, main: str, sh: Sheet, names: dict[str, int], ref_rows,
@@ -565,7 +594,7 @@ def _build_reference(scene: Scene, evaluate: bool = True):
     return evaluate_sheets("<reference>", sheets, order, {}, strict=True)
 
 
-def _cache_mismatches(book: Book, sheet: str, angle_rows: set[int] = frozenset(), limit: int = 50,
+def _cache_mismatches(book: Book, sheet: str, angle_rows: Set[int] = frozenset(), limit: int = 50,
                       columns: dict[int, int] | None = None) -> list[str]:
     """Formula cells whose value, as the spreadsheet last saved it, differs from what the
     formula gives now (stale values, or a number pasted over a formula's result). On the
@@ -584,7 +613,8 @@ def _cache_mismatches(book: Book, sheet: str, angle_rows: set[int] = frozenset()
                 continue
             if isinstance(now, float) and r in angle_rows and abs(abs(now - cached) - 360.0) <= 1e-9:
                 continue
-        elif isinstance(cached, str) and (now == cached or (now is None and cached == "")) or isinstance(cached, bool) and now == cached:
+        elif (isinstance(cached, str) and (now == cached or (now is None and cached == ""))
+              or isinstance(cached, bool) and now == cached):
             continue
         elif isinstance(cached, str) and isinstance(now, str) and now.startswith("#") and cached.startswith("#"):
             continue                                     # errors: LibreOffice and Excel name some differently

@@ -32,6 +32,7 @@ import re
 import shutil
 import sys
 import tempfile
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -183,7 +184,7 @@ def _step(unit: str, lo: float, hi: float) -> float:
 _VARY = re.compile(r"^\s*([A-Za-z][A-Za-z0-9_]*)\s*=\s*(\S+?)\s*\.\.\s*(\S+)\s*$")
 
 
-def ranges(params: list[Param], vary: list[str] = ()) -> list[Range]:
+def ranges(params: list[Param], vary: Sequence[str] = ()) -> list[Range]:
     """The default band around each non-zero length/coordinate, and every --vary range."""
     by_name = {n: p for p in params for n in p.names}
     chosen: dict[str, tuple[float, float]] = {}
@@ -261,7 +262,7 @@ def _distinct(values: dict[str, float], kept: list[Variant], rngs: list[Range]) 
 
 
 # --------------------------------------------------------------------------- making them
-def make_variants(text: str, source: str, n: int, seed: int, vary: list[str] = (),
+def make_variants(text: str, source: str, n: int, seed: int, vary: Sequence[str] = (),
                   min_det: float = MIN_DET) -> list[Variant]:
     """N acceptable, distinct variants of the scene `text` (the module's docstring), or a
     SceneError (one line) saying why there are fewer."""
@@ -316,7 +317,8 @@ def make_variants(text: str, source: str, n: int, seed: int, vary: list[str] = (
     if len(kept) < n:
         bands = ", ".join(f"{r.param.name} {r.lo:g}..{r.hi:g}" for r in rngs)
         raise SceneError(one_line(
-            f"{source}: only {len(kept)} acceptable variant{'' if len(kept) == 1 else 's'} of the {n} asked for in {TRIES * n} tries "
+            f"{source}: only {len(kept)} acceptable variant{'' if len(kept) == 1 else 's'} "
+            f"of the {n} asked for in {TRIES * n} tries "
             f"within {bands} (rejected: " + ", ".join(f"{v} {k}" for k, v in rejected.items())
             + "); widen the ranges with --vary NAME=LO..HI or ask for fewer with -n", 2000))
     return kept
@@ -367,8 +369,8 @@ def write_variants(variants: list[Variant], out: str | Path, *, force: bool = Fa
         files = file_names(v.id)
         _atomic(out / files["scene"], v.text)
         mark = (v.id, seal(key, v.id, v.text))
-        for which, exercise in (("exercise", True), ("key", False)):
-            wb = build_workbook(v.scene, lang=lang, exercise=exercise, scene_text=v.text, issued=mark,
+        for which, is_exercise in (("exercise", True), ("key", False)):
+            wb = build_workbook(v.scene, lang=lang, exercise=is_exercise, scene_text=v.text, issued=mark,
                                 charts=charts)
             _atomic_book(out / files[which], wb)
         rows.append((v.id, files, given_values(v.scene)))
@@ -393,7 +395,9 @@ def assign(variants: list[Variant], class_list) -> list[tuple[str, str, str, str
     the list's order: the k-th student (from 0) gets variant k mod N. More students than
     variants is allowed (a variant is then shared, each student's book sealed with their
     own identity); a student listed twice (one identifier) gets one variant."""
-    out, seen, files = [], set(), set()
+    out: list[tuple[str, str, str, str]] = []
+    seen: set[str] = set()
+    files: set[str] = set()         # the exercise files' names, casefolded
     for person in class_list.people:
         if person.ident in seen:
             continue
@@ -490,7 +494,7 @@ def _atomic_bytes(path: Path, data: bytes, private: bool = False) -> None:
     except BaseException:
         with contextlib.suppress(OSError):
             os.unlink(tmp)
-        if isinstance(sys.exc_info()[1], OSError):
-            e = sys.exc_info()[1]
-            raise OSError(e.errno, e.strerror, str(path)) from None
+        err = sys.exc_info()[1]
+        if isinstance(err, OSError):
+            raise OSError(err.errno, err.strerror, str(path)) from None
         raise

@@ -158,13 +158,23 @@ def via_link_checks(b: Builder, n: str, j: str, k: int, label: str):
     angular velocity or acceleration of link k shows here, at any step."""
     c, s, w, e = (f"{{{r}}}" for r in b.rot[k])
     X, Y = f"({b.p('x', n)}-{b.p('x', j)})", f"({b.p('y', n)}-{b.p('y', j)})"
-    b.add(f"chk_v_{n}_{k}", "m/s", f"проверка: скорость {n} через звено {k} ({label}; не зависит от шага)",
-          f"check: velocity of {n} through link {k} ({label}; free of the step)",
-          "check", f"ABS({b.p('vx', n)}-({b.p('vx', j)}-{w}*{Y}))+ABS({b.p('vy', n)}-({b.p('vy', j)}+{w}*{X}))")
-    b.add(f"chk_a_{n}_{k}", "m/s^2", f"проверка: ускорение {n} через звено {k} ({label}; не зависит от шага)",
-          f"check: acceleration of {n} through link {k} ({label}; free of the step)",
-          "check",
-          f"ABS({b.p('ax', n)}-({b.p('ax', j)}-{e}*{Y}-{w}^2*{X}))+ABS({b.p('ay', n)}-({b.p('ay', j)}+{e}*{X}-{w}^2*{Y}))")
+    b.add(
+        f"chk_v_{n}_{k}",
+        "m/s",
+        f"проверка: скорость {n} через звено {k} ({label}; не зависит от шага)",
+        f"check: velocity of {n} through link {k} ({label}; free of the step)",
+        "check",
+        f"ABS({b.p('vx', n)}-({b.p('vx', j)}-{w}*{Y}))+ABS({b.p('vy', n)}-({b.p('vy', j)}+{w}*{X}))",
+    )
+    b.add(
+        f"chk_a_{n}_{k}",
+        "m/s^2",
+        f"проверка: ускорение {n} через звено {k} ({label}; не зависит от шага)",
+        f"check: acceleration of {n} through link {k} ({label}; free of the step)",
+        "check",
+        f"ABS({b.p('ax', n)}-({b.p('ax', j)}-{e}*{Y}-{w}^2*{X}))"
+        f"+ABS({b.p('ay', n)}-({b.p('ay', j)}+{e}*{X}-{w}^2*{Y}))",
+    )
 
 
 def local_position_check(b: Builder, n: str, k: int, origin: str, along: str, across: str):
@@ -173,11 +183,15 @@ def local_position_check(b: Builder, n: str, k: int, origin: str, along: str, ac
     round (turned by +phi_k), so a sign or a factor wrong in either fails here."""
     c, s, _, _ = (f"{{{r}}}" for r in b.rot[k])
     X, Y = f"({{x_{n}}}-{b.p('x', origin)})", f"({{y_{n}}}-{b.p('y', origin)})"
-    b.add(f"chk_local_{n}", "m", f"проверка: {n} в осях звена {k}: (r{n} - r{origin}) повёрнут на -phi_{k} "
-                                 f"= (вдоль, поперёк) (не зависит от шага)",
-          f"check: {n} in link {k}'s axes: (r{n} - r{origin}) turned by -phi_{k} = (along, across) "
-          f"(free of the step)",
-          "check", f"ABS({X}*{c}+{Y}*{s}-{along})+ABS({Y}*{c}-{X}*{s}-{across})")
+    b.add(
+        f"chk_local_{n}",
+        "m",
+        f"проверка: {n} в осях звена {k}: (r{n} - r{origin}) повёрнут на -phi_{k} "
+        f"= (вдоль, поперёк) (не зависит от шага)",
+        f"check: {n} in link {k}'s axes: (r{n} - r{origin}) turned by -phi_{k} = (along, across) (free of the step)",
+        "check",
+        f"ABS({X}*{c}+{Y}*{s}-{along})+ABS({Y}*{c}-{X}*{s}-{across})",
+    )
 
 
 def turns_with_check(b: Builder, name: str, angles, rates, ru: str, en: str):
@@ -217,10 +231,15 @@ def det_row(b: Builder, det: str, m, unit: str, ru: str, en: str):
 
 def relative_velocity_check(b: Builder, n: str, j: str):
     """A rigid link keeps |n j|: the relative velocity is perpendicular to n - j."""
-    b.add(f"chk_v_{n}{j}", "m^2/s", f"проверка: (v{n} - v{j}) перпендикулярна {j}{n}",
-          f"check: (v{n} - v{j}) perpendicular to {j}{n}",
-          "check",
-          f"({b.p('vx', n)}-{b.p('vx', j)})*({b.p('x', n)}-{b.p('x', j)})+({b.p('vy', n)}-{b.p('vy', j)})*({b.p('y', n)}-{b.p('y', j)})")
+    b.add(
+        f"chk_v_{n}{j}",
+        "m^2/s",
+        f"проверка: (v{n} - v{j}) перпендикулярна {j}{n}",
+        f"check: (v{n} - v{j}) perpendicular to {j}{n}",
+        "check",
+        f"({b.p('vx', n)}-{b.p('vx', j)})*({b.p('x', n)}-{b.p('x', j)})"
+        f"+({b.p('vy', n)}-{b.p('vy', j)})*({b.p('y', n)}-{b.p('y', j)})",
+    )
 
 
 def carried_rows(b: Builder, n: str, k: int, origin: str, along: str, across: str, ru: str, en: str):
@@ -230,10 +249,18 @@ def carried_rows(b: Builder, n: str, k: int, origin: str, along: str, across: st
     ry = f"({along}*{s}+{across}*{c})" if across != "0" else f"{along}*{s}"
     X, Y = f"({{x_{n}}}-{b.p('x', origin)})", f"({{y_{n}}}-{b.p('y', origin)})"
     b.section(f"point_{n}", f"Точка {n} звена {k}", f"Point {n} of link {k}")
-    motion_rows(b, n, ru, en, f"{b.p('x', origin)}+{rx}", f"{b.p('y', origin)}+{ry}",
-                 f"{b.p('vx', origin)}-{w}*{Y}", f"{b.p('vy', origin)}+{w}*{X}",
-                 f"{b.p('ax', origin)}-{e}*{Y}-{w}^2*{X}", f"{b.p('ay', origin)}+{e}*{X}-{w}^2*{Y}")
-
+    motion_rows(
+        b,
+        n,
+        ru,
+        en,
+        f"{b.p('x', origin)}+{rx}",
+        f"{b.p('y', origin)}+{ry}",
+        f"{b.p('vx', origin)}-{w}*{Y}",
+        f"{b.p('vy', origin)}+{w}*{X}",
+        f"{b.p('ax', origin)}-{e}*{Y}-{w}^2*{X}",
+        f"{b.p('ay', origin)}+{e}*{X}-{w}^2*{Y}",
+    )
 
 
 @dataclass(frozen=True)

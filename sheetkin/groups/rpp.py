@@ -211,14 +211,24 @@ def rows(b: Builder, g: Group):
     b.add(f"chk_{J1}_g{i}", "m", f"проверка: {K} + s_{J1} u_s совпадает с {J1}", f"check: {K} + s_{J1} u_s is {J1}",
           "check",
           f"ABS({{x_{K}}}+{{s_{J1}}}*{cs}-{b.p('x', J1)})+ABS({{y_{K}}}+{{s_{J1}}}*{ss}-{b.p('y', J1)})")
-    b.add(f"chk_v_{J1}_g{i}", "m/s", f"проверка: скорость {K} + vs_{J1} u_s равна скорости {J1}",
-          f"check: velocity of {K} + vs_{J1} u_s is {J1}'s", "check",
-          f"ABS({{vx_{K}}}+{{vs_{J1}}}*{cs}-{b.p('vx', J1)})+ABS({{vy_{K}}}+{{vs_{J1}}}*{ss}-{b.p('vy', J1)})")
+    b.add(
+        f"chk_v_{J1}_g{i}",
+        "m/s",
+        f"проверка: скорость {K} + vs_{J1} u_s равна скорости {J1}",
+        f"check: velocity of {K} + vs_{J1} u_s is {J1}'s",
+        "check",
+        f"ABS({{vx_{K}}}+{{vs_{J1}}}*{cs}-{b.p('vx', J1)})+ABS({{vy_{K}}}+{{vs_{J1}}}*{ss}-{b.p('vy', J1)})",
+    )
     # the same for accelerations: the slot does not turn, so no Coriolis term; without it
     # K's acceleration rows had only the numeric derivative (inactive above 3 deg)
-    b.add(f"chk_a_{J1}_g{i}", "m/s^2", f"проверка: ускорение {K} + as_{J1} u_s равно ускорению {J1} (не зависит от шага)",
-          f"check: acceleration of {K} + as_{J1} u_s is {J1}'s (free of the step)", "check",
-          f"ABS({{ax_{K}}}+{{as_{J1}}}*{cs}-{b.p('ax', J1)})+ABS({{ay_{K}}}+{{as_{J1}}}*{ss}-{b.p('ay', J1)})")
+    b.add(
+        f"chk_a_{J1}_g{i}",
+        "m/s^2",
+        f"проверка: ускорение {K} + as_{J1} u_s равно ускорению {J1} (не зависит от шага)",
+        f"check: acceleration of {K} + as_{J1} u_s is {J1}'s (free of the step)",
+        "check",
+        f"ABS({{ax_{K}}}+{{as_{J1}}}*{cs}-{b.p('ax', J1)})+ABS({{ay_{K}}}+{{as_{J1}}}*{ss}-{b.p('ay', J1)})",
+    )
     fd_checks(b, K)
 
 

@@ -218,23 +218,38 @@ def _rate_rows(b: Builder, g: Group) -> None:
                      f"lever {lb} and block {la} point along the slot (cu, su), the block turns with the lever")
     # s is the root +sqrt(D): -sqrt(D) also closes the loop (the slot turned by 180 deg),
     # so only its sign tells; relative to L_TEK, free of the step
-    b.add(f"chk_s_g{i}", "", f"проверка: s_{J1} = +sqrt(L_TEK^2 - e^2) >= 0 (относительная невязка)",
-          f"check: s_{J1} = +sqrt(L_TEK^2 - e^2) >= 0 (relative)", "check",
-          f"ABS({{{sJ}}}^2+{e}^2-{{{r2}}})/{{{r2}}}+(ABS({{{sJ}}})-{{{sJ}}})/SQRT({{{r2}}})")
+    b.add(
+        f"chk_s_g{i}",
+        "",
+        f"проверка: s_{J1} = +sqrt(L_TEK^2 - e^2) >= 0 (относительная невязка)",
+        f"check: s_{J1} = +sqrt(L_TEK^2 - e^2) >= 0 (relative)",
+        "check",
+        f"ABS({{{sJ}}}^2+{e}^2-{{{r2}}})/{{{r2}}}+(ABS({{{sJ}}})-{{{sJ}}})/SQRT({{{r2}}})",
+    )
     b.add(f"cos_{lb}", "", f"cos угла кулисы {lb}", f"cos of lever {lb}'s angle", "calc", c)
     b.add(f"sin_{lb}", "", f"sin угла кулисы {lb}", f"sin of lever {lb}'s angle", "calc", s)
     b.place_links(la, lb, rot=(f"cos_{lb}", f"sin_{lb}", f"omega_{lb}", f"eps_{lb}"))
     # the block's motion seen on the lever: v_J1 = v_J2 + omega x r + vs u,
     # a_J1 = a_J2 + eps x r - omega^2 r + as u + 2 omega vs n (Coriolis)
     as_ = f"{{as_{J1}}}"
-    b.add(f"chk_v_g{i}", "m/s", f"проверка: v{J1} = v{J2} + omega x r + vs u",
-          f"check: v{J1} = v{J2} + omega x r + vs u",
-          "check",
-          f"ABS({b.p('vx', J1)}-({b.p('vx', J2)}-{w}*{{{dy}}}+{vs}*{c}))+ABS({b.p('vy', J1)}-({b.p('vy', J2)}+{w}*{{{dx}}}+{vs}*{s}))")
-    b.add(f"chk_a_g{i}", "m/s^2", f"проверка: a{J1} = a{J2} + eps x r - omega^2 r + as u + 2 omega vs n",
-          f"check: a{J1} = a{J2} + eps x r - omega^2 r + as u + 2 omega vs n", "check",
-          f"ABS({b.p('ax', J1)}-({b.p('ax', J2)}-{ep}*{{{dy}}}-{w}^2*{{{dx}}}+{as_}*{c}-2*{w}*{vs}*{s}))"
-          f"+ABS({b.p('ay', J1)}-({b.p('ay', J2)}+{ep}*{{{dx}}}-{w}^2*{{{dy}}}+{as_}*{s}+2*{w}*{vs}*{c}))")
+    b.add(
+        f"chk_v_g{i}",
+        "m/s",
+        f"проверка: v{J1} = v{J2} + omega x r + vs u",
+        f"check: v{J1} = v{J2} + omega x r + vs u",
+        "check",
+        f"ABS({b.p('vx', J1)}-({b.p('vx', J2)}-{w}*{{{dy}}}+{vs}*{c}))"
+        f"+ABS({b.p('vy', J1)}-({b.p('vy', J2)}+{w}*{{{dx}}}+{vs}*{s}))",
+    )
+    b.add(
+        f"chk_a_g{i}",
+        "m/s^2",
+        f"проверка: a{J1} = a{J2} + eps x r - omega^2 r + as u + 2 omega vs n",
+        f"check: a{J1} = a{J2} + eps x r - omega^2 r + as u + 2 omega vs n",
+        "check",
+        f"ABS({b.p('ax', J1)}-({b.p('ax', J2)}-{ep}*{{{dy}}}-{w}^2*{{{dx}}}+{as_}*{c}-2*{w}*{vs}*{s}))"
+        f"+ABS({b.p('ay', J1)}-({b.p('ay', J2)}+{ep}*{{{dx}}}-{w}^2*{{{dy}}}+{as_}*{s}+2*{w}*{vs}*{c}))",
+    )
 
 
 # --------------------------------------------------------------------------- kinetostatics

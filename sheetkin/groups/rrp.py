@@ -218,16 +218,41 @@ def _fixed_guide_rows(b: Builder, g: Group):
           "calc", f"{L}^2-{{{h}}}^2", guard=b.guard)
     group_guard(b, g, D, f"{L}^2")
     for s, sign, ru, en in (("p", "+", "ветвь +1", "branch +1"), ("m", "-", "ветвь -1", "branch -1")):
-        b.add(f"s_{s}_g{i}", "m", f"{ru}: s = проекция {sign} sqrt(D)", f"{en}: s = foot {sign} sqrt(D)", "calc",
-              f"{{{al}}}{sign}SQRT({{{D}}})")
-        b.add(f"chk_{s}_g{i}", "m", f"проверка {ru}: |{J1}{N}| - L{la}", f"check {en}: |{J1}{N}| - L{la}", "check",
-              f"SQRT(({gx}+{{s_{s}_g{i}}}*COS({gam})-{b.p('x', J1)})^2+({gy}+{{s_{s}_g{i}}}*SIN({gam})-{b.p('y', J1)})^2)-{L}")
+        b.add(
+            f"s_{s}_g{i}",
+            "m",
+            f"{ru}: s = проекция {sign} sqrt(D)",
+            f"{en}: s = foot {sign} sqrt(D)",
+            "calc",
+            f"{{{al}}}{sign}SQRT({{{D}}})",
+        )
+        b.add(
+            f"chk_{s}_g{i}",
+            "m",
+            f"проверка {ru}: |{J1}{N}| - L{la}",
+            f"check {en}: |{J1}{N}| - L{la}",
+            "check",
+            f"SQRT(({gx}+{{s_{s}_g{i}}}*COS({gam})-{b.p('x', J1)})^2"
+            f"+({gy}+{{s_{s}_g{i}}}*SIN({gam})-{b.p('y', J1)})^2)-{L}",
+        )
     b.section(f"accepted_g{i}", "Принятые значения", "Accepted values")
     sN = f"s_{N}"
-    b.add(sN, "m", f"перемещение ползуна {N} вдоль направляющей", f"travel of slider {N} along the guide", "accepted",
-          f"IF({{branch_g{i}}}=1,{{s_p_g{i}}},{{s_m_g{i}}})")
-    b.add(f"phi_{la}", "deg", f"угол шатуна {la} ({J1}->{N})", f"angle of coupler {la} ({J1}->{N})", "accepted",
-          f"MOD(DEGREES(ATAN2({gx}+{{{sN}}}*COS({gam})-{b.p('x', J1)},{gy}+{{{sN}}}*SIN({gam})-{b.p('y', J1)})),360)")
+    b.add(
+        sN,
+        "m",
+        f"перемещение ползуна {N} вдоль направляющей",
+        f"travel of slider {N} along the guide",
+        "accepted",
+        f"IF({{branch_g{i}}}=1,{{s_p_g{i}}},{{s_m_g{i}}})",
+    )
+    b.add(
+        f"phi_{la}",
+        "deg",
+        f"угол шатуна {la} ({J1}->{N})",
+        f"angle of coupler {la} ({J1}->{N})",
+        "accepted",
+        f"MOD(DEGREES(ATAN2({gx}+{{{sN}}}*COS({gam})-{b.p('x', J1)},{gy}+{{{sN}}}*SIN({gam})-{b.p('y', J1)})),360)",
+    )
     b.add(f"phi_{lb}", "deg", f"угол ползуна {lb} (направляющая)", f"angle of slider {lb} (the guide)", "accepted",
           f"MOD({{gamma_g{i}}},360)")
     cos_sin_rows(b, la, "", "")
@@ -332,10 +357,23 @@ def _kulisa_line_rows(b: Builder, g: Group) -> None:
           "calc", f"{L}^2-{{{h}}}^2")
     group_guard(b, g, D, f"{L}^2")
     for s, sign, ru, en in (("p", "+", "ветвь +1", "branch +1"), ("m", "-", "ветвь -1", "branch -1")):
-        b.add(f"s_{s}_g{i}", "m", f"{ru}: L_tek = {G}K {sign} sqrt(D)", f"{en}: L_tek = {G}K {sign} sqrt(D)", "calc",
-              f"{{{al}}}{sign}SQRT({{{D}}})")
-        b.add(f"chk_{s}_g{i}", "m", f"проверка {ru}: |{J1}{N}| - L{la}", f"check {en}: |{J1}{N}| - L{la}", "check",
-              f"SQRT(({b.p('x', G)}+{{s_{s}_g{i}}}*{U}-{b.p('x', J1)})^2+({b.p('y', G)}+{{s_{s}_g{i}}}*{V}-{b.p('y', J1)})^2)-{L}")
+        b.add(
+            f"s_{s}_g{i}",
+            "m",
+            f"{ru}: L_tek = {G}K {sign} sqrt(D)",
+            f"{en}: L_tek = {G}K {sign} sqrt(D)",
+            "calc",
+            f"{{{al}}}{sign}SQRT({{{D}}})",
+        )
+        b.add(
+            f"chk_{s}_g{i}",
+            "m",
+            f"проверка {ru}: |{J1}{N}| - L{la}",
+            f"check {en}: |{J1}{N}| - L{la}",
+            "check",
+            f"SQRT(({b.p('x', G)}+{{s_{s}_g{i}}}*{U}-{b.p('x', J1)})^2"
+            f"+({b.p('y', G)}+{{s_{s}_g{i}}}*{V}-{b.p('y', J1)})^2)-{L}",
+        )
 
 
 def _kulisa_accepted_rows(b: Builder, g: Group) -> None:
@@ -344,11 +382,22 @@ def _kulisa_accepted_rows(b: Builder, g: Group) -> None:
     b.section(f"accepted_g{i}", "Принятые значения", "Accepted values")
     sN = f"s_{N}"
     S = f"{{{sN}}}"
-    b.add(sN, "m", f"L_tek: положение камня {N} на кулисе от {G}", f"L_tek: block {N}'s place on the kulisa from {G}",
-          "accepted",
-          f"IF({{branch_g{i}}}=1,{{s_p_g{i}}},{{s_m_g{i}}})")
-    b.add(f"phi_{la}", "deg", f"угол звена {la} ({J1}->{N})", f"angle of link {la} ({J1}->{N})", "accepted",
-          f"MOD(DEGREES(ATAN2({b.p('x', G)}+{S}*{U}-{b.p('x', J1)},{b.p('y', G)}+{S}*{V}-{b.p('y', J1)})),360)")
+    b.add(
+        sN,
+        "m",
+        f"L_tek: положение камня {N} на кулисе от {G}",
+        f"L_tek: block {N}'s place on the kulisa from {G}",
+        "accepted",
+        f"IF({{branch_g{i}}}=1,{{s_p_g{i}}},{{s_m_g{i}}})",
+    )
+    b.add(
+        f"phi_{la}",
+        "deg",
+        f"угол звена {la} ({J1}->{N})",
+        f"angle of link {la} ({J1}->{N})",
+        "accepted",
+        f"MOD(DEGREES(ATAN2({b.p('x', G)}+{S}*{U}-{b.p('x', J1)},{b.p('y', G)}+{S}*{V}-{b.p('y', J1)})),360)",
+    )
     b.add(f"phi_{lb}", "deg", f"угол камня {lb} (= phi_{k} + gamma)", f"angle of block {lb} (= phi_{k} + gamma)",
           "accepted",
           f"MOD({{phi_{k}}}+{{gamma_g{i}}},360)")

@@ -202,24 +202,54 @@ def rows(b: Builder, g: Group):
                   f"{b.p(axis, J1)}+{L2}*{fn}({{psi_{s}_g{i}}})-{L3}*{fn}({{xi_{s}_g{i}}})-{b.p(axis, J2)}")
     b.section(f"accepted_g{i}", "Принятые значения", "Accepted values")
     br = f"{{branch_g{i}}}"
-    b.add(f"phi_{la}", "deg", f"угол звена {la} ({J1}->{N})", f"angle of link {la} ({J1}->{N})", "accepted",
-          f"MOD(DEGREES(IF({br}=1,{{psi_p_g{i}}},{{psi_m_g{i}}})),360)")
-    b.add(f"phi_{lb}", "deg", f"угол звена {lb} ({J2}->{N})", f"angle of link {lb} ({J2}->{N})", "accepted",
-          f"MOD(DEGREES(IF({br}=1,{{xi_p_g{i}}},{{xi_m_g{i}}})),360)")
+    b.add(
+        f"phi_{la}",
+        "deg",
+        f"угол звена {la} ({J1}->{N})",
+        f"angle of link {la} ({J1}->{N})",
+        "accepted",
+        f"MOD(DEGREES(IF({br}=1,{{psi_p_g{i}}},{{psi_m_g{i}}})),360)",
+    )
+    b.add(
+        f"phi_{lb}",
+        "deg",
+        f"угол звена {lb} ({J2}->{N})",
+        f"angle of link {lb} ({J2}->{N})",
+        "accepted",
+        f"MOD(DEGREES(IF({br}=1,{{xi_p_g{i}}},{{xi_m_g{i}}})),360)",
+    )
     cos_sin_rows(b, la, "", "")
     cos_sin_rows(b, lb, "", "")
     ca, sa, cb, sb = f"{{cos_{la}}}", f"{{sin_{la}}}", f"{{cos_{lb}}}", f"{{sin_{lb}}}"
-    b.add(f"chk_acc_g{i}", "m", "проверка принятых значений: невязка системы (a)",
-          "check of the accepted values: residual of system (a)", "check",
-          f"ABS({b.p('x', J1)}+{L2}*{ca}-{L3}*{cb}-{b.p('x', J2)})+ABS({b.p('y', J1)}+{L2}*{sa}-{L3}*{sb}-{b.p('y', J2)})")
-    # system (b) (slide 19): -L2 sin psi psi_t + L3 sin xi xi_t = vx_J2 - vx_J1; L2 cos psi psi_t - L3 cos xi xi_t = vy_J2 - vy_J1
+    b.add(
+        f"chk_acc_g{i}",
+        "m",
+        "проверка принятых значений: невязка системы (a)",
+        "check of the accepted values: residual of system (a)",
+        "check",
+        f"ABS({b.p('x', J1)}+{L2}*{ca}-{L3}*{cb}-{b.p('x', J2)})"
+        f"+ABS({b.p('y', J1)}+{L2}*{sa}-{L3}*{sb}-{b.p('y', J2)})",
+    )
+    # system (b) (slide 19): -L2 sin psi psi_t + L3 sin xi xi_t = vx_J2 - vx_J1;
+    #                          L2 cos psi psi_t - L3 cos xi xi_t = vy_J2 - vy_J1
     det = f"Delta_g{i}"
     m = (f"(-{L2}*{sa})", f"({L3}*{sb})", f"({L2}*{ca})", f"(-{L3}*{cb})")
-    det_row(b, det, m, "m^2", "определитель системы (b): L2 L3 sin(psi - xi)",
-            "determinant of system (b): L2 L3 sin(psi - xi)")
-    b.add(f"det_g{i}", "", "sin угла передачи (около 0: мёртвое положение)",
-          "sine of the transmission angle (near 0: toggle)",
-          "calc", f"{{{det}}}/({L2}*{L3})")
+    det_row(
+        b,
+        det,
+        m,
+        "m^2",
+        "определитель системы (b): L2 L3 sin(psi - xi)",
+        "determinant of system (b): L2 L3 sin(psi - xi)",
+    )
+    b.add(
+        f"det_g{i}",
+        "",
+        "sin угла передачи (около 0: мёртвое положение)",
+        "sine of the transmission angle (near 0: toggle)",
+        "calc",
+        f"{{{det}}}/({L2}*{L3})",
+    )
     b1, b2 = f"({b.p('vx', J2)}-{b.p('vx', J1)})", f"({b.p('vy', J2)}-{b.p('vy', J1)})"
     cramer_rows(b, m, det,
                 ((f"omega_{la}", "rad/s", f"угловая скорость звена {la} (Крамер)",

@@ -61,24 +61,52 @@ WIDTH, HEIGHT = 16.0, 12.0
 PLOT = (0.12, 0.13, 0.84, 0.74)            # x, y, w, h of the inner plot area
 PLOT_LEGEND = (0.11, 0.13, 0.66, 0.74)     # room for a legend on the right
 ROWS_PER_CHART = 25                         # 12 cm of default-height rows, and a gap
-COLORS = ["1F77B4", "FF7F0E", "2CA02C", "D62728", "9467BD", "8C564B", "E377C2", "7F7F7F",
-          "BCBD22", "17BECF"]
+COLORS = ["1F77B4", "FF7F0E", "2CA02C", "D62728", "9467BD", "8C564B", "E377C2", "7F7F7F", "BCBD22", "17BECF"]
 # the charts sheet's words: texts, and (x, y) axis titles under "axes"
-_TEXT: dict[str, dict[str, Any]] = {"ru": {"pos": "положение i =", "phi": "phi_1, град", "mech": "Механизм в положении i",
-                "traj": "Траектории точек", "helper": "данные чертежа (вспомогательные ячейки)",
-                "hint": "введите номер положения i: 0..{n}", "link": "звено {k}: {pts}",
-                "guide": "направляющая г{i}", "slot": "паз г{i}", "block": "ползун {k} в {at}", "frame": "стойка",
-                "axes": ("x, м", "y, м")},
-         "uk": {"pos": "положення i =", "phi": "phi_1, град", "mech": "Механізм у положенні i",
-                "traj": "Траєкторії точок", "helper": "дані креслення (допоміжні клітинки)",
-                "hint": "введіть номер положення i: 0..{n}", "link": "ланка {k}: {pts}",
-                "guide": "напрямна г{i}", "slot": "паз г{i}", "block": "повзун {k} у {at}", "frame": "стояк",
-                "axes": ("x, м", "y, м")},
-         "en": {"pos": "position i =", "phi": "phi_1, deg", "mech": "The mechanism at position i",
-                "traj": "Trajectories of points", "helper": "drawing data (helper cells)",
-                "hint": "type a position number i: 0..{n}",
-                "link": "link {k}: {pts}", "guide": "guide g{i}", "slot": "slot g{i}", "block": "block {k} at {at}",
-                "frame": "frame", "axes": ("x, m", "y, m")}}
+_TEXT: dict[str, dict[str, Any]] = {
+    "ru": {
+        "pos": "положение i =",
+        "phi": "phi_1, град",
+        "mech": "Механизм в положении i",
+        "traj": "Траектории точек",
+        "helper": "данные чертежа (вспомогательные ячейки)",
+        "hint": "введите номер положения i: 0..{n}",
+        "link": "звено {k}: {pts}",
+        "guide": "направляющая г{i}",
+        "slot": "паз г{i}",
+        "block": "ползун {k} в {at}",
+        "frame": "стойка",
+        "axes": ("x, м", "y, м"),
+    },
+    "uk": {
+        "pos": "положення i =",
+        "phi": "phi_1, град",
+        "mech": "Механізм у положенні i",
+        "traj": "Траєкторії точок",
+        "helper": "дані креслення (допоміжні клітинки)",
+        "hint": "введіть номер положення i: 0..{n}",
+        "link": "ланка {k}: {pts}",
+        "guide": "напрямна г{i}",
+        "slot": "паз г{i}",
+        "block": "повзун {k} у {at}",
+        "frame": "стояк",
+        "axes": ("x, м", "y, м"),
+    },
+    "en": {
+        "pos": "position i =",
+        "phi": "phi_1, deg",
+        "mech": "The mechanism at position i",
+        "traj": "Trajectories of points",
+        "helper": "drawing data (helper cells)",
+        "hint": "type a position number i: 0..{n}",
+        "link": "link {k}: {pts}",
+        "guide": "guide g{i}",
+        "slot": "slot g{i}",
+        "block": "block {k} at {at}",
+        "frame": "frame",
+        "axes": ("x, m", "y, m"),
+    },
+}
 
 
 # the helper scalars' labels (written in English where the cells are made)

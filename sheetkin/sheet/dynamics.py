@@ -17,19 +17,61 @@ def dynamics_inputs(b: Builder):
         b.input("g_x", "m/s^2", "ускорение свободного падения: проекция на x", "gravity, x component", sc.gravity[0])
         b.input("g_y", "m/s^2", "ускорение свободного падения: проекция на y", "gravity, y component", sc.gravity[1])
     for m in sc.masses:
-        b.input(f"m_{m.link}", "kg", f"масса звена {m.link} (центр масс {m.centre})", f"mass of link {m.link} (centre of mass {m.centre})", m.mass)
-        b.input(f"J_{m.link}", "kg m^2", f"момент инерции звена {m.link} относительно {m.centre}", f"moment of inertia of link {m.link} about {m.centre}", m.inertia)
+        b.input(
+            f"m_{m.link}",
+            "kg",
+            f"масса звена {m.link} (центр масс {m.centre})",
+            f"mass of link {m.link} (centre of mass {m.centre})",
+            m.mass,
+        )
+        b.input(
+            f"J_{m.link}",
+            "kg m^2",
+            f"момент инерции звена {m.link} относительно {m.centre}",
+            f"moment of inertia of link {m.link} about {m.centre}",
+            m.inertia,
+        )
     for f in sc.forces:
         n, where = f.name, f"звено {f.link}" + (f", точка {f.at}" if f.at else "")
         where_en = f"link {f.link}" + (f", point {f.at}" if f.at else "")
         if f.at:
-            b.input(f"Fx_{n}", "N", f"внешняя сила {n} ({where}): проекция на x", f"external force {n} ({where_en}): x component", f.force[0])
-            b.input(f"Fy_{n}", "N", f"внешняя сила {n} ({where}): проекция на y", f"external force {n} ({where_en}): y component", f.force[1])
+            b.input(
+                f"Fx_{n}",
+                "N",
+                f"внешняя сила {n} ({where}): проекция на x",
+                f"external force {n} ({where_en}): x component",
+                f.force[0],
+            )
+            b.input(
+                f"Fy_{n}",
+                "N",
+                f"внешняя сила {n} ({where}): проекция на y",
+                f"external force {n} ({where_en}): y component",
+                f.force[1],
+            )
         if f.moment or not f.at:
-            b.input(f"Mz_{n}", "N m", f"внешний момент {n} на звено {f.link} (против часовой +)", f"external moment {n} on link {f.link} (counterclockwise +)", f.moment)
+            b.input(
+                f"Mz_{n}",
+                "N m",
+                f"внешний момент {n} на звено {f.link} (против часовой +)",
+                f"external moment {n} on link {f.link} (counterclockwise +)",
+                f.moment,
+            )
         if f.interval_deg:
-            b.input(f"from_{n}", "deg", f"{n} действует с угла кривошипа", f"{n} acts from the crank angle", f.interval_deg[0])
-            b.input(f"to_{n}", "deg", f"{n} действует до угла кривошипа", f"{n} acts up to the crank angle", f.interval_deg[1])
+            b.input(
+                f"from_{n}",
+                "deg",
+                f"{n} действует с угла кривошипа",
+                f"{n} acts from the crank angle",
+                f.interval_deg[0],
+            )
+            b.input(
+                f"to_{n}",
+                "deg",
+                f"{n} действует до угла кривошипа",
+                f"{n} acts up to the crank angle",
+                f.interval_deg[1],
+            )
 
 
 def _rates(b: Builder, k: int) -> tuple[str, str]:
@@ -49,23 +91,68 @@ def energy_rows(b: Builder):
         m, J = f"{{m_{k}}}", f"{{J_{k}}}"
         w, e = _rates(b, k)
         vx, vy, ax, ay = (b.p(q, S) for q in ("vx", "vy", "ax", "ay"))
-        b.add(f"T_{k}", "J", f"кинетическая энергия звена {k}: m v{S}^2/2 + J omega^2/2", f"kinetic energy of link {k}: m v{S}^2/2 + J omega^2/2",
-              "accepted", f"{m}*({vx}^2+{vy}^2)/2+{J}*{w}^2/2")
+        b.add(
+            f"T_{k}",
+            "J",
+            f"кинетическая энергия звена {k}: m v{S}^2/2 + J omega^2/2",
+            f"kinetic energy of link {k}: m v{S}^2/2 + J omega^2/2",
+            "accepted",
+            f"{m}*({vx}^2+{vy}^2)/2+{J}*{w}^2/2",
+        )
         if gravity:
-            b.add(f"U_{k}", "J", f"потенциальная энергия звена {k}: -m g.r{S}", f"potential energy of link {k}: -m g.r{S}",
-                  "accepted", f"-{m}*({{g_x}}*{b.p('x', S)}+{{g_y}}*{b.p('y', S)})")
+            b.add(
+                f"U_{k}",
+                "J",
+                f"потенциальная энергия звена {k}: -m g.r{S}",
+                f"potential energy of link {k}: -m g.r{S}",
+                "accepted",
+                f"-{m}*({{g_x}}*{b.p('x', S)}+{{g_y}}*{b.p('y', S)})",
+            )
             u_rate.append(f"-{m}*({{g_x}}*{vx}+{{g_y}}*{vy})")
         v = f"{{v_{S}}}" if S not in b.frame else "0"
         # relative to the sizes at the same position (not to the row's largest value): the
         # check then reads only its own column, free of the step and of the other positions
-        b.add(f"chk_T_{k}", "", f"проверка: T_{k} через модуль скорости v{S} (относительная невязка)", f"check: T_{k} from the speed v{S} (relative)",
-              "check", f"({{T_{k}}}-{m}*{v}^2/2-{J}*{w}^2/2)/(ABS({{T_{k}}})+{m}*{v}^2/2+{J}*{w}^2/2+1E-300)")
-        b.add(f"Fix_{k}", "N", f"сила инерции звена {k} (Даламбер): -m a{S}, x", f"inertia force of link {k} (d'Alembert): -m a{S}, x", "accepted", f"-{m}*{ax}")
-        b.add(f"Fiy_{k}", "N", f"сила инерции звена {k}: -m a{S}, y", f"inertia force of link {k}: -m a{S}, y", "accepted", f"-{m}*{ay}")
-        b.add(f"Mi_{k}", "N m", f"момент сил инерции звена {k}: -J eps", f"inertia moment of link {k}: -J eps", "accepted", f"-{J}*{e}")
+        b.add(
+            f"chk_T_{k}",
+            "",
+            f"проверка: T_{k} через модуль скорости v{S} (относительная невязка)",
+            f"check: T_{k} from the speed v{S} (relative)",
+            "check",
+            f"({{T_{k}}}-{m}*{v}^2/2-{J}*{w}^2/2)/(ABS({{T_{k}}})+{m}*{v}^2/2+{J}*{w}^2/2+1E-300)",
+        )
+        b.add(
+            f"Fix_{k}",
+            "N",
+            f"сила инерции звена {k} (Даламбер): -m a{S}, x",
+            f"inertia force of link {k} (d'Alembert): -m a{S}, x",
+            "accepted",
+            f"-{m}*{ax}",
+        )
+        b.add(
+            f"Fiy_{k}",
+            "N",
+            f"сила инерции звена {k}: -m a{S}, y",
+            f"inertia force of link {k}: -m a{S}, y",
+            "accepted",
+            f"-{m}*{ay}",
+        )
+        b.add(
+            f"Mi_{k}",
+            "N m",
+            f"момент сил инерции звена {k}: -J eps",
+            f"inertia moment of link {k}: -J eps",
+            "accepted",
+            f"-{J}*{e}",
+        )
         a = f"{{a_{S}}}" if S not in b.frame else "0"
-        b.add(f"chk_Fi_{k}", "", f"проверка: |Fi_{k}| = m a{S} (относительная невязка)", f"check: |Fi_{k}| = m a{S} (relative)",
-              "check", f"(SQRT({{Fix_{k}}}^2+{{Fiy_{k}}}^2)-{m}*{a})/(SQRT({{Fix_{k}}}^2+{{Fiy_{k}}}^2)+{m}*ABS({a})+1E-300)")
+        b.add(
+            f"chk_Fi_{k}",
+            "",
+            f"проверка: |Fi_{k}| = m a{S} (относительная невязка)",
+            f"check: |Fi_{k}| = m a{S} (relative)",
+            "check",
+            f"(SQRT({{Fix_{k}}}^2+{{Fiy_{k}}}^2)-{m}*{a})/(SQRT({{Fix_{k}}}^2+{{Fiy_{k}}}^2)+{m}*ABS({a})+1E-300)",
+        )
         t_rate.append(f"{m}*({vx}*{ax}+{vy}*{ay})+{J}*{w}*{e}")
     if sc.masses:
         _energy_totals(b, t_rate, u_rate)
@@ -82,10 +169,24 @@ def energy_rows(b: Builder):
             terms.append(f"{{Fx_{n}}}*{b.p('vx', f.at)}+{{Fy_{n}}}*{b.p('vy', f.at)}")
         if f.moment or not f.at:
             terms.append(f"{{Mz_{n}}}*{_rates(b, f.link)[0]}")
-        b.add(f"P_{n}", "W", f"мощность внешней нагрузки {n}", f"power of the external load {n}", "calc", f"{on}({'+'.join(terms)})")
+        b.add(
+            f"P_{n}",
+            "W",
+            f"мощность внешней нагрузки {n}",
+            f"power of the external load {n}",
+            "calc",
+            f"{on}({'+'.join(terms)})",
+        )
         powers.append(f"{{P_{n}}}")
     if sc.forces:
-        b.add("P_ext", "W", "мощность внешних сил и моментов", "power of the external forces and moments", "accepted", "+".join(powers))
+        b.add(
+            "P_ext",
+            "W",
+            "мощность внешних сил и моментов",
+            "power of the external forces and moments",
+            "accepted",
+            "+".join(powers),
+        )
 
 
 def _energy_totals(b: Builder, t_rate: list[str], u_rate: list[str]):
@@ -107,26 +208,67 @@ def _energy_totals(b: Builder, t_rate: list[str], u_rate: list[str]):
         u_terms = [f"{{m_{m.link}}}*({{g_x}}*{b.p('x', m.centre)}+{{g_y}}*{b.p('y', m.centre)})" for m in sc.masses]
         each = "+".join(f"ABS({{U_{m.link}}}+{t})" for m, t in zip(sc.masses, u_terms, strict=False))
         size = "+".join(f"ABS({t})" for t in u_terms)
-        b.add("chk_U", "", "проверка: U_k = -m_k g.r_S и U = сумма U_k (относительная невязка)",
-              "check: U_k = -m_k g.r_S and U = the sum of U_k (relative)", "check",
-              f"(ABS({{U}}+({'+'.join(u_terms)}))+{each})/({size}+1E-300)")
-    b.add("T_t", "W", "скорость изменения кинетической энергии: сумма m v.a + J omega eps", "rate of change of the kinetic energy: sum of m v.a + J omega eps",
-          "accepted", "+".join(t_rate))
+        b.add(
+            "chk_U",
+            "",
+            "проверка: U_k = -m_k g.r_S и U = сумма U_k (относительная невязка)",
+            "check: U_k = -m_k g.r_S and U = the sum of U_k (relative)",
+            "check",
+            f"(ABS({{U}}+({'+'.join(u_terms)}))+{each})/({size}+1E-300)",
+        )
+    b.add(
+        "T_t",
+        "W",
+        "скорость изменения кинетической энергии: сумма m v.a + J omega eps",
+        "rate of change of the kinetic energy: sum of m v.a + J omega eps",
+        "accepted",
+        "+".join(t_rate),
+    )
     if gravity:
-        b.add("U_t", "W", "скорость изменения потенциальной энергии: -сумма m g.v", "rate of change of the potential energy: -sum of m g.v",
-              "accepted", "+".join(u_rate))
+        b.add(
+            "U_t",
+            "W",
+            "скорость изменения потенциальной энергии: -сумма m g.v",
+            "rate of change of the potential energy: -sum of m g.v",
+            "accepted",
+            "+".join(u_rate),
+        )
     # checks: the inertia forces' power is -dT/dt; the rates against numeric derivatives
     # (T is quadratic in the crank's rate, so dT/dt = Fi_t dT/dFi + 2 Fi_tt T / Fi_t)
-    p_terms = [t for m in sc.masses for t in (f"{{Fix_{m.link}}}*{b.p('vx', m.centre)}", f"{{Fiy_{m.link}}}*{b.p('vy', m.centre)}",
-                                                f"{{Mi_{m.link}}}*{_rates(b, m.link)[0]}")]
-    b.add("chk_P_in", "", "проверка: мощность сил инерции + dT/dt = 0 (относительно суммы модулей слагаемых)",
-          "check: power of the inertia forces + dT/dt = 0 (relative to the sum of the terms' sizes)",
-          "check", f"({'+'.join(p_terms)}+{{T_t}})/({'+'.join(f'ABS({t})' for t in p_terms)}+ABS({{T_t}})+1E-300)")
-    b.add("fd_T_t", "", "T_t: численная производная (относительная невязка)", "T_t against the numeric derivative (relative)", "fdcheck",
-          "({T_t}-{Fi_t}*({T@next}-{T@prev})/(2*{Delta_Fi_rad})-2*{Fi_tt}*{T}/{Fi_t})/{scale:T_t}")
+    p_terms = [
+        t
+        for m in sc.masses
+        for t in (
+            f"{{Fix_{m.link}}}*{b.p('vx', m.centre)}",
+            f"{{Fiy_{m.link}}}*{b.p('vy', m.centre)}",
+            f"{{Mi_{m.link}}}*{_rates(b, m.link)[0]}",
+        )
+    ]
+    b.add(
+        "chk_P_in",
+        "",
+        "проверка: мощность сил инерции + dT/dt = 0 (относительно суммы модулей слагаемых)",
+        "check: power of the inertia forces + dT/dt = 0 (relative to the sum of the terms' sizes)",
+        "check",
+        f"({'+'.join(p_terms)}+{{T_t}})/({'+'.join(f'ABS({t})' for t in p_terms)}+ABS({{T_t}})+1E-300)",
+    )
+    b.add(
+        "fd_T_t",
+        "",
+        "T_t: численная производная (относительная невязка)",
+        "T_t against the numeric derivative (relative)",
+        "fdcheck",
+        "({T_t}-{Fi_t}*({T@next}-{T@prev})/(2*{Delta_Fi_rad})-2*{Fi_tt}*{T}/{Fi_t})/{scale:T_t}",
+    )
     if gravity:
-        b.add("fd_U_t", "", "U_t: численная производная (относительная невязка)", "U_t against the numeric derivative (relative)", "fdcheck",
-              "({U_t}-{Fi_t}*({U@next}-{U@prev})/(2*{Delta_Fi_rad}))/{scale:U_t}")
+        b.add(
+            "fd_U_t",
+            "",
+            "U_t: численная производная (относительная невязка)",
+            "U_t against the numeric derivative (relative)",
+            "fdcheck",
+            "({U_t}-{Fi_t}*({U@next}-{U@prev})/(2*{Delta_Fi_rad}))/{scale:U_t}",
+        )
 
 
 def kinetostatics_rows(b: Builder):
@@ -139,7 +281,7 @@ def kinetostatics_rows(b: Builder):
     couples: dict[int, list] = {k: [] for k in loads}
     for m in sc.masses:
         k = m.link
-        gx, gy = ("{m_%d}*{g_x}+" % k, "{m_%d}*{g_y}+" % k) if gravity else ("", "")
+        gx, gy = (f"{{m_{k}}}*{{g_x}}+", f"{{m_{k}}}*{{g_y}}+") if gravity else ("", "")
         loads[k].append((m.centre, f"({gx}{{Fix_{k}}})", f"({gy}{{Fiy_{k}}})"))
         couples[k].append(f"{{Mi_{k}}}")
     for f in sc.forces:
@@ -152,16 +294,39 @@ def kinetostatics_rows(b: Builder):
               "Dynamic analysis: joint reactions (kinetostatics of the Assur groups)")
     k = LoadRows(b, loads, couples)
     for g in reversed(sc.groups):
-        b.section(f"forces_g{g.index}", f"Группа {g.index} ({g.type} {'-'.join(g.joints)}): реакции",
-                  f"Group {g.index} ({g.type} {'-'.join(g.joints)}): reactions")
+        b.section(
+            f"forces_g{g.index}",
+            f"Группа {g.index} ({g.type} {'-'.join(g.joints)}): реакции",
+            f"Group {g.index} ({g.type} {'-'.join(g.joints)}): reactions",
+        )
         kind_of(g).reaction_rows(b, g, owner, k)
     c = sc.crank
-    b.section("forces_crank", "Кривошип: реакция стойки и уравновешивающий момент", "The crank: the frame's reaction and the balancing moment")
+    b.section(
+        "forces_crank",
+        "Кривошип: реакция стойки и уравновешивающий момент",
+        "The crank: the frame's reaction and the balancing moment",
+    )
     k.link_loads(1, c.pivot)
-    k.reaction("0_1", "-{Qx_1}", "-{Qy_1}", f"стойки на кривошип в {c.pivot}", f"of the frame on the crank at {c.pivot}")
-    b.add("M_bal", "N m", "уравновешивающий момент на кривошипе (против часовой +)", "balancing moment on the crank (counterclockwise +)", "accepted", "-{MQ_1}")
+    k.reaction(
+        "0_1", "-{Qx_1}", "-{Qy_1}", f"стойки на кривошип в {c.pivot}", f"of the frame on the crank at {c.pivot}"
+    )
+    b.add(
+        "M_bal",
+        "N m",
+        "уравновешивающий момент на кривошипе (против часовой +)",
+        "balancing moment on the crank (counterclockwise +)",
+        "accepted",
+        "-{MQ_1}",
+    )
     k.equilibrium(1, c.pivot, [(c.pivot, "{Rx_0_1}", "{Ry_0_1}")], "{M_bal}")
-    b.add("P_bal", "W", "мощность уравновешивающего момента M_bal Fi_t", "power of the balancing moment M_bal Fi_t", "accepted", "{M_bal}*{Fi_t}")
+    b.add(
+        "P_bal",
+        "W",
+        "мощность уравновешивающего момента M_bal Fi_t",
+        "power of the balancing moment M_bal Fi_t",
+        "accepted",
+        "{M_bal}*{Fi_t}",
+    )
     terms = (["{P_bal}"] + (["{P_ext}"] if sc.forces else []) + (["-{U_t}"] if gravity and sc.masses else [])
              + (["-{T_t}"] if sc.masses else []))
     size = "+".join(f"ABS({t.lstrip('-')})" for t in terms)

@@ -265,7 +265,7 @@ def _compile(rows: list[Row], first_row: int, last_col: str):
             return f"MAX(MAX(${first_col}${r}:${last_col}${r}),-MIN(${first_col}${r}:${last_col}${r}),1E-9)"
         if kinds[name] in ("input", "derived"):
             return f"$D${r}"
-        return "{%s}%d" % ({"prev": "p", "next": "n"}.get(shift, "c"), r)
+        return "{" + {"prev": "p", "next": "n"}.get(shift, "c") + "}" + str(r)
 
     templates = {}
     for r in rows:

@@ -213,7 +213,9 @@ function show(k) {{ i = k; pos.value = k; g.clearRect(0, 0, cv.width, cv.height)
   g.fillStyle = "#fff"; g.fillRect(0, 0, cv.width, cv.height);
   draw(D.background); draw(D.frames[k]);
   cap.textContent = "i = " + k + " / " + (D.frames.length - 1) + ": " + D.captions[k]; }}
-function play() {{ timer = setInterval(() => show((i + 1) % D.frames.length), 1000 / D.fps); btn.textContent = "pause"; }}
+function play() {{
+  timer = setInterval(() => show((i + 1) % D.frames.length), 1000 / D.fps); btn.textContent = "pause";
+}}
 function pause() {{ clearInterval(timer); timer = null; btn.textContent = "play"; }}
 btn.addEventListener("click", () => timer ? pause() : play());
 pos.addEventListener("input", () => {{ pause(); show(Number(pos.value)); }});

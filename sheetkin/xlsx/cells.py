@@ -617,6 +617,8 @@ def _shift_formula(formula: str, dr: int, dc: int) -> str:
             return m.group(0)
         if any(g is not None and g not in _COLUMN_INDEX for g in (m.group("col"), m.group("wc1"), m.group("wc2"))):
             return m.group(0)                 # past XFD (ZZZ9): a name, not a reference
+        if any(g is not None and g.startswith("0") for g in (m.group("row"), m.group("wr1"), m.group("wr2"))):
+            return m.group(0)                 # row 0 or a leading zero (A0, A01): no reference Excel writes
         if m.group("col") is not None:
             c, r = col(m.group("cabs"), m.group("col")), row(m.group("rabs"), m.group("row"))
             return "#REF!" if c is None or r is None else (m.group("sheet") or "") + c + r
