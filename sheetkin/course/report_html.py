@@ -209,15 +209,16 @@ def _details(rep: Report, k: int, copy: str = "", lang: str = "en") -> list[str]
                    + "</p>")
     if copy:
         out.append(f"<p class='wrong'>{t['copy_of']}: {copy}</p>")
-    c = counts(rep)
+    n = counts(rep)
     out.append(f"<p>score {e(explain(rep))} (the rules: <code>sheetkin docs grading</code>)</p>")
-    out.append(f"<p>{c['correct']} of {c['total']} rows correct (computed), {c['typed']} typed (not computed), "
-               f"{c['wrong']} wrong, {c['missing']} missing or empty.</p>")
+    out.append(f"<p>{n['correct']} of {n['total']} rows correct (computed), {n['typed']} typed (not computed), "
+               f"{n['wrong']} wrong, {n['missing']} missing or empty.</p>")
     typed = rep.typed
     if typed:
         out.append("<p class='wrong'>typed, not computed: " + e(", ".join(x.name for x in typed)) + "</p>")
     for c in rep.causes:
-        out.append(f"<p class='cause'>{t['cause']}: {e(c.name)} ({t['row']} {c.row}, {e(t.get(c.source, c.source))}):"
+        src = e(t.get(c.source, c.source) or "")
+        out.append(f"<p class='cause'>{t['cause']}: {e(c.name)} ({t['row']} {c.row}, {src}):"
                    f" {t['wrong_from']} {e(position_name(rep, c.first_wrong or 1, lang))}, {t['expected']} "
                    f"{e(_num(c.expected))}, {t['got']} {e(_num(c.got))}; {t['wrong_at']} "
                    f"{e(position_list(rep, c.wrong_cells, lang))}"

@@ -83,7 +83,8 @@ def test_changed_given_data_fail_and_are_graded_against_the_issued_variant(issue
     assert by["x_A"].status == "wrong" and by["x_A"].expected == pytest.approx(l1)
     assert by["phi_1"].status == "correct"
     text = text_report(rep).splitlines()
-    assert text[1] == f"  !! given data changed: L1 {l1:g} -> 0.05, Fi_t0 20 -> 1 (FAIL; graded against the issued variant)"
+    assert text[1] == (f"  !! given data changed: L1 {l1:g} -> 0.05, Fi_t0 20 -> 1 "
+                       "(FAIL; graded against the issued variant)")
     code, out, err = run(capsys, "validate", "--lang", "en", book, "--roster", issued / "roster.csv")
     assert code == 1 and "given data changed: L1" in out.splitlines()[1]
     # without a roster: the scene embedded at generation is the issued variant
@@ -252,7 +253,8 @@ def test_summary_table_names_an_unusable_scene_whole():
     assert rep.reason == rep.error
     assert "b.xlsx (embedded scene):23:" in summary_table([rep]).splitlines()[1]
     rep = Report("b.xlsx", error="b.xlsx: not a zip file")
-    assert rep.reason == "not a zip file" and summary_table([rep]).splitlines()[1].split()[-4:] == ["not", "a", "zip", "file"]
+    assert rep.reason == "not a zip file"
+    assert summary_table([rep]).splitlines()[1].split()[-4:] == ["not", "a", "zip", "file"]
 
 
 def test_student_cell_with_a_formula_sheetkin_cannot_compute_is_the_saved_text():
@@ -293,7 +295,8 @@ def test_empty_and_missing_rows_are_one_line_each():
     """An empty exercise printed one line per row (60 lines "empty: Fi (row 32)" ...)."""
     from sheetkin.course.validator import Report, RowReport
     rep = Report("e.xlsx", positions=13,
-                 rows=[RowReport(f"r{k}", 30 + k, "empty") for k in range(60)] + [RowReport("omega_3", None, "missing")])
+                 rows=[RowReport(f"r{k}", 30 + k, "empty") for k in range(60)]
+                 + [RowReport("omega_3", None, "missing")])
     lines = text_report(rep).splitlines()
     assert sum(line.startswith("  empty (60): r0 (row 30), r1 (row 31), ") for line in lines) == 1
     assert "  missing (1): omega_3 (no row of that name in column A)" in lines
