@@ -343,6 +343,7 @@ def compute(scene: Scene | str | Path, at=None, *, analogs: bool = False, allow_
     n_det = len(scene.groups)
     if not finite.all():
         _undefined_at_toggles(scene, names, table, phi, ~finite & ~fail, toggle_threshold)
+        _undefined_at_gaps(table, ~finite & fail)
     if fail.any() and not allow_gaps:
         gaps = assembly_gaps(scene, phi)
         raise AssemblyError("; ".join(map(str, gaps)) +
@@ -373,6 +374,17 @@ def _undefined_at_toggles(scene: Scene, names: list[str], table: np.ndarray, phi
         raise NumericOverflow(f"{scene.source}: {names[j]} = {block[j, k]} at crank angle {phi[cols[k]]:g} "
                               "deg: the result overflows double precision (the mechanism's numbers "
                               "are too large or too small for each other)")
+    block[~np.isfinite(block)] = np.nan
+    table[:, cols] = block
+
+
+def _undefined_at_gaps(table: np.ndarray, where: np.ndarray) -> None:
+    """Non-finite values at positions that do not assemble (`where`) become NaN, never `inf`:
+    at a dead point (a discriminant within DEAD_POINT of its terms, which does not assemble)
+    the positions are computed from a zero discriminant and the rates divide by a zero
+    determinant."""
+    cols = np.flatnonzero(where)
+    block = table[:, cols]
     block[~np.isfinite(block)] = np.nan
     table[:, cols] = block
 
@@ -475,5 +487,6 @@ def compute_blocks(scene: Scene, phi, *, analogs: bool = False, dynamics: bool =
         fail = failed.any(axis=0)
         if not finite.all():         # as compute(): NaN at a toggle, NumericOverflow elsewhere
             _undefined_at_toggles(scene, names, table, angles, ~finite & ~fail, toggle_threshold)
+            _undefined_at_gaps(table, ~finite & fail)
         codes, labels = near_toggle_codes(table[len(names) - n_det:].T, fail, toggle_threshold)
         yield Block(a, table, fail, codes, labels)

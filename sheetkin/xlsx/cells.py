@@ -839,7 +839,8 @@ def _read_opendocument(path, limits: Limits, timeout: float) -> RawBook:
     done = _CONVERTED.get(_signature(path))
     if done is not None and done.is_file():
         return _read_converted(done, shown, limits)
-    check_opendocument(path, limits)
+    if not _old_excel(path):        # the gate parses OpenDocument only (an .xls is BIFF), as _convert_batch
+        check_opendocument(path, limits)
     if libreoffice.soffice_path() is None:
         raise UnusableWorkbook(shown, f"{what}, and LibreOffice (soffice) is not installed to read it", how)
     with tempfile.TemporaryDirectory(prefix="sheetkin-ods-") as tmp:

@@ -327,11 +327,10 @@ def test_evaluate_json_is_strict(capsys, tmp_path):
 
 
 def test_strict_json_rows_nulls_non_finite_values():
-    import pandas as pd
-
     from sheetkin.cli.commands import strict_json_rows
-    df = pd.DataFrame([[1.0, float("nan")], [float("-inf"), "x"]], index=["a", "b"], dtype=object)
-    rows, bad = strict_json_rows(df)
+
+    # evaluate no longer builds a DataFrame (no pandas): the rows' names and their values
+    rows, bad = strict_json_rows(["a", "b"], [[1.0, float("nan")], [float("-inf"), "x"]])
     assert rows == {"a": [1.0, None], "b": [None, "x"]}
     assert bad == ["a[2] = nan", "b[1] = -inf"]
     json.dumps(rows, allow_nan=False)
