@@ -1,6 +1,6 @@
 """Benchmark: the copy report of a class of identical books stays linear (issues 21, 23).
 
-    python benchmarks/copies.py [--sizes 50 200] [--jobs N]
+    python benchmarks/copies.py [--sizes 50 200] [--jobs N] [--tiny]
 
 Run on demand, not by the tests. N byte-identical copies of workbooks/fourbar.xlsx (one
 student's book handed in N times under other names) are validated as a class by
@@ -44,7 +44,10 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--sizes", type=int, nargs="+", default=[50, 200])
     ap.add_argument("--jobs", type=int)
+    ap.add_argument("--tiny", action="store_true", help="a smoke run for CI: a class of 2 copies")
     args = ap.parse_args()
+    if args.tiny:               # every benchmark script has a --tiny smoke run (tests/studies)
+        args.sizes = [2]
     for n in args.sizes:
         print(run(n, args.jobs), flush=True)
 

@@ -97,9 +97,8 @@ class Recipe:
         return self
 
     def identity(self, student: str, group: str = "") -> Recipe:
-        rows = self._rows()
-        self.ops.append(["values", "main", [[rows[n], 4, v] for n, v in (("student", student), ("group", group))
-                                            if n in rows and v]])
+        # the student's own cells D1 (name) and D2 (group): the rows "student", "group" are gone
+        self.ops.append(["values", "main", [[r, 4, v] for r, v in ((1, student), (2, group)) if v]])
         return self
 
     def type_values(self, values: dict[str, list]) -> Recipe:

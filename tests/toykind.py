@@ -127,7 +127,7 @@ def rows(b: Builder, g: Group) -> None:
     b.add(h, "m", "h", f"distance of {J1} from the line", "calc", f"-({xj}-{X})*SIN({T})+({yj}-{Y})*COS({T})")
     b.add(foot, "m", "foot", f"{J1}'s foot on the line", "calc", f"({xj}-{X})*COS({T})+({yj}-{Y})*SIN({T})")
     b.add(D, "m^2", "L^2 - h^2", "discriminant L^2 - h^2", "calc", f"{L}^2-{{{h}}}^2")
-    group_guard(b, g, D)
+    group_guard(b, g, D, f"{L}^2")    # the size of the discriminant's terms (the dead-point rule), as RRP
     b.section(f"accepted_g{i}", "Принятые значения", "Accepted values")
     S = f"{{s_{N}}}"
     b.add(f"s_{N}", "m", "s", f"travel of slider {N}", "accepted", f"{{{foot}}}+{{branch_g{i}}}*SQRT({{{D}}})")

@@ -91,9 +91,11 @@ def counts(rep, accept_typed: bool | None = None) -> dict:
     by = [row_verdict(r, acc) for r in rows]
     out = {k: by.count(k) for k in ("correct", "typed", "wrong", "missing")}
     out["total"] = len(rows)
-    # rows holding a formula somewhere (a row of typed values only is not one)
+    # rows holding a formula somewhere (a row of typed values only is not one; nor a value of
+    # column D the student left blank, named as a cause: a derived row, source "typed", no cells)
     out["formula_rows"] = sum(1 for r in rows if r.status not in ("missing", "empty")
-                              and (bool(getattr(r, "formula_cells", 0)) or not getattr(r, "typed_cells", None)))
+                              and (bool(getattr(r, "formula_cells", 0))
+                                   or not (getattr(r, "typed_cells", None) or getattr(r, "source", "") == "typed")))
     out["checks_issued"] = getattr(rep, "checks_issued", 0) or 0
     out["checks_passing"] = getattr(rep, "checks_passing", 0) or 0
     out["checks_apply"] = getattr(rep, "checks_apply", out["checks_issued"])

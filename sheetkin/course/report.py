@@ -8,7 +8,7 @@ from .copies import MAX_LISTED
 from .grades import counts, explain, score, verdict
 from .issued import changed_line
 from .report_html import position_list, position_name
-from .report_texts import words
+from .report_texts import say_grading, words
 from .validator import Report
 
 
@@ -29,13 +29,14 @@ def text_report(rep: Report, lang: str = "en") -> str:
     lines = [f"{head}" + (f" ({who})" if who else "") + f", {rep.positions} {t['positions']}"]
     lines += issued_lines(rep, lang)
     # the counts, the verdict and the score: one vocabulary with the HTML, JSON and grades.csv
-    lines += [counts_line(rep), f"  {verdict(rep)}; {t['score']} {explain(rep)}"]
+    lines += [say_grading(counts_line(rep), lang), say_grading(f"  {verdict(rep)}; score {explain(rep)}", lang)]
     typed = rep.typed
     if typed:
-        lines.append(f"  typed, not computed ({len(typed)}): " + ", ".join(
+        lines.append(say_grading(f"  typed, not computed ({len(typed)}): ", lang) + ", ".join(
             f"{r.name} ({t['row']} {r.row}, {position_list(rep, r.typed_cells, lang)})" for r in typed[:12])
             + (" ..." if len(typed) > 12 else "")
-            + ("; accepted (--accept-typed)" if getattr(rep, "accepted_typed", False) else "; they earn nothing"))
+            + say_grading("; accepted (--accept-typed)" if getattr(rep, "accepted_typed", False)
+                          else "; they earn nothing", lang))
     # the causes with a note (typed numbers: cell, digits, the error they carry) first
     for r in sorted(rep.causes, key=lambda r: not getattr(r, "note", "")):
         where = f"{r.name} ({t['row']} {r.row}, {t.get(r.source, r.source)})"
@@ -117,8 +118,8 @@ def summary_table(reports: list[Report], lang: str = "en") -> str:
             # the student's own cells (D1, D2), never the scheme's author
             who = ", ".join(x for x in (getattr(r, "student", ""), getattr(r, "group", "")) if x)
             c = counts(r)
-            rows.append((r.path, who, verdict(r), f"{score(r):.1f}", str(c["correct"]), str(c["typed"]),
-                         str(c["wrong"]), str(c["missing"]), r.causes[0].name if r.causes else ""))
+            rows.append((r.path, who, say_grading(verdict(r), lang), f"{score(r):.1f}", str(c["correct"]),
+                         str(c["typed"]), str(c["wrong"]), str(c["missing"]), r.causes[0].name if r.causes else ""))
     widths = [max(len(x[i]) for x in rows) for i in range(len(rows[0]))]
     return "\n".join("  ".join(x[i].ljust(widths[i]) for i in range(len(x))).rstrip() for x in rows) + "\n"
 

@@ -18,7 +18,7 @@ import html
 import math
 from pathlib import Path
 
-from .report_texts import words
+from .report_texts import say_grading, words
 from .validator import Report
 
 _CSS = """body{font-family:sans-serif;margin:1.2em;color:#222}
@@ -177,7 +177,7 @@ def _summary_row(rep: Report, k: int, copy: str = "", lang: str = "en") -> str:
     return (f"<tr><td><a href='#{_anchor(rep, k)}' data-open='{_anchor(rep, k)}'>{e(who or rep.path)}</a></td>"
             f"<td>{e(group)}</td><td>{e(str(variant))}</td>"
             f"<td class='num' data-sort='{'' if sc is None else f'{sc:.3f}'}'>{'' if sc is None else f'{sc:.0f}'}</td>"
-            f"<td class='{cls}' data-sort='{VERDICTS.index(res)}'>{res}</td>"
+            f"<td class='{cls}' data-sort='{VERDICTS.index(res)}'>{say_grading(res, lang)}</td>"
             f"<td class='num'>{'' if rep.error else c['correct']}</td>"
             f"<td class='num'>{'' if rep.error else c['typed']}</td>"
             f"<td class='num'>{'' if rep.error else c['wrong']}</td>"
@@ -192,7 +192,7 @@ def _details(rep: Report, k: int, copy: str = "", lang: str = "en") -> list[str]
     who = getattr(rep, "student", "") or _file(rep)
     from .grades import counts, explain, verdict
     res = verdict(rep)
-    out = [f"<details id='{_anchor(rep, k)}'><summary>{e(who)}: {e(res)}</summary>",
+    out = [f"<details id='{_anchor(rep, k)}'><summary>{e(who)}: {e(say_grading(res, lang))}</summary>",
            f"<p class='note'>{e(rep.path)}{' - ' + e(rep.title) if rep.title else ''}</p>"]
     if rep.error:
         out.append(f"<p class='unusable'>{t['unusable_p']}: {e(rep.error)}</p></details>")
@@ -210,12 +210,15 @@ def _details(rep: Report, k: int, copy: str = "", lang: str = "en") -> list[str]
     if copy:
         out.append(f"<p class='wrong'>{t['copy_of']}: {copy}</p>")
     n = counts(rep)
-    out.append(f"<p>score {e(explain(rep))} (the rules: <code>sheetkin docs grading</code>)</p>")
-    out.append(f"<p>{n['correct']} of {n['total']} rows correct (computed), {n['typed']} typed (not computed), "
-               f"{n['wrong']} wrong, {n['missing']} missing or empty.</p>")
+    said = say_grading(f"score {explain(rep)} (the rules:", lang)
+    out.append(f"<p>{e(said)} <code>sheetkin docs grading</code>)</p>")
+    out.append("<p>" + e(say_grading(f"{n['correct']} of {n['total']} rows correct (computed), {n['typed']} typed "
+                                      f"(not computed), {n['wrong']} wrong, {n['missing']} missing or empty.", lang))
+               + "</p>")
     typed = rep.typed
     if typed:
-        out.append("<p class='wrong'>typed, not computed: " + e(", ".join(x.name for x in typed)) + "</p>")
+        out.append("<p class='wrong'>" + e(say_grading("typed, not computed: ", lang))
+                   + e(", ".join(x.name for x in typed)) + "</p>")
     for c in rep.causes:
         src = e(t.get(c.source, c.source) or "")
         out.append(f"<p class='cause'>{t['cause']}: {e(c.name)} ({t['row']} {c.row}, {src}):"

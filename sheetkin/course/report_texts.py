@@ -117,3 +117,53 @@ def class_lang(reports) -> str:
     """The language most of the books are in (their sheets' titles): the reports' default."""
     langs = Counter(getattr(r, "lang", "") for r in reports if getattr(r, "lang", ""))
     return langs.most_common(1)[0][0] if langs else "ru"
+
+
+# The grading vocabulary (sheetkin.course.grades: verdicts, counts, the score explained) is
+# English at its source, so that grades.csv and --json keep one set of words; a report in
+# Russian or Ukrainian says it in the teacher's language through these phrases, longest first.
+_GRADING_PHRASES: dict[str, tuple[tuple[str, str], ...]] = {
+    "ru": (("not filled in (rows they check are empty)", "не заполнены (проверяемые строки пусты)"),
+           ("no formula in the computed rows: at most", "нет формул в вычисляемых строках: не более"),
+           ("check rows intact and filled in", "строк проверки на месте и заполнены"),
+           ("graded against the issued variant", "оценено по выданному варианту"),
+           ("no computed rows to grade", "нет вычисляемых строк для оценки"),
+           ("rows correct (computed)", "строк верно (вычислены)"), ("typed (not computed)", "введены числами"),
+           ("typed, not computed", "введены числами, не вычислены"), ("rows computed right", "строк вычислены верно"),
+           ("missing or empty", "отсутствуют или пусты"), ("that apply passing", "применимых выполнены"),
+           ("status typed over", "статус введён вручную"), ("given data changed", "исходные данные изменены"),
+           ("accepted (--accept-typed)", "приняты (--accept-typed)"), ("they earn nothing", "не оцениваются"),
+           ("check rows", "строк проверки"), ("seal broken", "печать нарушена"), ("all correct", "всё верно"),
+           ("mistakes", "есть ошибки"), ("unusable", "не проверяется"), ("typed over", "введены вручную"),
+           ("failing", "не выполнены"), ("deleted", "удалены"), ("wrong", "неверно"), ("(the rules:", "(правила:"),
+           ("score", "оценка"), (" of ", " из "), ("(row ", "(строка ")),
+    "uk": (("not filled in (rows they check are empty)", "не заповнені (рядки, які вони перевіряють, порожні)"),
+           ("no formula in the computed rows: at most", "немає формул в обчислюваних рядках: не більше"),
+           ("check rows intact and filled in", "рядків перевірки на місці й заповнені"),
+           ("graded against the issued variant", "оцінено за виданим варіантом"),
+           ("no computed rows to grade", "немає обчислюваних рядків для оцінки"),
+           ("rows correct (computed)", "рядків правильно (обчислені)"), ("typed (not computed)", "введені числами"),
+           ("typed, not computed", "введені числами, не обчислені"),
+           ("rows computed right", "рядків обчислено правильно"), ("missing or empty", "відсутні або порожні"),
+           ("that apply passing", "застосовних виконано"), ("status typed over", "статус введено вручну"),
+           ("given data changed", "вихідні дані змінено"), ("accepted (--accept-typed)", "прийнято (--accept-typed)"),
+           ("they earn nothing", "не оцінюються"), ("check rows", "рядків перевірки"),
+           ("seal broken", "печатку порушено"), ("all correct", "усе правильно"), ("mistakes", "є помилки"),
+           ("unusable", "не перевіряється"), ("typed over", "введено вручну"), ("failing", "не виконано"),
+           ("deleted", "видалено"), ("wrong", "неправильно"), ("(the rules:", "(правила:"), ("score", "оцінка"),
+           (" of ", " з "), ("(row ", "(рядок ")),
+}
+
+
+def say_grading(text: str, lang: str) -> str:
+    """A phrase of the grading vocabulary (a verdict, the counts, the score explained) in
+    `lang`; English as it is."""
+    for en, said in _GRADING_PHRASES.get(lang, ()):
+        text = text.replace(en, said)
+    return text
+
+
+# the HTML summary's grading columns (sheetkin.course.report_html), in each language
+WORDS["en"].update({"rows correct": "rows correct", "rows typed": "rows typed"})
+WORDS["ru"].update({"rows correct": "строк верно", "rows typed": "введено числами"})
+WORDS["uk"].update({"rows correct": "рядків правильно", "rows typed": "введено числами"})

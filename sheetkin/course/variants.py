@@ -420,17 +420,15 @@ def _file_part(name: str) -> str:
 
 
 def _seal_student(wb, name: str, ident: str) -> None:
-    """The student's name in their own cell of the exercise (column D of the row `student`),
-    and their identifier beside the seal (scene!B3:C3, under it)."""
+    """The student's name in their own cell of the exercise (D1, the name cell since the
+    language merge; the row `student` is gone), and their identifier beside the seal
+    (scene!B3:C3, under it)."""
     from sheetkin.sheet.workbook import SCENE_SHEET
 
     from .issued import STUDENT_LABEL, STUDENT_ROW
     ws = wb.worksheets[0]
-    for r in range(1, ws.max_row + 1):
-        if ws.cell(r, 1).value == "student":
-            ws.cell(r, 4).value = name
-            ws.cell(r, 4).data_type = "s"
-            break
+    ws.cell(1, 4).value = name
+    ws.cell(1, 4).data_type = "s"
     sc = wb[SCENE_SHEET]
     for col, value in ((2, STUDENT_LABEL), (3, ident)):
         sc.cell(STUDENT_ROW, col).value = value

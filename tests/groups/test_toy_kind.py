@@ -112,11 +112,12 @@ def test_workbook_and_charts_sheet_follow_the_toys_inputs(soffice, tmp_path):
         got = [ws.cell(rows[name], 5 + k).value for k in range(len(df))]
         assert np.allclose(np.array(got, dtype=float), df[name], rtol=1e-9, atol=1e-12), name
     scalars = {cs.cell(r, HELPER_COL + 4).value: cs.cell(r, HELPER_COL + 5).value for r in range(3, cs.max_row + 1)}
-    assert scalars["guide g1: angle, deg"] == pytest.approx(35.0, abs=1e-12)
+    # the book is Russian by default: the line of group 1 is "направляющая г1", the block "ползун 3 в B"
+    assert scalars["направляющая г1: угол, град"] == pytest.approx(35.0, abs=1e-12)
     corners, label = [], None
     for r in range(3, cs.max_row + 1):
         label = cs.cell(r, HELPER_COL).value or (label if cs.cell(r, HELPER_COL + 1).value is not None else None)
-        if label == "block 3 at B":
+        if label == "ползун 3 в B":
             corners.append((cs.cell(r, HELPER_COL + 1).value, cs.cell(r, HELPER_COL + 2).value))
-    want = drawing.point_xy(changed, df.iloc[3:4], "B")[0]
+    want = drawing.point_xy(changed, df.iloc[4:5], "B")[0]      # B1 is the sheet's i, from 0
     assert np.allclose(np.array(corners[:4], dtype=float).mean(axis=0), want, atol=1e-12)

@@ -129,16 +129,17 @@ def test_prp_guide_follows_its_angle_input(books):
     wb, _ = books["slider_on_coupler"]
     cs = wb.worksheets[1]
     scene, pos = _changed("slider_on_coupler")
-    assert _helper_scalars(cs)["guide g2: angle, deg"] == pytest.approx(80.0, abs=1e-12)
-    (x0, y0), (x1, y1) = np.array(_helper_series(cs)["guide g2"], dtype=float)
+    # the book is Russian by default: the guide of group 2 is "направляющая г2"
+    assert _helper_scalars(cs)["направляющая г2: угол, град"] == pytest.approx(80.0, abs=1e-12)
+    (x0, y0), (x1, y1) = np.array(_helper_series(cs)["направляющая г2"], dtype=float)
     u = np.array([math.cos(math.radians(80.0)), math.sin(math.radians(80.0))])
     assert abs((x1 - x0) * u[1] - (y1 - y0) * u[0]) < 1e-12 * math.hypot(x1 - x0, y1 - y0)    # along 80 deg
     assert abs((x0 + 0.15) * u[1] - y0 * u[0]) < 1e-12                                          # through the point
-    df = sheetkin.compute(scene, [scene.crank_angles_deg()[pos - 1]])
+    df = sheetkin.compute(scene, [scene.crank_angles_deg()[pos]])      # B1 is the sheet's i, from 0
     want = drawing.point_xy(scene, df, "L")[0]
     on_fixed = [b for b in drawing.structure(scene).blocks if b.guide.link == 0]
     assert len(on_fixed) == 1
-    corners = np.array(_helper_series(cs)[f"block {on_fixed[0].link} at L"], dtype=float)[:4]
+    corners = np.array(_helper_series(cs)[f"ползун {on_fixed[0].link} в L"], dtype=float)[:4]
     assert np.allclose(corners.mean(axis=0), want, atol=1e-12)
     assert abs(-(want[0] + 0.15) * u[1] + want[1] * u[0]) < 1e-12                             # L on the new line
 

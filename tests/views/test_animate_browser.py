@@ -44,7 +44,7 @@ def test_play_pause_and_slider(driver):
     assert cap.text == frozen                     # paused
     slider = driver.find_element(By.ID, "pos")
     driver.execute_script("arguments[0].value = 6; arguments[0].dispatchEvent(new Event('input'))", slider)
-    assert cap.text.startswith("position 7/12: phi_1 = 68.26 deg")     # 248.2617 - 6 * 30
+    assert cap.text.startswith("i = 6 / 11: phi_1 = 68.26 deg")     # positions from i = 0; 248.2617 - 6 * 30
     # the canvas is drawn: some pixels are not white
     drawn = driver.execute_script(
         "const c = document.getElementById('c'), d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;"

@@ -477,16 +477,27 @@ def test_output_to_a_pipe_a_symlink_and_a_file_with_its_mode(tmp_path, capsys):
     """Only new or regular files are written beside and renamed: a FIFO (like a device,
     /dev/null) is written as it is, a symbolic link stays a link, a file keeps its mode."""
     import stat
-    import threading
     fourbar = ROOT / "workbooks" / "fourbar.toml"
     fifo = tmp_path / "pipe"
     os.mkfifo(fifo)
-    got = []
-    reader = threading.Thread(target=lambda: got.append(fifo.read_bytes()))
-    reader.start()
-    code, out, err = run(capsys, "compute", fourbar, "--format", "csv", "-o", fifo)
-    reader.join(30)
-    assert code == 0 and stat.S_ISFIFO(os.lstat(fifo).st_mode)
+    # the reader is open before the writer (a FIFO with no reader is refused at once, and a
+    # reader thread's open could come late on a loaded machine); the CSV fits the pipe's buffer
+    fd = os.open(fifo, os.O_RDONLY | os.O_NONBLOCK)
+    try:
+        code, out, err = run(capsys, "compute", fourbar, "--format", "csv", "-o", fifo)
+        chunks = []
+        while True:
+            try:
+                chunk = os.read(fd, 1 << 16)
+            except BlockingIOError:
+                break
+            if not chunk:
+                break
+            chunks.append(chunk)
+        got = [b"".join(chunks)]
+    finally:
+        os.close(fd)
+    assert code == 0 and stat.S_ISFIFO(os.lstat(fifo).st_mode), err
     assert got and got[0].startswith(b"phi_1,") and got[0].count(b"\n") == 14
     real = tmp_path / "real.csv"
     real.write_text("old")
