@@ -40,6 +40,7 @@ import re
 from collections import defaultdict
 from dataclasses import dataclass, field
 
+COPY_RIGHT_DIGITS = 3      # a number right in both books, shorter than this, says nothing
 COPY_TYPED_CELLS = 3       # shared typed numbers (wrong in one book at least) that flag a copy
 
 # a cell reference (A1, $B$7) outside a string and not a function's name (LOG10( is a call)
@@ -241,6 +242,7 @@ def _typed_pairs(reports, wrong) -> dict[tuple[int, int], int]:
     """{(i, j): shared typed numbers that are wrong in one book at least, or sit on given
     data that differ}; pairs counted within MAX_GROUP books per number (the others are
     counted against those): bounded by the class's size, not its square."""
+    from .localjudge import typed_digits
     typed_at = defaultdict(list)
     for i, rep in enumerate(reports):
         marks = getattr(rep, "marks", None)
@@ -248,13 +250,17 @@ def _typed_pairs(reports, wrong) -> dict[tuple[int, int], int]:
             for (name, k), v in marks["typed"].items():
                 typed_at[name, k, v].append(i)
     shared: dict[tuple[int, int], int] = defaultdict(int)
-    for (name, k, _), idx in typed_at.items():
+    for (name, k, v), idx in typed_at.items():
         if len(idx) < 2 or (not any((name, k) in wrong[i] for i in idx)
                             and len({_given_of(reports[i], name) for i in idx[:MAX_GROUP]}) == 1):
             continue          # right in every book, on the same given data: a class on one variant
+        # a short number right in both books (0, 1, 20: sin 0, a dead-centre component)
+        # is what any variant gives there, whatever given data it reads: no evidence
+        short = typed_digits(v) < COPY_RIGHT_DIGITS
         for b, j in enumerate(idx[1:], 1):
             for i in idx[:min(b, MAX_GROUP)]:
-                if (name, k) in wrong[i] or (name, k) in wrong[j] or _given_differ(reports[i], reports[j], name):
+                if (name, k) in wrong[i] or (name, k) in wrong[j] or (
+                        not short and _given_differ(reports[i], reports[j], name)):
                     shared[i, j] += 1
     return shared
 

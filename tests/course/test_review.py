@@ -1,0 +1,128 @@
+"""A fresh-eyes pass over running a class (teacher, students, attacker): the defects found,
+each with the books that show it, made as students make them (LibreOffice through UNO).
+
+1. Numbers pasted as "=0.1234" (a formula of constants) counted as computed work: a book
+   of the key's values, each with an "=" before it, scored 98; a check status typed as
+   "=0" passed as a computed one.
+2. Two honest students who typed their own variant's numbers were reported as copying
+   each other: 0 and 1 (sin 0, a component at a dead centre) are right on any given data.
+3. A classmate's book found in a student's folder, uploaded after the student's own, was
+   graded as the student's, and the student's own book was dropped as "older"."""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import openpyxl
+import pytest
+from studentbooks import Recipe, key_formulas, key_values, make_books, rows_by_name, uno_available
+
+from sheetkin.course import grades
+from sheetkin.course.copies import Copies, pairs_of, possible_copies
+from sheetkin.course.identity import identify
+from sheetkin.course.validator import Report, RowReport, validate
+from sheetkin.xlsx.evaluator import evaluate
+
+ROOT = Path(__file__).resolve().parents[2]
+uno = pytest.mark.skipif(not uno_available(), reason="LibreOffice with python3-uno (/usr/bin/python3) needed")
+
+
+def _computed_rows(ex: Path, key: Path) -> list[str]:
+    ws, kws = openpyxl.load_workbook(ex).worksheets[0], openpyxl.load_workbook(key).worksheets[0]
+    at = rows_by_name(ws)
+    return [n for n in rows_by_name(kws) if n in at and at[n] > at["phi_1"] and not n.startswith(("chk", "fd_"))
+            and ws.cell(at[n], 5).value is None and isinstance(kws.cell(at[n], 5).value, str)]
+
+
+def _as_constants(ex: Path, key: Path) -> list[list]:
+    """Every cell the key computes, its value written as a formula of one constant
+    ("=0.1234..."): what a student pastes with an "=" before it. Text cells keep the key's
+    formula."""
+    b = evaluate(key)
+    sheet = b.order[0]
+    out = []
+    for r, c, f in key_formulas(ex, key):
+        v = b.value(sheet, r, c)
+        out.append([r, c, f"={v!r}" if isinstance(v, float) else f])
+    return out
+
+
+@pytest.fixture(scope="module")
+def books(tmp_path_factory, soffice):
+    d = tmp_path_factory.mktemp("review")
+    from sheetkin.cli.commands import main
+    assert main(["variants", str(ROOT / "workbooks" / "fourbar.toml"), "-n", "2", "--out", str(d / "issued"),
+                 "--seed", "5"]) == 0
+    issued = d / "issued"
+    ex1, key1 = next(issued.glob("*-01-exercise.xlsx")), next(issued.glob("*-01-key.xlsx"))
+    ex2, key2 = next(issued.glob("*-02-exercise.xlsx")), next(issued.glob("*-02-key.xlsx"))
+    rows1, rows2 = _computed_rows(ex1, key1), _computed_rows(ex2, key2)
+    chk = rows_by_name(openpyxl.load_workbook(ex1).worksheets[0])["chk_OA"]
+    consts = Recipe(ex1, key1)
+    consts.ops.append(["formulas", "main", _as_constants(ex1, key1)])
+    recipes = {
+        "honest": Recipe(ex1, key1).honest(),
+        "consts": consts,
+        "check_const": Recipe(ex1, key1).honest().note(f"D{chk}", "=0"),
+        "rounded1": Recipe(ex1, key1).type_values(key_values(key1, rows1, 4)),
+        "rounded2": Recipe(ex2, key2).type_values(key_values(key2, rows2, 4)),
+        "copied": Recipe(ex2, key2).type_values(key_values(key1, rows1, 4)),
+    }
+    paths = {n: d / f"{n}.xlsx" for n in recipes}
+    make_books({paths[n]: r for n, r in recipes.items()})
+    from sheetkin.course.issued import KEY_FILE, Options, read_key, read_roster
+    options = Options(read_roster(str(issued / "roster.csv")), read_key(issued / KEY_FILE))
+    return {n: validate(p, options=options) for n, p in paths.items()}
+
+
+@uno
+def test_constant_formulas_are_typed_numbers(books):
+    """The key's values pasted as "=0.1234" earn what typed numbers earn (at most 10, a
+    fail); the honest book of formulas keeps full marks; a check status "=0" is typed over."""
+    assert grades.score(books["honest"]) == 100.0 and books["honest"].ok
+    rep = books["consts"]
+    assert len(rep.typed) >= 50 and grades.score(rep) <= 10 and not rep.ok
+    assert grades.verdict(rep) == "typed, not computed"
+    check = books["check_const"]
+    assert check.checks_typed == ["chk_OA"] and grades.score(check) < 100 and not check.ok
+
+
+@uno
+def test_own_numbers_typed_on_two_variants_are_no_copy(books):
+    """Two students typing their own variant's numbers (rounded) share 0, 1, -1 at the dead
+    centres: not a copy. A classmate's numbers typed into the other variant still are."""
+    order = ["rounded1", "rounded2", "copied"]
+    copies = possible_copies([books[n] for n in order], who=["a", "b", "c"])
+    pairs = pairs_of(copies)
+    assert (0, 1) not in pairs
+    assert "identical typed numbers" in pairs[0, 2]
+
+
+def _rep(path: str, student: str) -> Report:
+    rep = Report(path, rows=[RowReport("ok", 10, "correct")], positions=13, student=student)
+    rep.checks_total, rep.marks = 10, {"typed": {}, "formulas": {}, "inputs": {}, "depends": {}, "values": {}}
+    return rep
+
+
+def test_classmates_book_in_a_folder_is_not_the_students_grade(tmp_path):
+    """Попова's folder holds her book and, uploaded later, Смирнова's: Попова is graded on
+    her own book, and Смирнова's is listed as not handed in by its student."""
+    from sheetkin.course.classlist import read_class_list
+    cl_path = tmp_path / "class.csv"
+    cl_path.write_text("Имя,Фамилия,Адрес электронной почты\nОльга,Попова,popova@example.ru\n"
+                       "Мария,Смирнова,smirnova@example.ru\n", "utf-8")
+    cl = read_class_list(str(cl_path))
+    folder = tmp_path / "Ольга Попова_5508_assignsubmission_file_"
+    folder.mkdir()
+    own, other = folder / "popova.xlsx", folder / "smirnova.xlsx"
+    for p, t in ((own, 1e9), (other, 1e9 + 3600)):
+        p.write_bytes(b"x")
+        os.utime(p, (t, t))
+    reps = [_rep(str(own), "Попова Ольга"), _rep(str(other), "Смирнова Мария")]
+    ids = identify(reps, cl)
+    assert ids[0].superseded_by is None and ids[1].superseded_by == 0
+    lines, warnings = grades.grade_lines(reps, Copies(), cl, identities=ids)
+    assert [(r[0], Path(r[4]).name) for r in lines[1:]] == [("popova@example.ru", "popova.xlsx")]
+    text = " ".join(warnings)
+    assert "smirnova.xlsx: found in the folder of Попова Ольга" in text and "not graded" in text
+    assert "older file" not in text
