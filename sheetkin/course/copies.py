@@ -40,7 +40,7 @@ import re
 from collections import defaultdict
 from dataclasses import dataclass, field
 
-COPY_RIGHT_DIGITS = 3      # a number right in both books, shorter than this, says nothing
+COPY_RIGHT_DIGITS = 2      # a number right in both books with fewer digits (0, 1, 0.5) says nothing
 COPY_TYPED_CELLS = 3       # shared typed numbers (wrong in one book at least) that flag a copy
 
 # a cell reference (A1, $B$7) outside a string and not a function's name (LOG10( is a call)
@@ -254,7 +254,7 @@ def _typed_pairs(reports, wrong) -> dict[tuple[int, int], int]:
         if len(idx) < 2 or (not any((name, k) in wrong[i] for i in idx)
                             and len({_given_of(reports[i], name) for i in idx[:MAX_GROUP]}) == 1):
             continue          # right in every book, on the same given data: a class on one variant
-        # a short number right in both books (0, 1, 20: sin 0, a dead-centre component)
+        # a one-digit number right in both books (0, 1, 0.5: sin 0, a dead-centre component)
         # is what any variant gives there, whatever given data it reads: no evidence
         short = typed_digits(v) < COPY_RIGHT_DIGITS
         for b, j in enumerate(idx[1:], 1):
