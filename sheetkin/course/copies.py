@@ -213,6 +213,13 @@ def _name_of(rep) -> str:
     return " ".join(str(getattr(rep, "student", "") or "").casefold().replace("ё", "е").split())
 
 
+def _one_moodle_submitter(paths: list[str]) -> bool:
+    """Whether every file came in the Moodle folder (or flat name) of one participant."""
+    from .classlist import moodle_submitter
+    subs = [moodle_submitter(p) for p in paths]
+    return all(s is not None for s in subs) and len({s.participant for s in subs}) == 1
+
+
 def _identity_groups(reports, who, assigned) -> list[tuple[str, list[int]]]:
     """The same name typed in two files (a copy whose name was left, or one student handing
     in twice); one issued book handed in by two students (its sealed student, or a variant
@@ -221,6 +228,8 @@ def _identity_groups(reports, who, assigned) -> list[tuple[str, list[int]]]:
     out = []
     usable = [not r.error for r in reports]
     for g in _by_key(_name_of(r) if ok else "" for r, ok in zip(reports, usable, strict=True)):
+        if _one_moodle_submitter([reports[i].path for i in g]):
+            continue          # one student's old and new versions (one grade is kept): not a copy
         out.append(("the same student name", g))
     for g in _by_key((r.variant, getattr(r, "issued_to", "")) if ok and r.variant else ""
                      for r, ok in zip(reports, usable, strict=True)):

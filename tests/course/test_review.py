@@ -126,3 +126,20 @@ def test_classmates_book_in_a_folder_is_not_the_students_grade(tmp_path):
     text = " ".join(warnings)
     assert "smirnova.xlsx: found in the folder of Попова Ольга" in text and "not graded" in text
     assert "older file" not in text
+
+
+def test_one_students_two_versions_are_no_copy(tmp_path):
+    """Дмитрий's old and new versions in his own Moodle folder carry his name twice: one
+    grade is kept and the other listed, but they are not "possible copies" of each other.
+    The same name in two students' folders still is."""
+    def at(folder: str, name: str) -> str:
+        p = tmp_path / folder / name
+        p.parent.mkdir(parents=True, exist_ok=True)
+        p.write_bytes(str(p).encode())        # every file its own bytes
+        return str(p)
+    mine = "Дмитрий Иванов_5507_assignsubmission_file_"
+    reps = [_rep(at(mine, "lab.xlsx"), "Иванов Дмитрий"), _rep(at(mine, "lab_v2.xlsx"), "Иванов Дмитрий"),
+            _rep(at("Ольга Попова_5508_assignsubmission_file_", "lab.xlsx"), "Иванов Дмитрий")]
+    assert pairs_of(possible_copies(reps[:2])) == {}
+    got = pairs_of(possible_copies(reps))
+    assert got[0, 2] == "the same student name" and got[1, 2] == "the same student name"
