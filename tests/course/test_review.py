@@ -168,3 +168,25 @@ def test_one_students_two_versions_are_no_copy(tmp_path):
     assert pairs_of(possible_copies(reps[:2])) == {}
     got = pairs_of(possible_copies(reps))
     assert got[0, 2] == "the same student name" and got[1, 2] == "the same student name"
+
+
+def test_a_corrupt_reupload_does_not_replace_a_usable_book(tmp_path):
+    """Иван's folder: his book, then a corrupt re-upload (a broken copy, a locked file): the
+    readable book is graded, the unusable one listed."""
+    from sheetkin.course.classlist import read_class_list
+    cl_path = tmp_path / "class.csv"
+    cl_path.write_text("Имя,Фамилия,Адрес электронной почты\nИван,Иванов,ivanov@example.ru\n", "utf-8")
+    cl = read_class_list(str(cl_path))
+    folder = tmp_path / "Иван Иванов_5501_assignsubmission_file_"
+    folder.mkdir()
+    good, bad = folder / "lab.xlsx", folder / "lab (2).xlsx"
+    for p, t in ((good, 1e9), (bad, 1e9 + 60)):
+        p.write_bytes(b"x")
+        os.utime(p, (t, t))
+    broken = _rep(str(bad), "")
+    broken.error = f"{bad}: corrupt or truncated zip archive"
+    reps = [_rep(str(good), "Иванов Иван"), broken]
+    ids = identify(reps, cl)
+    assert ids[0].superseded_by is None and ids[1].superseded_by == 0
+    lines, _ = grades.grade_lines(reps, Copies(), cl, identities=ids)
+    assert [(r[0], Path(r[4]).name) for r in lines[1:]] == [("ivanov@example.ru", "lab.xlsx")]
