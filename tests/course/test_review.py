@@ -190,3 +190,15 @@ def test_a_corrupt_reupload_does_not_replace_a_usable_book(tmp_path):
     assert ids[0].superseded_by is None and ids[1].superseded_by == 0
     lines, _ = grades.grade_lines(reps, Copies(), cl, identities=ids)
     assert [(r[0], Path(r[4]).name) for r in lines[1:]] == [("ivanov@example.ru", "lab.xlsx")]
+
+
+def test_a_file_named_like_a_classmates_folder_is_still_its_folders(tmp_path):
+    """Кузнецов uploads "Иван Иванов_5501_assignsubmission_file_lab.xlsx": Moodle puts it in
+    Кузнецов's folder (or prefixes his name), and it is his submission, not Иванов's."""
+    from sheetkin.course.classlist import moodle_submitter
+    forged = "Иван Иванов_5501_assignsubmission_file_lab.xlsx"
+    in_folder = moodle_submitter(f"subs.zip/Сергей Кузнецов_5505_assignsubmission_file_/{forged}")
+    flat = moodle_submitter(f"subs.zip/Сергей Кузнецов_5505_assignsubmission_file_{forged}")
+    assert (in_folder.name, in_folder.participant) == (flat.name, flat.participant) == ("Сергей Кузнецов", "5505")
+    own = moodle_submitter(f"subs.zip/{forged}")
+    assert (own.name, own.participant) == ("Иван Иванов", "5501")
