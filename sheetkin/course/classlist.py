@@ -225,7 +225,9 @@ def moodle_submitter(path: str | Path, root: str | Path | None = None) -> Submit
     if root is not None:
         with contextlib.suppress(ValueError):
             parts = list(p.relative_to(root).parts)
-    for part in reversed(parts):
+    # the outermost name is Moodle's; a file inside is named by the student, who could name
+    # it after a classmate's folder ("Иван Иванов_5501_assignsubmission_file_lab.xlsx")
+    for part in parts:
         m = _MOODLE.match(part)
         if m:
             return Submitter(" ".join(m.group("name").split()), m.group("pid"), part)

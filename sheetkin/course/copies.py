@@ -41,6 +41,7 @@ from collections import defaultdict
 from dataclasses import dataclass, field
 from functools import lru_cache
 
+COPY_RIGHT_DIGITS = 2      # a number right in both books with fewer digits (0, 1, 0.5) says nothing
 COPY_TYPED_CELLS = 3       # shared typed numbers (wrong in one book at least) that flag a copy
 
 # a cell reference (A1, $B$7) outside a string and not a function's name (LOG10( is a call)
@@ -229,6 +230,14 @@ def _name_of(rep) -> str:
     return " ".join(str(getattr(rep, "student", "") or "").casefold().replace("ё", "е").split())
 
 
+def _one_moodle_submitter(paths: list[str]) -> bool:
+    """Whether every file came in the Moodle folder (or flat name) of one participant."""
+    from .classlist import moodle_submitter
+    subs = [moodle_submitter(p) for p in paths]
+    found = [s for s in subs if s is not None]
+    return len(found) == len(subs) and len({s.participant for s in found}) == 1
+
+
 def _identity_groups(reports, who, assigned) -> list[tuple[str, list[int]]]:
     """The same name typed in two files (a copy whose name was left, or one student handing
     in twice); one issued book handed in by two students (its sealed student, or a variant
@@ -237,6 +246,8 @@ def _identity_groups(reports, who, assigned) -> list[tuple[str, list[int]]]:
     out = []
     usable = [not r.error for r in reports]
     for g in _by_key(_name_of(r) if ok else "" for r, ok in zip(reports, usable, strict=True)):
+        if _one_moodle_submitter([reports[i].path for i in g]):
+            continue          # one student's old and new versions (one grade is kept): not a copy
         out.append(("the same student name", g))
     for g in _by_key((r.variant, getattr(r, "issued_to", "")) if ok and r.variant else ""
                      for r, ok in zip(reports, usable, strict=True)):
@@ -258,6 +269,7 @@ def _typed_pairs(reports, wrong) -> dict[tuple[int, int], int]:
     """{(i, j): shared typed numbers that are wrong in one book at least, or sit on given
     data that differ}; pairs counted within MAX_GROUP books per number (the others are
     counted against those): bounded by the class's size, not its square."""
+    from .localjudge import typed_digits
     typed_at = defaultdict(list)
     for i, rep in enumerate(reports):
         marks = getattr(rep, "marks", None)
@@ -265,13 +277,17 @@ def _typed_pairs(reports, wrong) -> dict[tuple[int, int], int]:
             for (name, k), v in marks["typed"].items():
                 typed_at[name, k, v].append(i)
     shared: dict[tuple[int, int], int] = defaultdict(int)
-    for (name, k, _), idx in typed_at.items():
+    for (name, k, v), idx in typed_at.items():
         if len(idx) < 2 or (not any((name, k) in wrong[i] for i in idx)
                             and len({_given_of(reports[i], name) for i in idx[:MAX_GROUP]}) == 1):
             continue          # right in every book, on the same given data: a class on one variant
+        # a one-digit number right in both books (0, 1, 0.5: sin 0, a dead-centre component)
+        # is what any variant gives there, whatever given data it reads: no evidence
+        short = typed_digits(v) < COPY_RIGHT_DIGITS
         for b, j in enumerate(idx[1:], 1):
             for i in idx[:min(b, MAX_GROUP)]:
-                if (name, k) in wrong[i] or (name, k) in wrong[j] or _given_differ(reports[i], reports[j], name):
+                if (name, k) in wrong[i] or (name, k) in wrong[j] or (
+                        not short and _given_differ(reports[i], reports[j], name)):
                     shared[i, j] += 1
     return shared
 

@@ -245,14 +245,19 @@ def grade_lines(reports, copies, class_list: ClassList | None = None,
     lines, unmatched, older, flagged = [[id_header, *COLUMNS]], [], [], []
     for i, rep in enumerate(reports):
         me = identities[i]
+        # a classmate's book in a student's folder is listed as such, graded or not (it is
+        # not an older version of the student's own)
+        foreign = [f for f in me.flags if f.startswith(("issued to", "found in"))]
+        if foreign:
+            tail = "; not graded" if me.superseded_by is not None else ""
+            flagged.append(f"{rep.path}: {'; '.join(foreign)}{tail}")
         if me.superseded_by is not None:
-            older.append(f"{rep.path} (newer: {reports[me.superseded_by].path})")
+            if not foreign:
+                older.append(f"{rep.path} (newer: {reports[me.superseded_by].path})")
             continue
         student = who(rep)
         if class_list is not None and not me.ident:
             unmatched.append(f"{rep.path} ({me.unmatched or 'no name typed'})")
-        if me.flags and any(f.startswith(("issued to", "found in")) for f in me.flags):
-            flagged.append(f"{rep.path}: {'; '.join(f for f in me.flags if f.startswith(('issued to', 'found in')))}")
         c = counts(rep)
         passing, checks = checks_counts(rep)
         value, _ = score_parts(rep, accept_changed or None)

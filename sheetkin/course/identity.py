@@ -172,12 +172,19 @@ def _newest_only(reports, ids: list[Identity], mtimes: list[float]) -> None:
     for ident, idx in by_ident.items():
         if len(idx) < 2:
             continue
-        newest = max(idx, key=lambda i: (mtimes[i], i))
+        # the student's own books first: a classmate's book found in the folder (flagged
+        # above) is newer there by its upload, yet it is never this student's grade; then
+        # the usable ones: a corrupt or locked re-upload must not replace a readable book
+        foreign = {i for i in idx if ids[i].flags}
+        newest = max(idx, key=lambda i: (i not in foreign, not reports[i].error, mtimes[i], i))
         for i in idx:
             if i != newest:
                 ids[i].superseded_by = newest
-                ids[i].flags.append(f"not graded: {ident} handed in {reports[newest].path} too, which is newer")
-        ids[newest].flags.append("graded; older files of this student not graded: "
+                why = ("which is newer" if mtimes[i] <= mtimes[newest] else
+                       "their own book (this one is not)" if i in foreign else "which is usable (this one is not)")
+                ids[i].flags.append(f"not graded: {ident} handed in {reports[newest].path} too, {why}")
+        older = "older" if all(mtimes[i] <= mtimes[newest] for i in idx) else "other"
+        ids[newest].flags.append(f"graded; {older} files of this student not graded: "
                                  + ", ".join(reports[i].path for i in idx if i != newest)[:300])
 
 

@@ -42,6 +42,7 @@ from sheetkin.sheet.workbook import FIRST_COL, SCENE_SHEET, SHEET_TITLES, build_
 from sheetkin.xlsx.cells import Sheet, read_book
 from sheetkin.xlsx.evaluator import Book, EvaluationError, evaluate_sheets
 from sheetkin.xlsx.package import Limits, UnusableWorkbook
+from sheetkin.xlsx.parse import ParseError, functions_of, names_of, parse_formula, refs_of
 
 from . import issued
 from .copies import submission_marks  # the raw cells copy detection compares
@@ -409,7 +410,7 @@ def _compare_cells(rep: RowReport, cells: list[tuple[int, int]], evaluated: Book
     numbers, its wrong cells, the first wrong one, its largest error."""
     for k, (r, c) in enumerate(cells):
         got = evaluated.value(main, r, c)
-        typed = not sh.computed(r, c)                 # a spilled cell is computed, not typed
+        typed = not computes(sh, r, c)                # a spilled cell is computed, not typed
         if not typed and evaluated.tag[main][r, c] == 14 and (r, c) in sh.cached:
             got, rep.source = sh.cached[(r, c)], "cached"        # a formula we cannot evaluate
             got = float(got) if isinstance(got, (int, float)) and not isinstance(got, bool) else got
@@ -431,6 +432,26 @@ def _compare_cells(rep: RowReport, cells: list[tuple[int, int]], evaluated: Book
             rep.max_error = math.inf
 
 
+# functions whose value depends on the cell or the sheet, not only on their arguments
+_POSITIONAL = frozenset({"ROW", "COLUMN", "ROWS", "COLUMNS", "INDIRECT", "OFFSET", "CELL"})
+
+
+def computes(sh: Sheet, r: int, c: int) -> bool:
+    """Whether the cell computes its value: a formula (or a spilled cell) that reads some
+    cell or name. A formula of constants ("=0.1234", "=-1.5E-3", a 0 typed as "=0" over a
+    check status) is a typed number with an "=" before it: it earns what a typed one does."""
+    if not sh.computed(r, c):
+        return False
+    text = sh.formulas.get((r, c))
+    if text is None:                                   # a spilled cell of an array formula
+        return True
+    try:
+        tree = parse_formula("=" + text.lstrip("="), r, c, {})
+    except ParseError:
+        return True                                    # its evaluation reports what is wrong
+    return bool(refs_of(tree) or names_of(tree) or functions_of(tree) & _POSITIONAL)
+
+
 def _read_checks(report: Report, evaluated: Book, main: str, sh: Sheet, names: dict[str, int], ref_rows,
                  ref_book: Book, ref_names: dict) -> None:
     """The student's check rows (issue 21, item 3): their statuses, which fail, which were
@@ -440,7 +461,7 @@ def _read_checks(report: Report, evaluated: Book, main: str, sh: Sheet, names: d
     # status 1 or an error fails; 0, n/a and "not filled in" do not (sheetkin/sheet/checks.py)
     # a status typed over its formula (a 0 typed to make the row green) says nothing: it
     # fails, as an error would (it once hid the failing checks and raised the score)
-    statuses = {n: evaluated.value(main, r, 4) if sh.computed(r, 4) else "#TYPED"
+    statuses = {n: evaluated.value(main, r, 4) if computes(sh, r, 4) else "#TYPED"
                 for n, r in names.items()
                 if n.startswith(("chk", "fd_")) and kinds.get(n) in ("check", "fdcheck")}
     # issue 21: the check rows are part of the work (the lecture's step 10): a check row

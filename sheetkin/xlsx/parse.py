@@ -331,3 +331,8 @@ def functions_of(tree) -> set[str]:
 
 def refs_of(tree) -> list[Ref]:
     return [node[1] for node in _nodes(tree) if node[0] == "ref"]
+
+
+def names_of(tree) -> list[str]:
+    """The defined names a formula reads (every unknown word is one: parse with names={})."""
+    return [node[1] for node in _nodes(tree) if node[0] == "name"]
