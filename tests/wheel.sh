@@ -29,7 +29,7 @@ sheetkin workbook ex/fourbar.toml -o fourbar.xlsx >/dev/null
 # teacher: a class of variants, then the key books graded (each is a perfect student's book)
 sheetkin variants ex/fourbar.toml -n 2 --out class --seed 1 >/dev/null 2>&1
 # student: a filled book is the key's formulas in the exercise; the key itself grades as all correct
-sheetkin validate class/*-key.xlsx --roster class/roster.csv >validate.txt
+sheetkin validate class/*-key.xlsx --roster class/roster.csv --lang en >validate.txt
 grep -q "all correct" validate.txt
 # the documentation pages ship in the wheel (package data sheetkin.docs) and help points to them
 # (into files first: grep -q leaves a pipe early, and sheetkin then exits 141, as a reader that left)
