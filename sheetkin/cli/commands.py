@@ -482,7 +482,9 @@ def cmd_validate(args) -> int:
         rep.notes += [f"identity: {flag}" for flag in me.flags]      # --json carries them
     digests = [None if r.error else file_digest(p) for r, p in zip(reports, real, strict=True)]
     from sheetkin.course.copies import roster_variants
-    variants = roster_variants(options.roster, assignment) if options.roster is not None else None
+    from sheetkin.course.validator import reference_book
+    variants = (roster_variants(options.roster, reference_book, assignment)
+                if options.roster is not None else None)
     copies = possible_copies(reports, digests, [m.who for m in identities],
                              assignment.assigned() if assignment else None, variants) if reports else Copies()
     if show:

@@ -353,9 +353,11 @@ def _variant_sources(reports, wrong, variants: dict, linked: set[int]) -> list[t
     return out
 
 
-def roster_variants(roster, assignment=None) -> dict:
+def roster_variants(roster, reference, assignment=None) -> dict:
     """{variant id: (label, values)} for _variant_sources from the roster's scene files: the
-    label names the variant's key file and the students it was issued to (assignment)."""
+    label names the variant's key file and the students it was issued to (assignment).
+    reference(scene) -> its evaluated reference Book (the validator's reference_book, passed
+    in: the validator imports this module, so this one does not import it back)."""
     from pathlib import Path
     folder = Path(roster.path).parent
     issued_to: dict[str, list[str]] = defaultdict(list)
@@ -367,18 +369,18 @@ def roster_variants(roster, assignment=None) -> dict:
         if not files.get("scene") or not scene_file.is_file():
             continue
         who = f", issued to {', '.join(issued_to[vid])}" if issued_to.get(vid) else ""
-        out[vid] = (f"key {folder / files.get('key', '')}{who}", lambda p=scene_file: _computed_values(p))
+        out[vid] = (f"key {folder / files.get('key', '')}{who}", lambda p=scene_file: _computed_values(p, reference))
     return out
 
 
-def _computed_values(scene_file) -> dict:
-    """{(row name, position): value} of the computed rows of a scene's reference sheet."""
+def _computed_values(scene_file, reference) -> dict:
+    """{(row name, position): value} of the computed rows of a scene's reference sheet
+    (reference: as roster_variants')."""
     from sheetkin.kinematics.scene import parse_scene
     from sheetkin.sheet.workbook import FIRST_COL, sheet_rows
 
-    from .validator import _reference
     scene = parse_scene(scene_file.read_text(encoding="utf-8"), str(scene_file))
-    book = _reference(scene)
+    book = reference(scene)
     sheet = book.order[0]
     rows = {book.sheets[sheet].consts.get((r, 1)): r for r in range(5, book.sheets[sheet].max_row + 1)}
     out = {}

@@ -591,6 +591,12 @@ def _check_rows(scene: Scene) -> set[str]:
     return {r.name for r in sheet_rows(scene).rows if r.kind in ("check", "fdcheck")}
 
 
+def reference_book(scene: Scene) -> Book:
+    """The variant's evaluated reference workbook (cached per structure and inputs): what copy
+    detection compares another variant's typed numbers with."""
+    return _reference(scene)
+
+
 def _build_reference(scene: Scene, evaluate: bool = True):
     """The generated workbook of the scene: evaluated (a Book), or its first Sheet (and
     title) unevaluated. Building it takes ~0.1-0.3 s (openpyxl): done once per structure."""
