@@ -9,6 +9,15 @@ work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 py="${PYTHON:-python}"
 "$py" -m pip wheel -q --no-deps -w "$work/dist" "$repo" >/dev/null
+# the wheel carries the package, its examples and its pages, and no maintainer's scripts
+"$py" - "$work"/dist/sheetkin-*.whl <<'PY'
+import sys, zipfile
+names = zipfile.ZipFile(sys.argv[1]).namelist()
+docs_code = [n for n in names if n.startswith("sheetkin/docs/") and n.endswith(".py") and not n.endswith("__init__.py")]
+assert not docs_code, docs_code
+assert any(n.startswith("sheetkin/examples/") and n.endswith(".toml") for n in names)
+assert not any(n.startswith(("tests/", "tools/", "benchmarks/")) for n in names), names
+PY
 "$py" -m venv "$work/venv"
 "$work/venv/bin/python" -m pip install -q "$work"/dist/sheetkin-*.whl 2>&1 | { grep -v "^WARNING: Location" || true; }
 export PATH="$work/venv/bin:$PATH"

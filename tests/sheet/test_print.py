@@ -92,3 +92,16 @@ def test_descriptions_print_whole(pages):
     for row in sheet_rows(scene).rows:
         for w in (row.ru.split() if row.kind != "section" else []):
             assert w in words, (row.name, w)
+
+
+def test_readme_gives_each_bundled_books_pages():
+    """The README's page counts are the ones sheetkin plans (kinematics pages across x down,
+    which the LibreOffice tests above find printed, plus the charts page), for every bundled
+    book: a change of layout that moves a count fails here until the README says it."""
+    text = " ".join((WB.parent / "README.md").read_text(encoding="utf8").split())
+    said = dict(re.findall(r"(\w+) (\d+)(?:,| pages)", text[text.index("On paper ("):]))
+    planned = {}
+    for toml in sorted(WB.glob("*.toml")):
+        ws = build_workbook(sheetkin.load_scene(toml)).worksheets[0]
+        planned[toml.stem] = str((len(ws.col_breaks.brk) + 1) * (len(ws.row_breaks.brk) + 1) + 1)
+    assert {k: said.get(k) for k in planned} == planned

@@ -1,6 +1,6 @@
 """Draw the PRP and RPP diagrams of docs/scene-format.md from the bundled scenes.
 
-    PYTHONPATH=. python docs/draw_prp_rpp.py        # writes docs/img/prp.png, docs/img/rpp.png
+    PYTHONPATH=. python tools/draw_prp_rpp.py        # writes docs/img/prp.png, docs/img/rpp.png
 
 Each picture is the bundled mechanism (workbooks/slider_on_coupler.toml,
 workbooks/scotch_yoke.toml) at one crank angle, solved by sheetkin itself, with the

@@ -1,7 +1,7 @@
 """Draw every bundled scene (workbooks/*.toml) at one crank position: docs/img/<stem>.png.
 
-    python docs/make_pictures.py            # all bundled scenes
-    python docs/make_pictures.py fourbar    # some of them
+    python tools/make_pictures.py            # all bundled scenes
+    python tools/make_pictures.py fourbar    # some of them
 
 The pictures in docs/scene-format.md and the README come from here. Links are drawn
 between the joints each kind says they carry (sheetkin.groups: `carries`), frame points as
