@@ -5,6 +5,7 @@ except under CI, where a missing tool fails."""
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -37,3 +38,16 @@ def test_the_wheel_runs_its_quickstarts():
                        timeout=1800, env=dict(os.environ, PYTHON=sys.executable))
     assert p.returncode == 0, (p.stdout + p.stderr)[-3000:]
     assert "the wheel installs and its quickstarts run" in p.stdout
+
+
+def test_readme_tree_matches_the_packages():
+    """The README's picture of the code names every package and top-level module of sheetkin,
+    and nothing that is not there."""
+    text = (ROOT / "README.md").read_text(encoding="utf8")
+    block = text[text.index("```text\nsheetkin/"):]
+    block = block[:block.index("```", 4)]
+    named = set(re.findall(r"(\w+)/ ", block)) | set(re.findall(r"(\w+)\.py", block))
+    pkg = ROOT / "sheetkin"
+    real = {p.name for p in pkg.iterdir() if p.is_dir() and (p / "__init__.py").exists()}
+    real |= {p.stem for p in pkg.glob("*.py") if p.stem not in ("__init__", "__main__")}
+    assert named - {"sheetkin"} == real
