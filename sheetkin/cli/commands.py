@@ -86,7 +86,8 @@ def cmd_animate(args) -> int:
     if Path(args.output).suffix.lower() == ".png":      # one picture: the first position
         print(f"{args.output}: the mechanism at phi_1 = {scene.crank.phi0_deg:g} deg", file=sys.stderr)
     else:
-        print(f"{args.output}: {len(pic.frames)} positions", file=sys.stderr)
+        n = len(pic.frames)
+        print(f"{args.output}: {n} position{'' if n == 1 else 's'}", file=sys.stderr)
     for note in pic.notes:
         if not note.startswith("velocity"):
             print(f"sheetkin: warning: {note}", file=sys.stderr)
@@ -104,14 +105,20 @@ def cmd_examples(args) -> int:
     out.mkdir(parents=True, exist_ok=True)
     scenes = sorted((p for p in files("sheetkin.examples").iterdir() if p.name.endswith(".toml")),
                     key=lambda p: p.name)
+    # every file first, the list after: a reader that leaves early (`| head`) must not cut the writing
+    listed, kept = [], []
     for src in scenes:
         text = src.read_text(encoding="utf-8")
         dest = out / src.name
         if dest.exists() and dest.read_text(encoding="utf-8", errors="replace") != text:
-            print(f"{dest}: kept (exists and differs; not overwritten)", file=sys.stderr)
+            kept.append(dest)
         elif not dest.exists():
             dest.write_text(text, encoding="utf-8")
-        print(f"{dest}  {tomllib.loads(text).get('title', '')}")
+        listed.append(f"{dest}  {tomllib.loads(text).get('title', '')}")
+    for dest in kept:
+        print(f"{dest}: kept (exists and differs; not overwritten)", file=sys.stderr)
+    for line in listed:
+        print(line)
     return 0
 
 

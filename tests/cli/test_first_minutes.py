@@ -58,3 +58,24 @@ def test_one_png_is_one_position(tmp_path, capsys):
     code, _, err = run(capsys, "animate", WORKBOOKS / "fourbar.toml", "-o", tmp_path / "first.png")
     assert code == 0 and "positions" not in err and "phi_1 = 0 deg" in err
     assert (tmp_path / "first.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_one_frame_gif_says_one_position(tmp_path, capsys):
+    code, _, err = run(capsys, "animate", WORKBOOKS / "fourbar.toml", "-o", tmp_path / "x.gif", "--frames", "1")
+    assert code == 0 and "x.gif: 1 position\n" in err
+
+
+def test_examples_under_head_writes_every_scene(tmp_path):
+    """`sheetkin examples . | head -n 2` (the teacher's first command) writes all the scenes: a
+    reader that leaves after two lines must not stop the writing."""
+    import os
+    import subprocess
+    import sys
+    env = dict(os.environ, PYTHONPATH=str(WORKBOOKS.parent))
+    for _ in range(3):
+        out = tmp_path / f"run{_}"
+        out.mkdir()
+        p = subprocess.run(f"'{sys.executable}' -m sheetkin examples . | head -n 2", shell=True, cwd=out,
+                           env=env, capture_output=True, text=True, timeout=60)
+        assert len(p.stdout.splitlines()) == 2
+        assert sorted(f.name for f in out.glob("*.toml")) == sorted(f.name for f in WORKBOOKS.glob("*.toml"))
