@@ -7,10 +7,10 @@ workbook writer) | xlsx (the spreadsheet engine, standing alone) -> course (vali
 grading, variants) -> cli; views (output, drawings) and studies (bench, synthesis) stand
 beside them.
 
-The public names load on first use (PEP 562): `import sheetkin` costs only the scene
-reader, without numpy, so `sheetkin --help` and small commands start quickly; the solver
-loads with `sheetkin.solve` / `sheetkin.compute`, pandas with `compute()`'s DataFrame,
-openpyxl with the workbooks (tests/cli/test_startup.py).
+The public names load on first use: `import sheetkin` costs only the scene reader,
+without numpy, so `sheetkin --help` and small commands start quickly; the solver loads
+with `sheetkin.solve` / `sheetkin.compute`, pandas with `compute()`'s DataFrame, openpyxl
+with the workbooks.
 """
 from __future__ import annotations
 

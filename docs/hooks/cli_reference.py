@@ -16,7 +16,7 @@ def _subparsers(parser: argparse.ArgumentParser) -> dict[str, argparse.ArgumentP
 
 
 def _section(name: str, parser: argparse.ArgumentParser, level: int = 2) -> list[str]:
-    parser.formatter_class = lambda prog: argparse.HelpFormatter(prog, width=100)
+    parser.formatter_class = lambda prog: argparse.HelpFormatter(prog, width=80)
     out = [f"{'#' * level} `{name}`", "", "```text", parser.format_help().rstrip(), "```", ""]
     for sub, p in _subparsers(parser).items():
         out += _section(f"{name} {sub}", p, level + 1)

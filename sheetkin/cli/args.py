@@ -118,7 +118,8 @@ def _add_compute_parser(sub) -> None:
     p.add_argument("scene", metavar="SCENE.toml", help="the scene file")
     p.add_argument("--format", choices=["table", "csv", "json", "parquet"], default="table",
                    help="table: one row per quantity, readable (default); csv: one row per "
-                        "position, the contract's columns, numbers as Python's repr (the shortest "
+                        "position, the columns named in the scene format (phi_2, x_B, vx_B, ...), "
+                        "numbers as Python's repr (the shortest "
                         "decimal that reads back as the same double), empty cells where there is "
                         "no value; json: the same as records (null where there is no value); "
                         "parquet: the same columns in a parquet file (needs -o and pyarrow: "
@@ -156,7 +157,7 @@ def _add_workbook_parser(sub) -> None:
     """`sheetkin workbook`: the lecture's workbook with live formulas."""
     w = sub.add_parser(
         "workbook", help="the lecture's Excel workbook with live formulas",
-        description="Write the lecture's row-structured workbook (seed 003, steps 7-10) for "
+        description="Write the lecture's row-structured workbook (the lecture's steps 7-10) for "
                     "each scene: title rows, input block, crank block, a kinematic-constraint "
                     "block per group (intermediate variables, every branch, checks, accepted "
                     "values), driven points, check rows with a summary, and charts. Every "
@@ -176,7 +177,7 @@ def _add_workbook_parser(sub) -> None:
     w.add_argument("--step-deg", type=_finite_float, metavar="DEG", help="crank angle step, instead of the scene's")
     w.add_argument("--phi0-deg", type=_finite_float, metavar="DEG", help="first crank angle, instead of the scene's")
     w.add_argument("--synthesis", action="store_true",
-                   help="require the synthesis sheet (seed 002): exit 2 if the scene has no "
+                   help="require the synthesis sheet (the course's synthesis method): exit 2 if the scene has no "
                         "[synthesis] table (`synth crank-rocker -o` writes one). Without this "
                         "option the sheet is added whenever the scene has the table")
     w.add_argument("--check", action="store_true",
@@ -286,7 +287,7 @@ def _add_bench_parser(sub) -> None:
 def _add_synth_parser(sub) -> None:
     """`sheetkin synth KIND`: a mechanism from its design data."""
     s = sub.add_parser(
-        "synth", help="synthesize a mechanism from design data (seed 002)",
+        "synth", help="synthesize a mechanism from design data (the course's synthesis method)",
         description="Synthesize a mechanism from its design data and print its dimensions; "
                     "with -o, write a scene file ready for `compute` and `workbook`.")
     ssub = s.add_subparsers(dest="kind", metavar="KIND", required=True)
@@ -297,7 +298,8 @@ def _add_crank_rocker_parser(ssub) -> None:
     """`sheetkin synth crank-rocker`: the four-bar from its time-ratio coefficient."""
     cr = ssub.add_parser(
         "crank-rocker", help="crank-rocker four-bar from the time-ratio coefficient K_w",
-        description="Seed 002: from the time-ratio coefficient K_w (overlap angle theta = "
+        description="The course's synthesis of a crank-rocker: from the time-ratio coefficient K_w "
+                    "(overlap angle theta = "
                     "180 (K_w - 1)/(K_w + 1) deg), the rocker length l3, the rocker pivot's "
                     "Y_D and the rocker's extreme angles gamma1 < gamma2, find the crank l1, "
                     "the coupler l2, the crank angle phi1H of the extended dead position and "

@@ -158,10 +158,35 @@ def cmd_docs(args) -> int:
     text = pages[name].read_text(encoding="utf-8")
     # the CLI reference is generated from the parser when the site is built; here, the same text
     text = text.replace("<!-- cli-reference -->", "See `sheetkin --help` and `sheetkin COMMAND --help`.")
-    # the site includes the changelog from the repository's root (pymdownx.snippets)
-    text = text.replace('--8<-- "CHANGELOG.md"', "The changelog is CHANGELOG.md in sheetkin's source.")
-    sys.stdout.write(text)
+    sys.stdout.write(_api_directives(text))
     return 0
+
+
+def _api_directives(text: str) -> str:
+    """The site's API page names objects (`::: sheetkin.kinematics.table.compute` and its
+    indented options, for mkdocstrings); printed in a terminal, each becomes its heading,
+    signature and docstring."""
+    import importlib
+    import inspect
+
+    out: list[str] = []
+    lines = iter(text.splitlines())
+    for line in lines:
+        if not line.startswith("::: "):
+            out.append(line)
+            continue
+        module, _, name = line[4:].strip().rpartition(".")
+        obj = getattr(importlib.import_module(module), name)
+        try:
+            signature = str(inspect.signature(obj))
+        except (TypeError, ValueError):
+            signature = ""
+        out += [f"### `{name}{signature}`", "", inspect.getdoc(obj) or "", ""]
+        for line in lines:                  # the directive's options: indented, up to a blank line
+            if not line.startswith(" "):
+                out.append(line)
+                break
+    return "\n".join(out) + "\n"
 
 
 def cmd_compute(args) -> int:

@@ -92,6 +92,12 @@ class Force:
 
 @dataclass(frozen=True)
 class Scene:
+    """A checked scene: the frame's points, the crank, the Assur groups in the order they are
+    solved, the points on links, and (for the dynamics) gravity, masses and forces.
+
+    Made by `parse_scene(text)` or `load_scene(path)`, never by hand; `sheetkin.compute(scene)`
+    computes it. In a notebook it draws itself (an SVG of the mechanism at its first position)."""
+
     title: str
     author: str
     frame: dict[str, tuple[float, float]]
@@ -126,7 +132,7 @@ class Scene:
 
     @property
     def sliders(self) -> list[str]:
-        """Slide tags in group order (sheetkin.groups.group.slide_names gives s_*, vs_*, as_*)."""
+        """Slide tags in group order (`sheetkin.groups.group.slide_names` gives `s_*`, `vs_*`, `as_*`)."""
         return [t for g in self.groups for t in kind_of(g).sliders(g)]
 
     def crank_angles_deg(self) -> list[float]:
@@ -350,6 +356,10 @@ def _is_file(name: str) -> bool:
 
 
 def parse_scene(text: str, source: str = "<scene>") -> Scene:
+    """The scene in `text` (TOML, the scene format: `sheetkin docs scene-format`), checked.
+
+    `source` names it in errors. A mistake raises `SceneError` with one line that names the
+    source, the line and the key; `load_scene(path)` reads a file the same way."""
     data = load_toml(text, source)
     ctx = SceneContext(source, text)
     check_values(data, lambda path, msg: _fail_at(ctx, data, path, msg))

@@ -44,6 +44,9 @@ class TooLarge(ValueError):
 
 @dataclass(frozen=True)
 class Gap:
+    """A range of crank angles where a group cannot assemble: `compute(scene, allow_gaps=True)`
+    lists them in `df.attrs["gaps"]`; str() says it in one line."""
+
     group: str                # label of the first group that cannot assemble
     start_deg: float          # crank-angle interval, in [0, 360), may wrap past 360
     end_deg: float
@@ -53,7 +56,7 @@ class Gap:
 
 
 def column_names(scene: Scene) -> list[str]:
-    """The contract's output columns, in order."""
+    """The output columns named in the scene format (docs: scene-format), in order."""
     cols = ["phi_1"]
     for k in scene.links:
         cols += [f"phi_{k}", f"omega_{k}", f"eps_{k}"]

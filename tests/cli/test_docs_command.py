@@ -56,3 +56,28 @@ def test_help_texts_name_pages_not_repository_paths():
     assert not [t for t in texts if re.search(r"README|docs/|in the repository", t)]
     named = {m for t in texts for m in re.findall(r"sheetkin docs ([\w-]+)", t)}
     assert "scene-format" in named and named <= set(PAGES), named
+
+
+def test_api_page_names_every_public_name_and_prints_in_a_terminal(capsys):
+    """The API page documents every name of `sheetkin.__all__` under the module that defines it
+    (mkdocstrings cannot see the lazily loaded ones through `sheetkin`), and `sheetkin docs api`
+    prints each as its signature and docstring, not as mkdocstrings' directives."""
+    import sheetkin
+    from sheetkin.cli import main
+
+    page = (Path(__file__).resolve().parents[2] / "docs" / "api.md").read_text(encoding="utf-8")
+    for name in set(sheetkin.__all__) - {"__version__"}:
+        obj = getattr(sheetkin, name)
+        assert f"::: {obj.__module__}.{name}\n" in page, name
+        assert (obj.__doc__ or "").strip() and not obj.__doc__.startswith(name + "("), name
+    assert main(["docs", "api"]) == 0
+    out = capsys.readouterr().out
+    assert "\n::: " not in out and "\n    options:" not in out and "### `compute(" in out
+
+
+def test_changelog_page_is_the_changelog(capsys):
+    from sheetkin.cli import main
+
+    assert main(["docs", "changelog"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("# Changelog") and "--8<--" not in out and "## [" in out
