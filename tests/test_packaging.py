@@ -51,3 +51,11 @@ def test_readme_tree_matches_the_packages():
     real = {p.name for p in pkg.iterdir() if p.is_dir() and (p / "__init__.py").exists()}
     real |= {p.stem for p in pkg.glob("*.py") if p.stem not in ("__init__", "__main__")}
     assert named - {"sheetkin"} == real
+
+
+def test_readme_test_command_is_what_ci_runs():
+    """The README's set-up gives the test command that .ci/run runs, verbatim."""
+    ci = [ln for ln in (ROOT / ".ci" / "run").read_text(encoding="utf8").splitlines() if ln.startswith("bash ")]
+    readme = (ROOT / "README.md").read_text(encoding="utf8")
+    setup = readme[readme.index("## Set-up from a checkout: two commands"):]
+    assert len(ci) == 1 and f"\n{ci[0]}\n" in setup[:setup.index("\n## ", 5)]
