@@ -432,11 +432,11 @@ def _grades_first(args):
     return read_class_list(args.class_list) if args.class_list else None
 
 
-def _write_grades(args, reports, copies, class_list, identities=None) -> None:
+def _write_grades(args, reports, copies, class_list, identities=None, lang: str = "en") -> None:
     from sheetkin.course.grades import grade_lines, grades_csv, write_grades
     lines, warnings = grade_lines(reports, copies, class_list,
                                   accept_changed=bool(getattr(args, "accept_changed_inputs", False)),
-                                  identities=identities)
+                                  identities=identities, lang=lang)
     write_grades(args.grades, grades_csv(lines))
     print(f"{args.grades}: {len(lines) - 1} submission(s) graded", file=sys.stderr)
     for w in warnings:
@@ -496,13 +496,13 @@ def cmd_validate(args) -> int:
             print(f"sheetkin: warning: {warning}", file=sys.stderr)
     lang = args.lang or class_lang(reports)
     if args.json:
-        sys.stdout.write(json_report(reports, copies))
+        sys.stdout.write(json_report(reports, copies, lang))
     elif len(reports) > 1:
-        sys.stdout.write("\n" + summary_table(reports, lang) + copies_lines(reports, copies))
+        sys.stdout.write("\n" + summary_table(reports, lang) + copies_lines(reports, copies, lang))
     if args.html:
         _write(args.html, html_report(reports, copies, lang))
     if args.grades:
-        _write_grades(args, reports, copies, class_list, identities)
+        _write_grades(args, reports, copies, class_list, identities, lang)
     else:
         for i, me in enumerate(identities):
             for flag in me.flags:
