@@ -362,6 +362,9 @@ def _add_animate_parser(sub):
     a.add_argument("--vectors", action="store_true",
                    help="draw the points' velocity vectors (one scale for the whole revolution)")
     a.add_argument("--no-labels", action="store_true", help="leave out the names of joints and links")
+    a.add_argument("--lang", choices=["ru", "uk", "en"], default="ru",
+                   help="language of the page's controls, captions and notes, and of the GIF's captions "
+                        "(default ru, as the books)")
     a.add_argument("--allow-gaps", action="store_true",
                    help="draw a mechanism that cannot assemble somewhere on the revolution (those "
                         "positions show the crank alone and say so) instead of failing")

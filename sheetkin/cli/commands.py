@@ -82,7 +82,7 @@ def cmd_animate(args) -> int:
     pic = animate(scene, args.output, frames=args.frames, fps=args.fps, size=args.size,
                   vectors=args.vectors, labels=not args.no_labels, allow_gaps=args.allow_gaps,
                   toggle_threshold=args.toggle_threshold,
-                  progress=stderr_progress(args.output) if show else None)
+                  progress=stderr_progress(args.output) if show else None, lang=args.lang)
     if Path(args.output).suffix.lower() == ".png":      # one picture: the first position
         print(f"{args.output}: the mechanism at phi_1 = {scene.crank.phi0_deg:g} deg", file=sys.stderr)
     else:
