@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import html
 import math
-import re
 from pathlib import Path
 
 from .report_messages import say
@@ -150,9 +149,9 @@ def _picture(rep: Report, lang: str = "en") -> str:
         phi = names[k - 1][1] if 0 < k <= len(names) else at[min(k, len(at)) - 1]
         pic = picture(scene, [phi])
         cap = pic.captions[0]                    # "phi_1 = 90 deg[: cannot assemble ...]"
-        pic.captions[0] = position_name(rep, k, lang) + (cap.split(" deg", 1)[1] if " deg" in cap else "")
-        # an issued variant's title: "... (variant fourbar-01)", said as the sheet says it
-        pic.title = re.sub(r" \(variant ([^()]+)\)$", lambda m: f" ({words(lang)['variant']} {m[1]})", pic.title)
+        from sheetkin.views.animate import say as said  # the drawing's words ("cannot assemble") in lang
+        pic.captions[0] = position_name(rep, k, lang) + said(cap.split(" deg", 1)[1] if " deg" in cap else "", lang)
+        pic.title = said(pic.title, lang)           # an issued variant's title: "... (вариант fourbar-01)"
         return svg(pic, 0, 360)
     except Exception as exc:           # a picture is a help, never a reason to lose the report
         return f"<p class='note'>({words(lang)['no_picture']}: {html.escape(str(exc))})</p>"
