@@ -325,7 +325,7 @@ def _add_crank_rocker_parser(ssub) -> None:
                          "theta, the closed-form solution as live formulas, the four equations' "
                          "residuals, the dead positions' points and a chart of them with the "
                          "rocker's arc")
-    cr.add_argument("--lang", choices=["ru", "en"], default="ru",
+    cr.add_argument("--lang", choices=["ru", "uk", "en"], default="ru",
                     help="language of the synthesis workbook (default ru)")
     cr.add_argument("--omega", type=_finite_float, default=10.0, metavar="RAD_S",
                     help="crank angular velocity in the written scene, rad/s (default 10; "

@@ -205,9 +205,6 @@ def cmd_workbook(args) -> int:
         if synthesis is None and args.synthesis:
             raise SceneError(f"{path}: --synthesis: the scene has no [synthesis] table (the data "
                              "of `sheetkin synth crank-rocker`, which writes it with -o)")
-        if synthesis is not None and args.lang == "uk":
-            raise SceneError(f"{path}: [synthesis]: the synthesis sheet is written in Russian or English only "
-                             "(--lang ru or --lang en), not yet in Ukrainian")
         try:
             wb = build_workbook(scene, lang=args.lang, exercise=args.exercise, scene_text=text)
         except WorkbookTooLarge as e:
