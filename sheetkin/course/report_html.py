@@ -204,9 +204,9 @@ def _details(rep: Report, k: int, copy: str = "", lang: str = "en") -> list[str]
     for label, attr in (("student", "student"), ("group", "group"), ("variant", "variant"),
                         ("graded_against", "graded_against"), ("seal", "seal")):
         v = getattr(rep, attr, None)
-        if attr == "seal" and v == "ok":
-            v = t["seal_ok"]
-        if v:
+        if attr == "seal" and v == "ok":            # "seal: ok" in words: "печать цела"
+            out.append(f"<p class='note'>{t['seal_ok']}</p>")
+        elif v:
             out.append(f"<p class='note'>{t[label]}: {e(say(str(v), lang))}</p>")
     changed = getattr(rep, "given_changed", None) or []
     if changed:

@@ -202,3 +202,21 @@ def test_grade_lines_default_is_english():
     """The Python API speaks English unless told, as it did."""
     lines, _ = grade_lines([], None)
     assert lines == [["Email address", *COLUMNS]]
+
+
+def test_json_notes_in_the_teachers_language(klass):
+    """--json keeps its keys and verdicts for programs; its notes (identity, check rows
+    deleted, cells outside the table) and copies' reasons follow --lang."""
+    import json
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        run_main("validate", klass / "submissions", "--roster", klass / "issued" / "roster.csv", "--class-list",
+                 klass / "class.csv", "--grades", klass / "g-json.csv", "--json", "--lang", "uk", "--progress",
+                 "never", "--jobs", "1")
+    books = json.loads(buf.getvalue())["reports"]
+    notes = [n for b in books for n in b.get("notes", [])]
+    assert any(n.startswith("хто здав: ") for n in notes) and any("рядки перевірки видалено" in n for n in notes)
+    assert not any(n.startswith("identity: ") for n in notes)
+    assert {b["verdict"] for b in books} >= {"unusable", "given data changed", "mistakes"}   # for programs
+    whys = [c["why"] for b in books for c in b["possible_copy_of"]]
+    assert whys and all("файли збігаються побайтово" in w for w in whys)
