@@ -176,11 +176,11 @@ def _shape_json(s) -> list:
 # Picture says them in English (sheetkin.views.drawing), the page in `lang`
 PAGE_WORDS: dict[str, dict[str, str]] = {
     "en": {"play": "play", "pause": "pause", "mechanism": "the mechanism", "position": "position", "deg": "deg",
-           "variant": "variant"},
+           "variant": "variant", "speed": "speed"},
     "ru": {"play": "пуск", "pause": "пауза", "mechanism": "механизм", "position": "положение", "deg": "град",
-           "variant": "вариант"},
+           "variant": "вариант", "speed": "скорость"},
     "uk": {"play": "пуск", "pause": "пауза", "mechanism": "механізм", "position": "положення", "deg": "град",
-           "variant": "варіант"},
+           "variant": "варіант", "speed": "швидкість"},
 }
 # the Picture's captions and notes: (English pattern, {lang: template})
 _SAID: tuple[tuple[str, dict[str, str]], ...] = (
@@ -223,6 +223,8 @@ _PAGE = """<!doctype html>
 <canvas id="c" width="{width}" height="{height}" aria-label="{w[mechanism]}"></canvas>
 <div id="bar"><button id="play" type="button">{w[pause]}</button>
 <input id="pos" type="range" min="0" max="{last}" value="0" aria-label="{w[position]}">
+<label>{w[speed]} <select id="speed"><option value="0.25">0.25&times;</option><option value="0.5">0.5&times;</option>
+<option value="1" selected>1&times;</option><option value="2">2&times;</option></select></label>
 <span id="cap"></span></div>
 {notes}
 <script>
@@ -257,9 +259,13 @@ function show(k) {{ i = k; pos.value = k; g.clearRect(0, 0, cv.width, cv.height)
   g.fillStyle = "#fff"; g.fillRect(0, 0, cv.width, cv.height);
   draw(D.background); draw(D.frames[k]);
   cap.textContent = "i = " + k + " / " + (D.frames.length - 1) + ": " + D.captions[k]; }}
+const speed = document.getElementById("speed");
 function play() {{
-  timer = setInterval(() => show((i + 1) % D.frames.length), 1000 / D.fps); btn.textContent = D.words.pause;
+  clearInterval(timer);
+  timer = setInterval(() => show((i + 1) % D.frames.length), 1000 / (D.fps * Number(speed.value)));
+  btn.textContent = D.words.pause;
 }}
+speed.addEventListener("change", () => {{ if (timer) play(); }});
 function pause() {{ clearInterval(timer); timer = null; btn.textContent = D.words.play; }}
 btn.addEventListener("click", () => timer ? pause() : play());
 pos.addEventListener("input", () => {{ pause(); show(Number(pos.value)); }});

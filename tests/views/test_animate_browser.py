@@ -80,6 +80,15 @@ def test_controls_in_the_students_language(tmp_path, lang, play, pause, deg):
         assert cap.startswith(f"i = 6 / 11: phi_1 = 68.26 {deg}"), cap
         assert not re.search(r"\b(deg|play|pause|position)\b", d.find_element(By.TAG_NAME, "body").text)
         assert d.execute_script("return document.documentElement.lang") == lang
+        speed = d.find_element(By.ID, "speed")
+        assert speed.find_element(By.XPATH, "..").text.startswith({"ru": "скорость", "uk": "швидкість"}[lang])
+        button.click()                                             # plays again, four times slower
+        d.execute_script("arguments[0].value = '0.25'; arguments[0].dispatchEvent(new Event('change'))", speed)
+        import time
+        before = d.find_element(By.ID, "cap").text
+        time.sleep(0.15)                                           # 12 fps x 0.25: a frame every 333 ms
+        assert d.find_element(By.ID, "cap").text == before and button.text == pause
+        button.click()
         d.save_screenshot(str(tmp_path / f"shaper-{lang}.png"))
         errors = [e for e in d.get_log("browser") if e["level"] in ("SEVERE", "ERROR")]
         assert errors == []
