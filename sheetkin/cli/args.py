@@ -214,7 +214,10 @@ def _add_validate_parser(sub) -> None:
     v.add_argument("--json", action="store_true", help="print the reports as JSON")
     v.add_argument("--html", metavar="REPORT.html", help="also write a readable HTML page")
     v.add_argument("--lang", choices=["ru", "uk", "en"], default=None,
-                   help="language of the reports, text and HTML (default: the books' own language)")
+                   help="language of the reports (text, HTML, grades.csv's headers and words, the JSON's "
+                        "notes), the validator's messages included (default: the books' own language); "
+                        "grades.csv's identifier column keeps Moodle's name, the command's own errors "
+                        "stay English")
     v.add_argument("--grades", metavar="GRADES.csv",
                    help="also write one line per submission: student, group, variant, file, rows "
                         "correct, checks passing, given data changed, likely causes, possible copies "
@@ -345,7 +348,8 @@ def _add_animate_parser(sub):
                     "sliders as blocks on their guides, the paths of the points, labels of "
                     "joints and links, toggle positions and the parts of the revolution where a "
                     "group cannot assemble. -o decides the format: .gif (matplotlib + Pillow), "
-                    ".html (one self-contained page with play/pause and a position slider) or "
+                    ".html (one self-contained page with play/pause, a speed choice and a position "
+                    "slider) or "
                     ".png (the first position).")
     a.add_argument("scene", metavar="SCENE.toml", help="the scene file")
     a.add_argument("-o", "--output", metavar="OUT", required=True,
