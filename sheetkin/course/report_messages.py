@@ -191,7 +191,8 @@ PHRASES: dict[str, dict[str, str]] = {
         "двоичная книга Excel, .xlsb", "empty file (0 bytes)": "пустой файл (0 байт)",
         "no such file": "нет такого файла", "is a directory": "это папка", "not a spreadsheet": "не таблица",
         "plain text": "простой текст", "not a zip archive": "не zip-архив",
-        "its end is missing": "нет его конца", "failed": "не удалось", "timed out": "не успело",
+        "its end is missing": "нет его конца", "failed": "не удалось",
+        "timed out": "не завершилось вовремя", "(embedded scene)": "(встроенная сцена)",
         "an old binary Excel .xls file, or another OLE compound file":
         "старая двоичная книга Excel .xls или другой составной файл OLE", "XML or HTML": "XML или HTML",
         "no row depends on it": "от неё не зависит ни одна строка", "a non-number": "не число",
@@ -222,7 +223,8 @@ PHRASES: dict[str, dict[str, str]] = {
         "двійкова книга Excel, .xlsb", "empty file (0 bytes)": "порожній файл (0 байтів)",
         "no such file": "немає такого файлу", "is a directory": "це тека", "not a spreadsheet": "не таблиця",
         "plain text": "звичайний текст", "not a zip archive": "не zip-архів",
-        "its end is missing": "немає його кінця", "failed": "не вдалося", "timed out": "не встигло",
+        "its end is missing": "немає його кінця", "failed": "не вдалося", "timed out": "не завершилося вчасно",
+        "(embedded scene)": "(вбудована сцена)",
         "an old binary Excel .xls file, or another OLE compound file":
         "стара двійкова книга Excel .xls або інший складений файл OLE", "XML or HTML": "XML або HTML",
         "no row depends on it": "від неї не залежить жоден рядок", "a non-number": "не число",

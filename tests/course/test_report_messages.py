@@ -220,3 +220,33 @@ def test_json_notes_in_the_teachers_language(klass):
     assert {b["verdict"] for b in books} >= {"unusable", "given data changed", "mistakes"}   # for programs
     whys = [c["why"] for b in books for c in b["possible_copy_of"]]
     assert whys and all("файли збігаються побайтово" in w for w in whys)
+
+
+# the reasons of unusable files a class brings (each made where it arises: sheetkin.xlsx, the
+# validator), said whole in Russian and Ukrainian
+REASONS = [
+    "a.xlsx: not an .xlsx file (an OpenDocument spreadsheet, .ods); expected .xlsx: in LibreOffice, File > Save "
+    "As > Excel 2007-365 (.xlsx)",
+    "a.xlsx: file is more than 50 MB; expected at most 50 MB (sheetkin's limit for a workbook)",
+    "a.xlsx: no embedded scene (hidden sheet 'scene'); expected a workbook made by `sheetkin workbook`",
+    "a.xlsx: corrupt or truncated zip archive (its end is missing); expected a complete .xlsx file: save or copy "
+    "it again",
+    "a.xlsx: contains macros (xl/vbaProject.bin); expected an .xlsx workbook",
+    "a.ods: LibreOffice's conversion to .xlsx timed out",
+    "a.xls: password-protected (an encrypted .xls workbook); a workbook saved without a password (File > Save As, "
+    "untick the password)",
+    "a.xlsx: not an .xlsx file (an old binary Excel .xls file, or another OLE compound file); expected .xlsx: save "
+    "it as Excel Workbook (.xlsx) without a password",
+    "a.xlsx: internal error while validating (KeyError: 'x'); this is a bug in sheetkin 0.16: please report it with "
+    "this file",
+    "a.xlsx: scene sheet edited: its seal (scene!C2) is missing; and it no longer reads: a.xlsx (embedded scene)",
+]
+
+
+@pytest.mark.parametrize("reason", REASONS)
+@pytest.mark.parametrize("lang", ["ru", "uk"])
+def test_unusable_reasons_said_whole(reason, lang):
+    said = say(reason, lang)
+    left = _english(_free_of_names(said)) & _table_words()
+    assert not left, (said, sorted(left))
+    assert said != reason and said.split(":")[0] == reason.split(":")[0]       # the file's name as it is
