@@ -94,7 +94,27 @@ def klass(tmp_path_factory):
     bad = _moodle_folder(sub, "Participant", 9)
     (bad / "broken.xlsx").write_text("this is not a workbook\n")
     (bad / "empty.xlsx").write_bytes(b"")
+    typed = fill(iss / "fourbar-02-exercise.xlsx", key(2), bad / "typed.xlsx", student="Кузнецов Олег",
+                 change=_all_typed(key(2)))
+    os.utime(typed, (2e9, 2e9))                 # the newest of the folder, and usable: graded
     return d
+
+
+def _all_typed(key: Path):
+    """Every computed cell's formula replaced by the number it gives: a book with no formula
+    ("typed, not computed")."""
+    from sheetkin.xlsx.evaluator import evaluate
+    book = evaluate(key)
+    sheet = book.order[0]
+
+    def change(ws, rows):
+        for name, r in rows.items():
+            for c in range(4, 18):
+                v = ws.cell(r, c).value
+                if isinstance(v, str) and v.startswith("=") and not str(name).startswith("chk_"):
+                    got = book.value(sheet, r, c)
+                    ws.cell(r, c).value = got if isinstance(got, float) else None
+    return change
 
 
 def run_main(*argv) -> int:
@@ -137,11 +157,13 @@ def test_every_kind_of_message_in_the_teachers_language(said, lang):
         left = _english(_free_of_names(what)) & english
         assert not left, (where, sorted(left))
     expect = {
-        "ru": ["исходные данные изменены: L1", "лист сцены изменён", "не файл .xlsx", "пустой файл (0 байт)",
+        "ru": ["введены числами, не вычислены", "не оценена: ",
+               "исходные данные изменены: L1", "лист сцены изменён", "не файл .xlsx", "пустой файл (0 байт)",
                "введено 3.", "возможно, списано", "файлы совпадают побайтно", "кто сдал: найдена в папке",
                "выдана Иванов Иван", "строки проверки удалены", "статус проверки введён поверх",
                "ячеек вне выданной таблицы"],
-        "uk": ["вихідні дані змінено: L1", "аркуш сцени змінено", "не файл .xlsx", "порожній файл (0 байтів)",
+        "uk": ["введені числами, не обчислені", "не оцінено: ",
+               "вихідні дані змінено: L1", "аркуш сцени змінено", "не файл .xlsx", "порожній файл (0 байтів)",
                "введено 3.", "можливо, списано", "файли збігаються побайтово", "хто здав: знайдено в теці",
                "видано Иванов Иван", "рядки перевірки видалено",
                "статус перевірки введено поверх", "клітинок поза виданою таблицею"],
