@@ -215,7 +215,10 @@ def _add_validate_parser(sub) -> None:
     v.add_argument("--json", action="store_true", help="print the reports as JSON")
     v.add_argument("--html", metavar="REPORT.html", help="also write a readable HTML page")
     v.add_argument("--lang", choices=["ru", "uk", "en"], default=None,
-                   help="language of the reports, text and HTML (default: the books' own language)")
+                   help="language of the reports (text, HTML, grades.csv's headers and words, the JSON's "
+                        "notes), the validator's messages included (default: the books' own language); "
+                        "grades.csv's identifier column keeps Moodle's name, the command's own errors "
+                        "stay English")
     v.add_argument("--grades", metavar="GRADES.csv",
                    help="also write one line per submission: student, group, variant, file, rows "
                         "correct, checks passing, given data changed, likely causes, possible copies "
@@ -327,7 +330,7 @@ def _add_crank_rocker_parser(ssub) -> None:
                          "theta, the closed-form solution as live formulas, the four equations' "
                          "residuals, the dead positions' points and a chart of them with the "
                          "rocker's arc")
-    cr.add_argument("--lang", choices=["ru", "en"], default="ru",
+    cr.add_argument("--lang", choices=["ru", "uk", "en"], default="ru",
                     help="language of the synthesis workbook (default ru)")
     cr.add_argument("--omega", type=_finite_float, default=10.0, metavar="RAD_S",
                     help="crank angular velocity in the written scene, rad/s (default 10; "
@@ -347,7 +350,8 @@ def _add_animate_parser(sub):
                     "sliders as blocks on their guides, the paths of the points, labels of "
                     "joints and links, toggle positions and the parts of the revolution where a "
                     "group cannot assemble. -o decides the format: .gif (matplotlib + Pillow), "
-                    ".html (one self-contained page with play/pause and a position slider) or "
+                    ".html (one self-contained page with play/pause, a speed choice and a position "
+                    "slider) or "
                     ".png (the first position).")
     a.add_argument("scene", metavar="SCENE.toml", help="the scene file")
     a.add_argument("-o", "--output", metavar="OUT", required=True,
@@ -364,6 +368,9 @@ def _add_animate_parser(sub):
     a.add_argument("--vectors", action="store_true",
                    help="draw the points' velocity vectors (one scale for the whole revolution)")
     a.add_argument("--no-labels", action="store_true", help="leave out the names of joints and links")
+    a.add_argument("--lang", choices=["ru", "uk", "en"], default="ru",
+                   help="language of the page's controls, captions and notes, and of the GIF's captions "
+                        "(default ru, as the books)")
     a.add_argument("--allow-gaps", action="store_true",
                    help="draw a mechanism that cannot assemble somewhere on the revolution (those "
                         "positions show the crank alone and say so) instead of failing")

@@ -82,7 +82,7 @@ def cmd_animate(args) -> int:
     pic = animate(scene, args.output, frames=args.frames, fps=args.fps, size=args.size,
                   vectors=args.vectors, labels=not args.no_labels, allow_gaps=args.allow_gaps,
                   toggle_threshold=args.toggle_threshold,
-                  progress=stderr_progress(args.output) if show else None)
+                  progress=stderr_progress(args.output) if show else None, lang=args.lang)
     if Path(args.output).suffix.lower() == ".png":      # one picture: the first position
         print(f"{args.output}: the mechanism at phi_1 = {scene.crank.phi0_deg:g} deg", file=sys.stderr)
     else:
@@ -237,9 +237,6 @@ def cmd_workbook(args) -> int:
         if synthesis is None and args.synthesis:
             raise SceneError(f"{path}: --synthesis: the scene has no [synthesis] table (the data "
                              "of `sheetkin synth crank-rocker`, which writes it with -o)")
-        if synthesis is not None and args.lang == "uk":
-            raise SceneError(f"{path}: [synthesis]: the synthesis sheet is written in Russian or English only "
-                             "(--lang ru or --lang en), not yet in Ukrainian")
         try:
             wb = build_workbook(scene, lang=args.lang, exercise=args.exercise, scene_text=text)
         except WorkbookTooLarge as e:
@@ -464,11 +461,11 @@ def _grades_first(args):
     return read_class_list(args.class_list) if args.class_list else None
 
 
-def _write_grades(args, reports, copies, class_list, identities=None) -> None:
+def _write_grades(args, reports, copies, class_list, identities=None, lang: str = "en") -> None:
     from sheetkin.course.grades import grade_lines, grades_csv, write_grades
     lines, warnings = grade_lines(reports, copies, class_list,
                                   accept_changed=bool(getattr(args, "accept_changed_inputs", False)),
-                                  identities=identities)
+                                  identities=identities, lang=lang)
     write_grades(args.grades, grades_csv(lines))
     print(f"{args.grades}: {len(lines) - 1} submission(s) graded", file=sys.stderr)
     for w in warnings:
@@ -528,13 +525,13 @@ def cmd_validate(args) -> int:
             print(f"sheetkin: warning: {warning}", file=sys.stderr)
     lang = args.lang or class_lang(reports)
     if args.json:
-        sys.stdout.write(json_report(reports, copies))
+        sys.stdout.write(json_report(reports, copies, lang))
     elif len(reports) > 1:
-        sys.stdout.write("\n" + summary_table(reports, lang) + copies_lines(reports, copies))
+        sys.stdout.write("\n" + summary_table(reports, lang) + copies_lines(reports, copies, lang))
     if args.html:
         _write(args.html, html_report(reports, copies, lang))
     if args.grades:
-        _write_grades(args, reports, copies, class_list, identities)
+        _write_grades(args, reports, copies, class_list, identities, lang)
     else:
         for i, me in enumerate(identities):
             for flag in me.flags:

@@ -232,17 +232,26 @@ def causes_text(rep) -> str:
 
 
 # --------------------------------------------------------------------------- grades.csv
-def grade_lines(reports, copies, class_list: ClassList | None = None,
-                accept_changed: bool = False, identities: list | None = None) -> tuple[list[list[str]], list[str]]:
+def grade_lines(reports, copies, class_list: ClassList | None = None, accept_changed: bool = False,
+                identities: list | None = None, lang: str = "en") -> tuple[list[list[str]], list[str]]:
     """The header and one line per graded report (in their order), and warnings: the
     students the class list does not name, the older files of a student (not graded: one
     grade per Moodle user), the books handed in by someone other than their student.
-    identities: sheetkin.course.identity.identify's (made here from class_list if None)."""
+    identities: sheetkin.course.identity.identify's (made here from class_list if None).
+    lang: the headers and the words of the cells (ru, uk, en); the identifier column keeps
+    Moodle's own name (its import matches it), the numbers stay numbers; the warnings (for
+    the operator's terminal) stay English."""
     from .identity import identify
+    from .report_messages import column_name, say
+    from .report_texts import say_grading
     if identities is None:
         identities = identify(reports, class_list)
     id_header = class_list.id_header if class_list else ID_HEADERS[0]
-    lines, unmatched, older, flagged = [[id_header, *COLUMNS]], [], [], []
+
+    def said(text: str, grading: bool = False) -> str:       # the grading vocabulary, or a message
+        return safe_text(say_grading(text, lang) if grading else say(text, lang))
+    lines = [[id_header, *(column_name(c, lang) for c in COLUMNS)]]
+    unmatched, older, flagged = [], [], []
     for i, rep in enumerate(reports):
         me = identities[i]
         # a classmate's book in a student's folder is listed as such, graded or not (it is
@@ -263,13 +272,13 @@ def grade_lines(reports, copies, class_list: ClassList | None = None,
         value, _ = score_parts(rep, accept_changed or None)
         lines.append([me.ident if class_list is not None else "", safe_text(student),
                       safe_text(getattr(rep, "group", "") or ""),
-                      safe_text(getattr(rep, "variant", "") or ""), safe_text(rep.path), verdict(rep),
+                      safe_text(getattr(rep, "variant", "") or ""), safe_text(rep.path), said(verdict(rep), True),
                       "" if rep.error else str(c["correct"]), "" if rep.error else str(c["typed"]),
                       "" if rep.error else str(c["total"]),
                       "" if passing is None else str(passing), "" if checks is None else str(checks),
-                      "yes" if given_changed(rep) else "no",             # a fact, accepted or not
-                      safe_text(causes_text(rep)), safe_text(copy_text(reports, i, copies)),
-                      f"{value:.1f}", safe_text(explain(rep)), safe_text("; ".join(me.flags))])
+                      column_name("yes" if given_changed(rep) else "no", lang),   # a fact, accepted or not
+                      said(causes_text(rep)), said(copy_text(reports, i, copies)),
+                      f"{value:.1f}", said(explain(rep), not rep.error), said("; ".join(me.flags))])
     warnings = []
 
     def listed(items: list[str]) -> str:

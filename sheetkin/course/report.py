@@ -8,6 +8,7 @@ from .copies import MAX_LISTED
 from .grades import counts, explain, score, verdict
 from .issued import changed_line
 from .report_html import position_list, position_name
+from .report_messages import say
 from .report_texts import say_grading, words
 from .validator import Report
 
@@ -23,7 +24,7 @@ def text_report(rep: Report, lang: str = "en") -> str:
     t = words(lang)
     head = f"{rep.path}"
     if rep.error:
-        return f"{head}: {t['unusable']}: {rep.error}\n"
+        return f"{head}: {t['unusable']}: {say(rep.error, lang)}\n"
     # who: the student (their own cells D1, D2), never the scheme's author
     who = ", ".join(x for x in (getattr(rep, "student", ""), rep.title) if x)
     lines = [f"{head}" + (f" ({who})" if who else "") + f", {rep.positions} {t['positions']}"]
@@ -42,7 +43,7 @@ def text_report(rep: Report, lang: str = "en") -> str:
         where = f"{r.name} ({t['row']} {r.row}, {t.get(r.source, r.source)})"
         note = getattr(r, "note", "")
         if note:
-            lines.append(f"  {t['cause']}: {where}: {note}"
+            lines.append(f"  {t['cause']}: {where}: {say(note, lang)}"
                          + (f"; {t['wrong_at']} {position_list(rep, r.wrong_cells, lang)}" if r.wrong_cells else ""))
         elif r.first_wrong is None:           # a value of column D (a derived row)
             lines.append(f"  {t['cause']}: {where}: {t['expected']} {_num(r.expected)}, {t['got']} {_num(r.got)}")
@@ -72,7 +73,8 @@ def text_report(rep: Report, lang: str = "en") -> str:
         lines.append(f"  {t['own_checks']}: {', '.join(rep.failing_checks)}")
     if rep.cache_mismatch:
         lines.append("  " + t["disagree"].format(n=len(rep.cache_mismatch)) + ": "
-                     + "; ".join(rep.cache_mismatch[:5]) + (" ..." if len(rep.cache_mismatch) > 5 else ""))
+                     + "; ".join(say(m, lang) for m in rep.cache_mismatch[:5])
+                     + (" ..." if len(rep.cache_mismatch) > 5 else ""))
     for p in rep.problems[:5]:
         lines.append(f"  {t['cannot']}: {p} {t['saved_used']}")
     return "\n".join(lines) + "\n"
@@ -96,14 +98,14 @@ def issued_lines(rep: Report, lang: str = "en") -> list[str]:
     out = []
     if rep.given_changed:
         how = t["own_inputs"] if rep.accepted_changes else t["fail_issued"]
-        out.append(f"  !! {changed_line(rep.given_changed)} ({how})")
+        out.append(f"  !! {say(changed_line(rep.given_changed), lang)} ({how})")
     if rep.seal and rep.seal != "ok":
-        out.append(f"  !! {rep.seal}")
+        out.append(f"  !! {say(rep.seal, lang)}")
     who = ", ".join(f"{t[k]} {v}" for k, v in (("student", rep.student), ("group", rep.group),
                                               ("variant", rep.variant)) if v)
     if who:
         out.append(f"  {who}" + (f", {t['seal_ok']}" if rep.seal == "ok" else ""))
-    out += [f"  {t['note']}: {n}" for n in rep.notes]
+    out += [f"  {t['note']}: {say(n, lang)}" for n in rep.notes]
     return out
 
 
@@ -113,7 +115,7 @@ def summary_table(reports: list[Report], lang: str = "en") -> str:
              t["first_cause"])]
     for r in reports:
         if r.error:
-            rows.append((r.path, "", t["unusable"].lower(), "", "", "", "", "", r.reason[:60]))
+            rows.append((r.path, "", t["unusable"].lower(), "", "", "", "", "", say(r.reason, lang)[:60]))
         else:
             # the student's own cells (D1, D2), never the scheme's author
             who = ", ".join(x for x in (getattr(r, "student", ""), getattr(r, "group", "")) if x)
@@ -137,9 +139,11 @@ def _named_positions(rep: Report) -> dict:
     return d
 
 
-def json_report(reports: list[Report], copies=None) -> str:
+def json_report(reports: list[Report], copies=None, lang: str = "en") -> str:
     """Every report (Report.to_dict: verdict, score, score_explained, summary counts), each
-    with its possible copies (sheetkin/course/copies.py): file, student and why."""
+    with its possible copies (sheetkin/course/copies.py): file, student and why. The notes
+    and the reasons of copies are in `lang`; the keys, verdicts and counts, for programs,
+    stay as they are."""
     def clean(o):
         if isinstance(o, float) and not math.isfinite(o):
             return None if math.isnan(o) else ("inf" if o > 0 else "-inf")
@@ -154,7 +158,9 @@ def json_report(reports: list[Report], copies=None) -> str:
         # at most MAX_LISTED others of its cluster: the report stays linear in the class
         others = copies.others(i)[:MAX_LISTED] if copies is not None else []
         d["possible_copy_of"] = [{"file": reports[j].path, "student": getattr(reports[j], "student", ""),
-                                  "why": copies.why(i)} for j in others]
+                                  "why": say(copies.why(i), lang)} for j in others]
+        if "notes" in d:
+            d["notes"] = [say(n, lang) for n in d["notes"]]
         out.append(d)
     return json.dumps(clean({"reports": out,
                              "all_correct": all(r.ok for r in reports)}), indent=1, ensure_ascii=False) + "\n"
@@ -167,7 +173,7 @@ def html_report(reports: list[Report], copies: dict | None = None, lang: str = "
     return html_page(reports, copies, lang)
 
 
-def copies_lines(reports: list[Report], copies) -> str:
+def copies_lines(reports: list[Report], copies, lang: str = "en") -> str:
     """After the summary table: each cluster of possible copies (sheetkin/course/copies.py)
     a line, its files and its reasons (each reason's files when not the whole cluster)."""
     out = []
@@ -175,5 +181,5 @@ def copies_lines(reports: list[Report], copies) -> str:
         files = ", ".join(reports[i].path for i in c.members)
         why = "; ".join(t if len(m) == len(c.members) else f"{t} ({', '.join(reports[i].path for i in m)})"
                         for t, m in c.reasons)
-        out.append(f"possible copy: {len(c.members)} files {files}: {why}\n")
+        out.append(say(f"possible copy: {len(c.members)} files {files}: {why}", lang) + "\n")
     return "".join(out)

@@ -18,6 +18,7 @@ import html
 import math
 from pathlib import Path
 
+from .report_messages import say
 from .report_texts import say_grading, words
 from .validator import Report
 
@@ -105,7 +106,7 @@ def _given_changed(ch) -> str:
     return f"{ch.get('name', '?')}{cell}: {_num(ch.get('issued'))} -> {_num(ch.get('got'))}"
 
 
-def _copy_links(reports, k: int, copies, with_reason: bool) -> str:
+def _copy_links(reports, k: int, copies, with_reason: bool, lang: str = "en") -> str:
     """Links to the submissions report k may be copied from (or to): at most MAX_LISTED of
     its cluster (sheetkin/course/copies.py), so that the page stays linear in the class."""
     from .copies import MAX_LISTED
@@ -118,9 +119,9 @@ def _copy_links(reports, k: int, copies, with_reason: bool) -> str:
         out.append(f"<a href='#{_anchor(other, j)}' data-open='{_anchor(other, j)}'>{e(name)}</a>"
                    + (f" ({e(other.path)})" if with_reason else ""))
     if len(others) > MAX_LISTED:
-        out.append(f"and {len(others) - MAX_LISTED} more")
+        out.append(e(say(f" and {len(others) - MAX_LISTED} more", lang).strip()))
     text = ", ".join(out)
-    return text + (f": {e(copies.why(k))}" if with_reason and text else "")
+    return text + (f": {e(say(copies.why(k), lang))}" if with_reason and text else "")
 
 
 def _cut(names: str, width: int) -> str:
@@ -148,7 +149,9 @@ def _picture(rep: Report, lang: str = "en") -> str:
         phi = names[k - 1][1] if 0 < k <= len(names) else at[min(k, len(at)) - 1]
         pic = picture(scene, [phi])
         cap = pic.captions[0]                    # "phi_1 = 90 deg[: cannot assemble ...]"
-        pic.captions[0] = position_name(rep, k, lang) + (cap.split(" deg", 1)[1] if " deg" in cap else "")
+        from sheetkin.views.animate import say as said  # the drawing's words ("cannot assemble") in lang
+        pic.captions[0] = position_name(rep, k, lang) + said(cap.split(" deg", 1)[1] if " deg" in cap else "", lang)
+        pic.title = said(pic.title, lang)           # an issued variant's title: "... (вариант fourbar-01)"
         return svg(pic, 0, 360)
     except Exception as exc:           # a picture is a help, never a reason to lose the report
         return f"<p class='note'>({words(lang)['no_picture']}: {html.escape(str(exc))})</p>"
@@ -170,7 +173,7 @@ def _summary_row(rep: Report, k: int, copy: str = "", lang: str = "en") -> str:
     cls = "ok" if res == "all correct" else "wrong"
     c = counts(rep)
     sc = score(rep)
-    causes = ", ".join(c.name for c in rep.causes) if not rep.error else rep.reason[:80]
+    causes = ", ".join(c.name for c in rep.causes) if not rep.error else say(rep.reason, lang)[:80]
     missing = ", ".join(r.name for r in rep.missing)
     if getattr(rep, "given_changed", None):
         causes = t["given_changed"] + (f"; {causes}" if causes else "")
@@ -195,14 +198,16 @@ def _details(rep: Report, k: int, copy: str = "", lang: str = "en") -> list[str]
     out = [f"<details id='{_anchor(rep, k)}'><summary>{e(who)}: {e(say_grading(res, lang))}</summary>",
            f"<p class='note'>{e(rep.path)}{' - ' + e(rep.title) if rep.title else ''}</p>"]
     if rep.error:
-        out.append(f"<p class='unusable'>{t['unusable_p']}: {e(rep.error)}</p></details>")
+        out.append(f"<p class='unusable'>{t['unusable_p']}: {e(say(rep.error, lang))}</p></details>")
         return out
     out.append(f"<div class='pic'>{_picture(rep, lang)}</div>")
     for label, attr in (("student", "student"), ("group", "group"), ("variant", "variant"),
                         ("graded_against", "graded_against"), ("seal", "seal")):
         v = getattr(rep, attr, None)
-        if v:
-            out.append(f"<p class='note'>{t[label]}: {e(str(v))}</p>")
+        if attr == "seal" and v == "ok":            # "seal: ok" in words: "печать цела"
+            out.append(f"<p class='note'>{t['seal_ok']}</p>")
+        elif v:
+            out.append(f"<p class='note'>{t[label]}: {e(say(str(v), lang))}</p>")
     changed = getattr(rep, "given_changed", None) or []
     if changed:
         out.append(f"<p class='wrong'>{t['given_changed']}: " + e(", ".join(_given_changed(c) for c in changed))
@@ -225,7 +230,7 @@ def _details(rep: Report, k: int, copy: str = "", lang: str = "en") -> list[str]
                    f" {t['wrong_from']} {e(position_name(rep, c.first_wrong or 1, lang))}, {t['expected']} "
                    f"{e(_num(c.expected))}, {t['got']} {e(_num(c.got))}; {t['wrong_at']} "
                    f"{e(position_list(rep, c.wrong_cells, lang))}"
-                   + (f"<br>{e(c.note)}" if getattr(c, "note", "") else "") + "</p>")
+                   + (f"<br>{e(say(c.note, lang))}" if getattr(c, "note", "") else "") + "</p>")
     bad = [x for x in rep.rows if x.status != "correct"]
     if bad:
         names = getattr(rep, "position_names", None) or []
@@ -253,7 +258,8 @@ def _details(rep: Report, k: int, copy: str = "", lang: str = "en") -> list[str]
                          (t["disagree_h"], rep.cache_mismatch),
                          (t["cannot_h"], rep.problems)):
         if items:
-            out.append(f"<p>{title}:</p><ul>" + "".join(f"<li>{e(i)}</li>" for i in items) + "</ul>")
+            out.append(f"<p>{e(say(title, lang))}:</p><ul>" + "".join(f"<li>{e(say(i, lang))}</li>" for i in items)
+                       + "</ul>")
     out.append("<div class='clear'></div></details>")
     return out
 
@@ -273,10 +279,10 @@ def html_page(reports: list[Report], copies: dict | None = None, lang: str = "en
                 f"<th><button type='button'>{t.get(h, h)}</button></th>" for h in
                 ("student", "group", "variant", "score", "result", "rows correct", "rows typed", "wrong_rows",
                  "likely_causes", "missing_rows", "copy_of", "file")) + "</tr></thead><tbody>"]
-    out += [_summary_row(r, k, _copy_links(reports, k, copies, False), lang) for k, r in enumerate(reports)]
+    out += [_summary_row(r, k, _copy_links(reports, k, copies, False, lang), lang) for k, r in enumerate(reports)]
     out.append("</tbody></table>")
     for k, r in enumerate(reports):
-        out += _details(r, k, _copy_links(reports, k, copies, True), lang)
+        out += _details(r, k, _copy_links(reports, k, copies, True, lang), lang)
     out.append(f"<script>{_SCRIPT}</script></body></html>\n")
     return "\n".join(out)
 

@@ -604,6 +604,42 @@ def link_joints(crank: Crank, groups) -> dict[int, list[str]]:
     return out
 
 
+def _check_points(ctx, points, on_link, on_link_set, n_links: int) -> None:
+    """Each point on a moving link, measured from a joint or another point of its link:
+    checked before placement, so a bad `from` is blamed on the point, not on a group that
+    needs the point (a point that its own link's group uses as a joint is circular: the
+    group's `joints` is the mistake, reported during placement)."""
+    names_on: dict[int, set[str]] = {}   # link -> names of the points on it
+    for p in points:
+        names_on.setdefault(p.link, set()).add(p.name)
+    for i, p in enumerate(points):
+        if not 1 <= p.link <= n_links:
+            ctx.fail(f"[[point]] #{i + 1}", "point", i, "link",
+                     f"expected a moving link 1..{n_links}, got {p.link}")
+        if not (p.origin in on_link_set[p.link] or (p.origin in names_on[p.link] and p.origin != p.name)
+                or p.name in on_link_set[p.link]):
+            allowed = on_link[p.link] + [q.name for q in points if q.link == p.link and q is not p]
+            ctx.fail(f"[[point]] #{i + 1}", "point", i, "from",
+                     f"expected a joint or point of link {p.link} ({', '.join(allowed)}), got '{p.origin}'")
+
+
+def _check_group(ctx, g, known: set, on_link: dict, placer: dict) -> None:
+    """A group's joints placed before it, its guides on earlier links and named there."""
+    kind = kind_of(g)
+    where = (f"[[group]] #{g.index}", "group", g.index - 1)
+    for name in kind.needs(g):
+        if name not in known:
+            ctx.fail(*where, "joints", f"'{name}' {_not_yet(name, g, placer)}")
+    for key, name, link in kind.on_links(g):
+        if link >= g.links[0]:
+            ctx.fail(*where, key.split(".")[0],
+                     f"link {link} is not placed before group {g.index} (its links are {list(g.links)}); "
+                     f"a guide may be on the frame (0), the crank (1) or an earlier group's link")
+        if name not in on_link.get(link, []):
+            ctx.fail(*where, key, f"'{name}' is not a point of link {link} "
+                                  f"(expected one of {', '.join(on_link.get(link, []))})")
+
+
 def _make_plan(ctx, frame, crank, groups, points):
     """Order of placement: crank, then each group; a point as soon as its link is placed.
 
@@ -612,24 +648,8 @@ def _make_plan(ctx, frame, crank, groups, points):
     points are placed by dependency, not by file order.
     """
     on_link = link_joints(crank, groups)
-    n_links = 1 + 2 * len(groups)
     on_link_set = {k: set(v) for k, v in on_link.items()}
-    names_on: dict[int, set[str]] = {}   # link -> names of the points on it
-    for p in points:
-        names_on.setdefault(p.link, set()).add(p.name)
-    for i, p in enumerate(points):
-        if not 1 <= p.link <= n_links:
-            ctx.fail(f"[[point]] #{i + 1}", "point", i, "link",
-                     f"expected a moving link 1..{n_links}, got {p.link}")
-        # checked before placement, so a bad `from` is blamed on the point, not on a
-        # group that needs the point
-        # (a point that its own link's group uses as a joint is circular: the group's
-        # `joints` is the mistake, reported during placement below)
-        if not (p.origin in on_link_set[p.link] or (p.origin in names_on[p.link] and p.origin != p.name)
-                or p.name in on_link_set[p.link]):
-            allowed = on_link[p.link] + [q.name for q in points if q.link == p.link and q is not p]
-            ctx.fail(f"[[point]] #{i + 1}", "point", i, "from",
-                     f"expected a joint or point of link {p.link} ({', '.join(allowed)}), got '{p.origin}'")
+    _check_points(ctx, points, on_link, on_link_set, 1 + 2 * len(groups))
     known = set(frame) | {crank.joint}
     plan: list[tuple[str, object]] = [("crank", crank)]
     # Points go in the order of repeated passes over the file's points (a point whose
@@ -666,21 +686,9 @@ def _make_plan(ctx, frame, crank, groups, points):
     placer = {n: g for g in groups for n in kind_of(g).new_joints(g)}
     placer.update({p.name: p for p in points})
     for g in groups:
-        kind = kind_of(g)
-        where = (f"[[group]] #{g.index}", "group", g.index - 1)
-        for name in kind.needs(g):
-            if name not in known:
-                ctx.fail(*where, "joints", f"'{name}' {_not_yet(name, g, placer)}")
-        for key, name, link in kind.on_links(g):
-            if link >= g.links[0]:
-                ctx.fail(*where, key.split(".")[0],
-                         f"link {link} is not placed before group {g.index} (its links are {list(g.links)}); "
-                         f"a guide may be on the frame (0), the crank (1) or an earlier group's link")
-            if name not in on_link.get(link, []):
-                ctx.fail(*where, key, f"'{name}' is not a point of link {link} "
-                                      f"(expected one of {', '.join(on_link.get(link, []))})")
+        _check_group(ctx, g, known, on_link, placer)
         plan.append(("group", g))
-        known.update(kind.new_joints(g))
+        known.update(kind_of(g).new_joints(g))
         place_points(g.links)
     pending = [(i, p) for i, p in enumerate(points) if not placed[i]]
     for i, p in pending:   # only points measured from each other in a circle remain

@@ -295,12 +295,13 @@ def scene_mismatches(scene, data: dict[str, float], tol: float = 1e-9) -> list[s
 
 
 # --------------------------------------------------------------------------- the workbook
-SYNTH_SHEET_TITLES = {"ru": "Синтез", "en": "Synthesis"}
+SYNTH_SHEET_TITLES = {"ru": "Синтез", "uk": "Синтез", "en": "Synthesis"}
 _ARC_POINTS = 31
-# (name, unit, ru, en, formula | None for an input, "cand" for a per-root row in D and E).
+# (name, unit, ru, en, formula | None for an input, "cand" for a per-root row in D and E); a
+# section's name is "#..." (its title in ru, en; the Ukrainian texts are in _UK_ROWS).
 # In formulas {name} is the value cell $D$r of the row `name`, {c} the candidate's column.
 _SYNTH_ROWS = [
-    ("#", "", "Исходные данные", "Given data"),
+    ("#given", "", "Исходные данные", "Given data"),
     ("K_w", "", "коэффициент изменения средней скорости хода коромысла", "time-ratio coefficient"),
     ("l3", "m", "длина коромысла |DB|", "rocker length |DB|"),
     ("Y_D", "m", "ордината центра вращения коромысла D", "ordinate of the rocker pivot D"),
@@ -311,13 +312,13 @@ _SYNTH_ROWS = [
     ("phi_ref_deg", "deg", "приближение phi1H (из нескольких корней выбирается ближайший)",
      "initial guess of phi1H (of several roots the nearest is chosen)"),
     ("Tol", "", "допуск проверок", "tolerance of the checks"),
-    ("#", "", "Угол перекрытия", "Overlap angle"),
+    ("#overlap", "", "Угол перекрытия", "Overlap angle"),
     ("theta", "rad", "theta = pi (K_w - 1)/(K_w + 1)", "theta = pi (K_w - 1)/(K_w + 1)",
      "=PI()*({K_w}-1)/({K_w}+1)"),
     ("theta_deg", "deg", "угол перекрытия, град", "overlap angle, deg", "=DEGREES({theta})"),
     ("g1", "rad", "gamma1, рад", "gamma1, rad", "=RADIANS({gamma1_deg})"),
     ("g2", "rad", "gamma2, рад", "gamma2, rad", "=RADIANS({gamma2_deg})"),
-    ("#", "", "Решение в замкнутой форме: a ctg(phi) - b ctg(phi + theta) = c",
+    ("#closed", "", "Решение в замкнутой форме: a ctg(phi) - b ctg(phi + theta) = c",
      "Closed-form solution: a cot(phi) - b cot(phi + theta) = c"),
     ("a", "m", "a = Y_D + l3 sin(gamma1)", "a = Y_D + l3 sin(gamma1)", "={Y_D}+{l3}*SIN({g1})"),
     ("b", "m", "b = Y_D + l3 sin(gamma2)", "b = Y_D + l3 sin(gamma2)", "={Y_D}+{l3}*SIN({g2})"),
@@ -333,7 +334,7 @@ _SYNTH_ROWS = [
     ("beta", "rad", "beta = atan2(p, c)", "beta = atan2(p, c)", "=ATAN2({c},{p})"),
     ("delta", "rad", "delta = acos(r/m)", "delta = acos(r/m)",
      "=ACOS(MAX(-1,MIN(1,IF({m}>0,{r}/{m},0))))"),
-    ("#", "", "Два корня (D: psi = beta + delta, E: psi = beta - delta); при phi четыре уравнения "
+    ("#roots", "", "Два корня (D: psi = beta + delta, E: psi = beta - delta); при phi четыре уравнения "
      "линейны в R1 = l1 + l2, R2 = l2 - l1, X_D: нормальные уравнения (точны в корне, годны и при "
      "theta = 0)",
      "Two roots (D: psi = beta + delta, E: psi = beta - delta); at phi the four equations are "
@@ -396,7 +397,7 @@ _SYNTH_ROWS = [
     ("root", "", "выбранный корень: 1 (D), 2 (E), 0 - нет решения",
      "chosen root: 1 (D), 2 (E), 0 - no solution",
      "=IF(AND(D{valid},E{valid}),IF(D{dist}<=E{dist},1,2),IF(D{valid},1,IF(E{valid},2,0)))"),
-    ("#", "", "Решение", "Solution"),
+    ("#solution", "", "Решение", "Solution"),
     ("l1", "m", "длина кривошипа", "crank length", "=IF({root}=0,\"{marker}\",IF({root}=1,D{l1_c},E{l1_c}))"),
     ("l2", "m", "длина шатуна", "coupler length", "=IF({root}=0,\"{marker}\",IF({root}=1,D{l2_c},E{l2_c}))"),
     ("phi1H_deg", "deg", "угол кривошипа в начальном положении",
@@ -408,7 +409,7 @@ _SYNTH_ROWS = [
      "the scene's branch of the dyad A-B-D: the side of B relative to A->D (+1 left)",
      "=IF({root}=0,\"{marker}\",SIGN(IF({root}=1,D{side_H},E{side_H})))"),
     ("phi1H", "rad", "phi1H, рад", "phi1H, rad", "=RADIANS({phi1H_deg})"),
-    ("#", "", "Проверка: решение в четырёх уравнениях (левая часть - правая)",
+    ("#check", "", "Проверка: решение в четырёх уравнениях (левая часть - правая)",
      "Check: the solution in the four equations (left side - right side)"),
     ("res_1", "m", "(l1 + l2) cos(phi1H) - X_D - l3 cos(gamma1)",
      "(l1 + l2) cos(phi1H) - X_D - l3 cos(gamma1)",
@@ -426,7 +427,7 @@ _SYNTH_ROWS = [
 # In a scene's workbook: the kinematics sheet's input block against the solution ({kin:L1} is
 # that sheet's cell of L1, ...; O the crank's pivot, D the rocker's). Check rows, like res_*.
 _LINK_ROWS = [
-    ("#", "", "Проверка: лист кинематики считает синтезированный механизм (его исходные данные "
+    ("#kinematics", "", "Проверка: лист кинематики считает синтезированный механизм (его исходные данные "
      "- решение)", "Check: the kinematics sheet computes the synthesized mechanism (its input "
      "data - the solution)"),
     ("kin_l1", "m", "L1 (лист кинематики) - l1", "L1 (kinematics sheet) - l1", "={kin:L1}-{l1}"),
@@ -441,6 +442,51 @@ _LINK_ROWS = [
     ("kin_branch", "", "ветвь группы 1 (лист кинематики) - branch",
      "group 1's branch (kinematics sheet) - branch", "={kin:branch}-{branch}"),
 ]
+# The Ukrainian texts of the rows (the Russian and English ones are in the rows above), by
+# row name or section ("#given" ...), and of the dead positions' points
+_UK_ROWS = {
+    "#given": "Вихідні дані", "K_w": "коефіцієнт зміни середньої швидкості ходу коромисла",
+    "l3": "довжина коромисла |DB|", "Y_D": "ордината центра обертання коромисла D",
+    "gamma1_deg": "кут коромисла в початковому (розігнутому) крайньому положенні",
+    "gamma2_deg": "кут коромисла в кінцевому (складеному) крайньому положенні",
+    "phi_ref_deg": "наближення phi1H (з кількох коренів обирається найближчий)", "Tol": "допуск перевірок",
+    "#overlap": "Кут перекриття", "theta": "theta = pi (K_w - 1)/(K_w + 1)", "theta_deg": "кут перекриття, град",
+    "g1": "gamma1, рад", "g2": "gamma2, рад",
+    "#closed": "Розв'язок у замкненій формі: a ctg(phi) - b ctg(phi + theta) = c",
+    "a": "a = Y_D + l3 sin(gamma1)", "b": "b = Y_D + l3 sin(gamma2)", "c": "c = l3 (cos(gamma1) - cos(gamma2))",
+    "p": "p = a - b; psi = 2 phi + theta: p sin(psi) + c cos(psi) = r",
+    "r": "r = c cos(theta) - (a + b) sin(theta)", "m": "m = sqrt(p^2 + c^2)",
+    "solvable": "рівняння має корені: m > 0, |r| <= m", "beta": "beta = atan2(p, c)", "delta": "delta = acos(r/m)",
+    "#roots": "Два корені (D: psi = beta + delta, E: psi = beta - delta); при phi чотири рівняння лінійні "
+              "відносно R1 = l1 + l2, R2 = l2 - l1, X_D: нормальні рівняння (точні в корені, придатні й при "
+              "theta = 0)",
+    "phi0": "phi = (psi - theta)/2",
+    "den": "sin^2(phi) + sin^2(phi + theta): 0 лише при theta = 0, phi = 0 або pi (не корінь)",
+    "X_D_c": "X_D = (x s1 + y s2 - l3 (cos(gamma1) + cos(gamma2)))/den, x = cos(phi), y = cos(phi + theta), "
+             "s1 = l3 cos(gamma1) x + a sin(phi), s2 = l3 cos(gamma2) y + b sin(phi + theta)",
+    "R1_0": "l1 + l2 при phi: s1 + x X_D", "flip": "-1: phi + pi дає l1 + l2 > 0", "phi": "phi1H-кандидат",
+    "R1": "R1 = l1 + l2", "R2": "R2 = l2 - l1 = s2 + y X_D",
+    "fit": "найбільша нев'язка чотирьох рівнянь (у стороннього кореня велика)",
+    "l1_c": "l1 = (R1 - R2)/2", "l2_c": "l2 = (R1 + R2)/2", "OD_c": "довжина стояка |OD|",
+    "phi_deg_c": "phi1H, град, 0..360", "side_H": "бік B відносно A->D, початкове положення",
+    "side_K": "бік B відносно A->D, кінцеве положення",
+    "valid": "кривошипно-коромисловий: корінь, l2 > l1 > 0, кривошип коротший за всі ланки, Грасгоф строго, "
+             "одне складання в обох положеннях",
+    "dist": "|phi1H - наближення|", "root": "обраний корінь: 1 (D), 2 (E), 0 - немає розв'язку",
+    "#solution": "Розв'язок", "l1": "довжина кривошипа", "l2": "довжина шатуна",
+    "phi1H_deg": "кут кривошипа в початковому положенні", "X_D": "абсциса центра обертання коромисла D",
+    "branch": "гілка групи A-B-D сцени: бік B відносно A->D (+1 ліворуч)", "phi1H": "phi1H, рад",
+    "#check": "Перевірка: розв'язок у чотирьох рівняннях (ліва частина - права)",
+    "res_1": "(l1 + l2) cos(phi1H) - X_D - l3 cos(gamma1)", "res_2": "(l1 + l2) sin(phi1H) - Y_D - l3 sin(gamma1)",
+    "res_3": "(l2 - l1) cos(phi1H + theta) - X_D - l3 cos(gamma2)",
+    "res_4": "(l2 - l1) sin(phi1H + theta) - Y_D - l3 sin(gamma2)",
+    "#kinematics": "Перевірка: аркуш кінематики обчислює синтезований механізм (його вихідні дані - розв'язок)",
+    "kin_l1": "L1 (аркуш кінематики) - l1", "kin_l2": "довжина шатуна (аркуш кінематики) - l2",
+    "kin_l3": "довжина коромисла (аркуш кінематики) - l3", "kin_X_D": "x_D - x_O (аркуш кінематики) - X_D",
+    "kin_Y_D": "y_D - y_O (аркуш кінематики) - Y_D", "kin_branch": "гілка групи 1 (аркуш кінематики) - branch",
+    "X_H": "абсциси, початкове положення", "Y_H": "ординати, початкове положення",
+    "X_K": "абсциси, кінцеве положення", "Y_K": "ординати, кінцеве положення",
+}
 _SYNTH_TEXT = {
     "ru": {"name": "имя", "unit": "ед.", "desc": "описание", "value": "значение / корень 1",
            "value2": "корень 2", "checks": "проверки", "pass": "все проверки выполнены",
@@ -449,15 +495,30 @@ _SYNTH_TEXT = {
            "points": "Крайние положения: точки O, A, B, D", "arc": "Дуга коромысла (точка B)",
            "chart": "Механизм в крайних положениях", "H": "начальное (разогнутое)",
            "K": "конечное (сложенное)", "arcs": "дуга коромысла", "k": "номер точки",
-           "gamma": "угол коромысла"},
+           "gamma": "угол коромысла", "axis_x": "x, м", "axis_y": "y, м"},
+    "uk": {"name": "ім'я", "unit": "од.", "desc": "опис", "value": "значення / корінь 1",
+           "value2": "корінь 2", "checks": "перевірки", "pass": "усі перевірки виконано",
+           "fail": "перевірки не виконано", "marker": "немає розв'язку",
+           "title": "Синтез кривошипно-коромислового механізму за коефіцієнтом K_w (seed 002)",
+           "points": "Крайні положення: точки O, A, B, D", "arc": "Дуга коромисла (точка B)",
+           "chart": "Механізм у крайніх положеннях", "H": "початкове (розігнуте)",
+           "K": "кінцеве (складене)", "arcs": "дуга коромисла", "k": "номер точки",
+           "gamma": "кут коромисла", "axis_x": "x, м", "axis_y": "y, м"},
     "en": {"name": "name", "unit": "unit", "desc": "description", "value": "value / root 1",
            "value2": "root 2", "checks": "checks", "pass": "all checks pass",
            "fail": "checks fail", "marker": "no solution",
            "title": "Synthesis of a crank-rocker from the time-ratio coefficient K_w (seed 002)",
            "points": "Dead positions: points O, A, B, D", "arc": "The rocker's arc (point B)",
            "chart": "The mechanism in its dead positions", "H": "extended",
-           "K": "folded", "arcs": "rocker's arc", "k": "point number", "gamma": "rocker angle"},
+           "K": "folded", "arcs": "rocker's arc", "k": "point number", "gamma": "rocker angle",
+           "axis_x": "x, m", "axis_y": "y, m"},
 }
+
+
+def row_text(row: tuple, lang: str) -> str:
+    """A row's (or a section's) description in `lang`: its Russian or English text, or the
+    Ukrainian of _UK_ROWS."""
+    return _UK_ROWS[row[0]] if lang == "uk" else row[2] if lang == "ru" else row[3]
 
 
 @dataclass
@@ -503,7 +564,7 @@ def add_synthesis_sheet(wb, kw: float, l3: float, yd: float, gamma1_deg: float,
               "gamma2_deg": gamma2_deg, "phi_ref_deg": phi_ref_deg, "Tol": tol}
     rows = _SYNTH_ROWS + (_LINK_ROWS if kinematics else [])
     first = 5
-    where = {row[0]: first + k for k, row in enumerate(rows) if row[0] != "#"}
+    where = {row[0]: first + k for k, row in enumerate(rows) if not row[0].startswith("#")}
     after = first + len(rows) + 1
     pts = {"X_H": after + 1, "Y_H": after + 2, "X_K": after + 3, "Y_K": after + 4}
     arc0 = after + 6
@@ -529,6 +590,7 @@ def _synthesis_rows(sheet: _SynthSheet, rows, values: dict[str, float], first: i
     column (D, E) where a row has two candidates."""
     from openpyxl.styles import Font
 
+    from sheetkin.groups.lang import UNITS
     from sheetkin.sheet.workbook import INPUT_FILL, SECTION_FONT
     ws, text, lang = sheet.ws, sheet.text, sheet.lang
     ws["A1"] = text["title"]
@@ -540,13 +602,14 @@ def _synthesis_rows(sheet: _SynthSheet, rows, values: dict[str, float], first: i
         ws[f"{col}4"].font = SECTION_FONT
     for k, row in enumerate(rows):
         r = first + k
-        name, unit, ru, en = row[:4]
-        if name == "#":
-            ws.cell(r, 1, ru if lang == "ru" else en).font = SECTION_FONT
+        name, unit = row[:2]
+        said = row_text(row, lang)
+        if name.startswith("#"):
+            ws.cell(r, 1, said).font = SECTION_FONT
             continue
         ws.cell(r, 1, name)
-        ws.cell(r, 2, unit)
-        ws.cell(r, 3, ru if lang == "ru" else en)
+        ws.cell(r, 2, UNITS[lang].get(unit, unit))
+        ws.cell(r, 3, said)
         if len(row) == 4:
             ws.cell(r, 4, float(values[name])).fill = INPUT_FILL
             continue
@@ -584,6 +647,7 @@ def _synthesis_verdict(sheet: _SynthSheet) -> None:
 
 def _dead_position_rows(sheet: _SynthSheet) -> None:
     """The dead positions' points O, A, B, D (columns D..G), as in the seed."""
+    from sheetkin.groups.lang import UNITS
     from sheetkin.sheet.workbook import SECTION_FONT
     ws, after = sheet.ws, sheet.after
     ws.cell(after, 1, sheet.text["points"]).font = SECTION_FONT
@@ -599,8 +663,8 @@ def _dead_position_rows(sheet: _SynthSheet) -> None:
             "Y_K": ("ординаты, конечное положение", "ordinates, folded position")}
     for name, r in sheet.pts.items():
         ws.cell(r, 1, name)
-        ws.cell(r, 2, "m")
-        ws.cell(r, 3, desc[name][0 if sheet.lang == "ru" else 1])
+        ws.cell(r, 2, UNITS[sheet.lang].get("m", "m"))
+        ws.cell(r, 3, _UK_ROWS[name] if sheet.lang == "uk" else desc[name][0 if sheet.lang == "ru" else 1])
         for j, f in enumerate(pt[name]):
             cell = ws.cell(r, 4 + j, 0.0 if f == "0" else sheet.fill(f))
             cell.number_format = "0.000000"
@@ -610,6 +674,7 @@ def _rocker_arc_rows(sheet: _SynthSheet) -> None:
     """The rocker's arc: gamma1 .. gamma2 in _ARC_POINTS points (columns D..)."""
     from openpyxl.utils import get_column_letter
 
+    from sheetkin.groups.lang import UNITS
     from sheetkin.sheet.workbook import SECTION_FONT
     ws, text, arc = sheet.ws, sheet.text, sheet.arc
     ws.cell(sheet.arc0, 1, text["arc"]).font = SECTION_FONT
@@ -619,7 +684,7 @@ def _rocker_arc_rows(sheet: _SynthSheet) -> None:
               "X_arc": ("m", "X_D + l3 cos(gamma)"), "Y_arc": ("m", "Y_D + l3 sin(gamma)")}
     for name, r in arc.items():
         ws.cell(r, 1, name)
-        ws.cell(r, 2, labels[name][0])
+        ws.cell(r, 2, UNITS[sheet.lang].get(labels[name][0], labels[name][0]))
         ws.cell(r, 3, labels[name][1])
         for k, c in enumerate(cols):
             if name == "k":
@@ -641,7 +706,7 @@ def _synthesis_chart(sheet: _SynthSheet) -> None:
     ch = ScatterChart()
     ch.scatterStyle = "lineMarker"   # required by the schema; each series sets its own lines and markers
     ch.title, ch.style, ch.height, ch.width = text["chart"], 2, 12, 14
-    ch.x_axis.title, ch.y_axis.title = "x, m", "y, m"
+    ch.x_axis.title, ch.y_axis.title = text["axis_x"], text["axis_y"]
     for axis in (ch.x_axis, ch.y_axis):
         axis.delete = False
         axis.crosses = "min"

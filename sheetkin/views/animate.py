@@ -7,8 +7,10 @@ when a GIF or PNG is drawn.
 """
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
+import re
 import sys
 import tempfile
 from pathlib import Path
@@ -170,15 +172,59 @@ def _shape_json(s) -> list:
     return [s.kind, s.role, np.round(s.xy, 6).tolist(), s.text]
 
 
+# the page's own words (its controls, captions and notes), one table a language: the
+# Picture says them in English (sheetkin.views.drawing), the page in `lang`
+PAGE_WORDS: dict[str, dict[str, str]] = {
+    "en": {"play": "play", "pause": "pause", "mechanism": "the mechanism", "position": "position", "deg": "deg",
+           "variant": "variant", "speed": "speed"},
+    "ru": {"play": "пуск", "pause": "пауза", "mechanism": "механизм", "position": "положение", "deg": "град",
+           "variant": "вариант", "speed": "скорость"},
+    "uk": {"play": "пуск", "pause": "пауза", "mechanism": "механізм", "position": "положення", "deg": "град",
+           "variant": "варіант", "speed": "швидкість"},
+}
+# the Picture's captions and notes: (English pattern, {lang: template})
+_SAID: tuple[tuple[str, dict[str, str]], ...] = (
+    (r": cannot assemble", {"ru": ": не собирается", "uk": ": не збирається"}),
+    (r": near a toggle \(group (?P<g>[^)]*)\)", {"ru": ": близко к мёртвому положению (группа {g})",
+                                                 "uk": ": близько до мертвого положення (група {g})"}),
+    (r"group (?P<g>\S+) \((?P<k>[^)]*)\) cannot assemble for crank angles (?P<a>\S+)\.\.(?P<b>\S+) deg",
+     {"ru": "группа {g} ({k}) не собирается при углах кривошипа {a}..{b} град",
+      "uk": "група {g} ({k}) не збирається при кутах кривошипа {a}..{b} град"}),
+    (r"group (?P<g>\S+): \|det_g(?P<h>\S+)\| < (?P<t>\S+) at crank angles near (?P<a>.+?) deg",
+     {"ru": "группа {g}: |det_g{h}| < {t} при углах кривошипа около {a} град",
+      "uk": "група {g}: |det_g{h}| < {t} при кутах кривошипа близько {a} град"}),
+    (r"velocity vectors: 1 m/s = (?P<x>\S+) m of the drawing",
+     {"ru": "векторы скоростей: 1 м/с = {x} м рисунка", "uk": "вектори швидкостей: 1 м/с = {x} м рисунка"}),
+    (r"drawn (?P<w>\d+) px wide, not (?P<s>\d+): at equal scale the mechanism would be more than (?P<m>\d+) px tall",
+     {"ru": "нарисовано шириной {w} пикс., а не {s}: в равном масштабе механизм был бы выше {m} пикс.",
+      "uk": "намальовано завширшки {w} пікс., а не {s}: у рівному масштабі механізм був би вищим за {m} пікс."}),
+    (r" deg(?=\W|$)", {"ru": " град", "uk": " град"}),
+    (r" \(variant (?P<v>[^()]+)\)$", {"ru": " (вариант {v})", "uk": " (варіант {v})"}),
+)
+
+
+def say(text: str, lang: str) -> str:
+    """A caption, a note or the title of a Picture (English) in `lang` (ru, uk, en)."""
+    if lang not in PAGE_WORDS:
+        raise ValueError(f"lang must be one of {', '.join(PAGE_WORDS)}, got {lang!r}")
+    for pattern, said in _SAID:
+        if lang in said:
+            template = said[lang]
+            text = re.sub(pattern, lambda m: template.format(**m.groupdict()), text)    # noqa: B023 (used at once)
+    return text
+
+
 _PAGE = """<!doctype html>
-<html lang="en"><head><meta charset="utf-8"><title>{title}</title>
+<html lang="{lang}"><head><meta charset="utf-8"><title>{title}</title>
 <style>body{{font-family:sans-serif;margin:1em}}canvas{{border:1px solid #ccc;display:block}}
 #bar{{margin:.4em 0;display:flex;gap:.6em;align-items:center}}#pos{{flex:1;max-width:{width}px}}
 .note{{color:#555;font-size:90%}}</style></head><body>
 <h3>{title}</h3>
-<canvas id="c" width="{width}" height="{height}" aria-label="the mechanism"></canvas>
-<div id="bar"><button id="play" type="button">pause</button>
-<input id="pos" type="range" min="0" max="{last}" value="0" aria-label="position">
+<canvas id="c" width="{width}" height="{height}" aria-label="{w[mechanism]}"></canvas>
+<div id="bar"><button id="play" type="button">{w[pause]}</button>
+<input id="pos" type="range" min="0" max="{last}" value="0" aria-label="{w[position]}">
+<label>{w[speed]} <select id="speed"><option value="0.25">0.25&times;</option><option value="0.5">0.5&times;</option>
+<option value="1" selected>1&times;</option><option value="2">2&times;</option></select></label>
 <span id="cap"></span></div>
 {notes}
 <script>
@@ -213,10 +259,14 @@ function show(k) {{ i = k; pos.value = k; g.clearRect(0, 0, cv.width, cv.height)
   g.fillStyle = "#fff"; g.fillRect(0, 0, cv.width, cv.height);
   draw(D.background); draw(D.frames[k]);
   cap.textContent = "i = " + k + " / " + (D.frames.length - 1) + ": " + D.captions[k]; }}
+const speed = document.getElementById("speed");
 function play() {{
-  timer = setInterval(() => show((i + 1) % D.frames.length), 1000 / D.fps); btn.textContent = "pause";
+  clearInterval(timer);
+  timer = setInterval(() => show((i + 1) % D.frames.length), 1000 / (D.fps * Number(speed.value)));
+  btn.textContent = D.words.pause;
 }}
-function pause() {{ clearInterval(timer); timer = null; btn.textContent = "play"; }}
+speed.addEventListener("change", () => {{ if (timer) play(); }});
+function pause() {{ clearInterval(timer); timer = null; btn.textContent = D.words.play; }}
 btn.addEventListener("click", () => timer ? pause() : play());
 pos.addEventListener("input", () => {{ pause(); show(Number(pos.value)); }});
 show(0); play();
@@ -248,26 +298,30 @@ def canvas_bounds(pic: Picture, size: int) -> tuple[list[float], int, int]:
     return bounds, int(round((bounds[2] - bounds[0]) * scale)), int(round((bounds[3] - bounds[1]) * scale))
 
 
-def html_page(pic: Picture, fps: float = 12, size: int = 480) -> str:
+def html_page(pic: Picture, fps: float = 12, size: int = 480, lang: str = "en") -> str:
     """A self-contained page: the frames' coordinates as JSON, drawn on a canvas by an
     inline script, with play/pause and a position slider (positions named i = 0, 1 ...,
-    as the sheet names its columns)."""
+    as the sheet names its columns); its controls, captions and notes in `lang`."""
     import html
+    words = PAGE_WORDS[lang] if say("", lang) == "" else {}
     bounds, width, height = canvas_bounds(pic, size)
-    data = {"bounds": bounds, "fps": fps, "styles": STYLES, "captions": pic.captions,
+    data = {"bounds": bounds, "fps": fps, "styles": STYLES, "captions": [say(c, lang) for c in pic.captions],
+            "words": {k: words[k] for k in ("play", "pause")},
             "background": [_shape_json(s) for s in pic.background],
             "frames": [[_shape_json(s) for s in f] for f in pic.frames]}
-    notes = "".join(f"<p class='note'>{html.escape(n)}</p>" for n in pic.notes)
+    notes = "".join(f"<p class='note'>{html.escape(say(n, lang))}</p>" for n in pic.notes)
     # "</" would end the script element early: JSON may escape the slash
-    blob = json.dumps(data, separators=(",", ":")).replace("</", "<\\/")
-    return _PAGE.format(title=html.escape(pic.title), width=width, height=height, last=len(pic.frames) - 1,
-                        notes=notes, data=blob)
+    blob = json.dumps(data, separators=(",", ":"), ensure_ascii=False).replace("</", "<\\/")
+    return _PAGE.format(title=html.escape(say(pic.title, lang)), width=width, height=height,
+                        last=len(pic.frames) - 1, notes=notes, data=blob, lang=lang,
+                        w={k: html.escape(v) for k, v in words.items()})
 
 
 def animate(scene: Scene, out, *, frames: int = 36, fps: float = 12, size: int = 320,
             vectors: bool = False, labels: bool = True, allow_gaps: bool = False,
-            toggle_threshold: float = 0.01, progress=None) -> Picture:
-    """Write `out` (.gif, .html, or .png: the first position) and return the Picture."""
+            toggle_threshold: float = 0.01, progress=None, lang: str = "en") -> Picture:
+    """Write `out` (.gif, .html, or .png: the first position) and return the Picture; an
+    .html page speaks `lang` (ru, uk, en)."""
     suffix = Path(out).suffix.lower()
     if suffix not in FORMATS:
         raise AnimationError(f"{out}: expected a file name ending in {', '.join(FORMATS)}")
@@ -280,7 +334,7 @@ def animate(scene: Scene, out, *, frames: int = 36, fps: float = 12, size: int =
                          f"more than {MAX_SIZE} px tall")
         size = fitted
     if suffix == ".html":
-        write_file(out, html_page(pic, fps, size))
+        write_file(out, html_page(pic, fps, size, lang))
         return pic
     if suffix == ".gif":
         x0, y0, x1, y1 = pic.bounds
@@ -297,10 +351,11 @@ def animate(scene: Scene, out, *, frames: int = 36, fps: float = 12, size: int =
     try:
         with tempfile.TemporaryDirectory(prefix="sheetkin-animate-") as scratch:
             dest = target.tmp or str(Path(scratch) / ("out" + suffix))
+            drawn = dataclasses.replace(pic, title=say(pic.title, lang), captions=[say(c, lang) for c in pic.captions])
             if suffix == ".gif":
-                write_gif(pic, dest, fps, size, progress)
+                write_gif(drawn, dest, fps, size, progress)
             else:
-                write_png(pic, dest, 0, size)
+                write_png(drawn, dest, 0, size)
             if target.tmp is None:
                 target.file.write(Path(dest).read_bytes())
         target.commit()

@@ -208,6 +208,44 @@ _EXP_BITS, _MANT_BITS = _U(0x7FF0000000000000), _U(0x000FFFFFFFFFFFFF)
 _MINUS = _U(ord("-") << 8)
 
 
+def _digits_out(big_m: np.ndarray, e: np.ndarray, x: np.ndarray,
+                out: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+    """The 17-digit mantissas big_m with their decimal exponents e written as text into out
+    ((n, WIDTH) uint8; made if None), sign included: (out, its uint64 words)."""
+    big_m = big_m.view(np.uint64)
+    # the 17 digits as three words (byte j = digit j, values 0-9)
+    hi = big_m // _U(1_000_000_000)
+    lo = big_m - hi * _U(1_000_000_000)
+    lo1 = lo // _U(100_000_000)
+    c = _eight(lo - lo1 * _U(100_000_000))
+    b0 = _eight(hi)
+    b1 = lo1 | (c << _U(8))
+    b2 = c >> _U(56)
+    # digits up to the last nonzero one: its byte from the float exponent of each word (the
+    # bytes are digits, so a word is far from a power of 256 and the conversion is exact)
+    top = np.maximum(np.maximum(b0.view(np.int64).astype(np.float64).view(np.int64) >> 52,
+                                (b1.view(np.int64).astype(np.float64).view(np.int64) >> 52) + 64),
+                     (b2.view(np.int64).astype(np.float64).view(np.int64) >> 52) + 128)
+    xi = e + _XOFF
+    code = np.maximum(((top - 1015) >> 3) * 18, _LEAST18[xi]) + _POINT[xi]
+    # the digits before the point stay, the rest move one byte on (as one 192-bit number)
+    out = np.empty((x.size, WIDTH), np.uint8) if out is None else out
+    words = out.view(np.uint64)
+    carried = None
+    for i, b in enumerate((b0, b1, b2)):
+        keep = b & _BEFORE[i][code]
+        moved = b ^ keep
+        w = keep | (moved << _U(8)) | _CHARS[i][code]
+        if carried is not None:
+            w |= carried >> _U(56)
+        if i == 2:
+            w |= _EXPO[xi]
+        words[:, i + 1] = w
+        carried = moved
+    words[:, 0] = _WORD0[xi] | (x.view(np.uint64) >> _U(63)) * _MINUS
+    return out, words
+
+
 def _slots_chunk(x: np.ndarray, out: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """repr_slots of one cache-sized chunk, into out ((n, WIDTH) uint8) if given."""
     n = x.size
@@ -243,37 +281,7 @@ def _slots_chunk(x: np.ndarray, out: np.ndarray | None = None) -> tuple[np.ndarr
         fix = np.flatnonzero(carry)
         big_m[fix] = _INT10[16]
         e[fix] += 1
-    big_m = big_m.view(np.uint64)
-    # the 17 digits as three words (byte j = digit j, values 0-9)
-    hi = big_m // _U(1_000_000_000)
-    lo = big_m - hi * _U(1_000_000_000)
-    lo1 = lo // _U(100_000_000)
-    c = _eight(lo - lo1 * _U(100_000_000))
-    b0 = _eight(hi)
-    b1 = lo1 | (c << _U(8))
-    b2 = c >> _U(56)
-    # digits up to the last nonzero one: its byte from the float exponent of each word (the
-    # bytes are digits, so a word is far from a power of 256 and the conversion is exact)
-    top = np.maximum(np.maximum(b0.view(np.int64).astype(np.float64).view(np.int64) >> 52,
-                                (b1.view(np.int64).astype(np.float64).view(np.int64) >> 52) + 64),
-                     (b2.view(np.int64).astype(np.float64).view(np.int64) >> 52) + 128)
-    xi = e + _XOFF
-    code = np.maximum(((top - 1015) >> 3) * 18, _LEAST18[xi]) + _POINT[xi]
-    # the digits before the point stay, the rest move one byte on (as one 192-bit number)
-    out = np.empty((n, WIDTH), np.uint8) if out is None else out
-    words = out.view(np.uint64)
-    carried = None
-    for i, b in enumerate((b0, b1, b2)):
-        keep = b & _BEFORE[i][code]
-        moved = b ^ keep
-        w = keep | (moved << _U(8)) | _CHARS[i][code]
-        if carried is not None:
-            w |= carried >> _U(56)
-        if i == 2:
-            w |= _EXPO[xi]
-        words[:, i + 1] = w
-        carried = moved
-    words[:, 0] = _WORD0[xi] | (x.view(np.uint64) >> _U(63)) * _MINUS
+    out, words = _digits_out(big_m, e, x, out)
     if every:
         finite = np.ones(n, bool)
     else:

@@ -227,7 +227,7 @@ def test_class_loop_with_assignment(tmp_path, soffice, capsys):
     capsys.readouterr()
     grades, html = tmp_path / "grades.csv", tmp_path / "report.html"
     code = main(["validate", str(zpath), "--roster", str(out / "roster.csv"), "--class-list", str(cl),
-                 "--grades", str(grades), "--html", str(html), "--progress", "never"])
+                 "--grades", str(grades), "--html", str(html), "--progress", "never", "--lang", "en"])
     text, err = capsys.readouterr()
     assert code == 1
     warnings = [line for line in err.splitlines() if "contradicts" in line]

@@ -284,7 +284,7 @@ def test_cli_grades(klass, tmp_path, capsys):
     out = tmp_path / "grades.csv"
     out.write_text("old", encoding="utf-8")
     code = main(["validate", str(folder), "--grades", str(out), "--html", str(tmp_path / "r.html"),
-                 "--progress", "never", "--jobs", "1"])
+                 "--progress", "never", "--jobs", "1", "--lang", "en"])
     assert code == 1
     captured = capsys.readouterr()
     assert "possible copy: " in captured.out and f"{out}: {len(names)} submission(s) graded" in captured.err

@@ -183,7 +183,7 @@ def test_file_given_twice_is_validated_once(tmp_path, capsys):
     (tmp_path / "link.xlsx").symlink_to(book)
     grades = tmp_path / "g.csv"
     code = main(["validate", str(book), str(tmp_path), str(tmp_path / "link.xlsx"), str(book),
-                 "--grades", str(grades), "--progress", "never", "--jobs", "1"])
+                 "--grades", str(grades), "--progress", "never", "--jobs", "1", "--lang", "en"])
     out, err = capsys.readouterr()
     rows = _grades(grades)
     files = sorted(Path(r["file"]).name for r in rows)
@@ -225,7 +225,8 @@ def test_xls_converted_and_passwords_named(tmp_path, soffice, capsys):
     assert password_protected(saved / "locked.ods") == "an encrypted OpenDocument spreadsheet"
     assert password_protected(saved / "locked.xlsx") == "an encrypted Excel workbook"
     grades = tmp_path / "g.csv"
-    assert main(["validate", str(saved), "--grades", str(grades), "--progress", "never", "--jobs", "1"]) == 2
+    assert main(["validate", str(saved), "--grades", str(grades), "--progress", "never", "--jobs", "1",
+                 "--lang", "en"]) == 2
     rows = {Path(r["file"]).name: r for r in _grades(grades)}
     assert rows["plain.xls"]["score"] == "100.0" and rows["plain.xls"]["student"] == "Петрова Анна"
     for name in ("locked.xls", "locked.ods", "locked.xlsx"):
@@ -264,7 +265,8 @@ def test_moodle_zip_read_as_it_is(tmp_path, soffice, capsys):
     cl = tmp_path / "class.csv"
     cl.write_bytes(CLASS.encode("cp1251"))
     grades = tmp_path / "grades.csv"
-    code = main(["validate", str(zpath), "--grades", str(grades), "--class-list", str(cl), "--progress", "never"])
+    code = main(["validate", str(zpath), "--grades", str(grades), "--class-list", str(cl), "--progress", "never",
+                 "--lang", "en"])
     out, err = capsys.readouterr()
     assert code == 1, err
     rows = _grades(grades)
@@ -284,7 +286,7 @@ def test_moodle_zip_read_as_it_is(tmp_path, soffice, capsys):
     assert "petrova_copy.xlsx" in err
     assert "possible copy" in out and "byte-identical" in out
     assert main(["validate", str(zpath), "--class-list", str(cl), "--grades", str(tmp_path / "g2.csv"), "--json",
-                 "--progress", "never"]) == 1
+                 "--progress", "never", "--lang", "en"]) == 1
     books = json.loads(capsys.readouterr().out)
     notes = [n for b in books["reports"] for n in b["notes"] if n.startswith("identity: ")]
     assert any("older files of this student not graded" in n for n in notes)

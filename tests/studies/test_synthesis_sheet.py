@@ -246,3 +246,61 @@ def test_sheet_agrees_with_python_on_random_data(tmp_path):
             assert isinstance(got[n], float) and _close(got[n], getattr(m, n)), (data, n, got)
         assert book.value(s, 3, 4) == "all checks pass", data
     assert solved >= 5 and refused >= 5 and solved_kw1 >= 3
+
+
+@pytest.mark.parametrize("lang", ["ru", "uk", "en"])
+def test_sheet_in_each_language(tmp_path, lang, capsys):
+    """Issue 22: the synthesis sheet in Russian, Ukrainian (new) and English: every row's
+    description, the units (м, град, рад in ru and uk), the chart's axes, the verdict and the
+    "no solution" marker in its language; the formulas the same in every language, so the
+    headless evaluator gives the same solution."""
+    from sheetkin.xlsx.evaluator import evaluate
+    path = tmp_path / f"{lang}.xlsx"
+    assert main(_synth_args(SEED) + ["--workbook", str(path), "--lang", lang]) == 0
+    capsys.readouterr()
+    ws = openpyxl.load_workbook(path)[SYNTH_SHEET_TITLES[lang]]
+    texts = " ".join(str(c.value) for row in ws.iter_rows(max_col=5) for c in row   # descriptions, titles
+                     if isinstance(c.value, str) and not c.value.startswith("=") and (c.column > 1 or " " in c.value))
+    units = {ws.cell(r, 2).value for r in range(5, ws.max_row + 1)} - {None, ""}
+    cyrillic = lang != "en"
+    assert units == ({"м", "град", "рад", "м²"} if cyrillic else {"m", "deg", "rad", "m²"}), units
+    with zipfile.ZipFile(path) as z:
+        chart = z.read("xl/charts/chart1.xml").decode()
+    assert ("x, м" in chart) == cyrillic and ("x, m" in chart) == (not cyrillic)
+    # words of a language: in uk no Russian-only letters, in ru and uk no English words
+    # (formulas' names, the seed's name and the functions apart)
+    words = set(re.findall(r"[A-Za-z]{3,}", re.sub(r"\w*_\w*|\b\w*\d\w*\b", " ", texts)))
+    english = words - {"theta", "sin", "cos", "ctg", "psi", "beta", "delta", "acos", "atan", "sqrt", "phi",
+                       "den", "seed", "gamma", "branch", "Grashof"}
+    assert bool(english) == (not cyrillic), sorted(english)
+    if lang == "uk":
+        assert not re.search("[ыэъёЫЭЪЁ]", texts) and "Розв'язок" in texts and "Вихідні дані" in texts
+    book = evaluate(path)
+    s = book.order[0]
+    rows = {book.value(s, r, 1): r for r in range(1, book.sheets[s].max_row + 1)}
+    m = synthesize_crank_rocker(**SEED)
+    for n in UNKNOWNS:
+        assert _close(book.value(s, rows[n], 4), getattr(m, n)), n
+    verdict = {"ru": "все проверки выполнены", "uk": "усі перевірки виконано", "en": "all checks pass"}[lang]
+    assert book.value(s, 3, 4) == verdict
+    # no solution (K_w = 2): the marker in the book's language
+    none = tmp_path / f"none-{lang}.xlsx"
+    build_synthesis_workbook(**{**SEED, "kw": 2.0}, lang=lang).save(none)
+    book = evaluate(none)
+    marker = {"ru": "нет решения", "uk": "немає розв'язку", "en": "no solution"}[lang]
+    assert book.value(book.order[0], rows["l1"], 4) == marker
+
+
+def test_scene_workbook_with_synthesis_in_ukrainian(tmp_path, capsys):
+    """`workbook --lang uk` of a scene with a [synthesis] table: once refused, now both
+    sheets in Ukrainian."""
+    toml = tmp_path / "s.toml"
+    assert main(_synth_args(SEED) + ["-o", str(toml)]) == 0
+    assert main(["workbook", str(toml), "--lang", "uk", "--synthesis"]) == 0
+    capsys.readouterr()
+    wb = openpyxl.load_workbook(toml.with_suffix(".xlsx"))
+    assert SYNTH_SHEET_TITLES["uk"] in wb.sheetnames
+    ws = wb[SYNTH_SHEET_TITLES["uk"]]
+    rows = _rows(ws)
+    assert ws.cell(rows["kin_l2"], 3).value == "довжина шатуна (аркуш кінематики) - l2"
+    assert str(ws.cell(rows["kin_l2"], 4).value).startswith("=")

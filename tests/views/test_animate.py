@@ -170,6 +170,34 @@ def test_html_page_is_self_contained(short, tmp_path):
     assert "id=\"play\"" in page and "type=\"range\"" in page
 
 
+@pytest.mark.parametrize("lang, words", [
+    ("ru", ("пауза", "механизм", "положение", "град", ": не собирается", "не собирается при углах кривошипа")),
+    ("uk", ("пауза", "механізм", "положення", "град", ": не збирається", "не збирається при кутах кривошипа")),
+    ("en", ("pause", "the mechanism", "position", "deg", ": cannot assemble", "cannot assemble for crank angles")),
+])
+def test_html_page_speaks_its_language(short, tmp_path, lang, words):
+    """Issue 22: the controls (play/pause, the slider's and canvas's labels), the captions
+    and the notes in ru, uk or en; `sheetkin animate` defaults to ru, as the books."""
+    out = tmp_path / f"{lang}.html"
+    assert main(["animate", str(short), "-o", str(out), "--allow-gaps", "--frames", "6", "--lang", lang]) == 0
+    page = out.read_text(encoding="utf-8")
+    assert f'<html lang="{lang}">' in page
+    data = json.loads(re.search(r"const D = (\{.*?\});\n", page).group(1))
+    assert data["words"]["pause"] == words[0] and f'type="button">{words[0]}</button>' in page
+    assert f'aria-label="{words[1]}"' in page and f'aria-label="{words[2]}"' in page
+    assert re.match(r"phi_1 = \S+ (\S+?)(:|$)", data["captions"][0])[1] == words[3]
+    assert data["captions"][3].endswith(words[4]) and words[5] in page
+    visible = re.sub(r"<script>.*?</script>|<style>.*?</style>|<[^>]+>", " ", page, flags=re.S)
+    visible = visible.replace(sheetkin.load_scene(short).title, " ")          # the scene's own title
+    english = {"play", "pause", "position", "mechanism", "deg", "cannot", "assemble", "crank", "angles", "near",
+               "toggle", "group", "velocity", "drawing", "variant", "speed"}
+    said = {w.lower() for w in re.findall(r"[A-Za-z]+", visible + " ".join(data["captions"]) + data["words"]["play"])}
+    assert bool(said & english) == (lang == "en"), sorted(said & english)
+    if lang == "ru":                     # the default
+        assert main(["animate", str(short), "-o", str(tmp_path / "d.html"), "--allow-gaps", "--frames", "6"]) == 0
+        assert (tmp_path / "d.html").read_text(encoding="utf-8") == page
+
+
 def test_cli_animate(short, tmp_path, capsys):
     assert main(["animate", str(short), "-o", str(tmp_path / "a.gif")]) == 3
     assert "use --allow-gaps" in capsys.readouterr().err
