@@ -664,7 +664,7 @@ def cmd_synth(args) -> int:
         text = "".join(f"{k:<11}{v:>14.6g}  {units[k]}\n" for k, v in res.items())
     if args.output:
         scene_text = mech.scene_toml(omega=args.omega, positions=args.positions,
-                                     step_deg=args.step_deg)
+                                     step_deg=args.step_deg, lang=args.lang)
         parse_scene(scene_text, args.output)          # what is written must load,
         parse_synthesis(scene_text, args.output)      # its [synthesis] table too
         _write(args.output, scene_text)

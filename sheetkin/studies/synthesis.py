@@ -31,6 +31,10 @@ from typing import Any
 import numpy as np
 
 SYNTHESIS_KEYS = ("kw", "l3", "yd", "gamma1_deg", "gamma2_deg")   # a scene's [synthesis] table
+# the title of a synthesized scene, in the language of the book it becomes (the book's title)
+_SCENE_TITLE = {"ru": "Кривошипно-коромысловый механизм, синтезированный по K_w = {kw:g}",
+                "uk": "Кривошипно-коромисловий механізм, синтезований за K_w = {kw:g}",
+                "en": "Crank-rocker four-bar synthesized from K_w = {kw:g}"}
 
 
 class SynthesisError(ValueError):
@@ -68,17 +72,16 @@ class CrankRocker:
     def synthesis_toml(self) -> str:
         """The scene's [synthesis] table: the data this mechanism was synthesized from
         (`sheetkin workbook` adds the synthesis sheet for them; parse_synthesis reads them)."""
-        return ("[synthesis]            # the data this crank-rocker was synthesized from (seed 002)\n"
+        return ("[synthesis]            # the data this crank-rocker was synthesized from\n"
                 + "".join(f"{k} = {float(getattr(self, k))!r}\n" for k in SYNTHESIS_KEYS))
 
     def scene_toml(self, omega: float = 10.0, positions: int = 13, step_deg: float = 30.0,
-                   title: str | None = None) -> str:
+                   title: str | None = None, lang: str = "en") -> str:
         """A scene (docs/scene-format.md) ready for `compute` and `workbook`: frame O = (0, 0),
         D = (X_D, Y_D); crank O->A starting at phi1H (position 1 is the extended dead
         position); RRR group A-B-D on the branch that puts the rocker at gamma1 there; and the
         [synthesis] table with the given data."""
-        title = title or (f"Crank-rocker four-bar synthesized from K_w = {self.kw:g} "
-                          f"(seed 002)")
+        title = title or _SCENE_TITLE.get(lang, _SCENE_TITLE["en"]).format(kw=self.kw)
         return (
             f'title = "{title}"\n'
             f"# sheetkin synth crank-rocker --kw {self.kw!r} --l3 {self.l3!r} --yd {self.yd!r} "
@@ -491,7 +494,7 @@ _SYNTH_TEXT = {
     "ru": {"name": "имя", "unit": "ед.", "desc": "описание", "value": "значение / корень 1",
            "value2": "корень 2", "checks": "проверки", "pass": "все проверки выполнены",
            "fail": "проверки не выполнены", "marker": "нет решения",
-           "title": "Синтез кривошипно-коромыслового механизма по коэффициенту K_w (seed 002)",
+           "title": "Синтез кривошипно-коромыслового механизма по коэффициенту K_w",
            "points": "Крайние положения: точки O, A, B, D", "arc": "Дуга коромысла (точка B)",
            "chart": "Механизм в крайних положениях", "H": "начальное (разогнутое)",
            "K": "конечное (сложенное)", "arcs": "дуга коромысла", "k": "номер точки",
@@ -499,7 +502,7 @@ _SYNTH_TEXT = {
     "uk": {"name": "ім'я", "unit": "од.", "desc": "опис", "value": "значення / корінь 1",
            "value2": "корінь 2", "checks": "перевірки", "pass": "усі перевірки виконано",
            "fail": "перевірки не виконано", "marker": "немає розв'язку",
-           "title": "Синтез кривошипно-коромислового механізму за коефіцієнтом K_w (seed 002)",
+           "title": "Синтез кривошипно-коромислового механізму за коефіцієнтом K_w",
            "points": "Крайні положення: точки O, A, B, D", "arc": "Дуга коромисла (точка B)",
            "chart": "Механізм у крайніх положеннях", "H": "початкове (розігнуте)",
            "K": "кінцеве (складене)", "arcs": "дуга коромисла", "k": "номер точки",
@@ -507,7 +510,7 @@ _SYNTH_TEXT = {
     "en": {"name": "name", "unit": "unit", "desc": "description", "value": "value / root 1",
            "value2": "root 2", "checks": "checks", "pass": "all checks pass",
            "fail": "checks fail", "marker": "no solution",
-           "title": "Synthesis of a crank-rocker from the time-ratio coefficient K_w (seed 002)",
+           "title": "Synthesis of a crank-rocker from the time-ratio coefficient K_w",
            "points": "Dead positions: points O, A, B, D", "arc": "The rocker's arc (point B)",
            "chart": "The mechanism in its dead positions", "H": "extended",
            "K": "folded", "arcs": "rocker's arc", "k": "point number", "gamma": "rocker angle",

@@ -402,3 +402,16 @@ def test_kw_1_closed_form_and_the_seeds_data():
     m = synthesize_crank_rocker(1.0, 0.6, -1.0, 0.0, 45.0)
     assert same_side and r1 > r2 and m.theta_deg == 0.0
     assert (m.l1, m.l2, m.X_D) == pytest.approx(((r1 - r2) / 2, (r1 + r2) / 2, xd), abs=1e-12)
+
+
+@pytest.mark.parametrize("lang, word", [(None, "Кривошипно-коромысловый"), ("uk", "Кривошипно-коромисловий"),
+                                        ("en", "Crank-rocker")])
+def test_synthesized_scene_is_titled_in_the_books_language(tmp_path, capsys, lang, word):
+    """The scene `synth -o` writes becomes a book's title: in the book's language (Russian by
+    default, like the books), and naming no source document by its number."""
+    out = tmp_path / "cr.toml"
+    extra = ["--lang", lang] if lang else []
+    assert main(["synth", "crank-rocker", "--kw", "1.4", "--l3", "0.3", "--yd", "-0.2", "--gamma1", "10",
+                 "--gamma2", "70", "-o", str(out), *extra]) == 0
+    text = out.read_text(encoding="utf-8")
+    assert sheetkin.parse_scene(text).title.startswith(word) and "seed" not in text
