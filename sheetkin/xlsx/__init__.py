@@ -28,6 +28,7 @@ _EXPORTS = {
     "convert_opendocument": "cells",
     "parse_formula": "parse",
     "ParseError": "parse",
+    "XlError": "functions",
 }
 
 

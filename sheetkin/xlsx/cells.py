@@ -25,6 +25,7 @@ from pathlib import Path
 from xml.etree import ElementTree
 
 from .coords import column_index_from_string, get_column_letter
+from .functions import ERRORS, XlError, capped
 from .package import Limits, UnusableWorkbook, open_package, sheet_parts
 
 _LETTERS = [""] + [get_column_letter(c) for c in range(1, 16385)]   # Excel's last column is XFD
@@ -37,7 +38,7 @@ _MAX_ROW = 1_048_576                      # Excel's last row
 class Sheet:
     name: str
     state: str
-    consts: dict = field(default_factory=dict)    # (r, c) -> value (number, str, bool, error text)
+    consts: dict = field(default_factory=dict)    # (r, c) -> value (number, str, bool, XlError)
     formulas: dict = field(default_factory=dict)  # (r, c) -> formula text (without "=")
     cached: dict = field(default_factory=dict)    # (r, c) -> cached value of a formula cell
     max_row: int = 0                               # the used range: the last row and column
@@ -161,11 +162,13 @@ def _read_tree(pkg, root, name: str, part: str, state: str, shared: list[str], l
             if t == "s" and vtext is not None:
                 value = shared[int(vtext)]
             elif t == "inlineStr" and inline is not None:
-                value = "".join(x.text or "" for x in inline.iter(t_tag))
+                value = capped("".join(x.text or "" for x in inline.iter(t_tag)))
             elif t == "b" and vtext is not None:
                 value = vtext.strip() == "1"
-            elif t in ("e", "str", "d") and vtext is not None:
-                value = vtext             # "d": an ISO 8601 date, text to a kinematics sheet
+            elif t == "e" and vtext is not None:
+                value = saved_error(vtext)
+            elif t in ("str", "d") and vtext is not None:
+                value = capped(vtext)     # "d": an ISO 8601 date, text to a kinematics sheet
             elif vtext is not None:
                 value = number(vtext)
             else:
@@ -492,11 +495,13 @@ def _value(t: bytes | None, v: bytes | None, inline: bytes | None, shared: list[
     if t == b"s" and v is not None:
         return shared[int(v.decode())]
     if t == b"inlineStr" and inline is not None:
-        return _text(inline[1:])
+        return capped(_text(inline[1:]))
     if t == b"b" and v is not None:
         return _text(v).strip() == "1"
-    if t in (b"e", b"str", b"d") and v is not None:
-        return _text(v)
+    if t == b"e" and v is not None:
+        return saved_error(_text(v))
+    if t in (b"str", b"d") and v is not None:
+        return capped(_text(v))
     if v is not None:
         return number(_text(v))
     return None
@@ -593,7 +598,13 @@ def number(text: str) -> float | str:
     and 1e999 overflows) read as the error #NUM!, what a formula making them would give: a
     wrong row for the student, never a NaN reaching the validator."""
     x = float(text)
-    return x if math.isfinite(x) else "#NUM!"
+    return x if math.isfinite(x) else XlError("#NUM!")
+
+
+def saved_error(text: str) -> XlError | str:
+    """The value of a cell saved as an error (t="e"): the error, an XlError; a text that
+    is no error Excel knows stays text (what the file says, shown as it is)."""
+    return XlError(text) if text in ERRORS else text
 
 
 def _shift_formula(formula: str, dr: int, dc: int) -> str:
@@ -652,7 +663,7 @@ def _shared_strings(pkg) -> list[str]:
             if node is not None:
                 parts.append(node.text or "")
         return "".join(parts)
-    return [text(si) for si in root.iter(f"{ns}si")]
+    return [capped(text(si)) for si in root.iter(f"{ns}si")]
 
 
 def _defined_names(pkg) -> tuple[dict[str, str], dict[int, dict[str, str]]]:

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 from .cells import _MAX_COL, _MAX_ROW
 from .coords import Token, Tokenizer, column_index_from_string
-from .functions import ERRORS
+from .functions import ERRORS, XlError
 from .package import _show
 
 _CELL = re.compile(r"^(\$?)([A-Za-z]{1,3})(\$?)(\d+)$")
@@ -90,7 +90,7 @@ def _cell(text: str, host_r: int, host_c: int):
 
 def _operand_ref(text: str, host_r: int, host_c: int, names: dict):
     if text.upper().endswith("!#REF!"):     # Sheet1!#REF!: a reference to deleted cells
-        return ("const", "#REF!")
+        return ("const", XlError("#REF!"))
     sheet, ref = _split_sheet(text)
     parts = ref.split(":")
     if len(parts) > 2:
@@ -149,8 +149,10 @@ MAX_ARGS = 255                    # arguments of one function
 # (LibreOffice writes #VALUE! for =SIN(1,2)); functions not listed take 0..MAX_ARGS
 ARITY = {
     **{f: (1, 1) for f in ("SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN", "SQRT", "RADIANS", "DEGREES",
-                           "ABS", "SIGN", "EXP", "LN", "LOG10", "NOT", "ISNUMBER", "ISERROR", "ISTEXT")},
-    **{f: (2, 2) for f in ("ATAN2", "MOD", "POWER", "ROUND", "IFERROR")},
+                           "ABS", "SIGN", "EXP", "LN", "LOG10", "NOT", "ISNUMBER", "ISERROR", "ISTEXT",
+                           "ISERR", "ISNA", "ERROR.TYPE")},
+    **{f: (2, 2) for f in ("ATAN2", "MOD", "POWER", "ROUND", "IFERROR", "REPT")},
+    "CONCATENATE": (1, 255),
     **{f: (1, MAX_ARGS) for f in ("SUM", "AVERAGE", "MIN", "MAX", "COUNT", "SUMPRODUCT", "AND", "OR")},
     "IF": (1, 3), "PI": (0, 0),
     # Excel's arities of functions other branches add (harmless until they are supported)
@@ -245,13 +247,13 @@ def parse_formula(formula: str, host_r: int, host_c: int, names: dict):
         if t.type == Token.OPERAND:
             if t.subtype == Token.NUMBER:
                 x = float(t.value)
-                node = ("const", x if math.isfinite(x) else "#NUM!")   # =1e999: past the largest double
+                node = ("const", x if math.isfinite(x) else XlError("#NUM!"))   # =1e999: past the largest double
             elif t.subtype == Token.TEXT:
                 node = ("const", t.value[1:-1].replace('""', '"'))
             elif t.subtype == Token.LOGICAL:
                 node = ("const", t.value.upper() == "TRUE")
             elif t.subtype == Token.ERROR:
-                node = ("const", t.value.upper())
+                node = ("const", XlError(t.value.upper()))
             else:
                 node = _operand_ref(t.value, host_r, host_c, names)
                 if isinstance(node, Ref):
