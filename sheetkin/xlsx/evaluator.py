@@ -186,40 +186,49 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
     _check_reads(path, order_runs, dims, name_refs, limits)  # runs split into cells read more
     ctx = _Context(num, tag, txt, scopes)
     ctx.arrays = {n: sh.arrays for n, sh in sheets.items()}
-    cells, dims_key = 0, dims_signature(dims)
     with np.errstate(all="ignore"):
-        for run in order_runs:
-            cells += len(run.cols)
-            for part in _chunks(run, dims, name_refs, dims_key):
-                k = len(part.cols)
-                if part.error:
-                    v = _err(getattr(part.error, "code", "#NAME?"), k)
-                    if part.array is not None:          # the whole range holds the error
-                        _write_array(_err(getattr(part.error, "code", "#NAME?")), part, num, tag, txt)
-                        continue
-                else:
-                    try:
-                        if part.array is not None:
-                            _write_array(ctx.formula(part.tree, part), part, num, tag, txt)
-                            continue
-                        v = _as_cells(ctx.formula(part.tree, part), k)
-                    except (EvaluationError, UnusableWorkbook):
-                        raise
-                    except Exception as e:      # noqa: BLE001 - the cell's problem, not the process's
-                        note = (f"{part.where()}: internal error of the evaluator "
-                                f"({type(e).__name__}: {_show(e, 120)}): #VALUE!")
-                        if strict:
-                            raise EvaluationError(f"{path}: {note}") from e
-                        problems.append(note)
-                        v = _err("#VALUE!", k)
-                n = part.sheet
-                where = ((part.row, slice(int(part.cols[0]), int(part.cols[0]) + k)) if part.contiguous
-                         else (part.row, part.cols))
-                num[n][where] = v.num[:, 0, 0]
-                tag[n][where] = v.tag[:, 0, 0]
-                if v.txt is not None:
-                    txt[n][where] = v.txt[:, 0, 0]
+        cells = _run_all(path, order_runs, ctx, dims, name_refs, strict, problems)
     return Book(path, sheets, order, num, tag, txt, problems, len(order_runs), cells)
+
+
+def _run_all(path: str, order_runs: list[Run], ctx: _Context, dims: dict, name_refs: dict, strict: bool,
+             problems: list[str]) -> int:
+    """Every run evaluated in order, its values written into the context's stores (a run
+    that cannot be evaluated: its error, and a note in `problems`); returns the cells."""
+    num, tag, txt = ctx.num, ctx.tag, ctx.txt
+    cells, dims_key = 0, dims_signature(dims)
+    for run in order_runs:
+        cells += len(run.cols)
+        for part in _chunks(run, dims, name_refs, dims_key):
+            k = len(part.cols)
+            if part.error:
+                v = _err(getattr(part.error, "code", "#NAME?"), k)
+                if part.array is not None:          # the whole range holds the error
+                    _write_array(_err(getattr(part.error, "code", "#NAME?")), part, num, tag, txt)
+                    continue
+            else:
+                try:
+                    if part.array is not None:
+                        _write_array(ctx.formula(part.tree, part), part, num, tag, txt)
+                        continue
+                    v = _as_cells(ctx.formula(part.tree, part), k)
+                except (EvaluationError, UnusableWorkbook):
+                    raise
+                except Exception as e:      # noqa: BLE001 - the cell's problem, not the process's
+                    note = (f"{part.where()}: internal error of the evaluator "
+                            f"({type(e).__name__}: {_show(e, 120)}): #VALUE!")
+                    if strict:
+                        raise EvaluationError(f"{path}: {note}") from e
+                    problems.append(note)
+                    v = _err("#VALUE!", k)
+            n = part.sheet
+            where = ((part.row, slice(int(part.cols[0]), int(part.cols[0]) + k)) if part.contiguous
+                     else (part.row, part.cols))
+            num[n][where] = v.num[:, 0, 0]
+            tag[n][where] = v.tag[:, 0, 0]
+            if v.txt is not None:
+                txt[n][where] = v.txt[:, 0, 0]
+    return cells
 
 
 # --------------------------------------------------------------------------- names, arrays, whole columns

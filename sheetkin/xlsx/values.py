@@ -347,7 +347,8 @@ def _rept(a: Val, b: Val) -> Val:
     err = _error_of(ea, eb)
     out = np.empty(shape, dtype=object)
     for idx in np.ndindex(shape):
-        times = math.trunc(n[idx]) if math.isfinite(n[idx]) else -1
+        x = float(n[idx])
+        times = math.trunc(x) if math.isfinite(x) else -1
         if times < 0 or len(ta[idx]) * times > MAX_TEXT:
             out[idx] = ""
             if not err[idx]:
