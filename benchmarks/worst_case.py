@@ -231,7 +231,7 @@ def cases(d: Path, heavy: bool):
     at.unlink()
     yield "text doubled 40 times (cap 32,767 characters)", "evaluate", sk("evaluate", text_doubling_book(d))
     yield ".fods at the cells cap (100,000 x 20): the gate", "check_opendocument", py(
-        "from sheetkin.xlsx.cells import check_opendocument; "
+        "from sheetkin.xlsx.convert import check_opendocument; "
         f"check_opendocument({str(fods(d, LIMITS.max_rows, 20, 'cap.fods'))!r})")
     yield ".fods past the cap (1,000,000 rows)", "evaluate", sk("evaluate", fods(d, 1_000_000, 10, "bomb.fods"))
     big = big_book(d)

@@ -207,10 +207,27 @@ def child_ended(pid: int) -> None:
     _CHILDREN.discard(pid)
 
 
-def kill_children() -> None:
-    """SIGKILL every child still registered (a second Ctrl-C: no waiting for anything)."""
+def kill_children(grace: float = 1.0) -> None:
+    """End every child still registered (a second Ctrl-C): SIGTERM, which lets a worker
+    kill a LibreOffice run of its own and remove its folders; SIGKILL for any still there
+    after `grace` seconds."""
     import signal
-    for pid in list(_CHILDREN):
+    import time
+    pids = list(_CHILDREN)
+    for pid in pids:
+        with contextlib.suppress(OSError):
+            os.kill(pid, signal.SIGTERM)
+    end = time.monotonic() + grace
+    left = set(pids)
+    while left and time.monotonic() < end:
+        for pid in list(left):
+            try:
+                if os.waitpid(pid, os.WNOHANG)[0] == pid:
+                    left.discard(pid)
+            except ChildProcessError:
+                left.discard(pid)
+        time.sleep(0.02)
+    for pid in left:
         with contextlib.suppress(OSError):
             os.kill(pid, signal.SIGKILL)
-        _CHILDREN.discard(pid)
+    _CHILDREN.difference_update(pids)

@@ -482,7 +482,7 @@ def cmd_validate(args) -> int:
     for twice in found.twice:
         print(f"sheetkin: note: {twice}: given twice; validated once", file=sys.stderr)
     show = args.progress == "always" or (args.progress == "auto" and sys.stderr.isatty() and len(files) > 1)
-    from sheetkin.xlsx.cells import convert_opendocument  # a class's .ods files: one LibreOffice run
+    from sheetkin.xlsx.convert import convert_opendocument  # a class's .ods files: one LibreOffice run
     convert_opendocument(files, note=(lambda t: print(f"sheetkin: {t}", file=sys.stderr)) if show else None)
     # (converted before the pool starts: forked workers inherit the conversions)
 
@@ -712,6 +712,9 @@ class _Signals:
             from sheetkin.files import kill_children, remove_temporaries
             remove_temporaries()
             kill_children()
+            lo = sys.modules.get("sheetkin.xlsx.libreoffice")     # LibreOffice runs, if any started
+            if lo is not None:
+                lo.stop_all()
             os.write(2, b"sheetkin: interrupted again: stopped at once\n")
             os._exit(code)
         self.hit = True

@@ -66,10 +66,16 @@ def validate_many(paths: list[Path], jobs: int | None = None,
     yield from _pooled(paths, jobs, validate, progress)
 
 
+def _stopped(signum, frame):
+    # SIGTERM from the parent (or a second Ctrl-C there): unwind, so that a LibreOffice run of
+    # this worker is killed and its temporary folders removed (sheetkin.xlsx.libreoffice)
+    raise SystemExit(128 + signum)
+
+
 def _worker(conn, validate) -> None:
     """A worker's loop: a path in, its report out, until the parent closes the pipe."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.signal(signal.SIGTERM, _stopped)
     while True:
         try:
             path = conn.recv()

@@ -41,6 +41,7 @@ from sheetkin.sheet.checks import passing as check_passes
 from sheetkin.sheet.workbook import FIRST_COL, SCENE_SHEET, SHEET_TITLES, build_workbook, sheet_rows
 from sheetkin.xlsx.cells import Sheet, read_book
 from sheetkin.xlsx.evaluator import Book, EvaluationError, evaluate_sheets
+from sheetkin.xlsx.functions import XlError
 from sheetkin.xlsx.package import Limits, UnusableWorkbook
 from sheetkin.xlsx.parse import ParseError, functions_of, names_of, parse_formula, refs_of
 
@@ -612,7 +613,8 @@ def _build_reference(scene: Scene, evaluate: bool = True):
                 if isinstance(v, str) and v.startswith("="):
                     sh.formulas[(c.row, c.column)] = v[1:]
                 else:
-                    sh.consts[(c.row, c.column)] = float(v) if isinstance(v, int) and not isinstance(v, bool) else v
+                    sh.consts[(c.row, c.column)] = (float(v) if isinstance(v, int) and not isinstance(v, bool)
+                                                    else XlError(v) if c.data_type == "e" else v)
                 sh.max_row, sh.max_col = max(sh.max_row, c.row), max(sh.max_col, c.column)
         sheets[ws.title] = sh
         order.append(ws.title)

@@ -24,7 +24,7 @@ from openpyxl.utils import get_column_letter
 
 from sheetkin.xlsx.cells import Sheet
 from sheetkin.xlsx.evaluator import Book, evaluate_sheets
-from sheetkin.xlsx.functions import ERROR_TEXT
+from sheetkin.xlsx.functions import ERROR_TEXT, XlError
 from sheetkin.xlsx.values import BOOL, EMPTY, NUM, TEXT
 
 # a formula cell as openpyxl writes it (a formula's text holds no "<": it is escaped)
@@ -59,7 +59,8 @@ def book_sheets(wb: Workbook) -> tuple[dict[str, Sheet], list[str]]:
             if cell.data_type == "f":
                 sh.formulas[(r, c)] = v[1:]
             else:
-                sh.consts[(r, c)] = float(v) if isinstance(v, int) and not isinstance(v, bool) else v
+                sh.consts[(r, c)] = (float(v) if isinstance(v, int) and not isinstance(v, bool)
+                                     else XlError(v) if cell.data_type == "e" else v)
             sh.max_row, sh.max_col = max(sh.max_row, r), max(sh.max_col, c)
         sheets[ws.title] = sh
         order.append(ws.title)

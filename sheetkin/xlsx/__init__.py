@@ -4,9 +4,10 @@ computes its formulas headlessly, within Excel's limits.
 It owns the package gate (`package`: zip bombs, part sizes, `Limits`, `UnusableWorkbook`),
 the cell reader (`cells`), the formula parser (`parse`), values and functions (`values`,
 `functions`), runs of like formulas (`runs`), the evaluator with its context and limits
-(`evaluator`, `context`, `limits`), and the LibreOffice conversion (`libreoffice`). It
-imports nothing else of sheetkin: the course package grades with it, and it knows nothing
-of mechanisms.
+(`evaluator`, `context`, `limits`), what a file that is not an .xlsx is and its conversion
+(`convert`: password sniffing, .ods/.fods/.xls, the OpenDocument gate), and LibreOffice
+itself (`libreoffice`). It imports nothing else of sheetkin: the course package grades
+with it, and it knows nothing of mechanisms.
 """
 from __future__ import annotations
 
@@ -25,9 +26,12 @@ _EXPORTS = {
     "UnusableWorkbook": "package",
     "open_package": "package",
     "read_book": "cells",
-    "convert_opendocument": "cells",
+    "convert_opendocument": "convert",
+    "check_opendocument": "convert",
+    "password_protected": "convert",
     "parse_formula": "parse",
     "ParseError": "parse",
+    "XlError": "functions",
 }
 
 

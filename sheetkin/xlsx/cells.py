@@ -13,18 +13,19 @@ from __future__ import annotations
 import gc
 import io
 import math
-import os
 import re
-import shutil
-import stat
-import tempfile
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from itertools import compress
 from pathlib import Path
 from xml.etree import ElementTree
 
+from .convert import check_opendocument as check_opendocument  # re-exported: cells was their home
+from .convert import convert_opendocument as convert_opendocument
+from .convert import converted, is_old_excel, is_opendocument
+from .convert import password_protected as password_protected
 from .coords import column_index_from_string, get_column_letter
+from .functions import ERRORS, XlError, capped
 from .package import Limits, UnusableWorkbook, open_package, sheet_parts
 
 _LETTERS = [""] + [get_column_letter(c) for c in range(1, 16385)]   # Excel's last column is XFD
@@ -37,7 +38,7 @@ _MAX_ROW = 1_048_576                      # Excel's last row
 class Sheet:
     name: str
     state: str
-    consts: dict = field(default_factory=dict)    # (r, c) -> value (number, str, bool, error text)
+    consts: dict = field(default_factory=dict)    # (r, c) -> value (number, str, bool, XlError)
     formulas: dict = field(default_factory=dict)  # (r, c) -> formula text (without "=")
     cached: dict = field(default_factory=dict)    # (r, c) -> cached value of a formula cell
     max_row: int = 0                               # the used range: the last row and column
@@ -154,24 +155,11 @@ def _read_tree(pkg, root, name: str, part: str, state: str, shared: list[str], l
             sh.max_row = row
         if col > sh.max_col:
             sh.max_col = col
-        t = c.get("t", "n")
-        vtext = v.text if v is not None else None
-        value: float | str | bool | None
         try:
-            if t == "s" and vtext is not None:
-                value = shared[int(vtext)]
-            elif t == "inlineStr" and inline is not None:
-                value = "".join(x.text or "" for x in inline.iter(t_tag))
-            elif t == "b" and vtext is not None:
-                value = vtext.strip() == "1"
-            elif t in ("e", "str", "d") and vtext is not None:
-                value = vtext             # "d": an ISO 8601 date, text to a kinematics sheet
-            elif vtext is not None:
-                value = number(vtext)
-            else:
-                value = None
+            value = _tree_value(c.get("t", "n"), v.text if v is not None else None, inline, t_tag, shared)
         except (ValueError, IndexError):
-            raise UnusableWorkbook(pkg.path, f"sheet '{name}' cell {ref} has the value {vtext!r} of type {t!r}",
+            raise UnusableWorkbook(pkg.path, f"sheet '{name}' cell {ref} has the value "
+                                   f"{v.text if v is not None else None!r} of type {c.get('t', 'n')!r}",
                                    "a number, or an index into the shared strings", part=part) from None
         if f is not None:
             text = f.text
@@ -202,6 +190,24 @@ def _read_tree(pkg, root, name: str, part: str, state: str, shared: list[str], l
     _resolve_pending(sh, pending, shared_f, sh.formulas)
     _check_cells(pkg, name, sh, limits, budget)
     return _finish(sh, pkg, limits)
+
+
+def _tree_value(t: str, vtext: str | None, inline, t_tag: str, shared: list[str]) -> float | str | bool | None:
+    """A cell's value from its type t, the text of its <v> and its <is> element, as the
+    element tree reads it (ValueError, IndexError: a value that does not fit its type)."""
+    if t == "s" and vtext is not None:
+        return shared[int(vtext)]
+    if t == "inlineStr" and inline is not None:
+        return capped("".join(x.text or "" for x in inline.iter(t_tag)))
+    if t == "b" and vtext is not None:
+        return vtext.strip() == "1"
+    if t == "e" and vtext is not None:
+        return saved_error(vtext)
+    if t in ("str", "d") and vtext is not None:
+        return capped(vtext)          # "d": an ISO 8601 date, text to a kinematics sheet
+    if vtext is not None:
+        return number(vtext)
+    return None
 
 
 def _array_end(ref: str | None, row: int, col: int) -> tuple[int, int]:
@@ -436,34 +442,7 @@ def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits
     # formulas: the text of every <f> that has one, decoded in one pass
     formulas = dict(zip(compress(keys, ftexts), _texts(list(filter(None, ftexts))), strict=False))
     if any(fattrs):
-        # shared formulas (Excel, LibreOffice): the first cell <f t="shared" si=".."> has the
-        # text, the block's other cells <f t="shared" si=".."/> are shifted from it
-        # (a block's master need not be its first cell: the masters are found first; a
-        # block may span pieces of the sheet: `masters` holds those met so far)
-        masters = {} if masters is None else masters
-        children, pending = [], []
-        for i in compress(range(len(keys)), fattrs):
-            if not _SHARED.search(fattrs[i]):
-                if _ARRAY.search(fattrs[i]) and keys[i] in formulas:
-                    ref = _REF.search(fattrs[i])
-                    sh.arrays[keys[i]] = _array_end(ref and ref.group(1).decode("ascii"), *keys[i])
-                continue
-            si_match = _SI.search(fattrs[i])
-            si = si_match.group(1).decode("utf-8", "replace") if si_match else None
-            if ftexts[i]:
-                masters[si] = _Shared(formulas[keys[i]], rows[i], cols[i])
-            else:
-                children.append((i, si))
-        for i, si in children:
-            if si in masters:
-                text = _shifted(sh, masters[si], rows[i], cols[i], si)
-                if text:
-                    formulas[keys[i]] = text
-            else:
-                pending.append((rows[i], cols[i], si))
-        if pending:
-            _resolve_pending(sh, pending, masters, formulas)
-        formulas = {key: formulas[key] for key in keys if key in formulas}     # document order
+        formulas = _shared_and_arrays(sh, keys, fattrs, ftexts, formulas, {} if masters is None else masters)
     # values: constants, and the values saved for formula cells
     with_value: Iterable[int] = compress(range(len(keys)), vtexts)
     if any(itexts):
@@ -486,17 +465,52 @@ def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits
     return sh
 
 
+def _shared_and_arrays(sh: Sheet, keys: list, fattrs: list, ftexts: list, formulas: dict, masters: dict) -> dict:
+    """The formulas of a piece of <sheetData> with its shared formulas (Excel, LibreOffice)
+    filled in, and its array formulas' ranges noted in sh.arrays: the first cell
+    <f t="shared" si=".."> has the text, the block's other cells <f t="shared" si=".."/> are
+    shifted from it (a block's master need not be its first cell: the masters are found
+    first; a block may span pieces of the sheet: `masters` holds those met so far)."""
+    children, pending = [], []
+    for i in compress(range(len(keys)), fattrs):
+        if not _SHARED.search(fattrs[i]):
+            if _ARRAY.search(fattrs[i]) and keys[i] in formulas:
+                ref = _REF.search(fattrs[i])
+                sh.arrays[keys[i]] = _array_end(ref and ref.group(1).decode("ascii"), *keys[i])
+            continue
+        si_match = _SI.search(fattrs[i])
+        si = si_match.group(1).decode("utf-8", "replace") if si_match else None
+        if ftexts[i]:
+            masters[si] = _Shared(formulas[keys[i]], *keys[i])
+        else:
+            children.append((i, si))
+    for i, si in children:
+        if si in masters:
+            row, col = keys[i]
+            text = _shifted(sh, masters[si], row, col, si)
+            if text:
+                formulas[keys[i]] = text
+        else:
+            pending.append((*keys[i], si))
+    if pending:
+        _resolve_pending(sh, pending, masters, formulas)
+    formulas = {key: formulas[key] for key in keys if key in formulas}     # document order
+    return formulas
+
+
 def _value(t: bytes | None, v: bytes | None, inline: bytes | None, shared: list[str]):
     """A cell's value from its type and <v> or <is>, as _read_tree reads it."""
     t = b"n" if t is None else t
     if t == b"s" and v is not None:
         return shared[int(v.decode())]
     if t == b"inlineStr" and inline is not None:
-        return _text(inline[1:])
+        return capped(_text(inline[1:]))
     if t == b"b" and v is not None:
         return _text(v).strip() == "1"
-    if t in (b"e", b"str", b"d") and v is not None:
-        return _text(v)
+    if t == b"e" and v is not None:
+        return saved_error(_text(v))
+    if t in (b"str", b"d") and v is not None:
+        return capped(_text(v))
     if v is not None:
         return number(_text(v))
     return None
@@ -593,7 +607,13 @@ def number(text: str) -> float | str:
     and 1e999 overflows) read as the error #NUM!, what a formula making them would give: a
     wrong row for the student, never a NaN reaching the validator."""
     x = float(text)
-    return x if math.isfinite(x) else "#NUM!"
+    return x if math.isfinite(x) else XlError("#NUM!")
+
+
+def saved_error(text: str) -> XlError | str:
+    """The value of a cell saved as an error (t="e"): the error, an XlError; a text that
+    is no error Excel knows stays text (what the file says, shown as it is)."""
+    return XlError(text) if text in ERRORS else text
 
 
 def _shift_formula(formula: str, dr: int, dc: int) -> str:
@@ -652,7 +672,7 @@ def _shared_strings(pkg) -> list[str]:
             if node is not None:
                 parts.append(node.text or "")
         return "".join(parts)
-    return [text(si) for si in root.iter(f"{ns}si")]
+    return [capped(text(si)) for si in root.iter(f"{ns}si")]
 
 
 def _defined_names(pkg) -> tuple[dict[str, str], dict[int, dict[str, str]]]:
@@ -689,171 +709,17 @@ def read_book(path: str | Path, limits: Limits = Limits(), *, convert_timeout: f
               skip: frozenset[str] = frozenset()) -> RawBook:
     """Read an .xlsx safely (xlsxsafe): never modified, never trusted. An OpenDocument
     spreadsheet (.ods, .fods) is converted to .xlsx by LibreOffice first (see
-    `_read_opendocument`). skip: names of sheets the caller never reads (the validator's
+    `convert.converted`). skip: names of sheets the caller never reads (the validator's
     hidden `paths` sheet, 74% of a workbook's XML): listed, empty, their cells not parsed
     (the package gate has checked their part's size and shape all the same)."""
     locked = password_protected(path)
     if locked:
         raise UnusableWorkbook(str(path), f"password-protected ({locked})",
                                "a workbook saved without a password (File > Save As, untick the password)")
-    if _opendocument(path) or _old_excel(path):
-        return _read_opendocument(path, limits, convert_timeout)     # rare: read whole
+    if is_opendocument(path) or is_old_excel(path):
+        with converted(path, limits, convert_timeout) as out:        # rare: read whole
+            return _read_converted(out, str(path), limits)
     return _read_xlsx(path, limits, skip)
-
-
-# ----------------------------------------------------------------- passwords, old Excel (.xls)
-_OLE = b"\xd0\xcf\x11\xe0\xa1\xb1\x1a\xe1"
-_SNIFF_BYTES = 1 << 16      # what is read to tell a file's kind (never the whole file)
-
-
-def _head(path, n: int = _SNIFF_BYTES) -> bytes:
-    """The file's first n bytes; b"" for anything but a regular file (a FIFO would block)."""
-    import stat
-    try:
-        if not stat.S_ISREG(os.stat(path).st_mode):
-            return b""
-        with open(path, "rb") as fh:
-            return fh.read(n)
-    except (OSError, ValueError):
-        return b""              # the gate says what is wrong with the path
-
-
-def _ole_streams(path) -> dict[str, tuple[int, int]]:
-    """{stream name: (first sector's offset, size)} of an OLE compound file (.xls, or an
-    encrypted Office file), from its first directory sector; {} when it is not one."""
-    import struct
-    head = _head(path, 512)          # a regular file's, or b"" (then nothing else is opened)
-    if len(head) < 512 or not head.startswith(_OLE):
-        return {}
-    shift = struct.unpack_from("<H", head, 0x1E)[0]
-    if shift not in (9, 12):
-        return {}
-    size = 1 << shift
-    first_dir = struct.unpack_from("<I", head, 0x30)[0]
-    try:
-        with open(path, "rb") as fh:
-            fh.seek((first_dir + 1) * size)
-            block = fh.read(size)
-    except (OSError, ValueError, OverflowError):
-        return {}
-    out = {}
-    for k in range(0, len(block) - 127, 128):
-        entry = block[k:k + 128]
-        n = struct.unpack_from("<H", entry, 64)[0]
-        if entry[66] not in (1, 2, 5) or not 2 <= n <= 64:
-            continue
-        name = entry[:n - 2].decode("utf-16-le", "replace")
-        start, length = struct.unpack_from("<II", entry, 116)
-        out[name] = ((start + 1) * size, length)
-    return out
-
-
-def _biff_filepass(path, offset: int) -> bool:
-    """Whether a BIFF workbook stream starting at `offset` is encrypted: its first record
-    is BOF (0x0809) and the next FILEPASS (0x002F), as Excel writes a password-protected
-    .xls (only the stream's first sector is read)."""
-    import struct
-    try:
-        with open(path, "rb") as fh:
-            fh.seek(offset)
-            data = fh.read(512)
-    except (OSError, ValueError, OverflowError):
-        return False
-    if len(data) < 8:
-        return False
-    kind, length = struct.unpack_from("<HH", data, 0)
-    if kind != 0x0809 or 4 + length + 4 > len(data):
-        return False
-    return struct.unpack_from("<H", data, 4 + length)[0] == 0x002F
-
-
-def _old_excel(path) -> bool:
-    """An Excel 97-2003 workbook (.xls, BIFF in an OLE file): LibreOffice converts it."""
-    streams = _ole_streams(path)
-    return any(n in streams for n in ("Workbook", "Book")) and "EncryptedPackage" not in streams
-
-
-def password_protected(path) -> str:
-    """What kind of password-protected file `path` is ("" when it is not one): an
-    encrypted Office file (.xlsx saved with a password: OLE with EncryptedPackage), an
-    .xls with FILEPASS, an OpenDocument file with encrypted entries (its manifest)."""
-    head = _head(path, 8)
-    if head.startswith(_OLE):
-        streams = _ole_streams(path)
-        if "EncryptedPackage" in streams or "EncryptionInfo" in streams:
-            return "an encrypted Excel workbook"
-        for name in ("Workbook", "Book"):
-            if name in streams and streams[name][1] >= 4096 and _biff_filepass(path, streams[name][0]):
-                return "an encrypted .xls workbook"
-        return ""
-    if head.startswith(b"PK\x03\x04") and _opendocument(path):
-        import zipfile
-        try:
-            with zipfile.ZipFile(path) as zf:
-                info = zf.getinfo("META-INF/manifest.xml")
-                if info.file_size > 1 << 20:
-                    return ""
-                if b"encryption-data" in zf.read(info):
-                    return "an encrypted OpenDocument spreadsheet"
-        except (zipfile.BadZipFile, KeyError, OSError, RuntimeError, ValueError, EOFError):
-            return ""
-    return ""
-
-
-# ----------------------------------------------------------------- OpenDocument (.ods, .fods)
-_ODS_MIME = b"application/vnd.oasis.opendocument.spreadsheet"
-
-
-def _opendocument(path) -> bool:
-    """Whether the file is an OpenDocument spreadsheet: a zip whose first member is its
-    mimetype (.ods, whatever the file is called), or flat XML (.fods)."""
-    p = Path(path)
-    try:
-        # non-blocking, and only a regular file: a FIFO given as a book would otherwise wait
-        # here forever for a writer (the gate, open_package, refuses it in one line)
-        fd = os.open(p, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0))
-        with open(fd, "rb") as fh:
-            if not stat.S_ISREG(os.fstat(fh.fileno()).st_mode):
-                return False
-            head = fh.read(4096)
-    except OSError:
-        return False                 # the gate says what is wrong with the path
-    if head.startswith(b"PK\x03\x04"):
-        return head[30:38] == b"mimetype" and _ODS_MIME in head[38:200]
-    return p.suffix.lower() == ".fods" or (b"<office:document" in head and _ODS_MIME in head)
-
-
-def _read_opendocument(path, limits: Limits, timeout: float) -> RawBook:
-    """LibreOffice (its own temporary profile, a time limit) converts a copy of the file
-    to .xlsx in a temporary folder, which is read like any .xlsx; the original is only
-    read. Without LibreOffice: refused, with the command that converts it. A file that
-    `convert_opendocument` converted already is read from its converted copy."""
-    from . import libreoffice
-    shown = str(path)
-    how = f"convert it to .xlsx: soffice --headless --convert-to xlsx {shown!r}"
-    what = "an Excel 97-2003 workbook (.xls)" if _old_excel(path) else "an OpenDocument spreadsheet"
-    size = Path(path).stat().st_size
-    if size > limits.max_file_bytes:
-        raise UnusableWorkbook(shown, f"{what} of {size} bytes",
-                               f"at most {limits.max_file_bytes} bytes")
-    done = _CONVERTED.get(_signature(path))
-    if done is not None and done.is_file():
-        return _read_converted(done, shown, limits)
-    if not _old_excel(path):        # the gate parses OpenDocument only (an .xls is BIFF), as _convert_batch
-        check_opendocument(path, limits)
-    if libreoffice.soffice_path() is None:
-        raise UnusableWorkbook(shown, f"{what}, and LibreOffice (soffice) is not installed to read it", how)
-    with tempfile.TemporaryDirectory(prefix="sheetkin-ods-") as tmp:
-        src = Path(tmp) / "in"
-        src.mkdir()
-        copy = src / ("book" + _odf_suffix(path))
-        shutil.copyfile(path, copy)
-        try:
-            out = libreoffice.convert_to_xlsx(copy, Path(tmp) / "out", timeout)
-        except (RuntimeError, OSError) as e:
-            reason = "timed out" if "timed out" in str(e) else "failed"
-            raise UnusableWorkbook(shown, f"LibreOffice's conversion to .xlsx {reason}", how) from None
-        return _read_converted(out, shown, limits)
 
 
 def _read_converted(out: Path, shown: str, limits: Limits) -> RawBook:
@@ -865,73 +731,6 @@ def _read_converted(out: Path, shown: str, limits: Limits) -> RawBook:
     raw.path = shown
     return raw
 
-
-def _odf_suffix(path) -> str:
-    """The suffix LibreOffice is given the copy under (it picks its reader by content)."""
-    if _old_excel(path):
-        return ".xls"
-    return ".fods" if Path(path).suffix.lower() == ".fods" else ".ods"
-
-
-def _signature(path) -> tuple:
-    """A file as it is now: its resolved name, size and modification time."""
-    st = Path(path).stat()
-    return str(Path(path).resolve()), st.st_size, st.st_mtime_ns
-
-
-_CONVERTED: dict = {}      # _signature(original) -> its .xlsx made by convert_opendocument
-_BATCH_DIRS: list = []     # their temporary folders, removed when the process ends
-
-
-def convert_opendocument(paths, limits: Limits = Limits(), *, timeout_per_file: float = 60,
-                         note=None) -> int:
-    """Convert every OpenDocument spreadsheet among `paths` to .xlsx in ONE LibreOffice run
-    (its start-up is most of the time a file costs: a class's .ods files, 2-4 s each one
-    by one); read_book then reads the converted copies, as long as the originals do not
-    change. Copies are converted, in a temporary folder removed when the process ends.
-    If the run fails, nothing is kept: read_book converts each file alone (and says what
-    is wrong with it). `note(text)` is told before the run. Returns how many were converted."""
-    try:
-        return _convert_batch(paths, limits, timeout_per_file, note)
-    except Exception:       # noqa: BLE001 - an optimisation only: each file is then converted alone
-        return 0
-
-
-def _convert_batch(paths, limits: Limits, timeout_per_file: float, note) -> int:
-    from . import libreoffice
-    todo = []
-    for p in paths:
-        try:
-            if ((_opendocument(p) or _old_excel(p)) and not password_protected(p)
-                    and Path(p).stat().st_size <= limits.max_file_bytes):
-                if _opendocument(p):
-                    check_opendocument(p, limits)    # refused ones are converted (refused) alone
-                todo.append(p)
-        except (OSError, UnusableWorkbook):
-            continue
-    if len(todo) < 2 or libreoffice.soffice_path() is None:
-        return 0
-    if note is not None:
-        note(f"{len(todo)} OpenDocument spreadsheets: converting them to .xlsx with LibreOffice (one run)")
-    tmp = tempfile.TemporaryDirectory(prefix="sheetkin-ods-batch-")
-    _BATCH_DIRS.append(tmp)
-    src = Path(tmp.name) / "in"
-    src.mkdir()
-    copies = {}
-    for i, p in enumerate(todo):
-        copy = src / f"book{i}{_odf_suffix(p)}"
-        try:
-            shutil.copyfile(p, copy)
-        except OSError:
-            continue
-        copies[copy.resolve()] = (p, _signature(p))
-    try:
-        outputs = libreoffice.recalculate(list(copies), Path(tmp.name) / "out", 60 + timeout_per_file * len(copies))
-    except (RuntimeError, OSError, ValueError):
-        return 0
-    for copy, out in outputs.items():
-        _CONVERTED[copies[copy][1]] = out
-    return len(outputs)
 
 
 def _read_xlsx(path, limits: Limits, skip: frozenset[str] = frozenset()) -> RawBook:
@@ -950,120 +749,3 @@ def _read_xlsx(path, limits: Limits, skip: frozenset[str] = frozenset()) -> RawB
         held += len(sh.consts) + len(sh.formulas) + len(sh.dangling)
         order.append(info.name)
     return RawBook(str(path), sheets, order, names)
-
-
-
-
-# ----------------------------------------------------------------- the OpenDocument gate
-_ODF_TABLE = "urn:oasis:names:tc:opendocument:xmlns:table:1.0"
-_ODF_OFFICE = "urn:oasis:names:tc:opendocument:xmlns:office:1.0"
-_ROW, _CELL, _COVERED = (f"{{{_ODF_TABLE}}}{t}" for t in ("table-row", "table-cell", "covered-table-cell"))
-_ROWS_REP, _COLS_REP = f"{{{_ODF_TABLE}}}number-rows-repeated", f"{{{_ODF_TABLE}}}number-columns-repeated"
-_VALUE_TYPE, _FORMULA = f"{{{_ODF_OFFICE}}}value-type", f"{{{_ODF_TABLE}}}formula"
-_TABLE = f"{{{_ODF_TABLE}}}table"
-
-
-def check_opendocument(path, limits: Limits = Limits()) -> None:
-    """The gate an OpenDocument spreadsheet passes before LibreOffice sees it (a 1,337-byte
-    .fods repeating one row a million times took LibreOffice to 3.7 GB): the file's size; for
-    .ods the zip's parts (count, sizes, ratio) as open_package checks an .xlsx; then one
-    streaming pass over the content (defusedxml: no DTD, no entities) counting what the
-    repeat attributes expand to: rows and columns up to the last cell holding something,
-    and those cells, all sheets together, within the .xlsx limits (max_rows, max_cols,
-    max_cells). Styled emptiness repeated to the sheet's end costs nothing and passes."""
-    import zipfile
-
-    shown = str(path)
-
-    def fail(problem: str, expected: str):
-        raise UnusableWorkbook(shown, problem, expected)
-    try:
-        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0))
-        with open(fd, "rb") as fh:
-            st = os.fstat(fh.fileno())
-            if not stat.S_ISREG(st.st_mode):
-                fail("is not a regular file", "expected an OpenDocument spreadsheet file")
-            if st.st_size > limits.max_file_bytes:
-                fail(f"an OpenDocument spreadsheet of {st.st_size:,} bytes",
-                     f"at most {limits.max_file_bytes:,} bytes (sheetkin's limit for a workbook)")
-            data = fh.read(limits.max_file_bytes + 1)
-    except OSError as e:
-        fail(f"cannot be read ({e.strerror or e})", "expected a readable spreadsheet file")
-    if len(data) > limits.max_file_bytes:
-        fail("more than the size limit", f"at most {limits.max_file_bytes:,} bytes")
-    if data.startswith(b"PK"):
-        try:
-            archive = zipfile.ZipFile(io.BytesIO(data))
-            infos = archive.infolist()
-        except (zipfile.BadZipFile, zipfile.LargeZipFile, EOFError, OSError, ValueError, NotImplementedError) as e:
-            fail(f"a damaged .ods file ({str(e)[:100]})", "expected an OpenDocument spreadsheet saved whole")
-        if len(infos) > limits.max_parts:
-            fail(f"{len(infos):,} parts in the .ods zip", f"at most {limits.max_parts:,}")
-        total = 0
-        for info in infos:
-            total += info.file_size
-            ratio = info.file_size / max(1, info.compress_size)
-            if info.file_size > limits.max_part_bytes or total > limits.max_total_bytes:
-                fail(f"{info.filename[:100]} inflates to {info.file_size:,} bytes",
-                     f"at most {limits.max_part_bytes:,} a part, {limits.max_total_bytes:,} in all")
-            if info.file_size > limits.ratio_min_bytes and ratio > limits.max_ratio:
-                fail(f"{info.filename[:100]} inflates {ratio:.0f} times (a zip bomb's mark)",
-                     f"at most {limits.max_ratio:g}:1")
-        if "content.xml" not in archive.namelist():
-            fail("an .ods file without content.xml", "expected an OpenDocument spreadsheet")
-        stream = archive.open("content.xml")
-    else:
-        stream = io.BytesIO(data)
-    _check_odf_expansion(stream, shown, limits)
-
-
-def _check_odf_expansion(stream, shown: str, limits: Limits) -> None:
-    import defusedxml.ElementTree as DET
-    from defusedxml import DefusedXmlException
-
-    cells = 0
-    row = last_row = 0
-    try:
-        for event, el in DET.iterparse(stream, events=("start", "end")):
-            if event == "start":
-                if el.tag == _TABLE:
-                    row = 0
-                continue
-            if el.tag != _ROW:
-                continue
-            reps = _repeat(el.get(_ROWS_REP))
-            col = last_col = held = 0
-            for c in el:
-                if c.tag not in (_CELL, _COVERED):
-                    continue
-                n = _repeat(c.get(_COLS_REP))
-                col += n
-                if c.get(_VALUE_TYPE) is not None or c.get(_FORMULA) is not None or len(c):
-                    held += n
-                    last_col = col
-            if held:
-                cells += held * reps
-                last_row = row + reps
-                if last_col > limits.max_cols or last_row > limits.max_rows or cells > limits.max_cells:
-                    raise UnusableWorkbook(
-                        shown, f"its repeated rows and cells expand to {last_row:,} rows, {last_col:,} "
-                        f"columns, {cells:,} cells holding something",
-                        f"at most {limits.max_rows:,} rows, {limits.max_cols:,} columns and "
-                        f"{limits.max_cells:,} cells (sheetkin's limits for a workbook)")
-            row += reps
-            el.clear()
-    except UnusableWorkbook:
-        raise
-    except (DET.ParseError, DefusedXmlException, ValueError, EOFError, OSError) as e:
-        raise UnusableWorkbook(shown, f"its content is not well-formed XML or is refused ({type(e).__name__}: "
-                               f"{str(e)[:120]})", "an OpenDocument spreadsheet as a spreadsheet program "
-                               "saves it") from None
-
-
-def _repeat(text: str | None) -> int:
-    if text is None:
-        return 1
-    try:
-        return max(1, int(text))
-    except ValueError:
-        return 1

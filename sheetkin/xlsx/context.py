@@ -33,6 +33,7 @@ from .values import (
     _compare,
     _concat,
     _const,
+    _err,
     _error_of,
     _to_number,
     _with_error,
@@ -52,7 +53,7 @@ def _binary_op(op: str, a: Val, b: Val) -> Val:
     try:
         np.broadcast_shapes(a.shape, b.shape)
     except ValueError:                      # ranges of different sizes (=A1:B2+A1:C3): #VALUE!
-        return _const("#VALUE!", max(a.shape[0], b.shape[0]))
+        return _err("#VALUE!", max(a.shape[0], b.shape[0]))
     if op in ("+", "-", "*", "/", "^"):
         return _arith(op, a, b)
     if op == "&":
@@ -75,7 +76,8 @@ def _rows_cols(r1: int, r2: int, c1: int, c2: int, nr: int, nc: int) -> tuple[np
 # functions whose arguments are single values: a range there is intersected (the others,
 # SUM, SUMPRODUCT, INDEX, CHOOSE ..., read their arguments whole)
 SCALAR_CONTEXT = frozenset(SCALAR_FUNCS) | frozenset(fx.ROUNDING) | {
-    "PI", "IF", "IFERROR", "NOT", "ISNUMBER", "ISERROR", "ISTEXT", "NA", "TRUE", "FALSE", "TRUNC"}
+    "PI", "IF", "IFERROR", "NOT", "ISNUMBER", "ISERROR", "ISTEXT", "NA", "TRUE", "FALSE", "TRUNC",
+    "ISERR", "ISNA", "ERROR.TYPE", "CONCATENATE"}
 
 
 def intersect(v: Val, ref: Ref, run: Run) -> Val:
@@ -123,14 +125,14 @@ class _Context:
     def ref(self, ref: Ref, run: Run) -> Val:
         sheet = ref.sheet or run.sheet
         if sheet not in self.num:
-            return _const("#REF!", len(run.cols))
+            return _err("#REF!", len(run.cols))
         if (ref.r1, ref.c1, ref.r1_abs, ref.c1_abs) == (ref.r2, ref.c2, ref.r2_abs, ref.c2_abs) and run.contiguous:
             # one cell per cell of the run, adjacent: views of one stretch of a row
             r = ref.r1 if ref.r1_abs else run.row + ref.r1
             k = len(run.cols)
             c = ref.c1 if ref.c1_abs else int(run.cols[0]) + ref.c1
             if r < 1 or c < 1:
-                return _const("#REF!", k)
+                return _err("#REF!", k)
             n = 1 if ref.c1_abs else k
             if r >= self.tag[sheet].shape[0] or c + n > self.tag[sheet].shape[1]:
                 return self._gather(sheet, np.array([r]), (c + np.arange(n))[:, None])   # past the used range
@@ -145,7 +147,7 @@ class _Context:
             # one block for all the cells (a single cell's range, or absolute columns): a view
             r1, r2, c1, c2 = _span(run, ref)
             if r1 < 1 or c1 < 1:
-                return _const("#REF!", len(run.cols))
+                return _err("#REF!", len(run.cols))
             nr, nc = self.tag[sheet].shape
             if r2 >= nr or c2 >= nc:                   # past the used range
                 rows, cols = _rows_cols(r1, r2, c1, c2, nr, nc)
@@ -159,7 +161,7 @@ class _Context:
             return Val(self.num[sheet][None, r1:r2 + 1, c1:c2 + 1], tag, txt)
         r1, r2, c1, c2 = _target_block(run, ref)
         if r1 < 1 or int(c1.min()) < 1:
-            return _const("#REF!", len(run.cols))
+            return _err("#REF!", len(run.cols))
         absolute = ref.c1_abs and ref.c2_abs
         width = int(c2[0] - c1[0]) + 1
         nr, nc = self.tag[sheet].shape
@@ -198,9 +200,9 @@ class _Context:
         if kind == "name":
             tree = self.name(node[1], run)
             if tree is None:
-                return _const("#NAME?")
+                return _err("#NAME?")
             if node[1] in self.open_names:          # a name that refers back to itself
-                return _const("#REF!")
+                return _err("#REF!")
             self.open_names.add(node[1])
             try:
                 return self.eval(tree, run)
@@ -248,20 +250,20 @@ class _Context:
             ranges = [a[0] == "ref" or (a[0] == "name" and (self.name(a[1], run) or ("",))[0] == "ref")
                       or (a[0] == "fn" and a[1] == "ANCHORARRAY") for a in args]
             return AGGREGATES[name](vals, ranges)
-        return _const("#NAME?", len(run.cols))
+        return _err("#NAME?", len(run.cols))
 
     def spill(self, args, run: Run) -> Val:
         """Excel 365's E1# (written _xlfn.ANCHORARRAY(E1)): the range an array formula at E1
         fills; #REF! where E1 holds no array formula."""
         if len(args) != 1 or args[0][0] != "ref" or args[0][1].is_range:
-            return _const("#REF!", len(run.cols))
+            return _err("#REF!", len(run.cols))
         ref = args[0][1]
         sheet = ref.sheet or run.sheet
         r = ref.r1 if ref.r1_abs else run.row + ref.r1
         cols = [ref.c1] if ref.c1_abs else [c + ref.c1 for c in run.cols.tolist()]
         ends = [self.arrays.get(sheet, {}).get((r, c)) for c in cols]
         if any(e is None for e in ends) or len({(e[0] - r, e[1] - c) for e, c in zip(ends, cols, strict=False)}) != 1:
-            return _const("#REF!", len(run.cols))
+            return _err("#REF!", len(run.cols))
         (r2, c2), c = ends[0], cols[0]
         block = Ref(sheet, r, c if ref.c1_abs else c - int(run.cols[0]), r2,
                     c2 if ref.c1_abs else c2 - int(run.cols[0]), True, ref.c1_abs, True, ref.c1_abs)
@@ -272,7 +274,7 @@ class _Context:
         cell in the formula's row (a column range) or column (a row range); of an array, its
         first element; #VALUE! where the formula's row or column misses the range."""
         if len(args) != 1:
-            return _const("#VALUE!", len(run.cols))
+            return _err("#VALUE!", len(run.cols))
         v = self.eval(args[0], run)
         _, R, C = v.shape
         if (R, C) == (1, 1):
@@ -305,4 +307,4 @@ class _Context:
             cs = slice(None) if ci[0] < 0 else slice(ci[0], ci[0] + 1)
             v = Val(arr.num[:, rs, cs], arr.tag[:, rs, cs], None if arr.txt is None else arr.txt[:, rs, cs])
             return _with_error(v, err.reshape(1, 1, 1))
-        return _const("#VALUE!", k)
+        return _err("#VALUE!", k)

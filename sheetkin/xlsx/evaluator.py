@@ -45,7 +45,7 @@ import numpy as np
 from .cells import _MAX_COL, _MAX_ROW, Sheet, read_book
 from .context import _Context, _lookup
 from .coords import get_column_letter
-from .functions import DIV0, ERROR_TEXT, ERRORS, NA, NAME, NULL, NUMERR, REF, VALUE  # noqa: F401
+from .functions import DIV0, ERROR_TEXT, ERRORS, NA, NAME, NULL, NUMERR, REF, VALUE, XlError  # noqa: F401
 from .limits import (  # noqa: F401
     MAX_EVAL_DEPTH,
     _check_formula_text,
@@ -73,7 +73,7 @@ from .parse import (  # noqa: F401
     refs_of,
 )
 from .runs import _TEMPLATES, EvaluationError, Run, _group_runs, _span, _split  # noqa: F401
-from .values import AGGREGATES, BOOL, EMPTY, LAZY, NUM, SCALAR_FUNCS, SUPPORTED, TEXT, Val, _const  # noqa: F401
+from .values import AGGREGATES, BOOL, EMPTY, LAZY, NUM, SCALAR_FUNCS, SUPPORTED, TEXT, Val, _const, _err  # noqa: F401
 
 if TYPE_CHECKING:
     import pandas as pd  # only rows_frame builds a DataFrame: `sheetkin evaluate` loads no pandas
@@ -186,40 +186,49 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
     _check_reads(path, order_runs, dims, name_refs, limits)  # runs split into cells read more
     ctx = _Context(num, tag, txt, scopes)
     ctx.arrays = {n: sh.arrays for n, sh in sheets.items()}
-    cells, dims_key = 0, dims_signature(dims)
     with np.errstate(all="ignore"):
-        for run in order_runs:
-            cells += len(run.cols)
-            for part in _chunks(run, dims, name_refs, dims_key):
-                k = len(part.cols)
-                if part.error:
-                    v = _const(getattr(part.error, "code", "#NAME?"), k)
-                    if part.array is not None:          # the whole range holds the error
-                        _write_array(_const(getattr(part.error, "code", "#NAME?")), part, num, tag, txt)
-                        continue
-                else:
-                    try:
-                        if part.array is not None:
-                            _write_array(ctx.formula(part.tree, part), part, num, tag, txt)
-                            continue
-                        v = _as_cells(ctx.formula(part.tree, part), k)
-                    except (EvaluationError, UnusableWorkbook):
-                        raise
-                    except Exception as e:      # noqa: BLE001 - the cell's problem, not the process's
-                        note = (f"{part.where()}: internal error of the evaluator "
-                                f"({type(e).__name__}: {_show(e, 120)}): #VALUE!")
-                        if strict:
-                            raise EvaluationError(f"{path}: {note}") from e
-                        problems.append(note)
-                        v = _const("#VALUE!", k)
-                n = part.sheet
-                where = ((part.row, slice(int(part.cols[0]), int(part.cols[0]) + k)) if part.contiguous
-                         else (part.row, part.cols))
-                num[n][where] = v.num[:, 0, 0]
-                tag[n][where] = v.tag[:, 0, 0]
-                if v.txt is not None:
-                    txt[n][where] = v.txt[:, 0, 0]
+        cells = _run_all(path, order_runs, ctx, dims, name_refs, strict, problems)
     return Book(path, sheets, order, num, tag, txt, problems, len(order_runs), cells)
+
+
+def _run_all(path: str, order_runs: list[Run], ctx: _Context, dims: dict, name_refs: dict, strict: bool,
+             problems: list[str]) -> int:
+    """Every run evaluated in order, its values written into the context's stores (a run
+    that cannot be evaluated: its error, and a note in `problems`); returns the cells."""
+    num, tag, txt = ctx.num, ctx.tag, ctx.txt
+    cells, dims_key = 0, dims_signature(dims)
+    for run in order_runs:
+        cells += len(run.cols)
+        for part in _chunks(run, dims, name_refs, dims_key):
+            k = len(part.cols)
+            if part.error:
+                v = _err(getattr(part.error, "code", "#NAME?"), k)
+                if part.array is not None:          # the whole range holds the error
+                    _write_array(_err(getattr(part.error, "code", "#NAME?")), part, num, tag, txt)
+                    continue
+            else:
+                try:
+                    if part.array is not None:
+                        _write_array(ctx.formula(part.tree, part), part, num, tag, txt)
+                        continue
+                    v = _as_cells(ctx.formula(part.tree, part), k)
+                except (EvaluationError, UnusableWorkbook):
+                    raise
+                except Exception as e:      # noqa: BLE001 - the cell's problem, not the process's
+                    note = (f"{part.where()}: internal error of the evaluator "
+                            f"({type(e).__name__}: {_show(e, 120)}): #VALUE!")
+                    if strict:
+                        raise EvaluationError(f"{path}: {note}") from e
+                    problems.append(note)
+                    v = _err("#VALUE!", k)
+            n = part.sheet
+            where = ((part.row, slice(int(part.cols[0]), int(part.cols[0]) + k)) if part.contiguous
+                     else (part.row, part.cols))
+            num[n][where] = v.num[:, 0, 0]
+            tag[n][where] = v.tag[:, 0, 0]
+            if v.txt is not None:
+                txt[n][where] = v.txt[:, 0, 0]
+    return cells
 
 
 # --------------------------------------------------------------------------- names, arrays, whole columns
@@ -236,7 +245,7 @@ def _name_scopes(names: dict, sheets: dict[str, Sheet], bound, notes: dict | Non
             try:
                 tree = parse_formula("=" + text.removeprefix("="), 1, 1, {})
             except ParseError as e:
-                tree = ("const", "#VALUE!")
+                tree = ("const", XlError("#VALUE!"))
                 notes.setdefault(scope, {})[n.upper()] = Note(
                     f"the name {_show(n, 60)} is not a formula (={_show(text, 60)}: {e})", "#VALUE!")
             out[n.upper()] = _bound_whole(tree, bound)
@@ -361,13 +370,13 @@ def _write_array(v: Val, run: Run, num, tag, txt) -> None:
 
 
 def store_value(num, tag, txt, r, c, v):
-    """A typed value (number, bool, text, error text) into a sheet's value stores at (r, c)."""
+    """A typed value (number, bool, text, an XlError) into a sheet's value stores at (r, c)."""
     if isinstance(v, bool):
         num[r, c], tag[r, c] = float(v), BOOL
     elif isinstance(v, (int, float)):
         num[r, c], tag[r, c] = float(v), NUM
-    elif isinstance(v, str) and v in ERRORS:
-        tag[r, c] = ERRORS[v]
+    elif isinstance(v, XlError):               # an error; a str that spells one is text
+        tag[r, c] = ERRORS.get(v, VALUE)
     elif isinstance(v, str):
         tag[r, c], txt[r, c] = TEXT, v
 
@@ -376,7 +385,7 @@ def _as_cells(v: Val, k: int) -> Val:
     """A cell holds one value: an array result that is not a single value is #VALUE!;
     a formula whose value is an empty cell holds 0 (=Z99 with Z99 empty is 0)."""
     if v.shape[1:] != (1, 1):
-        return _const("#VALUE!", k)
+        return _err("#VALUE!", k)
     if v.pure == -1 and (v.tag == EMPTY).any():
         v = Val(np.where(v.tag == EMPTY, 0.0, v.num), np.where(v.tag == EMPTY, NUM, v.tag).astype(np.int8), v.txt)
     if v.shape[0] != k:
@@ -515,7 +524,7 @@ def evaluate_runs(runs: list[Run], num: dict, tag: dict, txt: dict) -> list[tupl
             try:
                 v = _as_cells(ctx.formula(run.tree, run), k)
             except Exception:      # noqa: BLE001 - the cell's problem, not the caller's
-                v = _const("#VALUE!", k)
+                v = _err("#VALUE!", k)
             out.append((run, v.num[:, 0, 0], v.tag[:, 0, 0]))
     return out
 

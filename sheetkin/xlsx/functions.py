@@ -16,8 +16,31 @@ ERRORS = {"#NULL!": 10, "#DIV/0!": 11, "#VALUE!": 12, "#REF!": 13, "#NAME?": 14,
           # literal may hold one, and ISERROR/IFERROR must see an error, not a text
           "#SPILL!": 17, "#CALC!": 18, "#GETTING_DATA": 19, "#FIELD!": 20, "#BLOCKED!": 21,
           "#CONNECT!": 22, "#BUSY!": 23, "#UNKNOWN!": 24, "#PYTHON!": 25}
-ERROR_TEXT = {v: k for k, v in ERRORS.items()}
+
+
+class XlError(str):
+    """An error value (#N/A, #DIV/0! ...) as a cell holds it: a saved error (t="e"), an error
+    literal in a formula, an evaluated error. A str equal to its text (callers compare it with
+    "#N/A"), but a type of its own: a *text* that spells an error (a typed "#N/A", a shared
+    string, a formula's text result, ="#N/A") is a plain str, and is text to every function
+    (=ISERROR("#N/A") is FALSE in Excel, LibreOffice and Gnumeric)."""
+    __slots__ = ()
+
+
+def is_error(v: object) -> bool:
+    """Whether a value read or computed is an error (not a text that spells one)."""
+    return isinstance(v, XlError)
+
+
+ERROR_TEXT = {v: XlError(k) for k, v in ERRORS.items()}
 NULL, DIV0, VALUE, REF, NAME, NUMERR, NA = (ERRORS[k] for k in list(ERRORS)[:7])
+MAX_TEXT = 32_767          # characters of one cell's text, Excel's limit (#VALUE! past it)
+
+
+def capped(text: str) -> str:
+    """A text as a cell may hold it: itself, or #VALUE! (an XlError) past MAX_TEXT characters
+    (a file holding a longer text: read as #VALUE! in that cell, as a formula making one gives)."""
+    return text if len(text) <= MAX_TEXT else ERROR_TEXT[VALUE]
 
 
 def _approx(q: np.ndarray) -> np.ndarray:

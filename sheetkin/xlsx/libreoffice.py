@@ -26,6 +26,8 @@ import shutil
 import signal
 import subprocess
 import tempfile
+import time
+from collections.abc import Iterator
 from pathlib import Path
 
 import openpyxl
@@ -39,6 +41,9 @@ __all__ = [
     "render_pdf",
     "pdf_to_png",
     "SETUP_HINT",
+    "scratch_folder",
+    "keep_folder",
+    "stop_all",
 ]
 
 SETUP_HINT = "LibreOffice (soffice) not found: run `bash tests/setup.sh` (as root, Debian/Ubuntu)"
@@ -60,6 +65,57 @@ _ERROR_CODES = frozenset(
      "#GETTING_DATA"}
 )
 _LO_ERROR = re.compile(r"Err:\d{3}")
+
+
+# What a process that must exit at once (a second Ctrl-C: sheetkin.cli) stops first: the
+# process groups of the soffice runs in progress, and the temporary folders of conversions
+# (profiles, copies, outputs). An exception or a first signal cleans up on its way out
+# (_convert, scratch_folder); os._exit would skip that.
+_RUNNING: set[int] = set()
+_FOLDERS: set[str] = set()
+
+
+@contextlib.contextmanager
+def scratch_folder(prefix: str) -> Iterator[Path]:
+    """A temporary folder, removed when the block ends (whatever ends it) or by stop_all."""
+    folder = tempfile.mkdtemp(prefix=prefix)
+    _FOLDERS.add(folder)
+    try:
+        yield Path(folder)
+    finally:
+        _FOLDERS.discard(folder)
+        shutil.rmtree(folder, ignore_errors=True)
+
+
+def keep_folder(folder: str) -> None:
+    """A temporary folder that lives until the process ends: stop_all removes it too."""
+    _FOLDERS.add(folder)
+
+
+def stop_all() -> None:
+    """SIGKILL every soffice run of this process (its whole process group) and remove the
+    temporary folders of conversions: for a process about to exit at once."""
+    for pgid in list(_RUNNING):
+        with contextlib.suppress(OSError):
+            os.killpg(pgid, signal.SIGKILL)
+    for pgid in list(_RUNNING):
+        _wait_group(pgid, 2.0)
+    for folder in list(_FOLDERS):
+        shutil.rmtree(folder, ignore_errors=True)
+
+
+def _wait_group(pgid: int, timeout: float) -> None:
+    """Until no process of group pgid is left (SIGKILLed ones take a moment: soffice.bin
+    still writes into its profile until it is gone), at most `timeout` seconds."""
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        try:
+            os.killpg(pgid, 0)
+        except OSError:
+            return
+        with contextlib.suppress(ChildProcessError, OSError):
+            os.waitpid(-pgid, os.WNOHANG)          # our own child in it: reaped
+        time.sleep(0.02)
 
 
 def soffice_path() -> str | None:
@@ -92,23 +148,26 @@ def _convert(paths, outdir: Path, target: str, ext: str, timeout: float) -> dict
     if soffice is None:
         raise RuntimeError(SETUP_HINT)
 
-    with tempfile.TemporaryDirectory(prefix="sheetkin-lo-profile-") as profile:
-        (Path(profile) / "user").mkdir()
-        (Path(profile) / "user" / "registrymodifications.xcu").write_text(_REGISTRY, "utf-8")
+    with scratch_folder("sheetkin-lo-profile-") as profile:
+        (profile / "user").mkdir()
+        (profile / "user" / "registrymodifications.xcu").write_text(_REGISTRY, "utf-8")
+        (profile / "tmp").mkdir()       # LibreOffice's own temporary files (lu*.tmp) go with the profile
         cmd = [
             soffice,
-            f"-env:UserInstallation={Path(profile).as_uri()}",
+            f"-env:UserInstallation={profile.as_uri()}",
             "--headless", "--norestore", "--nolockcheck", "--nologo",
             "--convert-to", target, "--outdir", str(outdir),
             *map(str, inputs),
         ]
         # Own process group: on timeout kill the wrapper and soffice.bin together.
+        env = dict(os.environ, TMPDIR=str(profile / "tmp"))
         proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                                stdin=subprocess.DEVNULL, start_new_session=True)
+                                stdin=subprocess.DEVNULL, start_new_session=True, env=env)
+        _RUNNING.add(proc.pid)
         try:
             out, err = proc.communicate(timeout=timeout)
         except subprocess.TimeoutExpired:
-            os.killpg(proc.pid, signal.SIGKILL)
+            _kill_group(proc)
             out, err = proc.communicate()
             raise RuntimeError(
                 f"soffice timed out after {timeout} s\ncommand: {cmd}\nstdout:\n{out}\nstderr:\n{err}"
@@ -118,6 +177,8 @@ def _convert(paths, outdir: Path, target: str, ext: str, timeout: float) -> dict
             # from the terminal's signals, so it would convert on alone (issue 23: 3.35 GB)
             _kill_group(proc)
             raise
+        finally:
+            _RUNNING.discard(proc.pid)
 
     missing = [p for p, o in expected.items() if not o.is_file()]
     if missing:
@@ -129,11 +190,13 @@ def _convert(paths, outdir: Path, target: str, ext: str, timeout: float) -> dict
 
 
 def _kill_group(proc: subprocess.Popen) -> None:
-    """SIGKILL soffice's process group (the wrapper and soffice.bin) and reap the wrapper."""
+    """SIGKILL soffice's process group (the wrapper and soffice.bin), reap the wrapper, and
+    wait until the group is gone (its profile folder is removed next)."""
     with contextlib.suppress(OSError):          # already gone
         os.killpg(proc.pid, signal.SIGKILL)
     with contextlib.suppress(subprocess.TimeoutExpired, OSError):
         proc.wait(5)
+    _wait_group(proc.pid, 5.0)
 
 
 def recalculate(paths: list[Path], outdir: Path, timeout: float = 300) -> dict[Path, Path]:

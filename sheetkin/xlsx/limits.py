@@ -19,6 +19,7 @@ from typing import cast
 from .cells import Sheet
 from .context import PAD_CELLS
 from .coords import get_column_letter
+from .functions import XlError
 from .package import Limits, UnusableWorkbook, _show
 from .parse import Note, Ref, _nodes, arity_problem, functions_of, refs_of
 from .runs import Run, _span
@@ -101,14 +102,14 @@ def _check_names(name_refs: dict) -> dict[str, Note]:
                     if weight[n] > MAX_EVAL_DEPTH:
                         notes[n] = Note(f"the name {n}: names within names nested deeper than "
                                         f"{MAX_EVAL_DEPTH} levels", "#VALUE!")
-                        name_refs[n], weight[n] = ("const", "#VALUE!"), 1
+                        name_refs[n], weight[n] = ("const", XlError("#VALUE!")), 1
                 continue
             if state.get(m) == 1:                   # back to a name on the path: a circle
                 circle = path[path.index(m):]
                 text = " -> ".join(circle + [m])
                 for x in circle:
                     notes[x] = Note(f"the names refer to each other in a circle ({_show(text, 200)}): #N/A", "#N/A")
-                    name_refs[x], weight[x] = ("const", "#N/A"), 1
+                    name_refs[x], weight[x] = ("const", XlError("#N/A")), 1
             elif m not in state:
                 state[m] = 1
                 path.append(m)

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 from .cells import _MAX_COL, _MAX_ROW
 from .coords import Token, Tokenizer, column_index_from_string
-from .functions import ERRORS
+from .functions import ERRORS, XlError
 from .package import _show
 
 _CELL = re.compile(r"^(\$?)([A-Za-z]{1,3})(\$?)(\d+)$")
@@ -90,7 +90,7 @@ def _cell(text: str, host_r: int, host_c: int):
 
 def _operand_ref(text: str, host_r: int, host_c: int, names: dict):
     if text.upper().endswith("!#REF!"):     # Sheet1!#REF!: a reference to deleted cells
-        return ("const", "#REF!")
+        return ("const", XlError("#REF!"))
     sheet, ref = _split_sheet(text)
     parts = ref.split(":")
     if len(parts) > 2:
@@ -149,8 +149,10 @@ MAX_ARGS = 255                    # arguments of one function
 # (LibreOffice writes #VALUE! for =SIN(1,2)); functions not listed take 0..MAX_ARGS
 ARITY = {
     **{f: (1, 1) for f in ("SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN", "SQRT", "RADIANS", "DEGREES",
-                           "ABS", "SIGN", "EXP", "LN", "LOG10", "NOT", "ISNUMBER", "ISERROR", "ISTEXT")},
-    **{f: (2, 2) for f in ("ATAN2", "MOD", "POWER", "ROUND", "IFERROR")},
+                           "ABS", "SIGN", "EXP", "LN", "LOG10", "NOT", "ISNUMBER", "ISERROR", "ISTEXT",
+                           "ISERR", "ISNA", "ERROR.TYPE")},
+    **{f: (2, 2) for f in ("ATAN2", "MOD", "POWER", "ROUND", "IFERROR", "REPT")},
+    "CONCATENATE": (1, 255),
     **{f: (1, MAX_ARGS) for f in ("SUM", "AVERAGE", "MIN", "MAX", "COUNT", "SUMPRODUCT", "AND", "OR")},
     "IF": (1, 3), "PI": (0, 0),
     # Excel's arities of functions other branches add (harmless until they are supported)
@@ -225,87 +227,97 @@ def parse_formula(formula: str, host_r: int, host_c: int, names: dict):
     except Exception as e:      # noqa: BLE001 - the tokenizer's own errors (TokenizerError, IndexError...)
         raise ParseError(f"not a formula ({type(e).__name__}: {_show(e, 100)})") from None
     _check_limits(tokens)
-    pos = 0
+    parser = _Parser(tokens, host_r, host_c, names)
+    tree = parser.expression(0)
+    if parser.pos != len(tokens):
+        raise ParseError(f"unexpected {tokens[parser.pos].value!r}")
+    return tree
 
-    def peek():
-        return tokens[pos] if pos < len(tokens) else None
 
-    def take():
-        nonlocal pos
-        pos += 1
-        return tokens[pos - 1]
+def _operand(t, host_r: int, host_c: int, names: dict):
+    """The tree of one operand token: a number, a text, a boolean, an error, a reference or a name."""
+    if t.subtype == Token.NUMBER:
+        x = float(t.value)
+        return ("const", x if math.isfinite(x) else XlError("#NUM!"))   # =1e999: past the largest double
+    if t.subtype == Token.TEXT:
+        return ("const", t.value[1:-1].replace('""', '"'))
+    if t.subtype == Token.LOGICAL:
+        return ("const", t.value.upper() == "TRUE")
+    if t.subtype == Token.ERROR:
+        return ("const", XlError(t.value.upper()))
+    node = _operand_ref(t.value, host_r, host_c, names)
+    return ("ref", node) if isinstance(node, Ref) else node
 
-    def primary():
-        t = take() if peek() else None
+
+class _Parser:
+    """Precedence climbing over a formula's tokens; the host cell and the names decide
+    what a reference or a word is."""
+
+    def __init__(self, tokens: list, host_r: int, host_c: int, names: dict):
+        self.tokens, self.pos = tokens, 0
+        self.host_r, self.host_c, self.names = host_r, host_c, names
+
+    def peek(self):
+        return self.tokens[self.pos] if self.pos < len(self.tokens) else None
+
+    def take(self):
+        self.pos += 1
+        return self.tokens[self.pos - 1]
+
+    def primary(self):
+        t = self.take() if self.peek() else None
         if t is None:
             raise ParseError("the formula ends too early")
         if t.type == Token.OP_PRE:
-            node = ("neg", unary_operand()) if t.value == "-" else unary_operand()
-            return postfix(node)
+            # unary minus binds tighter than ^ in Excel: -2^2 = 4
+            node = ("neg", self.primary()) if t.value == "-" else self.primary()
+            return self.postfix(node)
         if t.type == Token.OPERAND:
-            if t.subtype == Token.NUMBER:
-                x = float(t.value)
-                node = ("const", x if math.isfinite(x) else "#NUM!")   # =1e999: past the largest double
-            elif t.subtype == Token.TEXT:
-                node = ("const", t.value[1:-1].replace('""', '"'))
-            elif t.subtype == Token.LOGICAL:
-                node = ("const", t.value.upper() == "TRUE")
-            elif t.subtype == Token.ERROR:
-                node = ("const", t.value.upper())
-            else:
-                node = _operand_ref(t.value, host_r, host_c, names)
-                if isinstance(node, Ref):
-                    node = ("ref", node)
-            return postfix(node)
+            return self.postfix(_operand(t, self.host_r, self.host_c, self.names))
         if t.type == Token.PAREN and t.subtype == Token.OPEN:
-            node = expression(0)
-            close = take() if peek() else None
+            node = self.expression(0)
+            close = self.take() if self.peek() else None
             if close is None or close.type != Token.PAREN:
                 raise ParseError("unbalanced parentheses")
-            return postfix(node)
+            return self.postfix(node)
         if t.type == Token.FUNC and t.subtype == Token.OPEN:
-            name = t.value[:-1].upper().removeprefix("_XLFN.")
-            args: list[tuple] = []
-            if peek() and peek().type == Token.FUNC and peek().subtype == Token.CLOSE:
-                take()
-                return postfix(("fn", name, args))
-            while True:
-                nxt = peek()
-                if nxt and (nxt.type == Token.SEP or (nxt.type == Token.FUNC and nxt.subtype == Token.CLOSE)):
-                    args.append(("missing",))      # =ROUND(2.5,) : an empty argument
-                else:
-                    args.append(expression(0))
-                sep = take() if peek() else None
-                if sep is None:
-                    raise ParseError(f"{name}( is not closed")
-                if sep.type == Token.FUNC and sep.subtype == Token.CLOSE:
-                    return postfix(("fn", name, args))
-                if not (sep.type == Token.SEP and sep.subtype == Token.ARG):
-                    raise ParseError(f"unexpected {sep.value!r} in {name}(...)")
+            return self.postfix(self.function(t.value[:-1].upper().removeprefix("_XLFN.")))
         raise ParseError(f"unexpected {t.value!r}")
 
-    def unary_operand():
-        # unary minus binds tighter than ^ in Excel: -2^2 = 4
-        return primary()
+    def function(self, name: str):
+        """A function's arguments, after its opening token, up to its closing one."""
+        args: list[tuple] = []
+        nxt = self.peek()
+        if nxt and nxt.type == Token.FUNC and nxt.subtype == Token.CLOSE:
+            self.take()
+            return ("fn", name, args)
+        while True:
+            nxt = self.peek()
+            if nxt and (nxt.type == Token.SEP or (nxt.type == Token.FUNC and nxt.subtype == Token.CLOSE)):
+                args.append(("missing",))      # =ROUND(2.5,) : an empty argument
+            else:
+                args.append(self.expression(0))
+            sep = self.take() if self.peek() else None
+            if sep is None:
+                raise ParseError(f"{name}( is not closed")
+            if sep.type == Token.FUNC and sep.subtype == Token.CLOSE:
+                return ("fn", name, args)
+            if not (sep.type == Token.SEP and sep.subtype == Token.ARG):
+                raise ParseError(f"unexpected {sep.value!r} in {name}(...)")
 
-    def postfix(node):
-        while peek() and peek().type == Token.OP_POST:
-            take()
+    def postfix(self, node):
+        while self.peek() and self.peek().type == Token.OP_POST:
+            self.take()
             node = ("pct", node)
         return node
 
-    def expression(min_prec):
-        left = primary()
-        while peek() and peek().type == Token.OP_IN and _PREC.get(peek().value, 0) > min_prec:
-            op = take().value
-            right = expression(_PREC[op])
+    def expression(self, min_prec: int):
+        left = self.primary()
+        while self.peek() and self.peek().type == Token.OP_IN and _PREC.get(self.peek().value, 0) > min_prec:
+            op = self.take().value
+            right = self.expression(_PREC[op])
             left = ("bin", op, left, right)
         return left
-
-    tree = expression(0)
-    if pos != len(tokens):
-        raise ParseError(f"unexpected {tokens[pos].value!r}")
-    return tree
 
 
 def _nodes(tree):

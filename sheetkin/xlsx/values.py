@@ -25,10 +25,9 @@ from typing import Any, Protocol, cast
 import numpy as np
 
 from . import functions as fx
-from .functions import DIV0, ERRORS, NUMERR, VALUE
+from .functions import DIV0, ERRORS, MAX_TEXT, NA, NUMERR, VALUE, XlError
 
 NUM, BOOL, TEXT, EMPTY = 0, 1, 2, 3
-MAX_TEXT = 32_767          # characters of one cell's text, Excel's limit (#VALUE! past it)
 
 
 # --------------------------------------------------------------------------- values
@@ -81,11 +80,16 @@ def _const_new(value, k) -> Val:
         return Val(np.full((k, 1, 1), float(value)), np.full((k, 1, 1), BOOL, np.int8))
     if isinstance(value, (int, float)):
         return Val(np.full((k, 1, 1), float(value)), np.zeros((k, 1, 1), np.int8))
-    if isinstance(value, str) and value in ERRORS:
-        return Val(np.zeros((k, 1, 1)), np.full((k, 1, 1), ERRORS[value], np.int8))
+    if isinstance(value, XlError):           # an error; a plain str that spells one is text
+        return Val(np.zeros((k, 1, 1)), np.full((k, 1, 1), ERRORS.get(value, VALUE), np.int8))
     txt = np.empty((k, 1, 1), dtype=object)
     txt[...] = value
     return Val(np.zeros((k, 1, 1)), np.full((k, 1, 1), TEXT, np.int8), txt)
+
+
+def _err(code: str, k: int = 1) -> Val:
+    """The error `code` ("#VALUE!") in each of k cells."""
+    return _const(XlError(code), k)
 
 
 def _error_of(*tags) -> np.ndarray:
@@ -333,6 +337,27 @@ def _round(x, n):
     return out
 
 
+def _rept(a: Val, b: Val) -> Val:
+    """REPT(text, times): #VALUE! for a negative count or past MAX_TEXT characters, known
+    from the lengths before any text is built."""
+    ta, ea = _to_text(a)
+    n, eb = _to_number(b)
+    shape = np.broadcast_shapes(ta.shape, n.shape)
+    ta, n = np.broadcast_to(ta, shape), np.broadcast_to(n, shape)
+    err = _error_of(ea, eb)
+    out = np.empty(shape, dtype=object)
+    for idx in np.ndindex(shape):
+        x = float(n[idx])
+        times = math.trunc(x) if math.isfinite(x) else -1
+        if times < 0 or len(ta[idx]) * times > MAX_TEXT:
+            out[idx] = ""
+            if not err[idx]:
+                err[idx] = VALUE
+        else:
+            out[idx] = ta[idx] * times if ta[idx] else ""
+    return Val(np.zeros(shape), np.where(err == 0, TEXT, err).astype(np.int8), out)
+
+
 def _TRIG_OK(x):
     return np.abs(x) < 134217728.0
 
@@ -351,7 +376,7 @@ SCALAR_FUNCS = {
     "POWER": _binary(np.power,
                      lambda a, b: np.where((a == 0) & (b < 0), DIV0, np.where((a == 0) & (b == 0), NUMERR, 0))),
     "ROUND": _binary(lambda x, n: _round(x, np.trunc(n))),
-    "INT": _unary(fx.int_), "FLOOR": _binary(fx.floor, fx.floor_check),
+    "REPT": _rept, "INT": _unary(fx.int_), "FLOOR": _binary(fx.floor, fx.floor_check),
     "CEILING": _binary(fx.ceiling, fx.ceiling_check),
 }
 
@@ -482,7 +507,7 @@ def _agg_count(args, ranges):
 
 def _agg_sumproduct(args, ranges):
     if len({v.shape[1:] for v in args}) > 1:      # arrays of different sizes
-        return _const("#VALUE!", max(v.shape[0] for v in args))
+        return _err("#VALUE!", max(v.shape[0] for v in args))
     prod, err = None, None
     for v in args:
         n = np.where(v.tag == NUM, v.num, np.where(v.tag == BOOL, 0.0, 0.0))
@@ -583,9 +608,32 @@ def _is(test: Callable[[Val], np.ndarray]) -> Hook:
     return hook
 
 
+# ERROR.TYPE's numbers, Excel's documented table; any other error (Excel 365's newer ones)
+# and any value that is not an error: #N/A
+_ERROR_TYPE = {code: i for i, code in enumerate(
+    ("#NULL!", "#DIV/0!", "#VALUE!", "#REF!", "#NAME?", "#NUM!", "#N/A", "#GETTING_DATA"), 1)}
+_ERROR_TYPE_OF = np.zeros(max(ERRORS.values()) + 1)
+for _code, _n in _ERROR_TYPE.items():
+    _ERROR_TYPE_OF[ERRORS[_code]] = _n
+
+
+def _error_type(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
+    v = ctx.eval(args[0], run)
+    n = _ERROR_TYPE_OF[np.clip(v.tag, 0, _ERROR_TYPE_OF.size - 1)]
+    return Val(n, np.where(n > 0, NUM, NA).astype(np.int8))
+
+
+def _concatenate(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
+    """CONCATENATE(a, b, ...): `&` over its arguments, capped the same way."""
+    out = _const("")
+    for a in args:
+        out = _concat(out, ctx.eval(a, run))
+    return out
+
+
 def _boolean(value: bool) -> Hook:
     def hook(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
-        return _const(value) if not args else _const("#VALUE!", len(run.cols))
+        return _const(value) if not args else _err("#VALUE!", len(run.cols))
     return hook
 
 
@@ -601,7 +649,7 @@ def _rounding(name: str) -> Hook:
 
     def hook(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
         if not 1 <= len(args) <= fx.ROUNDING_ARITY[name]:
-            return _const("#VALUE!", len(run.cols))
+            return _err("#VALUE!", len(run.cols))
         vals = [_arg(ctx, args, i, run, _const(0.0)) for i in range(len(args))]
         vals += [_const(d) for d in defaults[len(args) - 1:]]
         nums, errs = zip(*(_to_number(v) for v in vals), strict=False)
@@ -635,7 +683,11 @@ LAZY: dict[str, Lazy] = {
     "ISNUMBER": Lazy(_is(lambda v: v.tag == NUM), "asks a value's type: errors are an answer"),
     "ISERROR": Lazy(_is(lambda v: v.tag >= 10), "asks a value's type: errors are an answer"),
     "ISTEXT": Lazy(_is(lambda v: v.tag == TEXT), "asks a value's type: errors are an answer"),
-    "NA": Lazy(lambda ctx, args, run: _const("#N/A", len(run.cols)), "the charts' gap: #N/A is not plotted"),
+    "ISERR": Lazy(_is(lambda v: (v.tag >= 10) & (v.tag != NA)), "asks a value's type: errors are an answer"),
+    "ISNA": Lazy(_is(lambda v: v.tag == NA), "asks a value's type: errors are an answer"),
+    "ERROR.TYPE": Lazy(_error_type, "asks which error: errors are an answer"),
+    "CONCATENATE": Lazy(_concatenate, "any number of arguments, joined as `&` joins two"),
+    "NA": Lazy(lambda ctx, args, run: _err("#N/A", len(run.cols)), "the charts' gap: #N/A is not plotted"),
     "TRUE": Lazy(_boolean(True), "LibreOffice writes TRUE() and FALSE()"),
     "FALSE": Lazy(_boolean(False), "LibreOffice writes TRUE() and FALSE()"),
     "TRUNC": Lazy(_trunc, "an optional second argument"),

@@ -282,9 +282,10 @@ def test_shown():
     assert shown("plain") == "plain"
 
 
-def _typed(tmp_path, value: str) -> Path:
-    """The four-bar's book with a computed cell (F41, y_A) replaced by the number `value`."""
-    out = tmp_path / f"typed_{abs(hash(value))}.xlsx"
+def _typed(tmp_path, value: str, cell: str | None = None) -> Path:
+    """The four-bar's book with a computed cell (F41, y_A) replaced by the number `value`
+    (or by `cell`, the <c> element's attributes after r=".." and its content)."""
+    out = tmp_path / f"typed_{abs(hash((value, cell)))}.xlsx"
     with zipfile.ZipFile(BOOK) as zin, zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as zout:
         for info in zin.infolist():
             data = zin.read(info)
@@ -292,7 +293,8 @@ def _typed(tmp_path, value: str) -> Path:
                 s = data.decode()
                 m = [m for m in re.finditer(r'<c r="(F(\d+))"[^>]*><f>[^<]*</f><v>[^<]*</v></c>', s)
                      if int(m.group(2)) > 40][0]
-                s = s[:m.start()] + f'<c r="{m.group(1)}"><v>{value}</v></c>' + s[m.end():]
+                body = f"><v>{value}</v>" if cell is None else cell
+                s = s[:m.start()] + f'<c r="{m.group(1)}"{body}</c>' + s[m.end():]
                 data = s.encode()
             zout.writestr(info, data)
     return out
@@ -303,6 +305,25 @@ def test_non_finite_typed_values_are_a_wrong_row(capsys, tmp_path, value):
     code, out, err = run(capsys, "validate", _typed(tmp_path, value))
     assert code == 1, out + err                   # mistakes found, not unusable, not exit 70
     assert "#NUM!" in out and "internal error" not in out
+
+
+@pytest.mark.parametrize("what, cell", [
+    ("a 40,000-character inline string", ' t="inlineStr"><is><t>' + "x" * 40_000 + "</t></is>"),
+    ("a 40,000-character saved text result", ' t="str"><f>F40&amp;""</f><v>' + "x" * 40_000 + "</v>"),
+    ("REPT a billion times", ' t="str"><f>REPT("ab",1E9)</f><v></v>'),
+    ("text doubled 40 times", ' t="str"><f>REPT(REPT(REPT(REPT("ab",1000),1000),1000),1000)</f><v></v>'),
+    ("the text #N/A typed", ' t="inlineStr"><is><t>#N/A</t></is>'),
+    ("the text #N/A as a formula's result", ' t="str"><f>"#N/A"</f><v>#N/A</v>'),
+])
+def test_long_and_error_like_text_is_a_wrong_row(capsys, tmp_path, what, cell):
+    """Text past Excel's 32,767 characters (read from the file, or made by a formula), or a
+    text that spells an error, in a computed cell: that row is wrong, bounded in time."""
+    import time
+    t0 = time.monotonic()
+    code, out, err = run(capsys, "validate", _typed(tmp_path, "", cell))
+    assert code == 1, what + out + err            # mistakes found: not unusable, not exit 70
+    assert "internal error" not in out + err and "Traceback" not in err
+    assert time.monotonic() - t0 < 60
 
 
 # --------------------------------------------------------------------------- 4. no silent wrong answer

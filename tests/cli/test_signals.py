@@ -140,3 +140,66 @@ def test_an_interrupted_write_leaves_the_old_file_and_no_temporary(tmp_path, sig
     assert "Traceback" not in err
     assert not list(tmp_path.glob(".sheetkin-*")), "a temporary file was left behind"
     assert (tmp_path / "out.csv").read_text() == "the old content\n"
+
+
+# ---------------------------------------------------------------- LibreOffice interrupted
+def _fods(path: Path) -> Path:
+    import realfiles as rf
+    rows = [[rf.text("x"), rf.num(2.0)], [rf.text("y"), rf.formula("[.B1]*2")]]
+    return rf.fods(path, [rf.table("Calc", rows)])
+
+
+def _ours(marker: str) -> list[int]:
+    """Live processes whose command line holds `marker` (our temporary folder: soffice,
+    oosplash and soffice.bin are started with -env:UserInstallation inside it)."""
+    out = []
+    for d in Path("/proc").iterdir():
+        if not d.name.isdigit() or int(d.name) == os.getpid():
+            continue
+        try:
+            cmd = (d / "cmdline").read_bytes()
+        except OSError:
+            continue
+        if marker.encode() in cmd and (b"soffice" in cmd or b"oosplash" in cmd) and _alive(int(d.name)):
+            out.append(int(d.name))
+    return out
+
+
+@pytest.mark.parametrize("layout", ["one", "batch", "worker"])
+@pytest.mark.parametrize("signals, code", [((signal.SIGINT,), 130), ((signal.SIGTERM,), 143),
+                                           ((signal.SIGINT, signal.SIGINT), 130)])
+def test_libreoffice_interrupted_leaves_nothing(tmp_path, soffice, layout, signals, code):
+    """`validate` of OpenDocument books, interrupted while LibreOffice converts: one book
+    (converted in the command's process), two (one LibreOffice run for both, before the
+    pool), or one .fods beside an .xlsx with two workers (converted inside a worker). The
+    command exits 130/143 promptly; no soffice, oosplash or soffice.bin started with our
+    temporary profile is left, and nothing is left in the temporary folder (TMPDIR)."""
+    tmp = tmp_path / "tmp"
+    tmp.mkdir()
+    cls = tmp_path / "cls"
+    cls.mkdir()
+    _fods(cls / "a.fods")
+    if layout == "batch":
+        _fods(cls / "b.fods")
+    if layout == "worker":
+        (cls / "b.xlsx").write_bytes((WORKBOOKS / "fourbar.xlsx").read_bytes())
+    env = dict(os.environ, PYTHONPATH=str(ROOT), TMPDIR=str(tmp))
+    target = cls / "a.fods" if layout == "one" else cls
+    proc = subprocess.Popen([sys.executable, "-m", "sheetkin", "validate", str(target), "--jobs", "2"],
+                            cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    _wait_for(lambda: _ours(str(tmp)), timeout=60)
+    time.sleep(0.3)
+    t0 = time.monotonic()
+    for s in signals:
+        os.kill(proc.pid, s)
+        time.sleep(0.05)
+    out, err = proc.communicate(timeout=60)
+    assert proc.returncode == code, (out, err)
+    assert time.monotonic() - t0 < 15
+    assert "Traceback" not in err
+    deadline = time.monotonic() + 5              # SIGKILLed processes vanish at once; allow the reaping
+    while _ours(str(tmp)) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert not _ours(str(tmp)), "a LibreOffice process of ours outlived the command"
+    left = sorted(str(p.relative_to(tmp)) for p in tmp.rglob("*"))
+    assert not left, f"temporary files left: {left[:10]}"

@@ -317,7 +317,7 @@ def test_a_class_of_ods_files_is_converted_in_one_run(lo, tmp_path, monkeypatch,
     """`sheetkin validate FOLDER` converts all the folder's .ods and .fods files in one
     LibreOffice run (not one per file), and reads each from its converted copy."""
     from sheetkin.cli.commands import main
-    from sheetkin.xlsx import cells as xlsxread
+    from sheetkin.xlsx import convert as xlsxconvert
     from sheetkin.xlsx import libreoffice
     folder = tmp_path / "class"
     folder.mkdir()
@@ -329,7 +329,7 @@ def test_a_class_of_ods_files_is_converted_in_one_run(lo, tmp_path, monkeypatch,
     convert = libreoffice._convert
     monkeypatch.setattr(libreoffice, "_convert",
                         lambda paths, *a, **k: runs.append(len(paths)) or convert(paths, *a, **k))
-    monkeypatch.setattr(xlsxread, "_CONVERTED", {})
+    monkeypatch.setattr(xlsxconvert, "_CONVERTED", {})
     assert main(["validate", str(folder), "--progress", "always"]) == 2      # no embedded scene: each one line
     assert runs == [4]
     out, err = capsys.readouterr()

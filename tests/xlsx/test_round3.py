@@ -12,8 +12,9 @@ from pathlib import Path
 import openpyxl
 import pytest
 
+from sheetkin.xlsx.cells import read_book
 from sheetkin.xlsx.evaluator import evaluate
-from sheetkin.xlsx.functions import ERRORS
+from sheetkin.xlsx.functions import ERRORS, XlError
 from sheetkin.xlsx.package import UnusableWorkbook
 from sheetkin.xlsx.values import MAX_TEXT
 
@@ -146,3 +147,167 @@ def test_duplicate_sheet_names_are_refused(tmp_path, second):
             zout.writestr(info, data)
     with pytest.raises(UnusableWorkbook, match="two sheets named"):
         evaluate(patched)
+
+
+# ---------------------------------------------------------------- errors are not text
+# A text that spells an error ("#N/A" typed, a shared or inline string, a formula's text
+# result, a literal "#N/A" in a formula) is text: Excel, LibreOffice and Gnumeric say
+# =ISERROR("#N/A") is FALSE. Expected values: those engines (the three-engine test below
+# recalculates the same book in LibreOffice and Gnumeric).
+TEXT_AS_ERROR = {
+    "B1": ('=ISERROR("#N/A")', False), "B2": ('=ISERR("#DIV/0!")', False),
+    "B3": ('=IFERROR("#N/A",1)', "#N/A"), "B4": ('=ISTEXT("#N/A")', True),
+    "B5": ('=ERROR.TYPE("#N/A")', "an error"), "B6": ('="#N/A"=NA()', "an error"),
+    "B7": ("=ISERROR(A1)", False), "B8": ("=ISTEXT(A1)", True), "B9": ("=IFERROR(A1,1)", "#N/A"),
+    "B10": ("=ISERROR(A2)", False), "B11": ("=ISERR(A2)", False), "B12": ('=A1&""', "#N/A"),
+    "B13": ("=ERROR.TYPE(NA())", 7), "B14": ("=ERROR.TYPE(1/0)", 2), "B15": ("=ISNA(NA())", True),
+    "B16": ("=ISERR(NA())", False), "B17": ('=ISNA("#N/A")', False), "B18": ('=IF(A1="#N/A",1,2)', 1),
+    "B19": ('="#N/A"="#n/a"', True), "B20": ("=ISERROR(B12)", False), "B21": ("=ISTEXT(B12)", True),
+    "B22": ('=REPT("ab",3)', "ababab"), "B23": ('=CONCATENATE("a",1,"#N/A")', "a1#N/A"),
+    "B24": ("=ISERROR(A3)", True), "B25": ("=ISTEXT(A3)", False), "B26": ("=ERROR.TYPE(A3)", 7),
+    "B27": ("=ISERR(A4)", True), "B28": ('=IFERROR(A4,"x")', "x"), "B29": ("=ISERROR(A5)", False),
+    "B30": ("=ERROR.TYPE(A4)", 2), "B31": ("=ISERR(#N/A)", False),
+}
+
+
+def _texts_and_errors_book(tmp_path: Path) -> Path:
+    """A1 "#N/A" and A2 "#DIV/0!" typed as text, A5 "#VALUE!" a shared string; A3 the error
+    #N/A and A4 #DIV/0! saved as errors (t="e"); column B the formulas of TEXT_AS_ERROR."""
+    wb = openpyxl.Workbook()
+    ws = wb.active
+    for ref, text in (("A1", "#N/A"), ("A2", "#DIV/0!")):
+        ws[ref] = text
+        ws[ref].data_type = "s"             # openpyxl would take it for an error
+    ws["A3"], ws["A4"], ws["A5"] = "#N/A", "#DIV/0!", "placeholder"     # errors (openpyxl: t="e")
+    for ref, (formula, _) in TEXT_AS_ERROR.items():
+        ws[ref] = formula
+    path = tmp_path / "texts.xlsx"
+    wb.save(path)
+    return _with_shared_string(path, tmp_path / "texts-ss.xlsx", "A5", "#VALUE!")
+
+
+def _with_shared_string(path: Path, out: Path, ref: str, text: str) -> Path:
+    """The book with cell `ref` (an inline string) holding shared string 0, `text`."""
+    main = "http://schemas.openxmlformats.org/spreadsheetml/2006/main"
+    with zipfile.ZipFile(path) as zin, zipfile.ZipFile(out, "w") as zout:
+        for info in zin.infolist():
+            data = zin.read(info)
+            if info.filename == "xl/worksheets/sheet1.xml":
+                start = data.index(f'<c r="{ref}" t="inlineStr">'.encode())
+                end = data.index(b"</c>", start) + 4
+                data = data[:start] + f'<c r="{ref}" t="s"><v>0</v></c>'.encode() + data[end:]
+            elif info.filename == "[Content_Types].xml" and b"sharedStrings" not in data:
+                data = data.replace(b"</Types>", b'<Override PartName="/xl/sharedStrings.xml" ContentType='
+                                    b'"application/vnd.openxmlformats-officedocument.spreadsheetml.sharedStrings'
+                                    b'+xml"/></Types>')
+            zout.writestr(info, data)
+        zout.writestr("xl/sharedStrings.xml", f'<sst xmlns="{main}" count="1" uniqueCount="1"><si><t>'
+                      f"{text}</t></si></sst>".encode())
+    return out
+
+
+def _kind(v):
+    """A value as the engines are compared: an error is "an error", whatever its code."""
+    return "an error" if isinstance(v, XlError) else v
+
+
+def test_text_that_spells_an_error_is_text(tmp_path):
+    path = _texts_and_errors_book(tmp_path)
+    raw = read_book(path)
+    consts = raw.sheets[raw.order[0]].consts
+    assert type(consts[(1, 1)]) is str and type(consts[(5, 1)]) is str      # typed text, shared string
+    assert type(consts[(3, 1)]) is XlError and consts[(3, 1)] == "#N/A"     # a saved error
+    book = evaluate(path)
+    sheet = book.order[0]
+    got = {ref: _kind(_value(book, sheet, ref)) for ref in TEXT_AS_ERROR}
+    assert got == {ref: want for ref, (_, want) in TEXT_AS_ERROR.items()}
+    assert type(_value(book, sheet, "A1")) is str and type(_value(book, sheet, "B12")) is str
+    assert isinstance(_value(book, sheet, "B6"), XlError) and _value(book, sheet, "B6") == "#N/A"
+
+
+def test_text_that_spells_an_error_three_engines(tmp_path, soffice, ssconvert):
+    """The same book recalculated by LibreOffice and Gnumeric: every cell of column B the
+    same kind of value (an error, a text, a number, a boolean) as sheetkin's; their saved
+    text results (t="str", "#N/A") are read back as text, their errors (t="e") as errors."""
+    from engines import gnumeric_recalc
+    from libreoffice import recalculate
+    path = _texts_and_errors_book(tmp_path)
+    book = evaluate(path)
+    ours = {ref: _kind(_value(book, book.order[0], ref)) for ref in TEXT_AS_ERROR}
+    lo = recalculate([path], tmp_path / "lo")[path.resolve()]
+    for engine, out in (("libreoffice", lo), ("gnumeric", gnumeric_recalc(path, tmp_path / "gn"))):
+        raw = read_book(out)
+        sh = raw.sheets[raw.order[0]]
+        theirs = {}
+        for ref in TEXT_AS_ERROR:
+            v = sh.cached.get((int(ref[1:]), 2))
+            # a boolean may be saved as a number (t="n"): compared as the boolean
+            theirs[ref] = bool(v) if isinstance(ours[ref], bool) and isinstance(v, float) else _kind(v)
+        assert theirs == ours, engine
+        assert type(sh.cached[(12, 2)]) is str                   # "#N/A" saved as a text result
+
+
+# ---------------------------------------------------------------- text of at most 32,767 characters
+@pytest.mark.parametrize("how", ["shared", "inline", "cached"])
+@pytest.mark.parametrize("length, ok", [(MAX_TEXT, True), (MAX_TEXT + 1, False), (200_000, False)])
+def test_long_text_read_from_a_file_is_value_error(tmp_path, how, length, ok):
+    """A text longer than a cell may hold, read from the file (a shared string, an inline
+    string, a formula's saved text): #VALUE! in that cell, as a formula making it gives."""
+    wb = openpyxl.Workbook()
+    ws = wb.active
+    ws["A1"] = "placeholder"
+    ws["B1"] = "=ISERROR(A1)"
+    ws["C1"] = '=A1&""'
+    path = tmp_path / "long.xlsx"
+    wb.save(path)
+    text = "x" * length
+    if how == "shared":
+        path = _with_shared_string(path, tmp_path / "long-ss.xlsx", "A1", text)
+    else:
+        patched = tmp_path / "long2.xlsx"
+        with zipfile.ZipFile(path) as zin, zipfile.ZipFile(patched, "w") as zout:
+            for info in zin.infolist():
+                data = zin.read(info)
+                if info.filename == "xl/worksheets/sheet1.xml":
+                    data = data.replace(b"<t>placeholder</t>", f"<t>{text}</t>".encode())
+                    if how == "cached":
+                        data = data.replace(b"<f>A1&amp;\"\"</f><v></v>", b"<f>A1&amp;\"\"</f>")
+                        data = data.replace(b"<f>A1&amp;\"\"</f>", f"<f>A1&amp;\"\"</f><v>{text}</v>".encode())
+                        data = data.replace(b'<c r="C1"', b'<c r="C1" t="str"')
+                zout.writestr(info, data)
+        path = patched
+    raw = read_book(path)
+    sh = raw.sheets[raw.order[0]]
+    if how == "cached":
+        assert sh.cached[(1, 3)] == (text if ok else "#VALUE!")
+        assert isinstance(sh.cached[(1, 3)], XlError) is not ok
+    else:
+        assert sh.consts[(1, 1)] == (text if ok else "#VALUE!")
+        assert isinstance(sh.consts[(1, 1)], XlError) is not ok
+        book = evaluate(path)
+        assert book.value(book.order[0], 1, 2) is (not ok)
+        assert book.value(book.order[0], 1, 3) == (text if ok else "#VALUE!")
+
+
+@pytest.mark.parametrize("formula, length", [
+    ('=REPT("ab",16383)', 32_766), ('=REPT("abc",10922)', 32_766), ('=REPT("x",32767)', 32_767),
+    ('=REPT("x",32768)', None), ('=REPT("ab",16384)', None), ('=REPT("x",1E15)', None),
+    ('=REPT("x",-1)', None), ('=REPT("",1E300)', 0), ('=REPT("x",2.9)', 2),
+    ('=CONCATENATE(REPT("x",20000),REPT("y",12767))', 32_767),
+    ('=CONCATENATE(REPT("x",20000),REPT("y",12768))', None),
+    ('=CONCATENATE(REPT("x",30000),REPT("y",30000),REPT("z",30000))', None),
+])
+def test_text_functions_capped(tmp_path, formula, length):
+    """REPT and CONCATENATE: #VALUE! past 32,767 characters, known from the lengths before
+    any text is built (REPT("x",1E15) would be a petabyte)."""
+    import time
+    t0 = time.perf_counter()
+    book, sheet = _book(tmp_path, {"A1": formula, "B1": "=ISERROR(A1)"})
+    assert time.perf_counter() - t0 < 10
+    v = _value(book, sheet, "A1")
+    if length is None:
+        assert v == "#VALUE!" and isinstance(v, XlError)
+        assert _value(book, sheet, "B1") is True
+    else:
+        assert type(v) is str and len(v) == length
+        assert _value(book, sheet, "B1") is False
