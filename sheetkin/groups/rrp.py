@@ -69,7 +69,8 @@ KEYS = ("type", "links", "joints", "length", "guide", "branch")
 
 # --------------------------------------------------------------------------- the rows' texts
 # format templates, one table per language (fields: group i, coupler la, slider or block lb,
-# joints J1 N, the guide's point G and link k)
+# joints J1 N, the guide's point G and link k). Every language has the same fields: where the
+# English does not say one, it is written {field!s:.0} (formatted as nothing)
 TEXTS = {
     "ru": {
         "L": "длина шатуна {la} ({J1}{N})",
@@ -235,7 +236,7 @@ TEXTS = {
         "phi_a": "angle of coupler {la} ({J1}->{N})",
         "phi_b": "angle of slider {lb} (the guide)",
         "chk_acc": "check of the accepted values: {J1} + L e(phi) - {G} - s u",
-        "G": "G",
+        "G": "G{i!s:.0}",
         "omega_b": "angular velocity of slider {lb}",
         "eps_b": "angular acceleration of slider {lb}",
         "det": "determinant: L cos(phi - gamma)",
@@ -278,7 +279,7 @@ TEXTS = {
         "k_as": "(L_tek)_tt: acceleration of block {N} along the kulisa",
         "block": "Block {N}: carried by the kulisa and sliding on it",
         "of_block": "block {N}",
-        "chk_line": "check: {N} on the kulisa {k}'s line",
+        "chk_line": "check: {N} on the kulisa {k}'s line{G!s:.0}",
         "chk_Ltek_t": "check of (L_tek)_t: (xD - a)(xD)_t + (yD - b)(yD)_t = L_tek (L_tek)_t",
         "chk_Ltek_tt": "check of (L_tek)_tt: the derivative of the equation above",
         "R_det": "determinant: ({J1}-{N}).u (0 with the coupler across the guide)",
