@@ -328,7 +328,7 @@ def cos_sin_rows(b: Builder, k: int):
     b.calc(f"sin_{k}", "", T("sin", k=k), f"SIN(RADIANS({{phi_{k}}}))")
 
 
-# groups.motion.DEAD_POINT as the formulas write it (this module imports nothing; a test keeps them equal)
+# groups.motion.DEAD_POINT as the formulas write it (not imported from motion; a test keeps them equal)
 DEAD_POINT_TEXT = "1E-12"
 
 
