@@ -22,6 +22,7 @@ from sheetkin.groups.parts import BlockPart, Parts, scene_guide
 from sheetkin.groups.rows import (
     Builder,
     InputRow,
+    Texts,
     cos_sin_rows,
     cramer_rows,
     det_row,
@@ -38,6 +39,98 @@ SLIDES = "13-15"
 TITLE = ("шатун и ползун на прямой стойки (пример нового вида группы)",
          "coupler and slider on a line of the frame (an example of a new group kind)")
 KEYS = ("type", "links", "joints", "length", "line", "branch")
+
+
+# --------------------------------------------------------------------------- the rows' texts
+# format templates, one table per language: every key in all three, with the same fields
+# (tests/groups/test_row_texts.py); the rows ask for them by key, T("h", J1=J1)
+TEXTS = {
+    "ru": {
+        "L": "длина шатуна {la}",
+        "lx": "прямая: x точки",
+        "ly": "прямая: y точки",
+        "tilt": "наклон прямой",
+        "branch": "ветвь (+1 или -1)",
+        "group": "Группа {i} (игрушечная {J1}{N})",
+        "h": "расстояние от {J1} до прямой",
+        "foot": "проекция {J1} на прямую",
+        "D": "дискриминант L^2 - h^2",
+        "accepted": "Принятые значения",
+        "s": "перемещение ползуна {N}",
+        "phi_a": "угол шатуна {la}",
+        "phi_b": "угол ползуна {lb}",
+        "omega_b": "угловая скорость ползуна {lb}",
+        "eps_b": "угловое ускорение ползуна {lb}",
+        "det": "определитель L cos(phi - tilt)",
+        "toggle": "cos(phi - tilt) (около 0: мёртвое положение)",
+        "omega_a": "угловая скорость шатуна {la}",
+        "vs": "скорость ползуна {N} вдоль прямой",
+        "f1": "правая часть f1",
+        "f2": "правая часть f2",
+        "eps_a": "угловое ускорение шатуна {la}",
+        "as": "ускорение ползуна {N} вдоль прямой",
+        "slider": "Ползун {N}",
+        "of_slider": "ползуна {N}",
+        "chk_L": "проверка: |{J1}{N}| - L{la}",
+    },
+    "uk": {
+        "L": "довжина шатуна {la}",
+        "lx": "пряма: x точки",
+        "ly": "пряма: y точки",
+        "tilt": "нахил прямої",
+        "branch": "гілка (+1 або -1)",
+        "group": "Група {i} (іграшкова {J1}{N})",
+        "h": "відстань від {J1} до прямої",
+        "foot": "проекція {J1} на пряму",
+        "D": "дискримінант L^2 - h^2",
+        "accepted": "Прийняті значення",
+        "s": "переміщення повзуна {N}",
+        "phi_a": "кут шатуна {la}",
+        "phi_b": "кут повзуна {lb}",
+        "omega_b": "кутова швидкість повзуна {lb}",
+        "eps_b": "кутове прискорення повзуна {lb}",
+        "det": "визначник L cos(phi - tilt)",
+        "toggle": "cos(phi - tilt) (близько 0: мертве положення)",
+        "omega_a": "кутова швидкість шатуна {la}",
+        "vs": "швидкість повзуна {N} уздовж прямої",
+        "f1": "права частина f1",
+        "f2": "права частина f2",
+        "eps_a": "кутове прискорення шатуна {la}",
+        "as": "прискорення повзуна {N} уздовж прямої",
+        "slider": "Повзун {N}",
+        "of_slider": "повзуна {N}",
+        "chk_L": "перевірка: |{J1}{N}| - L{la}",
+    },
+    "en": {
+        "L": "length of coupler {la}",
+        "lx": "the line: x of a point",
+        "ly": "the line: y of a point",
+        "tilt": "the line's tilt",
+        "branch": "branch (+1 or -1)",
+        "group": "Group {i} (toy {J1}{N})",
+        "h": "distance of {J1} from the line",
+        "foot": "{J1}'s foot on the line",
+        "D": "discriminant L^2 - h^2",
+        "accepted": "Accepted values",
+        "s": "travel of slider {N}",
+        "phi_a": "angle of coupler {la}",
+        "phi_b": "angle of slider {lb}",
+        "omega_b": "angular velocity of slider {lb}",
+        "eps_b": "angular acceleration of slider {lb}",
+        "det": "determinant L cos(phi - tilt)",
+        "toggle": "cos(phi - tilt) (near 0: toggle)",
+        "omega_a": "angular velocity of coupler {la}",
+        "vs": "velocity of slider {N} along the line",
+        "f1": "right side f1",
+        "f2": "right side f2",
+        "eps_a": "angular acceleration of coupler {la}",
+        "as": "acceleration of slider {N} along the line",
+        "slider": "Slider {N}",
+        "of_slider": "slider {N}",
+        "chk_L": "check: |{J1}{N}| - L{la}",
+    },
+}
+T = Texts(TEXTS)
 
 
 # --------------------------------------------------------------------------- scene keys
@@ -102,11 +195,11 @@ def solve(g: Group, known: dict[str, Motion], rot: dict[int, Rotation], scale: f
 # --------------------------------------------------------------------------- the workbook
 def input_rows(g: Group) -> list[InputRow]:
     i, la, (x, y) = g.index, g.links[0], g.guide.point
-    return [InputRow(f"L{la}", "m", f"длина шатуна {la}", f"length of coupler {la}", g.length, True),
-            InputRow(f"lx_g{i}", "m", "прямая: x точки", "the line: x of a point", x),
-            InputRow(f"ly_g{i}", "m", "прямая: y точки", "the line: y of a point", y),
-            InputRow(f"tilt_g{i}", "deg", "наклон прямой", "the line's tilt", g.guide.angle_deg),
-            InputRow(f"branch_g{i}", "", "ветвь (+1 или -1)", "branch (+1 or -1)", g.branch)]
+    return [InputRow(f"L{la}", "m", T("L", la=la), g.length, True),
+            InputRow(f"lx_g{i}", "m", T("lx"), x),
+            InputRow(f"ly_g{i}", "m", T("ly"), y),
+            InputRow(f"tilt_g{i}", "deg", T("tilt"), g.guide.angle_deg),
+            InputRow(f"branch_g{i}", "", T("branch"), g.branch)]
 
 
 def with_inputs(g: Group, num) -> Group:
@@ -118,45 +211,44 @@ def with_inputs(g: Group, num) -> Group:
 
 
 def rows(b: Builder, g: Group) -> None:
-    """J1 + L e(phi) = P + s u: h, J1's distance from the line, then s = foot +- sqrt(L^2 - h^2)."""
+    """J1 + L e(phi) = P + s u: h, J1's distance from the line, then s = foot +- sqrt(L^2 - h^2).
+    One builder a kind of row (b.calc, b.accepted, b.check), each row's text a key of TEXTS."""
     i, (la, lb), (J1, N) = g.index, g.links, g.joints
-    L, X, Y, T = f"{{L{la}}}", f"{{lx_g{i}}}", f"{{ly_g{i}}}", f"RADIANS({{tilt_g{i}}})"
+    L, X, Y, tilt = f"{{L{la}}}", f"{{lx_g{i}}}", f"{{ly_g{i}}}", f"RADIANS({{tilt_g{i}}})"
     xj, yj = b.p("x", J1), b.p("y", J1)
-    b.section(f"group_{i}", f"Группа {i} (игрушечная {J1}{N})", f"Group {i} (toy {J1}{N})")
+    b.section(f"group_{i}", T("group", i=i, J1=J1, N=N))
     h, foot, D = f"h_g{i}", f"foot_g{i}", f"D_g{i}"
-    b.add(h, "m", "h", f"distance of {J1} from the line", "calc", f"-({xj}-{X})*SIN({T})+({yj}-{Y})*COS({T})")
-    b.add(foot, "m", "foot", f"{J1}'s foot on the line", "calc", f"({xj}-{X})*COS({T})+({yj}-{Y})*SIN({T})")
-    b.add(D, "m^2", "L^2 - h^2", "discriminant L^2 - h^2", "calc", f"{L}^2-{{{h}}}^2")
+    b.calc(h, "m", T("h", J1=J1), f"-({xj}-{X})*SIN({tilt})+({yj}-{Y})*COS({tilt})")
+    b.calc(foot, "m", T("foot", J1=J1), f"({xj}-{X})*COS({tilt})+({yj}-{Y})*SIN({tilt})")
+    b.calc(D, "m^2", T("D"), f"{L}^2-{{{h}}}^2")
     group_guard(b, g, D, f"{L}^2")    # the size of the discriminant's terms (the dead-point rule), as RRP
-    b.section(f"accepted_g{i}", "Принятые значения", "Accepted values")
+    b.section(f"accepted_g{i}", T("accepted"))
     S = f"{{s_{N}}}"
-    b.add(f"s_{N}", "m", "s", f"travel of slider {N}", "accepted", f"{{{foot}}}+{{branch_g{i}}}*SQRT({{{D}}})")
-    b.add(f"phi_{la}", "deg", "phi", f"angle of coupler {la}", "accepted",
-          f"MOD(DEGREES(ATAN2({X}+{S}*COS({T})-{xj},{Y}+{S}*SIN({T})-{yj})),360)")
-    b.add(f"phi_{lb}", "deg", "phi", f"angle of slider {lb}", "accepted", f"MOD({{tilt_g{i}}},360)")
-    cos_sin_rows(b, la, "", "")
-    cos_sin_rows(b, lb, "", "")
+    b.accepted(f"s_{N}", "m", T("s", N=N), f"{{{foot}}}+{{branch_g{i}}}*SQRT({{{D}}})")
+    b.accepted(f"phi_{la}", "deg", T("phi_a", la=la),
+               f"MOD(DEGREES(ATAN2({X}+{S}*COS({tilt})-{xj},{Y}+{S}*SIN({tilt})-{yj})),360)")
+    b.accepted(f"phi_{lb}", "deg", T("phi_b", lb=lb), f"MOD({{tilt_g{i}}},360)")
+    cos_sin_rows(b, la)
+    cos_sin_rows(b, lb)
     ca, sa, ux, uy = f"{{cos_{la}}}", f"{{sin_{la}}}", f"{{cos_{lb}}}", f"{{sin_{lb}}}"
-    b.add(f"omega_{lb}", "rad/s", "omega", f"angular velocity of slider {lb}", "accepted", "0")
-    b.add(f"eps_{lb}", "rad/s^2", "eps", f"angular acceleration of slider {lb}", "accepted", "0")
+    b.accepted(f"omega_{lb}", "rad/s", T("omega_b", lb=lb), "0")
+    b.accepted(f"eps_{lb}", "rad/s^2", T("eps_b", lb=lb), "0")
     m = (f"(-{L}*{sa})", f"(-{ux})", f"({L}*{ca})", f"(-{uy})")
-    det_row(b, f"Delta_g{i}", m, "m", "det", "determinant L cos(phi - tilt)")
-    b.add(f"det_g{i}", "", "det/L", "cos(phi - tilt) (near 0: toggle)", "calc", f"{{Delta_g{i}}}/{L}")
-    cramer_rows(b, m, f"Delta_g{i}", ((f"omega_{la}", "rad/s", "omega", f"angular velocity of coupler {la}"),
-                                      (f"vs_{N}", "m/s", "vs", f"velocity of slider {N} along the line")),
+    det_row(b, f"Delta_g{i}", m, "m", T("det"))
+    b.calc(f"det_g{i}", "", T("toggle"), f"{{Delta_g{i}}}/{L}")
+    cramer_rows(b, m, f"Delta_g{i}", ((f"omega_{la}", "rad/s", T("omega_a", la=la)), (f"vs_{N}", "m/s", T("vs", N=N))),
                 (f"(-{b.p('vx', J1)})", f"(-{b.p('vy', J1)})"), residual(i, "v"))
     wa = f"{{omega_{la}}}"
-    b.add(f"f1_g{i}", "m/s^2", "f1", "right side f1", "calc", f"-{b.p('ax', J1)}+{L}*{wa}^2*{ca}")
-    b.add(f"f2_g{i}", "m/s^2", "f2", "right side f2", "calc", f"-{b.p('ay', J1)}+{L}*{wa}^2*{sa}")
-    cramer_rows(b, m, f"Delta_g{i}", ((f"eps_{la}", "rad/s^2", "eps", f"angular acceleration of coupler {la}"),
-                                      (f"as_{N}", "m/s^2", "as", f"acceleration of slider {N} along the line")),
+    b.calc(f"f1_g{i}", "m/s^2", T("f1"), f"-{b.p('ax', J1)}+{L}*{wa}^2*{ca}")
+    b.calc(f"f2_g{i}", "m/s^2", T("f2"), f"-{b.p('ay', J1)}+{L}*{wa}^2*{sa}")
+    cramer_rows(b, m, f"Delta_g{i}", ((f"eps_{la}", "rad/s^2", T("eps_a", la=la)), (f"as_{N}", "m/s^2", T("as", N=N))),
                 (f"{{f1_g{i}}}", f"{{f2_g{i}}}"), residual(i, "a"))
     b.place_links(la, lb)
-    b.section(f"point_{N}", f"Ползун {N}", f"Slider {N}")
+    b.section(f"point_{N}", T("slider", N=N))
     vs, as_ = f"{{vs_{N}}}", f"{{as_{N}}}"
-    motion_rows(b, N, f"ползуна {N}", f"slider {N}", f"{X}+{S}*{ux}", f"{Y}+{S}*{uy}",
+    motion_rows(b, N, T("of_slider", N=N), f"{X}+{S}*{ux}", f"{Y}+{S}*{uy}",
                 f"{vs}*{ux}", f"{vs}*{uy}", f"{as_}*{ux}", f"{as_}*{uy}")
-    distance_check(b, f"chk_{J1}{N}", J1, N, L, f"|{J1}{N}| - L", f"check: |{J1}{N}| - L{la}")
+    distance_check(b, f"chk_{J1}{N}", J1, N, L, T("chk_L", J1=J1, N=N, la=la))
 
 
 # --------------------------------------------------------------------------- the rest: RRP's

@@ -49,6 +49,9 @@ Every kind module provides the same surface, under banners in this order:
                     of where the mechanism sits and of its size.
 
   # --- the workbook (sheetkin.groups.rows.Builder)
+  TEXTS = {"ru": {...}, "uk": {...}, "en": {...}}   the rows' descriptions: format templates by
+                             key, one table per language, the same keys and fields in each;
+                             T = rows.Texts(TEXTS), T("phi_a", la=2) is a rows.Text (all three)
   input_rows(g) -> list[rows.InputRow]   the group's editable inputs; InputRow.early: written
                              with the lengths (before the frame points), else after them.
                              Names: L{k} lengths, gx_g{i} gy_g{i} gamma_g{i} a guide,
@@ -60,7 +63,9 @@ Every kind module provides the same surface, under banners in this order:
                              its checks, "accepted values" (contract names), Cramer rows for
                              velocities (Delta_g{i}, det_g{i}), f1_g{i}/f2_g{i}, Cramer rows for
                              accelerations, the new joint's motion (rows.motion_rows) and
-                             checks (chk_*, at least one every 8 rows). Sets b.rot[a], b.rot[b]
+                             checks (chk_*, at least one every 8 rows), each written by its
+                             kind's builder: b.section, b.calc, b.accepted, b.check with a
+                             T(key, ...) text. Sets b.rot[a], b.rot[b]
                              (cos, sin, omega, eps row names) and b.guard_of_link[a], [b].
 
   # --- kinetostatics

@@ -13,7 +13,7 @@ one means; docs/adding-a-kind.md shows a whole kind):
   scene keys          Params, parse, needs, on_links, new_joints, carries, sliders, fourbar
   the drawing         parts (links, guides and slots, blocks; the guides' input rows)
   positions, rates    solve
-  the workbook        input_rows, with_inputs, rows
+  the workbook        TEXTS, input_rows, with_inputs, rows
   kinetostatics       pin_owner, pairs, reactions, reaction_rows
   loop equations      loop, side_ok, discriminant, unknowns
   stability families  STABILITY
@@ -34,7 +34,7 @@ if TYPE_CHECKING:       # motion imports numpy; `sheetkin --help` imports this m
 
 # every member a kind module must define (register checks them at run time)
 MEMBERS = ("KIND", "LECTURE", "SLIDES", "TITLE", "KEYS", "Params", "parse", "needs", "on_links", "new_joints",
-           "carries", "sliders", "fourbar", "parts", "solve", "input_rows", "with_inputs", "rows", "pin_owner",
+           "carries", "sliders", "fourbar", "parts", "solve", "TEXTS", "input_rows", "with_inputs", "rows", "pin_owner",
            "pairs", "reactions", "reaction_rows", "loop", "side_ok", "discriminant", "unknowns", "STABILITY")
 
 
@@ -71,7 +71,10 @@ class KindModule(Protocol):
     # --- positions, velocities, accelerations
     def solve(self, g: Group, known: dict[str, Motion], rot: dict[int, Rotation], scale: float) -> GroupMotion: ...
 
-    # --- the workbook
+    # --- the workbook: the rows' texts, {"ru": {key: template}, "uk": {...}, "en": {...}} (one table
+    # per language, the same keys and format fields in each; rows.Texts(TEXTS)(key, **fields) is a Text)
+    @property
+    def TEXTS(self) -> Mapping[str, Mapping[str, str]]: ...
     def input_rows(self, g: Group) -> list[InputRow]: ...
     def with_inputs(self, g: Group, num: Any) -> Group: ...
     def rows(self, b: Builder, g: Group) -> None: ...

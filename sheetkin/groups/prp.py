@@ -48,6 +48,7 @@ from .rows import (
     Builder,
     InputRow,
     LoadRows,
+    Texts,
     cos_sin_rows,
     cramer_rows,
     det_row,
@@ -66,6 +67,185 @@ TITLE = ("два камня, шарнирно связанные в N, кажд�
          "two blocks hinged together at N, each sliding on its own guide (a slider on the coupler "
          "with a fixed guide)")
 KEYS = ("type", "links", "joints", "guides")
+
+
+# --------------------------------------------------------------------------- the rows' texts
+# format templates, one table per language (fields: group i, block la, slider lb, joint N,
+# guide j); the numbers (1)-(7) are the lecture's equations
+TEXTS = {
+    "ru": {
+        "guide": "направляющая {j} камня {ab} (узел {N})",
+        "gamma_k": "{which}: угол к звену {k}",
+        "gx": "{which}: x точки",
+        "gy": "{which}: y точки",
+        "gamma": "{which}: угол наклона",
+        "group": "Группа {i} (ПВП {N}): ползушка на шатуне и фиксированная направляющая, уравнения (1)-(7)",
+        "eta": "(4) наклон прямой (2) (направляющая 1): tg eta = (yB - yA)/(xB - xA) записан углом eta, "
+               "чтобы вертикальная прямая (tg = бесконечность) оставалась конечной",
+        "n": "(3a) n cos(eta) = y cos(eta) - x sin(eta) точки прямой (2): n, умноженное на cos(eta), "
+             "конечно и для вертикальной прямой",
+        "theta": "(1) наклон прямой (1) (направляющая 2), угол theta",
+        "m": "(1) m cos(theta) = y cos(theta) - x sin(theta) точки прямой (1)",
+        "D": "(7) знаменатель tg theta - tg eta, умноженный на cos theta cos eta: sin(theta - eta) "
+             "(0: прямые параллельны, группа не собирается)",
+        "guard": "группа {i} собирается (прямые не параллельны)",
+        "xL": "(7) x_L = (n - m)/(tg theta - tg eta), умножено на cos theta cos eta: "
+              "(n cos eta cos theta - m cos theta cos eta)/sin(theta - eta)",
+        "yL": "(7) y_L = (n tg theta - m tg eta)/(tg theta - tg eta), умножено на cos theta cos eta",
+        "chk_5a": "проверка (5a): L на прямой (2)",
+        "chk_5b": "проверка (5b): L на прямой (1)",
+        "accepted": "Принятые значения",
+        "s": "положение камня {N} вдоль направляющей 1 от её точки",
+        "s2": "положение ползуна {N} вдоль направляющей 2 от её точки",
+        "phi_a": "угол камня {la} (направляющая 1)",
+        "phi_b": "угол ползуна {lb} (направляющая 2)",
+        "chk_acc": "проверка принятых значений: P1 + s u1 - P2 - s2 u2",
+        "block": "камня",
+        "slider": "ползуна",
+        "omega": "угловая скорость {what} {k} (вместе с направляющей)",
+        "eps": "угловое ускорение {what} {k}",
+        "rot": "камень {la} и ползун {lb} повёрнуты и вращаются вместе со своими направляющими",
+        "det": "определитель: -sin(theta - eta)",
+        "toggle": "sin(theta - eta): синус угла между направляющими (около 0: мёртвое положение)",
+        "vs": "скорость камня {N} вдоль направляющей 1 (Крамер)",
+        "vs2": "скорость ползуна {N} вдоль направляющей 2 (Крамер)",
+        "t1": "2 vs omega1 + s eps1: кориолисово и касательное ускорения поперёк направляющей 1",
+        "t2": "2 vs2 omega2 + s2 eps2: то же для направляющей 2",
+        "f1": "правая часть для ускорений f1",
+        "f2": "правая часть для ускорений f2",
+        "as": "ускорение камня {N} вдоль направляющей 1",
+        "as2": "ускорение ползуна {N} вдоль направляющей 2",
+        "hinge": "Шарнир {N} = точка L: движение с направляющей 1 и по ней",
+        "of_hinge": "шарнира {N}",
+        "chk_pos": "проверка: {N} = P1 + s u1 = P2 + s2 u2 (на обеих направляющих)",
+        "chk_v": "проверка: скорость {N} через направляющую 2",
+        "chk_a": "проверка: ускорение {N} через направляющую 2",
+        "R_det": "определитель: sin(theta - eta) (0: направляющие параллельны)",
+        "Qa": "нормальная сила направляющей 1 на камень (Крамер)",
+        "Qb": "нормальная сила направляющей 2 на ползун (Крамер)",
+        "chk_Rsys": "проверка: нормальные силы в их двух уравнениях",
+        "R_1": "направляющей 1 (звено {k}) на камень {a} (через {N})",
+        "M_1": "момент реакции направляющей 1 на камень {a}",
+        "R_ab": "камня {a} на ползун {bl} в {N}",
+        "R_2": "направляющей 2 (звено {k}) на ползун {bl} (через {N})",
+        "M_2": "момент реакции направляющей 2 на ползун {bl}",
+    },
+    "uk": {
+        "guide": "напрямна {j} каменя {ab} (вузол {N})",
+        "gamma_k": "{which}: кут до ланці {k}",
+        "gx": "{which}: x точки",
+        "gy": "{which}: y точки",
+        "gamma": "{which}: кут нахилу",
+        "group": "Група {i} (ПОП {N}): повзунок на шатуні і фіксована напрямна, рівняння (1)-(7)",
+        "eta": "(4) нахил прямої (2) (напрямна 1): tg eta = (yB - yA)/(xB - xA) записаний кутом eta, щоб вертикальна "
+               "пряма (tg = нескінченність) залишалася скінченної",
+        "n": "(3a) n cos(eta) = y cos(eta) - x sin(eta) точки прямої (2): n, помножене на cos(eta), скінченно і для "
+             "вертикальної прямої",
+        "theta": "(1) нахил прямої (1) (напрямна 2), кут theta",
+        "m": "(1) m cos(theta) = y cos(theta) - x sin(theta) точки прямої (1)",
+        "D": "(7) знаменник tg theta - tg eta, помножений на cos theta cos eta: sin(theta - eta) (0: прямі "
+             "паралельні, група не збирається)",
+        "guard": "група {i} збирається (прямі не паралельні)",
+        "xL": "(7) x_L = (n - m)/(tg theta - tg eta), помножено на cos theta cos eta: (n cos eta cos theta - m cos "
+              "theta cos eta)/sin(theta - eta)",
+        "yL": "(7) y_L = (n tg theta - m tg eta)/(tg theta - tg eta), помножено на cos theta cos eta",
+        "chk_5a": "перевірка (5a): L на прямої (2)",
+        "chk_5b": "перевірка (5b): L на прямої (1)",
+        "accepted": "Прийняті значення",
+        "s": "положення каменя {N} уздовж напрямної 1 від її точки",
+        "s2": "положення повзуна {N} уздовж напрямної 2 від її точки",
+        "phi_a": "кут каменя {la} (напрямна 1)",
+        "phi_b": "кут повзуна {lb} (напрямна 2)",
+        "chk_acc": "перевірка прийнятих значень: P1 + s u1 - P2 - s2 u2",
+        "block": "каменя",
+        "slider": "повзуна",
+        "omega": "кутова швидкість {what} {k} (разом з напрямної)",
+        "eps": "кутове прискорення {what} {k}",
+        "rot": "камінь {la} і повзун {lb} повернуті і обертаються разом зі своїми напрямними",
+        "det": "визначник: -sin(theta - eta)",
+        "toggle": "sin(theta - eta): синус кута між напрямними (близько 0: мертве положення)",
+        "vs": "швидкість каменя {N} уздовж напрямної 1 (Крамер)",
+        "vs2": "швидкість повзуна {N} уздовж напрямної 2 (Крамер)",
+        "t1": "2 vs omega1 + s eps1: коріолісове і дотичне прискорення поперек напрямної 1",
+        "t2": "2 vs2 omega2 + s2 eps2: то ж для напрямної 2",
+        "f1": "права частина для прискорень f1",
+        "f2": "права частина для прискорень f2",
+        "as": "прискорення каменя {N} уздовж напрямної 1",
+        "as2": "прискорення повзуна {N} уздовж напрямної 2",
+        "hinge": "Шарнір {N} = точка L: рух з напрямної 1 і за неї",
+        "of_hinge": "шарніра {N}",
+        "chk_pos": "перевірка: {N} = P1 + s u1 = P2 + s2 u2 (на обох напрямних)",
+        "chk_v": "перевірка: швидкість {N} через напрямну 2",
+        "chk_a": "перевірка: прискорення {N} через напрямну 2",
+        "R_det": "визначник: sin(theta - eta) (0: напрямні паралельні)",
+        "Qa": "нормальна сила напрямної 1 на камінь (Крамер)",
+        "Qb": "нормальна сила напрямної 2 на повзун (Крамер)",
+        "chk_Rsys": "перевірка: нормальні сили в їх двох рівняннях",
+        "R_1": "напрямної 1 (ланка {k}) на камінь {a} (через {N})",
+        "M_1": "момент реакції напрямної 1 на камінь {a}",
+        "R_ab": "каменя {a} на повзун {bl} в {N}",
+        "R_2": "напрямної 2 (ланка {k}) на повзун {bl} (через {N})",
+        "M_2": "момент реакції напрямної 2 на повзун {bl}",
+    },
+    "en": {
+        "guide": "guide {j} of block {ab} (joint {N})",
+        "gamma_k": "{which}: angle to link {k}",
+        "gx": "{which}: x of a point",
+        "gy": "{which}: y of a point",
+        "gamma": "{which}: its angle",
+        "group": "Group {i} (PRP {N}): slider on the coupler with a fixed guide, equations (1)-(7)",
+        "eta": "(4) slope of line (2) (guide 1): tg eta = (yB - yA)/(xB - xA) kept as the angle eta, so that a "
+               "vertical line (infinite tg) stays finite",
+        "n": "(3a) n cos(eta) = y cos(eta) - x sin(eta) of a point of line (2): n times cos(eta), finite for a "
+             "vertical line too",
+        "theta": "(1) slope of line (1) (guide 2), the angle theta",
+        "m": "(1) m cos(theta) = y cos(theta) - x sin(theta) of a point of line (1)",
+        "D": "(7) denominator tg theta - tg eta times cos theta cos eta: sin(theta - eta) (0: parallel lines, "
+             "cannot assemble)",
+        "guard": "group {i} assembles (the lines cross)",
+        "xL": "(7) x_L = (n - m)/(tg theta - tg eta), times cos theta cos eta: "
+              "(n cos eta cos theta - m cos theta cos eta)/sin(theta - eta)",
+        "yL": "(7) y_L = (n tg theta - m tg eta)/(tg theta - tg eta), times cos theta cos eta",
+        "chk_5a": "check (5a): L on line (2)",
+        "chk_5b": "check (5b): L on line (1)",
+        "accepted": "Accepted values",
+        "s": "travel of block {N} along guide 1 from its point",
+        "s2": "travel of slider {N} along guide 2 from its point",
+        "phi_a": "angle of block {la} (guide 1)",
+        "phi_b": "angle of slider {lb} (guide 2)",
+        "chk_acc": "check of the accepted values: P1 + s u1 - P2 - s2 u2",
+        "block": "block",
+        "slider": "slider",
+        "omega": "angular velocity of {what} {k} (turns with its guide)",
+        "eps": "angular acceleration of {what} {k}",
+        "rot": "block {la} and slider {lb} point along and turn with their guides",
+        "det": "determinant: -sin(theta - eta)",
+        "toggle": "sin(theta - eta): sine of the angle between the guides (near 0: toggle)",
+        "vs": "velocity of block {N} along guide 1 (Cramer)",
+        "vs2": "velocity of slider {N} along guide 2 (Cramer)",
+        "t1": "2 vs omega1 + s eps1: Coriolis and tangential terms across guide 1",
+        "t2": "2 vs2 omega2 + s2 eps2: the same for guide 2",
+        "f1": "right side of the acceleration system f1",
+        "f2": "right side of the acceleration system f2",
+        "as": "acceleration of block {N} along guide 1",
+        "as2": "acceleration of slider {N} along guide 2",
+        "hinge": "Hinge {N} = the point L: carried by guide 1 and sliding on it",
+        "of_hinge": "hinge {N}",
+        "chk_pos": "check: {N} = P1 + s u1 = P2 + s2 u2 (on both guides)",
+        "chk_v": "check: velocity of {N} through guide 2",
+        "chk_a": "check: acceleration of {N} through guide 2",
+        "R_det": "determinant: sin(theta - eta) (0: parallel guides)",
+        "Qa": "normal force of guide 1 on the block (Cramer)",
+        "Qb": "normal force of guide 2 on the slider (Cramer)",
+        "chk_Rsys": "check: the normal forces put back into their two equations",
+        "R_1": "of guide 1 (link {k}) on block {a} (through {N})",
+        "M_1": "couple of guide 1 on block {a}",
+        "R_ab": "of block {a} on slider {bl} at {N}",
+        "R_2": "of guide 2 (link {k}) on slider {bl} (through {N})",
+        "M_2": "couple of guide 2 on slider {bl}",
+    },
+}
+T = Texts(TEXTS)
 
 
 # --------------------------------------------------------------------------- scene keys
@@ -182,16 +362,13 @@ def input_rows(g: Group) -> list[InputRow]:
     i, (n,) = g.index, g.joints
     out = []
     for j, gd in enumerate(g.guides, 1):
-        which = (f"направляющая {j} камня {'a' if j == 1 else 'b'} (узел {n})",
-                 f"guide {j} of block {'a' if j == 1 else 'b'} (joint {n})")
+        which = T("guide", j=j, ab="a" if j == 1 else "b", N=n)
         if gd.moving:
-            out.append(InputRow(f"gamma{j}_g{i}", "deg", f"{which[0]}: угол к звену {gd.link}",
-                                f"{which[1]}: angle to link {gd.link}", gd.angle_deg))
+            out.append(InputRow(f"gamma{j}_g{i}", "deg", T("gamma_k", which=which, k=gd.link), gd.angle_deg))
         else:
-            out += [InputRow(f"gx{j}_g{i}", "m", f"{which[0]}: x точки", f"{which[1]}: x of a point", gd.point[0]),
-                    InputRow(f"gy{j}_g{i}", "m", f"{which[0]}: y точки", f"{which[1]}: y of a point", gd.point[1]),
-                    InputRow(f"gamma{j}_g{i}", "deg", f"{which[0]}: угол наклона", f"{which[1]}: its angle",
-                             gd.angle_deg)]
+            out += [InputRow(f"gx{j}_g{i}", "m", T("gx", which=which), gd.point[0]),
+                    InputRow(f"gy{j}_g{i}", "m", T("gy", which=which), gd.point[1]),
+                    InputRow(f"gamma{j}_g{i}", "deg", T("gamma", which=which), gd.angle_deg)]
     return out
 
 
@@ -232,44 +409,22 @@ def _crossing_rows(b: Builder, g: Group, refs) -> None:
     """Equations (1)-(7): the two lines, their crossing L and the checks (5a), (5b)."""
     i, (N,) = g.index, g.joints
     (pa, eta_f, _, _), (pb, th_f, _, _) = refs
-    b.section(f"group_{i}", f"Группа {i} (ПВП {N}): ползушка на шатуне и фиксированная направляющая, уравнения (1)-(7)",
-              f"Group {i} (PRP {N}): slider on the coupler with a fixed guide, equations (1)-(7)")
+    b.section(f"group_{i}", T("group", i=i, N=N))
     eta, nn, th, mm, D = f"eta_g{i}", f"n_g{i}", f"theta_g{i}", f"m_g{i}", f"D_g{i}"
-    b.add(eta, "rad", "(4) наклон прямой (2) (направляющая 1): tg eta = (yB - yA)/(xB - xA) записан углом eta, "
-          "чтобы вертикальная прямая (tg = бесконечность) оставалась конечной",
-          "(4) slope of line (2) (guide 1): tg eta = (yB - yA)/(xB - xA) kept as the angle eta, so that a "
-          "vertical line (infinite tg) stays finite", "calc", eta_f, guard=b.guard)
-    b.add(nn, "m", "(3a) n cos(eta) = y cos(eta) - x sin(eta) точки прямой (2): n, умноженное на cos(eta), "
-          "конечно и для вертикальной прямой",
-          "(3a) n cos(eta) = y cos(eta) - x sin(eta) of a point of line (2): n times cos(eta), finite for a "
-          "vertical line too", "calc", f"{pa[1]}*COS({{{eta}}})-{pa[0]}*SIN({{{eta}}})", guard=b.guard)
-    b.add(th, "rad", "(1) наклон прямой (1) (направляющая 2), угол theta",
-          "(1) slope of line (1) (guide 2), the angle theta",
-          "calc", th_f, guard=b.guard)
-    b.add(mm, "m", "(1) m cos(theta) = y cos(theta) - x sin(theta) точки прямой (1)",
-          "(1) m cos(theta) = y cos(theta) - x sin(theta) of a point of line (1)", "calc",
-          f"{pb[1]}*COS({{{th}}})-{pb[0]}*SIN({{{th}}})", guard=b.guard)
-    b.add(D, "", "(7) знаменатель tg theta - tg eta, умноженный на cos theta cos eta: sin(theta - eta) "
-          "(0: прямые параллельны, группа не собирается)",
-          "(7) denominator tg theta - tg eta times cos theta cos eta: sin(theta - eta) (0: parallel lines, "
-          "cannot assemble)", "calc", f"SIN({{{th}}}-{{{eta}}})", guard=b.guard)
+    b.calc(eta, "rad", T("eta"), eta_f, guard=b.guard)
+    b.calc(nn, "m", T("n"), f"{pa[1]}*COS({{{eta}}})-{pa[0]}*SIN({{{eta}}})", guard=b.guard)
+    b.calc(th, "rad", T("theta"), th_f, guard=b.guard)
+    b.calc(mm, "m", T("m"), f"{pb[1]}*COS({{{th}}})-{pb[0]}*SIN({{{th}}})", guard=b.guard)
+    b.calc(D, "", T("D"), f"SIN({{{th}}}-{{{eta}}})", guard=b.guard)
     prev = b.guard
-    b.add(f"asm_g{i}", "", f"группа {i} собирается (прямые не параллельны)", f"group {i} assembles (the lines cross)",
-          "guard", f"AND({{{prev}}},ABS({{{D}}})>{DEAD_POINT_TEXT})" if prev else f"ABS({{{D}}})>{DEAD_POINT_TEXT}")
+    b.row("guard", f"asm_g{i}", "", T("guard", i=i),
+          f"AND({{{prev}}},ABS({{{D}}})>{DEAD_POINT_TEXT})" if prev else f"ABS({{{D}}})>{DEAD_POINT_TEXT}")
     b.guard = f"asm_g{i}"
     xL, yL = f"xL_g{i}", f"yL_g{i}"
-    b.add(xL, "m", "(7) x_L = (n - m)/(tg theta - tg eta), умножено на cos theta cos eta: "
-          "(n cos eta cos theta - m cos theta cos eta)/sin(theta - eta)",
-          "(7) x_L = (n - m)/(tg theta - tg eta), times cos theta cos eta: "
-          "(n cos eta cos theta - m cos theta cos eta)/sin(theta - eta)", "calc",
-          f"({{{nn}}}*COS({{{th}}})-{{{mm}}}*COS({{{eta}}}))/{{{D}}}")
-    b.add(yL, "m", "(7) y_L = (n tg theta - m tg eta)/(tg theta - tg eta), умножено на cos theta cos eta",
-          "(7) y_L = (n tg theta - m tg eta)/(tg theta - tg eta), times cos theta cos eta", "calc",
-          f"({{{nn}}}*SIN({{{th}}})-{{{mm}}}*SIN({{{eta}}}))/{{{D}}}")
-    b.add(f"chk_5a_g{i}", "m", "проверка (5a): L на прямой (2)", "check (5a): L on line (2)", "check",
-          f"{{{yL}}}*COS({{{eta}}})-{{{xL}}}*SIN({{{eta}}})-{{{nn}}}")
-    b.add(f"chk_5b_g{i}", "m", "проверка (5b): L на прямой (1)", "check (5b): L on line (1)", "check",
-          f"{{{yL}}}*COS({{{th}}})-{{{xL}}}*SIN({{{th}}})-{{{mm}}}")
+    b.calc(xL, "m", T("xL"), f"({{{nn}}}*COS({{{th}}})-{{{mm}}}*COS({{{eta}}}))/{{{D}}}")
+    b.calc(yL, "m", T("yL"), f"({{{nn}}}*SIN({{{th}}})-{{{mm}}}*SIN({{{eta}}}))/{{{D}}}")
+    b.check(f"chk_5a_g{i}", "m", T("chk_5a"), f"{{{yL}}}*COS({{{eta}}})-{{{xL}}}*SIN({{{eta}}})-{{{nn}}}")
+    b.check(f"chk_5b_g{i}", "m", T("chk_5b"), f"{{{yL}}}*COS({{{th}}})-{{{xL}}}*SIN({{{th}}})-{{{mm}}}")
 
 
 def _accepted_rows(b: Builder, g: Group, refs) -> None:
@@ -277,35 +432,25 @@ def _accepted_rows(b: Builder, g: Group, refs) -> None:
     i, (la, lb), (N,) = g.index, g.links, g.joints
     (pa, _, wa_f, ea_f), (pb, _, wb_f, eb_f) = refs
     eta, th, xL, yL = f"eta_g{i}", f"theta_g{i}", f"xL_g{i}", f"yL_g{i}"
-    b.section(f"accepted_g{i}", "Принятые значения", "Accepted values")
+    b.section(f"accepted_g{i}", T("accepted"))
     s1, s2 = f"s_{N}", f"s2_{N}"
-    b.add(s1, "m", f"положение камня {N} вдоль направляющей 1 от её точки",
-          f"travel of block {N} along guide 1 from its point",
-          "accepted", f"({{{xL}}}-{pa[0]})*COS({{{eta}}})+({{{yL}}}-{pa[1]})*SIN({{{eta}}})")
-    b.add(s2, "m", f"положение ползуна {N} вдоль направляющей 2 от её точки",
-          f"travel of slider {N} along guide 2 from its point",
-          "accepted", f"({{{xL}}}-{pb[0]})*COS({{{th}}})+({{{yL}}}-{pb[1]})*SIN({{{th}}})")
-    b.add(f"phi_{la}", "deg", f"угол камня {la} (направляющая 1)", f"angle of block {la} (guide 1)", "accepted",
-          f"MOD(DEGREES({{{eta}}}),360)")
-    b.add(f"phi_{lb}", "deg", f"угол ползуна {lb} (направляющая 2)", f"angle of slider {lb} (guide 2)", "accepted",
-          f"MOD(DEGREES({{{th}}}),360)")
-    cos_sin_rows(b, la, "", "")
-    cos_sin_rows(b, lb, "", "")
+    b.accepted(s1, "m", T("s", N=N), f"({{{xL}}}-{pa[0]})*COS({{{eta}}})+({{{yL}}}-{pa[1]})*SIN({{{eta}}})")
+    b.accepted(s2, "m", T("s2", N=N), f"({{{xL}}}-{pb[0]})*COS({{{th}}})+({{{yL}}}-{pb[1]})*SIN({{{th}}})")
+    b.accepted(f"phi_{la}", "deg", T("phi_a", la=la), f"MOD(DEGREES({{{eta}}}),360)")
+    b.accepted(f"phi_{lb}", "deg", T("phi_b", lb=lb), f"MOD(DEGREES({{{th}}}),360)")
+    cos_sin_rows(b, la)
+    cos_sin_rows(b, lb)
     ca, sa, cb, sb = f"{{cos_{la}}}", f"{{sin_{la}}}", f"{{cos_{lb}}}", f"{{sin_{lb}}}"
     S1, S2 = f"{{{s1}}}", f"{{{s2}}}"
-    b.add(f"chk_acc_g{i}", "m", "проверка принятых значений: P1 + s u1 - P2 - s2 u2",
-          "check of the accepted values: P1 + s u1 - P2 - s2 u2", "check",
-          f"ABS({pa[0]}+{S1}*{ca}-{pb[0]}-{S2}*{cb})+ABS({pa[1]}+{S1}*{sa}-{pb[1]}-{S2}*{sb})")
-    for k, w, e, what in ((la, wa_f, ea_f, ("камня", "block")), (lb, wb_f, eb_f, ("ползуна", "slider"))):
-        b.add(f"omega_{k}", "rad/s", f"угловая скорость {what[0]} {k} (вместе с направляющей)",
-              f"angular velocity of {what[1]} {k} (turns with its guide)", "accepted", w)
-        b.add(f"eps_{k}", "rad/s^2", f"угловое ускорение {what[0]} {k}", f"angular acceleration of {what[1]} {k}",
-              "accepted", e)
+    b.check(f"chk_acc_g{i}", "m", T("chk_acc"),
+            f"ABS({pa[0]}+{S1}*{ca}-{pb[0]}-{S2}*{cb})+ABS({pa[1]}+{S1}*{sa}-{pb[1]}-{S2}*{sb})")
+    for k, w, e, what in ((la, wa_f, ea_f, T("block")), (lb, wb_f, eb_f, T("slider"))):
+        b.accepted(f"omega_{k}", "rad/s", T("omega", what=what, k=k), w)
+        b.accepted(f"eps_{k}", "rad/s^2", T("eps", what=what, k=k), e)
     turns_with_check(b, f"chk_rot_g{i}", [(f"phi_{la}", f"COS({{{eta}}})", f"SIN({{{eta}}})"),
                                           (f"phi_{lb}", f"COS({{{th}}})", f"SIN({{{th}}})")],
                      [(f"omega_{la}", wa_f), (f"eps_{la}", ea_f), (f"omega_{lb}", wb_f), (f"eps_{lb}", eb_f)],
-                     f"камень {la} и ползун {lb} повёрнуты и вращаются вместе со своими направляющими",
-                     f"block {la} and slider {lb} point along and turn with their guides")
+                     T("rot", la=la, lb=lb))
 
 
 def _rate_rows(b: Builder, g: Group, refs) -> None:
@@ -318,32 +463,19 @@ def _rate_rows(b: Builder, g: Group, refs) -> None:
     # u1 vs - u2 vs2 = v_P2 - v_P1 - s w1 n1 + s2 w2 n2 (n = u turned +90 deg)
     det = f"Delta_g{i}"
     m = (ca, f"(-{cb})", sa, f"(-{sb})")
-    det_row(b, det, m, "", "определитель: -sin(theta - eta)", "determinant: -sin(theta - eta)")
-    b.add(f"det_g{i}", "", "sin(theta - eta): синус угла между направляющими (около 0: мёртвое положение)",
-          "sin(theta - eta): sine of the angle between the guides (near 0: toggle)", "calc", f"-{{{det}}}")
+    det_row(b, det, m, "", T("det"))
+    b.calc(f"det_g{i}", "", T("toggle"), f"-{{{det}}}")
     v1 = f"({pb[2]}-{pa[2]}+{S1}*{wa}*{sa}-{S2}*{wb}*{sb})"
     v2 = f"({pb[3]}-{pa[3]}-{S1}*{wa}*{ca}+{S2}*{wb}*{cb})"
-    cramer_rows(b, m, det, ((f"vs_{N}", "m/s", f"скорость камня {N} вдоль направляющей 1 (Крамер)",
-                             f"velocity of block {N} along guide 1 (Cramer)"),
-                            (f"vs2_{N}", "m/s", f"скорость ползуна {N} вдоль направляющей 2 (Крамер)",
-                             f"velocity of slider {N} along guide 2 (Cramer)")),
+    cramer_rows(b, m, det, ((f"vs_{N}", "m/s", T("vs", N=N)), (f"vs2_{N}", "m/s", T("vs2", N=N))),
                 (v1, v2), residual(i, "v"))
     f1, f2, t1, t2 = f"f1_g{i}", f"f2_g{i}", f"t1_g{i}", f"t2_g{i}"
-    b.add(t1, "m/s^2", "2 vs omega1 + s eps1: кориолисово и касательное ускорения поперёк направляющей 1",
-          "2 vs omega1 + s eps1: Coriolis and tangential terms across guide 1", "calc",
-          f"2*{{vs_{N}}}*{wa}+{S1}*{ea}")
-    b.add(t2, "m/s^2", "2 vs2 omega2 + s2 eps2: то же для направляющей 2",
-          "2 vs2 omega2 + s2 eps2: the same for guide 2",
-          "calc", f"2*{{vs2_{N}}}*{wb}+{S2}*{eb}")
+    b.calc(t1, "m/s^2", T("t1"), f"2*{{vs_{N}}}*{wa}+{S1}*{ea}")
+    b.calc(t2, "m/s^2", T("t2"), f"2*{{vs2_{N}}}*{wb}+{S2}*{eb}")
     T1, T2 = f"{{{t1}}}", f"{{{t2}}}"
-    b.add(f1, "m/s^2", "правая часть для ускорений f1", "right side of the acceleration system f1", "calc",
-          f"{pb[4]}-{pa[4]}+{T1}*{sa}+{S1}*{wa}^2*{ca}-{T2}*{sb}-{S2}*{wb}^2*{cb}")
-    b.add(f2, "m/s^2", "правая часть для ускорений f2", "right side of the acceleration system f2", "calc",
-          f"{pb[5]}-{pa[5]}-{T1}*{ca}+{S1}*{wa}^2*{sa}+{T2}*{cb}-{S2}*{wb}^2*{sb}")
-    cramer_rows(b, m, det, ((f"as_{N}", "m/s^2", f"ускорение камня {N} вдоль направляющей 1",
-                             f"acceleration of block {N} along guide 1"),
-                            (f"as2_{N}", "m/s^2", f"ускорение ползуна {N} вдоль направляющей 2",
-                             f"acceleration of slider {N} along guide 2")),
+    b.calc(f1, "m/s^2", T("f1"), f"{pb[4]}-{pa[4]}+{T1}*{sa}+{S1}*{wa}^2*{ca}-{T2}*{sb}-{S2}*{wb}^2*{cb}")
+    b.calc(f2, "m/s^2", T("f2"), f"{pb[5]}-{pa[5]}-{T1}*{ca}+{S1}*{wa}^2*{sa}+{T2}*{cb}-{S2}*{wb}^2*{sb}")
+    cramer_rows(b, m, det, ((f"as_{N}", "m/s^2", T("as", N=N)), (f"as2_{N}", "m/s^2", T("as2", N=N))),
                 (f"{{{f1}}}", f"{{{f2}}}"), residual(i, "a"))
 
 
@@ -356,26 +488,22 @@ def _joint_rows(b: Builder, g: Group, refs) -> None:
     wa, wb = f"{{omega_{la}}}", f"{{omega_{lb}}}"
     T1, T2 = f"{{t1_g{i}}}", f"{{t2_g{i}}}"
     xL, yL = f"xL_g{i}", f"yL_g{i}"
-    b.section(f"point_{N}", f"Шарнир {N} = точка L: движение с направляющей 1 и по ней",
-              f"Hinge {N} = the point L: carried by guide 1 and sliding on it")
+    b.section(f"point_{N}", T("hinge", N=N))
     tu = f"({{as_{N}}}-{S1}*{wa}^2)"
-    motion_rows(b, N, f"шарнира {N}", f"hinge {N}", f"{{{xL}}}", f"{{{yL}}}",
+    motion_rows(b, N, T("of_hinge", N=N), f"{{{xL}}}", f"{{{yL}}}",
                 f"{pa[2]}+{{vs_{N}}}*{ca}-{S1}*{wa}*{sa}", f"{pa[3]}+{{vs_{N}}}*{sa}+{S1}*{wa}*{ca}",
                 f"{pa[4]}+{tu}*{ca}-{T1}*{sa}", f"{pa[5]}+{tu}*{sa}+{T1}*{ca}")
     # x_N, y_N are written as the crossing point (7); nothing in the kinematics reads them
     # back, so here they are put on each guide at its travel s, s2 (free of the step)
-    b.add(f"chk_pos_{N}_g{i}", "m", f"проверка: {N} = P1 + s u1 = P2 + s2 u2 (на обеих направляющих)",
-          f"check: {N} = P1 + s u1 = P2 + s2 u2 (on both guides)", "check",
-          f"ABS({{x_{N}}}-({pa[0]}+{S1}*{ca}))+ABS({{y_{N}}}-({pa[1]}+{S1}*{sa}))"
-          f"+ABS({{x_{N}}}-({pb[0]}+{S2}*{cb}))+ABS({{y_{N}}}-({pb[1]}+{S2}*{sb}))")
+    b.check(f"chk_pos_{N}_g{i}", "m", T("chk_pos", N=N),
+            f"ABS({{x_{N}}}-({pa[0]}+{S1}*{ca}))+ABS({{y_{N}}}-({pa[1]}+{S1}*{sa}))"
+            f"+ABS({{x_{N}}}-({pb[0]}+{S2}*{cb}))+ABS({{y_{N}}}-({pb[1]}+{S2}*{sb}))")
     tu2 = f"({{as2_{N}}}-{S2}*{wb}^2)"
-    b.add(f"chk_v_{N}_g{i}", "m/s", f"проверка: скорость {N} через направляющую 2",
-          f"check: velocity of {N} through guide 2",
-          "check", f"ABS({{vx_{N}}}-({pb[2]}+{{vs2_{N}}}*{cb}-{S2}*{wb}*{sb}))"
-                   f"+ABS({{vy_{N}}}-({pb[3]}+{{vs2_{N}}}*{sb}+{S2}*{wb}*{cb}))")
-    b.add(f"chk_a_{N}_g{i}", "m/s^2", f"проверка: ускорение {N} через направляющую 2",
-          f"check: acceleration of {N} through guide 2", "check",
-          f"ABS({{ax_{N}}}-({pb[4]}+{tu2}*{cb}-{T2}*{sb}))+ABS({{ay_{N}}}-({pb[5]}+{tu2}*{sb}+{T2}*{cb}))")
+    b.check(f"chk_v_{N}_g{i}", "m/s", T("chk_v", N=N),
+            f"ABS({{vx_{N}}}-({pb[2]}+{{vs2_{N}}}*{cb}-{S2}*{wb}*{sb}))"
+            f"+ABS({{vy_{N}}}-({pb[3]}+{{vs2_{N}}}*{sb}+{S2}*{wb}*{cb}))")
+    b.check(f"chk_a_{N}_g{i}", "m/s^2", T("chk_a", N=N),
+            f"ABS({{ax_{N}}}-({pb[4]}+{tu2}*{cb}-{T2}*{sb}))+ABS({{ay_{N}}}-({pb[5]}+{tu2}*{sb}+{T2}*{cb}))")
     fd_checks(b, N)
 
 
@@ -432,31 +560,20 @@ def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
     m = (f"(-{sa})", f"(-{sb})", ca, cb)
     rhs = (f"(-({{Qx_{a}}}+{{Qx_{bl}}}))", f"(-({{Qy_{a}}}+{{Qy_{bl}}}))")
     det, qa, qb = f"Delta_R_g{i}", f"Qa_g{i}", f"Qb_g{i}"
-    det_row(b, det, m, "", "определитель: sin(theta - eta) (0: направляющие параллельны)",
-            "determinant: sin(theta - eta) (0: parallel guides)")
-    b.add(qa, "N", "нормальная сила направляющей 1 на камень (Крамер)", "normal force of guide 1 on the block (Cramer)",
-          "calc", f"({rhs[0]}*{m[3]}-{rhs[1]}*{m[1]})/{{{det}}}")
-    b.add(qb, "N", "нормальная сила направляющей 2 на ползун (Крамер)",
-          "normal force of guide 2 on the slider (Cramer)",
-          "calc", f"({m[0]}*{rhs[1]}-{m[2]}*{rhs[0]})/{{{det}}}")
-    b.add(f"chk_Rsys_g{i}", "", "проверка: нормальные силы в их двух уравнениях",
-          "check: the normal forces put back into their two equations", "check",
-          f"(ABS({m[0]}*{{{qa}}}+{m[1]}*{{{qb}}}-{rhs[0]})+ABS({m[2]}*{{{qa}}}+{m[3]}*{{{qb}}}-{rhs[1]}))"
-          f"/(1+ABS({{Qx_{a}}})+ABS({{Qy_{a}}})+ABS({{Qx_{bl}}})+ABS({{Qy_{bl}}}))")
+    det_row(b, det, m, "", T("R_det"))
+    b.calc(qa, "N", T("Qa"), f"({rhs[0]}*{m[3]}-{rhs[1]}*{m[1]})/{{{det}}}")
+    b.calc(qb, "N", T("Qb"), f"({m[0]}*{rhs[1]}-{m[2]}*{rhs[0]})/{{{det}}}")
+    b.check(f"chk_Rsys_g{i}", "", T("chk_Rsys"),
+            f"(ABS({m[0]}*{{{qa}}}+{m[1]}*{{{qb}}}-{rhs[0]})+ABS({m[2]}*{{{qa}}}+{m[3]}*{{{qb}}}-{rhs[1]}))"
+            f"/(1+ABS({{Qx_{a}}})+ABS({{Qy_{a}}})+ABS({{Qx_{bl}}})+ABS({{Qy_{bl}}}))")
     t1, tab, t2 = f"{ga.link}_{a}", f"{a}_{bl}", f"{gb.link}_{bl}"
-    k.reaction(t1, f"-{{{qa}}}*{sa}", f"{{{qa}}}*{ca}", f"направляющей 1 (звено {ga.link}) на камень {a} (через {N})",
-               f"of guide 1 (link {ga.link}) on block {a} (through {N})")
-    b.add(f"M_{t1}", "N m", f"момент реакции направляющей 1 на камень {a}", f"couple of guide 1 on block {a}",
-          "accepted",
-          f"-{{MQ_{a}}}")
-    k.reaction(tab, f"-{{{qa}}}*{sa}+{{Qx_{a}}}", f"{{{qa}}}*{ca}+{{Qy_{a}}}", f"камня {a} на ползун {bl} в {N}",
-               f"of block {a} on slider {bl} at {N}")
+    k.reaction(t1, f"-{{{qa}}}*{sa}", f"{{{qa}}}*{ca}", T("R_1", k=ga.link, a=a, N=N))
+    b.accepted(f"M_{t1}", "N m", T("M_1", a=a), f"-{{MQ_{a}}}")
+    k.reaction(tab, f"-{{{qa}}}*{sa}+{{Qx_{a}}}", f"{{{qa}}}*{ca}+{{Qy_{a}}}", T("R_ab", a=a, bl=bl, N=N))
     k.equilibrium(a, N, [(N, f"{{Rx_{t1}}}", f"{{Ry_{t1}}}"), (N, f"(-{{Rx_{tab}}})", f"(-{{Ry_{tab}}})")],
                   f"{{M_{t1}}}")
-    k.reaction(t2, f"-{{{qb}}}*{sb}", f"{{{qb}}}*{cb}", f"направляющей 2 (звено {gb.link}) на ползун {bl} (через {N})",
-               f"of guide 2 (link {gb.link}) on slider {bl} (through {N})")
-    b.add(f"M_{t2}", "N m", f"момент реакции направляющей 2 на ползун {bl}", f"couple of guide 2 on slider {bl}",
-          "accepted", f"-{{MQ_{bl}}}")
+    k.reaction(t2, f"-{{{qb}}}*{sb}", f"{{{qb}}}*{cb}", T("R_2", k=gb.link, bl=bl, N=N))
+    b.accepted(f"M_{t2}", "N m", T("M_2", bl=bl), f"-{{MQ_{bl}}}")
     k.equilibrium(bl, N, [(N, f"{{Rx_{tab}}}", f"{{Ry_{tab}}}"), (N, f"{{Rx_{t2}}}", f"{{Ry_{t2}}}")], f"{{M_{t2}}}")
     for gd, t in ((ga, t1), (gb, t2)):
         if gd.moving:      # the link that carries the guide: the block pushes back on it

@@ -1,17 +1,68 @@
 """Workbook rows as records, and the row helpers every block uses (a leaf module).
 
 A `Row` is one line of the lecture's sheet: its name (column A), unit, description in
-Russian and English, kind, and a formula template that names other rows ("{x_A}",
+Russian, Ukrainian and English, kind, and a formula template that names other rows ("{x_A}",
 "{L1}", "{x_A@prev}", "{scale:vx_A}"); `sheetkin.sheet.workbook` compiles and writes them. The
-`Builder` collects rows in the lecture's order. The helpers write the blocks every group
-kind shares: the eight accepted rows of a moving point, Cramer's rule with its check
-(slide 20), distance and rigid-body checks, numeric-derivative checks (step 10).
-Imports nothing from sheetkin: the group kinds (sheetkin.groups), the workbook writer and
-the dynamics blocks all build on it.
+`Builder` collects rows in the lecture's order, one builder a kind of row: `b.section`,
+`b.given` (an input), `b.calc`, `b.accepted`, `b.check`, `b.fdcheck`. Each takes its
+description as a `Text`, made by a module's `Texts` table from a key and format fields:
+
+    T = Texts({"ru": {"angle": "угол звена {k}"}, "uk": {"angle": "кут ланки {k}"},
+               "en": {"angle": "angle of link {k}"}})
+    b.accepted(f"phi_{k}", "deg", T("angle", k=k), formula)
+
+one table per language, kept in the module whose rows use them (a kind's in its own
+module, the helpers' below). The helpers write the blocks every group kind shares: the
+eight accepted rows of a moving point, Cramer's rule with its check (slide 20), distance and
+rigid-body checks, numeric-derivative checks (step 10). Imports only sheetkin.groups.lang
+(a leaf): the group kinds (sheetkin.groups), the workbook writer and the dynamics blocks all
+build on it.
 """
 from __future__ import annotations
 
+import string
+from collections.abc import Mapping
 from dataclasses import dataclass
+
+from .lang import LANGS, ukrainian
+from .lang import text as said
+
+
+@dataclass(frozen=True)
+class Text:
+    """A row's description in each language of the books."""
+    ru: str
+    uk: str
+    en: str
+
+    def say(self, lang: str) -> str:
+        return {"ru": self.ru, "uk": self.uk, "en": self.en}[lang]
+
+    @classmethod
+    def of(cls, ru: str, en: str) -> Text:
+        """A description written in Russian and English only: the Ukrainian made by the word table."""
+        return cls(ru, ukrainian(ru), en)
+
+
+Field = str | int | float | Text
+
+
+class Texts:
+    """One module's row descriptions: format templates, one table per language,
+    `{"ru": {key: template}, "uk": {...}, "en": {...}}`. T(key, **fields) is the Text of
+    the row: each language's template formatted with the fields (a field that is a Text
+    itself, a label, is taken in the same language)."""
+
+    def __init__(self, tables: Mapping[str, Mapping[str, str]]):
+        self.tables = tables
+
+    def __call__(self, key: str, **fields: Field) -> Text:
+        return Text(*(self.tables[lang][key].format(**{k: v.say(lang) if isinstance(v, Text) else v
+                                                       for k, v in fields.items()}) for lang in LANGS))
+
+    def fields(self, lang: str, key: str) -> set[str]:
+        """The format fields of a template (the test that every language has every key reads them)."""
+        return {f for _, f, _, _ in string.Formatter().parse(self.tables[lang][key]) if f is not None}
 
 
 @dataclass
@@ -24,7 +75,11 @@ class Row:
     formula: str = ""           # template: {row}, {row@prev}, {row@next}
     value: float | None = None  # input rows
     guard: str | None = None    # the group's "assembled" row: IF(guard, formula, marker)
+    uk: str | None = None       # the Ukrainian description; None: made from the Russian by the word table
 
+    def say(self, lang: str) -> str:
+        """The row's description in `lang` (ru, uk or en)."""
+        return self.uk if lang == "uk" and self.uk is not None else said(self.ru, self.en, lang)
 
 
 # --------------------------------------------------------------------------- the builder
@@ -42,17 +97,45 @@ class Builder:
         self.checks: list[str] = []
         self.fd_checks: list[str] = []
 
-    def add(self, name, unit="", ru="", en="", kind="calc", formula="", value=None, guard=...):
+    def add(self, name, unit="", ru="", en="", kind="calc", formula="", value=None, guard=..., uk=None):
         g = self.guard if guard is ... else guard
         self.rows.append(Row(name, unit, ru, en, kind, formula, value,
-                             g if kind in ("calc", "accepted", "check", "fdcheck") else None))
+                             g if kind in ("calc", "accepted", "check", "fdcheck") else None, uk))
         if kind == "check":
             self.checks.append(name)
         if kind == "fdcheck":
             self.fd_checks.append(name)
 
-    def section(self, name, ru, en):
-        self.add(name, "", ru, en, kind="section")
+    # the row builders: one a kind of row, the description a Text (a module's Texts)
+    def row(self, kind: str, name: str, unit: str, text: Text, formula: str = "", value=None, guard=...):
+        self.add(name, unit, text.ru, text.en, kind, formula, value, guard, uk=text.uk)
+
+    def calc(self, name: str, unit: str, text: Text, formula: str, guard=...):
+        """An intermediate row of a block (the lecture's P, Q, F, the branches)."""
+        self.row("calc", name, unit, text, formula, guard=guard)
+
+    def accepted(self, name: str, unit: str, text: Text, formula: str, guard=...):
+        """An accepted value: what the later blocks read (angles, rates, points)."""
+        self.row("accepted", name, unit, text, formula, guard=guard)
+
+    def check(self, name: str, unit: str, text: Text, formula: str, guard=...):
+        """A check row (0 where the block is right; the summary counts it)."""
+        self.row("check", name, unit, text, formula, guard=guard)
+
+    def fdcheck(self, name: str, text: Text, formula: str):
+        """A numeric-derivative check (step 10), relative: no unit."""
+        self.row("fdcheck", name, "", text, formula)
+
+    def section(self, name: str, ru: str | Text, en: str = ""):
+        """A block's title row: a Text, or (the writer's own rows) Russian and English."""
+        if isinstance(ru, Text):
+            self.row("section", name, "", ru)
+        else:
+            self.add(name, "", ru, en, kind="section")
+
+    def given(self, name: str, unit: str, text: Text, value: float):
+        """An input row (a lilac cell a student may change)."""
+        self.row("input", name, unit, text, value=value)
 
     # references to a point's quantities (a frame point is an input and does not move)
     def p(self, q: str, n: str) -> str:
@@ -72,46 +155,159 @@ class Builder:
             self.guard_of_link[k] = self.guard
 
 
-def residual(i: int, what: str) -> tuple[str, str, str]:
+# --------------------------------------------------------------------------- the helpers' texts
+TEXTS = {
+    "ru": {
+        "vsys": "невязка системы для скоростей",
+        "asys": "невязка системы для ускорений",
+        "x": "координата x {of}",
+        "y": "координата y {of}",
+        "vx": "скорость, проекция на x {of}",
+        "vy": "скорость, проекция на y {of}",
+        "v": "модуль скорости {of}",
+        "ax": "ускорение, проекция на x {of}",
+        "ay": "ускорение, проекция на y {of}",
+        "a": "модуль ускорения {of}",
+        "mags": "модули v_{n}, a_{n}",
+        "mag_check": "проверка: {what}: |m| m = x^2 + y^2 (относительная невязка; не зависит от шага, "
+                     "ловит и неверный знак модуля)",
+        "fd": "{q}: численная производная (относительная невязка)",
+        "cos": "cos угла звена {k}",
+        "sin": "sin угла звена {k}",
+        "guard": "группа {i} собирается (дискриминант > 0, не мёртвая точка)",
+        "via_v": "проверка: скорость {n} через звено {k} ({label}; не зависит от шага)",
+        "via_a": "проверка: ускорение {n} через звено {k} ({label}; не зависит от шага)",
+        "local": "проверка: {n} в осях звена {k}: (r{n} - r{origin}) повёрнут на -phi_{k} "
+                 "= (вдоль, поперёк) (не зависит от шага)",
+        "turns": "проверка: {what} (не зависит от шага)",
+        "system": "проверка: {what}",
+        "perp": "проверка: (v{n} - v{j}) перпендикулярна {j}{n}",
+        "point": "Точка {n} звена {k}",
+        "Qx": "главный вектор известных нагрузок звена {k}, x",
+        "Qy": "главный вектор известных нагрузок звена {k}, y",
+        "MQ": "их момент относительно {ref}",
+        "MQ_check": "проверка: момент нагрузок звена {k} относительно начала координат (относительная невязка)",
+        "R": "модуль реакции {of}",
+        "R_mag": "модуль реакции R_{tag}",
+        "Rx": "реакция {of}, x",
+        "Ry": "реакция {of}, y",
+        "Rx_cramer": "реакция {of} (Крамер), x",
+        "Ry_cramer": "реакция {of} (Крамер), y",
+        "Rsys": "реакция в её двух уравнениях",
+        "equilibrium": "проверка: равновесие звена {k} (силы и моменты, относительная невязка)",
+    },
+    "uk": {
+        "vsys": "нев'язка системи для швидкостей",
+        "asys": "нев'язка системи для прискорень",
+        "x": "координата x {of}",
+        "y": "координата y {of}",
+        "vx": "швидкість, проекція на x {of}",
+        "vy": "швидкість, проекція на y {of}",
+        "v": "модуль швидкості {of}",
+        "ax": "прискорення, проекція на x {of}",
+        "ay": "прискорення, проекція на y {of}",
+        "a": "модуль прискорення {of}",
+        "mags": "модулі v_{n}, a_{n}",
+        "mag_check": "перевірка: {what}: |m| m = x^2 + y^2 (відносна нев'язка; не залежить від кроку, виявляє і "
+                     "невірний знак модуля)",
+        "fd": "{q}: чисельна похідна (відносна нев'язка)",
+        "cos": "cos кута ланки {k}",
+        "sin": "sin кута ланки {k}",
+        "guard": "група {i} збирається (дискримінант > 0, не мертва точка)",
+        "via_v": "перевірка: швидкість {n} через ланку {k} ({label}; не залежить від кроку)",
+        "via_a": "перевірка: прискорення {n} через ланку {k} ({label}; не залежить від кроку)",
+        "local": "перевірка: {n} в осях ланки {k}: (r{n} - r{origin}) повернутий на -phi_{k} = (уздовж, поперек) (не "
+                 "залежить від кроку)",
+        "turns": "перевірка: {what} (не залежить від кроку)",
+        "system": "перевірка: {what}",
+        "perp": "перевірка: (v{n} - v{j}) перпендикулярна {j}{n}",
+        "point": "Точка {n} ланки {k}",
+        "Qx": "головний вектор відомих навантажень ланки {k}, x",
+        "Qy": "головний вектор відомих навантажень ланки {k}, y",
+        "MQ": "їх момент відносно {ref}",
+        "MQ_check": "перевірка: момент навантажень ланки {k} відносно початку координат (відносна нев'язка)",
+        "R": "модуль реакції {of}",
+        "R_mag": "модуль реакції R_{tag}",
+        "Rx": "реакція {of}, x",
+        "Ry": "реакція {of}, y",
+        "Rx_cramer": "реакція {of} (Крамер), x",
+        "Ry_cramer": "реакція {of} (Крамер), y",
+        "Rsys": "реакція в її двох рівняннях",
+        "equilibrium": "перевірка: рівновага ланки {k} (сили і моменти, відносна нев'язка)",
+    },
+    "en": {
+        "vsys": "residual of the velocity system",
+        "asys": "residual of the acceleration system",
+        "x": "x coordinate of {of}",
+        "y": "y coordinate of {of}",
+        "vx": "velocity, x component of {of}",
+        "vy": "velocity, y component of {of}",
+        "v": "speed of {of}",
+        "ax": "acceleration, x component of {of}",
+        "ay": "acceleration, y component of {of}",
+        "a": "acceleration magnitude of {of}",
+        "mags": "the magnitudes v_{n}, a_{n}",
+        "mag_check": "check: {what}: |m| m = x^2 + y^2 (relative; free of the step, a negative magnitude fails too)",
+        "fd": "{q} against the numeric derivative (relative)",
+        "cos": "cos of link {k}'s angle",
+        "sin": "sin of link {k}'s angle",
+        "guard": "group {i} assembles (discriminant > 0, not a dead point)",
+        "via_v": "check: velocity of {n} through link {k} ({label}; free of the step)",
+        "via_a": "check: acceleration of {n} through link {k} ({label}; free of the step)",
+        "local": "check: {n} in link {k}'s axes: (r{n} - r{origin}) turned by -phi_{k} = (along, across) "
+                 "(free of the step)",
+        "turns": "check: {what} (free of the step)",
+        "system": "check: {what}",
+        "perp": "check: (v{n} - v{j}) perpendicular to {j}{n}",
+        "point": "Point {n} of link {k}",
+        "Qx": "resultant of the known loads on link {k}, x",
+        "Qy": "resultant of the known loads on link {k}, y",
+        "MQ": "their moment about {ref}",
+        "MQ_check": "check: the moment of link {k}'s loads about the origin (relative)",
+        "R": "magnitude of the reaction {of}",
+        "R_mag": "the reaction's magnitude R_{tag}",
+        "Rx": "reaction {of}, x",
+        "Ry": "reaction {of}, y",
+        "Rx_cramer": "reaction {of} (Cramer), x",
+        "Ry_cramer": "reaction {of} (Cramer), y",
+        "Rsys": "the reaction put back into its two equations",
+        "equilibrium": "check: equilibrium of link {k} (forces and moments, relative)",
+    },
+}
+T = Texts(TEXTS)
+
+
+def residual(i: int, what: str) -> tuple[str, Text]:
     """cramer_rows' check row of group i's velocity ("v") or acceleration ("a") system."""
     if what == "v":
-        return f"chk_vsys_g{i}", "невязка системы для скоростей", "residual of the velocity system"
-    return f"chk_asys_g{i}", "невязка системы для ускорений", "residual of the acceleration system"
+        return f"chk_vsys_g{i}", T("vsys")
+    return f"chk_asys_g{i}", T("asys")
 
 
-
-def motion_rows(b: Builder, n: str, ru: str, en: str, x: str, y: str, vx: str, vy: str, ax: str, ay: str):
-    """The eight accepted rows of a moving point: coordinates, velocity, acceleration."""
-    for q, unit, f, r, e in (("x", "m", x, "координата x", "x coordinate"),
-                             ("y", "m", y, "координата y", "y coordinate"),
-                             ("vx", "m/s", vx, "скорость, проекция на x", "velocity, x component"),
-                             ("vy", "m/s", vy, "скорость, проекция на y", "velocity, y component")):
-        b.add(f"{q}_{n}", unit, f"{r} {ru}", f"{e} of {en}", "accepted", f)
-    b.add(f"v_{n}", "m/s", f"модуль скорости {ru}", f"speed of {en}", "accepted", f"SQRT({{vx_{n}}}^2+{{vy_{n}}}^2)")
-    for q, f, r, e in (("ax", ax, "ускорение, проекция на x", "acceleration, x component"),
-                       ("ay", ay, "ускорение, проекция на y", "acceleration, y component")):
-        b.add(f"{q}_{n}", "m/s^2", f"{r} {ru}", f"{e} of {en}", "accepted", f)
-    b.add(f"a_{n}", "m/s^2", f"модуль ускорения {ru}", f"acceleration magnitude of {en}", "accepted",
-          f"SQRT({{ax_{n}}}^2+{{ay_{n}}}^2)")
+def motion_rows(b: Builder, n: str, of: Text, x: str, y: str, vx: str, vy: str, ax: str, ay: str):
+    """The eight accepted rows of a moving point `of` (a label: "hinge B"): coordinates,
+    velocity, acceleration."""
+    for q, unit, f in (("x", "m", x), ("y", "m", y), ("vx", "m/s", vx), ("vy", "m/s", vy)):
+        b.accepted(f"{q}_{n}", unit, T(q, of=of), f)
+    b.accepted(f"v_{n}", "m/s", T("v", of=of), f"SQRT({{vx_{n}}}^2+{{vy_{n}}}^2)")
+    for q, f in (("ax", ax), ("ay", ay)):
+        b.accepted(f"{q}_{n}", "m/s^2", T(q, of=of), f)
+    b.accepted(f"a_{n}", "m/s^2", T("a", of=of), f"SQRT({{ax_{n}}}^2+{{ay_{n}}}^2)")
     magnitude_check(b, f"chk_mag_{n}", [(f"v_{n}", f"vx_{n}", f"vy_{n}"), (f"a_{n}", f"ax_{n}", f"ay_{n}")],
-                    f"модули v_{n}, a_{n}", f"the magnitudes v_{n}, a_{n}")
+                    T("mags", n=n))
 
 
-def magnitude_check(b: Builder, name: str, mags, ru: str, en: str):
+def magnitude_check(b: Builder, name: str, mags, what: Text):
     """A magnitude row against its components, for each (magnitude, x, y) of `mags`:
     |m| m - (x^2 + y^2), relative to m^2 + x^2 + y^2. Squared, so it is free of the step
     and of the row's size; |m| m rather than m^2 so that a negative magnitude fails too."""
     terms = [f"ABS(ABS({{{m}}})*{{{m}}}-{{{x}}}^2-{{{y}}}^2)/MAX({{{m}}}^2+{{{x}}}^2+{{{y}}}^2,1E-300)"
              for m, x, y in mags]
-    b.add(name, "", f"проверка: {ru}: |m| m = x^2 + y^2 (относительная невязка; не зависит от шага, "
-                    f"ловит и неверный знак модуля)",
-          f"check: {en}: |m| m = x^2 + y^2 (relative; free of the step, a negative magnitude fails too)",
-          "check", "+".join(terms))
+    b.check(name, "", T("mag_check", what=what), "+".join(terms))
 
 
-def distance_check(b: Builder, name: str, p1: str, p2: str, length: str, ru: str, en: str):
-    b.add(name, "m", ru, en, "check",
-          f"SQRT(({b.p('x', p2)}-{b.p('x', p1)})^2+({b.p('y', p2)}-{b.p('y', p1)})^2)-{length}")
+def distance_check(b: Builder, name: str, p1: str, p2: str, length: str, text: Text):
+    b.check(name, "m", text, f"SQRT(({b.p('x', p2)}-{b.p('x', p1)})^2+({b.p('y', p2)}-{b.p('y', p1)})^2)-{length}")
 
 
 def fd_checks(b: Builder, n: str):
@@ -120,21 +316,19 @@ def fd_checks(b: Builder, n: str):
     rates taken as given at each position: v = Fi_t dx/dFi, a = Fi_t dv/dFi + Fi_tt v / Fi_t."""
     for q, v, a in (("x", f"vx_{n}", f"ax_{n}"), ("y", f"vy_{n}", f"ay_{n}")):
         pos = f"{q}_{n}"
-        b.add(f"fd_{v}", "", f"{v}: численная производная (относительная невязка)",
-              f"{v} against the numeric derivative (relative)", "fdcheck",
-              f"({{{v}}}-{{Fi_t}}*({{{pos}@next}}-{{{pos}@prev}})/(2*{{Delta_Fi_rad}}))/{{scale:{v}}}")
-        b.add(f"fd_{a}", "", f"{a}: численная производная (относительная невязка)",
-              f"{a} against the numeric derivative (relative)", "fdcheck",
-              f"({{{a}}}-{{Fi_t}}*({{{v}@next}}-{{{v}@prev}})/(2*{{Delta_Fi_rad}})-{{Fi_tt}}*{{{v}}}/{{Fi_t}})/{{scale:{a}}}")
+        b.fdcheck(f"fd_{v}", T("fd", q=v),
+                  f"({{{v}}}-{{Fi_t}}*({{{pos}@next}}-{{{pos}@prev}})/(2*{{Delta_Fi_rad}}))/{{scale:{v}}}")
+        b.fdcheck(f"fd_{a}", T("fd", q=a),
+                  f"({{{a}}}-{{Fi_t}}*({{{v}@next}}-{{{v}@prev}})/(2*{{Delta_Fi_rad}})-{{Fi_tt}}*{{{v}}}/{{Fi_t}})"
+                  f"/{{scale:{a}}}")
 
 
+def cos_sin_rows(b: Builder, k: int):
+    b.calc(f"cos_{k}", "", T("cos", k=k), f"COS(RADIANS({{phi_{k}}}))")
+    b.calc(f"sin_{k}", "", T("sin", k=k), f"SIN(RADIANS({{phi_{k}}}))")
 
-def cos_sin_rows(b: Builder, k: int, ru: str, en: str):
-    b.add(f"cos_{k}", "", f"cos угла звена {k}", f"cos of link {k}'s angle", "calc", f"COS(RADIANS({{phi_{k}}}))")
-    b.add(f"sin_{k}", "", f"sin угла звена {k}", f"sin of link {k}'s angle", "calc", f"SIN(RADIANS({{phi_{k}}}))")
 
-
-# groups.motion.DEAD_POINT as the formulas write it (this module imports nothing; a test keeps them equal)
+# groups.motion.DEAD_POINT as the formulas write it (not imported from motion; a test keeps them equal)
 DEAD_POINT_TEXT = "1E-12"
 
 
@@ -145,11 +339,8 @@ def group_guard(b: Builder, g, disc: str, size: str):
     an exercise's empty rows (0 >= 0) still read as assembling, as before."""
     prev = b.guard
     test = f"{{{disc}}}>={DEAD_POINT_TEXT}*({size})"
-    b.add(f"asm_g{g.index}", "", f"группа {g.index} собирается (дискриминант > 0, не мёртвая точка)",
-          f"group {g.index} assembles (discriminant > 0, not a dead point)",
-          "guard", f"AND({{{prev}}},{test})" if prev else test)
+    b.row("guard", f"asm_g{g.index}", "", T("guard", i=g.index), f"AND({{{prev}}},{test})" if prev else test)
     b.guard = f"asm_g{g.index}"
-
 
 
 def via_link_checks(b: Builder, n: str, j: str, k: int, label: str):
@@ -158,23 +349,11 @@ def via_link_checks(b: Builder, n: str, j: str, k: int, label: str):
     angular velocity or acceleration of link k shows here, at any step."""
     c, s, w, e = (f"{{{r}}}" for r in b.rot[k])
     X, Y = f"({b.p('x', n)}-{b.p('x', j)})", f"({b.p('y', n)}-{b.p('y', j)})"
-    b.add(
-        f"chk_v_{n}_{k}",
-        "m/s",
-        f"проверка: скорость {n} через звено {k} ({label}; не зависит от шага)",
-        f"check: velocity of {n} through link {k} ({label}; free of the step)",
-        "check",
-        f"ABS({b.p('vx', n)}-({b.p('vx', j)}-{w}*{Y}))+ABS({b.p('vy', n)}-({b.p('vy', j)}+{w}*{X}))",
-    )
-    b.add(
-        f"chk_a_{n}_{k}",
-        "m/s^2",
-        f"проверка: ускорение {n} через звено {k} ({label}; не зависит от шага)",
-        f"check: acceleration of {n} through link {k} ({label}; free of the step)",
-        "check",
-        f"ABS({b.p('ax', n)}-({b.p('ax', j)}-{e}*{Y}-{w}^2*{X}))"
-        f"+ABS({b.p('ay', n)}-({b.p('ay', j)}+{e}*{X}-{w}^2*{Y}))",
-    )
+    b.check(f"chk_v_{n}_{k}", "m/s", T("via_v", n=n, k=k, label=label),
+            f"ABS({b.p('vx', n)}-({b.p('vx', j)}-{w}*{Y}))+ABS({b.p('vy', n)}-({b.p('vy', j)}+{w}*{X}))")
+    b.check(f"chk_a_{n}_{k}", "m/s^2", T("via_a", n=n, k=k, label=label),
+            f"ABS({b.p('ax', n)}-({b.p('ax', j)}-{e}*{Y}-{w}^2*{X}))"
+            f"+ABS({b.p('ay', n)}-({b.p('ay', j)}+{e}*{X}-{w}^2*{Y}))")
 
 
 def local_position_check(b: Builder, n: str, k: int, origin: str, along: str, across: str):
@@ -183,18 +362,11 @@ def local_position_check(b: Builder, n: str, k: int, origin: str, along: str, ac
     round (turned by +phi_k), so a sign or a factor wrong in either fails here."""
     c, s, _, _ = (f"{{{r}}}" for r in b.rot[k])
     X, Y = f"({{x_{n}}}-{b.p('x', origin)})", f"({{y_{n}}}-{b.p('y', origin)})"
-    b.add(
-        f"chk_local_{n}",
-        "m",
-        f"проверка: {n} в осях звена {k}: (r{n} - r{origin}) повёрнут на -phi_{k} "
-        f"= (вдоль, поперёк) (не зависит от шага)",
-        f"check: {n} in link {k}'s axes: (r{n} - r{origin}) turned by -phi_{k} = (along, across) (free of the step)",
-        "check",
-        f"ABS({X}*{c}+{Y}*{s}-{along})+ABS({Y}*{c}-{X}*{s}-{across})",
-    )
+    b.check(f"chk_local_{n}", "m", T("local", n=n, k=k, origin=origin),
+            f"ABS({X}*{c}+{Y}*{s}-{along})+ABS({Y}*{c}-{X}*{s}-{across})")
 
 
-def turns_with_check(b: Builder, name: str, angles, rates, ru: str, en: str):
+def turns_with_check(b: Builder, name: str, angles, rates, what: Text):
     """A link that turns as one with a line or another link: its angle rows against that
     direction's cos and sin, its omega and eps rows against the rates it turns with.
     angles: [(phi row, cos formula, sin formula)]; rates: [(row, formula)]. These rows
@@ -202,58 +374,50 @@ def turns_with_check(b: Builder, name: str, angles, rates, ru: str, en: str):
     without this check a wrong one stays green at any step."""
     terms = [f"ABS(COS(RADIANS({{{phi}}}))-{c})+ABS(SIN(RADIANS({{{phi}}}))-{s})" for phi, c, s in angles]
     terms += [f"ABS({{{r}}}-({f}))" for r, f in rates]
-    b.add(name, "", f"проверка: {ru} (не зависит от шага)", f"check: {en} (free of the step)", "check",
-          "+".join(terms))
+    b.check(name, "", T("turns", what=what), "+".join(terms))
 
 
-def system_check(b: Builder, name: str, what: tuple[str, str], m, x: str, y: str, rhs: tuple[str, str]):
+def system_check(b: Builder, name: str, what: Text, m, x: str, y: str, rhs: tuple[str, str]):
     """Put the solved unknowns back into their 2x2 system: |m11 x + m12 y - b1| + |m21 x + m22 y - b2|."""
     m11, m12, m21, m22 = m
-    b.add(name, "", f"проверка: {what[0]}", f"check: {what[1]}", "check",
-          f"ABS({m11}*{x}+{m12}*{y}-{rhs[0]})+ABS({m21}*{x}+{m22}*{y}-{rhs[1]})")
+    b.check(name, "", T("system", what=what),
+            f"ABS({m11}*{x}+{m12}*{y}-{rhs[0]})+ABS({m21}*{x}+{m22}*{y}-{rhs[1]})")
 
 
-def cramer_rows(b: Builder, m, det: str, unknowns, rhs: tuple[str, str], check: tuple[str, str, str]):
+def cramer_rows(b: Builder, m, det: str, unknowns, rhs: tuple[str, str], check: tuple[str, Text]):
     """Two unknowns of [[m11, m12], [m21, m22]] (x, y) = (b1, b2) by Cramer's rule (slide 20):
     x = (b1 m22 - b2 m12) / det, y = (m11 b2 - m21 b1) / det; then the check that puts
-    them back into the system. `unknowns` = ((name, unit, ru, en), (name, unit, ru, en))."""
+    them back into the system. `unknowns` = ((name, unit, text), (name, unit, text))."""
     m11, m12, m21, m22 = m
-    (n1, u1, ru1, en1), (n2, u2, ru2, en2) = unknowns
-    b.add(n1, u1, ru1, en1, "accepted", f"({rhs[0]}*{m22}-{rhs[1]}*{m12})/{{{det}}}")
-    b.add(n2, u2, ru2, en2, "accepted", f"({m11}*{rhs[1]}-{m21}*{rhs[0]})/{{{det}}}")
-    system_check(b, check[0], check[1:], m, f"{{{n1}}}", f"{{{n2}}}", rhs)
+    (n1, u1, t1), (n2, u2, t2) = unknowns
+    b.accepted(n1, u1, t1, f"({rhs[0]}*{m22}-{rhs[1]}*{m12})/{{{det}}}")
+    b.accepted(n2, u2, t2, f"({m11}*{rhs[1]}-{m21}*{rhs[0]})/{{{det}}}")
+    system_check(b, check[0], check[1], m, f"{{{n1}}}", f"{{{n2}}}", rhs)
 
 
-def det_row(b: Builder, det: str, m, unit: str, ru: str, en: str):
+def det_row(b: Builder, det: str, m, unit: str, text: Text):
     m11, m12, m21, m22 = m
-    b.add(det, unit, ru, en, "calc", f"{m11}*{m22}-{m12}*{m21}")
+    b.calc(det, unit, text, f"{m11}*{m22}-{m12}*{m21}")
 
 
 def relative_velocity_check(b: Builder, n: str, j: str):
     """A rigid link keeps |n j|: the relative velocity is perpendicular to n - j."""
-    b.add(
-        f"chk_v_{n}{j}",
-        "m^2/s",
-        f"проверка: (v{n} - v{j}) перпендикулярна {j}{n}",
-        f"check: (v{n} - v{j}) perpendicular to {j}{n}",
-        "check",
-        f"({b.p('vx', n)}-{b.p('vx', j)})*({b.p('x', n)}-{b.p('x', j)})"
-        f"+({b.p('vy', n)}-{b.p('vy', j)})*({b.p('y', n)}-{b.p('y', j)})",
-    )
+    b.check(f"chk_v_{n}{j}", "m^2/s", T("perp", n=n, j=j),
+            f"({b.p('vx', n)}-{b.p('vx', j)})*({b.p('x', n)}-{b.p('x', j)})"
+            f"+({b.p('vy', n)}-{b.p('vy', j)})*({b.p('y', n)}-{b.p('y', j)})")
 
 
-def carried_rows(b: Builder, n: str, k: int, origin: str, along: str, across: str, ru: str, en: str):
+def carried_rows(b: Builder, n: str, k: int, origin: str, along: str, across: str, of: Text):
     """A point fixed on link k (slide 7, Euler form): v = v_P + omega x r, a = a_P + eps x r - omega^2 r."""
     c, s, w, e = (f"{{{r}}}" for r in b.rot[k])
     rx = f"({along}*{c}-{across}*{s})" if across != "0" else f"{along}*{c}"
     ry = f"({along}*{s}+{across}*{c})" if across != "0" else f"{along}*{s}"
     X, Y = f"({{x_{n}}}-{b.p('x', origin)})", f"({{y_{n}}}-{b.p('y', origin)})"
-    b.section(f"point_{n}", f"Точка {n} звена {k}", f"Point {n} of link {k}")
+    b.section(f"point_{n}", T("point", n=n, k=k))
     motion_rows(
         b,
         n,
-        ru,
-        en,
+        of,
         f"{b.p('x', origin)}+{rx}",
         f"{b.p('y', origin)}+{ry}",
         f"{b.p('vx', origin)}-{w}*{Y}",
@@ -269,8 +433,7 @@ class InputRow:
     `early`: written with the lengths, before the frame points (the lecture's order)."""
     name: str
     unit: str
-    ru: str
-    en: str
+    text: Text
     value: float
     early: bool = False
 
@@ -290,18 +453,13 @@ class LoadRows:
         fx = "+".join(f for _, f, _ in loads[k]) or "0"
         fy = "+".join(f for _, _, f in loads[k]) or "0"
         mom = [f"({b.p('x', p)}-{b.p('x', ref)})*{y}-({b.p('y', p)}-{b.p('y', ref)})*{x}" for p, x, y in loads[k]]
-        b.add(f"Qx_{k}", "N", f"главный вектор известных нагрузок звена {k}, x",
-              f"resultant of the known loads on link {k}, x", "calc", fx)
-        b.add(f"Qy_{k}", "N", f"главный вектор известных нагрузок звена {k}, y",
-              f"resultant of the known loads on link {k}, y", "calc", fy)
-        b.add(f"MQ_{k}", "N m", f"их момент относительно {ref}", f"their moment about {ref}", "calc",
-              "+".join(mom + couples[k]) or "0")
+        b.calc(f"Qx_{k}", "N", T("Qx", k=k), fx)
+        b.calc(f"Qy_{k}", "N", T("Qy", k=k), fy)
+        b.calc(f"MQ_{k}", "N m", T("MQ", ref=ref), "+".join(mom + couples[k]) or "0")
         about_o = "+".join([f"{b.p('x', p)}*{y}-{b.p('y', p)}*{x}" for p, x, y in loads[k]] + couples[k]) or "0"
-        b.add(f"chk_MQ_{k}", "",
-              f"проверка: момент нагрузок звена {k} относительно начала координат (относительная невязка)",
-              f"check: the moment of link {k}'s loads about the origin (relative)", "check",
-              f"({about_o}-({{MQ_{k}}}+{b.p('x', ref)}*{{Qy_{k}}}-{b.p('y', ref)}*{{Qx_{k}}}))"
-              f"/(1+ABS({{Qx_{k}}})+ABS({{Qy_{k}}})+ABS({{MQ_{k}}}))")
+        b.check(f"chk_MQ_{k}", "", T("MQ_check", k=k),
+                f"({about_o}-({{MQ_{k}}}+{b.p('x', ref)}*{{Qy_{k}}}-{b.p('y', ref)}*{{Qx_{k}}}))"
+                f"/(1+ABS({{Qx_{k}}})+ABS({{Qy_{k}}})+ABS({{MQ_{k}}}))")
 
     def opposite(self, link: int, at: str, tag: str, couple: bool = False):
         """Link `link` exerts the reaction `tag` at `at`: it takes the opposite force there
@@ -310,28 +468,24 @@ class LoadRows:
         if couple:
             self.couples[link].append(f"(-{{M_{tag}}})")
 
-    def magnitude(self, tag: str, ru: str, en: str):
-        self.b.add(f"R_{tag}", "N", f"модуль реакции {ru}", f"magnitude of the reaction {en}", "accepted",
-                   f"SQRT({{Rx_{tag}}}^2+{{Ry_{tag}}}^2)")
-        magnitude_check(self.b, f"chk_mag_R_{tag}", [(f"R_{tag}", f"Rx_{tag}", f"Ry_{tag}")],
-                        f"модуль реакции R_{tag}", f"the reaction's magnitude R_{tag}")
+    def magnitude(self, tag: str, of: Text):
+        """R_tag, the magnitude of the reaction `of` ("of link 2 on link 3 at B"), and its check."""
+        self.b.accepted(f"R_{tag}", "N", T("R", of=of), f"SQRT({{Rx_{tag}}}^2+{{Ry_{tag}}}^2)")
+        magnitude_check(self.b, f"chk_mag_R_{tag}", [(f"R_{tag}", f"Rx_{tag}", f"Ry_{tag}")], T("R_mag", tag=tag))
 
-    def reaction(self, tag: str, rx: str, ry: str, ru: str, en: str):
-        self.b.add(f"Rx_{tag}", "N", f"реакция {ru}, x", f"reaction {en}, x", "accepted", rx)
-        self.b.add(f"Ry_{tag}", "N", f"реакция {ru}, y", f"reaction {en}, y", "accepted", ry)
-        self.magnitude(tag, ru, en)
+    def reaction(self, tag: str, rx: str, ry: str, of: Text):
+        self.b.accepted(f"Rx_{tag}", "N", T("Rx", of=of), rx)
+        self.b.accepted(f"Ry_{tag}", "N", T("Ry", of=of), ry)
+        self.magnitude(tag, of)
 
-    def cramer_reaction(self, i: int, tag: str, mat, rhs, det_unit: str, det_text: tuple[str, str],
-                        ru: str, en: str):
+    def cramer_reaction(self, i: int, tag: str, mat, rhs, det_unit: str, det_text: Text, of: Text):
         """The group's determinant, the reaction at J1 by Cramer's rule (lecture slide 20),
         the check putting it back into its two equations, and its magnitude."""
         b, det = self.b, f"Delta_R_g{i}"
-        det_row(b, det, mat, det_unit, *det_text)
-        cramer_rows(b, mat, det, ((f"Rx_{tag}", "N", f"реакция {ru} (Крамер), x", f"reaction {en} (Cramer), x"),
-                                  (f"Ry_{tag}", "N", f"реакция {ru} (Крамер), y", f"reaction {en} (Cramer), y")),
-                    rhs, (f"chk_Rsys_g{i}", "реакция в её двух уравнениях",
-                          "the reaction put back into its two equations"))
-        self.magnitude(tag, ru, en)
+        det_row(b, det, mat, det_unit, det_text)
+        cramer_rows(b, mat, det, ((f"Rx_{tag}", "N", T("Rx_cramer", of=of)), (f"Ry_{tag}", "N", T("Ry_cramer", of=of))),
+                    rhs, (f"chk_Rsys_g{i}", T("Rsys")))
+        self.magnitude(tag, of)
 
     def equilibrium(self, k: int, ref: str, acting, couple: str):
         """Check row: link k's three equilibrium equations with every reaction on it, the
@@ -343,6 +497,4 @@ class LoadRows:
                        + [f"{b.p('x', p)}*{y}-{b.p('y', p)}*{x}" for p, x, y in acting]
                        + ([couple] if couple else []))
         size = "+".join(["1", f"ABS({{Qx_{k}}})", f"ABS({{Qy_{k}}})"] + [f"ABS({x})+ABS({y})" for _, x, y in acting])
-        b.add(f"chk_eq_{k}", "", f"проверка: равновесие звена {k} (силы и моменты, относительная невязка)",
-              f"check: equilibrium of link {k} (forces and moments, relative)", "check",
-              f"(ABS({fx})+ABS({fy})+ABS({mom}))/({size})")
+        b.check(f"chk_eq_{k}", "", T("equilibrium", k=k), f"(ABS({fx})+ABS({fy})+ABS({mom}))/({size})")

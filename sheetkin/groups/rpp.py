@@ -25,7 +25,17 @@ import numpy as np
 from .group import Family, Group, Guide, crank_scene
 from .motion import GroupMotion, Motion, Pair, Rotation, Slide, cramer, inverse_det
 from .parts import BlockPart, Parts, scene_guide, slot
-from .rows import Builder, InputRow, LoadRows, cos_sin_rows, cramer_rows, fd_checks, motion_rows, turns_with_check
+from .rows import (
+    Builder,
+    InputRow,
+    LoadRows,
+    Texts,
+    cos_sin_rows,
+    cramer_rows,
+    fd_checks,
+    motion_rows,
+    turns_with_check,
+)
 
 # --------------------------------------------------------------------------- what it is
 KIND = "RPP"
@@ -35,6 +45,130 @@ TITLE = ("камень в J1 в пазу кулисы, движущейся пр
          "block on J1 in the slot of a kulisa that moves straight along a fixed guide (Scotch yoke)")
 KEYS = ("type", "links", "joints", "slot_angle_deg", "guide")
 PARALLEL = 1e-9      # |sin(alpha - gamma)| below this: the slot runs along the guide, no K
+
+
+# --------------------------------------------------------------------------- the rows' texts
+# format templates, one table per language (fields: group i, block la, kulisa lb, joints J1 K)
+TEXTS = {
+    "ru": {
+        "gx": "направляющая кулисы {lb}: x точки",
+        "gy": "направляющая кулисы {lb}: y точки",
+        "gamma": "угол наклона направляющей кулисы",
+        "alpha": "угол паза кулисы (камень {J1})",
+        "group": "Группа {i} (ВПП {J1}{K}): кулиса {lb}, движущаяся прямолинейно (синусный механизм)",
+        "D": "определитель [u_g, u_s] = sin(alpha - gamma) (0: паз вдоль направляющей, K нет)",
+        "guard": "группа {i} собирается (паз пересекает направляющую)",
+        "det": "sin(alpha - gamma): синус угла между пазом и направляющей",
+        "accepted": "Принятые значения: положение, скорость, ускорение вдоль направляющей и паза",
+        "travel": "положение",
+        "velocity": "скорость",
+        "acceleration": "ускорение",
+        "s_K": "{what} кулисы: {K} вдоль направляющей (Крамер)",
+        "s_J1": "{what} камня {J1} вдоль паза от {K} (Крамер)",
+        "sys": "{what}: невязка системы",
+        "phi_a": "угол паза (камень {la} и кулиса {lb} не вращаются)",
+        "phi_b": "угол кулисы {lb} (= угол паза)",
+        "chk_acc": "проверка принятых значений: G + s_{K} u_g + s_{J1} u_s - {J1}",
+        "block": "камня",
+        "kulisa": "кулисы",
+        "omega": "угловая скорость {what} {k}",
+        "eps": "угловое ускорение {what} {k}",
+        "rot": "камень {la} и кулиса {lb} повёрнуты по пазу (alpha)",
+        "point_K": "Точка {K} кулисы {lb} на её направляющей",
+        "point": "точки {K}",
+        "chk_J1": "проверка: {K} + s_{J1} u_s совпадает с {J1}",
+        "chk_v_J1": "проверка: скорость {K} + vs_{J1} u_s равна скорости {J1}",
+        "chk_a_J1": "проверка: ускорение {K} + as_{J1} u_s равно ускорению {J1} (не зависит от шага)",
+        "R_det": "определитель: sin(gamma - alpha)",
+        "P": "нормальная сила паза на камень {J1} (Крамер)",
+        "Q": "нормальная сила направляющей на кулису (Крамер)",
+        "chk_Rsys": "проверка: нормальные силы в их двух уравнениях",
+        "R_1": "звена {o} на камень {a} в {J1}",
+        "R_ab": "камня {a} на кулису {bl} (через {J1})",
+        "M_ab": "момент камня {a} на кулису {bl}",
+        "R_0": "направляющей на кулису {bl} (через {K})",
+        "M_0": "момент направляющей на кулису {bl}",
+    },
+    "uk": {
+        "gx": "напрямна куліси {lb}: x точки",
+        "gy": "напрямна куліси {lb}: y точки",
+        "gamma": "кут нахилу напрямної куліси",
+        "alpha": "кут паза куліси (камінь {J1})",
+        "group": "Група {i} (ОПП {J1}{K}): куліса {lb}, рухома прямолінійно (синусний механізм)",
+        "D": "визначник [u_g, u_s] = sin(alpha - gamma) (0: паз уздовж напрямної, K немає)",
+        "guard": "група {i} збирається (паз перетинає напрямну)",
+        "det": "sin(alpha - gamma): синус кута між пазом і напрямної",
+        "accepted": "Прийняті значення: положення, швидкість, прискорення уздовж напрямної і паза",
+        "travel": "положення",
+        "velocity": "швидкість",
+        "acceleration": "прискорення",
+        "s_K": "{what} куліси: {K} уздовж напрямної (Крамер)",
+        "s_J1": "{what} каменя {J1} уздовж паза від {K} (Крамер)",
+        "sys": "{what}: нев'язка системи",
+        "phi_a": "кут паза (камінь {la} і куліса {lb} не обертаються)",
+        "phi_b": "кут куліси {lb} (= кут паза)",
+        "chk_acc": "перевірка прийнятих значень: G + s_{K} u_g + s_{J1} u_s - {J1}",
+        "block": "каменя",
+        "kulisa": "куліси",
+        "omega": "кутова швидкість {what} {k}",
+        "eps": "кутове прискорення {what} {k}",
+        "rot": "камінь {la} і куліса {lb} повернуті за пазу (alpha)",
+        "point_K": "Точка {K} куліси {lb} на її напрямної",
+        "point": "точки {K}",
+        "chk_J1": "перевірка: {K} + s_{J1} u_s збігається з {J1}",
+        "chk_v_J1": "перевірка: швидкість {K} + vs_{J1} u_s дорівнює швидкості {J1}",
+        "chk_a_J1": "перевірка: прискорення {K} + as_{J1} u_s дорівнює прискоренню {J1} (не залежить від кроку)",
+        "R_det": "визначник: sin(gamma - alpha)",
+        "P": "нормальна сила паза на камінь {J1} (Крамер)",
+        "Q": "нормальна сила напрямної на кулісу (Крамер)",
+        "chk_Rsys": "перевірка: нормальні сили в їх двох рівняннях",
+        "R_1": "ланки {o} на камінь {a} в {J1}",
+        "R_ab": "каменя {a} на кулісу {bl} (через {J1})",
+        "M_ab": "момент каменя {a} на кулісу {bl}",
+        "R_0": "напрямної на кулісу {bl} (через {K})",
+        "M_0": "момент напрямної на кулісу {bl}",
+    },
+    "en": {
+        "gx": "kulisa {lb}'s guide: x of a point",
+        "gy": "kulisa {lb}'s guide: y of a point",
+        "gamma": "the kulisa's guide's angle",
+        "alpha": "the kulisa's slot angle (block {J1})",
+        "group": "Group {i} (RPP {J1}{K}): kulisa {lb} moving straight (Scotch yoke)",
+        "D": "determinant [u_g, u_s] = sin(alpha - gamma) (0: the slot along the guide, no K)",
+        "guard": "group {i} assembles (the slot crosses the guide)",
+        "det": "sin(alpha - gamma): sine of the angle between the slot and the guide",
+        "accepted": "Accepted values: position, velocity, acceleration along the guide and the slot",
+        "travel": "travel",
+        "velocity": "velocity",
+        "acceleration": "acceleration",
+        "s_K": "{what} of the kulisa: {K} along the guide (Cramer)",
+        "s_J1": "{what} of block {J1} along the slot from {K} (Cramer)",
+        "sys": "{what}: residual of the system",
+        "phi_a": "the slot's angle (block {la} and kulisa {lb} do not turn)",
+        "phi_b": "angle of kulisa {lb} (= the slot's)",
+        "chk_acc": "check of the accepted values: G + s_{K} u_g + s_{J1} u_s - {J1}",
+        "block": "block",
+        "kulisa": "kulisa",
+        "omega": "angular velocity of {what} {k}",
+        "eps": "angular acceleration of {what} {k}",
+        "rot": "block {la} and kulisa {lb} point along the slot (alpha)",
+        "point_K": "Point {K} of kulisa {lb} on its guide",
+        "point": "point {K}",
+        "chk_J1": "check: {K} + s_{J1} u_s is {J1}",
+        "chk_v_J1": "check: velocity of {K} + vs_{J1} u_s is {J1}'s",
+        "chk_a_J1": "check: acceleration of {K} + as_{J1} u_s is {J1}'s (free of the step)",
+        "R_det": "determinant: sin(gamma - alpha)",
+        "P": "normal force of the slot on block {J1} (Cramer)",
+        "Q": "normal force of the guide on the kulisa (Cramer)",
+        "chk_Rsys": "check: the normal forces put back into their two equations",
+        "R_1": "of link {o} on block {a} at {J1}",
+        "R_ab": "of block {a} on kulisa {bl} (through {J1})",
+        "M_ab": "couple of block {a} on kulisa {bl}",
+        "R_0": "of the guide on kulisa {bl} (through {K})",
+        "M_0": "couple of the guide on kulisa {bl}",
+    },
+}
+T = Texts(TEXTS)
 
 
 # --------------------------------------------------------------------------- scene keys
@@ -125,17 +259,11 @@ def solve(g: Group, known: dict[str, Motion], rot: dict[int, Rotation], scale: f
 
 # --------------------------------------------------------------------------- the workbook
 def input_rows(g: Group) -> list[InputRow]:
-    i, j1, gd = g.index, g.joints[0], g.guide
-    return [InputRow(f"gx_g{i}", "m", f"направляющая кулисы {g.links[1]}: x точки",
-                     f"kulisa {g.links[1]}'s guide: x of a point",
-                     gd.point[0]),
-            InputRow(f"gy_g{i}", "m", f"направляющая кулисы {g.links[1]}: y точки",
-                     f"kulisa {g.links[1]}'s guide: y of a point",
-                     gd.point[1]),
-            InputRow(f"gamma_g{i}", "deg", "угол наклона направляющей кулисы", "the kulisa's guide's angle",
-                     gd.angle_deg),
-            InputRow(f"alpha_g{i}", "deg", f"угол паза кулисы (камень {j1})", f"the kulisa's slot angle (block {j1})",
-                     g.slot_angle_deg)]
+    i, j1, gd, lb = g.index, g.joints[0], g.guide, g.links[1]
+    return [InputRow(f"gx_g{i}", "m", T("gx", lb=lb), gd.point[0]),
+            InputRow(f"gy_g{i}", "m", T("gy", lb=lb), gd.point[1]),
+            InputRow(f"gamma_g{i}", "deg", T("gamma"), gd.angle_deg),
+            InputRow(f"alpha_g{i}", "deg", T("alpha", J1=j1), g.slot_angle_deg)]
 
 
 def with_inputs(g: Group, num) -> Group:
@@ -145,90 +273,85 @@ def with_inputs(g: Group, num) -> Group:
     return dataclasses.replace(g, params=Params(num(f"alpha_g{i}", g.slot_angle_deg), guide))
 
 
+def _guide_slot(g: Group):
+    """The guide's and the slot's directions u_g = e(gamma), u_s = e(alpha) as formulas."""
+    i = g.index
+    ug = (f"COS(RADIANS({{gamma_g{i}}}))", f"SIN(RADIANS({{gamma_g{i}}}))")
+    us = (f"COS(RADIANS({{alpha_g{i}}}))", f"SIN(RADIANS({{alpha_g{i}}}))")
+    return ug, us
+
+
 def rows(b: Builder, g: Group):
     """J1 = G + s_K u_g + s_J1 u_s: the point's position, velocity and acceleration each
     split along the guide and the slot by Cramer's rule (one constant matrix)."""
     i, (la, lb), (J1, K) = g.index, g.links, g.joints
-    gx, gy = f"{{gx_g{i}}}", f"{{gy_g{i}}}"
-    ug = (f"COS(RADIANS({{gamma_g{i}}}))", f"SIN(RADIANS({{gamma_g{i}}}))")
-    b.section(f"group_{i}", f"Группа {i} (ВПП {J1}{K}): кулиса {lb}, движущаяся прямолинейно (синусный механизм)",
-              f"Group {i} (RPP {J1}{K}): kulisa {lb} moving straight (Scotch yoke)")
-    us = (f"COS(RADIANS({{alpha_g{i}}}))", f"SIN(RADIANS({{alpha_g{i}}}))")
+    b.section(f"group_{i}", T("group", i=i, J1=J1, K=K, lb=lb))
+    ug, us = _guide_slot(g)
     det = f"D_g{i}"
     m = (ug[0], us[0], ug[1], us[1])
-    b.add(det, "", "определитель [u_g, u_s] = sin(alpha - gamma) (0: паз вдоль направляющей, K нет)",
-          "determinant [u_g, u_s] = sin(alpha - gamma) (0: the slot along the guide, no K)", "calc",
-          f"{m[0]}*{m[3]}-{m[1]}*{m[2]}", guard=b.guard)
+    b.calc(det, "", T("D"), f"{m[0]}*{m[3]}-{m[1]}*{m[2]}", guard=b.guard)
     prev = b.guard
-    b.add(f"asm_g{i}", "", f"группа {i} собирается (паз пересекает направляющую)",
-          f"group {i} assembles (the slot crosses the guide)",
-          "guard", f"AND({{{prev}}},{{{det}}}<>0)" if prev else f"{{{det}}}<>0")
+    b.row("guard", f"asm_g{i}", "", T("guard", i=i), f"AND({{{prev}}},{{{det}}}<>0)" if prev else f"{{{det}}}<>0")
     b.guard = f"asm_g{i}"
-    b.add(f"det_g{i}", "", "sin(alpha - gamma): синус угла между пазом и направляющей",
-          "sin(alpha - gamma): sine of the angle between the slot and the guide", "calc", f"{{{det}}}")
-    b.section(f"accepted_g{i}", "Принятые значения: положение, скорость, ускорение вдоль направляющей и паза",
-              "Accepted values: position, velocity, acceleration along the guide and the slot")
-    systems = (("", "x", "m", "положение", "travel"), ("v", "vx", "m/s", "скорость", "velocity"),
-               ("a", "ax", "m/s^2", "ускорение", "acceleration"))
-
-    def split(q, pre, unit, ru, en):
-        """J1's position (from G), velocity or acceleration along u_g and u_s (Cramer)."""
-        if q:
-            rhs = (b.p(pre, J1), b.p(pre.replace("x", "y"), J1))
-        else:
-            rhs = (f"({b.p('x', J1)}-{gx})", f"({b.p('y', J1)}-{gy})")
-        cramer_rows(b, m, det, ((f"{q}s_{K}", unit, f"{ru} кулисы: {K} вдоль направляющей (Крамер)",
-                                 f"{en} of the kulisa: {K} along the guide (Cramer)"),
-                                (f"{q}s_{J1}", unit, f"{ru} камня {J1} вдоль паза от {K} (Крамер)",
-                                 f"{en} of block {J1} along the slot from {K} (Cramer)")),
-                    rhs, (f"chk_{q or 'p'}sys_g{i}", f"{ru}: невязка системы", f"{en}: residual of the system"))
-    split(*systems[0])
-    b.add(f"phi_{la}", "deg", f"угол паза (камень {la} и кулиса {lb} не вращаются)",
-          f"the slot's angle (block {la} and kulisa {lb} do not turn)", "accepted", f"MOD({{alpha_g{i}}},360)")
-    b.add(f"phi_{lb}", "deg", f"угол кулисы {lb} (= угол паза)", f"angle of kulisa {lb} (= the slot's)", "accepted",
-          f"{{phi_{la}}}")
-    cos_sin_rows(b, la, "", "")
-    cos_sin_rows(b, lb, "", "")
-    cs, ss = f"{{cos_{la}}}", f"{{sin_{la}}}"
-    b.add(f"chk_acc_g{i}", "m", f"проверка принятых значений: G + s_{K} u_g + s_{J1} u_s - {J1}",
-          f"check of the accepted values: G + s_{K} u_g + s_{J1} u_s - {J1}", "check",
-          f"ABS({gx}+{{s_{K}}}*{ug[0]}+{{s_{J1}}}*{cs}-{b.p('x', J1)})"
-          f"+ABS({gy}+{{s_{K}}}*{ug[1]}+{{s_{J1}}}*{ss}-{b.p('y', J1)})")
-    for k, what in ((la, ("камня", "block")), (lb, ("кулисы", "kulisa"))):
-        b.add(f"omega_{k}", "rad/s", f"угловая скорость {what[0]} {k}", f"angular velocity of {what[1]} {k}",
-              "accepted", "0")
-        b.add(f"eps_{k}", "rad/s^2", f"угловое ускорение {what[0]} {k}", f"angular acceleration of {what[1]} {k}",
-              "accepted", "0")
-    turns_with_check(b, f"chk_rot_g{i}", [(f"phi_{la}", us[0], us[1]), (f"phi_{lb}", us[0], us[1])], [],
-                     f"камень {la} и кулиса {lb} повёрнуты по пазу (alpha)",
-                     f"block {la} and kulisa {lb} point along the slot (alpha)")
-    split(*systems[1])
-    split(*systems[2])
+    b.calc(f"det_g{i}", "", T("det"), f"{{{det}}}")
+    b.section(f"accepted_g{i}", T("accepted"))
+    _split(b, g, m, "", "x", "m", T("travel"))
+    _accepted_rows(b, g)
+    _split(b, g, m, "v", "vx", "m/s", T("velocity"))
+    _split(b, g, m, "a", "ax", "m/s^2", T("acceleration"))
     b.place_links(la, lb)
-    b.section(f"point_{K}", f"Точка {K} кулисы {lb} на её направляющей", f"Point {K} of kulisa {lb} on its guide")
-    motion_rows(b, K, f"точки {K}", f"point {K}", f"{gx}+{{s_{K}}}*{ug[0]}", f"{gy}+{{s_{K}}}*{ug[1]}",
+    _kulisa_point_rows(b, g)
+
+
+def _split(b: Builder, g: Group, m, q: str, pre: str, unit: str, what):
+    """J1's position (from G), velocity or acceleration along u_g and u_s (Cramer, slide 20)."""
+    i, (J1, K) = g.index, g.joints
+    if q:
+        rhs = (b.p(pre, J1), b.p(pre.replace("x", "y"), J1))
+    else:
+        rhs = (f"({b.p('x', J1)}-{{gx_g{i}}})", f"({b.p('y', J1)}-{{gy_g{i}}})")
+    cramer_rows(b, m, f"D_g{i}", ((f"{q}s_{K}", unit, T("s_K", what=what, K=K)),
+                                  (f"{q}s_{J1}", unit, T("s_J1", what=what, J1=J1, K=K))),
+                rhs, (f"chk_{q or 'p'}sys_g{i}", T("sys", what=what)))
+
+
+def _accepted_rows(b: Builder, g: Group):
+    """The block and the kulisa do not turn: their angle is the slot's, their rates 0; the
+    check of the accepted travels."""
+    i, (la, lb), (J1, K) = g.index, g.links, g.joints
+    ug, us = _guide_slot(g)
+    b.accepted(f"phi_{la}", "deg", T("phi_a", la=la, lb=lb), f"MOD({{alpha_g{i}}},360)")
+    b.accepted(f"phi_{lb}", "deg", T("phi_b", lb=lb), f"{{phi_{la}}}")
+    cos_sin_rows(b, la)
+    cos_sin_rows(b, lb)
+    cs, ss = f"{{cos_{la}}}", f"{{sin_{la}}}"
+    b.check(f"chk_acc_g{i}", "m", T("chk_acc", K=K, J1=J1),
+            f"ABS({{gx_g{i}}}+{{s_{K}}}*{ug[0]}+{{s_{J1}}}*{cs}-{b.p('x', J1)})"
+            f"+ABS({{gy_g{i}}}+{{s_{K}}}*{ug[1]}+{{s_{J1}}}*{ss}-{b.p('y', J1)})")
+    for k, what in ((la, T("block")), (lb, T("kulisa"))):
+        b.accepted(f"omega_{k}", "rad/s", T("omega", what=what, k=k), "0")
+        b.accepted(f"eps_{k}", "rad/s^2", T("eps", what=what, k=k), "0")
+    turns_with_check(b, f"chk_rot_g{i}", [(f"phi_{la}", us[0], us[1]), (f"phi_{lb}", us[0], us[1])], [],
+                     T("rot", la=la, lb=lb))
+
+
+def _kulisa_point_rows(b: Builder, g: Group):
+    """The kulisa's point K on its guide, and J1 = K + s_J1 u_s once more in position,
+    velocity and acceleration (the slot does not turn: no Coriolis term)."""
+    i, lb, (J1, K) = g.index, g.links[1], g.joints
+    ug, _ = _guide_slot(g)
+    cs, ss = f"{{cos_{g.links[0]}}}", f"{{sin_{g.links[0]}}}"
+    b.section(f"point_{K}", T("point_K", K=K, lb=lb))
+    motion_rows(b, K, T("point", K=K), f"{{gx_g{i}}}+{{s_{K}}}*{ug[0]}", f"{{gy_g{i}}}+{{s_{K}}}*{ug[1]}",
                 f"{{vs_{K}}}*{ug[0]}", f"{{vs_{K}}}*{ug[1]}", f"{{as_{K}}}*{ug[0]}", f"{{as_{K}}}*{ug[1]}")
-    b.add(f"chk_{J1}_g{i}", "m", f"проверка: {K} + s_{J1} u_s совпадает с {J1}", f"check: {K} + s_{J1} u_s is {J1}",
-          "check",
-          f"ABS({{x_{K}}}+{{s_{J1}}}*{cs}-{b.p('x', J1)})+ABS({{y_{K}}}+{{s_{J1}}}*{ss}-{b.p('y', J1)})")
-    b.add(
-        f"chk_v_{J1}_g{i}",
-        "m/s",
-        f"проверка: скорость {K} + vs_{J1} u_s равна скорости {J1}",
-        f"check: velocity of {K} + vs_{J1} u_s is {J1}'s",
-        "check",
-        f"ABS({{vx_{K}}}+{{vs_{J1}}}*{cs}-{b.p('vx', J1)})+ABS({{vy_{K}}}+{{vs_{J1}}}*{ss}-{b.p('vy', J1)})",
-    )
+    b.check(f"chk_{J1}_g{i}", "m", T("chk_J1", K=K, J1=J1),
+            f"ABS({{x_{K}}}+{{s_{J1}}}*{cs}-{b.p('x', J1)})+ABS({{y_{K}}}+{{s_{J1}}}*{ss}-{b.p('y', J1)})")
+    b.check(f"chk_v_{J1}_g{i}", "m/s", T("chk_v_J1", K=K, J1=J1),
+            f"ABS({{vx_{K}}}+{{vs_{J1}}}*{cs}-{b.p('vx', J1)})+ABS({{vy_{K}}}+{{vs_{J1}}}*{ss}-{b.p('vy', J1)})")
     # the same for accelerations: the slot does not turn, so no Coriolis term; without it
     # K's acceleration rows had only the numeric derivative (inactive above 3 deg)
-    b.add(
-        f"chk_a_{J1}_g{i}",
-        "m/s^2",
-        f"проверка: ускорение {K} + as_{J1} u_s равно ускорению {J1} (не зависит от шага)",
-        f"check: acceleration of {K} + as_{J1} u_s is {J1}'s (free of the step)",
-        "check",
-        f"ABS({{ax_{K}}}+{{as_{J1}}}*{cs}-{b.p('ax', J1)})+ABS({{ay_{K}}}+{{as_{J1}}}*{ss}-{b.p('ay', J1)})",
-    )
+    b.check(f"chk_a_{J1}_g{i}", "m/s^2", T("chk_a_J1", K=K, J1=J1),
+            f"ABS({{ax_{K}}}+{{as_{J1}}}*{cs}-{b.p('ax', J1)})+ABS({{ay_{K}}}+{{as_{J1}}}*{ss}-{b.p('ay', J1)})")
     fd_checks(b, K)
 
 
@@ -289,32 +412,22 @@ def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
     m = (f"(-{ss})", sg, cs, f"(-{cg})")
     rhs = (f"{{Qx_{bl}}}", f"{{Qy_{bl}}}")
     det, P, Q = f"Delta_R_g{i}", f"P_g{i}", f"Qg_g{i}"
-    b.add(det, "", "определитель: sin(gamma - alpha)", "determinant: sin(gamma - alpha)", "calc",
-          f"{m[0]}*{m[3]}-{m[1]}*{m[2]}")
-    b.add(P, "N", f"нормальная сила паза на камень {J1} (Крамер)", f"normal force of the slot on block {J1} (Cramer)",
-          "calc",
-          f"({rhs[0]}*{m[3]}-{rhs[1]}*{m[1]})/{{{det}}}")
-    b.add(Q, "N", "нормальная сила направляющей на кулису (Крамер)",
-          "normal force of the guide on the kulisa (Cramer)", "calc",
-          f"({m[0]}*{rhs[1]}-{m[2]}*{rhs[0]})/{{{det}}}")
-    b.add(f"chk_Rsys_g{i}", "", "проверка: нормальные силы в их двух уравнениях",
-          "check: the normal forces put back into their two equations", "check",
-          f"(ABS({m[0]}*{{{P}}}+{m[1]}*{{{Q}}}-{rhs[0]})+ABS({m[2]}*{{{P}}}+{m[3]}*{{{Q}}}-{rhs[1]}))"
-          f"/(1+ABS({{Qx_{bl}}})+ABS({{Qy_{bl}}}))")
+    b.calc(det, "", T("R_det"), f"{m[0]}*{m[3]}-{m[1]}*{m[2]}")
+    b.calc(P, "N", T("P", J1=J1), f"({rhs[0]}*{m[3]}-{rhs[1]}*{m[1]})/{{{det}}}")
+    b.calc(Q, "N", T("Q"), f"({m[0]}*{rhs[1]}-{m[2]}*{rhs[0]})/{{{det}}}")
+    b.check(f"chk_Rsys_g{i}", "", T("chk_Rsys"),
+            f"(ABS({m[0]}*{{{P}}}+{m[1]}*{{{Q}}}-{rhs[0]})+ABS({m[2]}*{{{P}}}+{m[3]}*{{{Q}}}-{rhs[1]}))"
+            f"/(1+ABS({{Qx_{bl}}})+ABS({{Qy_{bl}}}))")
     t1, tab, t0 = f"{o1}_{a}", f"{a}_{bl}", f"0_{bl}"
-    k.reaction(t1, f"{{{P}}}*{ss}-{{Qx_{a}}}", f"-{{{P}}}*{cs}-{{Qy_{a}}}", f"звена {o1} на камень {a} в {J1}",
-               f"of link {o1} on block {a} at {J1}")
-    k.reaction(tab, f"{{{P}}}*{ss}", f"-{{{P}}}*{cs}", f"камня {a} на кулису {bl} (через {J1})",
-               f"of block {a} on kulisa {bl} (through {J1})")
-    b.add(f"M_{tab}", "N m", f"момент камня {a} на кулису {bl}", f"couple of block {a} on kulisa {bl}", "accepted",
-          f"{{MQ_{a}}}")
+    k.reaction(t1, f"{{{P}}}*{ss}-{{Qx_{a}}}", f"-{{{P}}}*{cs}-{{Qy_{a}}}", T("R_1", o=o1, a=a, J1=J1))
+    k.reaction(tab, f"{{{P}}}*{ss}", f"-{{{P}}}*{cs}", T("R_ab", a=a, bl=bl, J1=J1))
+    b.accepted(f"M_{tab}", "N m", T("M_ab", a=a, bl=bl), f"{{MQ_{a}}}")
     k.equilibrium(a, J1, [(J1, f"{{Rx_{t1}}}", f"{{Ry_{t1}}}"), (J1, f"(-{{Rx_{tab}}})", f"(-{{Ry_{tab}}})")],
                   f"(-{{M_{tab}}})")
-    k.reaction(t0, f"-{{{Q}}}*{sg}", f"{{{Q}}}*{cg}", f"направляющей на кулису {bl} (через {K})",
-               f"of the guide on kulisa {bl} (through {K})")
+    k.reaction(t0, f"-{{{Q}}}*{sg}", f"{{{Q}}}*{cg}", T("R_0", bl=bl, K=K))
     dx, dy = f"({b.p('x', J1)}-{{x_{K}}})", f"({b.p('y', J1)}-{{y_{K}}})"
-    b.add(f"M_{t0}", "N m", f"момент направляющей на кулису {bl}", f"couple of the guide on kulisa {bl}", "accepted",
-          f"-{{MQ_{a}}}-{{MQ_{bl}}}+{{{P}}}*({dx}*{cs}+{dy}*{ss})")
+    b.accepted(f"M_{t0}", "N m", T("M_0", bl=bl),
+               f"-{{MQ_{a}}}-{{MQ_{bl}}}+{{{P}}}*({dx}*{cs}+{dy}*{ss})")
     k.equilibrium(bl, K, [(J1, f"{{Rx_{tab}}}", f"{{Ry_{tab}}}"), (K, f"{{Rx_{t0}}}", f"{{Ry_{t0}}}")],
                   f"{{M_{tab}}}+{{M_{t0}}}")
     k.opposite(o1, J1, t1)

@@ -34,7 +34,7 @@ from .motion import (
     sqrt_or_nan,
 )
 from .parts import BlockPart, Parts, slot
-from .rows import Builder, InputRow, LoadRows, cramer_rows, det_row, group_guard, residual, turns_with_check
+from .rows import Builder, InputRow, LoadRows, Texts, cramer_rows, det_row, group_guard, residual, turns_with_check
 
 # --------------------------------------------------------------------------- what it is
 KIND = "RPR"
@@ -43,6 +43,127 @@ SLIDES = "22-24"
 TITLE = ("камень на J1 в кулисе, вращающейся вокруг J2 (ось неподвижна или движется)",
          "block on J1 in a kulisa (slotted lever) turning about J2 (a fixed or a moving axis)")
 KEYS = ("type", "links", "joints", "offset")
+
+
+# --------------------------------------------------------------------------- the rows' texts
+# format templates, one table per language (fields: group i, block la, lever lb, joints J1 J2)
+TEXTS = {
+    "ru": {
+        "e": "смещение оси кулисы {lb} от {J2}",
+        "group": "Группа {i} (ВПВ: камень {J1} в кулисе, ось {J2}): слайды 22-24",
+        "group_moving": "Группа {i} (ВПВ: камень {J1} в кулисе с подвижной осью {J2}): "
+                        "L_ТЕК^2 = (x{J2} - x{J1})^2 + (y{J2} - y{J1})^2, слайды 22-24",
+        "dx": "x{J1} - x{J2}",
+        "dy": "y{J1} - y{J2}",
+        "r2": "L_TEK^2 = |{J2}{J1}|^2",
+        "D": "дискриминант L_TEK^2 - e^2 (< 0: группа не собирается)",
+        "accepted": "Принятые значения",
+        "s": "положение камня {J1} вдоль кулисы (L_TEK при e = 0)",
+        "cu": "cos угла кулисы: (s dx + e dy) / L_TEK^2",
+        "su": "sin угла кулисы: (s dy - e dx) / L_TEK^2",
+        "chk_e": "проверка: расстояние {J1} от оси кулисы - e",
+        "phi_b": "угол кулисы {lb}",
+        "phi_a": "угол камня {la} (= углу кулисы)",
+        "det": "определитель: -s",
+        "toggle": "s / L1 (около 0: кулиса не определена)",
+        "omega_b": "угловая скорость кулисы {lb} (Крамер)",
+        "vs": "относительная скорость камня {J1} вдоль кулисы",
+        "bx": "кориолисово и центростремительное: проекция на x",
+        "by": "кориолисово и центростремительное: проекция на y",
+        "eps_b": "угловое ускорение кулисы {lb}",
+        "as": "относительное ускорение камня {J1} вдоль кулисы",
+        "omega_a": "угловая скорость камня {la}",
+        "eps_a": "угловое ускорение камня {la}",
+        "rot": "кулиса {lb} и камень {la} повёрнуты по оси кулисы (cu, su), камень вращается с кулисой",
+        "chk_s": "проверка: s_{J1} = +sqrt(L_TEK^2 - e^2) >= 0 (относительная невязка)",
+        "cos": "cos угла кулисы {lb}",
+        "sin": "sin угла кулисы {lb}",
+        "chk_v": "проверка: v{J1} = v{J2} + omega x r + vs u",
+        "chk_a": "проверка: a{J1} = a{J2} + eps x r - omega^2 r + as u + 2 omega vs n",
+        "Pn": "давление кулисы {bl} на камень {a} по нормали к кулисе",
+        "R_ab": "камня {a} на кулису {bl} (через {J1})",
+        "M_ab": "момент реакции камня {a} на кулису {bl}",
+        "R_1": "звена {o} на камень {a} в {J1}",
+        "R_2": "звена {o} на кулису {bl} в {J2}",
+    },
+    "uk": {
+        "e": "зміщення осі куліси {lb} від {J2}",
+        "group": "Група {i} (ОПО: камінь {J1} в кулісі, вісь {J2}): слайди 22-24",
+        "group_moving": "Група {i} (ОПО: камінь {J1} в кулісі з рухомої віссю {J2}): L_ПОТ^2 = (x{J2} - x{J1})^2 + "
+                        "(y{J2} - y{J1})^2, слайди 22-24",
+        "dx": "x{J1} - x{J2}",
+        "dy": "y{J1} - y{J2}",
+        "r2": "L_TEK^2 = |{J2}{J1}|^2",
+        "D": "дискримінант L_TEK^2 - e^2 (< 0: група не збирається)",
+        "accepted": "Прийняті значення",
+        "s": "положення каменя {J1} уздовж куліси (L_TEK при e = 0)",
+        "cu": "cos кута куліси: (s dx + e dy) / L_TEK^2",
+        "su": "sin кута куліси: (s dy - e dx) / L_TEK^2",
+        "chk_e": "перевірка: відстань {J1} від осі куліси - e",
+        "phi_b": "кут куліси {lb}",
+        "phi_a": "кут каменя {la} (= куту куліси)",
+        "det": "визначник: -s",
+        "toggle": "s / L1 (близько 0: куліса не визначена)",
+        "omega_b": "кутова швидкість куліси {lb} (Крамер)",
+        "vs": "відносна швидкість каменя {J1} уздовж куліси",
+        "bx": "коріолісове і доцентрове: проекція на x",
+        "by": "коріолісове і доцентрове: проекція на y",
+        "eps_b": "кутове прискорення куліси {lb}",
+        "as": "відносне прискорення каменя {J1} уздовж куліси",
+        "omega_a": "кутова швидкість каменя {la}",
+        "eps_a": "кутове прискорення каменя {la}",
+        "rot": "куліса {lb} і камінь {la} повернуті за осі куліси (cu, su), камінь обертається з кулісою",
+        "chk_s": "перевірка: s_{J1} = +sqrt(L_TEK^2 - e^2) >= 0 (відносна нев'язка)",
+        "cos": "cos кута куліси {lb}",
+        "sin": "sin кута куліси {lb}",
+        "chk_v": "перевірка: v{J1} = v{J2} + omega x r + vs u",
+        "chk_a": "перевірка: a{J1} = a{J2} + eps x r - omega^2 r + as u + 2 omega vs n",
+        "Pn": "тиск куліси {bl} на камінь {a} за нормалі до кулісі",
+        "R_ab": "каменя {a} на кулісу {bl} (через {J1})",
+        "M_ab": "момент реакції каменя {a} на кулісу {bl}",
+        "R_1": "ланки {o} на камінь {a} в {J1}",
+        "R_2": "ланки {o} на кулісу {bl} в {J2}",
+    },
+    "en": {
+        "e": "offset of slot {lb} from {J2}",
+        "group": "Group {i} (RPR: block {J1} in the slotted lever about {J2}): slides 22-24",
+        "group_moving": "Group {i} (RPR: block {J1} in a kulisa with a moving axis {J2}): "
+                        "L_TEK^2 = (x{J2} - x{J1})^2 + (y{J2} - y{J1})^2, slides 22-24",
+        "dx": "x{J1} - x{J2}",
+        "dy": "y{J1} - y{J2}",
+        "r2": "L_TEK^2 = |{J2}{J1}|^2",
+        "D": "discriminant L_TEK^2 - e^2 (< 0: cannot assemble)",
+        "accepted": "Accepted values",
+        "s": "block {J1}'s place along the slot (L_TEK when e = 0)",
+        "cu": "cos of the slot's angle: (s dx + e dy) / L_TEK^2",
+        "su": "sin of the slot's angle: (s dy - e dx) / L_TEK^2",
+        "chk_e": "check: distance of {J1} from the slot line - e",
+        "phi_b": "angle of the slotted lever {lb}",
+        "phi_a": "angle of the block {la} (= the lever's)",
+        "det": "determinant: -s",
+        "toggle": "s / L1 (near 0: the slot is undefined)",
+        "omega_b": "angular velocity of the lever {lb} (Cramer)",
+        "vs": "velocity of block {J1} along the slot",
+        "bx": "Coriolis and centripetal terms, x",
+        "by": "Coriolis and centripetal terms, y",
+        "eps_b": "angular acceleration of the lever {lb}",
+        "as": "acceleration of block {J1} along the slot",
+        "omega_a": "angular velocity of the block {la}",
+        "eps_a": "angular acceleration of the block {la}",
+        "rot": "lever {lb} and block {la} point along the slot (cu, su), the block turns with the lever",
+        "chk_s": "check: s_{J1} = +sqrt(L_TEK^2 - e^2) >= 0 (relative)",
+        "cos": "cos of lever {lb}'s angle",
+        "sin": "sin of lever {lb}'s angle",
+        "chk_v": "check: v{J1} = v{J2} + omega x r + vs u",
+        "chk_a": "check: a{J1} = a{J2} + eps x r - omega^2 r + as u + 2 omega vs n",
+        "Pn": "push of lever {bl} on block {a} across the slot",
+        "R_ab": "of block {a} on lever {bl} (through {J1})",
+        "M_ab": "couple of block {a} on lever {bl}",
+        "R_1": "of link {o} on block {a} at {J1}",
+        "R_2": "of link {o} on lever {bl} at {J2}",
+    },
+}
+T = Texts(TEXTS)
 
 
 # --------------------------------------------------------------------------- scene keys
@@ -121,7 +242,7 @@ def solve(g: Group, known: dict[str, Motion], rot: dict[int, Rotation], scale: f
 # --------------------------------------------------------------------------- the workbook
 def input_rows(g: Group) -> list[InputRow]:
     i, lb, j2 = g.index, g.links[1], g.joints[1]
-    return [InputRow(f"e_g{i}", "m", f"смещение оси кулисы {lb} от {j2}", f"offset of slot {lb} from {j2}", g.offset)]
+    return [InputRow(f"e_g{i}", "m", T("e", lb=lb, J2=j2), g.offset)]
 
 
 def with_inputs(g: Group, num) -> Group:
@@ -134,42 +255,23 @@ def rows(b: Builder, g: Group):
     with a moving axis): its velocity and acceleration enter the right sides."""
     i, (la, lb), (J1, J2) = g.index, g.links, g.joints
     e = f"{{e_g{i}}}"
-    if J2 in b.frame:
-        b.section(f"group_{i}", f"Группа {i} (ВПВ: камень {J1} в кулисе, ось {J2}): слайды 22-24",
-                  f"Group {i} (RPR: block {J1} in the slotted lever about {J2}): slides 22-24")
-    else:   # the lecture's "Кулисные механизмы. Направляющая с подвижной осью"
-        b.section(f"group_{i}", f"Группа {i} (ВПВ: камень {J1} в кулисе с подвижной осью {J2}): "
-                                f"L_ТЕК^2 = (x{J2} - x{J1})^2 + (y{J2} - y{J1})^2, слайды 22-24",
-                  f"Group {i} (RPR: block {J1} in a kulisa with a moving axis {J2}): "
-                  f"L_TEK^2 = (x{J2} - x{J1})^2 + (y{J2} - y{J1})^2, slides 22-24")
+    # a moving axis: the lecture's "Кулисные механизмы. Направляющая с подвижной осью"
+    b.section(f"group_{i}", T("group" if J2 in b.frame else "group_moving", i=i, J1=J1, J2=J2))
     dx, dy, r2, D = f"dx_g{i}", f"dy_g{i}", f"r2_g{i}", f"D_g{i}"
-    b.add(dx, "m", f"x{J1} - x{J2}", f"x{J1} - x{J2}", "calc", f"{b.p('x', J1)}-{b.p('x', J2)}", guard=b.guard)
-    b.add(dy, "m", f"y{J1} - y{J2}", f"y{J1} - y{J2}", "calc", f"{b.p('y', J1)}-{b.p('y', J2)}", guard=b.guard)
-    b.add(r2, "m^2", f"L_TEK^2 = |{J2}{J1}|^2", f"L_TEK^2 = |{J2}{J1}|^2", "calc", f"{{{dx}}}^2+{{{dy}}}^2",
-          guard=b.guard)
-    b.add(D, "m^2", "дискриминант L_TEK^2 - e^2 (< 0: группа не собирается)",
-          "discriminant L_TEK^2 - e^2 (< 0: cannot assemble)",
-          "calc", f"IF({{{r2}}}>0,{{{r2}}}-{e}^2,-1)", guard=b.guard)
+    b.calc(dx, "m", T("dx", J1=J1, J2=J2), f"{b.p('x', J1)}-{b.p('x', J2)}", guard=b.guard)
+    b.calc(dy, "m", T("dy", J1=J1, J2=J2), f"{b.p('y', J1)}-{b.p('y', J2)}", guard=b.guard)
+    b.calc(r2, "m^2", T("r2", J1=J1, J2=J2), f"{{{dx}}}^2+{{{dy}}}^2", guard=b.guard)
+    b.calc(D, "m^2", T("D"), f"IF({{{r2}}}>0,{{{r2}}}-{e}^2,-1)", guard=b.guard)
     group_guard(b, g, D, f"{{{r2}}}")
-    b.section(f"accepted_g{i}", "Принятые значения", "Accepted values")
+    b.section(f"accepted_g{i}", T("accepted"))
     sJ = f"s_{J1}"
-    b.add(sJ, "m", f"положение камня {J1} вдоль кулисы (L_TEK при e = 0)",
-          f"block {J1}'s place along the slot (L_TEK when e = 0)",
-          "accepted", f"SQRT({{{D}}})")
+    b.accepted(sJ, "m", T("s", J1=J1), f"SQRT({{{D}}})")
     cu, su = f"cu_g{i}", f"su_g{i}"
-    b.add(cu, "", "cos угла кулисы: (s dx + e dy) / L_TEK^2", "cos of the slot's angle: (s dx + e dy) / L_TEK^2",
-          "calc",
-          f"({{{sJ}}}*{{{dx}}}+{e}*{{{dy}}})/{{{r2}}}")
-    b.add(su, "", "sin угла кулисы: (s dy - e dx) / L_TEK^2", "sin of the slot's angle: (s dy - e dx) / L_TEK^2",
-          "calc",
-          f"({{{sJ}}}*{{{dy}}}-{e}*{{{dx}}})/{{{r2}}}")
-    b.add(f"chk_e_g{i}", "m", f"проверка: расстояние {J1} от оси кулисы - e",
-          f"check: distance of {J1} from the slot line - e", "check",
-          f"-{{{dx}}}*{{{su}}}+{{{dy}}}*{{{cu}}}-{e}")
-    b.add(f"phi_{lb}", "deg", f"угол кулисы {lb}", f"angle of the slotted lever {lb}", "accepted",
-          f"MOD(DEGREES(ATAN2({{{cu}}},{{{su}}})),360)")
-    b.add(f"phi_{la}", "deg", f"угол камня {la} (= углу кулисы)", f"angle of the block {la} (= the lever's)",
-          "accepted", f"{{phi_{lb}}}")
+    b.calc(cu, "", T("cu"), f"({{{sJ}}}*{{{dx}}}+{e}*{{{dy}}})/{{{r2}}}")
+    b.calc(su, "", T("su"), f"({{{sJ}}}*{{{dy}}}-{e}*{{{dx}}})/{{{r2}}}")
+    b.check(f"chk_e_g{i}", "m", T("chk_e", J1=J1), f"-{{{dx}}}*{{{su}}}+{{{dy}}}*{{{cu}}}-{e}")
+    b.accepted(f"phi_{lb}", "deg", T("phi_b", lb=lb), f"MOD(DEGREES(ATAN2({{{cu}}},{{{su}}})),360)")
+    b.accepted(f"phi_{la}", "deg", T("phi_a", la=la), f"{{phi_{lb}}}")
     _rate_rows(b, g)
 
 
@@ -184,72 +286,41 @@ def _rate_rows(b: Builder, g: Group) -> None:
     # unknowns theta_t, s_t: columns (-s sin - e cos, s cos - e sin) and (cos, sin); determinant -s
     m11, m21 = f"(-{{{sJ}}}*{s}-{e}*{c})", f"({{{sJ}}}*{c}-{e}*{s})"
     m = (m11, c, m21, s)
-    det_row(b, det, m, "m", "определитель: -s", "determinant: -s")
-    b.add(f"det_g{i}", "", "s / L1 (около 0: кулиса не определена)", "s / L1 (near 0: the slot is undefined)", "calc",
-          f"-{{{det}}}/{{L1}}")
+    det_row(b, det, m, "m", T("det"))
+    b.calc(f"det_g{i}", "", T("toggle"), f"-{{{det}}}/{{L1}}")
     b1, b2 = f"({b.p('vx', J1)}-{b.p('vx', J2)})", f"({b.p('vy', J1)}-{b.p('vy', J2)})"
-    cramer_rows(b, m, det,
-                ((f"omega_{lb}", "rad/s", f"угловая скорость кулисы {lb} (Крамер)",
-                  f"angular velocity of the lever {lb} (Cramer)"),
-                            (f"vs_{J1}", "m/s", f"относительная скорость камня {J1} вдоль кулисы",
-                             f"velocity of block {J1} along the slot")),
+    cramer_rows(b, m, det, ((f"omega_{lb}", "rad/s", T("omega_b", lb=lb)), (f"vs_{J1}", "m/s", T("vs", J1=J1))),
                 (b1, b2), residual(i, "v"))
     w, vs = f"{{omega_{lb}}}", f"{{vs_{J1}}}"
     bx, by = f"bx_g{i}", f"by_g{i}"
     # bias of the acceleration system: 2 s_t theta_t n (Coriolis) - s theta_t^2 u - e theta_t^2 n
-    b.add(bx, "m/s^2", "кориолисово и центростремительное: проекция на x", "Coriolis and centripetal terms, x", "calc",
-          f"-{{{sJ}}}*{w}^2*{c}-(2*{vs}*{w}-{e}*{w}^2)*{s}")
-    b.add(by, "m/s^2", "кориолисово и центростремительное: проекция на y", "Coriolis and centripetal terms, y", "calc",
-          f"-{{{sJ}}}*{w}^2*{s}+(2*{vs}*{w}-{e}*{w}^2)*{c}")
+    b.calc(bx, "m/s^2", T("bx"), f"-{{{sJ}}}*{w}^2*{c}-(2*{vs}*{w}-{e}*{w}^2)*{s}")
+    b.calc(by, "m/s^2", T("by"), f"-{{{sJ}}}*{w}^2*{s}+(2*{vs}*{w}-{e}*{w}^2)*{c}")
     f1, f2 = f"({b.p('ax', J1)}-{b.p('ax', J2)}-{{{bx}}})", f"({b.p('ay', J1)}-{b.p('ay', J2)}-{{{by}}})"
-    cramer_rows(b, m, det,
-                ((f"eps_{lb}", "rad/s^2", f"угловое ускорение кулисы {lb}", f"angular acceleration of the lever {lb}"),
-                            (f"as_{J1}", "m/s^2", f"относительное ускорение камня {J1} вдоль кулисы",
-                             f"acceleration of block {J1} along the slot")),
+    cramer_rows(b, m, det, ((f"eps_{lb}", "rad/s^2", T("eps_b", lb=lb)), (f"as_{J1}", "m/s^2", T("as", J1=J1))),
                 (f1, f2), residual(i, "a"))
     ep = f"{{eps_{lb}}}"
-    b.add(f"omega_{la}", "rad/s", f"угловая скорость камня {la}", f"angular velocity of the block {la}", "accepted",
-          f"{{omega_{lb}}}")
-    b.add(f"eps_{la}", "rad/s^2", f"угловое ускорение камня {la}", f"angular acceleration of the block {la}",
-          "accepted", f"{{eps_{lb}}}")
+    b.accepted(f"omega_{la}", "rad/s", T("omega_a", la=la), f"{{omega_{lb}}}")
+    b.accepted(f"eps_{la}", "rad/s^2", T("eps_a", la=la), f"{{eps_{lb}}}")
     turns_with_check(b, f"chk_rot_g{i}", [(f"phi_{lb}", c, s), (f"phi_{la}", c, s)],
                      [(f"omega_{la}", w), (f"eps_{la}", ep)],
-                     f"кулиса {lb} и камень {la} повёрнуты по оси кулисы (cu, su), камень вращается с кулисой",
-                     f"lever {lb} and block {la} point along the slot (cu, su), the block turns with the lever")
+                     T("rot", la=la, lb=lb))
     # s is the root +sqrt(D): -sqrt(D) also closes the loop (the slot turned by 180 deg),
     # so only its sign tells; relative to L_TEK, free of the step
-    b.add(
-        f"chk_s_g{i}",
-        "",
-        f"проверка: s_{J1} = +sqrt(L_TEK^2 - e^2) >= 0 (относительная невязка)",
-        f"check: s_{J1} = +sqrt(L_TEK^2 - e^2) >= 0 (relative)",
-        "check",
-        f"ABS({{{sJ}}}^2+{e}^2-{{{r2}}})/{{{r2}}}+(ABS({{{sJ}}})-{{{sJ}}})/SQRT({{{r2}}})",
-    )
-    b.add(f"cos_{lb}", "", f"cos угла кулисы {lb}", f"cos of lever {lb}'s angle", "calc", c)
-    b.add(f"sin_{lb}", "", f"sin угла кулисы {lb}", f"sin of lever {lb}'s angle", "calc", s)
+    b.check(f"chk_s_g{i}", "", T("chk_s", J1=J1),
+            f"ABS({{{sJ}}}^2+{e}^2-{{{r2}}})/{{{r2}}}+(ABS({{{sJ}}})-{{{sJ}}})/SQRT({{{r2}}})")
+    b.calc(f"cos_{lb}", "", T("cos", lb=lb), c)
+    b.calc(f"sin_{lb}", "", T("sin", lb=lb), s)
     b.place_links(la, lb, rot=(f"cos_{lb}", f"sin_{lb}", f"omega_{lb}", f"eps_{lb}"))
     # the block's motion seen on the lever: v_J1 = v_J2 + omega x r + vs u,
     # a_J1 = a_J2 + eps x r - omega^2 r + as u + 2 omega vs n (Coriolis)
     as_ = f"{{as_{J1}}}"
-    b.add(
-        f"chk_v_g{i}",
-        "m/s",
-        f"проверка: v{J1} = v{J2} + omega x r + vs u",
-        f"check: v{J1} = v{J2} + omega x r + vs u",
-        "check",
-        f"ABS({b.p('vx', J1)}-({b.p('vx', J2)}-{w}*{{{dy}}}+{vs}*{c}))"
-        f"+ABS({b.p('vy', J1)}-({b.p('vy', J2)}+{w}*{{{dx}}}+{vs}*{s}))",
-    )
-    b.add(
-        f"chk_a_g{i}",
-        "m/s^2",
-        f"проверка: a{J1} = a{J2} + eps x r - omega^2 r + as u + 2 omega vs n",
-        f"check: a{J1} = a{J2} + eps x r - omega^2 r + as u + 2 omega vs n",
-        "check",
-        f"ABS({b.p('ax', J1)}-({b.p('ax', J2)}-{ep}*{{{dy}}}-{w}^2*{{{dx}}}+{as_}*{c}-2*{w}*{vs}*{s}))"
-        f"+ABS({b.p('ay', J1)}-({b.p('ay', J2)}+{ep}*{{{dx}}}-{w}^2*{{{dy}}}+{as_}*{s}+2*{w}*{vs}*{c}))",
-    )
+    b.check(f"chk_v_g{i}", "m/s", T("chk_v", J1=J1, J2=J2),
+            f"ABS({b.p('vx', J1)}-({b.p('vx', J2)}-{w}*{{{dy}}}+{vs}*{c}))"
+            f"+ABS({b.p('vy', J1)}-({b.p('vy', J2)}+{w}*{{{dx}}}+{vs}*{s}))")
+    b.check(f"chk_a_g{i}", "m/s^2", T("chk_a", J1=J1, J2=J2),
+            f"ABS({b.p('ax', J1)}-({b.p('ax', J2)}-{ep}*{{{dy}}}-{w}^2*{{{dx}}}+{as_}*{c}-2*{w}*{vs}*{s}))"
+            f"+ABS({b.p('ay', J1)}-({b.p('ay', J2)}+{ep}*{{{dx}}}-{w}^2*{{{dy}}}+{as_}*{s}+2*{w}*{vs}*{c}))")
 
 
 # --------------------------------------------------------------------------- kinetostatics
@@ -291,19 +362,13 @@ def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
     # the lever acts on the block with P n through J1 (n = (-sin, cos)) and a couple
     # C = -MQ_a; the lever's moments about J2: (J1 - J2) x (-P n) - C + MQ_b = 0
     crs = f"(({b.p('x', J1)}-{b.p('x', J2)})*{c}+({b.p('y', J1)}-{b.p('y', J2)})*{s})"
-    b.add(f"Pn_g{i}", "N", f"давление кулисы {bl} на камень {a} по нормали к кулисе",
-          f"push of lever {bl} on block {a} across the slot",
-          "calc", f"({{MQ_{bl}}}+{{MQ_{a}}})/{crs}")
+    b.calc(f"Pn_g{i}", "N", T("Pn", bl=bl, a=a), f"({{MQ_{bl}}}+{{MQ_{a}}})/{crs}")
     P = f"{{Pn_g{i}}}"
-    k.reaction(tab, f"-{P}*(-{s})", f"-{P}*{c}", f"камня {a} на кулису {bl} (через {J1})",
-               f"of block {a} on lever {bl} (through {J1})")
-    b.add(f"M_{tab}", "N m", f"момент реакции камня {a} на кулису {bl}", f"couple of block {a} on lever {bl}",
-          "accepted", f"{{MQ_{a}}}")
-    k.reaction(t1, f"-{P}*(-{s})-{{Qx_{a}}}", f"-{P}*{c}-{{Qy_{a}}}", f"звена {o1} на камень {a} в {J1}",
-               f"of link {o1} on block {a} at {J1}")
+    k.reaction(tab, f"-{P}*(-{s})", f"-{P}*{c}", T("R_ab", a=a, bl=bl, J1=J1))
+    b.accepted(f"M_{tab}", "N m", T("M_ab", a=a, bl=bl), f"{{MQ_{a}}}")
+    k.reaction(t1, f"-{P}*(-{s})-{{Qx_{a}}}", f"-{P}*{c}-{{Qy_{a}}}", T("R_1", o=o1, a=a, J1=J1))
     k.equilibrium(a, J1, [(J1, *r1), (J1, f"(-{rab[0]})", f"(-{rab[1]})")], f"(-{{M_{tab}}})")
-    k.reaction(t2, f"{P}*(-{s})-{{Qx_{bl}}}", f"{P}*{c}-{{Qy_{bl}}}", f"звена {o2} на кулису {bl} в {J2}",
-               f"of link {o2} on lever {bl} at {J2}")
+    k.reaction(t2, f"{P}*(-{s})-{{Qx_{bl}}}", f"{P}*{c}-{{Qy_{bl}}}", T("R_2", o=o2, bl=bl, J2=J2))
     k.equilibrium(bl, J2, [(J1, *rab), (J2, f"{{Rx_{t2}}}", f"{{Ry_{t2}}}")], f"{{M_{tab}}}")
     k.opposite(o2, J2, t2)
     k.opposite(o1, J1, t1)

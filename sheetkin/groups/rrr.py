@@ -38,6 +38,7 @@ from .rows import (
     Builder,
     InputRow,
     LoadRows,
+    Texts,
     carried_rows,
     cos_sin_rows,
     cramer_rows,
@@ -57,6 +58,105 @@ SLIDES = "16-21"
 TITLE = ("шатун и коромысло (или два шатуна): три вращательные пары",
          "coupler and rocker (or two couplers): three revolute joints")
 KEYS = ("type", "links", "joints", "lengths", "branch")
+
+# --------------------------------------------------------------------------- the rows' texts
+# format templates, one table per language (the fields: group i, links la lb, joints J1 N J2)
+TEXTS = {
+    "ru": {
+        "L_a": "длина звена {la} ({J1}{N})",
+        "L_b": "длина звена {lb} ({N}{J2})",
+        "branch": "ветвь решения группы {i} (+1 или -1)",
+        "group": "Группа {i} (ВВВ {J1}{N}{J2}): кинематические связи, слайды 16-21",
+        "P": "P = x{J2} - x{J1}",
+        "Q": "Q = y{J2} - y{J1}",
+        "F": "F = (P^2 + Q^2 + L2^2 - L3^2) / (2 L2)",
+        "D": "дискриминант P^2 + Q^2 - F^2 (< 0: группа не собирается)",
+        "branch_p": "ветвь +1",
+        "branch_m": "ветвь -1",
+        "psi": "{br}: psi = 2 arctg((Q {sign} sqrt(D)) / (P + F))",
+        "xi": "{br}: xi из cos xi = (L2 cos psi - P)/L3, sin xi = (L2 sin psi - Q)/L3",
+        "chk_loop": "проверка {br}: {axis}{J1} + L2 {fn} psi - L3 {fn} xi - {axis}{J2}",
+        "accepted": "Принятые значения",
+        "phi_a": "угол звена {la} ({J1}->{N})",
+        "phi_b": "угол звена {lb} ({J2}->{N})",
+        "chk_acc": "проверка принятых значений: невязка системы (a)",
+        "det": "определитель системы (b): L2 L3 sin(psi - xi)",
+        "toggle": "sin угла передачи (около 0: мёртвое положение)",
+        "omega": "угловая скорость звена {k} (Крамер)",
+        "vsys": "невязка системы (b) для скоростей",
+        "f1": "правая часть для ускорений f1 (слайд 21)",
+        "f2": "правая часть для ускорений f2 (слайд 21)",
+        "eps": "угловое ускорение звена {k}",
+        "hinge": "шарнира {N}",
+        "chk_a": "проверка: |{J1}{N}| - L{la}",
+        "chk_b": "проверка: |{N}{J2}| - L{lb}",
+        "R_det": "определитель: ({J1}-{N}) x ({J2}-{N}) (0 в мёртвом положении)",
+        "R_on": "звена {o} на звено {k} в {at}",
+    },
+    "uk": {
+        "L_a": "довжина ланки {la} ({J1}{N})",
+        "L_b": "довжина ланки {lb} ({N}{J2})",
+        "branch": "гілка розв'язку групи {i} (+1 або -1)",
+        "group": "Група {i} (ООО {J1}{N}{J2}): кінематичні зв'язки, слайди 16-21",
+        "P": "P = x{J2} - x{J1}",
+        "Q": "Q = y{J2} - y{J1}",
+        "F": "F = (P^2 + Q^2 + L2^2 - L3^2) / (2 L2)",
+        "D": "дискримінант P^2 + Q^2 - F^2 (< 0: група не збирається)",
+        "branch_p": "гілка +1",
+        "branch_m": "гілка -1",
+        "psi": "{br}: psi = 2 arctg((Q {sign} sqrt(D)) / (P + F))",
+        "xi": "{br}: xi из cos xi = (L2 cos psi - P)/L3, sin xi = (L2 sin psi - Q)/L3",
+        "chk_loop": "перевірка {br}: {axis}{J1} + L2 {fn} psi - L3 {fn} xi - {axis}{J2}",
+        "accepted": "Прийняті значення",
+        "phi_a": "кут ланки {la} ({J1}->{N})",
+        "phi_b": "кут ланки {lb} ({J2}->{N})",
+        "chk_acc": "перевірка прийнятих значень: нев'язка системи (a)",
+        "det": "визначник системи (b): L2 L3 sin(psi - xi)",
+        "toggle": "sin кута передачі (близько 0: мертве положення)",
+        "omega": "кутова швидкість ланки {k} (Крамер)",
+        "vsys": "нев'язка системи (b) для швидкостей",
+        "f1": "права частина для прискорень f1 (слайд 21)",
+        "f2": "права частина для прискорень f2 (слайд 21)",
+        "eps": "кутове прискорення ланки {k}",
+        "hinge": "шарніра {N}",
+        "chk_a": "перевірка: |{J1}{N}| - L{la}",
+        "chk_b": "перевірка: |{N}{J2}| - L{lb}",
+        "R_det": "визначник: ({J1}-{N}) x ({J2}-{N}) (0 в мертвому положенні)",
+        "R_on": "ланки {o} на ланку {k} в {at}",
+    },
+    "en": {
+        "L_a": "length of link {la} ({J1}{N})",
+        "L_b": "length of link {lb} ({N}{J2})",
+        "branch": "solution branch of group {i} (+1 or -1)",
+        "group": "Group {i} (RRR {J1}{N}{J2}): kinematic constraints, slides 16-21",
+        "P": "P = x{J2} - x{J1}",
+        "Q": "Q = y{J2} - y{J1}",
+        "F": "F = (P^2 + Q^2 + L2^2 - L3^2) / (2 L2)",
+        "D": "discriminant P^2 + Q^2 - F^2 (< 0: cannot assemble)",
+        "branch_p": "branch +1",
+        "branch_m": "branch -1",
+        "psi": "{br}: psi = 2 atan((Q {sign} sqrt(D)) / (P + F))",
+        "xi": "{br}: xi from cos xi = (L2 cos psi - P)/L3, sin xi = (L2 sin psi - Q)/L3",
+        "chk_loop": "check {br}: {axis}{J1} + L2 {fn} psi - L3 {fn} xi - {axis}{J2}",
+        "accepted": "Accepted values",
+        "phi_a": "angle of link {la} ({J1}->{N})",
+        "phi_b": "angle of link {lb} ({J2}->{N})",
+        "chk_acc": "check of the accepted values: residual of system (a)",
+        "det": "determinant of system (b): L2 L3 sin(psi - xi)",
+        "toggle": "sine of the transmission angle (near 0: toggle)",
+        "omega": "angular velocity of link {k} (Cramer)",
+        "vsys": "residual of the velocity system (b)",
+        "f1": "right side of the acceleration system f1 (slide 21)",
+        "f2": "right side of the acceleration system f2 (slide 21)",
+        "eps": "angular acceleration of link {k}",
+        "hinge": "hinge {N}",
+        "chk_a": "check: |{J1}{N}| - L{la}",
+        "chk_b": "check: |{N}{J2}| - L{lb}",
+        "R_det": "determinant: ({J1}-{N}) x ({J2}-{N}) (0 at the toggle)",
+        "R_on": "of link {o} on link {k} at {at}",
+    },
+}
+T = Texts(TEXTS)
 
 
 # --------------------------------------------------------------------------- scene keys
@@ -157,12 +257,9 @@ def solve(g: Group, known: dict[str, Motion], rot: dict[int, Rotation], scale: f
 # --------------------------------------------------------------------------- the workbook
 def input_rows(g: Group) -> list[InputRow]:
     (j1, n, j2), (la, lb), i = g.joints, g.links, g.index
-    return [InputRow(f"L{la}", "m", f"длина звена {la} ({j1}{n})", f"length of link {la} ({j1}{n})", g.lengths[0],
-                     True),
-            InputRow(f"L{lb}", "m", f"длина звена {lb} ({n}{j2})", f"length of link {lb} ({n}{j2})", g.lengths[1],
-                     True),
-            InputRow(f"branch_g{i}", "", f"ветвь решения группы {i} (+1 или -1)",
-                     f"solution branch of group {i} (+1 or -1)", g.branch)]
+    return [InputRow(f"L{la}", "m", T("L_a", la=la, J1=j1, N=n), g.lengths[0], True),
+            InputRow(f"L{lb}", "m", T("L_b", lb=lb, N=n, J2=j2), g.lengths[1], True),
+            InputRow(f"branch_g{i}", "", T("branch", i=i), g.branch)]
 
 
 def with_inputs(g: Group, num) -> Group:
@@ -175,107 +272,90 @@ def with_inputs(g: Group, num) -> Group:
 def rows(b: Builder, g: Group):
     """Lecture slides 16-21, generalised to a moving J2: J1 + L2 e(psi) = J2 + L3 e(xi)."""
     i, (la, lb), (J1, N, J2) = g.index, g.links, g.joints
-    L2, L3 = f"{{L{la}}}", f"{{L{lb}}}"
-    b.section(f"group_{i}", f"Группа {i} (ВВВ {J1}{N}{J2}): кинематические связи, слайды 16-21",
-              f"Group {i} (RRR {J1}{N}{J2}): kinematic constraints, slides 16-21")
+    b.section(f"group_{i}", T("group", i=i, J1=J1, N=N, J2=J2))
+    _constraint_rows(b, g)
+    b.section(f"accepted_g{i}", T("accepted"))
+    m = _accepted_rows(b, g)
+    _velocity_rows(b, g, m)
+    _acceleration_rows(b, g, m)
+    b.place_links(la, lb)
+    _hinge_rows(b, g)
+
+
+def _constraint_rows(b: Builder, g: Group):
+    """Constraint (a) (slides 16-18): P, Q, F, the discriminant and the group's guard, then
+    psi and xi on both branches, each with its loop check."""
+    i, (J1, _, J2) = g.index, g.joints
+    L2, L3 = f"{{L{g.links[0]}}}", f"{{L{g.links[1]}}}"
     P, Q, F, D = f"P_g{i}", f"Q_g{i}", f"F_g{i}", f"D_g{i}"
-    b.add(P, "m", f"P = x{J2} - x{J1}", f"P = x{J2} - x{J1}", "calc", f"{b.p('x', J2)}-{b.p('x', J1)}", guard=b.guard)
-    b.add(Q, "m", f"Q = y{J2} - y{J1}", f"Q = y{J2} - y{J1}", "calc", f"{b.p('y', J2)}-{b.p('y', J1)}", guard=b.guard)
-    b.add(F, "m", "F = (P^2 + Q^2 + L2^2 - L3^2) / (2 L2)", "F = (P^2 + Q^2 + L2^2 - L3^2) / (2 L2)", "calc",
-          f"({{{P}}}^2+{{{Q}}}^2+{L2}^2-{L3}^2)/(2*{L2})", guard=b.guard)
-    b.add(D, "m^2", "дискриминант P^2 + Q^2 - F^2 (< 0: группа не собирается)",
-          "discriminant P^2 + Q^2 - F^2 (< 0: cannot assemble)", "calc", f"{{{P}}}^2+{{{Q}}}^2-{{{F}}}^2",
-          guard=b.guard)
+    b.calc(P, "m", T("P", J1=J1, J2=J2), f"{b.p('x', J2)}-{b.p('x', J1)}", guard=b.guard)
+    b.calc(Q, "m", T("Q", J1=J1, J2=J2), f"{b.p('y', J2)}-{b.p('y', J1)}", guard=b.guard)
+    b.calc(F, "m", T("F"), f"({{{P}}}^2+{{{Q}}}^2+{L2}^2-{L3}^2)/(2*{L2})", guard=b.guard)
+    b.calc(D, "m^2", T("D"), f"{{{P}}}^2+{{{Q}}}^2-{{{F}}}^2", guard=b.guard)
     group_guard(b, g, D, f"{{{P}}}^2+{{{Q}}}^2")
-    for s, sign, ru, en in (("p", "+", "ветвь +1", "branch +1"), ("m", "-", "ветвь -1", "branch -1")):
+    for s, sign, br in (("p", "+", T("branch_p")), ("m", "-", T("branch_m"))):
         # tg(psi/2) = (Q +- sqrt(D)) / (P + F), written as ATAN2 so that P + F = 0 is no division
-        b.add(f"psi_{s}_g{i}", "rad", f"{ru}: psi = 2 arctg((Q {sign} sqrt(D)) / (P + F))",
-              f"{en}: psi = 2 atan((Q {sign} sqrt(D)) / (P + F))",
-              "calc", f"2*ATAN2({{{P}}}+{{{F}}},{{{Q}}}{sign}SQRT({{{D}}}))")
-        b.add(f"xi_{s}_g{i}", "rad", f"{ru}: xi из cos xi = (L2 cos psi - P)/L3, sin xi = (L2 sin psi - Q)/L3",
-              f"{en}: xi from cos xi = (L2 cos psi - P)/L3, sin xi = (L2 sin psi - Q)/L3",
-              "calc", f"ATAN2({L2}*COS({{psi_{s}_g{i}}})-{{{P}}},{L2}*SIN({{psi_{s}_g{i}}})-{{{Q}}})")
+        b.calc(f"psi_{s}_g{i}", "rad", T("psi", br=br, sign=sign),
+               f"2*ATAN2({{{P}}}+{{{F}}},{{{Q}}}{sign}SQRT({{{D}}}))")
+        b.calc(f"xi_{s}_g{i}", "rad", T("xi", br=br),
+               f"ATAN2({L2}*COS({{psi_{s}_g{i}}})-{{{P}}},{L2}*SIN({{psi_{s}_g{i}}})-{{{Q}}})")
         for axis, fn in (("x", "COS"), ("y", "SIN")):
-            b.add(f"chk_{axis}_{s}_g{i}", "m",
-                  f"проверка {ru}: {axis}{J1} + L2 {fn.lower()} psi - L3 {fn.lower()} xi - {axis}{J2}",
-                  f"check {en}: {axis}{J1} + L2 {fn.lower()} psi - L3 {fn.lower()} xi - {axis}{J2}", "check",
-                  f"{b.p(axis, J1)}+{L2}*{fn}({{psi_{s}_g{i}}})-{L3}*{fn}({{xi_{s}_g{i}}})-{b.p(axis, J2)}")
-    b.section(f"accepted_g{i}", "Принятые значения", "Accepted values")
+            b.check(f"chk_{axis}_{s}_g{i}", "m", T("chk_loop", br=br, axis=axis, fn=fn.lower(), J1=J1, J2=J2),
+                    f"{b.p(axis, J1)}+{L2}*{fn}({{psi_{s}_g{i}}})-{L3}*{fn}({{xi_{s}_g{i}}})-{b.p(axis, J2)}")
+
+
+def _accepted_rows(b: Builder, g: Group) -> tuple[str, str, str, str]:
+    """The accepted angles of the coupler and the rocker (the branch the scene gives), their
+    cos and sin, the check of system (a); returns the matrix of systems (b) and (c)."""
+    i, (la, lb), (J1, N, J2) = g.index, g.links, g.joints
+    L2, L3 = f"{{L{la}}}", f"{{L{lb}}}"
     br = f"{{branch_g{i}}}"
-    b.add(
-        f"phi_{la}",
-        "deg",
-        f"угол звена {la} ({J1}->{N})",
-        f"angle of link {la} ({J1}->{N})",
-        "accepted",
-        f"MOD(DEGREES(IF({br}=1,{{psi_p_g{i}}},{{psi_m_g{i}}})),360)",
-    )
-    b.add(
-        f"phi_{lb}",
-        "deg",
-        f"угол звена {lb} ({J2}->{N})",
-        f"angle of link {lb} ({J2}->{N})",
-        "accepted",
-        f"MOD(DEGREES(IF({br}=1,{{xi_p_g{i}}},{{xi_m_g{i}}})),360)",
-    )
-    cos_sin_rows(b, la, "", "")
-    cos_sin_rows(b, lb, "", "")
+    b.accepted(f"phi_{la}", "deg", T("phi_a", la=la, J1=J1, N=N),
+               f"MOD(DEGREES(IF({br}=1,{{psi_p_g{i}}},{{psi_m_g{i}}})),360)")
+    b.accepted(f"phi_{lb}", "deg", T("phi_b", lb=lb, J2=J2, N=N),
+               f"MOD(DEGREES(IF({br}=1,{{xi_p_g{i}}},{{xi_m_g{i}}})),360)")
+    cos_sin_rows(b, la)
+    cos_sin_rows(b, lb)
     ca, sa, cb, sb = f"{{cos_{la}}}", f"{{sin_{la}}}", f"{{cos_{lb}}}", f"{{sin_{lb}}}"
-    b.add(
-        f"chk_acc_g{i}",
-        "m",
-        "проверка принятых значений: невязка системы (a)",
-        "check of the accepted values: residual of system (a)",
-        "check",
-        f"ABS({b.p('x', J1)}+{L2}*{ca}-{L3}*{cb}-{b.p('x', J2)})"
-        f"+ABS({b.p('y', J1)}+{L2}*{sa}-{L3}*{sb}-{b.p('y', J2)})",
-    )
-    # system (b) (slide 19): -L2 sin psi psi_t + L3 sin xi xi_t = vx_J2 - vx_J1;
-    #                          L2 cos psi psi_t - L3 cos xi xi_t = vy_J2 - vy_J1
+    b.check(f"chk_acc_g{i}", "m", T("chk_acc"),
+            f"ABS({b.p('x', J1)}+{L2}*{ca}-{L3}*{cb}-{b.p('x', J2)})"
+            f"+ABS({b.p('y', J1)}+{L2}*{sa}-{L3}*{sb}-{b.p('y', J2)})")
+    return f"(-{L2}*{sa})", f"({L3}*{sb})", f"({L2}*{ca})", f"(-{L3}*{cb})"
+
+
+def _velocity_rows(b: Builder, g: Group, m):
+    """System (b) (slide 19): -L2 sin psi psi_t + L3 sin xi xi_t = vx_J2 - vx_J1;
+    L2 cos psi psi_t - L3 cos xi xi_t = vy_J2 - vy_J1, by Cramer (slide 20)."""
+    i, (la, lb), (J1, _, J2) = g.index, g.links, g.joints
     det = f"Delta_g{i}"
-    m = (f"(-{L2}*{sa})", f"({L3}*{sb})", f"({L2}*{ca})", f"(-{L3}*{cb})")
-    det_row(
-        b,
-        det,
-        m,
-        "m^2",
-        "определитель системы (b): L2 L3 sin(psi - xi)",
-        "determinant of system (b): L2 L3 sin(psi - xi)",
-    )
-    b.add(
-        f"det_g{i}",
-        "",
-        "sin угла передачи (около 0: мёртвое положение)",
-        "sine of the transmission angle (near 0: toggle)",
-        "calc",
-        f"{{{det}}}/({L2}*{L3})",
-    )
+    det_row(b, det, m, "m^2", T("det"))
+    b.calc(f"det_g{i}", "", T("toggle"), f"{{{det}}}/({{L{la}}}*{{L{lb}}})")
     b1, b2 = f"({b.p('vx', J2)}-{b.p('vx', J1)})", f"({b.p('vy', J2)}-{b.p('vy', J1)})"
-    cramer_rows(b, m, det,
-                ((f"omega_{la}", "rad/s", f"угловая скорость звена {la} (Крамер)",
-                  f"angular velocity of link {la} (Cramer)"),
-                            (f"omega_{lb}", "rad/s", f"угловая скорость звена {lb} (Крамер)",
-                             f"angular velocity of link {lb} (Cramer)")),
-                (b1, b2),
-                (f"chk_vsys_g{i}", "невязка системы (b) для скоростей", "residual of the velocity system (b)"))
+    cramer_rows(b, m, det, ((f"omega_{la}", "rad/s", T("omega", k=la)), (f"omega_{lb}", "rad/s", T("omega", k=lb))),
+                (b1, b2), (f"chk_vsys_g{i}", T("vsys")))
+
+
+def _acceleration_rows(b: Builder, g: Group, m):
+    """System (c): the same matrix, the right side f1, f2 with the centripetal terms (slide 21)."""
+    i, (la, lb), (J1, _, J2) = g.index, g.links, g.joints
+    L2, L3 = f"{{L{la}}}", f"{{L{lb}}}"
+    ca, sa, cb, sb = f"{{cos_{la}}}", f"{{sin_{la}}}", f"{{cos_{lb}}}", f"{{sin_{lb}}}"
     f1, f2 = f"f1_g{i}", f"f2_g{i}"
     wa, wb = f"{{omega_{la}}}", f"{{omega_{lb}}}"
-    b.add(f1, "m/s^2", "правая часть для ускорений f1 (слайд 21)",
-          "right side of the acceleration system f1 (slide 21)", "calc",
-          f"{b.p('ax', J2)}-{b.p('ax', J1)}+{L2}*{wa}^2*{ca}-{L3}*{wb}^2*{cb}")
-    b.add(f2, "m/s^2", "правая часть для ускорений f2 (слайд 21)",
-          "right side of the acceleration system f2 (slide 21)", "calc",
-          f"{b.p('ay', J2)}-{b.p('ay', J1)}+{L2}*{wa}^2*{sa}-{L3}*{wb}^2*{sb}")
-    cramer_rows(b, m, det,
-                ((f"eps_{la}", "rad/s^2", f"угловое ускорение звена {la}", f"angular acceleration of link {la}"),
-                            (f"eps_{lb}", "rad/s^2", f"угловое ускорение звена {lb}",
-                             f"angular acceleration of link {lb}")),
-                (f"{{{f1}}}", f"{{{f2}}}"),
-                residual(i, "a"))
-    b.place_links(la, lb)
-    carried_rows(b, N, la, J1, L2, "0", f"шарнира {N}", f"hinge {N}")
-    distance_check(b, f"chk_{J1}{N}", J1, N, L2, f"проверка: |{J1}{N}| - L{la}", f"check: |{J1}{N}| - L{la}")
-    distance_check(b, f"chk_{N}{J2}", N, J2, L3, f"проверка: |{N}{J2}| - L{lb}", f"check: |{N}{J2}| - L{lb}")
+    b.calc(f1, "m/s^2", T("f1"), f"{b.p('ax', J2)}-{b.p('ax', J1)}+{L2}*{wa}^2*{ca}-{L3}*{wb}^2*{cb}")
+    b.calc(f2, "m/s^2", T("f2"), f"{b.p('ay', J2)}-{b.p('ay', J1)}+{L2}*{wa}^2*{sa}-{L3}*{wb}^2*{sb}")
+    cramer_rows(b, m, f"Delta_g{i}",
+                ((f"eps_{la}", "rad/s^2", T("eps", k=la)), (f"eps_{lb}", "rad/s^2", T("eps", k=lb))),
+                (f"{{{f1}}}", f"{{{f2}}}"), residual(i, "a"))
+
+
+def _hinge_rows(b: Builder, g: Group):
+    """The hinge N carried by the coupler (slide 7), its distance and rigid-body checks."""
+    (la, lb), (J1, N, J2) = g.links, g.joints
+    L2, L3 = f"{{L{la}}}", f"{{L{lb}}}"
+    carried_rows(b, N, la, J1, L2, "0", T("hinge", N=N))
+    distance_check(b, f"chk_{J1}{N}", J1, N, L2, T("chk_a", J1=J1, N=N, la=la))
+    distance_check(b, f"chk_{N}{J2}", N, J2, L3, T("chk_b", N=N, J2=J2, lb=lb))
     relative_velocity_check(b, N, J2)
     via_link_checks(b, N, J2, lb, f"omega_{lb}, eps_{lb}")
     fd_checks(b, N)
@@ -323,13 +403,9 @@ def reaction_rows(b: Builder, g: Group, owner: dict[str, int], k: LoadRows):
     qx, qy = f"({{Qx_{a}}}+{{Qx_{bl}}})", f"({{Qy_{a}}}+{{Qy_{bl}}})"
     k.cramer_reaction(i, t1, (f"(-{d1y})", d1x, f"(-{d2y})", d2x),
                       (f"(-{{MQ_{a}}})", f"({{MQ_{bl}}}-({d2x}*{qy}-{d2y}*{qx}))"),
-                      "m^2", (f"определитель: ({J1}-{N}) x ({J2}-{N}) (0 в мёртвом положении)",
-                              f"determinant: ({J1}-{N}) x ({J2}-{N}) (0 at the toggle)"),
-                      f"звена {o1} на звено {a} в {J1}", f"of link {o1} on link {a} at {J1}")
-    k.reaction(tab, f"{r1[0]}+{{Qx_{a}}}", f"{r1[1]}+{{Qy_{a}}}", f"звена {a} на звено {bl} в {N}",
-               f"of link {a} on link {bl} at {N}")
-    k.reaction(t2, f"-{qx}-{r1[0]}", f"-{qy}-{r1[1]}", f"звена {o2} на звено {bl} в {J2}",
-               f"of link {o2} on link {bl} at {J2}")
+                      "m^2", T("R_det", J1=J1, N=N, J2=J2), T("R_on", o=o1, k=a, at=J1))
+    k.reaction(tab, f"{r1[0]}+{{Qx_{a}}}", f"{r1[1]}+{{Qy_{a}}}", T("R_on", o=a, k=bl, at=N))
+    k.reaction(t2, f"-{qx}-{r1[0]}", f"-{qy}-{r1[1]}", T("R_on", o=o2, k=bl, at=J2))
     k.equilibrium(a, N, [(J1, *r1), (N, f"(-{rab[0]})", f"(-{rab[1]})")], "")
     k.equilibrium(bl, N, [(N, *rab), (J2, f"{{Rx_{t2}}}", f"{{Ry_{t2}}}")], "")
     k.opposite(o2, J2, t2)

@@ -380,8 +380,25 @@ def add_drawing_charts(wb, cs, scene: Scene, info: SheetRows, top: int = 3) -> i
     spans = [guide_span(scene, fine_df, g) for g in st.guides]
     box = bounds(scene, fine_df, st, spans)
     r = 0.022 * max(box[2] - box[0], box[3] - box[1])
+    _position_cell(cs, text, n)
+    c = _Cells(info, scene)
+    cs["C1"] = text["phi"]
+    cs["D1"] = "=" + c.at("phi_1")
+    cs["D1"].number_format = "0.00"
 
-    # the position cell, and phi_1 there
+    h = _Helper(cs, text["helper"], HELPER_WORDS.get(info.lang))
+    mech = _chart(text["mech"], box, PLOT, legend=False, axes=text["axes"])
+    traj = _chart(text["traj"], box, PLOT_LEGEND, legend=True, axes=text["axes"])
+    _path_series(wb, scene, info, mech, traj)
+    _mechanism_series(cs, h, c, st, spans, r, mech, text)
+    cs.add_chart(mech, f"A{top}")
+    cs.add_chart(traj, f"K{top}")
+    cs.cell(2, HELPER_COL, "x, y: INDEX(...; B1+1); #N/A").font = Font(italic=True)
+    return top + ROWS_PER_CHART
+
+
+def _position_cell(cs, text: dict, n: int) -> None:
+    """The position cell B1 (the kinematics sheet's row i, from 0) with its validation."""
     cs.column_dimensions["A"].width = 16
     cs.column_dimensions["C"].width = 12
     cs["A1"] = text["pos"]
@@ -395,17 +412,15 @@ def add_drawing_charts(wb, cs, scene: Scene, info: SheetRows, top: int = 3) -> i
     dv.showInputMessage = True
     cs.add_data_validation(dv)
     dv.add("B1")
-    c = _Cells(info, scene)
-    cs["C1"] = text["phi"]
-    cs["D1"] = "=" + c.at("phi_1")
-    cs["D1"].number_format = "0.00"
 
-    h = _Helper(cs, text["helper"], HELPER_WORDS.get(info.lang))
+
+def _path_series(wb, scene: Scene, info: SheetRows, mech, traj) -> None:
+    """Each moving point's path: on the drawing, from the paths sheet over a whole turn (or
+    the sheet's own positions), and its positions as markers on the trajectory chart."""
+    n = len(info.cols)
     moving = scene.moving_joints + [p.name for p in scene.points]
     fine_cells = len(needed_rows(info, [f"{q}_{p}" for p in moving for q in "xy"])) * (FINE_POSITIONS + 1)
     paths = None if info.exercise or fine_cells > PATHS_MAX_CELLS else add_paths_sheet(wb, info, scene)
-    mech = _chart(text["mech"], box, PLOT, legend=False, axes=text["axes"])
-    traj = _chart(text["traj"], box, PLOT_LEGEND, legend=True, axes=text["axes"])
     first, last = 5, 4 + n
     for k, p in enumerate(moving):
         color = COLORS[k % len(COLORS)]
@@ -423,6 +438,10 @@ def add_drawing_charts(wb, cs, scene: Scene, info: SheetRows, top: int = 3) -> i
             s = Series(_ref(data, yr, first, last), _ref(data, xr, first, last), title=p)
             mech.series.append(_style(s, "9BB7D4", 0.75))
 
+
+def _mechanism_series(cs, h, c, st, spans, r: float, mech, text: dict) -> None:
+    """The mechanism at the position of B1: guides and slots, links, blocks, the frame's
+    pivots, each a series of helper cells (h) that follow the kinematics sheet."""
     def add(label, pts, color, width, marker="none", dash=None, fill=None):
         r0, r1 = h.series(label, pts)
         s = Series(Reference(cs, min_col=HELPER_COL + 2, min_row=r0, max_row=r1),
@@ -453,7 +472,3 @@ def add_drawing_charts(wb, cs, scene: Scene, info: SheetRows, top: int = 3) -> i
                   for i, j in corners], "B8860B", 1.5)
     if st.pivots:
         add(text["frame"], [c.xy(p) for p in st.pivots], "595959", 0, "triangle", fill="BFBFBF")
-    cs.add_chart(mech, f"A{top}")
-    cs.add_chart(traj, f"K{top}")
-    cs.cell(2, HELPER_COL, "x, y: INDEX(...; B1+1); #N/A").font = Font(italic=True)
-    return top + ROWS_PER_CHART

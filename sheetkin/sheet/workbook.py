@@ -38,11 +38,11 @@ from openpyxl.utils import get_column_letter
 
 from sheetkin.groups import kind_of
 from sheetkin.groups.lang import check_lang
-from sheetkin.groups.lang import text as say
 from sheetkin.groups.lang import unit as say_unit
 from sheetkin.groups.rows import (
     Builder,
     Row,
+    Text,
     carried_rows,
     distance_check,
     fd_checks,
@@ -114,14 +114,14 @@ def sheet_rows(scene: Scene) -> Builder:
     for g in scene.groups:
         for r in kind_of(g).input_rows(g):
             if r.early:
-                b.input(r.name, r.unit, r.ru, r.en, r.value)
+                b.given(r.name, r.unit, r.text, r.value)
     for name, (x, y) in scene.frame.items():
         b.input(f"x_{name}", "m", f"координата x неподвижной точки {name}", f"x of the fixed point {name}", x)
         b.input(f"y_{name}", "m", f"координата y неподвижной точки {name}", f"y of the fixed point {name}", y)
     for g in scene.groups:
         for r in kind_of(g).input_rows(g):
             if not r.early:
-                b.input(r.name, r.unit, r.ru, r.en, r.value)
+                b.given(r.name, r.unit, r.text, r.value)
     for p in scene.points:
         b.input(f"along_{p.name}", "m", f"точка {p.name}: вдоль звена {p.link} от {p.origin}",
                 f"point {p.name}: along link {p.link} from {p.origin}", p.along)
@@ -188,12 +188,12 @@ def _crank_rows(b: Builder):
     b.section(f"hinge_{A}", f"Шарнир {A} кривошипа (слайд 6: x = Alfa cos dFi - Betta sin dFi)",
               f"Hinge {A} of the crank (slide 6: x = Alfa cos dFi - Betta sin dFi)")
     rx, ry = f"({{x_{A}}}-{{x_{O}}})", f"({{y_{A}}}-{{y_{O}}})"
-    motion_rows(b, A, f"шарнира {A}", f"hinge {A}",
+    motion_rows(b, A, Text.of(f"шарнира {A}", f"hinge {A}"),
                  f"{{x_{O}}}+{{Alfa_A}}*COS({{dFi}})-{{Betta_A}}*SIN({{dFi}})",
                  f"{{y_{O}}}+{{Alfa_A}}*SIN({{dFi}})+{{Betta_A}}*COS({{dFi}})",
                  f"-{{Fi_t}}*{ry}", f"{{Fi_t}}*{rx}",
                  f"-{{Fi_tt}}*{ry}-{{Fi_t}}*{{vy_{A}}}", f"{{Fi_tt}}*{rx}+{{Fi_t}}*{{vx_{A}}}")
-    distance_check(b, f"chk_{O}{A}", O, A, "{L1}", f"проверка: |{O}{A}| - L1", f"check: |{O}{A}| - L1")
+    distance_check(b, f"chk_{O}{A}", O, A, "{L1}", Text.of(f"проверка: |{O}{A}| - L1", f"check: |{O}{A}| - L1"))
     b.add(f"chk_v_{A}", "m^2/s", f"проверка: скорость {A} перпендикулярна {O}{A}",
           f"check: velocity of {A} perpendicular to {O}{A}",
           "check", f"{{vx_{A}}}*{rx}+{{vy_{A}}}*{ry}")
@@ -216,10 +216,10 @@ def _crank_rows(b: Builder):
 def _point_rows(b: Builder, p: Point):
     saved, b.guard = b.guard, b.guard_of_link.get(p.link)
     carried_rows(b, p.name, p.link, p.origin, f"{{along_{p.name}}}", f"{{across_{p.name}}}",
-                  f"точки {p.name}", f"point {p.name}")
+                  Text.of(f"точки {p.name}", f"point {p.name}"))
     distance_check(b, f"chk_{p.origin}{p.name}", p.origin, p.name,
                     f"SQRT({{along_{p.name}}}^2+{{across_{p.name}}}^2)",
-                    f"проверка: |{p.origin}{p.name}| сохраняется", f"check: |{p.origin}{p.name}| is kept")
+                    Text.of(f"проверка: |{p.origin}{p.name}| сохраняется", f"check: |{p.origin}{p.name}| is kept"))
     local_position_check(b, p.name, p.link, p.origin, f"{{along_{p.name}}}", f"{{across_{p.name}}}")
     # the velocity and acceleration once more through another joint of the link (the rows
     # above go through `from`); a link with one joint only: through `from`, from its rows
@@ -354,12 +354,12 @@ def _write_row(ws, row, book: _Layout) -> str | None:
     r, lang, n = book.where[row.name], book.lang, len(book.cols)
     if row.kind == "section":
         guide = guide_line(row.name, lang)
-        ws.cell(r, 1, say(row.ru, row.en, lang) if guide is None else guide).font = (
+        ws.cell(r, 1, row.say(lang) if guide is None else guide).font = (
             SECTION_FONT if guide is None or row.name == "guide_1" else GUIDE_FONT)
         return None
     ws.cell(r, 1, row.name)
     ws.cell(r, 2, say_unit(row.unit, lang))
-    ws.cell(r, 3, say(row.ru, row.en, lang))
+    ws.cell(r, 3, row.say(lang))
     if row.kind == "input":
         ws.cell(r, 4, row.value).fill = INPUT_FILL
         return None
