@@ -59,3 +59,15 @@ def test_readme_test_command_is_what_ci_runs():
     readme = (ROOT / "README.md").read_text(encoding="utf8")
     setup = readme[readme.index("## Set-up from a checkout: two commands"):]
     assert len(ci) == 1 and f"\n{ci[0]}\n" in setup[:setup.index("\n## ", 5)]
+
+
+def test_readme_reliability_counts_are_the_docs():
+    """The README's reliability counts are the ones docs/reliability.md measured."""
+    def counts(text: str) -> list[str]:
+        m = re.search(r"(\d+) hand-written cases \((\d+) [^)]*?(\d+) (?:that must be )?handled.*?(\d+) fuzzed",
+                      " ".join(text.split()))
+        assert m, text[:200]
+        return list(m.groups())
+    readme = (ROOT / "README.md").read_text(encoding="utf8")
+    docs = (ROOT / "docs" / "reliability.md").read_text(encoding="utf8")
+    assert counts(readme) == counts(docs[docs.index("## Tests and counts"):])
