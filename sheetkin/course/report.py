@@ -8,7 +8,7 @@ from .copies import MAX_LISTED
 from .grades import counts, explain, score, verdict
 from .issued import changed_line
 from .report_html import position_list, position_name
-from .report_texts import say_grading, words
+from .report_texts import READS_TYPED, say_grading, words
 from .validator import Report
 
 
@@ -37,6 +37,10 @@ def text_report(rep: Report, lang: str = "en") -> str:
             + (" ..." if len(typed) > 12 else "")
             + say_grading("; accepted (--accept-typed)" if getattr(rep, "accepted_typed", False)
                           else "; they earn nothing", lang))
+    pasted = [r.name for r in typed if getattr(r, "reads_typed", None)]
+    if pasted:
+        lines.append(say_grading(f"  {READS_TYPED} ({len(pasted)}): ", lang) + ", ".join(pasted[:12])
+                     + (" ..." if len(pasted) > 12 else ""))
     # the causes with a note (typed numbers: cell, digits, the error they carry) first
     for r in sorted(rep.causes, key=lambda r: not getattr(r, "note", "")):
         where = f"{r.name} ({t['row']} {r.row}, {t.get(r.source, r.source)})"

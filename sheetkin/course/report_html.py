@@ -18,7 +18,7 @@ import html
 import math
 from pathlib import Path
 
-from .report_texts import say_grading, words
+from .report_texts import READS_TYPED, say_grading, words
 from .validator import Report
 
 _CSS = """body{font-family:sans-serif;margin:1.2em;color:#222}
@@ -219,6 +219,9 @@ def _details(rep: Report, k: int, copy: str = "", lang: str = "en") -> list[str]
     if typed:
         out.append("<p class='wrong'>" + e(say_grading("typed, not computed: ", lang))
                    + e(", ".join(x.name for x in typed)) + "</p>")
+        pasted = [x.name for x in typed if getattr(x, "reads_typed", None)]
+        if pasted:
+            out.append("<p class='wrong'>" + e(say_grading(f"{READS_TYPED}: ", lang)) + e(", ".join(pasted)) + "</p>")
     for c in rep.causes:
         src = e(t.get(c.source, c.source) or "")
         out.append(f"<p class='cause'>{t['cause']}: {e(c.name)} ({t['row']} {c.row}, {src}):"

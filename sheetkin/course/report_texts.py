@@ -167,3 +167,12 @@ def say_grading(text: str, lang: str) -> str:
 WORDS["en"].update({"rows correct": "rows correct", "rows typed": "rows typed"})
 WORDS["ru"].update({"rows correct": "строк верно", "rows typed": "введено числами"})
 WORDS["uk"].update({"rows correct": "рядків правильно", "rows typed": "введено числами"})
+
+
+# rows whose formulas read only typed numbers (a number pasted elsewhere, then "=Лист2!E5"):
+# typed, not computed (sheetkin.xlsx.precedents); said first, before its shorter phrases
+READS_TYPED = "formulas reading only typed numbers, none of the given data"
+_GRADING_PHRASES["ru"] = ((READS_TYPED, "формулы читают только введённые числа, а не исходные данные"),
+                          *_GRADING_PHRASES["ru"])
+_GRADING_PHRASES["uk"] = ((READS_TYPED, "формули читають лише введені числа, а не вихідні дані"),
+                          *_GRADING_PHRASES["uk"])

@@ -36,7 +36,7 @@ the results as tables. The names the others hold are importable from here as bef
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, cast
 
@@ -92,6 +92,9 @@ class Book:
     problems: list[str]               # unsupported functions, parse errors (cells set to #NAME?)
     runs: int = 0
     cells: int = 0
+    # the runs in the order they were evaluated (parsed trees, references): what
+    # sheetkin.xlsx.precedents traces through
+    schedule: list = field(default_factory=list, repr=False)
 
     @property
     def notes(self) -> list[str]:
@@ -219,7 +222,7 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
                 tag[n][where] = v.tag[:, 0, 0]
                 if v.txt is not None:
                     txt[n][where] = v.txt[:, 0, 0]
-    return Book(path, sheets, order, num, tag, txt, problems, len(order_runs), cells)
+    return Book(path, sheets, order, num, tag, txt, problems, len(order_runs), cells, order_runs)
 
 
 # --------------------------------------------------------------------------- names, arrays, whole columns

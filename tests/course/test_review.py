@@ -103,13 +103,13 @@ def test_constant_formulas_are_typed_numbers(books):
 
 
 @uno
-@pytest.mark.xfail(strict=True, reason="not fixed (review): a formula reading a number pasted elsewhere counts as "
-                   "computed; needs the precedents of each graded cell to reach the given data")
 def test_formulas_reading_pasted_numbers_are_typed(books):
     """The key's values pasted on a scratch sheet, each computed cell "=$Лист1.C7": nothing
-    is computed, yet the book is "all correct", 100."""
+    is computed (no formula reaches the given data), so it earns what typed numbers earn."""
     rep = books["scratch_refs"]
     assert grades.score(rep) <= 10 and not rep.ok
+    assert grades.verdict(rep) == "typed, not computed"
+    assert len(rep.typed) >= 50 and all(r.reads_typed for r in rep.typed)
 
 
 @uno
