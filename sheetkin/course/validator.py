@@ -557,6 +557,7 @@ def _read_checks(report: Report, evaluated: Book, main: str, sh: Sheet, names: d
     statuses = {n: evaluated.value(main, r, 4) if computes(sh, r, 4) else "#TYPED"
                 for n, r in names.items()
                 if n.startswith(("chk", "fd_")) and kinds.get(n) in ("check", "fdcheck")}
+    _turns_pass(statuses, evaluated, main, names, ref_rows, ref_book, ref_names, positions)
     # issue 21: the check rows are part of the work (the lecture's step 10): a check row
     # deleted, or its status typed over, loses its share of the grade
     issued_checks = [r.name for r in ref_rows if r.kind in ("check", "fdcheck")]
@@ -583,6 +584,28 @@ def _read_checks(report: Report, evaluated: Book, main: str, sh: Sheet, names: d
     report.checks_na = sum(check_na(s) for s in statuses.values())
     unfilled = {t["unfilled"] for t in CHECK_STATUS.values()}
     report.checks_unfilled = sum(isinstance(s, str) and s in unfilled for s in statuses.values())
+
+
+def _turns_pass(statuses: dict, evaluated: Book, main: str, names: dict[str, int], ref_rows, ref_book: Book,
+                ref_names: dict, positions: int) -> None:
+    """A check row of an angle (chk_Fi: Fi - (Fi0 + i Delta_Fi), in radians) whose status
+    fails only because its residuals are whole turns (Fi taken MOD 2*PI()) passes: angles are
+    compared modulo a full turn everywhere else, so the check is judged the same way (its
+    residuals within the sheet's Tol of a multiple of the turn, numbers where the reference
+    has numbers). Sets the status to 0 in `statuses`."""
+    units = {r.name: r.unit for r in ref_rows}
+    tol = evaluated.value(main, names["Tol"], 4) if "Tol" in names else None
+    tol = tol if isinstance(tol, float) and not isinstance(tol, bool) and math.isfinite(tol) and tol >= 0 else 1e-9
+    ref_sheet = ref_book.order[0]
+    for n, status in statuses.items():
+        period = TURN.get(units.get(n, ""))
+        if not period or not check_fails(status) or status == "#TYPED" or n not in ref_names:
+            continue
+        cells = [(evaluated.value(main, names[n], FIRST_COL + k),
+                  ref_book.value(ref_sheet, ref_names[n], FIRST_COL + k)) for k in range(positions)]
+        if all(isinstance(v, float) and float(angle_difference(abs(v), period)) <= tol if isinstance(e, float)
+               else not isinstance(v, float) for v, e in cells):
+            statuses[n] = 0.0
 
 
 TITLE_AT = (1, 5)       # E1: the scheme's title (sheetkin.sheet.workbook.TITLE_CELL)

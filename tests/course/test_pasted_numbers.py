@@ -136,3 +136,22 @@ def test_honest_habits_keep_full_marks(issued, tmp_path):
     rep, s = _grade(_filled(ex, key, tmp_path / "honest.xlsx", honest), options)
     assert not rep.typed, [(r.name, r.typed_cells) for r in rep.typed]
     assert s == 100.0 and rep.ok
+
+
+def test_check_of_an_angle_taken_mod_a_full_turn_passes(issued, tmp_path):
+    """Fi taken MOD 2*PI(): Fi is right modulo a full turn, and so is chk_Fi (its residual is
+    -2 pi at 360 deg, the sheet's own status says 1): the check is judged modulo the turn
+    too, as the rows are, and costs nothing. A residual that is not a whole turn still fails."""
+    d, ex, key, options = issued
+    rows = _rows(openpyxl.load_workbook(ex).worksheets[0])
+
+    def mod(ws, sc, r, c, f, v, shift=""):
+        ws.cell(r, c, f"=MOD({f[1:]},2*PI()){shift}" if r == rows["Fi"] and c >= 5 else f)
+    rep, s = _grade(_filled(ex, key, tmp_path / "mod.xlsx", mod), options)
+    assert evaluate(tmp_path / "mod.xlsx").value("Кинематика", rows["chk_Fi"], 4) == 1   # the sheet's own status
+    assert "chk_Fi" not in rep.failing_checks and s == 100.0 and rep.ok
+
+    def off(ws, sc, r, c, f, v):
+        mod(ws, sc, r, c, f, v, shift="+0.001")
+    rep, s = _grade(_filled(ex, key, tmp_path / "off.xlsx", off), options)
+    assert "chk_Fi" in rep.failing_checks and s < 100.0
