@@ -164,11 +164,13 @@ def json_report(reports: list[Report], copies=None) -> str:
                              "all_correct": all(r.ok for r in reports)}), indent=1, ensure_ascii=False) + "\n"
 
 
-def html_report(reports: list[Report], copies: dict | None = None, lang: str = "en") -> str:
+def html_report(reports: list[Report], copies: dict | None = None, lang: str = "en",
+                identities: list | None = None) -> str:
     """One offline page: the class at a glance, a sortable summary, per-student details,
-    pictures (report_html.py), in `lang`."""
+    pictures (report_html.py), in `lang`; with identities (sheetkin.course.identity), who
+    handed each book in and what does not fit."""
     from .report_html import html_page
-    return html_page(reports, copies, lang)
+    return html_page(reports, copies, lang, identities)
 
 
 def copies_lines(reports: list[Report], copies) -> str:
