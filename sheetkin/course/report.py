@@ -33,7 +33,7 @@ def text_report(rep: Report, lang: str = "en") -> str:
     typed = rep.typed
     if typed:
         lines.append(say_grading(f"  typed, not computed ({len(typed)}): ", lang) + ", ".join(
-            f"{r.name} ({t['row']} {r.row}, {position_list(rep, r.typed_cells, lang)})" for r in typed[:12])
+            f"{r.name} ({t['row']} {r.row}, {_typed_where(rep, r, lang)})" for r in typed[:12])
             + (" ..." if len(typed) > 12 else "")
             + say_grading("; accepted (--accept-typed)" if getattr(rep, "accepted_typed", False)
                           else "; they earn nothing", lang))
@@ -80,6 +80,14 @@ def text_report(rep: Report, lang: str = "en") -> str:
     for p in rep.problems[:5]:
         lines.append(f"  {t['cannot']}: {p} {t['saved_used']}")
     return "\n".join(lines) + "\n"
+
+
+def _typed_where(rep: Report, r, lang: str) -> str:
+    """Where a row holds typed values: its positions, or (a derived row) its cell in column D."""
+    if r.kind == "derived":
+        layout = getattr(rep, "layout", None)
+        return layout.cell(r.row, 4) if layout is not None else f"D{r.row}"
+    return position_list(rep, r.typed_cells, lang)
 
 
 def counts_line(rep: Report) -> str:

@@ -10,7 +10,9 @@ For one workbook:
    intermediate rows (P, Q, F, ...) have references too;
 4. the student's values: their formulas evaluated by the evaluator; where a cell has no
    formula, the number typed (checked to the precision it was typed with); where a formula
-   cannot be evaluated, the value the spreadsheet cached;
+   cannot be evaluated, the value the spreadsheet cached; a formula that does not reach the
+   given data through formulas (sheetkin.xlsx.precedents: it reads only typed numbers, such
+   as values pasted on a scratch sheet) is typed, as the numbers it reads are;
 5. row by row: correct / wrong (largest error, first wrong column) / missing / empty; each
    row is also judged on the student's own values of what it reads (sheetkin.course.localjudge):
    the likely causes are the rows wrong on their own inputs and the rounded typed numbers
@@ -117,6 +119,12 @@ class RowReport:
     # the given data, through any formulas (a number pasted elsewhere, then "=Лист2!E5")
     reads_typed: list[int] = field(default_factory=list)
 
+    @property
+    def is_typed(self) -> bool:
+        """A typed value where a formula belongs: at some position, or (a derived row) its
+        value in column D."""
+        return bool(self.typed_cells) or (self.kind == "derived" and self.source == "typed")
+
 
 class _UsableBookParts:
     """What validate sets on the report of a usable book only: not fields (not in to_dict,
@@ -188,7 +196,7 @@ class Report(_UsableBookParts):
     @property
     def typed(self) -> list[RowReport]:
         """Rows holding typed values where formulas belong ("typed, not computed")."""
-        return [r for r in self.rows if r.typed_cells and r.status not in ("missing", "empty")]
+        return [r for r in self.rows if r.is_typed and r.status not in ("missing", "empty")]
 
     @property
     def ok(self) -> bool:
@@ -460,7 +468,7 @@ def _grade_rows(report: Report, g: _Graded) -> None:
                                     cast(dict[str, int], ref_names), g.inputs, ancestors)
     report.checks_total = sum(kinds.get(n) in ("check", "fdcheck") for n in names)
     for row in ref_rows:
-        if row.kind not in ("calc", "accepted", "guard") or row.name in ("i",):
+        if row.kind not in ("calc", "accepted", "guard", "derived") or row.name in ("i",):
             continue
         rep = RowReport(row.name, names.get(row.name), "correct", kind=row.kind)
         report.rows.append(rep)
@@ -468,6 +476,9 @@ def _grade_rows(report: Report, g: _Graded) -> None:
             rep.status = "missing"
             continue
         r, rr = rep.row, ref_names[row.name]
+        if row.kind == "derived":             # its value in column D (Delta_Fi_rad, Alfa_A ...)
+            _grade_derived(rep, g, ref_sheet, rr, periods.get(row.name))
+            continue
         cells = [(r, FIRST_COL + k) for k in range(positions)]
         if not any(c in sh.formulas or c in sh.consts for c in cells):
             rep.status = "empty"
@@ -489,6 +500,33 @@ def _grade_rows(report: Report, g: _Graded) -> None:
     name_causes(report.rows, local, ancestors, input_names, derived_row)
     report.cache_mismatch = _cache_mismatches(evaluated, main, {r for n, r in names.items() if n.startswith("phi_")},
                                               columns=g.layout.columns)
+
+
+def _grade_derived(rep: RowReport, g: _Graded, ref_sheet: str, rr: int, period: float | None) -> None:
+    """A derived value of the input block (column D: Delta_Fi_rad, Alfa_A, Betta_A), which the
+    student computes, graded as a computed row is: right, wrong (first_wrong None: it has no
+    positions), empty, or typed (a number, or a formula reading only typed numbers: it earns
+    nothing)."""
+    r = cast(int, rep.row)
+    if (r, 4) not in g.sh.formulas and (r, 4) not in g.sh.consts:
+        rep.status = "empty"
+        return
+    got = g.evaluated.value(g.main, r, 4)
+    typed = not computes(g.sh, r, 4) or not g.reaches(r, 4)
+    if typed:
+        rep.source = "typed"
+        if computes(g.sh, r, 4):
+            rep.reads_typed = [1]
+    else:
+        rep.formula_cells = 1
+        if g.evaluated.tag[g.main][r, 4] == 14 and (r, 4) in g.sh.cached:
+            got, rep.source = g.sh.cached[(r, 4)], "cached"        # a formula we cannot evaluate
+            got = float(got) if isinstance(got, (int, float)) and not isinstance(got, bool) else got
+    exp = cast(Book, g.ref_book).value(ref_sheet, rr, 4)
+    ok, err = _close(got, exp, rep.name, typed, period)
+    rep.max_error = err
+    if not ok:
+        rep.status, rep.expected, rep.got = "wrong", exp, got
 
 
 def _compare_cells(rep: RowReport, cells: list[tuple[int, int]], g: _Graded, ref_sheet: str, rr: int,

@@ -80,7 +80,10 @@ def test_pasted_numbers_read_by_formulas_are_typed(issued, tmp_path):
         rep, s = _grade(_filled(ex, key, tmp_path / f"{name}.xlsx", how), options)
         assert s <= grades.NO_FORMULA_CAP and not rep.ok, name
         assert grades.verdict(rep) == "typed, not computed"
-        assert len(rep.typed) == len(grades.graded_rows(rep)) and all(r.reads_typed for r in rep.typed)
+        # every row of positions is typed; the derived values of column D hold their formulas
+        positions = [r for r in grades.graded_rows(rep) if r.kind != "derived"]
+        assert {r.name for r in rep.typed} == {r.name for r in positions} and all(r.reads_typed for r in rep.typed)
+        assert all(r.status == "correct" and not r.is_typed for r in grades.graded_rows(rep) if r.kind == "derived")
 
 
 def test_a_named_range_of_pasted_numbers_and_a_partial_paste(issued, tmp_path):
@@ -114,8 +117,9 @@ def test_a_named_range_of_pasted_numbers_and_a_partial_paste(issued, tmp_path):
 
 def test_honest_habits_keep_full_marks(issued, tmp_path):
     """A scratch sheet of real formulas (Fi read from Лист2, computed there from phi_1),
-    a helper cell right of the table, PI() and 180 in formulas, Delta_Fi_rad typed as a number
-    (dFi then reads only i and that number: the position is given data) score 100."""
+    a helper cell right of the table, PI() and 180 in formulas score 100. Delta_Fi_rad typed
+    as a number costs that row only: dFi, which reads it and i (the position is given data),
+    still computes."""
     d, ex, key, options = issued
     rows = _rows(openpyxl.load_workbook(ex).worksheets[0])
 
@@ -134,8 +138,52 @@ def test_honest_habits_keep_full_marks(issued, tmp_path):
         else:
             ws.cell(r, c, f)
     rep, s = _grade(_filled(ex, key, tmp_path / "honest.xlsx", honest), options)
-    assert not rep.typed, [(r.name, r.typed_cells) for r in rep.typed]
-    assert s == 100.0 and rep.ok
+    assert [r.name for r in rep.typed] == ["Delta_Fi_rad"], [(r.name, r.typed_cells) for r in rep.typed]
+    total = len(grades.graded_rows(rep))
+    assert s == pytest.approx(round(90 * (total - 1) / total + 10, 1)) and not rep.ok
+    rows_ = {r.name: r for r in rep.rows}
+    assert rows_["dFi"].status == "correct" and not rows_["dFi"].is_typed
+
+    def dfi_on_i(ws, sc, r, c, f, v):              # the same, Delta_Fi_rad computed: full marks
+        if r == rows["dFi"] and c >= 5:
+            ws.cell(r, c, f"={get_column_letter(c)}{rows['i']}*$D${rows['Delta_Fi']}/180*PI()")
+        else:
+            honest(ws, sc, r, c, f, v) if r != rows["Delta_Fi_rad"] else ws.cell(r, c, f)
+    rep, s = _grade(_filled(ex, key, tmp_path / "honest2.xlsx", dfi_on_i), options)
+    assert not rep.typed and s == 100.0 and rep.ok
+
+
+def test_derived_values_of_column_d_are_graded(issued, tmp_path):
+    """Delta_Fi_rad, Alfa_A, Betta_A (column D, the student computes them) are graded as
+    computed rows: a formula right, a wrong formula wrong, a number typed or read from a
+    pasted number typed (it earns nothing), a blank one missing."""
+    d, ex, key, options = issued
+    rows = _rows(openpyxl.load_workbook(ex).worksheets[0])
+
+    def derived(ws, sc, r, c, f, v):
+        if r == rows["Delta_Fi_rad"] and c == 4:
+            ws.cell(r, c, v)                                  # typed
+        elif r == rows["Alfa_A"] and c == 4:
+            sc["Z1"] = v
+            ws.cell(r, c, "=Лист2!Z1")                        # reads a pasted number
+        elif r == rows["Betta_A"] and c == 4:
+            ws.cell(r, c, f + "+1")                           # wrong
+        else:
+            ws.cell(r, c, f)
+    rep, s = _grade(_filled(ex, key, tmp_path / "derived.xlsx", derived), options)
+    by = {r.name: r for r in rep.rows}
+    assert by["Delta_Fi_rad"].is_typed and by["Delta_Fi_rad"].status == "correct"
+    assert by["Alfa_A"].is_typed and by["Alfa_A"].reads_typed
+    assert by["Betta_A"].status == "wrong" and by["Betta_A"].got == pytest.approx(by["Betta_A"].expected + 1)
+    c = grades.counts(rep)
+    assert c["typed"] == 2 and by["Betta_A"].kind == "derived" and not rep.ok
+    assert grades.row_verdict(by["Betta_A"]) == "wrong"
+
+    def blank(ws, sc, r, c, f, v):
+        if not (r == rows["Alfa_A"] and c == 4):
+            ws.cell(r, c, f)
+    rep, s = _grade(_filled(ex, key, tmp_path / "blank.xlsx", blank), options)
+    assert {r.name: r.status for r in rep.rows}["Alfa_A"] == "empty" and grades.counts(rep)["missing"] == 1
 
 
 def test_check_of_an_angle_taken_mod_a_full_turn_passes(issued, tmp_path):
