@@ -52,7 +52,7 @@ from sheetkin.xlsx.cells import Sheet, read_book
 from sheetkin.xlsx.evaluator import Book, EvaluationError, evaluate_sheets
 from sheetkin.xlsx.package import Limits, UnusableWorkbook
 from sheetkin.xlsx.parse import ParseError, functions_of, names_of, parse_formula, refs_of
-from sheetkin.xlsx.precedents import reaching
+from sheetkin.xlsx.precedents import POSITIONAL, reaching
 
 from . import issued
 from .copies import submission_marks  # the raw cells copy detection compares
@@ -564,7 +564,7 @@ def _compare_cells(rep: RowReport, cells: list[tuple[int, int]], g: _Graded, ref
 
 
 # functions whose value depends on the cell or the sheet, not only on their arguments
-_POSITIONAL = frozenset({"ROW", "COLUMN", "ROWS", "COLUMNS", "INDIRECT", "OFFSET", "CELL"})
+_POSITIONAL = POSITIONAL
 
 
 def computes(sh: Sheet, r: int, c: int) -> bool:
