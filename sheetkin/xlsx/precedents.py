@@ -76,8 +76,12 @@ def _touches(arr: np.ndarray, run, ref) -> np.ndarray:
     lo_r, hi_r = max(int(r1), 1), min(int(r2), h - 1)
     if lo_r > hi_r:
         return np.zeros(len(run.cols), bool)
-    column_any = arr[lo_r:hi_r + 1].any(axis=0)
-    counts = np.concatenate(([0], np.cumsum(column_any)))
     lo = np.clip(np.asarray(c1, np.int64), 1, w)
     hi = np.clip(np.asarray(c2, np.int64) + 1, 1, w)
-    return (hi > lo) & (counts[hi] - counts[lo] > 0)
+    first, last = int(lo.min()), int(hi.max())
+    if first >= last:
+        return np.zeros(len(run.cols), bool)
+    # only the columns the run's cells read: the work is bounded by what the evaluator read
+    column_any = arr[lo_r:hi_r + 1, first:last].any(axis=0)
+    counts = np.concatenate(([0], np.cumsum(column_any)))
+    return (hi > lo) & (counts[hi - first] - counts[lo - first] > 0)
