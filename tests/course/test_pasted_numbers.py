@@ -187,16 +187,29 @@ def test_derived_values_of_column_d_are_graded(issued, tmp_path):
 
 
 def test_check_of_an_angle_taken_mod_a_full_turn_passes(issued, tmp_path):
-    """Fi taken MOD 2*PI(): Fi is right modulo a full turn, and so is chk_Fi (its residual is
-    -2 pi at 360 deg, the sheet's own status says 1): the check is judged modulo the turn
-    too, as the rows are, and costs nothing. A residual that is not a whole turn still fails."""
+    """Fi taken MOD 2*PI(): Fi is right modulo a full turn, and so is chk_Fi. The sheet's
+    check takes its residual modulo the turn (status 0); in a book issued before it did (its
+    residual -2 pi at 360 deg, the sheet's own status 1) the validator judges the check
+    modulo the turn too, as the rows are. A residual that is not a whole turn still fails."""
     d, ex, key, options = issued
     rows = _rows(openpyxl.load_workbook(ex).worksheets[0])
+    fi, i, chk = rows["Fi"], rows["i"], rows["chk_Fi"]
 
     def mod(ws, sc, r, c, f, v, shift=""):
-        ws.cell(r, c, f"=MOD({f[1:]},2*PI()){shift}" if r == rows["Fi"] and c >= 5 else f)
-    rep, s = _grade(_filled(ex, key, tmp_path / "mod.xlsx", mod), options)
-    assert evaluate(tmp_path / "mod.xlsx").value("Кинематика", rows["chk_Fi"], 4) == 1   # the sheet's own status
+        ws.cell(r, c, f"=MOD({f[1:]},2*PI()){shift}" if r == fi and c >= 5 else f)
+    path = _filled(ex, key, tmp_path / "mod.xlsx", mod)
+    sheet = openpyxl.load_workbook(path).worksheets[0].title
+    assert evaluate(path).value(sheet, chk, 4) == 0                     # the sheet's own status: passes
+    rep, s = _grade(path, options)
+    assert "chk_Fi" not in rep.failing_checks and s == 100.0 and rep.ok
+
+    wb = openpyxl.load_workbook(path)                                  # the check as issued before
+    for c in range(5, 18):
+        col = get_column_letter(c)
+        wb.worksheets[0].cell(chk, c, f"={col}{fi}-(RADIANS($D${rows['Fi0']})+{col}{i}*$D${rows['Delta_Fi_rad']})")
+    wb.save(tmp_path / "old.xlsx")
+    assert evaluate(tmp_path / "old.xlsx").value(sheet, chk, 4) == 1
+    rep, s = _grade(tmp_path / "old.xlsx", options)
     assert "chk_Fi" not in rep.failing_checks and s == 100.0 and rep.ok
 
     def off(ws, sc, r, c, f, v):
