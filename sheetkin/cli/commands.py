@@ -529,7 +529,7 @@ def cmd_validate(args) -> int:
     elif len(reports) > 1:
         sys.stdout.write("\n" + summary_table(reports, lang) + copies_lines(reports, copies, lang))
     if args.html:
-        _write(args.html, html_report(reports, copies, lang))
+        _write(args.html, html_report(reports, copies, lang, identities))
     if args.grades:
         _write_grades(args, reports, copies, class_list, identities, lang)
     else:

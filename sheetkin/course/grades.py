@@ -6,9 +6,11 @@ The score of a submission (`sheetkin docs grading`), 0..100 to one decimal:
   + CHECKS_SHARE (10) x check rows intact and filled in / check rows issued
   - CHECK_PENALTY (2) per check row of the sheet that fails, at least 0;
   * a row is computed right when every cell holds a formula (or an array formula's value)
-    and equals the reference; a cell with a typed value and no formula earns nothing,
-    whatever its value ("typed, not computed"), unless the teacher gives --accept-typed
-    (then a typed number right to its last digit counts as right);
+    that reaches the given data through formulas (sheetkin.xlsx.precedents) and equals the
+    reference; a cell with a typed value and no formula, or a formula reading only typed
+    numbers, earns nothing, whatever its value ("typed, not computed"), unless the teacher
+    gives --accept-typed (then a typed number right to its last digit counts as right);
+    the derived values of column D (Alfa_A ...) are graded rows of one cell;
   * a check row earns its share when it is there with its status formula and the rows it
     checks are filled in (its status is not "не заполнено"): deleted, its status typed over,
     or checking empty rows, it does not; deleted or typed over, it also counts as failing
@@ -78,7 +80,8 @@ def row_verdict(row, accept_typed: bool = False) -> str:
     belongs; with accept_typed, a typed row right to its digits is correct) | wrong | missing."""
     if row.status in ("missing", "empty"):
         return "missing"
-    if getattr(row, "typed_cells", None) and not (accept_typed and row.status == "correct"):
+    typed = row.is_typed if hasattr(row, "is_typed") else bool(getattr(row, "typed_cells", None))
+    if typed and not (accept_typed and row.status == "correct"):
         return "typed"
     return "correct" if row.status == "correct" else "wrong"
 
@@ -91,9 +94,11 @@ def counts(rep, accept_typed: bool | None = None) -> dict:
     by = [row_verdict(r, acc) for r in rows]
     out = {k: by.count(k) for k in ("correct", "typed", "wrong", "missing")}
     out["total"] = len(rows)
-    # rows holding a formula somewhere (a row of typed values only is not one; nor a value of
-    # column D the student left blank, named as a cause: a derived row, source "typed", no cells)
+    # rows of positions holding a formula somewhere (a row of typed values only is not one;
+    # the derived values of column D are graded, but three formulas there do not make a book
+    # of typed positions computed work: NO_FORMULA_CAP)
     out["formula_rows"] = sum(1 for r in rows if r.status not in ("missing", "empty")
+                              and getattr(r, "kind", "") != "derived"
                               and (bool(getattr(r, "formula_cells", 0))
                                    or not (getattr(r, "typed_cells", None) or getattr(r, "source", "") == "typed")))
     out["checks_issued"] = getattr(rep, "checks_issued", 0) or 0
@@ -203,7 +208,8 @@ def verdict(rep) -> str:
     if given_changed(rep, _accept_changed(rep, None)):
         return "given data changed"
     c = counts(rep)
-    if c["formula_rows"] == 0 and any(getattr(r, "typed_cells", None) for r in graded_rows(rep)):
+    if c["formula_rows"] == 0 and any(getattr(r, "typed_cells", None) or getattr(r, "is_typed", False)
+                                      for r in graded_rows(rep)):
         return "typed, not computed"           # with --accept-typed too: no formula at all
     return "all correct" if score(rep) >= 100.0 else "mistakes"
 

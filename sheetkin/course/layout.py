@@ -258,5 +258,5 @@ def standard_view(book: Book, layout: Layout) -> tuple[Book, Sheet]:
                  names=src.names)
     sheets = {**book.sheets, layout.sheet: view}
     out = Book(book.path, sheets, book.order, {**book.num, layout.sheet: num}, {**book.tag, layout.sheet: tag},
-               {**book.txt, layout.sheet: txt}, book.problems, book.runs, book.cells)
+               {**book.txt, layout.sheet: txt}, book.problems, book.runs, book.cells, book.schedule)
     return out, view

@@ -9,7 +9,7 @@ from .grades import counts, explain, score, verdict
 from .issued import changed_line
 from .report_html import position_list, position_name
 from .report_messages import say
-from .report_texts import say_grading, words
+from .report_texts import READS_TYPED, say_grading, words
 from .validator import Report
 
 
@@ -34,10 +34,14 @@ def text_report(rep: Report, lang: str = "en") -> str:
     typed = rep.typed
     if typed:
         lines.append(say_grading(f"  typed, not computed ({len(typed)}): ", lang) + ", ".join(
-            f"{r.name} ({t['row']} {r.row}, {position_list(rep, r.typed_cells, lang)})" for r in typed[:12])
+            f"{r.name} ({t['row']} {r.row}, {_typed_where(rep, r, lang)})" for r in typed[:12])
             + (" ..." if len(typed) > 12 else "")
             + say_grading("; accepted (--accept-typed)" if getattr(rep, "accepted_typed", False)
                           else "; they earn nothing", lang))
+    pasted = [r.name for r in typed if getattr(r, "reads_typed", None)]
+    if pasted:
+        lines.append(say_grading(f"  {READS_TYPED} ({len(pasted)}): ", lang) + ", ".join(pasted[:12])
+                     + (" ..." if len(pasted) > 12 else ""))
     # the causes with a note (typed numbers: cell, digits, the error they carry) first
     for r in sorted(rep.causes, key=lambda r: not getattr(r, "note", "")):
         where = f"{r.name} ({t['row']} {r.row}, {t.get(r.source, r.source)})"
@@ -78,6 +82,14 @@ def text_report(rep: Report, lang: str = "en") -> str:
     for p in rep.problems[:5]:
         lines.append(f"  {t['cannot']}: {p} {t['saved_used']}")
     return "\n".join(lines) + "\n"
+
+
+def _typed_where(rep: Report, r, lang: str) -> str:
+    """Where a row holds typed values: its positions, or (a derived row) its cell in column D."""
+    if r.kind == "derived":
+        layout = getattr(rep, "layout", None)
+        return layout.cell(r.row, 4) if layout is not None else f"D{r.row}"
+    return position_list(rep, r.typed_cells, lang)
 
 
 def counts_line(rep: Report) -> str:
@@ -166,11 +178,13 @@ def json_report(reports: list[Report], copies=None, lang: str = "en") -> str:
                              "all_correct": all(r.ok for r in reports)}), indent=1, ensure_ascii=False) + "\n"
 
 
-def html_report(reports: list[Report], copies: dict | None = None, lang: str = "en") -> str:
+def html_report(reports: list[Report], copies: dict | None = None, lang: str = "en",
+                identities: list | None = None) -> str:
     """One offline page: the class at a glance, a sortable summary, per-student details,
-    pictures (report_html.py), in `lang`."""
+    pictures (report_html.py), in `lang`; with identities (sheetkin.course.identity), who
+    handed each book in and what does not fit."""
     from .report_html import html_page
-    return html_page(reports, copies, lang)
+    return html_page(reports, copies, lang, identities)
 
 
 def copies_lines(reports: list[Report], copies, lang: str = "en") -> str:

@@ -19,7 +19,7 @@ import math
 from pathlib import Path
 
 from .report_messages import say
-from .report_texts import say_grading, words
+from .report_texts import READS_TYPED, say_grading, say_identity, words
 from .validator import Report
 
 _CSS = """body{font-family:sans-serif;margin:1.2em;color:#222}
@@ -163,7 +163,14 @@ def _file(rep: Report) -> str:
     return Path(rep.path).name or rep.path
 
 
-def _summary_row(rep: Report, k: int, copy: str = "", lang: str = "en") -> str:
+def _identity_lines(me, lang: str) -> list[str]:
+    """A book's identity flags and why the class list names no one (or several), in `lang`."""
+    if me is None:
+        return []
+    return [say_identity(x, lang) for x in [*me.flags, *([me.unmatched] if me.unmatched else [])]]
+
+
+def _summary_row(rep: Report, k: int, copy: str = "", lang: str = "en", me=None) -> str:
     e, t = html.escape, words(lang)
     who = getattr(rep, "student", "") or _file(rep)
     group = getattr(rep, "group", "")
@@ -177,6 +184,7 @@ def _summary_row(rep: Report, k: int, copy: str = "", lang: str = "en") -> str:
     missing = ", ".join(r.name for r in rep.missing)
     if getattr(rep, "given_changed", None):
         causes = t["given_changed"] + (f"; {causes}" if causes else "")
+    flags = _identity_lines(me, lang)
     return (f"<tr><td><a href='#{_anchor(rep, k)}' data-open='{_anchor(rep, k)}'>{e(who or rep.path)}</a></td>"
             f"<td>{e(group)}</td><td>{e(str(variant))}</td>"
             f"<td class='num' data-sort='{'' if sc is None else f'{sc:.3f}'}'>{'' if sc is None else f'{sc:.0f}'}</td>"
@@ -187,10 +195,11 @@ def _summary_row(rep: Report, k: int, copy: str = "", lang: str = "en") -> str:
             f"<td>{e(causes)}</td><td class='num' data-sort='{c['missing']}'>{c['missing'] or ''}"
             f"{' (' + e(_cut(missing, 80)) + ')' if missing else ''}</td>"
             f"<td class='{'wrong' if copy else ''}'>{copy}</td>"
-            f"<td>{e(rep.path)}</td></tr>")
+            + (f"<td class='{'wrong' if flags else ''}'>{e('; '.join(flags))}</td>" if me is not None else "")
+            + f"<td>{e(rep.path)}</td></tr>")
 
 
-def _details(rep: Report, k: int, copy: str = "", lang: str = "en") -> list[str]:
+def _details(rep: Report, k: int, copy: str = "", lang: str = "en", me=None) -> list[str]:
     e, t = html.escape, words(lang)
     who = getattr(rep, "student", "") or _file(rep)
     from .grades import counts, explain, verdict
@@ -214,6 +223,9 @@ def _details(rep: Report, k: int, copy: str = "", lang: str = "en") -> list[str]
                    + "</p>")
     if copy:
         out.append(f"<p class='wrong'>{t['copy_of']}: {copy}</p>")
+    flags = _identity_lines(me, lang)
+    if flags:
+        out.append(f"<p class='wrong identity'>{t['identity_h']}: " + e("; ".join(flags)) + "</p>")
     n = counts(rep)
     said = say_grading(f"score {explain(rep)} (the rules:", lang)
     out.append(f"<p>{e(said)} <code>sheetkin docs grading</code>)</p>")
@@ -224,6 +236,9 @@ def _details(rep: Report, k: int, copy: str = "", lang: str = "en") -> list[str]
     if typed:
         out.append("<p class='wrong'>" + e(say_grading("typed, not computed: ", lang))
                    + e(", ".join(x.name for x in typed)) + "</p>")
+        pasted = [x.name for x in typed if getattr(x, "reads_typed", None)]
+        if pasted:
+            out.append("<p class='wrong'>" + e(say_grading(f"{READS_TYPED}: ", lang)) + e(", ".join(pasted)) + "</p>")
     for c in rep.causes:
         src = e(t.get(c.source, c.source) or "")
         out.append(f"<p class='cause'>{t['cause']}: {e(c.name)} ({t['row']} {c.row}, {src}):"
@@ -254,7 +269,8 @@ def _details(rep: Report, k: int, copy: str = "", lang: str = "en") -> list[str]
     for title, items in ((t["failing_checks"], rep.failing_checks),
                          ("Check rows deleted", getattr(rep, "checks_deleted", [])),
                          ("Check statuses typed over their formulas", getattr(rep, "checks_typed", [])),
-                         ("Notes", getattr(rep, "notes", [])),
+                         ("Notes", [n for n in getattr(rep, "notes", [])
+                                    if me is None or not n.startswith("identity: ")]),   # shown above
                          (t["disagree_h"], rep.cache_mismatch),
                          (t["cannot_h"], rep.problems)):
         if items:
@@ -264,8 +280,12 @@ def _details(rep: Report, k: int, copy: str = "", lang: str = "en") -> list[str]
     return out
 
 
-def html_page(reports: list[Report], copies: dict | None = None, lang: str = "en") -> str:
+def html_page(reports: list[Report], copies: dict | None = None, lang: str = "en",
+              identities: list | None = None) -> str:
+    """The page (module docstring). identities: sheetkin.course.identity.identify's, one per
+    report: who handed each book in, shown in the summary and the details."""
     t = words(lang)
+    ids = identities if identities is not None and len(identities) == len(reports) else [None] * len(reports)
     correct = sum(r.ok for r in reports)
     copies = copies or {}
     out = [f"<!doctype html><html lang='{lang}'><head><meta charset='utf-8'>"
@@ -278,13 +298,38 @@ def html_page(reports: list[Report], copies: dict | None = None, lang: str = "en
             "<table id='summary'><thead><tr>" + "".join(
                 f"<th><button type='button'>{t.get(h, h)}</button></th>" for h in
                 ("student", "group", "variant", "score", "result", "rows correct", "rows typed", "wrong_rows",
-                 "likely_causes", "missing_rows", "copy_of", "file")) + "</tr></thead><tbody>"]
-    out += [_summary_row(r, k, _copy_links(reports, k, copies, False, lang), lang) for k, r in enumerate(reports)]
+                 "likely_causes", "missing_rows", "copy_of", *(("identity",) if identities is not None else ()),
+                 "file")) + "</tr></thead><tbody>"]
+    out += [_summary_row(r, k, _copy_links(reports, k, copies, False, lang), lang, ids[k])
+            for k, r in enumerate(reports)]
     out.append("</tbody></table>")
+    out += _copy_groups(reports, copies, lang)
     for k, r in enumerate(reports):
-        out += _details(r, k, _copy_links(reports, k, copies, True, lang), lang)
+        out += _details(r, k, _copy_links(reports, k, copies, True, lang), lang, ids[k])
     out.append(f"<script>{_SCRIPT}</script></body></html>\n")
     return "\n".join(out)
+
+
+SHOWN_IN_GROUP = 50          # the books a group of possible copies names on its line
+
+
+def _copy_groups(reports: list[Report], copies, lang: str) -> list[str]:
+    """Each group of possible copies (sheetkin/course/copies.py) a line: its books (links)
+    and its reasons; one line per group, never every pair."""
+    clusters = getattr(copies, "clusters", None)
+    if not clusters:
+        return []
+    e, t = html.escape, words(lang)
+    out = [f"<h3 id='copies'>{t['copies_h']}</h3><ul id='copy-groups'>"]
+    for c in clusters:
+        names = [f"<a href='#{_anchor(reports[i], i)}' data-open='{_anchor(reports[i], i)}'>"
+                 f"{e(getattr(reports[i], 'student', '') or _file(reports[i]))}</a>"
+                 for i in c.members[:SHOWN_IN_GROUP]]
+        more = len(c.members) - SHOWN_IN_GROUP
+        why = "; ".join(say_identity(x, lang) if len(m) == len(c.members) else
+                        f"{say_identity(x, lang)} ({len(m)})" for x, m in c.reasons)
+        out.append(f"<li>{len(c.members)}: {', '.join(names)}{f' (+{more})' if more > 0 else ''}: {e(why)}</li>")
+    return out + ["</ul>"]
 
 
 def _share_table(ident: str, what: str, counts: list[tuple[str, int]], books: int, t: dict) -> str:

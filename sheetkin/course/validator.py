@@ -10,7 +10,9 @@ For one workbook:
    intermediate rows (P, Q, F, ...) have references too;
 4. the student's values: their formulas evaluated by the evaluator; where a cell has no
    formula, the number typed (checked to the precision it was typed with); where a formula
-   cannot be evaluated, the value the spreadsheet cached;
+   cannot be evaluated, the value the spreadsheet cached; a formula that does not reach the
+   given data through formulas (sheetkin.xlsx.precedents: it reads only typed numbers, such
+   as values pasted on a scratch sheet) is typed, as the numbers it reads are;
 5. row by row: correct / wrong (largest error, first wrong column) / missing / empty; each
    row is also judged on the student's own values of what it reads (sheetkin.course.localjudge):
    the likely causes are the rows wrong on their own inputs and the rounded typed numbers
@@ -38,12 +40,20 @@ from sheetkin.sheet.checks import STATUS as CHECK_STATUS
 from sheetkin.sheet.checks import failing as check_fails
 from sheetkin.sheet.checks import not_applicable as check_na
 from sheetkin.sheet.checks import passing as check_passes
-from sheetkin.sheet.workbook import FIRST_COL, SCENE_SHEET, SHEET_TITLES, build_workbook, sheet_rows
+from sheetkin.sheet.workbook import (
+    FIRST_COL,
+    SCENE_SHEET,
+    SHEET_TITLES,
+    build_workbook,
+    prefilled_in_exercise,
+    sheet_rows,
+)
 from sheetkin.xlsx.cells import Sheet, read_book
 from sheetkin.xlsx.evaluator import Book, EvaluationError, evaluate_sheets
 from sheetkin.xlsx.functions import XlError
 from sheetkin.xlsx.package import Limits, UnusableWorkbook
 from sheetkin.xlsx.parse import ParseError, functions_of, names_of, parse_formula, refs_of
+from sheetkin.xlsx.precedents import POSITIONAL, reaching
 
 from . import issued
 from .copies import submission_marks  # the raw cells copy detection compares
@@ -106,6 +116,15 @@ class RowReport:
     # row earns credit only where it computes (sheetkin/course/grades.py)
     typed_cells: list[int] = field(default_factory=list)
     formula_cells: int = 0           # cells holding a formula (their own, or an array's)
+    # positions (1-based, among typed_cells) whose formula reads only typed numbers: none of
+    # the given data, through any formulas (a number pasted elsewhere, then "=Лист2!E5")
+    reads_typed: list[int] = field(default_factory=list)
+
+    @property
+    def is_typed(self) -> bool:
+        """A typed value where a formula belongs: at some position, or (a derived row) its
+        value in column D."""
+        return bool(self.typed_cells) or (self.kind == "derived" and self.source == "typed")
 
 
 class _UsableBookParts:
@@ -178,7 +197,7 @@ class Report(_UsableBookParts):
     @property
     def typed(self) -> list[RowReport]:
         """Rows holding typed values where formulas belong ("typed, not computed")."""
-        return [r for r in self.rows if r.typed_cells and r.status not in ("missing", "empty")]
+        return [r for r in self.rows if r.is_typed and r.status not in ("missing", "empty")]
 
     @property
     def ok(self) -> bool:
@@ -298,6 +317,33 @@ def internal_error(path: str, e: BaseException) -> str:
 
 def _validate(path: str, limits: Limits, options: issued.Options | None = None) -> Report:
     book = read_book(path, limits, skip=frozenset({PATHS_SHEET}))    # never graded: not parsed
+    scene, scene_text = _embedded_scene(book, path, options)
+    # the graded sheet and its columns, found by their content (sheetkin/course/layout.py);
+    # graded through a view in the issued layout (names A, value D, positions from E)
+    ref_rows = sheet_rows(scene).rows
+    issued_positions = scene.crank.positions
+    layout = find_layout(book.sheets, book.order, {r.name for r in ref_rows if r.kind != "section"}, "",
+                         issued_positions, list(range(issued_positions)), {SCENE_SHEET, PATHS_SHEET})
+    if layout is None:
+        raise UnusableInput(f"{path}: no sheet holds the rows of the issued table (names such as "
+                            f"{', '.join(r.name for r in ref_rows if r.kind == 'calc')[:60]}... in a column)")
+    raw = _evaluate_student(book, layout)
+    evaluated, sh = standard_view(raw, layout)
+    names: dict[str, int] = {}
+    for r in range(5, sh.max_row + 1):
+        v = sh.consts.get((r, 1))
+        if isinstance(v, str) and v and v not in names:
+            names[v] = r
+    g = _Graded(path, scene, ref_rows, layout, evaluated, sh, names)
+    g.from_given = _from_given(raw, g, issued_positions)
+    report = _new_report(g, book, scene_text, options)
+    _grade_rows(report, g)
+    _read_checks(report, evaluated, layout.sheet, sh, names, ref_rows, cast(Book, g.ref_book), g.ref_names)
+    return report
+
+
+def _embedded_scene(book, path: str, options: issued.Options | None) -> tuple[Scene, str]:
+    """The scene of the book's hidden sheet, and its text."""
     if SCENE_SHEET not in book.sheets:
         raise UnusableInput(f"{path}: no embedded scene (hidden sheet '{SCENE_SHEET}'); "
                             "expected a workbook made by `sheetkin workbook`")
@@ -315,39 +361,79 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
             raise UnusableInput(f"{path}: {broken}; and it no longer reads: {e}") from e
         raise
     check_embedded_scene(scene, path)
-    # the graded sheet and its columns, found by their content (sheetkin/course/layout.py);
-    # graded through a view in the issued layout (names A, value D, positions from E)
-    ref_rows = sheet_rows(scene).rows
-    issued_positions = scene.crank.positions
-    layout = find_layout(book.sheets, book.order, {r.name for r in ref_rows if r.kind != "section"}, "",
-                         issued_positions, list(range(issued_positions)), {SCENE_SHEET, PATHS_SHEET})
-    if layout is None:
-        raise UnusableInput(f"{path}: no sheet holds the rows of the issued table (names such as "
-                            f"{', '.join(r.name for r in ref_rows if r.kind == 'calc')[:60]}... in a column)")
-    main = layout.sheet
-    evaluated, sh = standard_view(_evaluate_student(book, layout), layout)
-    names: dict[str, int] = {}
-    for r in range(5, sh.max_row + 1):
-        v = sh.consts.get((r, 1))
-        if isinstance(v, str) and v and v not in names:
-            names[v] = r
-    # the variant: the student's input block and columns
+    return scene, scene_text
+
+
+@dataclass
+class _Graded:
+    """What grading one book shares between its steps: the student's sheet (a view in the
+    issued layout), its rows by name, and (set by _new_report) the variant's reference."""
+    path: str
+    scene: Scene
+    ref_rows: list
+    layout: Layout
+    evaluated: Book
+    sh: Sheet
+    names: dict[str, int]
+    from_given: np.ndarray | None = None       # view cells (r, c) whose formulas reach the given data
+    inputs: dict = field(default_factory=dict)
+    student_scene: Scene | None = None
+    ref_book: Book | None = None
+    ref_names: dict = field(default_factory=dict)
+
+    @property
+    def main(self) -> str:
+        return self.layout.sheet
+
+    def reaches(self, r: int, c: int) -> bool:
+        """Whether the view's cell (r, c) is given data or a formula that reads it (through formulas)."""
+        a = self.from_given
+        return a is None or (0 < r < a.shape[0] and 0 < c < a.shape[1] and bool(a[r, c]))
+
+
+def _from_given(raw: Book, g: _Graded, positions: int) -> np.ndarray:
+    """The cells of the graded sheet, in the issued layout (view columns), that are the
+    book's given data or formulas reading them through formulas (sheetkin.xlsx.precedents):
+    the given data are the input block's values (column D of the input rows), the rows the
+    exercise gives filled in (i, phi_1, the guards) and the header's position numbers."""
+    cols = g.layout.columns
+    given_rows = {r.name for r in g.ref_rows if prefilled_in_exercise(r.name, r.kind)}
+    sources = [(r, cols[4]) for n, r in g.names.items() if n in {x.name for x in g.ref_rows if x.kind == "input"}]
+    rows = [r for n, r in g.names.items() if n in given_rows]
+    if g.layout.header_row:
+        rows.append(g.layout.header_row)
+    sources += [(r, cols[FIRST_COL + k]) for r in rows for k in range(positions)]
+    reach = reaching(raw, {g.main: sources})[g.main]
+    view = np.zeros((reach.shape[0], max(cols) + 1), bool)
+    for std, c in cols.items():
+        if c < reach.shape[1]:
+            view[:, std] = reach[:, c]
+    return view
+
+
+def _new_report(g: _Graded, book, scene_text: str, options: issued.Options | None) -> Report:
+    """The report of a usable book before its rows are graded: the variant (the student's
+    input block, checked against the issued one), its reference, who filled it in."""
+    scene, ref_rows, layout, evaluated, sh, names, main = (g.scene, g.ref_rows, g.layout, g.evaluated, g.sh,
+                                                          g.names, g.main)
     input_names = {r.name for r in ref_rows if r.kind == "input"}
     where = {n: f"{main}!{layout.cell(r, 4)}" for n, r in names.items()}
-    inputs = _inputs(evaluated, main, {n: r for n, r in names.items() if n in input_names})
-    positions = issued_positions          # the issued ones, whatever lies right of the table
+    g.inputs = inputs = _inputs(evaluated, main, {n: r for n, r in names.items() if n in input_names})
+    positions = scene.crank.positions      # the issued ones, whatever lies right of the table
     # the given data: graded against the issued variant unless the changes are accepted
     given = issued.check_given(scene, scene_text, book.sheets[SCENE_SHEET].consts, inputs, where, options)
     accept = bool(options and options.accept_changed)
-    student_scene = variant_scene(scene, inputs if accept else {**inputs, **given.issued}, positions, where)
-    ref_book = _reference(student_scene)
+    g.student_scene = student_scene = variant_scene(scene, inputs if accept else {**inputs, **given.issued},
+                                                    positions, where)
+    g.ref_book = ref_book = _reference(student_scene)
     ref_sheet = ref_book.order[0]
-    ref_names = {ref_book.sheets[ref_sheet].consts.get((r, 1)): r
-                 for r in range(5, ref_book.sheets[ref_sheet].max_row + 1)}
+    g.ref_names = ref_names = {ref_book.sheets[ref_sheet].consts.get((r, 1)): r
+                               for r in range(5, ref_book.sheets[ref_sheet].max_row + 1)}
     # who filled it in: D1, D2 (the lecture's rows 1-2); books issued before 0.16 had input
     # rows "student", "group" (A1 the title, A2 the scheme's author, then)
     old = "student" in names
-    report = Report(path, author=scene.author or "", title=str(sh.consts.get((1, 1) if old else TITLE_AT, "") or ""),
+    report = Report(g.path, author=scene.author or "",
+                    title=str(sh.consts.get((1, 1) if old else TITLE_AT, "") or ""),
                     positions=positions, problems=list(evaluated.problems),
                     student=_identity(evaluated, main, sh, names.get("student") if old else 1),
                     group=_identity(evaluated, main, sh, names.get("group") if old else 2),
@@ -361,7 +447,17 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
                               ref_book.value(ref_sheet, ref_names["phi_1"], FIRST_COL + k)) for k in range(positions)]
     report.lang = book_lang(main)           # not a field: the reports' default language
     report.variant_scene = student_scene    # not a field (not in to_dict): the report's picture
-    ancestors = row_ancestors(student_scene)
+    return report
+
+
+def _grade_rows(report: Report, g: _Graded) -> None:
+    """Every computed row against the reference, then the likely causes (each row judged on
+    the student's own values of what it reads: sheetkin.course.localjudge), the cells whose
+    formula and saved value disagree."""
+    ref_rows, evaluated, sh, names, main = g.ref_rows, g.evaluated, g.sh, g.names, g.main
+    ref_book, ref_names = cast(Book, g.ref_book), g.ref_names
+    ref_sheet, positions = ref_book.order[0], report.positions
+    ancestors = row_ancestors(cast(Scene, g.student_scene))
     kinds = {r.name: r.kind for r in ref_rows}
     periods = {r.name: TURN[r.unit] for r in ref_rows if r.unit in TURN}
     # not fields (not in to_dict): the raw cells copy detection compares (sheetkin/course/copies.py),
@@ -370,10 +466,10 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
                 if r.kind in ("calc", "accepted", "guard") and r.name != "i" and r.name in names}
     # ref_names is looked up by row name only (the None of unnamed rows is never asked for)
     report.marks = submission_marks(sh, computed, FIRST_COL, positions, ref_book.sheets[ref_sheet],
-                                    cast(dict[str, int], ref_names), inputs, ancestors)
+                                    cast(dict[str, int], ref_names), g.inputs, ancestors)
     report.checks_total = sum(kinds.get(n) in ("check", "fdcheck") for n in names)
     for row in ref_rows:
-        if row.kind not in ("calc", "accepted", "guard") or row.name in ("i",):
+        if row.kind not in ("calc", "accepted", "guard", "derived") or row.name in ("i",):
             continue
         rep = RowReport(row.name, names.get(row.name), "correct", kind=row.kind)
         report.rows.append(rep)
@@ -381,11 +477,14 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
             rep.status = "missing"
             continue
         r, rr = rep.row, ref_names[row.name]
+        if row.kind == "derived":             # its value in column D (Delta_Fi_rad, Alfa_A ...)
+            _grade_derived(rep, g, ref_sheet, rr, periods.get(row.name))
+            continue
         cells = [(r, FIRST_COL + k) for k in range(positions)]
         if not any(c in sh.formulas or c in sh.consts for c in cells):
             rep.status = "empty"
             continue
-        _compare_cells(rep, cells, evaluated, main, sh, ref_book, ref_sheet, rr, periods.get(row.name))
+        _compare_cells(rep, cells, g, ref_sheet, rr, periods.get(row.name))
         if rep.wrong_cells:
             rep.status = "wrong"
     # likely causes: each row judged on the student's own values of what it reads
@@ -393,25 +492,57 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
     graded = {r.name for r in report.rows if r.status in ("correct", "wrong")}
     judged = [r.name for r in ref_rows if r.name in graded or (r.kind == "derived" and r.name in names)]
     local = judge(ref_book, evaluated, main, names, judged,
-                  {r.name for r in report.rows if r.status in ("missing", "empty")}, periods, layout.columns)
+                  {r.name for r in report.rows if r.status in ("missing", "empty")}, periods, g.layout.columns)
+    input_names = {r.name for r in ref_rows if r.kind == "input"}
 
     def derived_row(name: str, col: int) -> RowReport:
         return RowReport(name, names[name], "correct", kind="derived",
                          source="formula" if sh.computed(names[name], col) else "typed")
     name_causes(report.rows, local, ancestors, input_names, derived_row)
     report.cache_mismatch = _cache_mismatches(evaluated, main, {r for n, r in names.items() if n.startswith("phi_")},
-                                              columns=layout.columns)
-    _read_checks(report, evaluated, main, sh, names, ref_rows, ref_book, ref_names)
-    return report
+                                              columns=g.layout.columns)
 
 
-def _compare_cells(rep: RowReport, cells: list[tuple[int, int]], evaluated: Book, main: str, sh: Sheet,
-                   ref_book: Book, ref_sheet: str, rr: int, period: float | None) -> None:
+def _grade_derived(rep: RowReport, g: _Graded, ref_sheet: str, rr: int, period: float | None) -> None:
+    """A derived value of the input block (column D: Delta_Fi_rad, Alfa_A, Betta_A), which the
+    student computes, graded as a computed row is: right, wrong (first_wrong None: it has no
+    positions), empty, or typed (a number, or a formula reading only typed numbers: it earns
+    nothing)."""
+    r = cast(int, rep.row)
+    if (r, 4) not in g.sh.formulas and (r, 4) not in g.sh.consts:
+        rep.status = "empty"
+        return
+    got = g.evaluated.value(g.main, r, 4)
+    typed = not computes(g.sh, r, 4) or not g.reaches(r, 4)
+    if typed:
+        rep.source = "typed"
+        if computes(g.sh, r, 4):
+            rep.reads_typed = [1]
+    else:
+        rep.formula_cells = 1
+        if g.evaluated.tag[g.main][r, 4] == 14 and (r, 4) in g.sh.cached:
+            got, rep.source = g.sh.cached[(r, 4)], "cached"        # a formula we cannot evaluate
+            got = float(got) if isinstance(got, (int, float)) and not isinstance(got, bool) else got
+    exp = cast(Book, g.ref_book).value(ref_sheet, rr, 4)
+    ok, err = _close(got, exp, rep.name, typed, period)
+    rep.max_error = err
+    if not ok:
+        rep.status, rep.expected, rep.got = "wrong", exp, got
+
+
+def _compare_cells(rep: RowReport, cells: list[tuple[int, int]], g: _Graded, ref_sheet: str, rr: int,
+                   period: float | None) -> None:
     """A row's cells (r, c) against the reference's row rr: where it computes or holds typed
-    numbers, its wrong cells, the first wrong one, its largest error."""
+    numbers, its wrong cells, the first wrong one, its largest error. A formula that reads
+    only typed numbers (none of the given data, through any formulas) computes nothing: it
+    is typed, as the numbers it reads are."""
+    evaluated, main, sh, ref_book = g.evaluated, g.main, g.sh, cast(Book, g.ref_book)
     for k, (r, c) in enumerate(cells):
         got = evaluated.value(main, r, c)
         typed = not computes(sh, r, c)                # a spilled cell is computed, not typed
+        if not typed and not g.reaches(r, c):
+            typed = True
+            rep.reads_typed.append(k + 1)
         if not typed and evaluated.tag[main][r, c] == 14 and (r, c) in sh.cached:
             got, rep.source = sh.cached[(r, c)], "cached"        # a formula we cannot evaluate
             got = float(got) if isinstance(got, (int, float)) and not isinstance(got, bool) else got
@@ -434,7 +565,7 @@ def _compare_cells(rep: RowReport, cells: list[tuple[int, int]], evaluated: Book
 
 
 # functions whose value depends on the cell or the sheet, not only on their arguments
-_POSITIONAL = frozenset({"ROW", "COLUMN", "ROWS", "COLUMNS", "INDIRECT", "OFFSET", "CELL"})
+_POSITIONAL = POSITIONAL
 
 
 def computes(sh: Sheet, r: int, c: int) -> bool:
@@ -465,6 +596,7 @@ def _read_checks(report: Report, evaluated: Book, main: str, sh: Sheet, names: d
     statuses = {n: evaluated.value(main, r, 4) if computes(sh, r, 4) else "#TYPED"
                 for n, r in names.items()
                 if n.startswith(("chk", "fd_")) and kinds.get(n) in ("check", "fdcheck")}
+    _turns_pass(statuses, evaluated, main, names, ref_rows, ref_book, ref_names, positions)
     # issue 21: the check rows are part of the work (the lecture's step 10): a check row
     # deleted, or its status typed over, loses its share of the grade
     issued_checks = [r.name for r in ref_rows if r.kind in ("check", "fdcheck")]
@@ -491,6 +623,28 @@ def _read_checks(report: Report, evaluated: Book, main: str, sh: Sheet, names: d
     report.checks_na = sum(check_na(s) for s in statuses.values())
     unfilled = {t["unfilled"] for t in CHECK_STATUS.values()}
     report.checks_unfilled = sum(isinstance(s, str) and s in unfilled for s in statuses.values())
+
+
+def _turns_pass(statuses: dict, evaluated: Book, main: str, names: dict[str, int], ref_rows, ref_book: Book,
+                ref_names: dict, positions: int) -> None:
+    """A check row of an angle (chk_Fi: Fi - (Fi0 + i Delta_Fi), in radians) whose status
+    fails only because its residuals are whole turns (Fi taken MOD 2*PI()) passes: angles are
+    compared modulo a full turn everywhere else, so the check is judged the same way (its
+    residuals within the sheet's Tol of a multiple of the turn, numbers where the reference
+    has numbers). Sets the status to 0 in `statuses`."""
+    units = {r.name: r.unit for r in ref_rows}
+    tol = evaluated.value(main, names["Tol"], 4) if "Tol" in names else None
+    tol = tol if isinstance(tol, float) and not isinstance(tol, bool) and math.isfinite(tol) and tol >= 0 else 1e-9
+    ref_sheet = ref_book.order[0]
+    for n, status in statuses.items():
+        period = TURN.get(units.get(n, ""))
+        if not period or not check_fails(status) or status == "#TYPED" or n not in ref_names:
+            continue
+        cells = [(evaluated.value(main, names[n], FIRST_COL + k),
+                  ref_book.value(ref_sheet, ref_names[n], FIRST_COL + k)) for k in range(positions)]
+        if all(isinstance(v, float) and float(angle_difference(abs(v), period)) <= tol if isinstance(e, float)
+               else not isinstance(v, float) for v, e in cells):
+            statuses[n] = 0.0
 
 
 TITLE_AT = (1, 5)       # E1: the scheme's title (sheetkin.sheet.workbook.TITLE_CELL)

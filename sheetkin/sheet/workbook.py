@@ -183,7 +183,8 @@ def _crank_rows(b: Builder):
     b.add("sin_1", "", "sin угла кривошипа", "sin of the crank angle", "calc", "SIN({Fi})")
     b.add("chk_Fi", "rad", "проверка: Fi - (Fi0 + i Delta_Fi) в радианах", "check: Fi - (Fi0 + i Delta_Fi) in radians",
           "check",
-          "{Fi}-(RADIANS({Fi0})+{i}*{Delta_Fi_rad})")
+          # modulo a full turn, as angles are compared: Fi taken MOD 2*PI() passes too
+          "MOD({Fi}-(RADIANS({Fi0})+{i}*{Delta_Fi_rad})+PI(),2*PI())-PI()")
     b.rot[1] = ("cos_1", "sin_1", "Fi_t", "Fi_tt")
     b.section(f"hinge_{A}", f"Шарнир {A} кривошипа (слайд 6: x = Alfa cos dFi - Betta sin dFi)",
               f"Hinge {A} of the crank (slide 6: x = Alfa cos dFi - Betta sin dFi)")

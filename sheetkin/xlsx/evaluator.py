@@ -36,7 +36,7 @@ the results as tables. The names the others hold are importable from here as bef
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, cast
 
@@ -92,6 +92,9 @@ class Book:
     problems: list[str]               # unsupported functions, parse errors (cells set to #NAME?)
     runs: int = 0
     cells: int = 0
+    # the runs in the order they were evaluated (parsed trees, references): what
+    # sheetkin.xlsx.precedents traces through
+    schedule: list = field(default_factory=list, repr=False)
 
     @property
     def notes(self) -> list[str]:
@@ -188,7 +191,7 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
     ctx.arrays = {n: sh.arrays for n, sh in sheets.items()}
     with np.errstate(all="ignore"):
         cells = _run_all(path, order_runs, ctx, dims, name_refs, strict, problems)
-    return Book(path, sheets, order, num, tag, txt, problems, len(order_runs), cells)
+    return Book(path, sheets, order, num, tag, txt, problems, len(order_runs), cells, order_runs)
 
 
 def _run_all(path: str, order_runs: list[Run], ctx: _Context, dims: dict, name_refs: dict, strict: bool,

@@ -15,6 +15,7 @@ from pathlib import Path
 
 import openpyxl
 import pytest
+from openpyxl.utils import get_column_letter
 from studentbooks import Recipe, key_formulas, key_values, make_books, rows_by_name, uno_available
 
 from sheetkin.course import grades
@@ -74,8 +75,22 @@ def books(tmp_path_factory, soffice):
                                             if _is_number(f[1:])]])
     scratch.ops.append(["formulas", "main", [[r, c, f"=$Лист1.C{n + 1}" if _is_number(f[1:]) else f]
                                              for n, (r, c, f) in enumerate(constants)]])
+    # honest habits: Fi computed on a scratch sheet (real formulas reading the main sheet's
+    # phi_1, PI() and 180), read back by the main sheet; cos_1 through helper cells right of
+    # the table
+    at = rows_by_name(openpyxl.load_workbook(ex1).worksheets[0])
+    title = openpyxl.load_workbook(ex1).worksheets[0].title
+    cols = [get_column_letter(5 + k) for k in range(13)]
+    helpers = Recipe(ex1, key1).honest().scratch_sheet_first()
+    helpers.ops.append(["formulas", "Лист1", [[5, 5 + k, f"=${title}.{c}{at['phi_1']}*PI()/180"]
+                                              for k, c in enumerate(cols)]])
+    helpers.ops.append(["formulas", "main", [[at["Fi"], 5 + k, f"=$Лист1.{c}5"] for k, c in enumerate(cols)]
+                        + [[at["cos_1"], 30 + k, f"=COS({c}{at['Fi']})"] for k, c in enumerate(cols)]
+                        + [[at["cos_1"], 5 + k, f"={get_column_letter(30 + k)}{at['cos_1']}"]
+                           for k in range(13)]])
     recipes = {
         "honest": Recipe(ex1, key1).honest(),
+        "helpers": helpers,
         "scratch_refs": scratch,
         "consts": consts,
         "check_const": Recipe(ex1, key1).honest().note(f"D{chk}", "=0"),
@@ -103,13 +118,22 @@ def test_constant_formulas_are_typed_numbers(books):
 
 
 @uno
-@pytest.mark.xfail(strict=True, reason="not fixed (review): a formula reading a number pasted elsewhere counts as "
-                   "computed; needs the precedents of each graded cell to reach the given data")
 def test_formulas_reading_pasted_numbers_are_typed(books):
     """The key's values pasted on a scratch sheet, each computed cell "=$Лист1.C7": nothing
-    is computed, yet the book is "all correct", 100."""
+    is computed (no formula reaches the given data), so it earns what typed numbers earn."""
     rep = books["scratch_refs"]
     assert grades.score(rep) <= 10 and not rep.ok
+    assert grades.verdict(rep) == "typed, not computed"
+    assert len(rep.typed) >= 50 and all(r.reads_typed for r in rep.typed)
+
+
+@uno
+def test_scratch_formulas_and_helper_cells_are_computed(books):
+    """A scratch sheet of real formulas and helper cells right of the table reach the given
+    data through formulas: the book keeps full marks (tracing penalizes pasted numbers only)."""
+    rep = books["helpers"]
+    assert not rep.typed, [(r.name, r.typed_cells) for r in rep.typed]
+    assert grades.score(rep) == 100.0 and rep.ok
 
 
 @uno
