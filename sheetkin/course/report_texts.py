@@ -187,68 +187,9 @@ WORDS["ru"].update({"identity": "кто сдал", "identity_h": "Кто сда�
 WORDS["uk"].update({"identity": "хто здав", "identity_h": "Хто здав",
                     "copies_h": "Можливе списування (один рядок на групу книг)"})
 
-# (English pattern matching a whole flag or reason, {lang: template of its named groups})
-_IDENTITY_TEMPLATES: tuple[tuple[str, dict[str, str]], ...] = (
-    (r"found in the folder of (?P<a>.+?), but (?P<b>.+?)'s name is typed in it",
-     {"ru": "найдена в папке студента {a}, но в ней указано имя {b}",
-      "uk": "знайдена в теці студента {a}, але в ній вказано ім'я {b}"}),
-    (r"issued to (?P<a>.+?), handed in by (?P<b>.+)",
-     {"ru": "выдана: {a}, сдал(а): {b}", "uk": "видана: {a}, здав(ла): {b}"}),
-    (r"not graded: (?P<who>.+?) handed in (?P<f>.+?) too, which is newer",
-     {"ru": "не оценена: {who} сдал(а) и {f}, более новую", "uk": "не оцінена: {who} здав(ла) і {f}, новішу"}),
-    (r"not graded: (?P<who>.+?) handed in (?P<f>.+?) too, their own book \(this one is not\)",
-     {"ru": "не оценена: {who} сдал(а) и {f}, свою книгу (эта - чужая)",
-      "uk": "не оцінена: {who} здав(ла) і {f}, свою книгу (ця - чужа)"}),
-    (r"not graded: (?P<who>.+?) handed in (?P<f>.+?) too, which is usable \(this one is not\)",
-     {"ru": "не оценена: {who} сдал(а) и {f}, которая проверяется (эта - нет)",
-      "uk": "не оцінена: {who} здав(ла) і {f}, яка перевіряється (ця - ні)"}),
-    (r"graded; older files of this student not graded: (?P<f>.+)",
-     {"ru": "оценена; более старые файлы этого студента не оценены: {f}",
-      "uk": "оцінена; старіші файли цього студента не оцінено: {f}"}),
-    (r"graded; other files of this student not graded: (?P<f>.+)",
-     {"ru": "оценена; другие файлы этого студента не оценены: {f}",
-      "uk": "оцінена; інші файли цього студента не оцінено: {f}"}),
-    (r"the folder (?P<f>'.*?'): no one in the class list is named (?P<n>.+)",
-     {"ru": "папка {f}: в списке группы нет никого с именем {n}",
-      "uk": "тека {f}: у списку групи немає нікого з ім'ям {n}"}),
-    (r"the folder (?P<f>'.*?'): (?P<n>.+?) can be (?P<who>.+)",
-     {"ru": "папка {f}: {n} - это может быть {who}", "uk": "тека {f}: {n} - це може бути {who}"}),
-    (r"no one in the class list is named (?P<n>.+)",
-     {"ru": "в списке группы нет никого с именем {n}", "uk": "у списку групи немає нікого з ім'ям {n}"}),
-    (r"(?P<n>.+?) can be (?P<who>.+)", {"ru": "{n} - это может быть {who}", "uk": "{n} - це може бути {who}"}),
-    (r"one issued book \(variant (?P<v>.+?), issued to one student\) handed in by (?P<n>\d+) students",
-     {"ru": "одну выданную книгу (вариант {v}, выдан одному студенту) сдали студенты: {n}",
-      "uk": "одну видану книгу (варіант {v}, видано одному студентові) здали студенти: {n}"}),
-    (r"one issued book \(variant (?P<v>.+?), issued to (?P<to>.+?)\) handed in by (?P<n>\d+) students",
-     {"ru": "одну выданную книгу (вариант {v}, выдан: {to}) сдали студенты: {n}",
-      "uk": "одну видану книгу (варіант {v}, видано: {to}) здали студенти: {n}"}),
-    (r"the same variant (?P<v>.+?) from (?P<n>\d+) students \(no assignment: `variants --class-list` gives each "
-     r"student their own\)",
-     {"ru": "один вариант {v} от студентов: {n} (без распределения; `variants --class-list` даёт каждому свой)",
-      "uk": "один варіант {v} від студентів: {n} (без розподілу; `variants --class-list` дає кожному свій)"}),
-    (r"the same issued variant (?P<v>.+?), its given data changed in one",
-     {"ru": "один выданный вариант {v}, в одной из книг изменены исходные данные",
-      "uk": "один виданий варіант {v}, в одній із книг змінено вихідні дані"}),
-    (r"the same student name", {"ru": "одно и то же имя студента", "uk": "те саме ім'я студента"}),
-    (r"byte-identical files", {"ru": "файлы совпадают побайтно", "uk": "файли збігаються побайтово"}),
-    (r"(?P<who>.+?) \(Moodle participant (?P<p>\d+)\)", {"ru": "{who} (участник Moodle {p})",
-                                                         "uk": "{who} (учасник Moodle {p})"}),
-)
-
-
 def say_identity(text: str, lang: str) -> str:
-    """An identity flag, a class-list mismatch or a copy group's reason ("; "-joined parts)
-    in `lang`; a part no template knows stays English."""
-    if lang not in ("ru", "uk"):
-        return text
-    import re
-    out = []
-    for part in text.split("; "):
-        for pattern, said in _IDENTITY_TEMPLATES:
-            m = re.fullmatch(pattern, part)
-            if m:
-                part = said[lang].format(**{k: say_identity(v, lang) if k in ("b", "who") else v
-                                            for k, v in m.groupdict().items()})
-                break
-        out.append(part)
-    return "; ".join(out)
+    """An identity flag, a class-list mismatch or a copy group's reason in `lang`: the
+    validator's messages have one table (sheetkin.course.report_messages); a part no
+    template knows stays English."""
+    from .report_messages import say
+    return say(text, lang)

@@ -55,7 +55,7 @@ def _summary_cells(page: str, k: int) -> str:
     ("en", "found in the folder of Попова Ольга, but Смирнова Мария's name is typed in it",
      "not graded: ivanov@example.ru handed in", "no one in the class list is named 'Петров Пётр'",
      "Possible copies"),
-    ("ru", "найдена в папке студента Попова Ольга, но в ней указано имя Смирнова Мария",
+    ("ru", "найдена в папке Попова Ольга, но в ней введено имя Смирнова Мария",
      "не оценена: ivanov@example.ru сдал(а) и", "в списке группы нет никого с именем 'Петров Пётр'",
      "Возможное списывание"),
 ])
