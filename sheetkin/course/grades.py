@@ -161,22 +161,25 @@ def score_parts(rep, accept_changed: bool | None = None, accept_typed: bool | No
     issued = c["checks_issued"]
     share = ROWS_SHARE if issued else ROWS_SHARE + CHECKS_SHARE     # a sheet without check rows: all rows
     unit = share / c["total"]
-    parts = [f"{c['correct']} of {c['total']} rows computed right: {unit * c['correct']:.1f} of {share:g}"]
-    for key, what in (("typed", "typed, not computed"), ("wrong", "wrong"), ("missing", "missing or empty")):
-        if c[key]:
-            parts.append(f"{c[key]} {what}: -{unit * c[key]:.1f}")
+    # what is earned, with what was not earned in brackets, so the numbers add up to the score
+    # (earned rows + earned check rows - the penalty for failing checks)
+    lost_rows = [f"{c[key]} {what}" for key, what in (("typed", "typed, not computed"), ("wrong", "wrong"),
+                                                        ("missing", "missing or empty")) if c[key]]
+    parts = [f"{c['correct']} of {c['total']} rows computed right: {unit * c['correct']:.1f} of {share:g}"
+             + (f" ({', '.join(lost_rows)})" if lost_rows else "")]
     lost = c["checks_deleted"] + c["checks_typed"] + c["checks_unfilled"]
     checks = CHECKS_SHARE * (issued - lost) / issued if issued else 0.0
     if issued:
-        parts.append(f"{issued - lost} of {issued} check rows intact and filled in: {checks:.1f} of {CHECKS_SHARE:g}")
-        for key, what in (("checks_deleted", "deleted"), ("checks_typed", "status typed over"),
-                          ("checks_unfilled", "not filled in (rows they check are empty)")):
-            if c[key]:
-                parts.append(f"{c[key]} check rows {what}: -{CHECKS_SHARE * c[key] / issued:.1f}")
+        lost_checks = [f"{c[key]} {what}" for key, what in (
+            ("checks_deleted", "deleted"), ("checks_typed", "status typed over"),
+            ("checks_unfilled", "not filled in (rows they check are empty)")) if c[key]]
+        parts.append(f"{issued - lost} of {issued} check rows intact and filled in: {checks:.1f} of {CHECKS_SHARE:g}"
+                     + (f" ({', '.join(lost_checks)})" if lost_checks else ""))
     s = unit * c["correct"] + checks
     if c["checks_failing"]:
         s -= CHECK_PENALTY * c["checks_failing"]
-        parts.append(f"{c['checks_failing']} check rows failing: -{CHECK_PENALTY * c['checks_failing']:g}")
+        n = c["checks_failing"]
+        parts.append(f"{n} check row{'' if n == 1 else 's'} failing: -{CHECK_PENALTY * n:g}")
     s = max(0.0, s)
     if c["formula_rows"] == 0 and s > NO_FORMULA_CAP:
         s = NO_FORMULA_CAP

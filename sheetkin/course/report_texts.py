@@ -6,7 +6,9 @@ Imports nothing from sheetkin.
 """
 from __future__ import annotations
 
+import re
 from collections import Counter
+from collections.abc import Callable
 
 WORDS: dict[str, dict[str, str]] = {
     "en": {
@@ -123,7 +125,9 @@ def class_lang(reports) -> str:
 # English at its source, so that grades.csv and --json keep one set of words; a report in
 # Russian or Ukrainian says it in the teacher's language through these phrases, longest first.
 _GRADING_PHRASES: dict[str, tuple[tuple[str, str], ...]] = {
-    "ru": (("not filled in (rows they check are empty)", "не заполнены (проверяемые строки пусты)"),
+    "ru": ((" computed right", " вычислены верно"), (" intact and filled in", " на месте и заполнены"),
+           (" correct (computed)", " верно (вычислены)"),
+           ("not filled in (rows they check are empty)", "не заполнены (проверяемые строки пусты)"),
            ("no formula in the computed rows: at most", "нет формул в вычисляемых строках: не более"),
            ("check rows intact and filled in", "строк проверки на месте и заполнены"),
            ("graded against the issued variant", "оценено по выданному варианту"),
@@ -133,11 +137,13 @@ _GRADING_PHRASES: dict[str, tuple[tuple[str, str], ...]] = {
            ("missing or empty", "отсутствуют или пусты"), ("that apply passing", "применимых выполнены"),
            ("status typed over", "статус введён вручную"), ("given data changed", "исходные данные изменены"),
            ("accepted (--accept-typed)", "приняты (--accept-typed)"), ("they earn nothing", "не оцениваются"),
-           ("check rows", "строк проверки"), ("seal broken", "печать нарушена"), ("all correct", "всё верно"),
+           ("check rows", "строки проверки"), ("seal broken", "печать нарушена"), ("all correct", "всё верно"),
            ("mistakes", "есть ошибки"), ("unusable", "не проверяется"), ("typed over", "введены вручную"),
            ("failing", "не выполнены"), ("deleted", "удалены"), ("wrong", "неверно"), ("(the rules:", "(правила:"),
            ("score", "оценка"), (" of ", " из "), ("(row ", "(строка ")),
-    "uk": (("not filled in (rows they check are empty)", "не заповнені (рядки, які вони перевіряють, порожні)"),
+    "uk": ((" computed right", " обчислено правильно"), (" intact and filled in", " на місці й заповнені"),
+           (" correct (computed)", " правильно (обчислені)"),
+           ("not filled in (rows they check are empty)", "не заповнені (рядки, які вони перевіряють, порожні)"),
            ("no formula in the computed rows: at most", "немає формул в обчислюваних рядках: не більше"),
            ("check rows intact and filled in", "рядків перевірки на місці й заповнені"),
            ("graded against the issued variant", "оцінено за виданим варіантом"),
@@ -147,7 +153,7 @@ _GRADING_PHRASES: dict[str, tuple[tuple[str, str], ...]] = {
            ("rows computed right", "рядків обчислено правильно"), ("missing or empty", "відсутні або порожні"),
            ("that apply passing", "застосовних виконано"), ("status typed over", "статус введено вручну"),
            ("given data changed", "вихідні дані змінено"), ("accepted (--accept-typed)", "прийнято (--accept-typed)"),
-           ("they earn nothing", "не оцінюються"), ("check rows", "рядків перевірки"),
+           ("they earn nothing", "не оцінюються"), ("check rows", "рядки перевірки"),
            ("seal broken", "печатку порушено"), ("all correct", "усе правильно"), ("mistakes", "є помилки"),
            ("unusable", "не перевіряється"), ("typed over", "введено вручну"), ("failing", "не виконано"),
            ("deleted", "видалено"), ("wrong", "неправильно"), ("(the rules:", "(правила:"), ("score", "оцінка"),
@@ -155,9 +161,40 @@ _GRADING_PHRASES: dict[str, tuple[tuple[str, str], ...]] = {
 }
 
 
+def plural(n: int, one: str, few: str, many: str) -> str:
+    """The Russian or Ukrainian form of a noun after the number n: 1, 21 строка; 2-4, 22-24
+    строки; 0, 5-20, 25 строк."""
+    if n % 10 == 1 and n % 100 != 11:
+        return one
+    return few if 2 <= n % 10 <= 4 and not 12 <= n % 100 <= 14 else many
+
+
+def _of(n: str, lang: str) -> str:
+    """'из 63 строк' / 'з 63 рядків': the genitive after 'of N' (singular after 1, 21, ...)."""
+    k = int(n)
+    gen = (plural(k, "строки", "строк", "строк") if lang == "ru" else plural(k, "рядка", "рядків", "рядків"))
+    return f"{'из' if lang == 'ru' else 'з'} {n} {gen}"
+
+
+# counted phrases first, each noun in the form its number asks for
+_COUNTED: dict[str, tuple[tuple[str, Callable[[re.Match], str]], ...]] = {
+    lang: (
+        (r"(\d+) of (\d+) check rows", lambda m, g=lang: f"{m[1]} {_of(m[2], g)} "
+                                                        + ("проверки" if g == "ru" else "перевірки")),
+        (r"(\d+) of (\d+) rows", lambda m, g=lang: f"{m[1]} {_of(m[2], g)}"),
+        (r"(\d+) check rows? failing", lambda m, g=lang: f"{m[1]} " + (
+            plural(int(m[1]), "строка проверки не выполнена", "строки проверки не выполнены",
+                   "строк проверки не выполнено") if g == "ru" else
+            plural(int(m[1]), "рядок перевірки не виконано", "рядки перевірки не виконано",
+                   "рядків перевірки не виконано"))),
+    ) for lang in ("ru", "uk")}
+
+
 def say_grading(text: str, lang: str) -> str:
     """A phrase of the grading vocabulary (a verdict, the counts, the score explained) in
     `lang`; English as it is."""
+    for pattern, said in _COUNTED.get(lang, ()):
+        text = re.sub(pattern, said, text)
     for en, said in _GRADING_PHRASES.get(lang, ()):
         text = text.replace(en, said)
     return text

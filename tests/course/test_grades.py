@@ -60,6 +60,34 @@ def test_score_rule():
     assert score(report(correct=0)) == 0.0                                  # nothing to grade
 
 
+@pytest.mark.parametrize("kw", [dict(), dict(correct=3, wrong=1, failing=1), dict(correct=2, wrong=1, missing=1),
+                                dict(correct=1, wrong=2, failing=3), dict(correct=5, wrong=2, failing=21)])
+def test_the_score_explained_adds_up(kw):
+    """The explanation's earned numbers, less the penalties it lists, are the score: what was
+    not earned is said in brackets, never as a second minus (the teacher adds it up)."""
+    from sheetkin.course.grades import score_parts
+    rep = report(**kw)
+    s, parts = score_parts(rep)
+    text = "; ".join(parts)
+    earned = sum(float(x) for x in re.findall(r": (\d+\.\d) of \d+", text))
+    penalties = sum(float(x) for x in re.findall(r": -(\d+(?:\.\d+)?)", text))
+    assert s == round(max(0.0, earned - penalties), 1), text
+    assert re.search(r"\b1 check rows\b", text) is None              # English singular too
+
+
+@pytest.mark.parametrize("n, ru, uk", [(1, "строка", "рядок"), (2, "строки", "рядки"), (4, "строки", "рядки"),
+                                       (5, "строк", "рядків"), (11, "строк", "рядків"), (12, "строк", "рядків"),
+                                       (21, "строка", "рядок"), (22, "строки", "рядки"), (25, "строк", "рядків"),
+                                       (111, "строк", "рядків"), (101, "строка", "рядок")])
+def test_counted_check_rows_agree_with_their_number(n, ru, uk):
+    from sheetkin.course.report_texts import say_grading
+    en = f"{n} check row{'' if n == 1 else 's'} failing: -{2 * n}"
+    assert say_grading(en, "ru").startswith(f"{n} {ru} проверки не выполн")
+    assert say_grading(en, "uk").startswith(f"{n} {uk} перевірки не виконано")
+    after_of = say_grading(f"3 of {n} rows computed right", "ru")
+    assert after_of == f"3 из {n} {'строки' if ru == 'строка' else 'строк'} вычислены верно"
+
+
 # --------------------------------------------------------------------------- grades.csv
 def parse(data: bytes) -> list[dict]:
     assert data.startswith("\ufeff".encode())                 # UTF-8 with a BOM (Excel; Moodle drops it)
