@@ -45,7 +45,8 @@ def test_typed_rows_earn_nothing_and_a_book_without_formulas_fails():
 def test_deleted_checks_lose_their_share_and_count_as_failing():
     rep = report(deleted=2)
     expected = grades.ROWS_SHARE + grades.CHECKS_SHARE * 8 / 10 - 2 * grades.CHECK_PENALTY
-    assert grades.score(rep) == round(expected, 1) and "check rows intact and filled in: 8.0 of 10 (2 deleted)" in grades.explain(rep)
+    assert grades.score(rep) == round(expected, 1)
+    assert "check rows intact and filled in: 8.0 of 10 (2 deleted)" in grades.explain(rep)
 
 
 def test_copies_one_line_per_group():
