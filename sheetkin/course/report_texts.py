@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import re
 from collections import Counter
-from collections.abc import Callable
 
 WORDS: dict[str, dict[str, str]] = {
     "en": {
@@ -176,25 +175,28 @@ def _of(n: str, lang: str) -> str:
     return f"{'из' if lang == 'ru' else 'з'} {n} {gen}"
 
 
-# counted phrases first, each noun in the form its number asks for
-_COUNTED: dict[str, tuple[tuple[str, Callable[[re.Match], str]], ...]] = {
-    lang: (
-        (r"(\d+) of (\d+) check rows", lambda m, g=lang: f"{m[1]} {_of(m[2], g)} "
-                                                        + ("проверки" if g == "ru" else "перевірки")),
-        (r"(\d+) of (\d+) rows", lambda m, g=lang: f"{m[1]} {_of(m[2], g)}"),
-        (r"(\d+) check rows? failing", lambda m, g=lang: f"{m[1]} " + (
-            plural(int(m[1]), "строка проверки не выполнена", "строки проверки не выполнены",
-                   "строк проверки не выполнено") if g == "ru" else
-            plural(int(m[1]), "рядок перевірки не виконано", "рядки перевірки не виконано",
-                   "рядків перевірки не виконано"))),
-    ) for lang in ("ru", "uk")}
+def _counted(m: re.Match, lang: str) -> str:
+    """'3 of 63 check rows', '3 of 63 rows' or '3 check rows failing' in `lang`, each noun in
+    the form its number asks for."""
+    if m["failing"]:
+        n = int(m["failing"])
+        return f"{n} " + (plural(n, "строка проверки не выполнена", "строки проверки не выполнены",
+                                 "строк проверки не выполнено") if lang == "ru" else
+                          plural(n, "рядок перевірки не виконано", "рядки перевірки не виконано",
+                                 "рядків перевірки не виконано"))
+    checks = (" проверки" if lang == "ru" else " перевірки") if m["check"] else ""
+    return f"{m['a']} {_of(m['n'], lang)}{checks}"
+
+
+# counted phrases first (before the word-for-word table below)
+_COUNTED = re.compile(r"(?P<a>\d+) of (?P<n>\d+) (?P<check>check )?rows|(?P<failing>\d+) check rows? failing")
 
 
 def say_grading(text: str, lang: str) -> str:
     """A phrase of the grading vocabulary (a verdict, the counts, the score explained) in
     `lang`; English as it is."""
-    for pattern, said in _COUNTED.get(lang, ()):
-        text = re.sub(pattern, said, text)
+    if lang in ("ru", "uk"):
+        text = _COUNTED.sub(lambda m: _counted(m, lang), text)
     for en, said in _GRADING_PHRASES.get(lang, ()):
         text = text.replace(en, said)
     return text
