@@ -71,3 +71,13 @@ def test_readme_reliability_counts_are_the_docs():
     readme = (ROOT / "README.md").read_text(encoding="utf8")
     docs = (ROOT / "docs" / "reliability.md").read_text(encoding="utf8")
     assert counts(readme) == counts(docs[docs.index("## Tests and counts"):])
+
+
+def test_the_version_is_the_changelogs_latest_release():
+    """The version lives in one place (sheetkin.__version__, which pyproject reads), and the
+    changelog's latest release is that version."""
+    import sheetkin
+    changelog = (ROOT / "CHANGELOG.md").read_text(encoding="utf8")
+    releases = re.findall(r"^## \[(\d+\.\d+\.\d+)\] - \d{4}-\d\d-\d\d$", changelog, flags=re.M)
+    assert releases and releases[0] == sheetkin.__version__
+    assert 'version = {attr = "sheetkin.__version__"}' in (ROOT / "pyproject.toml").read_text(encoding="utf8")
