@@ -152,6 +152,7 @@ def _pooled(paths: list[Path], jobs: int, validate, progress) -> Iterator[Report
                 rep = _receive(w)
                 if rep is None:               # it died: this file's error, a fresh worker
                     w.stop(hurry=True)        # reaped: its exit code says how it died
+                    _leftovers(w.process.pid)
                     rep = Report(str(paths[w.index]), error=died(paths[w.index], w.process.exitcode))
                     workers[k] = _Worker(ctx, validate) if todo else w
                 done[w.index] = rep
@@ -166,6 +167,14 @@ def _pooled(paths: list[Path], jobs: int, validate, progress) -> Iterator[Report
     finally:
         for w in workers:
             w.stop(hurry=not finished)
+
+
+def _leftovers(pid: int | None) -> None:
+    """A worker killed outright (SIGKILL) cleaned nothing up: a LibreOffice it was running
+    converts on in its own session, and its profile stays."""
+    from sheetkin.xlsx.libreoffice import stop_orphans
+    if pid is not None:
+        stop_orphans(pid)
 
 
 def _receive(w: _Worker) -> Report | None:

@@ -42,6 +42,7 @@ __all__ = [
     "pdf_to_png",
     "SETUP_HINT",
     "scratch_folder",
+    "stop_orphans",
     "keep_folder",
     "stop_all",
 ]
@@ -77,8 +78,9 @@ _FOLDERS: set[str] = set()
 
 @contextlib.contextmanager
 def scratch_folder(prefix: str) -> Iterator[Path]:
-    """A temporary folder, removed when the block ends (whatever ends it) or by stop_all."""
-    folder = tempfile.mkdtemp(prefix=prefix)
+    """A temporary folder, removed when the block ends (whatever ends it) or by stop_all; its
+    name holds this process's pid, for stop_orphans."""
+    folder = tempfile.mkdtemp(prefix=f"{prefix}{os.getpid()}-")
     _FOLDERS.add(folder)
     try:
         yield Path(folder)
@@ -102,6 +104,34 @@ def stop_all() -> None:
         _wait_group(pgid, 2.0)
     for folder in list(_FOLDERS):
         shutil.rmtree(folder, ignore_errors=True)
+
+
+PROFILE_PREFIX = "sheetkin-lo-profile-"
+
+
+def stop_orphans(pid: int) -> int:
+    """What a process `pid` that died without cleaning up (SIGKILL) left of its soffice runs:
+    every process whose command line names one of its profiles (soffice runs in a session
+    of its own, so nothing else ends it) is SIGKILLed with its group, and its scratch
+    folders (profiles, conversions) are removed. Returns the processes killed. Linux
+    (/proc); elsewhere only the folders go."""
+    mark = f"{PROFILE_PREFIX}{pid}-"
+    groups: set[int] = set()
+    for proc in Path("/proc").glob("[0-9]*"):
+        try:
+            if mark in (proc / "cmdline").read_bytes().decode("utf-8", "replace"):
+                groups.add(os.getpgid(int(proc.name)))
+        except (OSError, ValueError):
+            continue
+    for pgid in groups:
+        with contextlib.suppress(OSError):
+            os.killpg(pgid, signal.SIGKILL)
+    for pgid in groups:
+        _wait_group(pgid, 5.0)
+    for folder in Path(tempfile.gettempdir()).glob("sheetkin-*"):
+        if re.match(rf"sheetkin-[a-z-]+-{pid}-", folder.name):
+            shutil.rmtree(folder, ignore_errors=True)
+    return len(groups)
 
 
 def _wait_group(pgid: int, timeout: float) -> None:
@@ -148,7 +178,9 @@ def _convert(paths, outdir: Path, target: str, ext: str, timeout: float) -> dict
     if soffice is None:
         raise RuntimeError(SETUP_HINT)
 
-    with scratch_folder("sheetkin-lo-profile-") as profile:
+    # the owner's pid in the name: if this process is killed outright (SIGKILL, the
+    # out-of-memory killer), its parent finds what it left by it (stop_orphans)
+    with scratch_folder(PROFILE_PREFIX) as profile:
         (profile / "user").mkdir()
         (profile / "user" / "registrymodifications.xcu").write_text(_REGISTRY, "utf-8")
         (profile / "tmp").mkdir()       # LibreOffice's own temporary files (lu*.tmp) go with the profile

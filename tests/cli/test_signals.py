@@ -203,3 +203,39 @@ def test_libreoffice_interrupted_leaves_nothing(tmp_path, soffice, layout, signa
     assert not _ours(str(tmp)), "a LibreOffice process of ours outlived the command"
     left = sorted(str(p.relative_to(tmp)) for p in tmp.rglob("*"))
     assert not left, f"temporary files left: {left[:10]}"
+
+
+def _ppid(pid: int) -> int:
+    try:
+        return int(Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[1])
+    except (OSError, ValueError, IndexError):
+        return 0
+
+
+def test_a_worker_killed_while_libreoffice_converts_leaves_nothing(tmp_path, soffice):
+    """A worker SIGKILLed (as the out-of-memory killer would) while its LibreOffice converts a
+    .fods cannot clean up: LibreOffice runs in a session of its own and would convert on. The
+    parent ends what the dead worker left (by its profile's name) and grades the rest."""
+    tmp = tmp_path / "tmp"
+    tmp.mkdir()
+    cls = tmp_path / "cls"
+    cls.mkdir()
+    _fods(cls / "a.fods")
+    (cls / "b.xlsx").write_bytes((WORKBOOKS / "fourbar.xlsx").read_bytes())
+    env = dict(os.environ, PYTHONPATH=str(ROOT), TMPDIR=str(tmp))
+    proc = subprocess.Popen([sys.executable, "-m", "sheetkin", "validate", str(cls), "--jobs", "2"],
+                            cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    lo = _wait_for(lambda: _ours(str(tmp)), timeout=60)
+    workers = set(_children(proc.pid))
+    owner = next((p for p in lo if _ppid(p) in workers), None)
+    assert owner is not None, (lo, workers)
+    os.kill(_ppid(owner), signal.SIGKILL)
+    out, err = proc.communicate(timeout=120)
+    assert proc.returncode == 2 and "Traceback" not in err, (out, err)
+    assert "killed by SIGKILL" in out
+    deadline = time.monotonic() + 5
+    while _ours(str(tmp)) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert not _ours(str(tmp)), "the dead worker's LibreOffice outlived the command"
+    left = sorted(str(p.relative_to(tmp)) for p in tmp.rglob("*"))
+    assert not left, f"temporary files left: {left[:10]}"
