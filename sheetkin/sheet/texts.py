@@ -1,6 +1,8 @@
-"""The words of the kinematics sheet that are not a row's description, one table a language
-(ru, the course's default; uk; en): headers, the student's cells in rows 1-2, the
-instruction block with the legend of the statuses, the chart titles and axes.
+"""The words of the kinematics sheet, one table a language (ru, the course's default; uk;
+en): headers, the student's cells in rows 1-2, the instruction block with the legend of the
+statuses, the chart titles and axes, and (TEXTS, at the end) the descriptions of the rows the
+workbook writer builds itself: the given and derived data, the crank's block, the [[point]]
+rows (a group kind's and the dynamics blocks' rows keep theirs in their own modules).
 
 The instruction block is rows of the sheet (sections named guide_1 ...), written before
 the given data, so that the exercise says on its first screen and its first printed page
