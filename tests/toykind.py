@@ -22,6 +22,7 @@ from sheetkin.groups.parts import BlockPart, Parts, scene_guide
 from sheetkin.groups.rows import (
     Builder,
     InputRow,
+    Text,
     Texts,
     cos_sin_rows,
     cramer_rows,
@@ -36,8 +37,9 @@ from sheetkin.groups.rows import (
 KIND = "TOY"
 LECTURE = "ВВП*"
 SLIDES = "13-15"
-TITLE = ("шатун и ползун на прямой стойки (пример нового вида группы)",
-         "coupler and slider on a line of the frame (an example of a new group kind)")
+TITLE = Text(ru="шатун и ползун на прямой стойки (пример нового вида группы)",
+             uk="шатун і повзун на прямій стояка (приклад нового виду групи)",
+             en="coupler and slider on a line of the frame (an example of a new group kind)")
 KEYS = ("type", "links", "joints", "length", "line", "branch")
 
 

@@ -13,7 +13,7 @@ Every kind module provides the same surface, under banners in this order:
   # --- what it is
   KIND = "RPR"               the scene's `type`
   LECTURE = "ВПВ"            the course's code (section titles); SLIDES = "22-24"
-  TITLE = (ru, en)           one line in the course's words ("block on J1 in a kulisa ...")
+  TITLE = Text(ru, uk, en)   one line in the course's words ("block on J1 in a kulisa ...")
   KEYS = (...)               the allowed scene keys, "type" and "links" included
 
   # --- scene keys

@@ -30,7 +30,7 @@ if TYPE_CHECKING:       # motion imports numpy; `sheetkin --help` imports this m
     from .group import Family, Group
     from .motion import GroupMotion, Motion, Pair, Rotation
     from .parts import Parts
-    from .rows import Builder, InputRow, LoadRows
+    from .rows import Builder, InputRow, LoadRows, Text
 
 # every member a kind module must define (register checks them at run time)
 MEMBERS = ("KIND", "LECTURE", "SLIDES", "TITLE", "KEYS", "Params", "parse", "needs", "on_links", "new_joints",
@@ -49,7 +49,7 @@ class KindModule(Protocol):
     @property
     def SLIDES(self) -> str: ...
     @property
-    def TITLE(self) -> tuple[str, str]: ...     # (ru, en)
+    def TITLE(self) -> Text: ...        # one line in the course's words, ru, uk, en
     @property
     def KEYS(self) -> tuple[str, ...]: ...      # allowed scene keys, "type" and "links" included
 

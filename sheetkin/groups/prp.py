@@ -48,6 +48,7 @@ from .rows import (
     Builder,
     InputRow,
     LoadRows,
+    Text,
     Texts,
     cos_sin_rows,
     cramer_rows,
@@ -62,10 +63,11 @@ from .rows import (
 KIND = "PRP"
 LECTURE = "ПВП"
 SLIDES = "ползушка на шатуне и фиксированная направляющая, (1)-(7)"
-TITLE = ("два камня, шарнирно связанные в N, каждый на своей направляющей (ползушка на шатуне "
-         "и фиксированная направляющая)",
-         "two blocks hinged together at N, each sliding on its own guide (a slider on the coupler "
-         "with a fixed guide)")
+TITLE = Text(ru="два камня, шарнирно связанные в N, каждый на своей направляющей (ползушка на шатуне и фиксированная "
+                "направляющая)",
+             uk="два камені, шарнірно з'єднані в N, кожен на своїй напрямній (повзунок на шатуні і фіксована напрямна)",
+             en="two blocks hinged together at N, each sliding on its own guide (a slider on the coupler with a "
+                "fixed guide)")
 KEYS = ("type", "links", "joints", "guides")
 
 

@@ -4,17 +4,20 @@ A `Row` is one line of the lecture's sheet: its name (column A), unit, descripti
 Russian, Ukrainian and English, kind, and a formula template that names other rows ("{x_A}",
 "{L1}", "{x_A@prev}", "{scale:vx_A}"); `sheetkin.sheet.workbook` compiles and writes them. The
 `Builder` collects rows in the lecture's order, one builder a kind of row: `b.section`,
-`b.given` (an input), `b.calc`, `b.accepted`, `b.check`, `b.fdcheck`. Each takes its
-description as a `Text`, made by a module's `Texts` table from a key and format fields:
+`b.given` (an input), `b.derived`, `b.index`, `b.calc`, `b.accepted`, `b.check`,
+`b.fdcheck`. Each takes its description as a `Text` (all three languages: nothing is
+translated when a book is written), made by a module's `Texts` table from a key and format
+fields:
 
     T = Texts({"ru": {"angle": "угол звена {k}"}, "uk": {"angle": "кут ланки {k}"},
                "en": {"angle": "angle of link {k}"}})
     b.accepted(f"phi_{k}", "deg", T("angle", k=k), formula)
 
 one table per language, kept in the module whose rows use them (a kind's in its own
-module, the helpers' below). The helpers write the blocks every group kind shares: the
-eight accepted rows of a moving point, Cramer's rule with its check (slide 20), distance and
-rigid-body checks, numeric-derivative checks (step 10). Imports only sheetkin.groups.lang
+module, the helpers' below, the workbook writer's own in sheetkin.sheet.texts). The
+helpers write the blocks every group kind shares: the eight accepted rows of a moving
+point, Cramer's rule with its check (slide 20), distance and rigid-body checks,
+numeric-derivative checks (step 10). Imports only sheetkin.groups.lang
 (a leaf): the group kinds (sheetkin.groups), the workbook writer and the dynamics blocks all
 build on it.
 """
@@ -24,8 +27,7 @@ import string
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-from .lang import LANGS, ukrainian
-from .lang import text as said
+from .lang import LANGS
 
 
 @dataclass(frozen=True)
@@ -37,11 +39,6 @@ class Text:
 
     def say(self, lang: str) -> str:
         return {"ru": self.ru, "uk": self.uk, "en": self.en}[lang]
-
-    @classmethod
-    def of(cls, ru: str, en: str) -> Text:
-        """A description written in Russian and English only: the Ukrainian made by the word table."""
-        return cls(ru, ukrainian(ru), en)
 
 
 Field = str | int | float | Text
@@ -75,11 +72,11 @@ class Row:
     formula: str = ""           # template: {row}, {row@prev}, {row@next}
     value: float | None = None  # input rows
     guard: str | None = None    # the group's "assembled" row: IF(guard, formula, marker)
-    uk: str | None = None       # the Ukrainian description; None: made from the Russian by the word table
+    uk: str = ""                # the Ukrainian description
 
     def say(self, lang: str) -> str:
         """The row's description in `lang` (ru, uk or en)."""
-        return self.uk if lang == "uk" and self.uk is not None else said(self.ru, self.en, lang)
+        return {"ru": self.ru, "uk": self.uk, "en": self.en}[lang]
 
 
 # --------------------------------------------------------------------------- the builder
@@ -97,10 +94,11 @@ class Builder:
         self.checks: list[str] = []
         self.fd_checks: list[str] = []
 
-    def add(self, name, unit="", ru="", en="", kind="calc", formula="", value=None, guard=..., uk=None):
+    def add(self, name: str, unit: str, text: Text, kind: str = "calc", formula: str = "", value=None, guard=...):
+        """A row of any kind (the builders below name the kind); its description a Text."""
         g = self.guard if guard is ... else guard
-        self.rows.append(Row(name, unit, ru, en, kind, formula, value,
-                             g if kind in ("calc", "accepted", "check", "fdcheck") else None, uk))
+        self.rows.append(Row(name, unit, text.ru, text.en, kind, formula, value,
+                             g if kind in ("calc", "accepted", "check", "fdcheck") else None, text.uk))
         if kind == "check":
             self.checks.append(name)
         if kind == "fdcheck":
@@ -108,7 +106,7 @@ class Builder:
 
     # the row builders: one a kind of row, the description a Text (a module's Texts)
     def row(self, kind: str, name: str, unit: str, text: Text, formula: str = "", value=None, guard=...):
-        self.add(name, unit, text.ru, text.en, kind, formula, value, guard, uk=text.uk)
+        self.add(name, unit, text, kind, formula, value, guard)
 
     def calc(self, name: str, unit: str, text: Text, formula: str, guard=...):
         """An intermediate row of a block (the lecture's P, Q, F, the branches)."""
@@ -126,25 +124,28 @@ class Builder:
         """A numeric-derivative check (step 10), relative: no unit."""
         self.row("fdcheck", name, "", text, formula)
 
-    def section(self, name: str, ru: str | Text, en: str = ""):
-        """A block's title row: a Text, or (the writer's own rows) Russian and English."""
-        if isinstance(ru, Text):
-            self.row("section", name, "", ru)
-        else:
-            self.add(name, "", ru, en, kind="section")
+    def section(self, name: str, text: Text):
+        """A block's title row."""
+        self.row("section", name, "", text)
 
     def given(self, name: str, unit: str, text: Text, value: float):
-        """An input row (a lilac cell a student may change)."""
+        """An input row: the given data (a yellow cell of column D)."""
         self.row("input", name, unit, text, value=value)
+
+    def derived(self, name: str, unit: str, text: Text, formula: str):
+        """A row of the derived data: one formula in column D on the given data (an exercise
+        leaves it blank, lilac, for the student)."""
+        self.row("derived", name, unit, text, formula)
+
+    def index(self, name: str, text: Text):
+        """The positions' numbers (row i)."""
+        self.row("index", name, "", text)
 
     # references to a point's quantities (a frame point is an input and does not move)
     def p(self, q: str, n: str) -> str:
         if n in self.frame:
             return f"{{{q}_{n}}}" if q in ("x", "y") else "0"
         return f"{{{q}_{n}}}"
-
-    def input(self, name, unit, ru, en, value):
-        self.add(name, unit, ru, en, kind="input", value=value)
 
     def place_links(self, *links, rot=None):
         """Later groups read link k's direction and rates from the rows cos_k, sin_k,

@@ -29,6 +29,7 @@ from .rows import (
     Builder,
     InputRow,
     LoadRows,
+    Text,
     Texts,
     cos_sin_rows,
     cramer_rows,
@@ -41,8 +42,9 @@ from .rows import (
 KIND = "RPP"
 LECTURE = "ВПП"
 SLIDES = "кулисы, движущиеся прямолинейно"
-TITLE = ("камень в J1 в пазу кулисы, движущейся прямолинейно по неподвижной направляющей (синусный механизм)",
-         "block on J1 in the slot of a kulisa that moves straight along a fixed guide (Scotch yoke)")
+TITLE = Text(ru="камень в J1 в пазу кулисы, движущейся прямолинейно по неподвижной направляющей (синусный механизм)",
+             uk="камінь у J1 в пазу куліси, що рухається прямолінійно по нерухомій напрямній (синусний механізм)",
+             en="block on J1 in the slot of a kulisa that moves straight along a fixed guide (Scotch yoke)")
 KEYS = ("type", "links", "joints", "slot_angle_deg", "guide")
 PARALLEL = 1e-9      # |sin(alpha - gamma)| below this: the slot runs along the guide, no K
 

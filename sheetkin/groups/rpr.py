@@ -34,14 +34,26 @@ from .motion import (
     sqrt_or_nan,
 )
 from .parts import BlockPart, Parts, slot
-from .rows import Builder, InputRow, LoadRows, Texts, cramer_rows, det_row, group_guard, residual, turns_with_check
+from .rows import (
+    Builder,
+    InputRow,
+    LoadRows,
+    Text,
+    Texts,
+    cramer_rows,
+    det_row,
+    group_guard,
+    residual,
+    turns_with_check,
+)
 
 # --------------------------------------------------------------------------- what it is
 KIND = "RPR"
 LECTURE = "ВПВ"
 SLIDES = "22-24"
-TITLE = ("камень на J1 в кулисе, вращающейся вокруг J2 (ось неподвижна или движется)",
-         "block on J1 in a kulisa (slotted lever) turning about J2 (a fixed or a moving axis)")
+TITLE = Text(ru="камень на J1 в кулисе, вращающейся вокруг J2 (ось неподвижна или движется)",
+             uk="камінь на J1 у кулісі, що обертається навколо J2 (вісь нерухома або рухається)",
+             en="block on J1 in a kulisa (slotted lever) turning about J2 (a fixed or a moving axis)")
 KEYS = ("type", "links", "joints", "offset")
 
 

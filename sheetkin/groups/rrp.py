@@ -62,8 +62,9 @@ from .rows import (
 KIND = "RRP"
 LECTURE = "ВВП"
 SLIDES = "13-15, 29-31"
-TITLE = ("шатун и ползун на направляющей (неподвижной или на подвижном звене: два коромысла с кулисной парой)",
-         "coupler and slider on a guide (fixed, or on a moving link: two rockers with a slotted pair)")
+TITLE = Text(ru="шатун и ползун на направляющей (неподвижной или на подвижном звене: два коромысла с кулисной парой)",
+             uk="шатун і повзун на напрямній (нерухомій або на рухомій ланці: два коромисла з кулісною парою)",
+             en="coupler and slider on a guide (fixed, or on a moving link: two rockers with a slotted pair)")
 KEYS = ("type", "links", "joints", "length", "guide", "branch")
 
 

@@ -38,6 +38,7 @@ from .rows import (
     Builder,
     InputRow,
     LoadRows,
+    Text,
     Texts,
     carried_rows,
     cos_sin_rows,
@@ -55,8 +56,9 @@ from .rows import (
 KIND = "RRR"
 LECTURE = "ВВВ"
 SLIDES = "16-21"
-TITLE = ("шатун и коромысло (или два шатуна): три вращательные пары",
-         "coupler and rocker (or two couplers): three revolute joints")
+TITLE = Text(ru="шатун и коромысло (или два шатуна): три вращательные пары",
+             uk="шатун і коромисло (або два шатуни): три обертальні пари",
+             en="coupler and rocker (or two couplers): three revolute joints")
 KEYS = ("type", "links", "joints", "lengths", "branch")
 
 # --------------------------------------------------------------------------- the rows' texts

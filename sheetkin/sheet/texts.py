@@ -1,6 +1,8 @@
-"""The words of the kinematics sheet that are not a row's description, one table a language
-(ru, the course's default; uk; en): headers, the student's cells in rows 1-2, the
-instruction block with the legend of the statuses, the chart titles and axes.
+"""The words of the kinematics sheet, one table a language (ru, the course's default; uk;
+en): headers, the student's cells in rows 1-2, the instruction block with the legend of the
+statuses, the chart titles and axes, and (TEXTS, at the end) the descriptions of the rows the
+workbook writer builds itself: the given and derived data, the crank's block, the [[point]]
+rows (a group kind's and the dynamics blocks' rows keep theirs in their own modules).
 
 The instruction block is rows of the sheet (sections named guide_1 ...), written before
 the given data, so that the exercise says on its first screen and its first printed page
@@ -79,8 +81,121 @@ CHARTS = {
 }
 
 
-def guide_line(name: str, lang: str) -> str | None:
-    """The text of an instruction row (guide_1 ...) in `lang`; None for any other row."""
-    if not name.startswith("guide_"):
-        return None
-    return GUIDE[lang][int(name.split("_")[1]) - 1]
+
+# the rows the writer itself writes (sheetkin.sheet.workbook: the given data, the derived
+# data, the crank's block, the [[point]] rows), one table a language, asked for by key
+# (sheetkin.groups.rows.Texts); the fields: crank O (pivot) and A (joint), a frame point
+# `name`, a [[point]] P on link k from `origin`, the finite-difference step `step`
+TEXTS = {
+    "ru": {
+        "input": "Исходные данные (не изменять)",
+        "L1": "длина кривошипа {O}{A}",
+        "x_frame": "координата x неподвижной точки {name}",
+        "y_frame": "координата y неподвижной точки {name}",
+        "along": "точка {P}: вдоль звена {k} от {origin}",
+        "across": "точка {P}: поперёк звена {k} (влево +)",
+        "Fi0": "начальный угол кривошипа",
+        "Fi_t0": "(Fi_t)0: угловая скорость кривошипа",
+        "Fi_tt0": "(Fi_tt)0: угловое ускорение кривошипа",
+        "Delta_Fi": "шаг по углу кривошипа (градусы)",
+        "Tol": "допуск проверок (невязки)",
+        "Tol_FD": "допуск сравнения с численным дифференцированием (шаг <= {step} град)",
+        "derived": "Вычисляемые данные (заполните сиреневые ячейки)",
+        "Delta_Fi_rad": "шаг по углу кривошипа (радианы)",
+        "Alfa_A": "начальная координата x шарнира {A} относительно {O}",
+        "Betta_A": "начальная координата y шарнира {A} относительно {O}",
+        "crank": "Угловые характеристики работы кривошипа",
+        "i": "номер положения",
+        "phi_1": "угол поворота кривошипа",
+        "Fi": "угол поворота кривошипа (радианы)",
+        "dFi": "поворот от начального положения",
+        "Fi_t": "угловая скорость кривошипа",
+        "Fi_tt": "угловое ускорение кривошипа",
+        "cos_1": "cos угла кривошипа",
+        "sin_1": "sin угла кривошипа",
+        "chk_Fi": "проверка: Fi - (Fi0 + i Delta_Fi) в радианах",
+        "hinge": "Шарнир {A} кривошипа (слайд 6: x = Alfa cos dFi - Betta sin dFi)",
+        "of_hinge": "шарнира {A}",
+        "chk_OA": "проверка: |{O}{A}| - L1",
+        "chk_v": "проверка: скорость {A} перпендикулярна {O}{A}",
+        "chk_pos": "проверка: x{A} = x{O} + L1 cos Fi, y{A} = y{O} + L1 sin Fi (не зависит от шага)",
+        "chk_vel": "проверка: v{A} = L1 Fi_t (-sin Fi, cos Fi) (производная x = L1 cos Fi)",
+        "chk_acc": "проверка: a{A} = L1 Fi_tt (-sin Fi, cos Fi) - L1 Fi_t^2 (cos Fi, sin Fi) (вторая производная)",
+        "of_point": "точки {P}",
+        "chk_kept": "проверка: |{origin}{P}| сохраняется",
+    },
+    "uk": {
+        "input": "Вихідні дані (не змінювати)",
+        "L1": "довжина кривошипа {O}{A}",
+        "x_frame": "координата x нерухомої точки {name}",
+        "y_frame": "координата y нерухомої точки {name}",
+        "along": "точка {P}: уздовж ланки {k} від {origin}",
+        "across": "точка {P}: поперек ланки {k} (ліворуч +)",
+        "Fi0": "початковий кут кривошипа",
+        "Fi_t0": "(Fi_t)0: кутова швидкість кривошипа",
+        "Fi_tt0": "(Fi_tt)0: кутове прискорення кривошипа",
+        "Delta_Fi": "крок за куту кривошипа (градуси)",
+        "Tol": "допуск перевірок (нев'язки)",
+        "Tol_FD": "допуск порівняння з чисельним диференціюванням (крок <= {step} град)",
+        "derived": "Обчислювані дані (заповніть бузкові клітинки)",
+        "Delta_Fi_rad": "крок за куту кривошипа (радіани)",
+        "Alfa_A": "початкова координата x шарніра {A} відносно {O}",
+        "Betta_A": "початкова координата y шарніра {A} відносно {O}",
+        "crank": "Кутові характеристики роботи кривошипа",
+        "i": "номер положення",
+        "phi_1": "кут повороту кривошипа",
+        "Fi": "кут повороту кривошипа (радіани)",
+        "dFi": "поворот від початкового положення",
+        "Fi_t": "кутова швидкість кривошипа",
+        "Fi_tt": "кутове прискорення кривошипа",
+        "cos_1": "cos кута кривошипа",
+        "sin_1": "sin кута кривошипа",
+        "chk_Fi": "перевірка: Fi - (Fi0 + i Delta_Fi) в радіанах",
+        "hinge": "Шарнір {A} кривошипа (слайд 6: x = Alfa cos dFi - Betta sin dFi)",
+        "of_hinge": "шарніра {A}",
+        "chk_OA": "перевірка: |{O}{A}| - L1",
+        "chk_v": "перевірка: швидкість {A} перпендикулярна {O}{A}",
+        "chk_pos": "перевірка: x{A} = x{O} + L1 cos Fi, y{A} = y{O} + L1 sin Fi (не залежить від кроку)",
+        "chk_vel": "перевірка: v{A} = L1 Fi_t (-sin Fi, cos Fi) (похідна x = L1 cos Fi)",
+        "chk_acc": "перевірка: a{A} = L1 Fi_tt (-sin Fi, cos Fi) - L1 Fi_t^2 (cos Fi, sin Fi) (друга похідна)",
+        "of_point": "точки {P}",
+        "chk_kept": "перевірка: |{origin}{P}| зберігається",
+    },
+    "en": {
+        "input": "Given data (do not change)",
+        "L1": "crank length {O}{A}",
+        "x_frame": "x of the fixed point {name}",
+        "y_frame": "y of the fixed point {name}",
+        "along": "point {P}: along link {k} from {origin}",
+        "across": "point {P}: across link {k} (left +)",
+        "Fi0": "crank angle of the first position",
+        "Fi_t0": "(Fi_t)0: the crank's angular velocity",
+        "Fi_tt0": "(Fi_tt)0: the crank's angular acceleration",
+        "Delta_Fi": "crank angle step (degrees)",
+        "Tol": "tolerance of the checks (residuals)",
+        "Tol_FD": "tolerance against numeric derivatives (step <= {step} deg)",
+        "derived": "Derived data (fill in the lilac cells)",
+        "Delta_Fi_rad": "crank angle step (radians)",
+        "Alfa_A": "initial x of hinge {A} from {O}",
+        "Betta_A": "initial y of hinge {A} from {O}",
+        "crank": "Angular characteristics of the crank",
+        "i": "position number",
+        "phi_1": "crank angle",
+        "Fi": "crank angle (radians)",
+        "dFi": "rotation from the first position",
+        "Fi_t": "the crank's angular velocity",
+        "Fi_tt": "the crank's angular acceleration",
+        "cos_1": "cos of the crank angle",
+        "sin_1": "sin of the crank angle",
+        "chk_Fi": "check: Fi - (Fi0 + i Delta_Fi) in radians",
+        "hinge": "Hinge {A} of the crank (slide 6: x = Alfa cos dFi - Betta sin dFi)",
+        "of_hinge": "hinge {A}",
+        "chk_OA": "check: |{O}{A}| - L1",
+        "chk_v": "check: velocity of {A} perpendicular to {O}{A}",
+        "chk_pos": "check: x{A} = x{O} + L1 cos Fi, y{A} = y{O} + L1 sin Fi (free of the step)",
+        "chk_vel": "check: v{A} = L1 Fi_t (-sin Fi, cos Fi) (the derivative of x = L1 cos Fi)",
+        "chk_acc": "check: a{A} = L1 Fi_tt (-sin Fi, cos Fi) - L1 Fi_t^2 (cos Fi, sin Fi) (the second derivative)",
+        "of_point": "point {P}",
+        "chk_kept": "check: |{origin}{P}| is kept",
+    },
+}

@@ -37,12 +37,13 @@ from openpyxl.styles import Font, PatternFill, Protection
 from openpyxl.utils import get_column_letter
 
 from sheetkin.groups import kind_of
-from sheetkin.groups.lang import check_lang
+from sheetkin.groups.lang import LANGS, check_lang
 from sheetkin.groups.lang import unit as say_unit
 from sheetkin.groups.rows import (
     Builder,
     Row,
     Text,
+    Texts,
     carried_rows,
     distance_check,
     fd_checks,
@@ -55,7 +56,9 @@ from sheetkin.kinematics.scene import Group, Point, Scene
 from .cached import CachedWorkbook
 from .checks import colour_check_row, status_formula, write_summary
 from .dynamics import dynamics_inputs, energy_rows, kinetostatics_rows
-from .texts import CHARTS, GUIDE, SHEET, guide_line
+from .texts import CHARTS, GUIDE, SHEET, TEXTS
+
+T = Texts(TEXTS)
 
 FIRST_COL = 5                      # column E: the first crank position
 SCENE_SHEET = "scene"              # hidden sheet holding the scene's TOML text
@@ -108,44 +111,37 @@ def sheet_rows(scene: Scene) -> Builder:
     b = Builder(scene)
     c = scene.crank
     for k in range(len(GUIDE["ru"])):             # what to fill and how to read the checks
-        b.section(f"guide_{k + 1}", GUIDE["ru"][k], GUIDE["en"][k])
-    b.section("input", "Исходные данные (не изменять)", "Given data (do not change)")
-    b.input("L1", "m", f"длина кривошипа {c.pivot}{c.joint}", f"crank length {c.pivot}{c.joint}", c.length)
+        b.section(f"guide_{k + 1}", Text(*(GUIDE[lang][k] for lang in LANGS)))
+    b.section("input", T("input"))
+    b.given("L1", "m", T("L1", O=c.pivot, A=c.joint), c.length)
     for g in scene.groups:
         for r in kind_of(g).input_rows(g):
             if r.early:
                 b.given(r.name, r.unit, r.text, r.value)
     for name, (x, y) in scene.frame.items():
-        b.input(f"x_{name}", "m", f"координата x неподвижной точки {name}", f"x of the fixed point {name}", x)
-        b.input(f"y_{name}", "m", f"координата y неподвижной точки {name}", f"y of the fixed point {name}", y)
+        b.given(f"x_{name}", "m", T("x_frame", name=name), x)
+        b.given(f"y_{name}", "m", T("y_frame", name=name), y)
     for g in scene.groups:
         for r in kind_of(g).input_rows(g):
             if not r.early:
                 b.given(r.name, r.unit, r.text, r.value)
     for p in scene.points:
-        b.input(f"along_{p.name}", "m", f"точка {p.name}: вдоль звена {p.link} от {p.origin}",
-                f"point {p.name}: along link {p.link} from {p.origin}", p.along)
-        b.input(f"across_{p.name}", "m", f"точка {p.name}: поперёк звена {p.link} (влево +)",
-                f"point {p.name}: across link {p.link} (left +)", p.across)
-    b.input("Fi0", "deg", "начальный угол кривошипа", "crank angle of the first position", c.phi0_deg)
-    b.input("Fi_t0", "rad/s", "(Fi_t)0: угловая скорость кривошипа", "(Fi_t)0: the crank's angular velocity", c.omega)
-    b.input("Fi_tt0", "rad/s^2", "(Fi_tt)0: угловое ускорение кривошипа", "(Fi_tt)0: the crank's angular acceleration",
-            c.epsilon)
-    b.input("Delta_Fi", "deg", "шаг по углу кривошипа (градусы)", "crank angle step (degrees)", c.step_deg)
+        b.given(f"along_{p.name}", "m", T("along", P=p.name, k=p.link, origin=p.origin), p.along)
+        b.given(f"across_{p.name}", "m", T("across", P=p.name, k=p.link), p.across)
+    b.given("Fi0", "deg", T("Fi0"), c.phi0_deg)
+    b.given("Fi_t0", "rad/s", T("Fi_t0"), c.omega)
+    b.given("Fi_tt0", "rad/s^2", T("Fi_tt0"), c.epsilon)
+    b.given("Delta_Fi", "deg", T("Delta_Fi"), c.step_deg)
     if scene.has_dynamics:
         dynamics_inputs(b)
-    b.input("Tol", "", "допуск проверок (невязки)", "tolerance of the checks (residuals)", 1e-9)
-    b.input("Tol_FD", "", f"допуск сравнения с численным дифференцированием (шаг <= {FD_MAX_STEP_DEG:g} град)",
-            f"tolerance against numeric derivatives (step <= {FD_MAX_STEP_DEG:g} deg)", 0.01)
+    b.given("Tol", "", T("Tol"), 1e-9)
+    b.given("Tol_FD", "", T("Tol_FD", step=f"{FD_MAX_STEP_DEG:g}"), 0.01)
     # computed from the given data in column D: the student's first formulas (an exercise
     # leaves them blank, lilac), apart from the given data they must not change
-    b.section("derived", "Вычисляемые данные (заполните сиреневые ячейки)", "Derived data (fill in the lilac cells)")
-    b.add("Delta_Fi_rad", "rad", "шаг по углу кривошипа (радианы)", "crank angle step (radians)",
-          kind="derived", formula="RADIANS({Delta_Fi})")
-    b.add("Alfa_A", "m", f"начальная координата x шарнира {c.joint} относительно {c.pivot}",
-          f"initial x of hinge {c.joint} from {c.pivot}", kind="derived", formula="{L1}*COS(RADIANS({Fi0}))")
-    b.add("Betta_A", "m", f"начальная координата y шарнира {c.joint} относительно {c.pivot}",
-          f"initial y of hinge {c.joint} from {c.pivot}", kind="derived", formula="{L1}*SIN(RADIANS({Fi0}))")
+    b.section("derived", T("derived"))
+    b.derived("Delta_Fi_rad", "rad", T("Delta_Fi_rad"), "RADIANS({Delta_Fi})")
+    b.derived("Alfa_A", "m", T("Alfa_A", A=c.joint, O=c.pivot), "{L1}*COS(RADIANS({Fi0}))")
+    b.derived("Betta_A", "m", T("Betta_A", A=c.joint, O=c.pivot), "{L1}*SIN(RADIANS({Fi0}))")
 
     # the joints each link carries: a [[point]]'s velocity is checked through a second one
     b.on_link[1] = [scene.crank.pivot, scene.crank.joint]
@@ -171,56 +167,46 @@ def sheet_rows(scene: Scene) -> Builder:
 def _crank_rows(b: Builder):
     c = b.scene.crank
     A, O = c.joint, c.pivot
-    b.section("crank", "Угловые характеристики работы кривошипа", "Angular characteristics of the crank")
-    b.add("i", "", "номер положения", "position number", kind="index")
-    b.add("phi_1", "deg", "угол поворота кривошипа", "crank angle", "accepted", "{Fi0}+{i}*{Delta_Fi}")
-    b.add("Fi", "rad", "угол поворота кривошипа (радианы)", "crank angle (radians)", "calc", "RADIANS({phi_1})")
-    b.add("dFi", "rad", "поворот от начального положения", "rotation from the first position", "calc",
-          "{Fi}-RADIANS({Fi0})")
-    b.add("Fi_t", "rad/s", "угловая скорость кривошипа", "the crank's angular velocity", "calc", "{Fi_t0}")
-    b.add("Fi_tt", "rad/s^2", "угловое ускорение кривошипа", "the crank's angular acceleration", "calc", "{Fi_tt0}")
-    b.add("cos_1", "", "cos угла кривошипа", "cos of the crank angle", "calc", "COS({Fi})")
-    b.add("sin_1", "", "sin угла кривошипа", "sin of the crank angle", "calc", "SIN({Fi})")
-    b.add("chk_Fi", "rad", "проверка: Fi - (Fi0 + i Delta_Fi) в радианах", "check: Fi - (Fi0 + i Delta_Fi) in radians",
-          "check",
-          # modulo a full turn, as angles are compared: Fi taken MOD 2*PI() passes too
-          "MOD({Fi}-(RADIANS({Fi0})+{i}*{Delta_Fi_rad})+PI(),2*PI())-PI()")
+    b.section("crank", T("crank"))
+    b.index("i", T("i"))
+    b.accepted("phi_1", "deg", T("phi_1"), "{Fi0}+{i}*{Delta_Fi}")
+    b.calc("Fi", "rad", T("Fi"), "RADIANS({phi_1})")
+    b.calc("dFi", "rad", T("dFi"), "{Fi}-RADIANS({Fi0})")
+    b.calc("Fi_t", "rad/s", T("Fi_t"), "{Fi_t0}")
+    b.calc("Fi_tt", "rad/s^2", T("Fi_tt"), "{Fi_tt0}")
+    b.calc("cos_1", "", T("cos_1"), "COS({Fi})")
+    b.calc("sin_1", "", T("sin_1"), "SIN({Fi})")
+    # modulo a full turn, as angles are compared: Fi taken MOD 2*PI() passes too
+    b.check("chk_Fi", "rad", T("chk_Fi"), "MOD({Fi}-(RADIANS({Fi0})+{i}*{Delta_Fi_rad})+PI(),2*PI())-PI()")
     b.rot[1] = ("cos_1", "sin_1", "Fi_t", "Fi_tt")
-    b.section(f"hinge_{A}", f"Шарнир {A} кривошипа (слайд 6: x = Alfa cos dFi - Betta sin dFi)",
-              f"Hinge {A} of the crank (slide 6: x = Alfa cos dFi - Betta sin dFi)")
+    b.section(f"hinge_{A}", T("hinge", A=A))
     rx, ry = f"({{x_{A}}}-{{x_{O}}})", f"({{y_{A}}}-{{y_{O}}})"
-    motion_rows(b, A, Text.of(f"шарнира {A}", f"hinge {A}"),
+    motion_rows(b, A, T("of_hinge", A=A),
                  f"{{x_{O}}}+{{Alfa_A}}*COS({{dFi}})-{{Betta_A}}*SIN({{dFi}})",
                  f"{{y_{O}}}+{{Alfa_A}}*SIN({{dFi}})+{{Betta_A}}*COS({{dFi}})",
                  f"-{{Fi_t}}*{ry}", f"{{Fi_t}}*{rx}",
                  f"-{{Fi_tt}}*{ry}-{{Fi_t}}*{{vy_{A}}}", f"{{Fi_tt}}*{rx}+{{Fi_t}}*{{vx_{A}}}")
-    distance_check(b, f"chk_{O}{A}", O, A, "{L1}", Text.of(f"проверка: |{O}{A}| - L1", f"check: |{O}{A}| - L1"))
-    b.add(f"chk_v_{A}", "m^2/s", f"проверка: скорость {A} перпендикулярна {O}{A}",
-          f"check: velocity of {A} perpendicular to {O}{A}",
-          "check", f"{{vx_{A}}}*{rx}+{{vy_{A}}}*{ry}")
+    distance_check(b, f"chk_{O}{A}", O, A, "{L1}", T("chk_OA", O=O, A=A))
+    b.check(f"chk_v_{A}", "m^2/s", T("chk_v", A=A, O=O), f"{{vx_{A}}}*{rx}+{{vy_{A}}}*{ry}")
     # the crank in the other form of slide 6, x = L1 cos Fi, and its derivatives: each of
     # the hinge's rows against a formula that does not use it (free of the step)
     L, c1, s1 = "{L1}", "{cos_1}", "{sin_1}"
-    b.add(f"chk_pos_{A}", "m", f"проверка: x{A} = x{O} + L1 cos Fi, y{A} = y{O} + L1 sin Fi (не зависит от шага)",
-          f"check: x{A} = x{O} + L1 cos Fi, y{A} = y{O} + L1 sin Fi (free of the step)", "check",
-          f"ABS({{x_{A}}}-{{x_{O}}}-{L}*{c1})+ABS({{y_{A}}}-{{y_{O}}}-{L}*{s1})")
-    b.add(f"chk_vel_{A}", "m/s", f"проверка: v{A} = L1 Fi_t (-sin Fi, cos Fi) (производная x = L1 cos Fi)",
-          f"check: v{A} = L1 Fi_t (-sin Fi, cos Fi) (the derivative of x = L1 cos Fi)", "check",
-          f"ABS({{vx_{A}}}+{L}*{{Fi_t}}*{s1})+ABS({{vy_{A}}}-{L}*{{Fi_t}}*{c1})")
-    b.add(f"chk_acc_{A}", "m/s^2",
-          f"проверка: a{A} = L1 Fi_tt (-sin Fi, cos Fi) - L1 Fi_t^2 (cos Fi, sin Fi) (вторая производная)",
-          f"check: a{A} = L1 Fi_tt (-sin Fi, cos Fi) - L1 Fi_t^2 (cos Fi, sin Fi) (the second derivative)", "check",
-          f"ABS({{ax_{A}}}+{L}*({{Fi_tt}}*{s1}+{{Fi_t}}^2*{c1}))+ABS({{ay_{A}}}-{L}*({{Fi_tt}}*{c1}-{{Fi_t}}^2*{s1}))")
+    b.check(f"chk_pos_{A}", "m", T("chk_pos", A=A, O=O),
+            f"ABS({{x_{A}}}-{{x_{O}}}-{L}*{c1})+ABS({{y_{A}}}-{{y_{O}}}-{L}*{s1})")
+    b.check(f"chk_vel_{A}", "m/s", T("chk_vel", A=A),
+            f"ABS({{vx_{A}}}+{L}*{{Fi_t}}*{s1})+ABS({{vy_{A}}}-{L}*{{Fi_t}}*{c1})")
+    b.check(f"chk_acc_{A}", "m/s^2", T("chk_acc", A=A),
+            f"ABS({{ax_{A}}}+{L}*({{Fi_tt}}*{s1}+{{Fi_t}}^2*{c1}))+ABS({{ay_{A}}}-{L}*({{Fi_tt}}*{c1}-{{Fi_t}}^2*{s1}))")
     fd_checks(b, A)
 
 
 def _point_rows(b: Builder, p: Point):
     saved, b.guard = b.guard, b.guard_of_link.get(p.link)
     carried_rows(b, p.name, p.link, p.origin, f"{{along_{p.name}}}", f"{{across_{p.name}}}",
-                  Text.of(f"точки {p.name}", f"point {p.name}"))
+                  T("of_point", P=p.name))
     distance_check(b, f"chk_{p.origin}{p.name}", p.origin, p.name,
                     f"SQRT({{along_{p.name}}}^2+{{across_{p.name}}}^2)",
-                    Text.of(f"проверка: |{p.origin}{p.name}| сохраняется", f"check: |{p.origin}{p.name}| is kept"))
+                    T("chk_kept", origin=p.origin, P=p.name))
     local_position_check(b, p.name, p.link, p.origin, f"{{along_{p.name}}}", f"{{across_{p.name}}}")
     # the velocity and acceleration once more through another joint of the link (the rows
     # above go through `from`); a link with one joint only: through `from`, from its rows
@@ -354,9 +340,8 @@ def _write_row(ws, row, book: _Layout) -> str | None:
     value, then a cell per position); returns its status cell for a check row."""
     r, lang, n = book.where[row.name], book.lang, len(book.cols)
     if row.kind == "section":
-        guide = guide_line(row.name, lang)
-        ws.cell(r, 1, row.say(lang) if guide is None else guide).font = (
-            SECTION_FONT if guide is None or row.name == "guide_1" else GUIDE_FONT)
+        guide = row.name.startswith("guide_")
+        ws.cell(r, 1, row.say(lang)).font = SECTION_FONT if not guide or row.name == "guide_1" else GUIDE_FONT
         return None
     ws.cell(r, 1, row.name)
     ws.cell(r, 2, say_unit(row.unit, lang))

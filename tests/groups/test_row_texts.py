@@ -6,8 +6,9 @@ table per language (ru, uk, en), and the rows ask for them by key (sheetkin.grou
     Ukrainian book);
   * the Ukrainian tables are Ukrainian (no Russian-only letters) and the English ones have no
     Cyrillic;
-  * no row a group kind or the dynamics blocks write goes through the Russian -> Ukrainian
-    word table any more (every such row carries its Ukrainian text);
+  * no row of a book goes through a Russian -> Ukrainian word table (there is none any
+    more): every row the kinds, the helpers, the dynamics blocks and the workbook writer
+    write carries its Ukrainian text, and a kind's TITLE is said in the three languages;
   * a Text field (a label such as "hinge B") is taken in each template's own language.
 """
 from __future__ import annotations
@@ -19,16 +20,19 @@ from pathlib import Path
 import pytest
 import toykind
 from kinds import DYNAMICS
+from russian_words import russian_words
 
 import sheetkin
 from sheetkin.groups import KINDS, kind_of, rows
-from sheetkin.groups.lang import UK_WORDS
+from sheetkin.groups import lang as langs
 from sheetkin.groups.rows import Builder, Text, Texts
-from sheetkin.sheet import dynamics
+from sheetkin.sheet import dynamics, texts
 from sheetkin.sheet.workbook import sheet_rows
 
 WB = Path(__file__).resolve().parents[2] / "workbooks"
-MODULES = {"rows": rows, "dynamics": dynamics, "toykind": toykind} | {k: kind_of(k) for k in KINDS}
+RUSSIAN = russian_words()
+MODULES = ({"rows": rows, "dynamics": dynamics, "workbook": texts, "toykind": toykind}
+           | {k: kind_of(k) for k in KINDS})
 
 
 def mismatches(tables) -> list[str]:
@@ -73,9 +77,9 @@ def test_each_table_in_its_language(name):
     russian_only = {k: v for k, v in tables["uk"].items() if re.search("[ЫыЭэЪъЁё]", v)}
     cyrillic_en = {k: v for k, v in tables["en"].items() if re.search("[А-Яа-яЁёІіЇїЄєҐґ]", v)}
     assert russian_only == {} and cyrillic_en == {}
-    # no Russian word form left in the Ukrainian (one the word table says differently)
+    # no Russian word form left in the Ukrainian (tests/russian_words.py)
     russian = {k: w for k, v in tables["uk"].items() for w in re.findall("[А-Яа-яІіЇїЄєҐґ']+", v)
-               if UK_WORDS.get(w.lower(), w).lower() != w.lower()}
+               if w.lower() in RUSSIAN}
     assert russian == {}
 
 
@@ -93,22 +97,53 @@ def _writers(frame) -> str:
     return frame.f_globals.get("__name__", "?") if frame is not None else "?"
 
 
-def test_no_kind_row_goes_through_the_word_table(monkeypatch):
-    """Every row the kinds and the dynamics blocks write carries its Ukrainian text (None:
-    the writer would make it from the Russian by groups.lang's word table)."""
-    add, through_words = Builder.add, set()
+def test_no_row_goes_through_a_word_table(monkeypatch):
+    """Every row of a book, whoever writes it (the kinds, the helpers, the dynamics blocks,
+    the workbook writer's given data, crank block and [[point]] rows, the instruction lines),
+    comes with its description in all three languages, as a Text: the builder takes nothing
+    else, and the languages module has no translator left to call."""
+    assert not {"ukrainian", "UK_WORDS", "text"} & set(vars(langs))
+    assert not hasattr(Text, "of")
+    add, writers, untranslated = Builder.add, set(), []
 
-    def spy(self, name, unit="", ru="", en="", kind="calc", formula="", value=None, guard=..., uk=None):
-        if uk is None:
-            through_words.add(_writers(sys._getframe(1)))
-        return add(self, name, unit, ru, en, kind, formula, value, guard, uk)
+    def spy(self, name, unit, text, *args, **kw):
+        if not isinstance(text, Text) or not (text.ru and text.uk and text.en):
+            untranslated.append((name, text))
+        writers.add(_writers(sys._getframe(1)))
+        return add(self, name, unit, text, *args, **kw)
 
     monkeypatch.setattr(Builder, "add", spy)
     scenes = [sheetkin.load_scene(p) for p in sorted(WB.glob("*.toml"))]
     scenes += [sheetkin.parse_scene(text, f"{key}.toml") for key, (_, text) in DYNAMICS.items()]
-    kinds_seen = set()
+    kinds_seen, n = set(), 0
     for scene in scenes:
-        assert len(sheet_rows(scene).rows) > 50
+        built = sheet_rows(scene).rows
+        assert len(built) > 50
+        n += len(built)
+        assert all(r.uk for r in built)
         kinds_seen |= {g.type for g in scene.groups}
     assert kinds_seen == set(KINDS)
-    assert through_words == {"sheetkin.sheet.workbook"}     # the writer's own rows (crank, inputs, points)
+    assert untranslated == [] and n > 4000
+    # every writer went through the spy: the kinds, the helpers' callers, the sheet's modules
+    assert {"sheetkin.sheet.workbook", "sheetkin.sheet.dynamics"} | {kind_of(k).__name__ for k in KINDS} <= writers
+
+
+def test_the_builder_refuses_a_bare_string():
+    """A description given as a Russian string (the old b.add(name, unit, ru, en)) is not a
+    Text: the row cannot be built, so it cannot reach a book untranslated."""
+    b = Builder(sheetkin.load_scene(WB / "fourbar.toml"))
+    with pytest.raises(AttributeError):
+        b.add("x", "m", "угол звена 2")        # type: ignore[arg-type]
+    with pytest.raises(TypeError):
+        b.section("s", "Раздел", "Section")     # type: ignore[call-arg]
+
+
+@pytest.mark.parametrize("name", sorted(KINDS) + ["toykind"])
+def test_a_kinds_title_in_three_languages(name):
+    title = toykind.TITLE if name == "toykind" else kind_of(name).TITLE
+    assert isinstance(title, Text)
+    assert title.ru and title.uk and title.en and len({title.ru, title.uk, title.en}) == 3
+    assert not re.search("[ыэъёЫЭЪЁ]", title.uk) and not re.search("[іїєґІЇЄҐ']", title.ru)
+    assert not re.search("[А-Яа-яЁёІіЇїЄєҐґ]", title.en)
+    words = {w.lower() for w in re.findall("[А-Яа-яІіЇїЄєҐґ']+", title.uk)}
+    assert not words & (RUSSIAN - {"по"}), words & RUSSIAN     # "по" is Ukrainian too
