@@ -564,6 +564,7 @@ class Evaluates(Protocol):
     def index(self, args: Sequence[Any], run: Any) -> Val: ...
     def spill(self, args: Sequence[Any], run: Any) -> Val: ...
     def single(self, args: Sequence[Any], run: Any) -> Val: ...
+    def name(self, name: str, run: Any) -> Any: ...
 
 
 Hook = Callable[[Evaluates, Sequence[Any], Any], Val]
@@ -674,6 +675,54 @@ def _choose(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
     return _with_error(Val(num, tags.astype(np.int8), txt), np.broadcast_to(err, shape))
 
 
+def _where(which: str):
+    """ROW, COLUMN, ROWS, COLUMNS: where a reference is (or the formula's own cell), not
+    what it holds; ROW and COLUMN of a range give its first row or column, as Excel does
+    outside an array formula."""
+    def hook(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
+        k = len(run.cols)
+        node = args[0] if args and args[0][0] != "missing" else None
+        if node is not None and node[0] == "name":
+            node = ctx.name(node[1], run)
+        if node is None and which in ("ROW", "COLUMN"):
+            at = np.full(k, float(run.row)) if which == "ROW" else run.cols.astype(float)
+        elif node is None or node[0] != "ref":
+            return _err("#VALUE!", k)
+        else:
+            ref = node[1]
+            if which == "ROWS":
+                at = np.full(k, float(ref.r2 - ref.r1 + 1))
+            elif which == "COLUMNS":
+                at = np.full(k, float(ref.c2 - ref.c1 + 1))
+            elif which == "ROW":
+                at = np.full(k, float(ref.r1 if ref.r1_abs else run.row + ref.r1))
+            else:
+                at = np.full(k, float(ref.c1)) if ref.c1_abs else (run.cols + ref.c1).astype(float)
+        return Val(at.reshape(k, 1, 1), np.zeros((k, 1, 1), np.int8), None, NUM)
+    return hook
+
+
+def _n_of(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
+    """N(x): a number as it is, TRUE 1, text and empty 0, an error as it is."""
+    if len(args) != 1:
+        return _err("#VALUE!", len(run.cols))
+    v = ctx.eval(args[0], run)
+    v = Val(v.num[:, :1, :1], v.tag[:, :1, :1], None if v.txt is None else v.txt[:, :1, :1])
+    num = np.where((v.tag == NUM) | (v.tag == BOOL), v.num, 0.0)
+    return _with_error(Val(num, np.zeros(v.shape, np.int8), None, NUM), np.where(v.tag >= 10, v.tag, 0))
+
+
+def _value_of(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
+    """VALUE(text): numeric text as its number, a number as it is; other text, and a
+    boolean, #VALUE!."""
+    if len(args) != 1:
+        return _err("#VALUE!", len(run.cols))
+    v = ctx.eval(args[0], run)
+    num, err = _to_number(v)
+    err = np.where((err == 0) & (v.tag == BOOL), VALUE, err).astype(np.int8)
+    return _result(num, err)
+
+
 # name -> its entry; the evaluator asks this table before SCALAR_FUNCS and AGGREGATES
 LAZY: dict[str, Lazy] = {
     "PI": Lazy(lambda ctx, args, run: _const(math.pi), "no arguments"),
@@ -693,6 +742,10 @@ LAZY: dict[str, Lazy] = {
     "TRUNC": Lazy(_trunc, "an optional second argument"),
     "INDEX": Lazy(lambda ctx, args, run: ctx.index(args, run), "its first argument is a block of cells"),
     "CHOOSE": Lazy(_choose, "picks among its arguments per cell"),
+    **{name: Lazy(_where(name), "asks where a reference is, not what it holds")
+       for name in ("ROW", "COLUMN", "ROWS", "COLUMNS")},
+    "N": Lazy(_n_of, "text is 0, not #VALUE!"),
+    "VALUE": Lazy(_value_of, "a boolean is #VALUE!, not its number"),
     "ANCHORARRAY": Lazy(lambda ctx, args, run: ctx.spill(args, run), "E1#: the range an array formula fills"),
     "SINGLE": Lazy(lambda ctx, args, run: ctx.single(args, run), "@: implicit intersection with a range"),
     **{name: Lazy(_rounding(name), "optional arguments with defaults") for name in fx.ROUNDING},

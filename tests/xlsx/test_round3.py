@@ -311,3 +311,48 @@ def test_text_functions_capped(tmp_path, formula, length):
     else:
         assert type(v) is str and len(v) == length
         assert _value(book, sheet, "B1") is False
+
+
+# ---------------------------------------------------------------- where a cell is: ROW, COLUMN, N, VALUE
+# An honest student numbers positions with COLUMN() or ROW() (Fi =(COLUMN()-5)*PI()/6), or
+# coerces with N and VALUE: the evaluator computes them as Excel, LibreOffice and Gnumeric do.
+POSITIONAL = {
+    "A3": ("=ROW()", 3), "B3": ("=COLUMN()", 2), "C3": ("=ROW(E7)", 7), "D3": ("=COLUMN(E7)", 5),
+    "E3": ("=ROWS(A1:B4)", 4), "F3": ("=COLUMNS(A1:D1)", 4), "G3": ("=N(A1)", 5), "H3": ("=N(B1)", 0),
+    "I3": ("=N(C1)", 1), "J3": ("=VALUE(B1)", 3.5), "K3": ("=VALUE(D1)", "an error"), "M3": ("=N(1/0)", "an error"),
+    "N3": ("=COLUMN($C$1:$E$2)", 3), "O3": ("=ROW(A$9)+COLUMN(B1)", 11), "P3": ("=(COLUMN()-5)*30", 330),
+}
+
+
+def _positional_book(tmp_path: Path) -> Path:
+    wb = openpyxl.Workbook()
+    ws = wb.active
+    ws["A1"], ws["B1"], ws["C1"], ws["D1"] = 5, "3.5", True, "abc"
+    for ref, (formula, _) in POSITIONAL.items():
+        ws[ref] = formula
+    path = tmp_path / "positional.xlsx"
+    wb.save(path)
+    return path
+
+
+def test_row_column_n_value(tmp_path):
+    book = evaluate(_positional_book(tmp_path))
+    got = {ref: _kind(_value(book, book.order[0], ref)) for ref in POSITIONAL}
+    assert got == {ref: want for ref, (_, want) in POSITIONAL.items()}
+
+
+def test_row_column_n_value_three_engines(tmp_path, soffice, ssconvert):
+    from engines import gnumeric_recalc
+    from libreoffice import recalculate
+    path = _positional_book(tmp_path)
+    book = evaluate(path)
+    ours = {ref: _kind(_value(book, book.order[0], ref)) for ref in POSITIONAL}
+    lo = recalculate([path], tmp_path / "lo")[path.resolve()]
+    for engine, out in (("libreoffice", lo), ("gnumeric", gnumeric_recalc(path, tmp_path / "gn"))):
+        sh = read_book(out).sheets[read_book(out).order[0]]
+        theirs = {ref: _kind(sh.cached.get((int(ref[1:]), openpyxl.utils.column_index_from_string(ref[0]))))
+                  for ref in POSITIONAL}
+        if engine == "gnumeric":        # Gnumeric's N("3.5") is 3.5; Excel's documented N of text is 0
+            assert theirs.pop("H3") == 3.5 and ours.get("H3") == 0
+            theirs["H3"] = 0
+        assert theirs == ours, engine
