@@ -187,7 +187,7 @@ def _summary_row(rep: Report, k: int, copy: str = "", lang: str = "en", me=None)
     flags = _identity_lines(me, lang)
     return (f"<tr><td><a href='#{_anchor(rep, k)}' data-open='{_anchor(rep, k)}'>{e(who or rep.path)}</a></td>"
             f"<td>{e(group)}</td><td>{e(str(variant))}</td>"
-            f"<td class='num' data-sort='{'' if sc is None else f'{sc:.3f}'}'>{'' if sc is None else f'{sc:.0f}'}</td>"
+            f"<td class='num' data-sort='{'' if sc is None else f'{sc:.3f}'}'>{'' if sc is None else f'{sc:.1f}'}</td>"
             f"<td class='{cls}' data-sort='{VERDICTS.index(res)}'>{say_grading(res, lang)}</td>"
             f"<td class='num'>{'' if rep.error else c['correct']}</td>"
             f"<td class='num'>{'' if rep.error else c['typed']}</td>"

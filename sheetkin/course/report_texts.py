@@ -48,8 +48,8 @@ WORDS: dict[str, dict[str, str]] = {
         "expected": "ожидалось", "got": "получено", "error_value": "ошибка или текст там, где должно быть число",
         "largest": "наибольшая ошибка", "depend": "неверны только потому, что зависят от", "missing": "нет строк",
         "empty": "пусто", "no_row": " (в столбце A нет строки с таким именем)",
-        "own_checks": "не выполнены проверки листа", "disagree": "формула и сохранённое значение расходятся в {n} "
-        "ячейк.", "cannot": "не вычисляется", "saved_used": "(взяты сохранённые значения)",
+        "own_checks": "не выполнены проверки листа", "disagree": "формула и сохранённое значение расходятся "
+        "(ячеек: {n})", "cannot": "не вычисляется", "saved_used": "(взяты сохранённые значения)",
         "own_inputs": "проверено по собственным данным студента (--accept-changed-inputs)",
         "fail_issued": "НЕ ЗАЧТЕНО; проверено по выданному варианту", "student": "студент", "group": "группа",
         "variant": "вариант", "seal_ok": "печать цела", "note": "примечание", "file": "файл", "result": "итог",
@@ -79,8 +79,8 @@ WORDS: dict[str, dict[str, str]] = {
         "expected": "очікувалося", "got": "отримано", "error_value": "помилка або текст там, де має бути число",
         "largest": "найбільша помилка", "depend": "неправильні лише тому, що залежать від",
         "missing": "немає рядків", "empty": "порожньо", "no_row": " (у стовпці A немає рядка з такою назвою)",
-        "own_checks": "не виконано перевірки аркуша", "disagree": "формула і збережене значення розходяться в {n} "
-        "клітинк.", "cannot": "не обчислюється", "saved_used": "(узято збережені значення)",
+        "own_checks": "не виконано перевірки аркуша", "disagree": "формула і збережене значення розходяться "
+        "(клітинок: {n})", "cannot": "не обчислюється", "saved_used": "(узято збережені значення)",
         "own_inputs": "перевірено за власними даними студента (--accept-changed-inputs)",
         "fail_issued": "НЕ ЗАРАХОВАНО; перевірено за виданим варіантом", "student": "студент", "group": "група",
         "variant": "варіант", "seal_ok": "печатка ціла", "note": "примітка", "file": "файл", "result": "підсумок",
@@ -135,7 +135,7 @@ _GRADING_PHRASES: dict[str, tuple[tuple[str, str], ...]] = {
            ("typed, not computed", "введены числами, не вычислены"), ("rows computed right", "строк вычислены верно"),
            ("missing or empty", "отсутствуют или пусты"), ("that apply passing", "применимых выполнены"),
            ("status typed over", "статус введён вручную"), ("given data changed", "исходные данные изменены"),
-           ("accepted (--accept-typed)", "приняты (--accept-typed)"), ("they earn nothing", "не оцениваются"),
+           ("accepted (--accept-typed)", "приняты (--accept-typed)"), ("they earn nothing", "баллов не приносят"),
            ("check rows", "строки проверки"), ("seal broken", "печать нарушена"), ("all correct", "всё верно"),
            ("mistakes", "есть ошибки"), ("unusable", "не проверяется"), ("typed over", "введены вручную"),
            ("failing", "не выполнены"), ("deleted", "удалены"), ("wrong", "неверно"), ("(the rules:", "(правила:"),
@@ -152,7 +152,7 @@ _GRADING_PHRASES: dict[str, tuple[tuple[str, str], ...]] = {
            ("rows computed right", "рядків обчислено правильно"), ("missing or empty", "відсутні або порожні"),
            ("that apply passing", "застосовних виконано"), ("status typed over", "статус введено вручну"),
            ("given data changed", "вихідні дані змінено"), ("accepted (--accept-typed)", "прийнято (--accept-typed)"),
-           ("they earn nothing", "не оцінюються"), ("check rows", "рядки перевірки"),
+           ("they earn nothing", "балів не приносять"), ("check rows", "рядки перевірки"),
            ("seal broken", "печатку порушено"), ("all correct", "усе правильно"), ("mistakes", "є помилки"),
            ("unusable", "не перевіряється"), ("typed over", "введено вручну"), ("failing", "не виконано"),
            ("deleted", "видалено"), ("wrong", "неправильно"), ("(the rules:", "(правила:"), ("score", "оцінка"),
@@ -178,6 +178,10 @@ def _of(n: str, lang: str) -> str:
 def _counted(m: re.Match, lang: str) -> str:
     """'3 of 63 check rows', '3 of 63 rows' or '3 check rows failing' in `lang`, each noun in
     the form its number asks for."""
+    for what in ("typed", "missing"):
+        if m[what]:
+            n = int(m[what])
+            return f"{n} {plural(n, *_AGREE[lang, what])}"
     if m["failing"]:
         n = int(m["failing"])
         return f"{n} " + (plural(n, "строка проверки не выполнена", "строки проверки не выполнены",
@@ -189,7 +193,16 @@ def _counted(m: re.Match, lang: str) -> str:
 
 
 # counted phrases first (before the word-for-word table below)
-_COUNTED = re.compile(r"(?P<a>\d+) of (?P<n>\d+) (?P<check>check )?rows|(?P<failing>\d+) check rows? failing")
+_COUNTED = re.compile(r"(?P<a>\d+) of (?P<n>\d+) (?P<check>check )?rows|(?P<failing>\d+) check rows? failing"
+                      r"|(?P<typed>\d+) typed(?:, not computed| \(not computed\))|(?P<missing>\d+) missing or empty")
+
+# one row, a few rows, many rows: the participle agrees with the number (1 строка введена числом)
+_AGREE = {
+    ("ru", "typed"): ("введена числом", "введены числами", "введены числами"),
+    ("uk", "typed"): ("введено числом", "введено числами", "введено числами"),
+    ("ru", "missing"): ("отсутствует или пуста", "отсутствуют или пусты", "отсутствуют или пусты"),
+    ("uk", "missing"): ("відсутній або порожній", "відсутні або порожні", "відсутні або порожні"),
+}
 
 
 def say_grading(text: str, lang: str) -> str:

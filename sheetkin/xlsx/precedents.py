@@ -7,10 +7,12 @@ source or a formula cell that reaches them. References are followed on every she
 ranges (a range reaches when any of its cells does: SUM(E5:Q5), a row range read by implicit
 intersection), defined names (the references behind a name, through names of names) and whole
 rows and columns (bounded as the evaluator bounds them). A formula whose value depends on its
-own place (ROW, COLUMN, OFFSET, INDIRECT ...) counts as reaching: it is not a number pasted
-in. A formula that cannot be read counts as reaching too (its cell is an error, and that is
-what a report says of it). A typed constant, an empty cell and a formula of constants reach
-nothing.
+own place (ROW, COLUMN, ROWS, COLUMNS: a position numbered =COLUMN()-5) counts as reaching:
+the place is given like the position numbers. A formula the evaluator cannot compute (it
+cannot be read, or it calls INDIRECT, OFFSET or a function sheetkin does not have) reaches
+nothing: its value cannot be traced, and a value saved with it is the spreadsheet's word,
+not a computation sheetkin can follow (=INDIRECT("Лист2!E42"), =INDEX({0.5236},1)). A typed
+constant, an empty cell and a formula of constants reach nothing.
 
 This is about where a value comes from, not whether it moves: a formula that reads a source
 only to multiply it by 0 reaches it. sheetkin.course.validator grades with it: a computed
@@ -27,8 +29,8 @@ from .evaluator import Book
 from .parse import functions_of
 from .runs import _target_block
 
-# functions whose value depends on the cell or the sheet, not only on their arguments
-POSITIONAL = frozenset({"ROW", "COLUMN", "ROWS", "COLUMNS", "INDIRECT", "OFFSET", "CELL"})
+# functions whose value is where the formula (or its reference) is: given, like the positions
+POSITIONAL = frozenset({"ROW", "COLUMN", "ROWS", "COLUMNS"})
 
 
 def reaching(book: Book, sources: dict[str, Iterable[tuple[int, int]]]) -> dict[str, np.ndarray]:
@@ -46,7 +48,9 @@ def reaching(book: Book, sources: dict[str, Iterable[tuple[int, int]]]) -> dict[
     for run in book.schedule:
         a = reach[run.sheet]
         cols = run.cols.astype(np.int64)
-        if run.tree is None or functions_of(run.tree) & POSITIONAL:
+        if run.tree is None or run.error:             # cannot be computed, so cannot be traced
+            hit = np.zeros(len(cols), bool)
+        elif functions_of(run.tree) & POSITIONAL:
             hit = np.ones(len(cols), bool)
         else:
             hit = np.zeros(len(cols), bool)

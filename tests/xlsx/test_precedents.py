@@ -42,7 +42,9 @@ def _book(path):
         ws.cell(r, 2, r * 2.5)
     for cell, (f, _) in CELLS.items():
         ws[cell] = f
-    ws["H3"] = ArrayFormula("H3:I3", "=D1*{1,2}")          # an array formula fills its range
+    ws["H3"] = ArrayFormula("H3:I3", "=D1*E1:F1")          # an array formula fills its range
+    ws["J3"] = "=INDEX({0.5236,0},1)"                     # cannot be read: cannot be traced
+    ws["K3"] = '=INDIRECT("S!D1")'                        # not computed by sheetkin: not traced
     p = wb.create_sheet("P")
     p["A1"] = 3.25
     p["B1"] = "=S!D1+1"
@@ -62,6 +64,7 @@ def test_reaching_follows_formulas_ranges_names_and_sheets(tmp_path):
         letters, row = coordinate_from_string(cell)
         assert bool(reach["S"][row, column_index_from_string(letters)]) is expected, (cell, f)
     assert reach["S"][3, 8] and reach["S"][3, 9]            # H3:I3, the array's range
+    assert not reach["S"][3, 10] and not reach["S"][3, 11]   # J3, K3: their values cannot be traced
     assert reach["P"][1, 2] and not reach["P"][1, 1]         # P!B1 reads D1; P!A1 is typed
     assert not reach["S"][5, 1]                              # a typed number is no source
 
