@@ -171,6 +171,9 @@ def json_report(reports: list[Report], copies=None, lang: str = "en") -> str:
         others = copies.others(i)[:MAX_LISTED] if copies is not None else []
         d["possible_copy_of"] = [{"file": reports[j].path, "student": getattr(reports[j], "student", ""),
                                   "why": say(copies.why(i), lang)} for j in others]
+        # sources that are no submission (a variant's key): its file, whom it was issued to
+        d["possible_copy_of"] += [{"file": f, "student": s, "why": say(why, lang)}
+                                  for f, s, why in getattr(copies, "sources", {}).get(i, [])]
         if "notes" in d:
             d["notes"] = [say(n, lang) for n in d["notes"]]
         out.append(d)
