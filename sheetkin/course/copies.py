@@ -204,6 +204,9 @@ class Copies(dict):
     def __init__(self, clusters: list[Cluster] | tuple = ()):
         super().__init__()
         self.clusters = list(clusters)
+        # {report index: [(file, student, why)]}: sources that are no submission (a variant's
+        # key whose computed values a book holds typed); its cluster may name no other book
+        self.sources: dict[int, list[tuple[str, str, str]]] = {}
         for c in self.clusters:
             for i in c.members:
                 self[i] = c
@@ -324,10 +327,13 @@ def _computed_sources(reports, wrong) -> dict[tuple[int, int], int]:
     return found
 
 
-def _variant_sources(reports, wrong, variants: dict, linked: set[int]) -> list[tuple[str, list[int]]]:
+def _variant_sources(reports, wrong, variants: dict, linked: set[int],
+                     sources: dict | None = None) -> list[tuple[str, list[int]]]:
     """Books whose typed numbers (wrong there) equal another variant's computed values (its
     key's): a classmate's results, or a key, typed in. variants: {variant id: (label, a
-    function giving {(row, position): value})}, computed once each, only when needed."""
+    function giving {(row, position): value}[, its key file, the students it was issued
+    to])}, computed once each, only when needed; sources: {book: [(key file, students,
+    why)]}, filled here (the source is no submission: Copies.sources)."""
     from .localjudge import typed_digits, typed_tolerance
     cache: dict = {}
     out = []
@@ -338,7 +344,7 @@ def _variant_sources(reports, wrong, variants: dict, linked: set[int]) -> list[t
         cells = {c: v for c, v in marks["typed"].items() if c in wrong[i] and typed_digits(v) >= 3}
         if len(cells) < COPY_TYPED_CELLS:
             continue
-        for vid, (label, values) in variants.items():
+        for vid, (label, values, *key) in variants.items():
             if vid == getattr(rep, "variant", ""):
                 continue
             if vid not in cache:
@@ -349,7 +355,10 @@ def _variant_sources(reports, wrong, variants: dict, linked: set[int]) -> list[t
             got = cache[vid]
             n = sum(1 for c, v in cells.items() if c in got and abs(got[c] - v) <= typed_tolerance(v))
             if n >= COPY_TYPED_CELLS:
-                out.append((f"{n} typed numbers equal to variant {vid}'s computed values ({label})", [i]))
+                why = f"{n} typed numbers equal to variant {vid}'s computed values ({label})"
+                out.append((why, [i]))
+                if sources is not None:
+                    sources.setdefault(i, []).append((*(key + ["", ""])[:2], why))
     return out
 
 
@@ -369,7 +378,9 @@ def roster_variants(roster, reference, assignment=None) -> dict:
         if not files.get("scene") or not scene_file.is_file():
             continue
         who = f", issued to {', '.join(issued_to[vid])}" if issued_to.get(vid) else ""
-        out[vid] = (f"key {folder / files.get('key', '')}{who}", lambda p=scene_file: _computed_values(p, reference))
+        key = str(folder / files.get("key", ""))
+        out[vid] = (f"key {key}{who}", lambda p=scene_file: _computed_values(p, reference), key,
+                    ", ".join(issued_to.get(vid, [])))
     return out
 
 
@@ -424,8 +435,9 @@ def possible_copies(reports, digests: list | None = None, who: list | None = Non
         if n >= COPY_TYPED_CELLS:
             groups.append((f"{n} typed numbers equal to what {_label(reports, j)} computed", [i, j]))
             linked.add(i)
+    sources: dict[int, list[tuple[str, str, str]]] = {}
     if variants:
-        groups += _variant_sources(reports, wrong, variants, linked)
+        groups += _variant_sources(reports, wrong, variants, linked, sources)
     groups += _identity_groups(reports, who, assigned)
     formula_at = defaultdict(list)
     for i, rep in enumerate(reports):
@@ -438,7 +450,9 @@ def possible_copies(reports, digests: list | None = None, who: list | None = Non
     for (name, _), idx in sorted(formula_at.items()):
         if len(idx) > 1:
             groups.append((f"the same wrong formula in {name}", idx))
-    return _clusters(groups)
+    copies = _clusters(groups)
+    copies.sources = sources
+    return copies
 
 
 def _clusters(groups: list[tuple[str, list[int]]]) -> Copies:

@@ -227,8 +227,8 @@ def copy_text(reports, i: int, copies) -> str:
     most MAX_LISTED others of its cluster (sheetkin/course/copies.py), a line stays short."""
     from .copies import MAX_LISTED
     others = copies.others(i) if hasattr(copies, "others") else []
-    if not others:
-        return ""
+    if not others:      # a source that is no submission (a variant's key): the reason names it
+        return copies.why(i) if getattr(copies, "sources", {}).get(i) else ""
     names = [f"{reports[j].path}{f' ({who(reports[j])})' if who(reports[j]) else ''}" for j in others[:MAX_LISTED]]
     more = f" and {len(others) - MAX_LISTED} more" if len(others) > MAX_LISTED else ""
     return f"{', '.join(names)}{more}: {copies.why(i)}"

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 
 from .copies import MAX_LISTED
 from .grades import counts, explain, score, verdict
@@ -79,9 +80,30 @@ def text_report(rep: Report, lang: str = "en") -> str:
         lines.append("  " + t["disagree"].format(n=len(rep.cache_mismatch)) + ": "
                      + "; ".join(say(m, lang) for m in rep.cache_mismatch[:5])
                      + (" ..." if len(rep.cache_mismatch) > 5 else ""))
+    saved = _saved_rows(rep)
     for p in rep.problems[:5]:
-        lines.append(f"  {t['cannot']}: {p} {t['saved_used']}")
+        lines.append(f"  {t['cannot']}: {say(p, lang)}" + (f" {t['saved_used']}" if _rows_of(p, rep) & saved else ""))
     return "\n".join(lines) + "\n"
+
+
+# where an evaluator's problem is ("Sheet!E42:Q42: what"): its sheet and rows
+_WHERE = re.compile(r"(?P<sheet>[^!]+)!\$?[A-Z]{1,3}\$?(?P<r1>\d+)(?::\$?[A-Z]{1,3}\$?(?P<r2>\d+))?: ")
+
+
+def _saved_rows(rep: Report) -> set[int]:
+    """The graded rows where the value the spreadsheet saved stood in for a formula sheetkin
+    cannot compute (the validator's source "cached")."""
+    return {r.row for r in rep.rows if r.source == "cached" and r.row is not None}
+
+
+def _rows_of(problem: str, rep: Report) -> set[int]:
+    """The graded sheet's rows an evaluator's problem concerns (none on another sheet)."""
+    m = _WHERE.match(problem)
+    layout = getattr(rep, "layout", None)
+    if m is None or (layout is not None and m.group("sheet") != layout.sheet):
+        return set()
+    r1 = int(m.group("r1"))
+    return set(range(r1, int(m.group("r2") or r1) + 1))
 
 
 def _typed_where(rep: Report, r, lang: str) -> str:
@@ -171,6 +193,9 @@ def json_report(reports: list[Report], copies=None, lang: str = "en") -> str:
         others = copies.others(i)[:MAX_LISTED] if copies is not None else []
         d["possible_copy_of"] = [{"file": reports[j].path, "student": getattr(reports[j], "student", ""),
                                   "why": say(copies.why(i), lang)} for j in others]
+        # sources that are no submission (a variant's key): its file, whom it was issued to
+        d["possible_copy_of"] += [{"file": f, "student": s, "why": say(why, lang)}
+                                  for f, s, why in getattr(copies, "sources", {}).get(i, [])]
         if "notes" in d:
             d["notes"] = [say(n, lang) for n in d["notes"]]
         out.append(d)

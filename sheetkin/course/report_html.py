@@ -113,6 +113,8 @@ def _copy_links(reports, k: int, copies, with_reason: bool, lang: str = "en") ->
     e = html.escape
     out = []
     others = copies.others(k) if hasattr(copies, "others") else []
+    if not others and getattr(copies, "sources", {}).get(k):      # a variant's key: the reason names it
+        return e(say(copies.why(k), lang))
     for j in others[:MAX_LISTED]:
         other = reports[j]
         name = getattr(other, "student", "") or _file(other)

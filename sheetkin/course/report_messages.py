@@ -117,6 +117,19 @@ TEMPLATES: tuple[tuple[str, dict[str, str]], ...] = (
     (r"graded; other files of this student not graded: (?P<files>.+)",
      {"ru": "оценена; другие файлы этого студента не оценены: {files}",
       "uk": "оцінено; інші файли цього студента не оцінено: {files}"}),
+    # why sheetkin cannot compute a cell (sheetkin.xlsx: the evaluator's problems)
+    (r"unsupported functions (?P<f>\S+(?:, \S+)*)", {"ru": "неподдерживаемые функции {f}",
+                                                     "uk": "непідтримувані функції {f}"}),
+    (r"unsupported function (?P<f>\S+)", {"ru": "неподдерживаемая функция {f}", "uk": "непідтримувана функція {f}"}),
+    (r"cannot read the formula (?P<f>=.+): ", {"ru": "не читается формула {f}: ", "uk": "не читається формула {f}: "}),
+    (r"the name (?P<n>\S+) is not a formula \(", {"ru": "имя {n} - не формула (", "uk": "ім'я {n} - не формула ("}),
+    (r"unexpected (?P<t>'[^']*'|\"[^\"]*\") in (?P<f>\S+)\(\.\.\.\)",
+     {"ru": "неожиданный символ {t} в {f}(...)", "uk": "неочікуваний символ {t} у {f}(...)"}),
+    (r"unexpected (?P<t>'[^']*'|\"[^\"]*\")", {"ru": "неожиданный символ {t}", "uk": "неочікуваний символ {t}"}),
+    (r"(?P<f>\S+)\( is not closed", {"ru": "{f}( не закрыта", "uk": "{f}( не закрито"}),
+    (r"circular reference among (?P<cells>.+?) and (?P<n>\d+) more cells",
+     {"ru": "циклическая ссылка, ячейки: {cells} и ещё {n}", "uk": "циклічне посилання, клітинки: {cells} і ще {n}"}),
+    (r"circular reference among ", {"ru": "циклическая ссылка, ячейки: ", "uk": "циклічне посилання, клітинки: "}),
     # possible copies (sheetkin.course.copies)
     (r"one issued book \(variant (?P<v>.+?), issued to one student\) handed in by (?P<n>\d+) students",
      {"ru": "одна выданная книга (вариант {v}, выдан одному студенту) сдана студентами: {n}",
@@ -142,6 +155,9 @@ TEMPLATES: tuple[tuple[str, dict[str, str]], ...] = (
       "uk": "введених чисел, рівних обчисленому в {who}: {n}"}),
     (r"the same wrong formula in (?P<name>\S+)", {"ru": "одна и та же неверная формула в {name}",
                                                   "uk": "та сама неправильна формула в {name}"}),
+    (r"\(key (?P<path>[^,)]+), issued to (?P<who>[^)]+)\)", {"ru": "(ключ {path}, выдан {who})",
+                                                             "uk": "(ключ {path}, видано {who})"}),
+    (r"\(key (?P<path>[^,)]+)\)", {"ru": "(ключ {path})", "uk": "(ключ {path})"}),
     (r"possible copy: (?P<n>\d+) files ", {"ru": "возможно, списано: файлов {n}: ",
                                            "uk": "можливо, списано: файлів {n}: "}),
     (r" and (?P<n>\d+) more(?=\W|$)", {"ru": " и ещё {n}", "uk": " і ще {n}"}),
@@ -213,6 +229,7 @@ PHRASES: dict[str, dict[str, str]] = {
         "Check statuses typed over their formulas": "Статусы проверок, введённые поверх формул",
         "Notes": "Примечания", "identity: ": "кто сдал: ", "unusable: ": "не проверяется: ",
         "no name typed": "имя не введено", "empty": "пусто",
+        "the formula ends too early": "формула обрывается", "unbalanced parentheses": "непарные скобки",
     },
     "uk": {
         "an encrypted Excel workbook": "зашифрована книга Excel", "an encrypted .xls workbook":
@@ -245,6 +262,7 @@ PHRASES: dict[str, dict[str, str]] = {
         "Check statuses typed over their formulas": "Статуси перевірок, введені поверх формул",
         "Notes": "Примітки", "identity: ": "хто здав: ", "unusable: ": "не перевіряється: ",
         "no name typed": "ім'я не введено", "empty": "порожньо",
+        "the formula ends too early": "формула обривається", "unbalanced parentheses": "непарні дужки",
     },
 }
 

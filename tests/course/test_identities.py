@@ -342,3 +342,17 @@ def test_typed_numbers_of_another_variant_no_one_handed_in(tmp_path):
     assert f"{len(cells)} typed numbers equal to variant fourbar-03's computed values" in why
     assert "fourbar-03-key.xlsx, issued to Сидоров Пётр" in why
     assert 1 not in copies
+    # grades.csv, --json and the HTML row carry it as the text report does (one vocabulary)
+    from sheetkin.course.report import json_report
+    lines, _ = grade_lines([rep, honest], copies, None)
+    col = lines[0].index("possible copy of")
+    assert lines[1][col] == why and lines[2][col] == ""
+    lines, _ = grade_lines([rep, honest], copies, None, lang="ru")
+    assert "(ключ " in lines[1][col] and "выдан Сидоров Пётр" in lines[1][col] and "(key " not in lines[1][col]
+    books = json.loads(json_report([rep, honest], copies))["reports"]
+    assert books[0]["possible_copy_of"] == [{"file": str(out / "fourbar-03-key.xlsx"), "student": "Сидоров Пётр",
+                                             "why": why.split("; ")[0]}]
+    assert books[1]["possible_copy_of"] == []
+    assert "fourbar-03-key.xlsx" in copies_lines([rep, honest], copies)
+    page = html_report([rep, honest], copies)
+    assert page.count("fourbar-03-key.xlsx, issued to") >= 3      # the row, the details, the group

@@ -273,3 +273,35 @@ def test_unusable_reasons_said_whole(reason, lang):
     left = _english(_free_of_names(said)) & _table_words()
     assert not left, (said, sorted(left))
     assert said != reason and said.split(":")[0] == reason.split(":")[0]       # the file's name as it is
+
+
+def _evaluator_problems(tmp_path: Path) -> list[str]:
+    """The notes the evaluator gives of cells it cannot compute (what the report shows the
+    teacher under "cannot evaluate"), from a workbook that has each kind."""
+    import openpyxl
+    from openpyxl.workbook.defined_name import DefinedName
+
+    from sheetkin.xlsx.evaluator import evaluate
+    wb = openpyxl.Workbook()
+    ws = wb.active
+    ws.title = "Кинематика"
+    ws["A1"], ws["A2"], ws["A3"], ws["A4"] = "=NOSUCHFUNCTION(1)", "=SUM(1,2", "=1+*2", "=arr"
+    ws["A5"], ws["B1"], ws["B2"] = "=NOSUCH(1)+OTHERFN(2)", "=B2+1", "=B1+1"
+    wb.defined_names["arr"] = DefinedName("arr", attr_text="{1,2,3}")
+    wb.save(tmp_path / "p.xlsx")
+    problems = evaluate(tmp_path / "p.xlsx", strict=False).problems
+    for what in ("unsupported function NOSUCHFUNCTION", "cannot read the formula", "is not a formula",
+                 "circular reference among", "unsupported functions"):
+        assert any(what in p for p in problems), (what, problems)
+    return problems
+
+
+@pytest.mark.parametrize("lang", ["ru", "uk"])
+def test_evaluator_notes_said_whole(tmp_path, lang):
+    """"unsupported function COLUMN", "cannot read the formula =...: unexpected '{'", "the
+    name X is not a formula", "circular reference among ...": English in a Russian report."""
+    for p in _evaluator_problems(tmp_path):
+        said = say(p, lang)
+        left = _english(_free_of_names(re.sub(r"=\S+|[A-Z]{4,}", " ", said))) & _table_words()
+        assert not left, (said, sorted(left))
+        assert said != p and said.split("!")[0] == p.split("!")[0]       # the cells as they are
