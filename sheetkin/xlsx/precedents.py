@@ -8,11 +8,12 @@ ranges (a range reaches when any of its cells does: SUM(E5:Q5), a row range read
 intersection), defined names (the references behind a name, through names of names) and whole
 rows and columns (bounded as the evaluator bounds them). A formula whose value depends on its
 own place (ROW, COLUMN, ROWS, COLUMNS: a position numbered =COLUMN()-5) counts as reaching:
-the place is given like the position numbers. A formula the evaluator cannot compute (it
-cannot be read, or it calls INDIRECT, OFFSET or a function sheetkin does not have) reaches
-nothing: its value cannot be traced, and a value saved with it is the spreadsheet's word,
-not a computation sheetkin can follow (=INDIRECT("Лист2!E42"), =INDEX({0.5236},1)). A typed
-constant, an empty cell and a formula of constants reach nothing.
+the place is given like the position numbers. A formula sheetkin cannot read reaches nothing
+(=INDEX({0.5236},1): its value cannot be traced, and a value saved with it is the
+spreadsheet's word, not a computation to follow); one that calls a function sheetkin does
+not have (INDIRECT, OFFSET, VLOOKUP ...) is traced through the references it names, so
+=INDIRECT("Лист2!E42") reaches nothing and =OFFSET(Лист2!E42;0;0) only what E42 reaches. A
+typed constant, an empty cell and a formula of constants reach nothing.
 
 This is about where a value comes from, not whether it moves: a formula that reads a source
 only to multiply it by 0 reaches it. sheetkin.course.validator grades with it: a computed
@@ -48,7 +49,7 @@ def reaching(book: Book, sources: dict[str, Iterable[tuple[int, int]]]) -> dict[
     for run in book.schedule:
         a = reach[run.sheet]
         cols = run.cols.astype(np.int64)
-        if run.tree is None or run.error:             # cannot be computed, so cannot be traced
+        if run.tree is None:                          # cannot be read, so cannot be traced
             hit = np.zeros(len(cols), bool)
         elif functions_of(run.tree) & POSITIONAL:
             hit = np.ones(len(cols), bool)

@@ -44,7 +44,9 @@ def _book(path):
         ws[cell] = f
     ws["H3"] = ArrayFormula("H3:I3", "=D1*E1:F1")          # an array formula fills its range
     ws["J3"] = "=INDEX({0.5236,0},1)"                     # cannot be read: cannot be traced
-    ws["K3"] = '=INDIRECT("S!D1")'                        # not computed by sheetkin: not traced
+    ws["K3"] = '=INDIRECT("S!D1")'                        # names no cell: nothing to trace
+    ws["L3"] = "=OFFSET(A5,0,0)"                          # unknown to sheetkin: traced through A5 (typed)
+    ws["M3"] = "=NOSUCHFUNCTION(D1)"                      # unknown, traced through D1 (given)
     p = wb.create_sheet("P")
     p["A1"] = 3.25
     p["B1"] = "=S!D1+1"
@@ -65,6 +67,7 @@ def test_reaching_follows_formulas_ranges_names_and_sheets(tmp_path):
         assert bool(reach["S"][row, column_index_from_string(letters)]) is expected, (cell, f)
     assert reach["S"][3, 8] and reach["S"][3, 9]            # H3:I3, the array's range
     assert not reach["S"][3, 10] and not reach["S"][3, 11]   # J3, K3: their values cannot be traced
+    assert not reach["S"][3, 12] and reach["S"][3, 13]       # L3 reads a typed number, M3 the given D1
     assert reach["P"][1, 2] and not reach["P"][1, 1]         # P!B1 reads D1; P!A1 is typed
     assert not reach["S"][5, 1]                              # a typed number is no source
 
