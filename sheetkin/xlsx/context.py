@@ -86,15 +86,23 @@ def intersect(v: Val, ref: Ref, run: Run) -> Val:
     #VALUE! where the formula's row or column misses the range."""
     k0, R, C = v.shape
     k = len(run.cols)
-    r1, _, c1, _ = _target_block(run, ref)
-    i = np.full(k, run.row - r1) if R > 1 else np.zeros(k, np.int64)
-    j = (run.cols - c1) if C > 1 else np.zeros(k, np.int64)
-    bad = (i < 0) | (i >= R) | (j < 0) | (j >= C)
-    i, j = np.where(bad, 0, i), np.where(bad, 0, j)
+    # the range's own extent decides (v may be clipped to the used range: =Z1:Z1048576 in G5
+    # is Z5, empty, though v holds no row 5)
+    r1, r2, c1, c2 = _target_block(run, ref)
+    rows, cols = r2 - r1 + 1, np.broadcast_to(c2 - c1 + 1, (k,))
+    i = np.full(k, run.row - r1) if rows > 1 else np.zeros(k, np.int64)
+    j = np.where(cols > 1, run.cols - c1, 0)
+    bad = (i < 0) | (i >= rows) | (j < 0) | (j >= cols)
+    stored = ~bad & (i < R) & (j < C)
+    i, j = np.where(stored, i, 0), np.where(stored, j, 0)
     cells = np.arange(k) if k0 == k else np.zeros(k, np.int64)
-    pick = (cells, i, j)
-    out = Val(v.num[pick].reshape(k, 1, 1), v.tag[pick].reshape(k, 1, 1).astype(np.int8),
-              None if v.txt is None else np.asarray(v.txt)[pick].reshape(k, 1, 1))
+    if R == 0 or C == 0:                    # nothing of the range is in the store: all empty
+        out = Val(np.zeros((k, 1, 1)), np.full((k, 1, 1), EMPTY, np.int8), None)
+    else:
+        pick = (cells, i, j)
+        out = Val(np.where(stored, v.num[pick], 0.0).reshape(k, 1, 1),
+                  np.where(stored, v.tag[pick], EMPTY).reshape(k, 1, 1).astype(np.int8),
+                  None if v.txt is None else np.asarray(v.txt)[pick].reshape(k, 1, 1))
     return _with_error(out, np.where(bad, VALUE, 0).astype(np.int8).reshape(k, 1, 1))
 
 

@@ -60,3 +60,24 @@ def test_implicit_intersection_as_libreoffice(tmp_path, soffice):
     assert checked >= 40
     assert math.isclose(ours.value("S", 2, 6), math.radians(30))       # F2 = RADIANS(F1)
     assert ours.value("S", 9, 5) == "#VALUE!"
+
+
+def test_a_whole_column_past_the_used_range_intersects_as_excel(tmp_path):
+    """=Z1:Z1048576 in G5 is Z5 (Excel's implicit intersection), though the store holds only
+    the used range: found by the formula fuzzer (an internal error before)."""
+    import openpyxl
+    from openpyxl.utils import column_index_from_string
+
+    from sheetkin.xlsx.evaluator import evaluate
+    wb = openpyxl.Workbook()
+    ws = wb.active
+    ws.title = "Calc"
+    ws["A1"], ws["Z5"], ws["Z2"] = 2.0, 7, 1
+    cells = {"G5": ("=Z1:Z1048576", 7.0), "G2": ("=Z1:Z1048576*2", 2.0), "H9": ("=Z1:Z3", "#VALUE!"),
+             "I5": ("=$Z$1:$Z$1048576+1", 8.0), "J3": ("=A1:Z1", 0.0), "K4": ("=AA1:AA1048576", 0.0)}
+    for cell, (f, _) in cells.items():
+        ws[cell] = f
+    wb.save(tmp_path / "z.xlsx")
+    book = evaluate(tmp_path / "z.xlsx", strict=True)
+    got = {c: book.value("Calc", int(c[1:]), column_index_from_string(c[0])) for c in cells}
+    assert got == {c: want for c, (_, want) in cells.items()}

@@ -330,7 +330,7 @@ def test_a_class_of_ods_files_is_converted_in_one_run(lo, tmp_path, monkeypatch,
     monkeypatch.setattr(libreoffice, "_convert",
                         lambda paths, *a, **k: runs.append(len(paths)) or convert(paths, *a, **k))
     monkeypatch.setattr(xlsxconvert, "_CONVERTED", {})
-    assert main(["validate", str(folder), "--progress", "always"]) == 2      # no embedded scene: each one line
+    assert main(["validate", str(folder), "--progress", "always", "--lang", "en"]) == 2  # no scene: one line each
     assert runs == [4]
     out, err = capsys.readouterr()
     assert "4 OpenDocument spreadsheets: converting them" in err
