@@ -19,7 +19,7 @@ import math
 from pathlib import Path
 
 from .report_messages import say
-from .report_texts import READS_TYPED, say_grading, say_identity, words
+from .report_texts import READS_TYPED, say_grading, words
 from .validator import Report
 
 _CSS = """body{font-family:sans-serif;margin:1.2em;color:#222}
@@ -169,7 +169,7 @@ def _identity_lines(me, lang: str) -> list[str]:
     """A book's identity flags and why the class list names no one (or several), in `lang`."""
     if me is None:
         return []
-    return [say_identity(x, lang) for x in [*me.flags, *([me.unmatched] if me.unmatched else [])]]
+    return [say(x, lang) for x in [*me.flags, *([me.unmatched] if me.unmatched else [])]]
 
 
 def _summary_row(rep: Report, k: int, copy: str = "", lang: str = "en", me=None) -> str:
@@ -328,8 +328,8 @@ def _copy_groups(reports: list[Report], copies, lang: str) -> list[str]:
                  f"{e(getattr(reports[i], 'student', '') or _file(reports[i]))}</a>"
                  for i in c.members[:SHOWN_IN_GROUP]]
         more = len(c.members) - SHOWN_IN_GROUP
-        why = "; ".join(say_identity(x, lang) if len(m) == len(c.members) else
-                        f"{say_identity(x, lang)} ({len(m)})" for x, m in c.reasons)
+        why = "; ".join(say(x, lang) if len(m) == len(c.members) else
+                        f"{say(x, lang)} ({len(m)})" for x, m in c.reasons)
         out.append(f"<li>{len(c.members)}: {', '.join(names)}{f' (+{more})' if more > 0 else ''}: {e(why)}</li>")
     return out + ["</ul>"]
 

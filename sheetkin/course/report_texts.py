@@ -238,10 +238,3 @@ WORDS["ru"].update({"identity": "кто сдал", "identity_h": "Кто сда�
                     "copies_h": "Возможное списывание (одна строка на группу книг)"})
 WORDS["uk"].update({"identity": "хто здав", "identity_h": "Хто здав",
                     "copies_h": "Можливе списування (один рядок на групу книг)"})
-
-def say_identity(text: str, lang: str) -> str:
-    """An identity flag, a class-list mismatch or a copy group's reason in `lang`: the
-    validator's messages have one table (sheetkin.course.report_messages); a part no
-    template knows stays English."""
-    from .report_messages import say
-    return say(text, lang)
