@@ -218,7 +218,8 @@ def cmd_compute(args) -> int:
 
 def cmd_workbook(args) -> int:
     from sheetkin.sheet.workbook import WorkbookTooLarge, build_workbook  # openpyxl only here
-    from sheetkin.studies.synthesis import add_scene_synthesis_sheet, parse_synthesis
+    from sheetkin.studies.synthesis import parse_synthesis
+    from sheetkin.studies.synthesis_sheet import add_scene_synthesis_sheet
 
     if args.output and len(args.scenes) > 1:
         raise SceneError(f"-o names one file, but {len(args.scenes)} scenes were given")
@@ -671,7 +672,7 @@ def cmd_synth(args) -> int:
         print(f"{args.output}: written (crank-rocker, theta = {mech.theta_deg:.6g} deg)",
               file=sys.stderr)
     if args.workbook:
-        from sheetkin.studies.synthesis import build_synthesis_workbook
+        from sheetkin.studies.synthesis_sheet import build_synthesis_workbook
         save_workbook(build_synthesis_workbook(args.kw, args.l3, args.yd, args.gamma1_deg,
                                                args.gamma2_deg, lang=args.lang), args.workbook)
         print(f"{args.workbook}: written (synthesis sheet)", file=sys.stderr)

@@ -2,7 +2,8 @@
 
 It owns the bench (`bench`: the closed form against Newton, finite differences, a 50-digit
 mpmath reference and LibreOffice), the stability study near each kind's singular
-positions (`stability`), and the crank-rocker synthesis of the course's seed (`synthesis`).
+positions (`stability`), and the crank-rocker synthesis of the course's seed (`synthesis`; its
+sheet of live formulas: `synthesis_sheet`).
 """
 from __future__ import annotations
 
@@ -14,7 +15,7 @@ _EXPORTS = {
     "format_bench": "bench",
     "stability_study": "stability",
     "synthesize_crank_rocker": "synthesis",
-    "build_synthesis_workbook": "synthesis",
+    "build_synthesis_workbook": "synthesis_sheet",
 }
 
 __getattr__, __dir__ = exports(__name__, _EXPORTS)

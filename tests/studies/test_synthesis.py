@@ -298,7 +298,7 @@ def test_workbook_synthesis_option(tmp_path, capsys):
     """--synthesis requires the table; without the option a scene without it gets no sheet."""
     import openpyxl
 
-    from sheetkin.studies.synthesis import SYNTH_SHEET_TITLES
+    from sheetkin.studies.synthesis_sheet import SYNTH_SHEET_TITLES
     out = _seed_scene(tmp_path, capsys)
     text = out.read_text(encoding="utf-8")
     plain = tmp_path / "plain.toml"
@@ -325,7 +325,7 @@ def test_scene_workbook_check_evaluate_validate(tmp_path, capsys):
     scene's workbook with the synthesis sheet; the sheet evaluated headlessly gives the closed
     form, and its rows comparing it with the kinematics sheet pass."""
     from sheetkin.sheet.workbook import embedded_scene_text
-    from sheetkin.studies.synthesis import SYNTH_SHEET_TITLES
+    from sheetkin.studies.synthesis_sheet import SYNTH_SHEET_TITLES
     from sheetkin.xlsx.evaluator import evaluate
     out = _seed_scene(tmp_path, capsys)
     book = out.with_suffix(".xlsx")

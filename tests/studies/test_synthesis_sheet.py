@@ -15,12 +15,8 @@ from libreoffice import is_error, read_values, recalculate
 from openpyxl.utils import get_column_letter
 
 from sheetkin.cli.commands import main
-from sheetkin.studies.synthesis import (
-    SYNTH_SHEET_TITLES,
-    SynthesisError,
-    build_synthesis_workbook,
-    synthesize_crank_rocker,
-)
+from sheetkin.studies.synthesis import SynthesisError, synthesize_crank_rocker
+from sheetkin.studies.synthesis_sheet import SYNTH_SHEET_TITLES, build_synthesis_workbook
 
 SEED = dict(kw=1.2, l3=0.6, yd=-0.1, gamma1_deg=60.0, gamma2_deg=105.0)
 KW1 = dict(kw=1.0, l3=0.6, yd=-1.0, gamma1_deg=0.0, gamma2_deg=45.0)    # theta = 0
