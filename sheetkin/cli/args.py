@@ -437,7 +437,8 @@ def _add_examples_parser(sub) -> None:
         description="Write the example scenes that come with sheetkin (the course's four-bar, "
                     "shaper, crank-slider, slotted levers, kulisas, chains) to DIR, and list "
                     "them with their titles. An existing file is never overwritten.")
-    x.add_argument("dir", metavar="DIR", help="the folder to write them to (made if missing)")
+    x.add_argument("dir", metavar="DIR", nargs="?", default=".",
+                   help="the folder to write them to (made if missing; default: the current folder)")
 
 
 def _add_docs_parser(sub) -> None:
@@ -447,3 +448,6 @@ def _add_docs_parser(sub) -> None:
                     "PAGE, their names and titles; with PAGE (e.g. scene-format, tutorial, class), "
                     "that page printed.")
     x.add_argument("page", metavar="PAGE", nargs="?", help="the page's name (as listed)")
+    x.add_argument("--lang", choices=["ru", "uk", "en"], default=None,
+                   help="for a page written in several languages (student-guide): which one "
+                        "(default: the locale's, LANG or LC_ALL; else Russian, the course's)")
