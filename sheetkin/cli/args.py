@@ -91,7 +91,9 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_INPUT, f"sheetkin: error: {message} (see '{self.prog} --help')\n")
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(lang: str | None = None) -> argparse.ArgumentParser:
+    """sheetkin's parser; lang ru or uk: the help of `validate` and `variants` in that
+    language (sheetkin/cli/help_texts.py), None or en: English."""
     parser = _Parser(
         prog="sheetkin",
         description="Kinematic analysis of planar linkages in the spreadsheet workflow of "
@@ -103,6 +105,12 @@ def build_parser() -> argparse.ArgumentParser:
                 _add_bench_parser, _add_synth_parser, _add_animate_parser, _add_variants_parser,
                 _add_examples_parser, _add_docs_parser):
         add(sub)
+    if lang not in (None, "en"):
+        from .help_texts import translate
+        band, min_det, margin, tries, revolution = VARIANTS_DEFAULTS
+        translate(parser, lang, {"band": f"{band:.0%}", "margin": f"{margin:.0%}", "tries": tries,
+                                 "revolution": f"{revolution:g}", "min_det": f"{min_det:g}",
+                                 "cpus": os.cpu_count() or 1, "max_jobs": MAX_JOBS})
     return parser
 
 

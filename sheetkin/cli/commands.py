@@ -742,9 +742,11 @@ class _Signals:
 
 
 def main(argv=None) -> int:
-    args = build_parser().parse_args(argv)
-    # Windows' shells leave `class/*.xlsx` as typed: sheetkin expands it
+    # the help in the teacher's language (--lang, else the locale); the patterns Windows'
+    # shells leave as typed (`class/*.xlsx`) expanded by sheetkin
+    from .help_texts import help_lang
     from .platform import expand_patterns
+    args = build_parser(help_lang(sys.argv[1:] if argv is None else list(argv))).parse_args(argv)
     for many in ("paths", "scenes"):            # the commands that take many files
         if isinstance(getattr(args, many, None), list):
             setattr(args, many, expand_patterns(getattr(args, many)))
