@@ -91,7 +91,9 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_INPUT, f"sheetkin: error: {message} (see '{self.prog} --help')\n")
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(lang: str | None = None) -> argparse.ArgumentParser:
+    """sheetkin's parser; lang ru or uk: the help of `validate` and `variants` in that
+    language (sheetkin/cli/help_texts.py), None or en: English."""
     parser = _Parser(
         prog="sheetkin",
         description="Kinematic analysis of planar linkages in the spreadsheet workflow of "
@@ -103,6 +105,12 @@ def build_parser() -> argparse.ArgumentParser:
                 _add_bench_parser, _add_synth_parser, _add_animate_parser, _add_variants_parser,
                 _add_examples_parser, _add_docs_parser):
         add(sub)
+    if lang not in (None, "en"):
+        from .help_texts import translate
+        band, min_det, margin, tries, revolution = VARIANTS_DEFAULTS
+        translate(parser, lang, {"band": f"{band:.0%}", "margin": f"{margin:.0%}", "tries": tries,
+                                 "revolution": f"{revolution:g}", "min_det": f"{min_det:g}",
+                                 "cpus": os.cpu_count() or 1, "max_jobs": MAX_JOBS})
     return parser
 
 
@@ -437,7 +445,8 @@ def _add_examples_parser(sub) -> None:
         description="Write the example scenes that come with sheetkin (the course's four-bar, "
                     "shaper, crank-slider, slotted levers, kulisas, chains) to DIR, and list "
                     "them with their titles. An existing file is never overwritten.")
-    x.add_argument("dir", metavar="DIR", help="the folder to write them to (made if missing)")
+    x.add_argument("dir", metavar="DIR", nargs="?", default=".",
+                   help="the folder to write them to (made if missing; default: the current folder)")
 
 
 def _add_docs_parser(sub) -> None:
@@ -447,3 +456,6 @@ def _add_docs_parser(sub) -> None:
                     "PAGE, their names and titles; with PAGE (e.g. scene-format, tutorial, class), "
                     "that page printed.")
     x.add_argument("page", metavar="PAGE", nargs="?", help="the page's name (as listed)")
+    x.add_argument("--lang", choices=["ru", "uk", "en"], default=None,
+                   help="for a page written in several languages (student-guide): which one "
+                        "(default: the locale's, LANG or LC_ALL; else Russian, the course's)")

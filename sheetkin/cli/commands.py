@@ -154,6 +154,11 @@ def cmd_docs(args) -> int:
         return 0
     name = args.page.removesuffix(".md")
     if name not in pages:
+        # a page in several languages (student-guide.ru.md ...): the user's, else the course's
+        from .platform import user_lang
+        name = next((f"{name}.{lang}" for lang in (user_lang(getattr(args, "lang", None)), "ru", "en")
+                     if f"{name}.{lang}" in pages), name)
+    if name not in pages:
         raise SceneError(f"no documentation page {args.page!r}; the pages: {', '.join(pages)}")
     text = pages[name].read_text(encoding="utf-8")
     # the CLI reference is generated from the parser when the site is built; here, the same text
@@ -737,7 +742,14 @@ class _Signals:
 
 
 def main(argv=None) -> int:
-    args = build_parser().parse_args(argv)
+    # the help in the teacher's language (--lang, else the locale); the patterns Windows'
+    # shells leave as typed (`class/*.xlsx`) expanded by sheetkin
+    from .help_texts import help_lang
+    from .platform import expand_patterns
+    args = build_parser(help_lang(sys.argv[1:] if argv is None else list(argv))).parse_args(argv)
+    for many in ("paths", "scenes"):            # the commands that take many files
+        if isinstance(getattr(args, many, None), list):
+            setattr(args, many, expand_patterns(getattr(args, many)))
     try:
         with _Signals():
             return _run(args)

@@ -1,6 +1,6 @@
 """The charts sheet's pictures of the mechanism, live in the spreadsheet.
 
-* A drawing of the mechanism at the position typed in the charts sheet's yellow cell B1
+* A drawing of the mechanism at the position typed in the charts sheet's lilac cell B1
   (the kinematics sheet's position i, 0..N-1): the frame pivots, fixed guides, every link
   as a segment (a closed polygon for a link with three or more points), slider blocks turned along their
   guides, slots, and the points' paths behind them. Its data are helper cells (columns
@@ -54,7 +54,8 @@ PATHS_MAX_CELLS = 150_000
 PLOTTED_SHEET = "plotted"
 POSITION_CELL = "$B$1"
 HELPER_COL = 30                    # AD: the drawing's helper cells
-INPUT_FILL = PatternFill("solid", fgColor="FFF2CC")
+# lilac: a cell the student types in (the kinematics sheet's colour for "fill in")
+TYPE_FILL = PatternFill("solid", fgColor="E4DFEC")
 # chart size (cm) and the plot area's place in it (fractions): fixed, so that equal
 # scale can be set through the axes' bounds
 WIDTH, HEIGHT = 16.0, 12.0
@@ -404,7 +405,7 @@ def _position_cell(cs, text: dict, n: int) -> None:
     cs["A1"] = text["pos"]
     cs["A1"].font = Font(bold=True)
     cs["B1"] = 0                      # the kinematics sheet's row i: positions from 0
-    cs["B1"].fill = INPUT_FILL
+    cs["B1"].fill = TYPE_FILL
     cs["B1"].font = Font(bold=True)
     dv = DataValidation(type="whole", operator="between", formula1="0", formula2=str(n - 1), allow_blank=False,
                         showErrorMessage=True, promptTitle=text["pos"], prompt=text["hint"].format(n=n - 1),

@@ -84,9 +84,13 @@ IDENTITY_ROWS = (("student", "студент: фамилия, имя", "student:
 # what it is in C, the student's own text in D, unlocked); the scheme's title in E1
 IDENTITY_CELLS = {"student": (1, 4), "group": (2, 4)}
 TITLE_CELL = "E1"
+# one colour says "do not change", another "fill in" (the student's guide names them):
+# yellow, the given data (locked); lilac, every cell the student fills (D1, D2, the
+# derived values of column D and, in an exercise, the computed rows' empty cells);
+# blue, the names of the accepted values, in the exercise as in the key
 INPUT_FILL = PatternFill("solid", fgColor="FFF2CC")
 ACCEPTED_FILL = PatternFill("solid", fgColor="DDEBF7")
-TO_FILL = PatternFill("solid", fgColor="E4DFEC")      # column D cells the student computes (exercise)
+TO_FILL = PatternFill("solid", fgColor="E4DFEC")
 SECTION_FONT = Font(bold=True)
 GUIDE_FONT = Font(italic=True, color="404040")
 UNLOCKED = Protection(locked=False)
@@ -360,14 +364,16 @@ def _write_row(ws, row, book: _Layout) -> str | None:
         for k in range(n):
             ws.cell(r, FIRST_COL + k, k)
         return None
+    if row.kind == "accepted":
+        ws.cell(r, 1).fill = ACCEPTED_FILL
     if row.kind in ("calc", "accepted") and row.name not in _EXERCISE_KEEP:
         for k in range(n):              # the student's cells: open under the sheet's protection
             ws.cell(r, FIRST_COL + k).protection = UNLOCKED
+            if book.exercise:
+                ws.cell(r, FIRST_COL + k).fill = TO_FILL
         if book.exercise:
             return None
     _position_cells(ws, row, r, book)
-    if row.kind == "accepted":
-        ws.cell(r, 1).fill = ACCEPTED_FILL
     if row.kind in ("check", "fdcheck"):
         return _check_status(ws, row, r, book)
     return None
@@ -414,7 +420,7 @@ def _check_status(ws, row, r: int, book: _Layout) -> str:
 
 def _head_rows(ws, scene: Scene, lang: str) -> None:
     """Rows 1-2 (the lecture's step 7.1): the student's name and group, their cells in D
-    (yellow, unlocked, text), and the scheme's title in E1 ("variant" in the book's
+    (lilac: to fill in; unlocked, text), and the scheme's title in E1 ("variant" in the book's
     language). The scheme's author stays in the embedded scene."""
     text = SHEET[lang]
     for key, (r, c) in IDENTITY_CELLS.items():
@@ -423,7 +429,7 @@ def _head_rows(ws, scene: Scene, lang: str) -> None:
         ws.cell(r, 3, desc)
         cell = ws.cell(r, c)
         cell.number_format = "@"            # text, whatever is typed (a group "101" stays "101")
-        cell.fill, cell.protection = INPUT_FILL, UNLOCKED
+        cell.fill, cell.protection = TO_FILL, UNLOCKED
     title = _VARIANT.sub(lambda m: f" ({text['variant']} {m.group(1)})", scene.title)
     _text_cell(ws[TITLE_CELL], title)
     ws[TITLE_CELL].font = Font(bold=True)       # 11 pt: it prints over the first page's 4-6 positions

@@ -10,10 +10,11 @@ from pathlib import Path
 
 import pytest
 from libreoffice import render_pdf
+from openpyxl.utils import get_column_letter
 
 import sheetkin
-from sheetkin.sheet.printing import POSITIONS_PER_PAGE, column_strips
-from sheetkin.sheet.workbook import build_workbook, sheet_rows, write_workbook
+from sheetkin.sheet.printing import PAGE_WIDTH_MM, POSITION_WIDTH, POSITIONS_PER_PAGE, UNIT_MM, column_strips
+from sheetkin.sheet.workbook import build_workbook, prefilled_in_exercise, sheet_rows, write_workbook
 
 WB = Path(__file__).resolve().parents[2] / "workbooks"
 
@@ -38,7 +39,7 @@ def pages(soffice, tmp_path_factory):
 
 def test_every_page_repeats_titles_and_a_to_d(pages):
     """Every page: the scheme's title (the page header), the headers, columns A-D and the
-    summary D3 whole; the positions spread evenly across (13: 4 + 5 + 4), numbered as row i."""
+    summary D3 whole; the positions spread evenly across (13: 7 + 6), numbered as row i."""
     scene, texts = pages
     sheet = [t for t in texts if "описание" in t]
     groups = set()
@@ -51,7 +52,7 @@ def test_every_page_repeats_titles_and_a_to_d(pages):
         assert numbers == list(range(first, first + len(numbers))) and len(numbers) <= POSITIONS_PER_PAGE
         groups.add((first, len(numbers)))
     ends = column_strips(scene.crank.positions)
-    assert groups == {(a, b - a) for a, b in zip([0] + ends, ends, strict=False)} == {(0, 4), (4, 5), (9, 4)}
+    assert groups == {(a, b - a) for a, b in zip([0] + ends, ends, strict=False)} == {(0, 7), (7, 6)}
     assert texts[-1].lstrip().startswith("положение i =")       # the charts page comes last
 
 
@@ -105,3 +106,76 @@ def test_readme_gives_each_bundled_books_pages():
         ws = build_workbook(sheetkin.load_scene(toml)).worksheets[0]
         planned[toml.stem] = str((len(ws.col_breaks.brk) + 1) * (len(ws.row_breaks.brk) + 1) + 1)
     assert {k: said.get(k) for k in planned} == planned
+
+
+def _fill(cell) -> str:
+    return cell.fill.fgColor.rgb[-6:] if cell.fill.fill_type == "solid" else ""
+
+
+def test_exercise_colours_say_what_to_change():
+    """One colour says "do not change" (the given data, locked), another "fill in" (D1, D2,
+    the derived values, the computed rows' empty cells): never the same; the accepted
+    values' names are blue in the exercise as in the key (the guide says so)."""
+    scene = sheetkin.load_scene(WB / "fourbar.toml")
+    built = sheet_rows(scene)
+    for exercise in (True, False):
+        ws = build_workbook(scene, exercise=exercise, charts=False).worksheets[0]
+        where = {ws.cell(r, 1).value: r for r in range(5, ws.max_row + 1)}
+        given = {_fill(ws.cell(where[row.name], 4)) for row in built.rows if row.kind == "input"}
+        fill_in = {_fill(ws["D1"]), _fill(ws["D2"])}
+        if exercise:                 # the key has their formulas
+            fill_in |= {_fill(ws.cell(where[row.name], 4)) for row in built.rows if row.kind == "derived"}
+        assert len(given) == 1 and len(fill_in) == 1 and given != fill_in and "" not in given | fill_in
+        assert ws["D1"].protection.locked is False
+        accepted = [row.name for row in built.rows if row.kind == "accepted"]
+        assert accepted and {_fill(ws.cell(where[n], 1)) for n in accepted} == {"DDEBF7"}
+        if exercise:                 # the empty rows the student computes: the "fill in" colour
+            empty = [row.name for row in built.rows if row.kind in ("calc", "accepted")
+                     and not prefilled_in_exercise(row.name, row.kind)]
+            assert empty
+            for n in empty:
+                cells = [ws.cell(where[n], 5 + k) for k in range(scene.crank.positions)]
+                assert all(c.value is None for c in cells), n
+                assert {_fill(c) for c in cells} == fill_in, n
+
+
+@pytest.mark.parametrize("stem", ["fourbar", "slotted_lever", "three_group_chain"])
+def test_print_settings_fill_the_page(stem):
+    """The scale makes A-D and the widest page's positions fill landscape A4's width (not
+    more: LibreOffice would add a break of its own; not a position's width less); the
+    first page is the widest and E1's title is merged over exactly its positions."""
+    scene = sheetkin.load_scene(WB / f"{stem}.toml")
+    ws = build_workbook(scene, exercise=True, charts=False).worksheets[0]
+    ends = column_strips(scene.crank.positions)
+    sizes = [b - a for a, b in zip([0] + ends, ends, strict=False)]
+    assert sizes[0] == max(sizes) <= POSITIONS_PER_PAGE and max(sizes) - min(sizes) <= 1
+    units = sum(ws.column_dimensions[c].width for c in "ABCD") + sizes[0] * POSITION_WIDTH
+    printed = units * UNIT_MM * ws.page_setup.scale / 100
+    assert PAGE_WIDTH_MM - POSITION_WIDTH * UNIT_MM * ws.page_setup.scale / 100 < printed <= PAGE_WIDTH_MM
+    assert ws.page_setup.orientation == "landscape" and not ws.sheet_properties.pageSetUpPr.fitToPage
+    assert [str(r) for r in ws.merged_cells.ranges] == [f"E1:{get_column_letter(4 + sizes[0])}1"]
+    assert ws["E1"].alignment.wrap_text
+    # the header has room above row 1 (at 0.4 in top and 0.3 in header margins it printed
+    # over row 1)
+    assert ws.page_margins.top - ws.page_margins.header >= 0.3
+
+
+def test_a_long_title_prints_whole(soffice, tmp_path):
+    """A variant's long title wraps in E1 at word breaks over the first page's positions:
+    every word of it is whole on the PDF's first page (it was cut at "(вар" on every page
+    of the first positions), and the counts of row 2 are there too."""
+    import dataclasses
+    if shutil.which("pdftotext") is None:
+        pytest.skip("pdftotext not found: run `bash tests/setup.sh` (poppler-utils)")
+    scene = sheetkin.load_scene(WB / "shaper.toml")
+    scene = dataclasses.replace(scene, title=scene.title + " с длинным названием для проверки переноса (вариант 17)")
+    book = tmp_path / "long.xlsx"
+    build_workbook(scene, exercise=True).save(book)
+    texts = _pdf_pages(book, tmp_path)
+    first = texts[0]
+    head = first[:first.index("описание")]
+    words = head.split()
+    for w in scene.title.split():
+        assert words.count(w) >= 2, w               # the page header's and E1's, each whole
+    for label in ("заполнено:", "выполнено:", "н/д:"):
+        assert label in head
