@@ -32,6 +32,7 @@ from typing import cast
 
 import numpy as np
 
+from sheetkin.errors import InputError
 from sheetkin.groups import kind_of
 from sheetkin.groups.group import Group
 from sheetkin.kinematics.scene import Point, Scene, SceneError, parse_scene
@@ -92,7 +93,7 @@ def check_embedded_scene(scene: Scene, path: str) -> None:
                             f"books of at most {MAX_REFERENCE_CELLS:,}")
 
 
-class UnusableInput(ValueError):
+class UnusableInput(InputError):
     """A workbook that cannot be validated at all; str() is one line naming the file."""
 
 

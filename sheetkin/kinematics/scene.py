@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import NoReturn
 
+from sheetkin.errors import InputError
 from sheetkin.files import read_text
 from sheetkin.groups import KINDS, kind_of
 from sheetkin.groups.group import Group, Guide, slide_names
@@ -38,10 +39,12 @@ GROUP_TYPES = tuple(KINDS)
 NAME_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 
 
-class AssemblyError(ValueError):
+class AssemblyError(InputError):
     """The mechanism cannot be assembled at some requested crank positions (raised by
     sheetkin.compute; defined here, with no numpy, so the command line can catch it
-    without importing the solver)."""
+    without importing the solver). The user's to mend (the scene's lengths, the angles
+    asked for, or allow_gaps=True), so an InputError; the command line gives it its own
+    exit code (3), since the scene itself is valid."""
 
 
 @dataclass(frozen=True)

@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from sheetkin.errors import InputError
 from sheetkin.groups.group import slide_names
 
 from .dynamics import dynamics as solve_dynamics
@@ -33,13 +34,14 @@ _SCAN_STEP_DEG = 0.005      # grid of the revolution scanned for non-assembly in
 CHUNK = 16384
 
 
-class NumericOverflow(ValueError):
+class NumericOverflow(InputError):
     """A result is not a finite number where the mechanism assembles and is not at a toggle
     (the scene's numbers, within the scene caps, still overflow): one line, never `inf`."""
 
 
-class TooLarge(ValueError):
-    """The table would not fit in this machine's available memory."""
+class TooLarge(InputError):
+    """The table would not fit in this machine's available memory (fewer positions, or
+    streamed output, mend it)."""
 
 
 @dataclass(frozen=True)

@@ -36,6 +36,7 @@ from openpyxl.chart.data_source import NumFmt
 from openpyxl.styles import Font, PatternFill, Protection
 from openpyxl.utils import get_column_letter
 
+from sheetkin.errors import InputError
 from sheetkin.groups import kind_of
 from sheetkin.groups.lang import LANGS, check_lang
 from sheetkin.groups.lang import unit as say_unit
@@ -92,7 +93,7 @@ GUIDE_FONT = Font(italic=True, color="404040")
 UNLOCKED = Protection(locked=False)
 
 
-class WorkbookTooLarge(ValueError):
+class WorkbookTooLarge(InputError):
     """A scene whose workbook would pass the caps above; str() is one line."""
 
 

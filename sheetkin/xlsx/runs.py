@@ -18,10 +18,11 @@ import numpy as np
 
 from .cells import _MAX_COL, Sheet, _Template
 from .coords import get_column_letter
+from .errors import SpreadsheetError
 from .parse import Ref
 
 
-class EvaluationError(ValueError):
+class EvaluationError(SpreadsheetError):
     """A workbook that cannot be evaluated as a whole (circular reference, unsupported
     function with strict=True); str() names the file and the cells."""
 

@@ -23,6 +23,7 @@ from scenes import FOURBAR  # noqa: E402
 
 import sheetkin
 from sheetkin.cli.commands import TOGGLE_THRESHOLD
+from sheetkin.errors import InputError
 from sheetkin.kinematics.table import TOGGLE_THRESHOLD as COMPUTE_TOGGLE_THRESHOLD
 from sheetkin.kinematics.table import AngleRange, Block
 from sheetkin.views.floatfmt import format_repr
@@ -462,7 +463,7 @@ def test_at_file_fuzz_only_our_errors(tmp_path_factory, text):
     f.write_text(text)
     try:
         values = read_angles(str(f))
-    except sheetkin.SceneError as e:
+    except InputError as e:              # the file's mistakes: the user's, one line naming it
         assert "\n" not in str(e) and str(f) in str(e)
     else:
         assert values.size and np.isfinite(values).all()
