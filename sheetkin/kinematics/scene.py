@@ -36,6 +36,11 @@ from .caps import (  # noqa: F401
 )
 
 GROUP_TYPES = tuple(KINDS)
+
+# How a Scene draws itself in a notebook (Scene._repr_svg_): the drawing lives in
+# sheetkin.views, above this stage, so the package installs it here (sheetkin/__init__.py)
+# rather than the scene importing a view.
+draw_in_notebook: Callable[[Scene], str] | None = None
 NAME_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 
 
@@ -113,11 +118,11 @@ class Scene:
     masses: tuple[Mass, ...] = ()
     forces: tuple[Force, ...] = ()
 
-    def _repr_svg_(self) -> str:
-        """Jupyter shows a Scene as its mechanism at the first crank position. The drawing is
-        a view beside the pipeline, imported here on use only (a notebook asks for it)."""
-        from sheetkin.views.notebook import scene_repr_svg
-        return scene_repr_svg(self)
+    def _repr_svg_(self) -> str | None:
+        """Jupyter shows a Scene as its mechanism at the first crank position. The drawing
+        is a view above this stage: `draw_in_notebook` holds it, set by the package
+        (sheetkin/__init__.py); without one, Jupyter shows the repr."""
+        return draw_in_notebook(self) if draw_in_notebook is not None else None
 
     @property
     def has_dynamics(self) -> bool:

@@ -19,9 +19,10 @@ import numpy as np
 
 from sheetkin.errors import UsageError
 from sheetkin.files import Output, write_file
+from sheetkin.kinematics.geometry import revolution
 from sheetkin.kinematics.scene import Scene
 
-from .drawing import STYLES, Picture, picture, revolution
+from .drawing import STYLES, Picture, picture
 
 FORMATS = (".gif", ".html", ".png")
 # Caps (docs/reliability.md; `sheetkin animate` refuses more in one line): frames every 0.1
