@@ -10,7 +10,7 @@ import os
 import re
 
 from sheetkin import __version__
-from sheetkin.kinematics.scene import MAX_MAGNITUDE, MAX_POSITIONS
+from sheetkin.kinematics.caps import MAX_MAGNITUDE, MAX_POSITIONS
 
 EXIT_INPUT = 2              # an unusable input or option (argparse's own exit code for a bad option)
 _NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-(inf|infinity|nan)$", re.I)

@@ -39,7 +39,7 @@ from sheetkin.kinematics.scene import (
     override_crank,
 )
 
-from .args import EXIT_INPUT, TOGGLE_THRESHOLD, build_parser  # noqa: F401 (TOGGLE_THRESHOLD: re-exported)
+from .args import EXIT_INPUT, build_parser
 
 if TYPE_CHECKING:                 # names for annotations only: the commands import on use
     from sheetkin.kinematics.table import AngleRange

@@ -20,13 +20,9 @@ from sheetkin.files import read_text
 from sheetkin.groups import KINDS, kind_of
 from sheetkin.groups.group import Group, Guide, slide_names
 
-from .caps import (  # noqa: F401
-    MAX_DEPTH,
-    MAX_MAGNITUDE,
-    MAX_MESSAGE,
+from .caps import (
     MAX_POSITIONS,
     MAX_SCENE_BYTES,
-    MAX_TEXT,
     WORKBOOK_MAX_POSITIONS,
     SceneError,
     check_values,

@@ -22,7 +22,7 @@ from sheetkin.groups.group import slide_names
 
 from .dynamics import dynamics as solve_dynamics
 from .dynamics import dynamics_names
-from .scene import AssemblyError, Scene, as_scene, load_scene  # noqa: F401 (AssemblyError: compute's API)
+from .scene import AssemblyError, Scene, as_scene
 from .solver import Solution, solve
 
 TOGGLE_THRESHOLD = 1e-2

@@ -22,14 +22,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import sheetkin
-from sheetkin.kinematics.scene import (
-    MAX_DEPTH,
-    MAX_MAGNITUDE,
-    MAX_POSITIONS,
-    WORKBOOK_MAX_POSITIONS,
-    SceneError,
-    parse_scene,
-)
+from sheetkin.kinematics.caps import MAX_DEPTH, MAX_MAGNITUDE, MAX_POSITIONS, WORKBOOK_MAX_POSITIONS
+from sheetkin.kinematics.scene import SceneError, parse_scene
 from sheetkin.sheet.workbook import write_workbook
 
 compute_module = importlib.import_module("sheetkin.kinematics.table")

@@ -22,7 +22,7 @@ from hypothesis import strategies as st
 from scenes import FOURBAR  # noqa: E402
 
 import sheetkin
-from sheetkin.cli.commands import TOGGLE_THRESHOLD
+from sheetkin.cli.args import TOGGLE_THRESHOLD
 from sheetkin.errors import InputError
 from sheetkin.kinematics.table import TOGGLE_THRESHOLD as COMPUTE_TOGGLE_THRESHOLD
 from sheetkin.kinematics.table import AngleRange, Block
