@@ -16,7 +16,6 @@ import contextlib
 import io
 import json
 import os
-import re
 import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -220,7 +219,12 @@ def cmd_compute(args) -> int:
 
 
 def cmd_workbook(args) -> int:
-    from sheetkin.sheet.workbook import WorkbookTooLarge, build_workbook  # openpyxl only here
+    from sheetkin.sheet.workbook import (  # openpyxl only here
+        WorkbookTooLarge,
+        build_workbook,
+        built_fingerprint,
+        existing_fingerprint,
+    )
     from sheetkin.studies.synthesis import parse_synthesis
     from sheetkin.studies.synthesis_sheet import add_scene_synthesis_sheet
 
@@ -281,33 +285,6 @@ def check_workbook_positions(scene, text: str, path: str, from_option: bool) -> 
     raise error(f"{what}: {n:,} positions need {n:,} columns, but a workbook holds at most "
                 f"{WORKBOOK_MAX_POSITIONS:,} (Excel's 16,384 columns less A-D); `sheetkin compute` "
                 f"takes up to {MAX_POSITIONS:,}")
-
-
-def existing_fingerprint(path) -> dict:
-    """What a workbook on disk says (every sheet's state, constants and formulas as written,
-    its charts' data references), read by the reader `validate` uses, through the same gate
-    and limits (sheetkin.xlsx.cells.read_book): `workbook --check` may meet any file under
-    that name (openpyxl took 2.66 GB and 101 s on a 41 MB one)."""
-    from sheetkin.xlsx.cells import read_book
-    from sheetkin.xlsx.package import open_package
-    raw = read_book(path)
-    out: dict = {name: (sh.state, sh.consts, sh.formulas) for name, sh in raw.sheets.items()}
-    pkg = open_package(path)
-    charts = sorted(n for n in pkg.names if n.startswith("xl/charts/chart"))
-    out["charts"] = [re.findall(r"<(?:c:)?f>([^<]*)</(?:c:)?f>", pkg.read(n).decode("utf-8", "replace"))
-                     for n in charts]
-    return out
-
-
-def built_fingerprint(wb) -> dict:
-    """existing_fingerprint() of an openpyxl workbook as it would be saved."""
-    import tempfile
-    with tempfile.TemporaryDirectory(prefix="sheetkin-check-") as tmp:
-        path = Path(tmp) / "built.xlsx"
-        # formulas as written: the cached values (CachedWorkbook.save evaluates them) are not compared
-        from openpyxl import Workbook
-        Workbook.save(wb, path)
-        return existing_fingerprint(path)
 
 
 def cmd_evaluate(args) -> int:

@@ -46,6 +46,7 @@ from sheetkin.sheet.workbook import (
     SCENE_SHEET,
     SHEET_TITLES,
     build_workbook,
+    embedded_scene_text,
     prefilled_in_exercise,
     sheet_rows,
 )
@@ -348,8 +349,7 @@ def _embedded_scene(book, path: str, options: issued.Options | None) -> tuple[Sc
     if SCENE_SHEET not in book.sheets:
         raise UnusableInput(f"{path}: no embedded scene (hidden sheet '{SCENE_SHEET}'); "
                             "expected a workbook made by `sheetkin workbook`")
-    lines = [book.sheets[SCENE_SHEET].consts.get((r, 1), "") for r in range(1, book.sheets[SCENE_SHEET].max_row + 1)]
-    scene_text = "\n".join(str(x) for x in lines) + "\n"
+    scene_text = embedded_scene_text(book.sheets[SCENE_SHEET])
     check_embedded_size(scene_text, path)
     try:
         scene = parse_scene(scene_text, f"{path} (embedded scene)")

@@ -547,10 +547,10 @@ def test_toggle_reactions_are_flagged_not_silent(tmp_path, capsys):
 
 def test_dynamics_charts_reference_the_rows():
     """Two more charts: M_bal with the powers, and every joint reaction's magnitude."""
-    from sheetkin.sheet.workbook import build_workbook, fingerprint
+    from sheetkin.sheet.workbook import build_workbook, built_fingerprint
     scene = sheetkin.load_scene(WORKBOOKS / "shaper_dynamics.toml")
     wb = build_workbook(scene)
-    charts = fingerprint(wb)["charts"]
+    charts = built_fingerprint(wb)["charts"]
     assert len(charts) == 7          # with the mechanism drawn at a chosen position
     rows = rows_of(wb.worksheets[0])
     flat = " ".join(" ".join(c) for c in charts)

@@ -20,7 +20,15 @@ from scenes import FOURBAR
 import sheetkin
 from sheetkin.cli.commands import main
 from sheetkin.kinematics.scene import override_crank
-from sheetkin.sheet.workbook import MARKERS, build_workbook, embedded_scene_text, fingerprint, write_workbook
+from sheetkin.sheet.workbook import (
+    MARKERS,
+    SCENE_SHEET,
+    build_workbook,
+    built_fingerprint,
+    embedded_scene_text,
+    write_workbook,
+)
+from sheetkin.xlsx.cells import read_book
 
 WORKBOOKS = Path(__file__).resolve().parents[2] / "workbooks"
 BUNDLED = sorted(p.stem for p in WORKBOOKS.glob("*.toml"))
@@ -357,14 +365,14 @@ def test_scene_is_embedded(tmp_path):
     text = (WORKBOOKS / "shaper.toml").read_text(encoding="utf-8")
     scene = sheetkin.parse_scene(text, "shaper.toml")
     write_workbook(scene, tmp_path / "b.xlsx", scene_text=text)
-    back = embedded_scene_text(tmp_path / "b.xlsx")
+    back = embedded_scene_text(read_book(tmp_path / "b.xlsx").sheets[SCENE_SHEET])
     assert back == text
     assert sheetkin.parse_scene(back, "shaper.toml") == scene
 
 
 def test_charts():
     scene = sheetkin.load_scene(WORKBOOKS / "fourbar.toml")
-    charts = fingerprint(build_workbook(scene))["charts"]
+    charts = built_fingerprint(build_workbook(scene))["charts"]
     assert len(charts) == 5          # the mechanism, trajectories, speeds, accelerations, omegas
     ws = build_workbook(scene).worksheets[0]
     rows = rows_of(ws)
@@ -398,7 +406,7 @@ def test_workbook_command_options(tmp_path, capsys):
                  "--lang", "en"]) == 0
     ws = openpyxl.load_workbook(out).worksheets[0]
     assert ws.max_column == 4 + 24
-    scene = sheetkin.parse_scene(embedded_scene_text(out))
+    scene = sheetkin.parse_scene(embedded_scene_text(read_book(out).sheets[SCENE_SHEET]))
     assert (scene.crank.positions, scene.crank.step_deg) == (24, -15.0)
     assert main(["workbook", str(src), str(WORKBOOKS / "fourbar.toml"), "-o", str(out)]) == 2
     assert main(["workbook", str(src), "-o", str(tmp_path / "s.txt")]) == 2
