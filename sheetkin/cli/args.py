@@ -46,7 +46,6 @@ def _positive_int(text: str) -> int:
 MAX_JOBS = max(4, 2 * (os.cpu_count() or 1))
 MAX_FRAMES, MAX_SIZE = 3600, 4000           # animate's caps (views.animate's, tested equal)
 FPS_RANGE = (0.1, 100.0)
-ANIMATE_CAPS: dict[str, object] = {"frames": MAX_FRAMES, "size": MAX_SIZE, "fps": FPS_RANGE}
 
 
 def _capped_int(cap: int, why: str):

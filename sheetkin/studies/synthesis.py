@@ -62,10 +62,6 @@ class CrankRocker:
     X_D: float
     branch: int          # the scene's RRR branch: side of B relative to the directed line A->D
 
-    @property
-    def frame_length(self) -> float:
-        return math.hypot(self.X_D, self.yd)
-
     def results(self) -> dict[str, float]:
         """The unknowns of the seed, under the names the CLI prints."""
         return {"l1": self.l1, "l2": self.l2, "phi1H_deg": self.phi1H_deg, "X_D": self.X_D}

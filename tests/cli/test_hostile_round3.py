@@ -96,8 +96,8 @@ def test_animation_caps(capsys, tmp_path, opt, value, cap):
 
 
 def test_animate_caps_agree_with_the_parser():
-    assert cli_args.ANIMATE_CAPS == {"frames": animate.MAX_FRAMES, "size": animate.MAX_SIZE,
-                                     "fps": (animate.MIN_FPS, animate.MAX_FPS)}
+    assert (cli_args.MAX_FRAMES, cli_args.MAX_SIZE, cli_args.FPS_RANGE) == \
+        (animate.MAX_FRAMES, animate.MAX_SIZE, (animate.MIN_FPS, animate.MAX_FPS))
     assert batch.max_jobs() == cli_args.MAX_JOBS
     with pytest.raises(animate.AnimationError):
         animate.check_caps(36, float("nan"), 320)

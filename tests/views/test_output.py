@@ -26,11 +26,17 @@ from sheetkin.cli.args import TOGGLE_THRESHOLD
 from sheetkin.errors import InputError
 from sheetkin.kinematics.table import TOGGLE_THRESHOLD as COMPUTE_TOGGLE_THRESHOLD
 from sheetkin.kinematics.table import AngleRange, Block
-from sheetkin.views.floatfmt import format_repr
+from sheetkin.views.floatfmt import repr_slots
 from sheetkin.views.output import Notes, _Text, write_compute
 
 ROOT = Path(sheetkin.__file__).parents[1]
 SHORT = FOURBAR.replace("lengths = [0.5, 0.34]", "lengths = [0.25, 0.34]")   # a group that cannot always assemble
+
+
+def format_repr(x) -> list[str]:
+    """[repr(float(v)) for v in x] through the bulk formatter ("" for non-finite values)."""
+    slots, _ = repr_slots(x)
+    return [row.tobytes().translate(None, b"\0").decode() for row in slots]
 
 
 def one_error_line(err, code, expected=2):
