@@ -1,7 +1,7 @@
 """The validator of student workbooks: which rows are right, which are wrong, and why.
 
 For one workbook:
-1. open it safely (xlsxsafe) and read the scene embedded in its hidden sheet;
+1. open it safely (sheetkin.xlsx.package) and read the scene embedded in its hidden sheet;
 2. take the student's input block (column D of the input rows) as their variant: the
    scene with those lengths, coordinates, branches, Fi0, Fi_t, Fi_tt, Delta_Fi, and as many
    positions as the sheet has columns;

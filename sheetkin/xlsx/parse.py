@@ -5,7 +5,7 @@ tree is nested tuples: ("const", value), ("ref", Ref), ("name", NAME), ("fn", NA
 offsets from the host cell, so one tree serves every cell of a run.
 
 Separate from evaluator.py because parsing needs no values and no workbook: the evaluator,
-its hostile-input checks (evaluator_limits.py) and the fuzz tests use it on its own. Its
+its hostile-input checks (limits.py) and the fuzz tests use it on its own. Its
 errors are ParseError (a formula that cannot be read) and Note (a cell's problem, with the
 error value the cell gets).
 """
