@@ -1,7 +1,7 @@
 """Hostile input, issue 23 (third round): work bounded by the caps, nothing lost, no exit 70
 from any input, no silent wrong answer. Each case of the issue is a test here (the signals
 and the killed worker: tests/cli/test_signals.py; the evaluator's functions:
-tests/xlsx/test_round3.py)."""
+tests/xlsx/test_excel_edge_cases.py)."""
 from __future__ import annotations
 
 import json
