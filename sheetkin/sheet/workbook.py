@@ -43,6 +43,7 @@ from sheetkin.groups.lang import unit as say_unit
 from sheetkin.groups.rows import (
     Builder,
     Row,
+    RowKind,
     Text,
     Texts,
     carried_rows,
@@ -329,7 +330,7 @@ class _Layout:
     where: dict[str, int]
     templates: dict[str, str]
     cols: list[str]
-    kinds: dict[str, str]
+    kinds: dict[str, RowKind]
     text: dict[str, str]
     marker: str
     lang: str

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import html
 from dataclasses import dataclass, field
+from typing import Literal
 
 import numpy as np
 
@@ -35,14 +36,19 @@ from sheetkin.kinematics.geometry import (
 from sheetkin.kinematics.scene import Scene
 from sheetkin.kinematics.table import assembly_gaps, compute
 
+# what a shape is, and what it stands for in the drawing (its role picks the style, STYLES)
+ShapeKind = Literal["line", "polygon", "dot", "text", "arrow"]
+Role = Literal["trace", "trace_gap", "toggle", "ground", "hatch", "guide", "slot", "link", "block",
+               "joint", "point", "vector", "label", "link_label"]
+
 
 @dataclass(frozen=True)
 class Shape:
     """One drawn item in scene coordinates. kind: line (open polyline), polygon (closed),
     dot, text, arrow (xy: tail, head). role picks the style (see STYLES)."""
-    kind: str
+    kind: ShapeKind
     xy: np.ndarray
-    role: str
+    role: Role
     text: str = ""
 
 
@@ -59,7 +65,7 @@ class Picture:
 
 
 # role -> stroke colour, stroke width (px), fill, dash
-STYLES = {
+STYLES: dict[Role, tuple[str, float, str | None, str | None]] = {
     "trace": ("#9bb7d4", 1.0, None, None),
     "trace_gap": ("#d62728", 1.2, None, "3,2"),
     "toggle": ("#d62728", 1.5, None, None),
@@ -179,49 +185,82 @@ def frame_shapes(scene: Scene, row, st: Structure, spans, r: float, *, vectors: 
                  labels: bool = True) -> list[Shape]:
     """The mechanism at one position: `row` is a one-row DataFrame of compute()'s table.
     vectors > 0 draws each point's velocity, `vectors` metres of drawing per m/s."""
-    out: list[Shape] = []
     at = {}
     for pts in st.members.values():
         for p in pts:
             if p not in at:
                 at[p] = point_xy(scene, row, p)[0]
+    out = _moving_guides(scene, row, st, spans, r) + _links(st, at) + _blocks(scene, row, st, at, r)
+    joints = set(scene.moving_joints) | set(st.pivots)
+    for p, xy in at.items():
+        if np.isfinite(xy).all():
+            out.append(Shape("dot", xy[None, :], "joint" if p in joints else "point"))
+    if vectors:
+        out += _velocities(scene, row, at, vectors, r)
+    if labels:
+        out += _labels(st, at, r)
+    return out
+
+
+def _moving_guides(scene: Scene, row, st: Structure, spans, r: float) -> list[Shape]:
+    """A slot or a guide on a moving link moves with it (the fixed ones are background)."""
+    out = []
     for g, (t0, t1) in zip(st.guides, spans, strict=False):
-        if g.link != 0:          # a slot or a guide on a moving link moves with it
+        if g.link != 0:
             base, u = guide_frame(scene, row, g)
             if np.isfinite(base).all() and np.isfinite(u).all():
                 out.append(Shape("line", np.array([base[0] + (t0 - r) * u[0], base[0] + (t1 + r) * u[0]]), "slot"))
+    return out
+
+
+def _links(st: Structure, at: dict[str, np.ndarray]) -> list[Shape]:
+    """Each link as the convex hull of its points (a segment for two)."""
+    out = []
     for pts in st.members.values():
         xy = np.array([at[p] for p in pts])
         if not np.isfinite(xy).all() or len(xy) < 2:
             continue
         hull = _hull(xy)
         out.append(Shape("polygon" if len(hull) >= 3 else "line", hull, "link"))
+    return out
+
+
+def _blocks(scene: Scene, row, st: Structure, at: dict[str, np.ndarray], r: float) -> list[Shape]:
+    """The sliders: a rectangle on its guide's direction, centred on its point."""
+    out = []
     for b in st.blocks:
-        base, u = guide_frame(scene, row, b.guide)
+        _, u = guide_frame(scene, row, b.guide)
         c = at.get(b.at, point_xy(scene, row, b.at)[0])
         if np.isfinite(c).all() and np.isfinite(u).all():
             out.append(Shape("polygon", _rect(c, u[0], 1.3 * r, 0.75 * r), "block"))
-    joints = set(scene.moving_joints) | set(st.pivots)
+    return out
+
+
+def _velocities(scene: Scene, row, at: dict[str, np.ndarray], vectors: float, r: float) -> list[Shape]:
+    """Each moving point's velocity as an arrow, `vectors` metres of drawing per m/s (a
+    speed too small to see is left out)."""
+    out = []
+    for p in moving_points(scene):
+        tail = at.get(p)
+        if tail is None or not np.isfinite(tail).all():
+            continue
+        v = np.array([float(row[f"vx_{p}"].iloc[0]), float(row[f"vy_{p}"].iloc[0])])
+        if np.isfinite(v).all() and np.hypot(*v) * vectors > 0.2 * r:
+            out.append(Shape("arrow", np.array([tail, tail + vectors * v]), "vector", f"v_{p}"))
+    return out
+
+
+def _labels(st: Structure, at: dict[str, np.ndarray], r: float) -> list[Shape]:
+    """The points' names beside them, and each link's number at its middle."""
+    out = []
     for p, xy in at.items():
         if np.isfinite(xy).all():
-            out.append(Shape("dot", xy[None, :], "joint" if p in joints else "point"))
-    if vectors:
-        for p in moving_points(scene):
-            tail = at.get(p)
-            if tail is None or not np.isfinite(tail).all():
-                continue
-            v = np.array([float(row[f"vx_{p}"].iloc[0]), float(row[f"vy_{p}"].iloc[0])])
-            if np.isfinite(v).all() and np.hypot(*v) * vectors > 0.2 * r:
-                out.append(Shape("arrow", np.array([tail, tail + vectors * v]), "vector", f"v_{p}"))
-    if labels:
-        for p, xy in at.items():
-            if np.isfinite(xy).all():
-                out.append(Shape("text", xy[None, :] + np.array([[0.9 * r, 0.6 * r]]), "label", p))
-        for k, pts in st.members.items():
-            xy = np.array([at[p] for p in pts])
-            if np.isfinite(xy).all():
-                c = xy.mean(axis=0) if len(xy) > 1 else xy[0] + np.array([-1.8 * r, 1.2 * r])
-                out.append(Shape("text", c[None, :] + np.array([[-0.4 * r, -1.4 * r]]), "link_label", str(k)))
+            out.append(Shape("text", xy[None, :] + np.array([[0.9 * r, 0.6 * r]]), "label", p))
+    for k, pts in st.members.items():
+        xy = np.array([at[p] for p in pts])
+        if np.isfinite(xy).all():
+            c = xy.mean(axis=0) if len(xy) > 1 else xy[0] + np.array([-1.8 * r, 1.2 * r])
+            out.append(Shape("text", c[None, :] + np.array([[-0.4 * r, -1.4 * r]]), "link_label", str(k)))
     return out
 
 
