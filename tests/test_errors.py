@@ -8,7 +8,7 @@ import inspect
 import pkgutil
 
 import pytest
-from clirun import run
+from helpers.clirun import run
 
 import sheetkin
 import sheetkin.cli.commands as commands

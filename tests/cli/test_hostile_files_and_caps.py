@@ -13,7 +13,7 @@ import zipfile
 from pathlib import Path
 
 import pytest
-from clirun import run
+from helpers.clirun import run
 
 from sheetkin.cli import args as cli_args
 from sheetkin.course import batch

@@ -1,4 +1,4 @@
-"""A sixth group kind is one module plus one registry line: tests/toykind.py, registered
+"""A sixth group kind is one module plus one registry line: tests/helpers/toykind.py, registered
 at run time, is seen by compute, the workbook (recalculated by LibreOffice), the charts
 sheet and the drawing, none of which names it. Its mechanism is RRP's on a fixed guide,
 so an RRP twin of the scene is the oracle for compute."""
@@ -10,8 +10,8 @@ import types
 import numpy as np
 import openpyxl
 import pytest
-import toykind  # noqa: E402  (tests/ is on sys.path)
-from libreoffice import recalculate
+from helpers import toykind
+from helpers.libreoffice import recalculate
 
 import sheetkin
 from sheetkin.groups import KINDS, register, unregister

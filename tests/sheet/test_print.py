@@ -9,7 +9,7 @@ import subprocess
 from pathlib import Path
 
 import pytest
-from libreoffice import render_pdf
+from helpers.libreoffice import render_pdf
 
 import sheetkin
 from sheetkin.sheet.printing import POSITIONS_PER_PAGE, column_strips

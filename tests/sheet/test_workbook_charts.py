@@ -12,8 +12,8 @@ from pathlib import Path
 import numpy as np
 import openpyxl
 import pytest
-from libreoffice import is_error, recalculate
-from scenes import SHORT  # noqa: E402  (tests/ is on sys.path)
+from helpers.libreoffice import is_error, recalculate
+from helpers.scenes import SHORT
 
 import sheetkin
 from sheetkin.kinematics import geometry

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from scenes import SHORT  # noqa: E402  (tests/ is on sys.path)
+from helpers.scenes import SHORT
 
 import sheetkin
 from sheetkin.cli.commands import main

@@ -16,10 +16,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from clirun import run
+from helpers.clirun import run
+from helpers.scenes import FOURBAR  # noqa: E402
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from scenes import FOURBAR  # noqa: E402
 
 import sheetkin
 from sheetkin.cli.args import TOGGLE_THRESHOLD
