@@ -31,6 +31,7 @@ def _draw_scene(scene: Scene) -> str:
 
 # the package sits above every stage: it wires the view into the scene's notebook hook
 _scene.draw_in_notebook = _draw_scene
+del _scene
 
 # name -> the module that defines it, imported when the name is first used
 _LAZY = {"Gap": "sheetkin.kinematics.table", "column_names": "sheetkin.kinematics.table",

@@ -32,12 +32,12 @@ from .caps import (
 )
 
 GROUP_TYPES = tuple(KINDS)
+NAME_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 
 # How a Scene draws itself in a notebook (Scene._repr_svg_): the drawing lives in
 # sheetkin.views, above this stage, so the package installs it here (sheetkin/__init__.py)
 # rather than the scene importing a view.
 draw_in_notebook: Callable[[Scene], str] | None = None
-NAME_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 
 
 class AssemblyError(InputError):
