@@ -3,7 +3,7 @@
     python benchmarks/evaluator_memory.py [--out DIR] [--keep] [--parts distinct,runs,notes]
 
 Run on demand, not by the tests. Builds (XML written directly, no openpyxl) one workbook
-that sits at the documented limits of xlsxsafe.Limits and the evaluator (README, "What
+that sits at the documented limits of sheetkin.xlsx.package.Limits and the evaluator (README, "What
 files the evaluator reads"), about 50 MB on disk, then evaluates it in a child process
 (`sheetkin.xlsx.evaluator.evaluate(path, strict=False)`) and reports the child's peak resident
 memory (VmHWM from /proc/self/status, and ru_maxrss) and wall time, for the whole run and

@@ -19,7 +19,19 @@ from typing import Any
 
 __version__ = "0.2.0"
 
+from sheetkin.kinematics import scene as _scene  # noqa: E402
 from sheetkin.kinematics.scene import AssemblyError, Scene, SceneError, load_scene, parse_scene  # noqa: E402
+
+
+def _draw_scene(scene: Scene) -> str:
+    """A Scene in a notebook: the drawing (sheetkin.views, loaded on first use)."""
+    from sheetkin.views.notebook import scene_repr_svg
+    return scene_repr_svg(scene)
+
+
+# the package sits above every stage: it wires the view into the scene's notebook hook
+_scene.draw_in_notebook = _draw_scene
+del _scene
 
 # name -> the module that defines it, imported when the name is first used
 _LAZY = {"Gap": "sheetkin.kinematics.table", "column_names": "sheetkin.kinematics.table",

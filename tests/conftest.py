@@ -5,9 +5,10 @@ import os
 import shutil
 
 import pytest
-from engines import GNUMERIC_HINT, ssconvert_path
+from helpers.engines import GNUMERIC_HINT, ssconvert_path
+from helpers.libreoffice import SETUP_HINT, soffice_path
+from helpers.programs import require
 from hypothesis import settings
-from libreoffice import SETUP_HINT, soffice_path
 
 # Under CI the property tests draw the same examples every run (a red CI names a real
 # failure, reproducible with CI=true); elsewhere they explore new examples each run.
@@ -16,32 +17,23 @@ if os.environ.get("CI", "").lower() not in ("", "0", "false", "no"):
     settings.load_profile("ci")
 
 
-def _require(path: str | None, hint: str) -> str:
-    """`path`, or skip with `hint`; under CI (env CI set) a missing program fails instead."""
-    if path is None:
-        if os.environ.get("CI", "").lower() not in ("", "0", "false", "no"):
-            pytest.fail(f"{hint} (CI is set: missing programs fail instead of skipping)", pytrace=False)
-        pytest.skip(hint)
-    return path
-
-
 @pytest.fixture(scope="session")
 def soffice() -> str:
     """Path of LibreOffice's soffice."""
-    return _require(soffice_path(), SETUP_HINT)
+    return require(soffice_path(), SETUP_HINT)
 
 
 @pytest.fixture(scope="session")
 def ssconvert() -> str:
     """Path of Gnumeric's ssconvert (the third spreadsheet engine, `ssconvert --recalc`; also
     books re-saved as Gnumeric saves them)."""
-    return _require(ssconvert_path(), GNUMERIC_HINT)
+    return require(ssconvert_path(), GNUMERIC_HINT)
 
 
 @pytest.fixture(scope="session")
 def pdftoppm() -> str:
     """Path of poppler's pdftoppm (renders README pictures)."""
-    return _require(shutil.which("pdftoppm"), "pdftoppm not found: run `bash tests/setup.sh` (poppler-utils)")
+    return require(shutil.which("pdftoppm"), "pdftoppm not found: run `bash tests/setup.sh` (poppler-utils)")
 
 
 # Markers from what a test needs, so `pytest -m "not libreoffice and not browser and not gnumeric"`

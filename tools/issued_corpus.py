@@ -14,7 +14,7 @@ did (`tests/course/test_issued_corpus.py`). Rerun only to add a released version
     python tools/issued_corpus.py 0.1.0=3032383 0.2.0=223431f
 
 Each version is checked out into a temporary git worktree and run there (its own code makes
-its own books); the students' edits are made with tests/studentbooks.py (LibreOffice + UNO).
+its own books); the students' edits are made with tests/helpers/studentbooks.py (LibreOffice + UNO).
 """
 from __future__ import annotations
 
@@ -27,7 +27,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tests"))
 
-from studentbooks import Recipe, key_formulas, key_values, make_books  # noqa: E402
+from helpers.studentbooks import Recipe, key_formulas, key_values, make_books  # noqa: E402
 
 SCHEMES = ("fourbar", "crank_slider", "slotted_lever", "shaper")
 WRONG_ROW = {"fourbar": "vx_A", "crank_slider": "vx_A", "slotted_lever": "vx_A", "shaper": "vx_A"}

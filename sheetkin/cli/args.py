@@ -10,7 +10,7 @@ import os
 import re
 
 from sheetkin import __version__
-from sheetkin.kinematics.scene import MAX_MAGNITUDE, MAX_POSITIONS
+from sheetkin.kinematics.caps import MAX_MAGNITUDE, MAX_POSITIONS
 
 EXIT_INPUT = 2              # an unusable input or option (argparse's own exit code for a bad option)
 _NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-(inf|infinity|nan)$", re.I)
@@ -46,7 +46,6 @@ def _positive_int(text: str) -> int:
 MAX_JOBS = max(4, 2 * (os.cpu_count() or 1))
 MAX_FRAMES, MAX_SIZE = 3600, 4000           # animate's caps (views.animate's, tested equal)
 FPS_RANGE = (0.1, 100.0)
-ANIMATE_CAPS: dict[str, object] = {"frames": MAX_FRAMES, "size": MAX_SIZE, "fps": FPS_RANGE}
 
 
 def _capped_int(cap: int, why: str):

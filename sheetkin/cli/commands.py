@@ -2,10 +2,11 @@
 `sheetkin bench SCENE.toml --out DIR`, `sheetkin synth crank-rocker ...`, ...
 
 Exit codes: 0 done, 1 `workbook --check` found a stale or missing workbook, 2 unusable
-input (a scene mistake, a bad option) or unwritable output (a full disk, a closed pipe, an
-output option naming an input file), 3 the mechanism cannot be assembled at some
-requested position (the message gives the intervals), 70 a bug (one line asking to report
-it; SHEETKIN_DEBUG=1 shows the traceback).
+input (an InputError of sheetkin.errors: a scene mistake, a refused workbook; a UsageError:
+a bad option, an output option naming an input file) or unwritable output (an OSError: a
+full disk, a closed pipe), 3 the mechanism cannot be assembled at some requested position
+(AssemblyError; the message gives the intervals), 70 anything else: a bug (one line asking
+to report it; SHEETKIN_DEBUG=1 shows the traceback).
 Every error is one line on stderr; no traceback reaches the user. The commands' options
 and their help texts are in sheetkin/cli/args.py; this module runs the commands.
 """
@@ -15,7 +16,6 @@ import contextlib
 import io
 import json
 import os
-import re
 import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING
 # quickly, and each command imports what it needs (numpy, pandas, openpyxl, matplotlib)
 # inside its function (tests/cli/test_startup.py checks which modules a command loads).
 from sheetkin import __version__
+from sheetkin.errors import InputError, UsageError
 from sheetkin.files import read_text, shown, write_file
 from sheetkin.kinematics.scene import (
     MAX_POSITIONS,
@@ -37,7 +38,7 @@ from sheetkin.kinematics.scene import (
     override_crank,
 )
 
-from .args import EXIT_INPUT, TOGGLE_THRESHOLD, build_parser  # noqa: F401 (TOGGLE_THRESHOLD: re-exported)
+from .args import EXIT_INPUT, build_parser
 
 if TYPE_CHECKING:                 # names for annotations only: the commands import on use
     from sheetkin.kinematics.table import AngleRange
@@ -77,7 +78,7 @@ def cmd_animate(args) -> int:
     from sheetkin.views.animate import FORMATS, animate, stderr_progress
     scene = load_scene(args.scene)
     if Path(args.output).suffix.lower() not in FORMATS:
-        raise SceneError(f"{args.output}: expected a file name ending in {', '.join(FORMATS)}")
+        raise UsageError(f"{args.output}: expected a file name ending in {', '.join(FORMATS)}")
     show = args.progress == "always" or (args.progress == "auto" and sys.stderr.isatty())
     pic = animate(scene, args.output, frames=args.frames, fps=args.fps, size=args.size,
                   vectors=args.vectors, labels=not args.no_labels, allow_gaps=args.allow_gaps,
@@ -101,7 +102,7 @@ def cmd_examples(args) -> int:
 
     out = Path(args.dir)
     if out.exists() and not out.is_dir():
-        raise SceneError(f"{out}: not a folder")
+        raise UsageError(f"{out}: not a folder")
     out.mkdir(parents=True, exist_ok=True)
     scenes = sorted((p for p in files("sheetkin.examples").iterdir() if p.name.endswith(".toml")),
                     key=lambda p: p.name)
@@ -145,7 +146,8 @@ def cmd_docs(args) -> int:
     folder = _docs_folder()
     pages = {p.stem: p for p in sorted(folder.glob("*.md"), key=lambda p: p.stem)} if folder else {}
     if not pages:
-        raise SceneError("the documentation pages are not installed (sheetkin.docs is missing)")
+        # an installation without its data: the user's to mend (reinstall), so one line, exit 2
+        raise InputError("the documentation pages are not installed (sheetkin.docs is missing)")
     if args.page is None:
         width = max(map(len, pages))
         for name, path in pages.items():
@@ -159,7 +161,7 @@ def cmd_docs(args) -> int:
         name = next((f"{name}.{lang}" for lang in (user_lang(getattr(args, "lang", None)), "ru", "en")
                      if f"{name}.{lang}" in pages), name)
     if name not in pages:
-        raise SceneError(f"no documentation page {args.page!r}; the pages: {', '.join(pages)}")
+        raise UsageError(f"no documentation page {args.page!r}; the pages: {', '.join(pages)}")
     text = pages[name].read_text(encoding="utf-8")
     # the CLI reference is generated from the parser when the site is built; here, the same text
     text = text.replace("<!-- cli-reference -->", "See `sheetkin --help` and `sheetkin COMMAND --help`.")
@@ -202,7 +204,7 @@ def cmd_compute(args) -> int:
     from .angles import parse_range, read_angles
     scene = load_scene(args.scene)
     if args.dynamics and not scene.has_dynamics:
-        raise SceneError(f"{args.scene}: --dynamics needs [[mass]] and/or [[force]] tables in the "
+        raise UsageError(f"{args.scene}: --dynamics needs [[mass]] and/or [[force]] tables in the "
                          "scene (and `gravity = [gx, gy]` for weight); see `sheetkin docs dynamics`")
     phi: AngleRange | np.ndarray     # a --range streams in blocks; other angles are one array
     if args.range is not None:
@@ -222,12 +224,17 @@ def cmd_compute(args) -> int:
 
 
 def cmd_workbook(args) -> int:
-    from sheetkin.sheet.workbook import WorkbookTooLarge, build_workbook  # openpyxl only here
+    from sheetkin.sheet.workbook import (  # openpyxl only here
+        WorkbookTooLarge,
+        build_workbook,
+        built_fingerprint,
+        existing_fingerprint,
+    )
     from sheetkin.studies.synthesis import parse_synthesis
     from sheetkin.studies.synthesis_sheet import add_scene_synthesis_sheet
 
     if args.output and len(args.scenes) > 1:
-        raise SceneError(f"-o names one file, but {len(args.scenes)} scenes were given")
+        raise UsageError(f"-o names one file, but {len(args.scenes)} scenes were given")
     overrides = {k: v for k, v in (("positions", args.positions), ("step_deg", args.step_deg),
                                    ("phi0_deg", args.phi0_deg)) if v is not None}
     stale = 0
@@ -241,12 +248,12 @@ def cmd_workbook(args) -> int:
             Path(path).stem + ("-exercise" if args.exercise else "") + ".xlsx")
         synthesis = parse_synthesis(text, path)
         if synthesis is None and args.synthesis:
-            raise SceneError(f"{path}: --synthesis: the scene has no [synthesis] table (the data "
+            raise UsageError(f"{path}: --synthesis: the scene has no [synthesis] table (the data "
                              "of `sheetkin synth crank-rocker`, which writes it with -o)")
         try:
             wb = build_workbook(scene, lang=args.lang, exercise=args.exercise, scene_text=text)
         except WorkbookTooLarge as e:
-            raise SceneError(f"{path}: {e}") from None
+            raise InputError(f"{path}: {e}") from None
         if synthesis is not None:
             for w in add_scene_synthesis_sheet(wb, scene, synthesis, lang=args.lang):
                 print(f"sheetkin: warning: {path}: {w}: the synthesis sheet's check rows "
@@ -262,7 +269,7 @@ def cmd_workbook(args) -> int:
                 print(f"{out}: up to date")
             continue
         if out.suffix.lower() != ".xlsx":
-            raise SceneError(f"{out}: expected a file name ending in .xlsx")
+            raise UsageError(f"{out}: expected a file name ending in .xlsx")
         save_workbook(wb, out)
         print(f"{out}: {scene.crank.positions} positions, {len(scene.groups)} group(s), "
               f"{len(scene.points)} point(s)" + (", synthesis sheet" if synthesis else ""),
@@ -278,36 +285,11 @@ def check_workbook_positions(scene, text: str, path: str, from_option: bool) -> 
         return
     what = "--positions" if from_option else (f"{path}:{key_line(text, 'crank', 'positions') or '?'}: "
                                               "[crank] key 'positions'")
-    raise SceneError(f"{what}: {n:,} positions need {n:,} columns, but a workbook holds at most "
-                     f"{WORKBOOK_MAX_POSITIONS:,} (Excel's 16,384 columns less A-D); `sheetkin compute` "
-                     f"takes up to {MAX_POSITIONS:,}")
-
-
-def existing_fingerprint(path) -> dict:
-    """What a workbook on disk says (every sheet's state, constants and formulas as written,
-    its charts' data references), read by the reader `validate` uses, through the same gate
-    and limits (sheetkin.xlsx.cells.read_book): `workbook --check` may meet any file under
-    that name (openpyxl took 2.66 GB and 101 s on a 41 MB one)."""
-    from sheetkin.xlsx.cells import read_book
-    from sheetkin.xlsx.package import open_package
-    raw = read_book(path)
-    out: dict = {name: (sh.state, sh.consts, sh.formulas) for name, sh in raw.sheets.items()}
-    pkg = open_package(path)
-    charts = sorted(n for n in pkg.names if n.startswith("xl/charts/chart"))
-    out["charts"] = [re.findall(r"<(?:c:)?f>([^<]*)</(?:c:)?f>", pkg.read(n).decode("utf-8", "replace"))
-                     for n in charts]
-    return out
-
-
-def built_fingerprint(wb) -> dict:
-    """existing_fingerprint() of an openpyxl workbook as it would be saved."""
-    import tempfile
-    with tempfile.TemporaryDirectory(prefix="sheetkin-check-") as tmp:
-        path = Path(tmp) / "built.xlsx"
-        # formulas as written: the cached values (CachedWorkbook.save evaluates them) are not compared
-        from openpyxl import Workbook
-        Workbook.save(wb, path)
-        return existing_fingerprint(path)
+    # --positions is an option that does not fit; [crank] positions a scene's value
+    error = UsageError if from_option else SceneError
+    raise error(f"{what}: {n:,} positions need {n:,} columns, but a workbook holds at most "
+                f"{WORKBOOK_MAX_POSITIONS:,} (Excel's 16,384 columns less A-D); `sheetkin compute` "
+                f"takes up to {MAX_POSITIONS:,}")
 
 
 def cmd_evaluate(args) -> int:
@@ -315,7 +297,7 @@ def cmd_evaluate(args) -> int:
     from sheetkin.xlsx.evaluator import evaluate, rows_csv, rows_table  # no pandas: rows_frame is the API's
     book = _evaluate_one_line(evaluate, args.book)
     if args.sheet and args.sheet not in book.sheets:
-        raise SceneError(f"{args.book}: no sheet {args.sheet!r}; sheets: {', '.join(book.order)}")
+        raise UsageError(f"{args.book}: no sheet {args.sheet!r}; sheets: {', '.join(book.order)}")
     if args.format == "csv":
         text = rows_csv(book, args.sheet)
     else:
@@ -351,17 +333,15 @@ def strict_json_rows(names: list[str], data: list[list]) -> tuple[dict, list[str
 
 
 def _evaluate_one_line(evaluate, path):
-    """evaluate(path), every failure one line: the evaluator's own errors (a cell's
-    problem with strict evaluation, a refused file) pass as they are; anything else (a bug
-    of ours, memory) becomes an EvaluationError naming the file, never a traceback."""
+    """evaluate(path), every failure one line: the user's to mend (an InputError: a cell's
+    problem with strict evaluation, a refused workbook; an OSError: a refused file) pass as
+    they are; anything else (a bug of ours, memory) becomes an EvaluationError naming the
+    file, never a traceback."""
     from sheetkin.xlsx.evaluator import EvaluationError
     try:
         return evaluate(path)
-    except (ValueError, OSError) as e:
-        if isinstance(e, OSError) or type(e).__module__.startswith("sheetkin."):
-            raise
-        raise EvaluationError(f"{path}: cannot be evaluated ({type(e).__name__}: {' '.join(str(e).split())[:200]}); "
-                              "please report this file to sheetkin's authors") from None
+    except (InputError, OSError):
+        raise
     except Exception as e:      # noqa: BLE001 - RecursionError, MemoryError, a bug: one line, exit 2
         raise EvaluationError(f"{path}: cannot be evaluated ({type(e).__name__}: {' '.join(str(e).split())[:200]}); "
                               "please report this file to sheetkin's authors") from None
@@ -435,18 +415,18 @@ def _same_file(a: str, b: str) -> bool:
 
 
 def refuse_overwriting_inputs(args) -> None:
-    """Raise SceneError (one line) if an output option names an input file of the command,
+    """Raise UsageError (one line) if an output option names an input file of the command,
     or two outputs name one file: `evaluate b.xlsx -o b.xlsx` and `validate b.xlsx --html
     b.xlsx` used to overwrite the student's workbook."""
     outputs, inputs = _command_files(args)
     for k, (opt, path) in enumerate(outputs):
         for inp in inputs:
             if os.path.lexists(path) and _same_file(path, inp):
-                raise SceneError(f"{path}: {opt} names the input file {inp}; refusing to overwrite it "
+                raise UsageError(f"{path}: {opt} names the input file {inp}; refusing to overwrite it "
                                  "(choose another output name)")
         for opt2, other in outputs[k + 1:]:
             if opt2 != opt and _same_file(path, other):
-                raise SceneError(f"{path}: both {opt} and {opt2} name this file; choose two names")
+                raise UsageError(f"{path}: both {opt} and {opt2} name this file; choose two names")
 
 
 def _validation_files(paths: list[str], strict: bool = True) -> list[Path]:
@@ -629,8 +609,7 @@ def cmd_bench(args) -> int:
     if args.stability:
         return _cmd_stability(args)
     if args.scene is None:
-        print("sheetkin: error: bench: a SCENE.toml is needed (or --stability)", file=sys.stderr)
-        return EXIT_INPUT
+        raise UsageError("bench: a SCENE.toml is needed (or --stability)")
     scene = load_scene(args.scene)
     table, warnings = run_bench(scene, args.positions, args.out, libreoffice=not args.no_libreoffice)
     sys.stdout.write(format_bench(table))
@@ -643,9 +622,7 @@ def cmd_bench(args) -> int:
 def _cmd_stability(args) -> int:
     from sheetkin.studies.stability import format_stability, stability_study
     if args.scene is not None:
-        print("sheetkin: error: bench --stability builds its own scenes: give no SCENE.toml",
-              file=sys.stderr)
-        return EXIT_INPUT
+        raise UsageError("bench --stability builds its own scenes: give no SCENE.toml")
     table, warnings, _ = stability_study(args.out)
     sys.stdout.write(format_stability(table))
     print(f"{Path(args.out) / 'stability.csv'}, {Path(args.out) / 'stability.png'}: written",
@@ -659,7 +636,7 @@ def cmd_synth(args) -> int:
     from sheetkin.kinematics.scene import parse_scene
     from sheetkin.studies.synthesis import parse_synthesis, synthesize_crank_rocker
     if args.omega <= 0:
-        raise SceneError(f"--omega {args.omega:g}: expected a positive angular velocity (the "
+        raise UsageError(f"--omega {args.omega:g}: expected a positive angular velocity (the "
                          "working stroke gamma1 -> gamma2 needs the crank turning counterclockwise)")
     mech = synthesize_crank_rocker(args.kw, args.l3, args.yd, args.gamma1_deg, args.gamma2_deg)
     res = mech.results()
@@ -785,14 +762,14 @@ def _run(args) -> int:
                 "examples": cmd_examples, "docs": cmd_docs}[args.command](args)
         _flush_stdout()
         return code
-    except SceneError as e:
-        print(f"sheetkin: error: {e}", file=sys.stderr)
-        return EXIT_INPUT
-    except AssemblyError as e:
+    except AssemblyError as e:          # an InputError with its own exit code: before them
         # the Python API says allow_gaps=True; on the command line it is the option
         said = str(e).replace("allow_gaps=True", "--allow-gaps")
         print(f"sheetkin: error: {getattr(args, 'scene', '')}: {said}", file=sys.stderr)
         return EXIT_ASSEMBLY
+    except InputError as e:             # the user's to mend (UsageError among them): one line
+        print(one_line(f"sheetkin: error: {e}", 2000), file=sys.stderr)
+        return EXIT_INPUT
     except BrokenPipeError:
         raise
     except OSError as e:
@@ -810,11 +787,7 @@ def _run(args) -> int:
     except KeyboardInterrupt:
         print("sheetkin: interrupted", file=sys.stderr)
         return EXIT_SIGINT
-    except Exception as e:
-        # UnusableWorkbook, EvaluationError and the like: their message is the one line
-        if isinstance(e, ValueError) and type(e).__module__.startswith("sheetkin."):
-            print(one_line(f"sheetkin: error: {e}", 2000), file=sys.stderr)
-            return EXIT_INPUT
+    except Exception as e:              # outside the family (sheetkin.errors): a bug of ours
         if os.environ.get("SHEETKIN_DEBUG"):
             raise
         print(one_line(f"sheetkin: internal error: {type(e).__name__}: {e} (a bug in sheetkin "

@@ -91,7 +91,7 @@ def _as_lecture(sheet, r: int, reference, rr: int, first_col: int, positions: in
 def submission_marks(sheet, rows: dict[str, int], first_col: int, positions: int,
                      reference=None, ref_rows: dict[str, int] | None = None,
                      inputs: dict | None = None, ancestors: dict | None = None) -> dict:
-    """What copy detection needs from a student's sheet (an xlsxread.Sheet): `typed`:
+    """What copy detection needs from a student's sheet (a sheetkin.xlsx.cells.Sheet): `typed`:
     {(row name, position 1..n): number} of the numbers typed in computed rows; `formulas`:
     {row name: digest of the row's relative formulas} of the rows whose formulas are not
     the lecture's (the reference sheet's, at ref_rows): the lecture's formulas are

@@ -1,7 +1,7 @@
 """The validator of student workbooks: which rows are right, which are wrong, and why.
 
 For one workbook:
-1. open it safely (xlsxsafe) and read the scene embedded in its hidden sheet;
+1. open it safely (sheetkin.xlsx.package) and read the scene embedded in its hidden sheet;
 2. take the student's input block (column D of the input rows) as their variant: the
    scene with those lengths, coordinates, branches, Fi0, Fi_t, Fi_tt, Delta_Fi, and as many
    positions as the sheet has columns;
@@ -32,6 +32,7 @@ from typing import cast
 
 import numpy as np
 
+from sheetkin.errors import InputError
 from sheetkin.groups import kind_of
 from sheetkin.groups.group import Group
 from sheetkin.kinematics.scene import Point, Scene, SceneError, parse_scene
@@ -45,6 +46,7 @@ from sheetkin.sheet.workbook import (
     SCENE_SHEET,
     SHEET_TITLES,
     build_workbook,
+    embedded_scene_text,
     prefilled_in_exercise,
     sheet_rows,
 )
@@ -92,7 +94,7 @@ def check_embedded_scene(scene: Scene, path: str) -> None:
                             f"books of at most {MAX_REFERENCE_CELLS:,}")
 
 
-class UnusableInput(ValueError):
+class UnusableInput(InputError):
     """A workbook that cannot be validated at all; str() is one line naming the file."""
 
 
@@ -347,8 +349,7 @@ def _embedded_scene(book, path: str, options: issued.Options | None) -> tuple[Sc
     if SCENE_SHEET not in book.sheets:
         raise UnusableInput(f"{path}: no embedded scene (hidden sheet '{SCENE_SHEET}'); "
                             "expected a workbook made by `sheetkin workbook`")
-    lines = [book.sheets[SCENE_SHEET].consts.get((r, 1), "") for r in range(1, book.sheets[SCENE_SHEET].max_row + 1)]
-    scene_text = "\n".join(str(x) for x in lines) + "\n"
+    scene_text = embedded_scene_text(book.sheets[SCENE_SHEET])
     check_embedded_size(scene_text, path)
     try:
         scene = parse_scene(scene_text, f"{path} (embedded scene)")

@@ -4,7 +4,7 @@
 contract's "Group types", docs/scene-format.md). The scene parser, the solver, the
 workbook writer, the dynamics (numpy and sheet), the bench and the validator iterate over
 a scene's groups and ask `kind_of(g)`; none of them tests a kind's name. Adding a kind is
-one new module here, one line in `KINDS`, its tests (tests/kinds.py) and a bundled scene
+one new module here, one line in `KINDS`, its tests (tests/helpers/kinds.py) and a bundled scene
 (docs/adding-a-kind.md); a kind kept outside the package is one call to `register`. The
 surface below is typed as `protocol.KindModule`, which mypy checks every kind against.
 

@@ -13,7 +13,6 @@ A leaf module: the row builders, the workbook writer and the reports read it.
 from __future__ import annotations
 
 LANGS = ("ru", "uk", "en")
-DEFAULT = "ru"
 
 _UNITS_CYR = {"m": "м", "deg": "град", "rad": "рад", "rad/s": "рад/с", "rad/s^2": "рад/с²", "m/s": "м/с",
               "m/s^2": "м/с²", "m^2": "м²", "m^2/s": "м²/с", "m^2/s^2": "м²/с²", "N": "Н", "N m": "Н·м",

@@ -26,6 +26,7 @@ from __future__ import annotations
 import string
 from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Literal
 
 from .lang import LANGS
 
@@ -62,13 +63,20 @@ class Texts:
         return {f for _, f, _, _ in string.Formatter().parse(self.tables[lang][key]) if f is not None}
 
 
+# what a row of the kinematics sheet is: a section heading, a given datum (input) or one
+# derived from them, the position index, a formula's intermediate (calc), a contract
+# quantity (accepted), a check row (check; fdcheck: a finite-difference one) or the
+# group's "assembled" guard
+RowKind = Literal["section", "input", "derived", "index", "calc", "accepted", "check", "fdcheck", "guard"]
+
+
 @dataclass
 class Row:
     name: str
     unit: str = ""
     ru: str = ""
     en: str = ""
-    kind: str = "calc"          # section | input | derived | index | calc | accepted | check | fdcheck | guard
+    kind: RowKind = "calc"
     formula: str = ""           # template: {row}, {row@prev}, {row@next}
     value: float | None = None  # input rows
     guard: str | None = None    # the group's "assembled" row: IF(guard, formula, marker)
@@ -94,7 +102,7 @@ class Builder:
         self.checks: list[str] = []
         self.fd_checks: list[str] = []
 
-    def add(self, name: str, unit: str, text: Text, kind: str = "calc", formula: str = "", value=None, guard=...):
+    def add(self, name: str, unit: str, text: Text, kind: RowKind = "calc", formula: str = "", value=None, guard=...):
         """A row of any kind (the builders below name the kind); its description a Text."""
         g = self.guard if guard is ... else guard
         self.rows.append(Row(name, unit, text.ru, text.en, kind, formula, value,
@@ -105,7 +113,7 @@ class Builder:
             self.fd_checks.append(name)
 
     # the row builders: one a kind of row, the description a Text (a module's Texts)
-    def row(self, kind: str, name: str, unit: str, text: Text, formula: str = "", value=None, guard=...):
+    def row(self, kind: RowKind, name: str, unit: str, text: Text, formula: str = "", value=None, guard=...):
         self.add(name, unit, text, kind, formula, value, guard)
 
     def calc(self, name: str, unit: str, text: Text, formula: str, guard=...):

@@ -304,14 +304,6 @@ class Params:
     def lengths(self) -> tuple[float]:
         return (self.length,)
 
-    # the frame guide's point and angle (older API; None for a guide on a moving link)
-    @property
-    def guide_point(self):
-        return self.guide.point
-
-    @property
-    def guide_angle_deg(self) -> float:
-        return self.guide.angle_deg
 
 
 def parse(tbl, frame) -> tuple[tuple[str, ...], Params]:

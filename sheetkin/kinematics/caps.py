@@ -15,6 +15,8 @@ import reprlib
 import tomllib
 from typing import Any
 
+from sheetkin.errors import InputError
+
 # Caps on what a scene may hold (`sheetkin docs mechanisms`, "Caps"); a file past them gets one line.
 # Magnitudes: a kinematic chain multiplies up to about six of its numbers (mass x length x
 # omega^2 x velocity ...), so 1e12 keeps every product far below float overflow (1e308)
@@ -29,7 +31,7 @@ MAX_TEXT = 1000                  # characters of one string (a title, a name)
 MAX_MESSAGE = 300                # characters of a value shown in an error line
 
 
-class SceneError(ValueError):
+class SceneError(InputError):
     """A scene file that cannot be used; str() is one line naming file, line and key."""
 
 

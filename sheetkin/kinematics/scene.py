@@ -15,17 +15,14 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import NoReturn
 
+from sheetkin.errors import InputError
 from sheetkin.files import read_text
 from sheetkin.groups import KINDS, kind_of
 from sheetkin.groups.group import Group, Guide, slide_names
 
-from .caps import (  # noqa: F401
-    MAX_DEPTH,
-    MAX_MAGNITUDE,
-    MAX_MESSAGE,
+from .caps import (
     MAX_POSITIONS,
     MAX_SCENE_BYTES,
-    MAX_TEXT,
     WORKBOOK_MAX_POSITIONS,
     SceneError,
     check_values,
@@ -37,11 +34,18 @@ from .caps import (  # noqa: F401
 GROUP_TYPES = tuple(KINDS)
 NAME_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 
+# How a Scene draws itself in a notebook (Scene._repr_svg_): the drawing lives in
+# sheetkin.views, above this stage, so the package installs it here (sheetkin/__init__.py)
+# rather than the scene importing a view.
+draw_in_notebook: Callable[[Scene], str] | None = None
 
-class AssemblyError(ValueError):
+
+class AssemblyError(InputError):
     """The mechanism cannot be assembled at some requested crank positions (raised by
     sheetkin.compute; defined here, with no numpy, so the command line can catch it
-    without importing the solver)."""
+    without importing the solver). The user's to mend (the scene's lengths, the angles
+    asked for, or allow_gaps=True), so an InputError; the command line gives it its own
+    exit code (3), since the scene itself is valid."""
 
 
 @dataclass(frozen=True)
@@ -110,11 +114,11 @@ class Scene:
     masses: tuple[Mass, ...] = ()
     forces: tuple[Force, ...] = ()
 
-    def _repr_svg_(self) -> str:
-        """Jupyter shows a Scene as its mechanism at the first crank position. The drawing is
-        a view beside the pipeline, imported here on use only (a notebook asks for it)."""
-        from sheetkin.views.notebook import scene_repr_svg
-        return scene_repr_svg(self)
+    def _repr_svg_(self) -> str | None:
+        """Jupyter shows a Scene as its mechanism at the first crank position. The drawing
+        is a view above this stage: `draw_in_notebook` holds it, set by the package
+        (sheetkin/__init__.py); without one, Jupyter shows the repr."""
+        return draw_in_notebook(self) if draw_in_notebook is not None else None
 
     @property
     def has_dynamics(self) -> bool:

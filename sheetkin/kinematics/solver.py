@@ -16,16 +16,14 @@ from typing import cast
 import numpy as np
 
 from sheetkin.groups import kind_of
-from sheetkin.groups.motion import (  # noqa: F401 (the API)
+from sheetkin.groups.motion import (
     FRAME,
     Motion,
     Rotation,
     Slide,
     Values,
     carried_point,
-    cramer,
     fixed,
-    inverse_det,
 )
 
 from .scene import Crank, Group, Point, Scene

@@ -17,11 +17,12 @@ from pathlib import Path
 
 import numpy as np
 
+from sheetkin.errors import InputError
 from sheetkin.groups.group import slide_names
 
 from .dynamics import dynamics as solve_dynamics
 from .dynamics import dynamics_names
-from .scene import AssemblyError, Scene, as_scene, load_scene  # noqa: F401 (AssemblyError: compute's API)
+from .scene import AssemblyError, Scene, as_scene
 from .solver import Solution, solve
 
 TOGGLE_THRESHOLD = 1e-2
@@ -33,13 +34,14 @@ _SCAN_STEP_DEG = 0.005      # grid of the revolution scanned for non-assembly in
 CHUNK = 16384
 
 
-class NumericOverflow(ValueError):
+class NumericOverflow(InputError):
     """A result is not a finite number where the mechanism assembles and is not at a toggle
     (the scene's numbers, within the scene caps, still overflow): one line, never `inf`."""
 
 
-class TooLarge(ValueError):
-    """The table would not fit in this machine's available memory."""
+class TooLarge(InputError):
+    """The table would not fit in this machine's available memory (fewer positions, or
+    streamed output, mend it)."""
 
 
 @dataclass(frozen=True)

@@ -14,7 +14,8 @@ _EXPORTS = {
     "build_workbook": "workbook",
     "write_workbook": "workbook",
     "sheet_rows": "workbook",
-    "fingerprint": "workbook",
+    "existing_fingerprint": "workbook",
+    "built_fingerprint": "workbook",
     "embedded_scene_text": "workbook",
 }
 

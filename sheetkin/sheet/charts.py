@@ -20,7 +20,7 @@
   sheet's cells themselves: numbers or #N/A there, as Excel plots text as 0.
 
 Nothing here knows a group kind: the links' points, guides and blocks come from
-sheetkin.views.drawing.structure, that is from each kind's `parts(g)`; a guide names the
+sheetkin.kinematics.geometry.structure, that is from each kind's `parts(g)`; a guide names the
 input rows of its angle and point (GuidePart.angle_input, point_inputs), and its helper
 cells refer to them, so the drawn guide turns and moves with what is typed there.
 Spin button: openpyxl cannot write form controls, so the position is a plain input cell
@@ -43,9 +43,9 @@ from openpyxl.styles import Font, PatternFill
 from openpyxl.utils import get_column_letter, quote_sheetname
 from openpyxl.worksheet.datavalidation import DataValidation
 
+from sheetkin.kinematics.geometry import FINE_POSITIONS, bounds, guide_span, revolution, structure
 from sheetkin.kinematics.scene import Scene
 from sheetkin.kinematics.table import compute
-from sheetkin.views.drawing import FINE_POSITIONS, bounds, guide_span, revolution, structure
 
 PATHS_SHEET = "paths"
 # bounded work: the paths sheet repeats the rows the coordinates need at FINE + 1 positions;

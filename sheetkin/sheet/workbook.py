@@ -30,18 +30,20 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import cast
 
-from openpyxl import Workbook, load_workbook
+from openpyxl import Workbook
 from openpyxl.chart import Reference, ScatterChart, Series
 from openpyxl.chart.data_source import NumFmt
 from openpyxl.styles import Font, PatternFill, Protection
 from openpyxl.utils import get_column_letter
 
+from sheetkin.errors import InputError
 from sheetkin.groups import kind_of
 from sheetkin.groups.lang import LANGS, check_lang
 from sheetkin.groups.lang import unit as say_unit
 from sheetkin.groups.rows import (
     Builder,
     Row,
+    RowKind,
     Text,
     Texts,
     carried_rows,
@@ -96,7 +98,7 @@ GUIDE_FONT = Font(italic=True, color="404040")
 UNLOCKED = Protection(locked=False)
 
 
-class WorkbookTooLarge(ValueError):
+class WorkbookTooLarge(InputError):
     """A scene whose workbook would pass the caps above; str() is one line."""
 
 
@@ -332,7 +334,7 @@ class _Layout:
     where: dict[str, int]
     templates: dict[str, str]
     cols: list[str]
-    kinds: dict[str, str]
+    kinds: dict[str, RowKind]
     text: dict[str, str]
     marker: str
     lang: str
@@ -520,15 +522,11 @@ def _embed_scene(wb, scene: Scene, scene_text: str | None, issued: tuple[str, st
     wb.properties.subject = f"sheetkin workbook; the scene is in the hidden sheet '{SCENE_SHEET}'"
 
 
-def embedded_scene_text(path) -> str:
-    """The scene TOML text stored in a sheetkin workbook."""
-    wb = load_workbook(path, read_only=True)
-    try:
-        if SCENE_SHEET not in wb.sheetnames:
-            raise ValueError(f"{path}: no embedded scene (no sheet '{SCENE_SHEET}'); not a sheetkin workbook?")
-        lines = [row[0] if row and row[0] is not None else "" for row in wb[SCENE_SHEET].iter_rows(values_only=True)]
-    finally:
-        wb.close()
+def embedded_scene_text(sheet) -> str:
+    """The scene's TOML text as the hidden sheet SCENE_SHEET holds it, one line a row in
+    column A; `sheet` is that sheet as the spreadsheet engine reads it (sheetkin.xlsx:
+    read_book(path).sheets[SCENE_SHEET], or an evaluated Book's)."""
+    lines = [sheet.consts.get((r, 1), "") for r in range(1, sheet.max_row + 1)]
     return "\n".join(str(x) for x in lines) + "\n"
 
 
@@ -537,23 +535,28 @@ def write_workbook(scene: Scene, path, *, lang: str = "ru", exercise: bool = Fal
     build_workbook(scene, lang=lang, exercise=exercise, scene_text=scene_text).save(path)
 
 
-def fingerprint(source) -> dict:
-    """What a workbook says, independent of when it was saved: every sheet's cells
-    (formulas as written), its visibility, and the data references of its charts.
-    `source` is a path or an in-memory Workbook. Used to tell a stale committed workbook."""
-    import io
-    import zipfile
-    if isinstance(source, Workbook):
-        buf = io.BytesIO()
-        Workbook.save(source, buf)      # formulas as written: no need for the cached values
-        source = buf
-    wb = load_workbook(source)
-    out: dict[str, object] = {
-        ws.title: (ws.sheet_state, {c.coordinate: c.value for row in ws.iter_rows() for c in row
-                                       if c.value is not None}) for ws in wb.worksheets}
-    if hasattr(source, "seek"):
-        source.seek(0)
-    with zipfile.ZipFile(source) as z:
-        charts = sorted(n for n in z.namelist() if n.startswith("xl/charts/chart"))
-        out["charts"] = [re.findall(r"<(?:c:)?f>([^<]*)</(?:c:)?f>", z.read(n).decode("utf-8")) for n in charts]
+def existing_fingerprint(path) -> dict:
+    """What a workbook on disk says (every sheet's state, constants and formulas as written,
+    its charts' data references), read by the reader `validate` uses, through the same gate
+    and limits (sheetkin.xlsx.cells.read_book): `workbook --check` may meet any file under
+    that name (openpyxl took 2.66 GB and 101 s on a 41 MB one)."""
+    from sheetkin.xlsx.cells import read_book
+    from sheetkin.xlsx.package import open_package
+    raw = read_book(path)
+    out: dict = {name: (sh.state, sh.consts, sh.formulas) for name, sh in raw.sheets.items()}
+    pkg = open_package(path)
+    charts = sorted(n for n in pkg.names if n.startswith("xl/charts/chart"))
+    out["charts"] = [re.findall(r"<(?:c:)?f>([^<]*)</(?:c:)?f>", pkg.read(n).decode("utf-8", "replace"))
+                     for n in charts]
     return out
+
+
+def built_fingerprint(wb) -> dict:
+    """existing_fingerprint() of an openpyxl workbook as it would be saved: `workbook
+    --check` compares the two to tell a stale committed workbook."""
+    import tempfile
+    with tempfile.TemporaryDirectory(prefix="sheetkin-check-") as tmp:
+        path = Path(tmp) / "built.xlsx"
+        # formulas as written: the cached values (CachedWorkbook.save evaluates them) are not compared
+        Workbook.save(wb, path)
+        return existing_fingerprint(path)

@@ -188,7 +188,7 @@ def jacobian_sine(J) -> float:
     return (a * d - b * c) / norm if norm > 0 else 0.0
 
 
-def _walk(lib, scene: Scene, phi_deg: float, guesses: dict[int, list], tol: float, max_iter: int,
+def loop_kinematics(lib, scene: Scene, phi_deg: float, guesses: dict[int, list], tol: float, max_iter: int,
           until: int | None = None):
     """Kinematics at one crank angle by the loop equations, placing the plan in order.
 
@@ -247,7 +247,7 @@ def _walk(lib, scene: Scene, phi_deg: float, guesses: dict[int, list], tol: floa
     return values, qs, problems, sines
 
 
-def _unknowns(scene: Scene, phi_deg) -> list[dict[int, list[float]]]:
+def closed_form_unknowns(scene: Scene, phi_deg) -> list[dict[int, list[float]]]:
     """Each group's unknowns q from the closed-form solver, per position (starting points)."""
     sol = solve(scene, phi_deg)
     out: list[dict[int, list[float]]] = [{} for _ in np.atleast_1d(phi_deg)]
@@ -269,12 +269,12 @@ def reference_mp(scene: Scene, phi_deg_list, dps: int = 50) -> dict[str, list]:
     Raises ArithmeticError if a group does not converge or lands on the other branch.
     """
     phis = [float(p) for p in phi_deg_list]
-    starts = _unknowns(scene, phis)
+    starts = closed_form_unknowns(scene, phis)
     out: dict[str, list] = {name: [] for name in quantity_names(scene)}
     with mpmath.workdps(dps):
         tol = mpmath.mpf(10) ** (-(dps - 5))
         for phi, start in zip(phis, starts, strict=False):
-            values, _, problems, _ = _walk(MP, scene, phi, start, tol, 60)
+            values, _, problems, _ = loop_kinematics(MP, scene, phi, start, tol, 60)
             if problems:
                 g, why = problems[0]
                 raise ArithmeticError(f"reference: {g.label}: {why} at crank angle {phi:g} deg")
@@ -284,7 +284,7 @@ def reference_mp(scene: Scene, phi_deg_list, dps: int = 50) -> dict[str, list]:
 
 
 # --------------------------------------------------------------------------- the methods
-def _best_time(fn, repeats: int = REPEATS):
+def best_time(fn, repeats: int = REPEATS):
     """fn() run `repeats` times: (its last result, the shortest wall time in seconds)."""
     best, result = math.inf, None
     for _ in range(repeats):
@@ -308,7 +308,7 @@ def _nonfinite(values: dict[str, np.ndarray], phis) -> list[float]:
 def method_solver(scene: Scene, phis) -> MethodResult:
     phis = np.asarray(phis, dtype=float)
     names = quantity_names(scene)
-    sol, t = _best_time(lambda: solve(scene, phis))
+    sol, t = best_time(lambda: solve(scene, phis))
     cols = solution_columns(scene, sol)
     values = {n: cols[n] for n in names}
     res = MethodResult("solver", "", t / len(phis), values)
@@ -336,13 +336,13 @@ def method_newton(scene: Scene, phis, tol: float = NEWTON_TOL, max_iter: int = N
     (the residual's valley is flat) and the rates, solved with that Jacobian, lose digits."""
     phis = [float(p) for p in phis]
     names = quantity_names(scene)
-    first = _unknowns(scene, phis[:1])[0]
+    first = closed_form_unknowns(scene, phis[:1])[0]
 
     def run():
         guess, rows, sines = dict(first), [], []
         problems: dict[str, list[float]] = {}
         for phi in phis:
-            values, qs, probs, sine = _walk(FLOAT, scene, phi, guess, tol, max_iter)
+            values, qs, probs, sine = loop_kinematics(FLOAT, scene, phi, guess, tol, max_iter)
             guess.update(qs)
             rows.append(values)
             sines.append(min(sine.values(), key=abs) if values and sine else np.nan)
@@ -350,7 +350,7 @@ def method_newton(scene: Scene, phis, tol: float = NEWTON_TOL, max_iter: int = N
                 problems.setdefault(f"{why} ({g.label})", []).append(phi)
         return rows, problems, sines
 
-    (rows, problems, sines), t = _best_time(run, 3)
+    (rows, problems, sines), t = best_time(run, 3)
     values = {n: np.array([r[n] if r else np.nan for r in rows]) for n in names}
     measure = np.array(sines, dtype=float)
     res = MethodResult("newton", f"tol={tol:g}", t / len(phis), values, problems, measure=measure)
@@ -409,7 +409,7 @@ def method_fd(scene: Scene, phis, steps=FD_STEPS) -> list[MethodResult]:
     phis = np.asarray(phis, dtype=float)
     out = []
     for h in steps:
-        values, t = _best_time(lambda h=h: fd_values(scene, phis, h))
+        values, t = best_time(lambda h=h: fd_values(scene, phis, h))
         res = MethodResult("fd", f"h={h:.2g}", t / len(phis), values)
         bad = _nonfinite(values, phis)
         if bad:
@@ -443,7 +443,7 @@ def method_evaluator(scene: Scene, phis, workbook: Path) -> MethodResult:
     """The workbook's formulas through sheetkin.xlsx.evaluator; timed: reading and evaluating
     the file (not writing it), per position."""
     from sheetkin.xlsx.evaluator import evaluate, rows_frame
-    df, t = _best_time(lambda: rows_frame(evaluate(workbook)), 3)
+    df, t = best_time(lambda: rows_frame(evaluate(workbook)), 3)
     values = _frame_values(df, quantity_names(scene), phis)
     res = MethodResult("evaluator", "", t / len(phis), values)
     bad = _nonfinite(values, phis)

@@ -45,12 +45,12 @@ from .bench import (
     NEWTON_MAX_ITER,
     NEWTON_TOL,
     SILENT_ERROR,
-    _best_time,
-    _unknowns,
-    _walk,
+    best_time,
+    closed_form_unknowns,
     errors,
     fd_unsure,
     fd_values,
+    loop_kinematics,
     newton_singular,
     quantity_names,
     step_doubling,
@@ -99,7 +99,7 @@ def _edge_function_mp(scene: Scene, f: Family, phi, guesses):
     """The family's function (f.edge) of its group at the crank angle phi (radians, mpf),
     the groups before it placed by Newton on their loop equations in mpmath."""
     tol = mpmath.mpf(10) ** (-(mpmath.mp.dps - 5))
-    known, links = _walk(MP, scene, phi * 180 / mpmath.pi, guesses, tol, 60, until=f.group)
+    known, links = loop_kinematics(MP, scene, phi * 180 / mpmath.pi, guesses, tol, 60, until=f.group)
     return f.edge(MP, _group(scene, f.group), known, links)
 
 
@@ -116,7 +116,7 @@ def edge_mp(scene: Scene, f: Family, dps: int = 50):
         # band about a double root, docs/dead-points.md), not the edge of a range
         near = next(g.start_deg for g in assembly_gaps(scene, np.arange(0.0, 360.0, 1.0))
                     if g.end_deg - g.start_deg > 1e-3)
-    guesses = _unknowns(scene, [near - 0.5])[0]
+    guesses = closed_form_unknowns(scene, [near - 0.5])[0]
     with mpmath.workdps(dps + 10):
         root = mpmath.findroot(lambda t: _edge_function_mp(scene, f, t, guesses), mpmath.radians(near),
                                tol=mpmath.mpf(10) ** (-dps - 5))
@@ -159,12 +159,12 @@ def reference_by_continuation(scene: Scene, phi_deg_list, edge, dps: int = 50) -
     with mpmath.workdps(dps + _REF_EXTRA_DPS):
         tol = mpmath.mpf(10) ** (-(dps + 5))
         d = mpmath.mpf("0.05")
-        guesses = _unknowns(scene, [float(mpmath.degrees(edge - d))])[0]
+        guesses = closed_form_unknowns(scene, [float(mpmath.degrees(edge - d))])[0]
         for phi in phi_deg_list:
             target = edge - mpmath.radians(mpmath.mpf(float(phi)))
             while True:
                 d = max(d / 2, target)
-                values, qs, problems, _ = _walk(MP, scene, mpmath.degrees(edge - d), guesses, tol, 60)
+                values, qs, problems, _ = loop_kinematics(MP, scene, mpmath.degrees(edge - d), guesses, tol, 60)
                 if problems:
                     raise ArithmeticError(f"reference: {problems[0][0].label}: {problems[0][1]} "
                                           f"at {float(d)!r} rad from the edge")
@@ -188,15 +188,15 @@ def reference_near_singular(scene: Scene, f: Family, phi_deg_list, dps: int = 50
     with mpmath.workdps(dps + _REF_EXTRA_DPS):
         tol = mpmath.mpf(10) ** (-(dps + 5))
         for phi in phi_deg_list:
-            guesses = _unknowns(scene, [float(phi)])[0]      # the groups before (float), f.group's replaced
-            known, links = _walk(MP, scene, float(phi), guesses, tol, 60, until=g.index)
+            guesses = closed_form_unknowns(scene, [float(phi)])[0]      # the groups before (float), f.group's replaced
+            known, links = loop_kinematics(MP, scene, float(phi), guesses, tol, 60, until=g.index)
             q = f.start(MP, g, known, links)
             if q is None:
                 for name in out:
                     out[name].append(None)
                 continue
             guesses[g.index] = q
-            values, _, problems, _ = _walk(MP, scene, float(phi), guesses, tol, 60)
+            values, _, problems, _ = loop_kinematics(MP, scene, float(phi), guesses, tol, 60)
             if problems:
                 raise ArithmeticError(f"reference: {problems[0][0].label}: {problems[0][1]} "
                                       f"at crank angle {float(phi)!r} deg")
@@ -210,7 +210,8 @@ def _reference_at(scene: Scene, phi: float, dps: int = 50) -> dict:
     tolerance, 1e-45 at 50 digits, is out of reach where the Jacobian's condition number
     is 1e8 and more)."""
     with mpmath.workdps(dps + _REF_EXTRA_DPS):
-        values, _, problems, _ = _walk(MP, scene, phi, _unknowns(scene, [phi])[0], mpmath.mpf(10) ** (-(dps + 5)), 60)
+        start = closed_form_unknowns(scene, [phi])[0]
+        values, _, problems, _ = loop_kinematics(MP, scene, phi, start, mpmath.mpf(10) ** (-(dps + 5)), 60)
     if problems:
         raise ArithmeticError(f"reference: {problems[0][0].label}: {problems[0][1]} at crank angle {phi!r} deg")
     return {n: +values[n] for n in quantity_names(scene)}
@@ -266,9 +267,9 @@ def newton_walk(walk, threshold: float):
             out.append((None, "refused", np.nan, np.nan))
             continue
         if guess is None:
-            guess = dict(_unknowns(scene, [phi])[0])
-        (values, qs, problems, sines), t = _best_time(
-            lambda scene=scene, phi=phi, guess=guess: _walk(FLOAT, scene, phi, dict(guess), NEWTON_TOL,
+            guess = dict(closed_form_unknowns(scene, [phi])[0])
+        (values, qs, problems, sines), t = best_time(
+            lambda scene=scene, phi=phi, guess=guess: loop_kinematics(FLOAT, scene, phi, dict(guess), NEWTON_TOL,
                                                             NEWTON_MAX_ITER),
             STABILITY_REPEATS)
         guess.update(qs)
@@ -327,7 +328,7 @@ def _stability_family(f: Family, distances, threshold: float):
             for method in ("solver", "newton", "fd"):
                 add(i, method, "", "refused", None)
             continue
-        (sv, sfail, sdet), t = _best_time(lambda scene=scene, phi=phi: _solver_at(scene, [phi]), STABILITY_REPEATS)
+        (sv, sfail, sdet), t = best_time(lambda scene=scene, phi=phi: _solver_at(scene, [phi]), STABILITY_REPEATS)
         st = ("refused" if sfail[0] else "nan" if not _finite(sv) else
               "flagged" if sdet[0] < threshold else "ok")
         add(i, "solver", "", st, sv, sdet[0], t)
@@ -336,7 +337,7 @@ def _stability_family(f: Family, distances, threshold: float):
         add(i, "newton", f"from {STABILITY_FAR:g} rad", st, values, sine, t)
         # finite differences cannot tell by themselves; the bench can, from the solver's
         # toggle measure and from the step doubled (fd_estimate)
-        fv, t = _best_time(lambda scene=scene, phi=phi: _fd_at(scene, [phi]), STABILITY_REPEATS)
+        fv, t = best_time(lambda scene=scene, phi=phi: _fd_at(scene, [phi]), STABILITY_REPEATS)
         fest = fd_estimate(scene, [phi])
         st = ("refused" if not _finite(fv) else "flagged" if sdet[0] < threshold else
               "unsure" if unsure(fest)[0] else "ok")

@@ -29,6 +29,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from sheetkin.errors import InputError
+
 SYNTHESIS_KEYS = ("kw", "l3", "yd", "gamma1_deg", "gamma2_deg")   # a scene's [synthesis] table
 # the title of a synthesized scene, in the language of the book it becomes (the book's title)
 _SCENE_TITLE = {"ru": "Кривошипно-коромысловый механизм, синтезированный по K_w = {kw:g}",
@@ -36,7 +38,7 @@ _SCENE_TITLE = {"ru": "Кривошипно-коромысловый механ�
                 "en": "Crank-rocker four-bar synthesized from K_w = {kw:g}"}
 
 
-class SynthesisError(ValueError):
+class SynthesisError(InputError):
     """Data with no crank-rocker solution; str() is one line naming the failed condition.
     `key` names the given datum at fault (a [synthesis] key: kw, l3, ...), if there is one."""
 
@@ -59,10 +61,6 @@ class CrankRocker:
     phi1H_deg: float
     X_D: float
     branch: int          # the scene's RRR branch: side of B relative to the directed line A->D
-
-    @property
-    def frame_length(self) -> float:
-        return math.hypot(self.X_D, self.yd)
 
     def results(self) -> dict[str, float]:
         """The unknowns of the seed, under the names the CLI prints."""

@@ -473,9 +473,3 @@ def add_scene_synthesis_sheet(wb, scene, data: dict[str, float], lang: str = "ru
     index = wb.sheetnames.index(SCENE_SHEET) if SCENE_SHEET in wb.sheetnames else None
     add_synthesis_sheet(wb, **data, lang=lang, kinematics=cells, index=index)
     return scene_mismatches(scene, data)
-
-
-def write_synthesis_workbook(path, kw: float, l3: float, yd: float, gamma1_deg: float,
-                             gamma2_deg: float, *, lang: str = "ru") -> None:
-    """Write build_synthesis_workbook(...) to `path` (.xlsx)."""
-    build_synthesis_workbook(kw, l3, yd, gamma1_deg, gamma2_deg, lang=lang).save(path)

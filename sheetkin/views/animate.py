@@ -17,10 +17,12 @@ from pathlib import Path
 
 import numpy as np
 
+from sheetkin.errors import UsageError
 from sheetkin.files import Output, write_file
+from sheetkin.kinematics.geometry import revolution
 from sheetkin.kinematics.scene import Scene
 
-from .drawing import STYLES, Picture, picture, revolution
+from .drawing import STYLES, Picture, picture
 
 FORMATS = (".gif", ".html", ".png")
 # Caps (docs/reliability.md; `sheetkin animate` refuses more in one line): frames every 0.1
@@ -34,8 +36,9 @@ MIN_FPS, MAX_FPS = 0.1, 100.0
 MAX_GIF_PIXELS = 40_000_000
 
 
-class AnimationError(ValueError):
-    """An animation past its caps: one line."""
+class AnimationError(UsageError):
+    """An animation past its caps: one line. A UsageError: animate()'s parameters (frames,
+    size, fps, the output's name) are `sheetkin animate`'s options, and the message names them."""
 
 
 def check_caps(frames: int, fps: float, size: int) -> None:

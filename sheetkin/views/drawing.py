@@ -11,47 +11,44 @@ validation report all draw these same shapes.
 
 Everything is drawn from the computed points (columns x_P, y_P, phi_k) and from the parts
 each kind declares (`parts(g)`, sheetkin.groups.parts): which links hold which points, the
-guides and slots, and the blocks that slide on them. Nothing here knows a kind.
+guides and slots, and the blocks that slide on them (sheetkin.kinematics.geometry, which the
+workbook's charts sheet shares). Nothing here knows a kind.
 """
 from __future__ import annotations
 
 import html
-import math
 from dataclasses import dataclass, field
+from typing import Literal
 
 import numpy as np
 
-from sheetkin.groups import kind_of
-from sheetkin.groups.parts import BlockPart, GuidePart
-from sheetkin.kinematics.scene import Group, Scene
+from sheetkin.kinematics.geometry import (
+    FINE_POSITIONS,
+    Structure,
+    bounds,
+    guide_frame,
+    guide_span,
+    moving_points,
+    point_xy,
+    revolution,
+    structure,
+)
+from sheetkin.kinematics.scene import Scene
 from sheetkin.kinematics.table import assembly_gaps, compute
 
-FINE_POSITIONS = 360        # the paths: one point per degree of the crank
-
-
-# a guide or slot and a block, as each kind declares them (sheetkin.groups.parts)
-Guide = GuidePart
-Block = BlockPart
-
-
-@dataclass(frozen=True)
-class Structure:
-    """Which points belong to which link, and the guides and blocks: what a drawing needs
-    from the scene besides the computed coordinates."""
-    members: dict[int, tuple[str, ...]]
-    guides: tuple[Guide, ...]
-    blocks: tuple[Block, ...]
-    pivots: tuple[str, ...]              # frame points that are joints (drawn grounded)
-    groups: dict[int, tuple[str, ...]]   # group index -> its joints (toggle marks)
+# what a shape is, and what it stands for in the drawing (its role picks the style, STYLES)
+ShapeKind = Literal["line", "polygon", "dot", "text", "arrow"]
+Role = Literal["trace", "trace_gap", "toggle", "ground", "hatch", "guide", "slot", "link", "block",
+               "joint", "point", "vector", "label", "link_label"]
 
 
 @dataclass(frozen=True)
 class Shape:
     """One drawn item in scene coordinates. kind: line (open polyline), polygon (closed),
     dot, text, arrow (xy: tail, head). role picks the style (see STYLES)."""
-    kind: str
+    kind: ShapeKind
     xy: np.ndarray
-    role: str
+    role: Role
     text: str = ""
 
 
@@ -68,7 +65,7 @@ class Picture:
 
 
 # role -> stroke colour, stroke width (px), fill, dash
-STYLES = {
+STYLES: dict[Role, tuple[str, float, str | None, str | None]] = {
     "trace": ("#9bb7d4", 1.0, None, None),
     "trace_gap": ("#d62728", 1.2, None, "3,2"),
     "toggle": ("#d62728", 1.5, None, None),
@@ -84,92 +81,6 @@ STYLES = {
     "label": ("#222222", 0.0, None, None),
     "link_label": ("#7f3f00", 0.0, None, None),
 }
-
-
-# --------------------------------------------------------------------------- structure
-def group_parts(g: Group) -> tuple[dict[int, tuple[str, ...]], list[Guide], list[Block]]:
-    """(members {link: points}, guides, blocks) of one group: the kind's own `parts(g)`."""
-    parts = kind_of(g).parts(g)
-    return dict(parts.links), list(parts.guides), list(parts.blocks)
-
-
-def structure(scene: Scene) -> Structure:
-    c = scene.crank
-    members: dict[int, list[str]] = {1: [c.pivot, c.joint]}
-    guides, blocks, groups = [], [], {}
-    for g in scene.groups:
-        m, gd, bl = group_parts(g)
-        for k, pts in m.items():
-            members.setdefault(k, [])
-            members[k] += [p for p in pts if p not in members[k]]
-        guides += gd
-        blocks += bl
-        groups[g.index] = tuple(g.joints)
-    for p in scene.points:
-        members.setdefault(p.link, [])
-        members[p.link] += [q for q in (p.origin, p.name) if q not in members[p.link]]
-    used = {p for pts in members.values() for p in pts}
-    pivots = tuple(f for f in scene.frame if f in used)
-    return Structure({k: tuple(v) for k, v in sorted(members.items())}, tuple(guides), tuple(blocks),
-                     pivots, groups)
-
-
-# --------------------------------------------------------------------------- coordinates
-def point_xy(scene: Scene, df, name) -> np.ndarray:
-    """(n, 2) coordinates of a point at every row of df (a frame point is constant)."""
-    n = len(df)
-    if isinstance(name, tuple):
-        return np.tile(np.asarray(name, dtype=float), (n, 1))
-    if name in scene.frame:
-        return np.tile(np.asarray(scene.frame[name], dtype=float), (n, 1))
-    return np.column_stack([df[f"x_{name}"].to_numpy(float), df[f"y_{name}"].to_numpy(float)])
-
-
-def link_angle(df, k: int) -> np.ndarray:
-    """phi_k in radians at every row (the frame: 0)."""
-    if k == 0:
-        return np.zeros(len(df))
-    return np.radians(df[f"phi_{k}"].to_numpy(float))
-
-
-def guide_frame(scene: Scene, df, g: Guide):
-    """(base points (n, 2), unit directions (n, 2)) of a guide line at every row."""
-    a = link_angle(df, g.link) + math.radians(g.angle_deg)
-    u = np.column_stack([np.cos(a), np.sin(a)])
-    nrm = np.column_stack([-u[:, 1], u[:, 0]])
-    if g.foot_of is not None:          # a slot: the foot of the lever's joint on the line
-        p = point_xy(scene, df, g.foot_of)
-        d = np.einsum("ij,ij->i", point_xy(scene, df, g.slider) - p, nrm)
-        return p + d[:, None] * nrm, u
-    return point_xy(scene, df, g.through) + g.offset * nrm, u
-
-
-def guide_span(scene: Scene, fine, g: Guide) -> tuple[float, float]:
-    """The slider's travel along the guide over the revolution (in the guide's own frame),
-    including the guide's base point (the slot's pivot, the guide's `through`)."""
-    base, u = guide_frame(scene, fine, g)
-    t = np.einsum("ij,ij->i", point_xy(scene, fine, g.slider) - base, u)
-    t = t[np.isfinite(t)]
-    return (min(0.0, t.min()), max(0.0, t.max())) if t.size else (0.0, 0.0)
-
-
-def _moving(scene: Scene) -> list[str]:
-    return scene.moving_joints + [p.name for p in scene.points]
-
-
-def bounds(scene: Scene, fine, st: Structure, spans) -> tuple[float, float, float, float]:
-    """Bounds of everything drawn over the revolution, padded by 8 %."""
-    xy = [np.asarray(list(scene.frame.values()), dtype=float).reshape(-1, 2)]
-    xy += [point_xy(scene, fine, p) for p in _moving(scene)]
-    for g, (t0, t1) in zip(st.guides, spans, strict=False):
-        base, u = guide_frame(scene, fine, g)
-        xy += [base + t0 * u, base + t1 * u]
-    pts = np.concatenate(xy)
-    pts = pts[np.isfinite(pts).all(axis=1)]
-    (x0, y0), (x1, y1) = pts.min(axis=0), pts.max(axis=0)
-    size = max(x1 - x0, y1 - y0, 1e-9)
-    pad = 0.08 * size
-    return x0 - pad, y0 - pad, x1 + pad, y1 + pad
 
 
 # --------------------------------------------------------------------------- shapes
@@ -231,7 +142,7 @@ def _runs(xy: np.ndarray, ok: np.ndarray):
 def background(scene: Scene, fine, st: Structure, spans, r: float, threshold: float) -> list[Shape]:
     """Paths of the moving points, the frame (ground signs, fixed guides), toggle marks."""
     out: list[Shape] = []
-    for p in _moving(scene):
+    for p in moving_points(scene):
         xy = point_xy(scene, fine, p)
         for run in _runs(xy, np.isfinite(xy).all(axis=1)):
             out.append(Shape("line", run, "trace"))
@@ -274,60 +185,86 @@ def frame_shapes(scene: Scene, row, st: Structure, spans, r: float, *, vectors: 
                  labels: bool = True) -> list[Shape]:
     """The mechanism at one position: `row` is a one-row DataFrame of compute()'s table.
     vectors > 0 draws each point's velocity, `vectors` metres of drawing per m/s."""
-    out: list[Shape] = []
     at = {}
     for pts in st.members.values():
         for p in pts:
             if p not in at:
                 at[p] = point_xy(scene, row, p)[0]
+    out = _moving_guides(scene, row, st, spans, r) + _links(st, at) + _blocks(scene, row, st, at, r)
+    joints = set(scene.moving_joints) | set(st.pivots)
+    for p, xy in at.items():
+        if np.isfinite(xy).all():
+            out.append(Shape("dot", xy[None, :], "joint" if p in joints else "point"))
+    if vectors:
+        out += _velocities(scene, row, at, vectors, r)
+    if labels:
+        out += _labels(st, at, r)
+    return out
+
+
+def _moving_guides(scene: Scene, row, st: Structure, spans, r: float) -> list[Shape]:
+    """A slot or a guide on a moving link moves with it (the fixed ones are background)."""
+    out = []
     for g, (t0, t1) in zip(st.guides, spans, strict=False):
-        if g.link != 0:          # a slot or a guide on a moving link moves with it
+        if g.link != 0:
             base, u = guide_frame(scene, row, g)
             if np.isfinite(base).all() and np.isfinite(u).all():
                 out.append(Shape("line", np.array([base[0] + (t0 - r) * u[0], base[0] + (t1 + r) * u[0]]), "slot"))
+    return out
+
+
+def _links(st: Structure, at: dict[str, np.ndarray]) -> list[Shape]:
+    """Each link as the convex hull of its points (a segment for two)."""
+    out = []
     for pts in st.members.values():
         xy = np.array([at[p] for p in pts])
         if not np.isfinite(xy).all() or len(xy) < 2:
             continue
         hull = _hull(xy)
         out.append(Shape("polygon" if len(hull) >= 3 else "line", hull, "link"))
+    return out
+
+
+def _blocks(scene: Scene, row, st: Structure, at: dict[str, np.ndarray], r: float) -> list[Shape]:
+    """The sliders: a rectangle on its guide's direction, centred on its point."""
+    out = []
     for b in st.blocks:
-        base, u = guide_frame(scene, row, b.guide)
+        _, u = guide_frame(scene, row, b.guide)
         c = at.get(b.at, point_xy(scene, row, b.at)[0])
         if np.isfinite(c).all() and np.isfinite(u).all():
             out.append(Shape("polygon", _rect(c, u[0], 1.3 * r, 0.75 * r), "block"))
-    joints = set(scene.moving_joints) | set(st.pivots)
+    return out
+
+
+def _velocities(scene: Scene, row, at: dict[str, np.ndarray], vectors: float, r: float) -> list[Shape]:
+    """Each moving point's velocity as an arrow, `vectors` metres of drawing per m/s (a
+    speed too small to see is left out)."""
+    out = []
+    for p in moving_points(scene):
+        tail = at.get(p)
+        if tail is None or not np.isfinite(tail).all():
+            continue
+        v = np.array([float(row[f"vx_{p}"].iloc[0]), float(row[f"vy_{p}"].iloc[0])])
+        if np.isfinite(v).all() and np.hypot(*v) * vectors > 0.2 * r:
+            out.append(Shape("arrow", np.array([tail, tail + vectors * v]), "vector", f"v_{p}"))
+    return out
+
+
+def _labels(st: Structure, at: dict[str, np.ndarray], r: float) -> list[Shape]:
+    """The points' names beside them, and each link's number at its middle."""
+    out = []
     for p, xy in at.items():
         if np.isfinite(xy).all():
-            out.append(Shape("dot", xy[None, :], "joint" if p in joints else "point"))
-    if vectors:
-        for p in _moving(scene):
-            tail = at.get(p)
-            if tail is None or not np.isfinite(tail).all():
-                continue
-            v = np.array([float(row[f"vx_{p}"].iloc[0]), float(row[f"vy_{p}"].iloc[0])])
-            if np.isfinite(v).all() and np.hypot(*v) * vectors > 0.2 * r:
-                out.append(Shape("arrow", np.array([tail, tail + vectors * v]), "vector", f"v_{p}"))
-    if labels:
-        for p, xy in at.items():
-            if np.isfinite(xy).all():
-                out.append(Shape("text", xy[None, :] + np.array([[0.9 * r, 0.6 * r]]), "label", p))
-        for k, pts in st.members.items():
-            xy = np.array([at[p] for p in pts])
-            if np.isfinite(xy).all():
-                c = xy.mean(axis=0) if len(xy) > 1 else xy[0] + np.array([-1.8 * r, 1.2 * r])
-                out.append(Shape("text", c[None, :] + np.array([[-0.4 * r, -1.4 * r]]), "link_label", str(k)))
+            out.append(Shape("text", xy[None, :] + np.array([[0.9 * r, 0.6 * r]]), "label", p))
+    for k, pts in st.members.items():
+        xy = np.array([at[p] for p in pts])
+        if np.isfinite(xy).all():
+            c = xy.mean(axis=0) if len(xy) > 1 else xy[0] + np.array([-1.8 * r, 1.2 * r])
+            out.append(Shape("text", c[None, :] + np.array([[-0.4 * r, -1.4 * r]]), "link_label", str(k)))
     return out
 
 
 # --------------------------------------------------------------------------- the picture
-def revolution(scene: Scene, n: int) -> np.ndarray:
-    """n crank angles over one revolution from phi0, turning the way the crank turns."""
-    c = scene.crank
-    sense = -1.0 if (c.omega < 0 or (c.omega == 0 and c.step_deg < 0)) else 1.0
-    return c.phi0_deg + sense * 360.0 * np.arange(n) / n
-
-
 def picture(scene: Scene, frames=None, *, fine=None, vectors: bool = False, labels: bool = True,
             allow_gaps: bool = True, toggle_threshold: float = 0.01) -> Picture:
     """The shapes of `scene` at the crank angles `frames` (degrees; a DataFrame of
@@ -349,7 +286,7 @@ def picture(scene: Scene, frames=None, *, fine=None, vectors: bool = False, labe
     scale = 0.0
     notes = []
     if vectors:
-        speeds = [fine[f"v_{p}"].to_numpy(float) for p in _moving(scene)]
+        speeds = [fine[f"v_{p}"].to_numpy(float) for p in moving_points(scene)]
         vmax = np.nanmax(np.concatenate(speeds)) if speeds else 0.0
         if np.isfinite(vmax) and vmax > 0:
             scale = 0.25 * max(box[2] - box[0], box[3] - box[1]) / vmax

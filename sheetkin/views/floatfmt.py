@@ -371,10 +371,3 @@ def repr_slots(x: np.ndarray, threads: int | None = None) -> tuple[np.ndarray, n
             for a in starts:
                 run(a)
     return out, finite
-
-
-def format_repr(x) -> list[str]:
-    """[repr(float(v)) for v in x], in bulk ("" for non-finite values); for tests and
-    small uses."""
-    slots, _ = repr_slots(x)
-    return [row.tobytes().translate(None, b"\0").decode() for row in slots]

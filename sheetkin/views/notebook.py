@@ -3,8 +3,9 @@
 `sheetkin.result(scene, at=...)` is `compute()` with its scene kept: a `Result` whose
 `.frame` is the very DataFrame compute() returns (compute() itself is unchanged), and whose
 `_repr_svg_` draws the mechanism at the first computed position with the paths of its
-points over a revolution, so Jupyter shows a picture. `Scene._repr_svg_` (wired in
-sheetkin/__init__.py) draws a loaded scene at its first crank position.
+points over a revolution, so Jupyter shows a picture. `Scene._repr_svg_` draws a loaded
+scene at its first crank position through `scene_repr_svg` (the package sets it as the
+scene's hook, sheetkin.kinematics.scene.draw_in_notebook, in sheetkin/__init__.py).
 """
 from __future__ import annotations
 

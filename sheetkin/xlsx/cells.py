@@ -1,7 +1,7 @@
 """Reading a workbook's cells: constants, formulas and the values the spreadsheet cached.
 
 The sheet XML is read directly (an .xlsx is a zip of XML parts), through the input gate
-(xlsxsafe): never modified, never trusted. Shared formulas (LibreOffice, Excel) are expanded.
+(package.py): never modified, never trusted. Shared formulas (LibreOffice, Excel) are expanded.
 
 Two paths, the same cells: a sheet part in the shape Excel, LibreOffice and openpyxl write
 is read with one compiled regex over its <sheetData> bytes (no element tree; every byte
@@ -707,7 +707,7 @@ class RawBook:
 
 def read_book(path: str | Path, limits: Limits = Limits(), *, convert_timeout: float = 120,
               skip: frozenset[str] = frozenset()) -> RawBook:
-    """Read an .xlsx safely (xlsxsafe): never modified, never trusted. An OpenDocument
+    """Read an .xlsx safely (package.py): never modified, never trusted. An OpenDocument
     spreadsheet (.ods, .fods) is converted to .xlsx by LibreOffice first (see
     `convert.converted`). skip: names of sheets the caller never reads (the validator's
     hidden `paths` sheet, 74% of a workbook's XML): listed, empty, their cells not parsed

@@ -1,4 +1,4 @@
-"""Evaluating an expression tree (formula_parse.py) for all the cells of a run at once:
+"""Evaluating an expression tree (parse.py) for all the cells of a run at once:
 _Context reads references from the workbook's value stores (views of a row where it can;
 ranges past the used range padded or clipped, PAD_CELLS), follows defined names (a name
 scoped to the sheet shadows the workbook's, _lookup), walks chains of operators in a loop,

@@ -1,6 +1,6 @@
 """Headless evaluation of a workbook's formulas (numpy), without a spreadsheet program.
 
-How: the cells are read by xlsxread (through the input gate). Formula cells are
+How: the cells are read by cells.py (through the input gate). Formula cells are
 grouped into *runs*: consecutive cells of a row whose formulas are the same formula with
 relative references shifted (recognised by rendering the run's first formula as a template
 for the next columns, in growing batches, and comparing the text, so most cells are never
@@ -26,10 +26,10 @@ Values follow Excel: numbers, text, booleans, empty cells and the errors #NULL! 
 #VALUE! #REF! #NAME? #NUM! #N/A, which propagate per cell. Every value is an array of
 shape (cells, rows, cols): (k, 1, 1) for one value per cell of a run, (k, R, C) for a range.
 
-The modules, each importing only those before it: formula_values.py (Val, coercions,
-operators, functions, aggregates; kernels in functions.py), formula_parse.py (formula text
-to trees, Excel's limits for a formula), formula_runs.py (Run, grouping cells into runs),
-evaluator_context.py (_Context: a tree evaluated for a run), evaluator_limits.py (hostile
+The modules, each importing only those before it: values.py (Val, coercions,
+operators, functions, aggregates; kernels in functions.py), parse.py (formula text
+to trees, Excel's limits for a formula), runs.py (Run, grouping cells into runs),
+context.py (_Context: a tree evaluated for a run), limits.py (hostile
 input: depth, names, cells read, workbook-wide refusals), and this one: evaluate and
 evaluate_sheets, defined names and array formulas, the order of runs (_schedule), Book and
 the results as tables. The names the others hold are importable from here as before.
@@ -131,7 +131,7 @@ class Book:
 # --------------------------------------------------------------------------- evaluation
 def evaluate(path: str | Path, *, strict: bool = True, limits: Limits = Limits()) -> Book:
     """Evaluate every formula of an .xlsx workbook (an .ods or .fods is converted by
-    LibreOffice first, see xlsxread.read_book); `Book.value(sheet, row, col)` then gives any
+    LibreOffice first, see cells.read_book); `Book.value(sheet, row, col)` then gives any
     cell. With strict, an unsupported function or an unparsable formula raises
     EvaluationError naming the cells; otherwise those cells become #NAME? and the problem is
     listed in Book.problems."""

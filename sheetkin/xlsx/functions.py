@@ -1,6 +1,6 @@
 """Excel's worksheet functions as pure numpy kernels, for the evaluator.
 
-The evaluator's formula_values.py owns the values (numbers, text, booleans, errors per cell)
+The evaluator's values.py owns the values (numbers, text, booleans, errors per cell)
 and their coercion; the kernels here see plain float arrays (and, for INDEX and CHOOSE,
 integer positions) and return results with an array of error codes, 0 where there is none.
 Each follows Excel's definition (support.microsoft.com, the function's page); where

@@ -8,7 +8,7 @@ pieces (CHUNK_READS).
 
 Separate from evaluator.py so that these bounds are read, and changed, in one place;
 evaluator.py calls them before and while it evaluates. The counts mirror how
-evaluator_context.py reads a reference.
+context.py reads a reference.
 """
 from __future__ import annotations
 

@@ -90,6 +90,8 @@ from xml.etree.ElementTree import Element, ParseError
 import defusedxml
 import defusedxml.ElementTree as _DET
 
+from .errors import SpreadsheetError
+
 __all__ = ["Limits", "Package", "SheetPart", "UnusableWorkbook", "check_dimension",
            "check_openpyxl_safe", "open_package", "sheet_dimension", "sheet_parts"]
 
@@ -155,7 +157,7 @@ def _count(n: int, noun: str) -> str:
     return f"{n} {noun}" + ("" if n == 1 else "s")
 
 
-class UnusableWorkbook(ValueError):
+class UnusableWorkbook(SpreadsheetError):
     """An input workbook sheetkin refuses; str() is one line starting with the path.
 
     Attributes: path (as given), part (the zip member concerned, or None), problem,

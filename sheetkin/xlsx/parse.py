@@ -5,7 +5,7 @@ tree is nested tuples: ("const", value), ("ref", Ref), ("name", NAME), ("fn", NA
 offsets from the host cell, so one tree serves every cell of a run.
 
 Separate from evaluator.py because parsing needs no values and no workbook: the evaluator,
-its hostile-input checks (evaluator_limits.py) and the fuzz tests use it on its own. Its
+its hostile-input checks (limits.py) and the fuzz tests use it on its own. Its
 errors are ParseError (a formula that cannot be read) and Note (a cell's problem, with the
 error value the cell gets).
 """
@@ -17,6 +17,7 @@ from dataclasses import dataclass
 
 from .cells import _MAX_COL, _MAX_ROW
 from .coords import Token, Tokenizer, column_index_from_string
+from .errors import SpreadsheetError
 from .functions import ERRORS, XlError
 from .package import _show
 
@@ -47,7 +48,7 @@ class Ref:
         return (self.r1, self.c1, self.r1_abs, self.c1_abs) != (self.r2, self.c2, self.r2_abs, self.c2_abs)
 
 
-class ParseError(ValueError):
+class ParseError(SpreadsheetError):
     """A formula that cannot be read; `code` is the error its cell gets."""
 
     def __init__(self, message: str, code: str = "#NAME?"):

@@ -5,8 +5,8 @@ rendering the first formula as a template for the next columns); splitting a run
 single cells (_split); the cells a reference of a run touches (_target_block, _span); and
 EvaluationError, the error of a workbook that cannot be evaluated as a whole.
 
-Separate from evaluator.py so that the checks of hostile input (evaluator_limits.py) and the
-evaluation of a tree (evaluator_context.py) use runs without importing evaluator.py, which
+Separate from evaluator.py so that the checks of hostile input (limits.py) and the
+evaluation of a tree (context.py) use runs without importing evaluator.py, which
 imports them both.
 """
 from __future__ import annotations
@@ -18,10 +18,11 @@ import numpy as np
 
 from .cells import _MAX_COL, Sheet, _Template
 from .coords import get_column_letter
+from .errors import SpreadsheetError
 from .parse import Ref
 
 
-class EvaluationError(ValueError):
+class EvaluationError(SpreadsheetError):
     """A workbook that cannot be evaluated as a whole (circular reference, unsupported
     function with strict=True); str() names the file and the cells."""
 

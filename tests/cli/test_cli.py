@@ -18,8 +18,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from clirun import run
-from scenes import FOURBAR  # noqa: E402  (the spec's four-bar; tests/ is on sys.path)
+from helpers.clirun import run
+from helpers.scenes import FOURBAR  # the spec's four-bar
 from scipy.optimize import brentq
 
 import sheetkin

@@ -6,7 +6,7 @@ import re
 from pathlib import Path
 
 import pytest
-from clirun import run
+from helpers.clirun import run
 
 from sheetkin.cli.args import build_parser
 

@@ -6,8 +6,8 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from clirun import run
-from scenes import SHORT as CANNOT_ASSEMBLE_SOMEWHERE
+from helpers.clirun import run
+from helpers.scenes import SHORT as CANNOT_ASSEMBLE_SOMEWHERE
 
 import sheetkin
 from sheetkin.kinematics.scene import SceneError

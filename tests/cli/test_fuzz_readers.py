@@ -7,7 +7,7 @@ from __future__ import annotations
 import string
 from pathlib import Path
 
-from clirun import run
+from helpers.clirun import run
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 

@@ -17,19 +17,13 @@ from pathlib import Path
 import numpy as np
 import openpyxl
 import pytest
-from clirun import run
+from helpers.clirun import run
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import sheetkin
-from sheetkin.kinematics.scene import (
-    MAX_DEPTH,
-    MAX_MAGNITUDE,
-    MAX_POSITIONS,
-    WORKBOOK_MAX_POSITIONS,
-    SceneError,
-    parse_scene,
-)
+from sheetkin.kinematics.caps import MAX_DEPTH, MAX_MAGNITUDE, MAX_POSITIONS, WORKBOOK_MAX_POSITIONS
+from sheetkin.kinematics.scene import SceneError, parse_scene
 from sheetkin.sheet.workbook import write_workbook
 
 compute_module = importlib.import_module("sheetkin.kinematics.table")
@@ -215,7 +209,7 @@ def test_toggle_gives_empty_cells_and_a_warning_never_inf(tmp_path):
     """Near a change point (det near 0) the rates lose accuracy, and exactly at it the group
     does not assemble (the dead-point rule, `sheetkin docs dead-points`): empty cells in the
     CSV, null in JSON (strict JSON), the warnings name the angles; numpy says nothing."""
-    from test_dynamics import CHANGE_POINT
+    from helpers.scenes import CHANGE_POINT
     path = tmp_path / "cp.toml"
     path.write_text(CHANGE_POINT, encoding="utf-8")
     csv = run_process("compute", path, "--dynamics", "--at", "0.001", "--at", "1e-7", "--at", "0", "--at", "30",
@@ -252,7 +246,7 @@ def test_compute_shows_no_numpy_warnings():
     """compute() runs numpy under errstate, also in its worker threads: with warnings as
     errors, a scene with a toggle and non-assembling positions computes (exactly at the
     change point the group does not assemble, the dead-point rule: allow_gaps keeps the rest)."""
-    from test_dynamics import CHANGE_POINT
+    from helpers.scenes import CHANGE_POINT
     scene = parse_scene(CHANGE_POINT)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
@@ -381,7 +375,7 @@ def test_scene_text_is_written_as_text_not_formulas(tmp_path, soffice):
     """Title and author starting with = + - @ are text cells in the file, and stay text
     after LibreOffice opens, recalculates and saves the workbook. The title is E1 (D1-D2
     hold the student's name and group); the author is a line of the scene sheet's text."""
-    from libreoffice import recalculate
+    from helpers.libreoffice import recalculate
     paths = []
     for k, (title, author) in enumerate(INJECTIONS):
         text = _text_cells_scene(title, author)

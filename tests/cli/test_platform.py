@@ -6,7 +6,7 @@ from __future__ import annotations
 import shutil
 from pathlib import Path
 
-from clirun import run
+from helpers.clirun import run
 
 from sheetkin.cli.platform import expand_patterns, user_lang
 

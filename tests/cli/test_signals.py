@@ -144,7 +144,7 @@ def test_an_interrupted_write_leaves_the_old_file_and_no_temporary(tmp_path, sig
 
 # ---------------------------------------------------------------- LibreOffice interrupted
 def _fods(path: Path) -> Path:
-    import realfiles as rf
+    from helpers import realfiles as rf
     rows = [[rf.text("x"), rf.num(2.0)], [rf.text("y"), rf.formula("[.B1]*2")]]
     return rf.fods(path, [rf.table("Calc", rows)])
 

@@ -15,8 +15,8 @@ import zipfile
 from pathlib import Path
 
 import openpyxl
-from classbooks import both, fill, flip_sign, issue_variants, row_values, rows_of, type_numbers
-from libreoffice import recalculate
+from helpers.classbooks import both, fill, flip_sign, issue_variants, row_values, rows_of, type_numbers
+from helpers.libreoffice import recalculate
 
 from sheetkin.cli.commands import main
 from sheetkin.course.validator import Report

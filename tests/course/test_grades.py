@@ -11,7 +11,7 @@ import shutil
 from pathlib import Path
 
 import pytest
-from classbooks import both, fill, flip_sign, issue_variants, row_values, set_input, type_numbers
+from helpers.classbooks import both, fill, flip_sign, issue_variants, row_values, set_input, type_numbers
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 

@@ -1,7 +1,7 @@
 """Issue 21, items 1, 2, 3, 7, 8: grading that holds up to how a class hands work in.
 
 Every book here is made as a student makes it: a class issued by `sheetkin variants` (this
-version), the exercise opened in LibreOffice (UNO, tests/studentbooks.py), the key's formulas
+version), the exercise opened in LibreOffice (UNO, tests/helpers/studentbooks.py), the key's formulas
 typed in, then a habit; saved by LibreOffice, or re-saved by Gnumeric. One LibreOffice
 session makes them all (a module fixture)."""
 from __future__ import annotations
@@ -13,8 +13,8 @@ from pathlib import Path
 
 import openpyxl
 import pytest
-from clirun import run
-from studentbooks import Recipe, key_values, make_books, rows_by_name, uno_available
+from helpers.clirun import run
+from helpers.studentbooks import Recipe, key_values, make_books, rows_by_name, uno_available
 
 from sheetkin.course import grades
 from sheetkin.course.report import json_report, text_report

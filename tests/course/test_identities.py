@@ -13,8 +13,8 @@ import zipfile
 from pathlib import Path
 
 import pytest
-from classbooks import fill, issue_variants, type_numbers
-from libreoffice import recalculate
+from helpers.classbooks import fill, issue_variants, type_numbers
+from helpers.libreoffice import recalculate
 
 from sheetkin.cli.commands import main
 from sheetkin.course.classlist import moodle_submitter, read_class_list
@@ -212,7 +212,7 @@ def _encrypted_ooxml(plain_ole: Path, out: Path) -> Path:
 def test_xls_converted_and_passwords_named(tmp_path, soffice, capsys):
     """Books saved by LibreOffice through UNO: an .xls is graded like the .xlsx it was; an
     .xls, an .ods and an encrypted .xlsx with a password are each named as such."""
-    from unosave import save_as
+    from helpers.unosave import save_as
     books = issue_variants(tmp_path / "issued")
     book = fill(*books["v2"], tmp_path / "b.xlsx", student="Петрова Анна")
     saved = tmp_path / "saved"

@@ -8,10 +8,10 @@ from pathlib import Path
 
 import openpyxl
 import pytest
-from clirun import run
+from helpers.clirun import run
+from helpers.realbooks import row_numbers
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from realbooks import row_numbers
 
 from sheetkin.cli.commands import main
 from sheetkin.course.issued import (
@@ -219,7 +219,7 @@ def test_books_saved_by_libreoffice_validate_with_the_roster(issued, tmp_path, s
     """One soffice run saves three books: an exercise filled in by a student (formulas
     copied from the key) with name and group, the same with L1 changed, and one whose scene
     sheet was edited. Read back, the roster and key still tell each case."""
-    from libreoffice import recalculate
+    from helpers.libreoffice import recalculate
     src = tmp_path / "src"
     src.mkdir()
     key_wb = openpyxl.load_workbook(issued / "fourbar-02-key.xlsx")

@@ -15,11 +15,11 @@ from pathlib import Path
 import numpy as np
 import openpyxl
 import pytest
+from helpers.libreoffice import recalculate
+from helpers.sheetrows import rows_of
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from libreoffice import recalculate
 from openpyxl.utils import get_column_letter
-from test_validator import fourbar, rows_of  # noqa: F401 - the four-bar's book, rows by name
 
 import sheetkin
 from sheetkin.course.localjudge import judge, magnitude, name_causes, typed_digits, typed_text, typed_tolerance

@@ -3,7 +3,7 @@ formulas (sheetkin.xlsx.precedents): the key's values pasted on a scratch sheet,
 the table or behind a defined name, then read by "=Лист2!C7", are typed, not computed. Honest
 books keep full marks: a scratch sheet of real formulas, helper cells, PI() and 180 in
 formulas, a row that reads only the position i, a derived value typed as a number.
-Books written with openpyxl; tests/course/test_review.py has the same through LibreOffice."""
+Books written with openpyxl; tests/course/test_pasted_numbers_and_copies_uno.py has the same through LibreOffice."""
 from __future__ import annotations
 
 from pathlib import Path

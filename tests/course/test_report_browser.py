@@ -5,8 +5,8 @@ import re
 from pathlib import Path
 
 import pytest
-from browser import HINT, ROOT, chrome, chromium_paths, demo_class
-from conftest import _require
+from helpers.browser import HINT, ROOT, chrome, chromium_paths, demo_class
+from helpers.programs import require
 
 from sheetkin.cli.commands import main
 
@@ -15,7 +15,7 @@ RU: dict[str, Path] = {}
 
 @pytest.fixture(scope="module")
 def page(tmp_path_factory):
-    paths = _require(chromium_paths(), HINT)
+    paths = require(chromium_paths(), HINT)
     d = tmp_path_factory.mktemp("class")
     demo_class(d / "submissions")
     html = d / "report.html"

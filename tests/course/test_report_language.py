@@ -6,9 +6,9 @@ import html
 import re
 
 import pytest
-from classbooks import fill, flip_sign
-from clirun import run
-from scenes import FOURBAR
+from helpers.classbooks import fill, flip_sign
+from helpers.clirun import run
+from helpers.scenes import FOURBAR
 
 import sheetkin
 from sheetkin.course.report import html_report, summary_table, text_report

@@ -14,7 +14,7 @@ import shutil
 from pathlib import Path
 
 import pytest
-from classbooks import fill, row_values, set_input, type_numbers
+from helpers.classbooks import fill, row_values, set_input, type_numbers
 
 from sheetkin.course.grades import COLUMNS, grade_lines
 from sheetkin.course.report_messages import COLUMN_NAMES, PHRASES, TEMPLATES, say

@@ -11,7 +11,8 @@ from pathlib import Path
 
 import openpyxl
 import pytest
-from libreoffice import recalculate
+from helpers.libreoffice import recalculate
+from helpers.sheetrows import rows_of
 from openpyxl.utils import get_column_letter
 
 import sheetkin
@@ -22,10 +23,6 @@ from sheetkin.sheet.workbook import write_workbook
 
 WORKBOOKS = Path(__file__).resolve().parents[2] / "workbooks"
 BUNDLED = sorted(p.stem for p in WORKBOOKS.glob("*.toml"))
-
-
-def rows_of(ws) -> dict[str, int]:
-    return {ws.cell(r, 1).value: r for r in range(1, ws.max_row + 1) if ws.cell(r, 1).value}
 
 
 def edit(src: Path, dst: Path, change) -> Path:
@@ -39,15 +36,6 @@ def edit(src: Path, dst: Path, change) -> Path:
 
 def summary(rep):
     return ({r.name for r in rep.wrong}, {r.name for r in rep.causes}, {r.name for r in rep.missing})
-
-
-@pytest.fixture(scope="module")
-def fourbar(tmp_path_factory) -> Path:
-    d = tmp_path_factory.mktemp("fourbar")
-    text = (WORKBOOKS / "fourbar.toml").read_text(encoding="utf-8")
-    path = d / "fourbar.xlsx"
-    write_workbook(sheetkin.parse_scene(text, "fourbar.toml"), path, scene_text=text)
-    return path
 
 
 @pytest.mark.parametrize("stem", BUNDLED)

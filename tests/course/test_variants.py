@@ -16,8 +16,8 @@ from pathlib import Path
 import numpy as np
 import openpyxl
 import pytest
-from clirun import run
-from realbooks import row_numbers
+from helpers.clirun import run
+from helpers.realbooks import row_numbers
 
 from sheetkin.cli.commands import main
 from sheetkin.course.issued import KEY_FILE, Options, given_values, read_key, read_roster

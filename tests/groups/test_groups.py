@@ -1,6 +1,6 @@
 """Every group kind in sheetkin.groups.KINDS, against checks that are not the kind's own code.
 
-Per case of tests/kinds.py (each kind, a guide on a moving link, a kulisa about a moving axis,
+Per case of tests/helpers/kinds.py (each kind, a guide on a moving link, a kulisa about a moving axis,
 a three-group chain):
   * the loop-closure equations (the kind's `loop`, used by Newton and the mpmath reference)
     hold at the closed form's answer, and so do their differentiated forms with the
@@ -24,12 +24,11 @@ from pathlib import Path
 import numpy as np
 import openpyxl
 import pytest
+from helpers.kinds import CASES, DYNAMICS, check_derivatives, check_geometry, check_loop, check_reference
+from helpers.libreoffice import recalculate
+from helpers.sheetrows import compare_accepted, compare_dynamics, relative_balance, rows_of
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from kinds import CASES, DYNAMICS, check_derivatives, check_geometry, check_loop, check_reference
-from libreoffice import recalculate
-from test_dynamics import compare_dynamics, relative_balance
-from test_workbook import compare_accepted, rows_of
 
 import sheetkin
 from sheetkin.groups import KINDS
@@ -61,7 +60,8 @@ def test_every_kind_module_has_the_whole_surface(kind):
 @pytest.mark.parametrize("kind", list(KINDS))
 def test_every_kind_has_a_case(kind):
     assert any(k == kind for k, _ in CASES.values()) or any(
-        g.type == kind for case in CASES for g in scene_of(case).groups), f"no case in tests/kinds.py for {kind}"
+        g.type == kind for case in CASES for g in scene_of(case).groups), \
+        f"no case in tests/helpers/kinds.py for {kind}"
 
 
 def test_an_unknown_type_lists_every_kind():
@@ -79,7 +79,7 @@ def test_loop_equations_and_cramer_residuals_vanish_at_the_closed_form(case):
 
 @pytest.mark.parametrize("case", list(CASES))
 def test_distances_are_kept_and_sliders_stay_on_their_lines(case):
-    """Written out in tests/kinds.py from the contract, not from the kinds' code."""
+    """Written out in tests/helpers/kinds.py from the contract, not from the kinds' code."""
     check_geometry(scene_of(case), ANGLES)
 
 
@@ -314,7 +314,7 @@ def test_validator_takes_a_students_variant_and_names_a_broken_row(tmp_path, ste
     from sheetkin.course.issued import Options
     from sheetkin.course.validator import validate
     validate = functools.partial(validate, options=Options(accept_changed=True))
-    from test_workbook import set_input
+    from helpers.sheetrows import set_input
     path = tmp_path / f"{stem}.xlsx"
     shutil.copy(WORKBOOKS_DIR / f"{stem}.xlsx", path)
     for name, value in inputs.items():

@@ -253,7 +253,7 @@ def test_prp_and_rpp_mistakes_give_one_line_errors(text, key, words):
 def dyn_sheets(soffice, tmp_path_factory):
     """The three bundled workbooks (with their masses and forces), recalculated by
     LibreOffice in one soffice run."""
-    from libreoffice import recalculate
+    from helpers.libreoffice import recalculate
 
     from sheetkin.sheet.workbook import write_workbook
     src = tmp_path_factory.mktemp("prp_rpp")

@@ -18,9 +18,9 @@ import sys
 from pathlib import Path
 
 import pytest
-import toykind
-from kinds import DYNAMICS
-from russian_words import russian_words
+from helpers import toykind
+from helpers.kinds import DYNAMICS
+from helpers.russian_words import russian_words
 
 import sheetkin
 from sheetkin.groups import KINDS, kind_of, rows
@@ -77,7 +77,7 @@ def test_each_table_in_its_language(name):
     russian_only = {k: v for k, v in tables["uk"].items() if re.search("[ЫыЭэЪъЁё]", v)}
     cyrillic_en = {k: v for k, v in tables["en"].items() if re.search("[А-Яа-яЁёІіЇїЄєҐґ]", v)}
     assert russian_only == {} and cyrillic_en == {}
-    # no Russian word form left in the Ukrainian (tests/russian_words.py)
+    # no Russian word form left in the Ukrainian (tests/helpers/russian_words.py)
     russian = {k: w for k, v in tables["uk"].items() for w in re.findall("[А-Яа-яІіЇїЄєҐґ']+", v)
                if w.lower() in RUSSIAN}
     assert russian == {}

@@ -1,4 +1,4 @@
-"""A sixth group kind is one module plus one registry line: tests/toykind.py, registered
+"""A sixth group kind is one module plus one registry line: tests/helpers/toykind.py, registered
 at run time, is seen by compute, the workbook (recalculated by LibreOffice), the charts
 sheet and the drawing, none of which names it. Its mechanism is RRP's on a fixed guide,
 so an RRP twin of the scene is the oracle for compute."""
@@ -10,11 +10,12 @@ import types
 import numpy as np
 import openpyxl
 import pytest
-import toykind  # noqa: E402  (tests/ is on sys.path)
-from libreoffice import recalculate
+from helpers import toykind
+from helpers.libreoffice import recalculate
 
 import sheetkin
 from sheetkin.groups import KINDS, register, unregister
+from sheetkin.kinematics import geometry
 from sheetkin.sheet.charts import HELPER_COL
 from sheetkin.sheet.workbook import build_workbook
 from sheetkin.views import drawing
@@ -80,7 +81,7 @@ def test_compute_sees_the_toy_as_its_rrp_twin():
 
 def test_drawing_asks_the_toy_for_its_parts():
     sc = scene()
-    st = drawing.structure(sc)
+    st = geometry.structure(sc)
     (guide,), (block,) = st.guides, st.blocks
     assert (guide.link, guide.through, guide.angle_deg, guide.angle_input) == (0, (0.05, -0.04), 20.0, "tilt_g1")
     assert (block.link, block.at) == (3, "B") and st.members[2] == ("A", "B")
@@ -119,5 +120,5 @@ def test_workbook_and_charts_sheet_follow_the_toys_inputs(soffice, tmp_path):
         label = cs.cell(r, HELPER_COL).value or (label if cs.cell(r, HELPER_COL + 1).value is not None else None)
         if label == "ползун 3 в B":
             corners.append((cs.cell(r, HELPER_COL + 1).value, cs.cell(r, HELPER_COL + 2).value))
-    want = drawing.point_xy(changed, df.iloc[4:5], "B")[0]      # B1 is the sheet's i, from 0
+    want = geometry.point_xy(changed, df.iloc[4:5], "B")[0]      # B1 is the sheet's i, from 0
     assert np.allclose(np.array(corners[:4], dtype=float).mean(axis=0), want, atol=1e-12)

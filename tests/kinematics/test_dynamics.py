@@ -22,11 +22,12 @@ import mpmath
 import numpy as np
 import openpyxl
 import pytest
+from helpers.libreoffice import recalculate
+from helpers.scenes import CHANGE_POINT, OFFSET_CHAIN, SIX_BAR
+from helpers.sheetrows import compare_dynamics, relative_balance, rows_of, set_input
+from helpers.strategies import KINDS, MECHANISMS
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from libreoffice import recalculate
-from strategies import KINDS, MECHANISMS
-from test_workbook import OFFSET_CHAIN, SIX_BAR, row_values, rows_of, set_input
 
 import sheetkin
 from sheetkin.cli.commands import main
@@ -48,26 +49,6 @@ def with_dynamics(text: str, extra: str, gravity=(0.0, -9.81)) -> str:
 
 def mass(link, m, J, centre) -> str:
     return f'[[mass]]\nlink = {link}\nmass = {float(m)!r}\ninertia = {float(J)!r}\ncentre = "{centre}"\n'
-
-
-def relative_balance(d: dict, scene=None, sol=None) -> np.ndarray:
-    """|balance| relative to the sum of the balance's terms; with the scene and solution,
-    also to the size of the powers the terms are sums of (every load's magnitude times the
-    largest speed): at a dead centre all four terms can vanish while the loads do not, and
-    the balance is then only as exact as the loads' rounding."""
-    terms = [d["P_bal"], d.get("P_ext", 0.0), d.get("U_t", 0.0), d["T_t"]]
-    scale = sum(np.abs(t) for t in terms) + 1e-300
-    if scene is not None:
-        v = np.max([np.hypot(p.vx, p.vy) for p in sol.points.values()], axis=0)
-        w = np.max([np.abs(r.omega + 0.0 * sol.phi1_deg) for r in sol.links.values()], axis=0)
-        gx, gy = scene.gravity
-        for m in scene.masses:
-            k = m.link
-            scale = (scale + v * np.hypot(d[f"Fix_{k}"] + m.mass * gx, d[f"Fiy_{k}"] + m.mass * gy)
-                     + w * np.abs(d[f"Mi_{k}"]))
-        for f in scene.forces:
-            scale = scale + v * math.hypot(*f.force) + w * abs(f.moment)
-    return np.abs(d["balance"]) / scale
 
 
 def equilibrium_residuals(scene, sol, d) -> dict[int, float]:
@@ -361,7 +342,7 @@ def test_random_mechanisms_energy_balance(data, kind):
     ('[[force]]\nname = "ext"\nlink = 3\nmoment = 1.0\n', "key 'name': 'ext' is reserved (P_ext names a total)"),
 ])
 def test_scene_errors_name_the_line_and_key(extra, expected):
-    from scenes import FOURBAR
+    from helpers.scenes import FOURBAR
     text = FOURBAR + "\n" + extra
     with pytest.raises(SceneError) as e:
         parse_scene(text, "bad.toml")
@@ -432,18 +413,6 @@ def dyn_books(soffice, tmp_path_factory):
             for key, (p, scene) in made.items()}
 
 
-def compare_dynamics(ws, scene, df):
-    rows = rows_of(ws)
-    for name in dynamics_names(scene):
-        if name == "balance":
-            continue                                   # the sheet checks it, relative: chk_balance
-        assert name in rows, f"no row {name}"
-        got = np.array(row_values(ws, rows[name], len(df)), dtype=float)
-        ref = df[name].to_numpy()
-        scale = max(1.0, float(np.max(np.abs(ref))))
-        assert np.all(np.abs(got - ref) <= 1e-9 * scale), (name, got, ref)
-
-
 @pytest.mark.parametrize("key", ["shaper_dynamics", "lone_crank", "six_bar", "offset_chain", "forces_only",
                                  "no_gravity"])
 def test_workbook_dynamics_rows_equal_compute(dyn_books, key):
@@ -494,38 +463,6 @@ def test_validator_names_a_wrong_reaction(tmp_path):
     assert {"chk_eq_4", "chk_eq_5"} <= set(rep.failing_checks)
 
 
-CHANGE_POINT = """
-title = "four-bar at a change point (collinear at phi = 0)"
-[frame]
-O = [0.0, 0.0]
-O1 = [1.0, 0.0]
-[crank]
-pivot = "O"
-joint = "A"
-length = 0.5
-omega = 10.0
-[[group]]
-type = "RRR"
-links = [2, 3]
-joints = ["A", "B", "O1"]
-lengths = [1.0, 0.5]
-branch = 1
-[[point]]
-name = "S2"
-link = 2
-from = "A"
-along = 0.5
-[[mass]]
-link = 2
-mass = 2.0
-inertia = 0.1
-centre = "S2"
-[[force]]
-link = 3
-moment = 5.0
-"""
-
-
 def test_toggle_reactions_are_flagged_not_silent(tmp_path, capsys):
     """At the change point the dyad's determinant is 0: the reactions are undefined there
     and grow without bound near it; compute --dynamics says so, naming the angles. 1e-7 deg
@@ -547,10 +484,10 @@ def test_toggle_reactions_are_flagged_not_silent(tmp_path, capsys):
 
 def test_dynamics_charts_reference_the_rows():
     """Two more charts: M_bal with the powers, and every joint reaction's magnitude."""
-    from sheetkin.sheet.workbook import build_workbook, fingerprint
+    from sheetkin.sheet.workbook import build_workbook, built_fingerprint
     scene = sheetkin.load_scene(WORKBOOKS / "shaper_dynamics.toml")
     wb = build_workbook(scene)
-    charts = fingerprint(wb)["charts"]
+    charts = built_fingerprint(wb)["charts"]
     assert len(charts) == 7          # with the mechanism drawn at a chosen position
     rows = rows_of(wb.worksheets[0])
     flat = " ".join(" ".join(c) for c in charts)

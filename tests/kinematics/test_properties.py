@@ -1,14 +1,14 @@
 """Property-based tests of sheetkin's kinematics over random assemblable mechanisms.
 
-Every kind and chains of kinds (test_every_kind_and_chain_of_kinds): tests/strategies.py
+Every kind and chains of kinds (test_every_kind_and_chain_of_kinds): tests/helpers/strategies.py
 draws random assemblable instances of each of the five kinds (RRR, RRP, RPR, PRP, RPP), of
 four-bars extended by guides on moving links and kulisas about moving axes, and of chains of
-two or three groups of any kinds; each goes through tests/kinds.py's checks: kept
+two or three groups of any kinds; each goes through tests/helpers/kinds.py's checks: kept
 distances, points on their lines and loop closure written out from the contract, the
 kinds' loop equations and Cramer residuals, the 30-digit mpmath solution, and 8th-order
 finite differences of the positions.
 
-In more depth, three families of one-dyad mechanisms (tests/strategies.py) are fed through
+In more depth, three families of one-dyad mechanisms (tests/helpers/strategies.py) are fed through
 the public API (`parse_scene`, `compute`):
 
   * crank + RRR dyad (four-bar), built from a prescribed transmission-angle range so that it
@@ -41,10 +41,21 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers.kinds import check_derivatives, check_geometry, check_loop, check_reference
+from helpers.strategies import (
+    KINDS,
+    MECHANISMS,
+    STRATEGIES,
+    Mechanism,
+    angle_diff,
+    contract_columns,
+    cross,
+    e,
+    e_perp,
+    signs,
+)
 from hypothesis import given, note, settings
 from hypothesis import strategies as st
-from kinds import check_derivatives, check_geometry, check_loop, check_reference
-from strategies import KINDS, MECHANISMS, STRATEGIES, Mechanism, angle_diff, contract_columns, cross, e, e_perp, signs
 
 import sheetkin
 
@@ -443,8 +454,8 @@ def test_link_angle_just_below_zero_reads_0():
 @settings(max_examples=25, deadline=None, database=None)
 @given(data=st.data())
 def test_every_kind_and_chain_of_kinds(name, data):
-    """Random assemblable instances of each kind and chains of kinds (tests/strategies.py)
-    against tests/kinds.py's independent checks."""
+    """Random assemblable instances of each kind and chains of kinds (tests/helpers/strategies.py)
+    against tests/helpers/kinds.py's independent checks."""
     text, angles, size = data.draw(STRATEGIES[name], label="mechanism")
     note(f"scene:\n{text}\ncrank angles: {angles}")
     scene = sheetkin.parse_scene(text, f"<random {name}>")

@@ -12,13 +12,12 @@ import re
 from pathlib import Path
 
 import pytest
+from helpers.scenes import FOURBAR
 
 from sheetkin import Scene, SceneError, load_scene, parse_scene
 from sheetkin.groups import kind_of
 
 WORKBOOKS = Path(__file__).resolve().parents[2] / "workbooks"
-
-from scenes import FOURBAR  # noqa: E402  (tests/ is on sys.path under pytest)
 
 # A shaper: group 1 (RPR) turns the slotted lever, point C sits on that lever (link 3),
 # group 2 (RRP) hangs on C. C must be placed after group 1 and before group 2.

@@ -3,7 +3,7 @@ Excel's limits on formulas, charts that never plot text, bounded work.
 
 Excel cannot run here; what it would do is checked three ways: its documented rules (the
 conditional formats' bgColor, 8,192 characters, 64 levels, 255 arguments, #N/A left out of a
-chart), the ISO/IEC 29500 Transitional schemas (tests/ooxml.py), and the values against
+chart), the ISO/IEC 29500 Transitional schemas (tests/helpers/ooxml.py), and the values against
 sheetkin's solver, LibreOffice and the readers that do not recalculate (openpyxl's
 data_only, pandas.read_excel).
 """
@@ -18,9 +18,9 @@ import numpy as np
 import openpyxl
 import pandas as pd
 import pytest
-from clirun import run
-from libreoffice import is_error, recalculate
-from ooxml import schema_errors
+from helpers.clirun import run
+from helpers.libreoffice import is_error, recalculate
+from helpers.ooxml import schema_errors
 
 import sheetkin
 from sheetkin.sheet.workbook import (

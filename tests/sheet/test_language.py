@@ -11,7 +11,7 @@ import zipfile
 from pathlib import Path
 
 import pytest
-from russian_words import russian_words
+from helpers.russian_words import russian_words
 
 import sheetkin
 from sheetkin.sheet.workbook import TITLE_CELL, build_workbook, sheet_rows

@@ -27,7 +27,7 @@ from pathlib import Path
 
 import openpyxl
 import pytest
-from libreoffice import is_error, recalculate
+from helpers.libreoffice import is_error, recalculate
 
 import sheetkin
 from sheetkin.course.validator import _build_reference

@@ -9,7 +9,7 @@ import subprocess
 from pathlib import Path
 
 import pytest
-from libreoffice import render_pdf
+from helpers.libreoffice import render_pdf
 from openpyxl.utils import get_column_letter
 
 import sheetkin

@@ -14,136 +14,29 @@ from pathlib import Path
 import numpy as np
 import openpyxl
 import pytest
-from libreoffice import is_error, recalculate
-from scenes import FOURBAR
+from helpers.libreoffice import is_error, recalculate
+from helpers.scenes import FOURBAR, OFFSET_CHAIN, SIX_BAR
+from helpers.sheetrows import TOL, compare_accepted, row_values, rows_of, set_input
 
 import sheetkin
 from sheetkin.cli.commands import main
 from sheetkin.kinematics.scene import override_crank
-from sheetkin.sheet.workbook import MARKERS, build_workbook, embedded_scene_text, fingerprint, write_workbook
+from sheetkin.sheet.workbook import (
+    MARKERS,
+    SCENE_SHEET,
+    build_workbook,
+    built_fingerprint,
+    embedded_scene_text,
+    write_workbook,
+)
+from sheetkin.xlsx.cells import read_book
 
 WORKBOOKS = Path(__file__).resolve().parents[2] / "workbooks"
 BUNDLED = sorted(p.stem for p in WORKBOOKS.glob("*.toml"))
-TOL = 1e-9
 
 # a four-bar whose coupler is too short for part of the revolution (gaps ~18.7..161.3 deg)
 SHORT_COUPLER = FOURBAR.replace("lengths = [0.5, 0.34]", "lengths = [0.45, 0.2]").replace(
     "O1 = [0.0, -0.53]", "O1 = [0.0, -0.6]")
-# crank -> RPR with an offset slot, a point on the lever -> RRP on an inclined guide, branch -1
-OFFSET_CHAIN = """
-title = "offset slot and inclined guide"
-[frame]
-O = [0.0, 0.0]
-B = [0.05, -0.3]
-[crank]
-pivot = "O"
-joint = "A"
-length = 0.1
-positions = 13
-omega = -6.0
-epsilon = 3.0
-[[group]]
-type = "RPR"
-links = [2, 3]
-joints = ["A", "B"]
-offset = 0.03
-[[point]]
-name = "C"
-link = 3
-from = "B"
-along = 0.6
-across = -0.02
-[[group]]
-type = "RRP"
-links = [4, 5]
-joints = ["C", "D"]
-length = 0.35
-guide = { through = [0.0, 0.35], angle_deg = 10.0 }
-branch = -1
-[[point]]
-name = "S4"
-link = 4
-from = "C"
-along = 0.1
-across = 0.03
-"""
-# two RRR dyads in a chain; the second hangs on a point of the first's rocker (J2 frame,
-# J1 moving) and a third point rides on the second coupler
-SIX_BAR = """
-title = "Watt-type six-bar"
-[frame]
-O = [0.0, 0.0]
-O1 = [0.3, -0.1]
-O2 = [0.6, 0.25]
-[crank]
-pivot = "O"
-joint = "A"
-length = 0.08
-positions = 13
-omega = 12.0
-epsilon = -4.0
-[[group]]
-type = "RRR"
-links = [2, 3]
-joints = ["A", "B", "O1"]
-lengths = [0.35, 0.2]
-branch = 1
-[[point]]
-name = "C"
-link = 3
-from = "O1"
-along = 0.3
-across = 0.05
-[[group]]
-type = "RRR"
-links = [4, 5]
-joints = ["C", "D", "O2"]
-lengths = [0.3, 0.25]
-branch = -1
-[[point]]
-name = "S4"
-link = 4
-from = "D"
-along = -0.1
-across = 0.04
-"""
-
-
-def rows_of(ws) -> dict[str, int]:
-    return {ws.cell(r, 1).value: r for r in range(1, ws.max_row + 1) if ws.cell(r, 1).value}
-
-
-def row_values(ws, row: int, n: int) -> list:
-    return [ws.cell(row, 5 + k).value for k in range(n)]
-
-
-def set_input(path: Path, name: str, value: float):
-    """Edit an input cell (column D of the row named `name`) as a user would."""
-    wb = openpyxl.load_workbook(path)
-    ws = wb.worksheets[0]
-    ws.cell(rows_of(ws)[name], 4).value = value
-    wb.save(path)
-
-
-def compare_accepted(ws, scene, df, columns=None):
-    """Every contract column's row equals the solver's values; returns the largest error."""
-    rows = rows_of(ws)
-    worst = 0.0
-    for name in columns or sheetkin.column_names(scene):
-        assert name in rows, f"no row named {name}"
-        got = row_values(ws, rows[name], len(df))
-        bad = [v for v in got if not isinstance(v, (int, float))]
-        assert not bad, f"{name}: non-numeric cells {bad[:3]}"
-        got, ref = np.array(got, dtype=float), df[name].to_numpy()
-        d = np.abs(got - ref)
-        if name.startswith("phi_"):
-            d = np.minimum(d, 360.0 - d)
-        err = d / np.maximum(1.0, np.abs(ref))
-        assert np.all(err <= TOL), f"{name}: worst {err.max():.3g} at column {int(err.argmax())}"
-        worst = max(worst, float(err.max()))
-    return worst
-
-
 @pytest.fixture(scope="session")
 def books(soffice, tmp_path_factory):
     """Generate every workbook the tests need, then recalculate them all in one soffice run."""
@@ -357,14 +250,14 @@ def test_scene_is_embedded(tmp_path):
     text = (WORKBOOKS / "shaper.toml").read_text(encoding="utf-8")
     scene = sheetkin.parse_scene(text, "shaper.toml")
     write_workbook(scene, tmp_path / "b.xlsx", scene_text=text)
-    back = embedded_scene_text(tmp_path / "b.xlsx")
+    back = embedded_scene_text(read_book(tmp_path / "b.xlsx").sheets[SCENE_SHEET])
     assert back == text
     assert sheetkin.parse_scene(back, "shaper.toml") == scene
 
 
 def test_charts():
     scene = sheetkin.load_scene(WORKBOOKS / "fourbar.toml")
-    charts = fingerprint(build_workbook(scene))["charts"]
+    charts = built_fingerprint(build_workbook(scene))["charts"]
     assert len(charts) == 5          # the mechanism, trajectories, speeds, accelerations, omegas
     ws = build_workbook(scene).worksheets[0]
     rows = rows_of(ws)
@@ -398,7 +291,7 @@ def test_workbook_command_options(tmp_path, capsys):
                  "--lang", "en"]) == 0
     ws = openpyxl.load_workbook(out).worksheets[0]
     assert ws.max_column == 4 + 24
-    scene = sheetkin.parse_scene(embedded_scene_text(out))
+    scene = sheetkin.parse_scene(embedded_scene_text(read_book(out).sheets[SCENE_SHEET]))
     assert (scene.crank.positions, scene.crank.step_deg) == (24, -15.0)
     assert main(["workbook", str(src), str(WORKBOOKS / "fourbar.toml"), "-o", str(out)]) == 2
     assert main(["workbook", str(src), "-o", str(tmp_path / "s.txt")]) == 2
@@ -408,9 +301,9 @@ def test_workbook_command_options(tmp_path, capsys):
 
 
 def test_readme_pictures_render(soffice, pdftoppm, tmp_path):
-    """tests/render_pictures.py (the README's pictures) works: PNG pages of real size (the
+    """tests/helpers/render_pictures.py (the README's pictures) works: PNG pages of real size (the
     animations are tested in test_animate.py)."""
-    from render_pictures import render
+    from helpers.render_pictures import render
     for png in render(tmp_path):
         data = png.read_bytes()
         assert data[:8] == b"\x89PNG\r\n\x1a\n"

@@ -12,13 +12,13 @@ from pathlib import Path
 import numpy as np
 import openpyxl
 import pytest
-from libreoffice import is_error, recalculate
-from scenes import SHORT  # noqa: E402  (tests/ is on sys.path)
+from helpers.libreoffice import is_error, recalculate
+from helpers.scenes import SHORT
 
 import sheetkin
+from sheetkin.kinematics import geometry
 from sheetkin.sheet.charts import HELPER_COL, PATHS_SHEET, PLOT, equal_axes
 from sheetkin.sheet.workbook import build_workbook
-from sheetkin.views import drawing
 
 WB = Path(__file__).resolve().parents[2] / "workbooks"
 
@@ -99,20 +99,20 @@ def test_drawing_follows_position_and_lengths(books, key):
     df = sheetkin.compute(scene, [phi])
     assert cs["D1"].value == pytest.approx(phi, abs=1e-9)
     series = _helper_series(cs)
-    st = drawing.structure(scene)
+    st = geometry.structure(scene)
     drawn = 0
     for k, pts in st.members.items():
         if len(pts) < 2:
             continue
         label = f"звено {k}: {'-'.join(pts)}"
         got = np.array(series[label], dtype=float)
-        want = np.array([drawing.point_xy(scene, df, p)[0] for p in pts])
+        want = np.array([geometry.point_xy(scene, df, p)[0] for p in pts])
         assert np.allclose(got[:len(pts)], want, rtol=1e-9, atol=1e-12), label
         drawn += 1
     assert drawn >= 2
     for b in st.blocks:               # the block's centre is the slider's point
         corners = np.array(series[f"ползун {b.link} в {b.at}"], dtype=float)[:4]
-        assert np.allclose(corners.mean(axis=0), drawing.point_xy(scene, df, b.at)[0], atol=1e-12)
+        assert np.allclose(corners.mean(axis=0), geometry.point_xy(scene, df, b.at)[0], atol=1e-12)
 
 
 def _helper_scalars(cs) -> dict[str, object]:
@@ -136,8 +136,8 @@ def test_prp_guide_follows_its_angle_input(books):
     assert abs((x1 - x0) * u[1] - (y1 - y0) * u[0]) < 1e-12 * math.hypot(x1 - x0, y1 - y0)    # along 80 deg
     assert abs((x0 + 0.15) * u[1] - y0 * u[0]) < 1e-12                                          # through the point
     df = sheetkin.compute(scene, [scene.crank_angles_deg()[pos]])      # B1 is the sheet's i, from 0
-    want = drawing.point_xy(scene, df, "L")[0]
-    on_fixed = [b for b in drawing.structure(scene).blocks if b.guide.link == 0]
+    want = geometry.point_xy(scene, df, "L")[0]
+    on_fixed = [b for b in geometry.structure(scene).blocks if b.guide.link == 0]
     assert len(on_fixed) == 1
     corners = np.array(_helper_series(cs)[f"ползун {on_fixed[0].link} в L"], dtype=float)[:4]
     assert np.allclose(corners.mean(axis=0), want, atol=1e-12)

@@ -342,12 +342,12 @@ def test_newtons_no_convergence_where_lines_turn_parallel_is_its_step_test():
     its step test (NEWTON_TOL of |q|) cannot be met once the condition number is ~1/d: at
     1e-4 and 1e-6 rad it reports no convergence; with a test of 1e-10 the same iterations
     stop, on the solver's answer."""
-    from sheetkin.studies.bench import FLOAT, NEWTON_MAX_ITER, NEWTON_TOL, _unknowns, _walk
+    from sheetkin.studies.bench import FLOAT, NEWTON_MAX_ITER, NEWTON_TOL, closed_form_unknowns, loop_kinematics
     _, _, cases = family_cases(family("parallel-slot"), [1e-4, 1e-6])
     for scene, phi, _, _ in cases:
-        start = _unknowns(scene, [phi])[0]
-        assert _walk(FLOAT, scene, phi, dict(start), NEWTON_TOL, NEWTON_MAX_ITER)[2][0][1] == "no convergence"
-        values, _, problems, _ = _walk(FLOAT, scene, phi, dict(start), 1e-10, NEWTON_MAX_ITER)
+        start = closed_form_unknowns(scene, [phi])[0]
+        assert loop_kinematics(FLOAT, scene, phi, dict(start), NEWTON_TOL, NEWTON_MAX_ITER)[2][0][1] == "no convergence"
+        values, _, problems, _ = loop_kinematics(FLOAT, scene, phi, dict(start), 1e-10, NEWTON_MAX_ITER)
         assert not problems
         df = compute(scene, at=[phi])
         for name in ("x_K", "s_K", "vs_K", "as_A"):

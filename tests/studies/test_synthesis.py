@@ -324,8 +324,9 @@ def test_scene_workbook_check_evaluate_validate(tmp_path, capsys):
     """--check (the fingerprint covers the synthesis sheet), evaluate and validate on a
     scene's workbook with the synthesis sheet; the sheet evaluated headlessly gives the closed
     form, and its rows comparing it with the kinematics sheet pass."""
-    from sheetkin.sheet.workbook import embedded_scene_text
+    from sheetkin.sheet.workbook import SCENE_SHEET, embedded_scene_text
     from sheetkin.studies.synthesis_sheet import SYNTH_SHEET_TITLES
+    from sheetkin.xlsx.cells import read_book
     from sheetkin.xlsx.evaluator import evaluate
     out = _seed_scene(tmp_path, capsys)
     book = out.with_suffix(".xlsx")
@@ -335,7 +336,7 @@ def test_scene_workbook_check_evaluate_validate(tmp_path, capsys):
     assert main(["workbook", str(out), "--check"]) == 1          # ru: other descriptions
     assert "stale" in capsys.readouterr().out
     text = out.read_text(encoding="utf-8")
-    assert embedded_scene_text(book) == text
+    assert embedded_scene_text(read_book(book).sheets[SCENE_SHEET]) == text
     # the synthesis sheet is in the fingerprint: other [synthesis] data make the book stale
     m2 = synthesize_crank_rocker(**dict(SEED, kw=1.3))
     out.write_text(text.replace("kw = 1.2\n", "kw = 1.3\n"), encoding="utf-8")

@@ -11,7 +11,7 @@ import zipfile
 
 import openpyxl
 import pytest
-from libreoffice import is_error, read_values, recalculate
+from helpers.libreoffice import is_error, read_values, recalculate
 from openpyxl.utils import get_column_letter
 
 from sheetkin.cli.commands import main

@@ -10,10 +10,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from scenes import SHORT  # noqa: E402  (tests/ is on sys.path)
+from helpers.scenes import SHORT
 
 import sheetkin
 from sheetkin.cli.commands import main
+from sheetkin.kinematics import geometry
 from sheetkin.views import drawing
 from sheetkin.views.animate import animate, html_page
 
@@ -33,7 +34,7 @@ def _shapes(frame, role):
 
 
 def test_structure_links_hold_their_points():
-    st = drawing.structure(sheetkin.load_scene(WB / "shaper.toml"))
+    st = geometry.structure(sheetkin.load_scene(WB / "shaper.toml"))
     assert st.members[1] == ("O", "A") and st.members[3] == ("B", "C") and st.members[4] == ("C", "D")
     assert st.pivots == ("B", "O")
     assert [(b.link, b.at) for b in st.blocks] == [(2, "A"), (5, "D")]
@@ -44,16 +45,16 @@ def test_links_are_drawn_between_the_computed_points(name):
     """Every link's outline has the computed points of that link as vertices, at every frame,
     and a link of two joints keeps its length (an identity the solver must satisfy)."""
     scene = sheetkin.load_scene(WB / f"{name}.toml")
-    angles = drawing.revolution(scene, 12)
+    angles = geometry.revolution(scene, 12)
     pic = drawing.picture(scene, angles)
     df = sheetkin.compute(scene, angles)
-    st = drawing.structure(scene)
+    st = geometry.structure(scene)
     for i, frame in enumerate(pic.frames):
         links = _shapes(frame, "link")
         drawn = [k for k, pts in st.members.items() if len(pts) >= 2]
         assert len(links) == len(drawn)
         for k, shape in zip(drawn, links, strict=False):
-            pts = np.array([drawing.point_xy(scene, df.iloc[i:i + 1], p)[0] for p in st.members[k]])
+            pts = np.array([geometry.point_xy(scene, df.iloc[i:i + 1], p)[0] for p in st.members[k]])
             for v in shape.xy:       # each vertex is one of the link's points
                 assert np.min(np.hypot(*(pts - v).T)) < 1e-12
         crank = links[0].xy
@@ -80,7 +81,7 @@ def test_blocks_sit_on_their_guides():
         a, b = slot.xy
         u = (b - a) / np.hypot(*(b - a))
         for p in ("A", "B"):
-            rel = drawing.point_xy(scene, df.iloc[i:i + 1], p)[0] - a
+            rel = geometry.point_xy(scene, df.iloc[i:i + 1], p)[0] - a
             assert abs(rel[0] * u[1] - rel[1] * u[0]) < 1e-12     # on the line
         assert math.isclose(math.degrees(math.atan2(u[1], u[0])) % 360, df.phi_3[i], abs_tol=1e-9)
 
@@ -92,10 +93,10 @@ def test_scotch_yoke_blocks_turn_along_their_own_lines():
     angles = [20.0, 135.0, 250.0]
     pic = drawing.picture(scene, angles)
     df = sheetkin.compute(scene, angles)
-    st = drawing.structure(scene)
+    st = geometry.structure(scene)
     assert [(b.link, b.at, b.guide.link) for b in st.blocks] == [(3, "K", 0), (2, "A", 3)]
     for i, frame in enumerate(pic.frames):
-        at = {p: drawing.point_xy(scene, df.iloc[i:i + 1], p)[0] for p in ("A", "K")}
+        at = {p: geometry.point_xy(scene, df.iloc[i:i + 1], p)[0] for p in ("A", "K")}
         for block, (p, deg) in zip(_shapes(frame, "block"), (("K", 0.0), ("A", 90.0)), strict=True):
             assert np.allclose(block.xy.mean(axis=0), at[p], atol=1e-12)
             edge = block.xy[1] - block.xy[0]
@@ -162,7 +163,7 @@ def test_gif_frames_size_and_scale(tmp_path):
 
 def test_html_page_is_self_contained(short, tmp_path):
     scene = sheetkin.load_scene(short)
-    pic = drawing.picture(scene, drawing.revolution(scene, 6))
+    pic = drawing.picture(scene, geometry.revolution(scene, 6))
     page = html_page(pic, fps=5, size=300)
     assert not re.search(r"(src|href)\s*=|https?://", page)          # nothing fetched
     data = json.loads(re.search(r"const D = (\{.*?\});\n", page).group(1))

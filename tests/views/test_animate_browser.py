@@ -6,8 +6,8 @@ import re
 from pathlib import Path
 
 import pytest
-from browser import HINT, chrome, chromium_paths
-from conftest import _require
+from helpers.browser import HINT, chrome, chromium_paths
+from helpers.programs import require
 
 from sheetkin.cli.commands import main
 
@@ -16,7 +16,7 @@ WB = Path(__file__).resolve().parents[2] / "workbooks"
 
 @pytest.fixture(scope="module")
 def driver(tmp_path_factory):
-    paths = _require(chromium_paths(), HINT)
+    paths = require(chromium_paths(), HINT)
     page = tmp_path_factory.mktemp("anim") / "shaper.html"
     assert main(["animate", str(WB / "shaper.toml"), "-o", str(page), "--frames", "12", "--fps", "20",
                  "--vectors", "--lang", "en"]) == 0
@@ -63,7 +63,7 @@ def test_controls_in_the_students_language(tmp_path, lang, play, pause, deg):
     """Issue 22: the page in Russian (the default) and Ukrainian, as a browser shows it: the
     button, the caption under the slider; a screenshot kept for a look."""
     from selenium.webdriver.common.by import By
-    paths = _require(chromium_paths(), HINT)
+    paths = require(chromium_paths(), HINT)
     page = tmp_path / f"shaper-{lang}.html"
     args = ["animate", str(WB / "shaper.toml"), "-o", str(page), "--frames", "12", "--vectors"]
     assert main(args + (["--lang", lang] if lang != "ru" else [])) == 0

@@ -26,7 +26,7 @@ from pathlib import Path
 
 import openpyxl
 import pytest
-from libreoffice import is_error, recalculate
+from helpers.libreoffice import is_error, recalculate
 from openpyxl.utils import get_column_letter
 from openpyxl.workbook.defined_name import DefinedName
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 
 import openpyxl
-from libreoffice import read_values, recalculate
+from helpers.libreoffice import read_values, recalculate
 from openpyxl.workbook.defined_name import DefinedName
 from openpyxl.worksheet.formula import ArrayFormula
 

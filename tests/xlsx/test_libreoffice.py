@@ -13,7 +13,7 @@ from pathlib import Path
 
 import openpyxl
 import pytest
-from libreoffice import is_error, pdf_to_png, read_values, recalculate, render_pdf
+from helpers.libreoffice import is_error, pdf_to_png, read_values, recalculate, render_pdf
 from openpyxl.formatting.rule import CellIsRule, ColorScaleRule, FormulaRule
 from openpyxl.styles import PatternFill
 from openpyxl.workbook.defined_name import DefinedName

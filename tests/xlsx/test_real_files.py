@@ -2,7 +2,7 @@
 
 Every feature is tried in the two shapes the evaluator meets: a hand-written LibreOffice
 flat ODF file (.fods) that LibreOffice converts to .xlsx (its own XML), and a package in
-Excel's own XML shape (the writers: tests/realfiles.py; the books: tests/realbooks.py). Each
+Excel's own XML shape (the writers: tests/helpers/realfiles.py; the books: tests/helpers/realbooks.py). Each
 file's cells are checked against Excel's values worked out by hand (`Book.expected`), and every formula cell
 against LibreOffice's recalculation (errors compared as "an error"). All the conversions
 and recalculations of the module run in ONE soffice call (the `lo` fixture).
@@ -14,12 +14,9 @@ from pathlib import Path
 
 import openpyxl
 import pytest
-import realfiles as rf
-from hypothesis import example, given, settings
-from hypothesis import strategies as st
-from libreoffice import is_error, recalculate
-from openpyxl.utils import get_column_letter
-from realbooks import (
+from helpers import realfiles as rf
+from helpers.libreoffice import is_error, recalculate
+from helpers.realbooks import (
     BUILDERS,
     FUNCTIONS,
     ROOT,
@@ -29,7 +26,10 @@ from realbooks import (
     generated_formulas,
     row_numbers,
 )
-from realfiles import cell
+from helpers.realfiles import cell
+from hypothesis import example, given, settings
+from hypothesis import strategies as st
+from openpyxl.utils import get_column_letter
 
 from sheetkin.course.validator import validate
 from sheetkin.xlsx.evaluator import ERRORS, evaluate

@@ -1,7 +1,7 @@
 """One answer in three engines (issue 20, items 4 and 5): sheetkin's evaluator, LibreOffice and
 Gnumeric agree on every formula cell of every bundled book (workbooks/*.xlsx) and of a key and
 an exercise book of `sheetkin variants` for every bundled scene, statuses and summaries
-included; errors compare as "an error". And dead points: the four-bar of tests/scenes.py
+included; errors compare as "an error". And dead points: the four-bar of tests/helpers/scenes.py
 (SHORT) is sampled exactly at its dead points (0 and 360 deg, where its discriminant is 0 in
 exact arithmetic, -3.5e-18 in numpy, 0 in LibreOffice): compute, the workbook in each engine,
 the evaluator and the validator decide those positions alike, and no check is red.
@@ -16,9 +16,9 @@ from pathlib import Path
 import numpy as np
 import openpyxl
 import pytest
-from engines import cached_values, differences, evaluator_values, formula_cells, gnumeric_recalc, same
-from libreoffice import recalculate
-from scenes import SHORT
+from helpers.engines import cached_values, differences, evaluator_values, formula_cells, gnumeric_recalc, same
+from helpers.libreoffice import recalculate
+from helpers.scenes import SHORT
 
 import sheetkin
 from sheetkin.course.validator import validate

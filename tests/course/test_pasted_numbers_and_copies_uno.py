@@ -15,8 +15,8 @@ from pathlib import Path
 
 import openpyxl
 import pytest
+from helpers.studentbooks import Recipe, key_formulas, key_values, make_books, rows_by_name, uno_available
 from openpyxl.utils import get_column_letter
-from studentbooks import Recipe, key_formulas, key_values, make_books, rows_by_name, uno_available
 
 from sheetkin.course import grades
 from sheetkin.course.copies import Copies, pairs_of, possible_copies

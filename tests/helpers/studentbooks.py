@@ -4,7 +4,7 @@ LibreOffice, the key's formulas typed into its empty computed cells, then ordina
 dragged first, numbers typed, a note in T150, rows deleted, a named row range), saved by
 LibreOffice; or re-saved by Gnumeric's ssconvert.
 
-LibreOffice is driven through UNO by tests/studentbooks_uno.py, run by /usr/bin/python3
+LibreOffice is driven through UNO by tests/helpers/studentbooks_uno.py, run by /usr/bin/python3
 (Debian's python3-uno works with that Python only) with its own profile and socket. Build
 all the books a test needs with one make_books() call: one soffice start for all of them.
 
@@ -79,7 +79,7 @@ def key_values(key: Path, names: list[str], digits: int | None = None) -> dict[s
 
 @dataclass
 class Recipe:
-    """What a student does to the exercise, in order; ops as tests/studentbooks_uno.py reads them."""
+    """What a student does to the exercise, in order; ops as tests/helpers/studentbooks_uno.py reads them."""
     exercise: Path
     key: Path | None = None
     ops: list = field(default_factory=list)

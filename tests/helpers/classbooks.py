@@ -6,9 +6,9 @@ import re
 from pathlib import Path
 
 import openpyxl
-from scenes import FOURBAR
 
 import sheetkin
+from helpers.scenes import FOURBAR
 from sheetkin.sheet.workbook import IDENTITY_CELLS, write_workbook
 
 # five variants of the spec's four-bar: the crank's length differs (the teacher's variants

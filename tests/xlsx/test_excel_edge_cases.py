@@ -229,8 +229,8 @@ def test_text_that_spells_an_error_three_engines(tmp_path, soffice, ssconvert):
     """The same book recalculated by LibreOffice and Gnumeric: every cell of column B the
     same kind of value (an error, a text, a number, a boolean) as sheetkin's; their saved
     text results (t="str", "#N/A") are read back as text, their errors (t="e") as errors."""
-    from engines import gnumeric_recalc
-    from libreoffice import recalculate
+    from helpers.engines import gnumeric_recalc
+    from helpers.libreoffice import recalculate
     path = _texts_and_errors_book(tmp_path)
     book = evaluate(path)
     ours = {ref: _kind(_value(book, book.order[0], ref)) for ref in TEXT_AS_ERROR}
@@ -342,8 +342,8 @@ def test_row_column_n_value(tmp_path):
 
 
 def test_row_column_n_value_three_engines(tmp_path, soffice, ssconvert):
-    from engines import gnumeric_recalc
-    from libreoffice import recalculate
+    from helpers.engines import gnumeric_recalc
+    from helpers.libreoffice import recalculate
     path = _positional_book(tmp_path)
     book = evaluate(path)
     ours = {ref: _kind(_value(book, book.order[0], ref)) for ref in POSITIONAL}

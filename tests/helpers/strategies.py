@@ -5,7 +5,7 @@ Each kind's strategy is in its own section, in the contract's order (RRR, RRP, R
 RPP), then the chains; each builds its mechanism so that it assembles at the drawn crank
 angles, away from its toggle (the constructions say how). STRATEGIES maps a name to a
 strategy of (scene text, crank angles in degrees, length scale). The checks the property
-tests apply to them are tests/kinds.py's (written out from the contract, not from the
+tests apply to them are tests/helpers/kinds.py's (written out from the contract, not from the
 kinds' code).
 """
 from __future__ import annotations

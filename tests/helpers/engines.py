@@ -13,7 +13,8 @@ import subprocess
 from pathlib import Path
 
 import openpyxl
-from libreoffice import is_error
+
+from helpers.libreoffice import is_error
 
 GNUMERIC_HINT = "Gnumeric (ssconvert) not found: run `bash tests/setup.sh` (as root, Debian/Ubuntu)"
 

@@ -2,7 +2,7 @@
 charts page, the live drawing at position 4, one animation per bundled mechanism
 (workbooks/*.toml) and the validation report of a small class in Chromium.
 
-    PYTHONPATH=. python tests/render_pictures.py [OUTDIR]      (default: workbooks/img)
+    PYTHONPATH=. python tests/helpers/render_pictures.py [OUTDIR]      (default: workbooks/img)
 
 LibreOffice prints the recalculated workbook to PDF, pdftoppm turns pages into PNG;
 `sheetkin animate` draws the GIFs (36 frames, 320 px wide); headless Chromium (selenium)
@@ -16,11 +16,11 @@ import sys
 import tempfile
 from pathlib import Path
 
-HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE))
-from libreoffice import pdf_to_png, render_pdf  # noqa: E402
+TESTS = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(TESTS))           # run as a script: the helpers package is in tests/
+from helpers.libreoffice import pdf_to_png, render_pdf  # noqa: E402
 
-ROOT = HERE.parent
+ROOT = TESTS.parent
 
 
 def pdf_pages(pdf: Path) -> int:
@@ -54,9 +54,9 @@ def render_all(outdir: Path) -> list[Path]:
 
 
 def render_report(outdir: Path) -> Path:
-    """A validation report of a small class (tests/browser.py's demo_class) as headless
+    """A validation report of a small class (tests/helpers/browser.py's demo_class) as headless
     Chromium shows it, one student's details open."""
-    from browser import chrome, chromium_paths, demo_class
+    from helpers.browser import chrome, chromium_paths, demo_class
     paths = chromium_paths()
     if paths is None:
         raise SystemExit("render_pictures: chromium, chromedriver and selenium are needed for the report "

@@ -1,5 +1,5 @@
 """Run by /usr/bin/python3 (Debian's python3-uno), not by the tests' Python: edits workbooks in
-LibreOffice through UNO the way a student does in Calc, and saves them. tests/studentbooks.py
+LibreOffice through UNO the way a student does in Calc, and saves them. tests/helpers/studentbooks.py
 writes the jobs (JSON) and starts this script; it starts its own soffice (private profile,
 --accept on a socket), so nothing is shared with another test.
 

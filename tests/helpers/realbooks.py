@@ -11,11 +11,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import openpyxl
-import realfiles as rf
 from openpyxl.utils import get_column_letter
-from realfiles import cell
 
-ROOT = Path(__file__).resolve().parent.parent
+from helpers import realfiles as rf
+from helpers.realfiles import cell
+
+ROOT = Path(__file__).resolve().parents[2]
 NA = "#N/A"
 
 

@@ -6,7 +6,7 @@ least one case (test_groups checks it); DYNAMICS adds masses and loads to every 
 kinetostatics of each kind is checked by the energy balance.
 
 The checks both the cases (tests/groups/test_groups.py) and the random instances of every kind
-and chain (tests/strategies.py, tests/kinematics/test_properties.py) go through, each kind's next to
+and chain (tests/helpers/strategies.py, tests/kinematics/test_properties.py) go through, each kind's next to
 the others: check_geometry (kept distances, points on their lines, loop closure, written
 out here from the contract), check_loop (the kinds' loop equations and Cramer residuals at
 the closed form), check_reference (the mpmath solution), check_derivatives (8th-order
@@ -24,7 +24,7 @@ import sheetkin
 from sheetkin.groups import kind_of
 from sheetkin.studies.bench import FLOAT, reference_mp
 
-WORKBOOKS = Path(__file__).resolve().parents[1] / "workbooks"
+WORKBOOKS = Path(__file__).resolve().parents[2] / "workbooks"
 
 
 def bundled(stem: str) -> str:

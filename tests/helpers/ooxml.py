@@ -15,7 +15,7 @@ from pathlib import Path
 
 from lxml import etree
 
-XSD = Path(__file__).parent / "data" / "ooxml-xsd"
+XSD = Path(__file__).resolve().parents[1] / "data" / "ooxml-xsd"
 ISO = "ISO-IEC29500-4_2016"
 # root namespace -> schema file
 SCHEMAS = {
