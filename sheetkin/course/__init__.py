@@ -14,8 +14,8 @@ from sheetkin.lazy import exports
 # public name -> the module that defines it, imported on first use (sheetkin.lazy)
 _EXPORTS = {
     "validate": "validator",
-    "Report": "validator",
-    "RowReport": "validator",
+    "Report": "report_model",
+    "RowReport": "report_model",
     "validate_many": "batch",
     "make_variants": "variants",
     "write_variants": "variants",

@@ -11,7 +11,7 @@ from .issued import changed_line
 from .report_html import position_list, position_name
 from .report_messages import say
 from .report_texts import READS_TYPED, say_grading, words
-from .validator import Report
+from .report_model import Report
 
 
 def _num(v) -> str:

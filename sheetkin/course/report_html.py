@@ -20,7 +20,7 @@ from pathlib import Path
 
 from .report_messages import say
 from .report_texts import READS_TYPED, say_grading, words
-from .validator import Report
+from .report_model import Report
 
 _CSS = """body{font-family:sans-serif;margin:1.2em;color:#222}
 table{border-collapse:collapse;margin:.5em 0}td,th{border:1px solid #bbb;padding:2px 6px;font-size:90%}

@@ -29,7 +29,8 @@ from sheetkin.course.grades import (
     score,
 )
 from sheetkin.course.report_html import html_page
-from sheetkin.course.validator import Report, RowReport, validate
+from sheetkin.course.report_model import Report, RowReport
+from sheetkin.course.validator import validate
 from sheetkin.xlsx.cells import read_book
 
 

@@ -23,7 +23,7 @@ from sheetkin.course.grades import grade_lines, grades_csv
 from sheetkin.course.identity import identify
 from sheetkin.course.issued import parse_roster, read_roster
 from sheetkin.course.report import copies_lines, html_report
-from sheetkin.course.validator import Report, RowReport
+from sheetkin.course.report_model import Report, RowReport
 from sheetkin.xlsx.cells import password_protected
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -321,7 +321,7 @@ def test_typed_numbers_of_another_variant_no_one_handed_in(tmp_path):
     another variant's book: named by the variant's key file and the student it was issued to."""
     from sheetkin.course.copies import _computed_values, roster_variants
     from sheetkin.course.identity import read_assignment
-    from sheetkin.course.validator import reference_book
+    from sheetkin.course.reference import reference_book
     cl = tmp_path / "class.csv"
     cl.write_bytes(CLASS.encode("cp1251"))
     out = tmp_path / "issued"
