@@ -118,8 +118,8 @@ def identify(reports, class_list: ClassList | None = None, assignment: Assignmen
 
 def _identify_one(rep, cl: ClassList | None, assignment: Assignment | None) -> Identity:
     me = Identity()
-    typed = " ".join(str(getattr(rep, "student", "") or "").split())
-    sealed = str(getattr(rep, "issued_to", "") or "")
+    typed = " ".join(str(rep.student or "").split())
+    sealed = str(rep.issued_to or "")
     sub = moodle_submitter(rep.path)
     sealed_name = ""
     if sealed:

@@ -4,10 +4,13 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass, field
+from typing import Any
 
 from sheetkin.kinematics.scene import Scene
 
 from .layout import Layout
+
+INTERNAL = {"to_dict": False}     # a Report field's metadata: not in to_dict (nor --json)
 
 
 @dataclass
@@ -41,24 +44,8 @@ class RowReport:
         return bool(self.typed_cells) or (self.kind == "derived" and self.source == "typed")
 
 
-class _UsableBookParts:
-    """What validate sets on the report of a usable book only: not fields (not in to_dict,
-    and a plain base class, so no dataclass field), absent on a report that stopped early
-    (readers getattr them with a default). Declared here for the types only."""
-    layout: Layout                   # the student's cells (report texts)
-    roster_differs: bool             # one warning for the class (cli)
-    lang: str                        # the reports' default language
-    variant_scene: Scene             # the report's picture
-    marks: dict                      # the raw cells copy detection compares (copies.py)
-    checks_total: int                # check rows in the sheet
-    checks_apply: int                # issued check rows with a number somewhere
-    checks_passing: int
-    checks_na: int
-    checks_unfilled: int
-
-
 @dataclass
-class Report(_UsableBookParts):
+class Report:
     path: str
     author: str = ""
     title: str = ""
@@ -87,6 +74,18 @@ class Report(_UsableBookParts):
     checks_issued: int = 0
     issued_to: str = ""              # the identifier sealed in it by `variants --class-list`
     notes: list[str] = field(default_factory=list)
+    # Facts of a usable book that the reports, grades and copy detection read but to_dict
+    # leaves out (INTERNAL): their defaults are what a report that stopped early says.
+    layout: Layout | None = field(default=None, metadata=INTERNAL)       # the student's cells (report texts)
+    roster_differs: bool = field(default=False, metadata=INTERNAL)       # one warning for the class
+    lang: str = field(default="", metadata=INTERNAL)                     # the reports' default language
+    variant_scene: Scene | None = field(default=None, metadata=INTERNAL)  # the report's picture
+    marks: dict | None = field(default=None, metadata=INTERNAL)          # the raw cells copy detection compares
+    checks_total: int | None = field(default=None, metadata=INTERNAL)    # check rows in the sheet
+    checks_apply: int | None = field(default=None, metadata=INTERNAL)    # issued check rows with a number somewhere
+    checks_passing: int | None = field(default=None, metadata=INTERNAL)
+    checks_na: int = field(default=0, metadata=INTERNAL)
+    checks_unfilled: int = field(default=0, metadata=INTERNAL)
 
     @property
     def wrong(self) -> list[RowReport]:
@@ -121,7 +120,11 @@ class Report(_UsableBookParts):
 
     def to_dict(self) -> dict:
         from .grades import counts, explain, score, verdict
-        d = dataclasses.asdict(self)
+        internal = [f.name for f in dataclasses.fields(self) if f.metadata.get("to_dict", True) is False]
+        blank: dict[str, Any] = dict.fromkeys(internal)     # not copied by asdict (a Scene, a Layout)
+        d = dataclasses.asdict(dataclasses.replace(self, **blank))
+        for name in internal:
+            del d[name]
         d["ok"] = self.ok
         d["verdict"] = verdict(self)
         d["score"] = None if self.error else score(self)

@@ -118,19 +118,15 @@ def _new_report(g: Graded, book, scene_text: str, options: issued.Options | None
     # who filled it in: D1, D2 (the lecture's rows 1-2); books issued before 0.16 had input
     # rows "student", "group" (A1 the title, A2 the scheme's author, then)
     old = "student" in names
-    report = Report(g.path, author=scene.author or "",
-                    title=str(sh.consts.get((1, 1) if old else TITLE_AT, "") or ""),
-                    positions=positions, problems=list(evaluated.problems),
-                    student=identity_text(evaluated, main, sh, names.get("student") if old else 1),
-                    group=identity_text(evaluated, main, sh, names.get("group") if old else 2),
-                    variant=given.variant, given_changed=given.changed, seal=given.seal,
-                    accepted_changes=accept, accepted_typed=bool(options and getattr(options, "accept_typed", False)),
-                    notes=given.notes + layout.notes
-                    + ([layout.outside_line()] if layout.outside else []), issued_to=given.student)
-    report.layout = layout                  # not a field: the student's cells (report texts)
-    report.roster_differs = given.roster_differs   # not a field: one warning for the class (cli)
-    report.position_names = [(ref_book.value(ref_sheet, ref_names["i"], FIRST_COL + k),
-                              ref_book.value(ref_sheet, ref_names["phi_1"], FIRST_COL + k)) for k in range(positions)]
-    report.lang = book_lang(main)           # not a field: the reports' default language
-    report.variant_scene = student_scene    # not a field (not in to_dict): the report's picture
-    return report
+    position_names = [(ref_book.value(ref_sheet, ref_names["i"], FIRST_COL + k),
+                       ref_book.value(ref_sheet, ref_names["phi_1"], FIRST_COL + k)) for k in range(positions)]
+    return Report(g.path, author=scene.author or "",
+                  title=str(sh.consts.get((1, 1) if old else TITLE_AT, "") or ""),
+                  positions=positions, problems=list(evaluated.problems), position_names=position_names,
+                  student=identity_text(evaluated, main, sh, names.get("student") if old else 1),
+                  group=identity_text(evaluated, main, sh, names.get("group") if old else 2),
+                  variant=given.variant, given_changed=given.changed, seal=given.seal,
+                  accepted_changes=accept, accepted_typed=bool(options and options.accept_typed),
+                  notes=given.notes + layout.notes + ([layout.outside_line()] if layout.outside else []),
+                  issued_to=given.student, layout=layout, roster_differs=given.roster_differs,
+                  lang=book_lang(main), variant_scene=student_scene)

@@ -23,9 +23,8 @@ from test_validator import fourbar, rows_of  # noqa: F401 - the four-bar's book,
 
 import sheetkin
 from sheetkin.course.localjudge import judge, magnitude, name_causes, typed_digits, typed_text, typed_tolerance
+from sheetkin.course.reference import reference_book, row_ancestors
 from sheetkin.course.report import json_report, text_report
-from sheetkin.course.reference import reference_book
-from sheetkin.course.reference import row_ancestors
 from sheetkin.course.report_model import RowReport
 from sheetkin.course.validator import validate
 from sheetkin.sheet.workbook import sheet_rows
