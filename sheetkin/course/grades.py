@@ -38,11 +38,15 @@ from __future__ import annotations
 import csv
 import io
 import os
+from typing import TYPE_CHECKING
 
 # the class list is read and matched in sheetkin/course/classlist.py (Russian name forms,
 # Moodle's folders); its names stay importable from here
 from .classlist import ClassList, name_key, read_class_list  # noqa: F401
 from .classlist import ClassListError as GradesError  # noqa: F401 (--grades, --class-list: one line)
+
+if TYPE_CHECKING:
+    from .copies import Copies
 
 CHECK_PENALTY = 2.0        # points off per failing check row (the sheet showed the mistake)
 ROWS_SHARE = 90.0          # the computed rows' share of the score
@@ -241,7 +245,7 @@ def causes_text(rep) -> str:
 
 
 # --------------------------------------------------------------------------- grades.csv
-def grade_lines(reports, copies, class_list: ClassList | None = None, accept_changed: bool = False,
+def grade_lines(reports, copies: Copies | None, class_list: ClassList | None = None, accept_changed: bool = False,
                 identities: list | None = None, lang: str = "en") -> tuple[list[list[str]], list[str]]:
     """The header and one line per graded report (in their order), and warnings: the
     students the class list does not name, the older files of a student (not graded: one
@@ -250,9 +254,11 @@ def grade_lines(reports, copies, class_list: ClassList | None = None, accept_cha
     lang: the headers and the words of the cells (ru, uk, en); the identifier column keeps
     Moodle's own name (its import matches it), the numbers stay numbers; the warnings (for
     the operator's terminal) stay English."""
+    from .copies import Copies
     from .identity import identify
     from .report_messages import column_name, say
     from .report_texts import say_grading
+    copies = copies if copies is not None else Copies()
     if identities is None:
         identities = identify(reports, class_list)
     id_header = class_list.id_header if class_list else ID_HEADERS[0]

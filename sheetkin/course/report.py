@@ -4,6 +4,7 @@ from __future__ import annotations
 import json
 import math
 import re
+from typing import TYPE_CHECKING
 
 from .copies import MAX_LISTED
 from .grades import counts, explain, score, verdict
@@ -12,6 +13,9 @@ from .report_html import position_list, position_name
 from .report_messages import say
 from .report_model import Report
 from .report_texts import READS_TYPED, say_grading, words
+
+if TYPE_CHECKING:
+    from .copies import Copies
 
 
 def _num(v) -> str:
@@ -173,7 +177,7 @@ def _named_positions(rep: Report) -> dict:
     return d
 
 
-def json_report(reports: list[Report], copies=None, lang: str = "en") -> str:
+def json_report(reports: list[Report], copies: Copies | None = None, lang: str = "en") -> str:
     """Every report (Report.to_dict: verdict, score, score_explained, summary counts), each
     with its possible copies (sheetkin/course/copies.py): file, student and why. The notes
     and the reasons of copies are in `lang`; the keys, verdicts and counts, for programs,
@@ -186,11 +190,13 @@ def json_report(reports: list[Report], copies=None, lang: str = "en") -> str:
         if isinstance(o, list):
             return [clean(v) for v in o]
         return o
+    from .copies import Copies
+    copies = copies if copies is not None else Copies()
     out = []
     for i, r in enumerate(reports):
         d = _named_positions(r)
         # at most MAX_LISTED others of its cluster: the report stays linear in the class
-        others = copies.others(i)[:MAX_LISTED] if copies is not None else []
+        others = copies.others(i)[:MAX_LISTED]
         d["possible_copy_of"] = [{"file": reports[j].path, "student": reports[j].student,
                                   "why": say(copies.why(i), lang)} for j in others]
         # sources that are no submission (a variant's key): its file, whom it was issued to
@@ -203,7 +209,7 @@ def json_report(reports: list[Report], copies=None, lang: str = "en") -> str:
                              "all_correct": all(r.ok for r in reports)}), indent=1, ensure_ascii=False) + "\n"
 
 
-def html_report(reports: list[Report], copies: dict | None = None, lang: str = "en",
+def html_report(reports: list[Report], copies: Copies | None = None, lang: str = "en",
                 identities: list | None = None) -> str:
     """One offline page: the class at a glance, a sortable summary, per-student details,
     pictures (report_html.py), in `lang`; with identities (sheetkin.course.identity), who

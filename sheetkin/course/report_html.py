@@ -17,10 +17,14 @@ from __future__ import annotations
 import html
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from .report_messages import say
 from .report_model import Report
 from .report_texts import READS_TYPED, say_grading, words
+
+if TYPE_CHECKING:
+    from .copies import Copies
 
 _CSS = """body{font-family:sans-serif;margin:1.2em;color:#222}
 table{border-collapse:collapse;margin:.5em 0}td,th{border:1px solid #bbb;padding:2px 6px;font-size:90%}
@@ -280,14 +284,15 @@ def _details(rep: Report, k: int, copy: str = "", lang: str = "en", me=None) -> 
     return out
 
 
-def html_page(reports: list[Report], copies: dict | None = None, lang: str = "en",
+def html_page(reports: list[Report], copies: Copies | None = None, lang: str = "en",
               identities: list | None = None) -> str:
     """The page (module docstring). identities: sheetkin.course.identity.identify's, one per
     report: who handed each book in, shown in the summary and the details."""
     t = words(lang)
     ids = identities if identities is not None and len(identities) == len(reports) else [None] * len(reports)
     correct = sum(r.ok for r in reports)
-    copies = copies or {}
+    from .copies import Copies
+    copies = copies if copies is not None else Copies()
     out = [f"<!doctype html><html lang='{lang}'><head><meta charset='utf-8'>"
            f"<link rel='icon' href='data:,'><title>{t['title']}</title>"
            f"<style>{_CSS}</style></head><body>",
