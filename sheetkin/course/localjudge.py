@@ -47,8 +47,9 @@ from sheetkin.xlsx.coords import get_column_letter
 from sheetkin.xlsx.evaluator import BOOL, EMPTY, NUM, TEXT, Book, Run, evaluate_runs, parse_rows, store_value
 from sheetkin.xlsx.functions import ERROR_TEXT, NAME
 
-RTOL = 1e-9            # formulas: the same numbers up to rounding (the validator's precision)
-ATOL = 1e-9
+from .caches import Kept
+from .tolerance import ATOL, RTOL
+
 DERIVED_COL = 4        # column D: the input block's values and the derived rows' formulas
 
 
@@ -116,8 +117,7 @@ class _Plan:
     reads: dict[str, set[str]]                               # name -> the rows its formula reads
 
 
-_PLANS: dict = {}
-_KEEP = 64
+_PLANS = Kept(64)
 
 
 def _plan(sheet, judged: tuple[str, ...]) -> _Plan:
@@ -147,10 +147,7 @@ def _plan(sheet, judged: tuple[str, ...]) -> _Plan:
         got.discard(n)
     cols = {n: np.unique(np.concatenate([run.cols for run in rs])) for n, rs in runs.items()}
     plan = _Plan(sheet.formulas, rows, runs, cols, reads)
-    if len(_PLANS) >= _KEEP:
-        del _PLANS[next(iter(_PLANS))]
-    _PLANS[key] = plan
-    return plan
+    return _PLANS.keep(key, plan)
 
 
 # --------------------------------------------------------------------------- judging

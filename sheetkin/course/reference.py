@@ -21,6 +21,7 @@ from sheetkin.xlsx.evaluator import Book, evaluate_sheets
 from sheetkin.xlsx.functions import XlError
 
 from .book import UnusableInput
+from .caches import Kept
 
 
 # --------------------------------------------------------------------------- the variant
@@ -87,9 +88,8 @@ def row_ancestors(scene: Scene) -> dict[str, set[str]]:
 # names, kinds and formulas, and the positions), and each variant's reference is that
 # sheet with the variant's inputs, evaluated (the evaluator keeps the parsed formulas).
 # No workbook is rebuilt per variant; references are kept per variant (its inputs).
-_TEMPLATE_SHEETS: dict = {}               # structure -> the generated Sheet, {input name: row}
-_REFERENCES: dict = {}                    # (structure, inputs) -> Book, at most _KEEP of them
-_KEEP = 64
+_TEMPLATE_SHEETS = Kept(64)               # structure -> the generated Sheet, {input name: row}
+_REFERENCES = Kept(64)                    # (structure, inputs) -> Book
 
 
 def reference_book(scene: Scene) -> Book:
@@ -103,9 +103,7 @@ def reference_book(scene: Scene) -> Book:
     book = _REFERENCES.get(key)
     if book is None:
         if structure not in _TEMPLATE_SHEETS:
-            if len(_TEMPLATE_SHEETS) >= _KEEP:
-                _TEMPLATE_SHEETS.clear()
-            _TEMPLATE_SHEETS[structure] = _template_sheet(scene)
+            _TEMPLATE_SHEETS.keep(structure, _template_sheet(scene))
         sheet, input_rows = _TEMPLATE_SHEETS[structure]
         consts = dict(sheet.consts)
         for name, value in inputs:          # as the generated workbook writes them (ints as floats)
@@ -117,9 +115,7 @@ def reference_book(scene: Scene) -> Book:
         variant = Sheet(sheet.name, sheet.state, consts=consts, formulas=sheet.formulas,
                         max_row=sheet.max_row, max_col=sheet.max_col)
         book = evaluate_sheets("<reference>", {variant.name: variant}, [variant.name], {}, strict=True)
-        if len(_REFERENCES) >= _KEEP:
-            del _REFERENCES[next(iter(_REFERENCES))]          # the oldest
-        _REFERENCES[key] = book
+        _REFERENCES.keep(key, book)
     return book
 
 
@@ -167,9 +163,3 @@ def build_reference(scene: Scene, evaluate: bool = True):
     if not evaluate:
         return [sheets[order[0]]]
     return evaluate_sheets("<reference>", sheets, order, {}, strict=True)
-
-
-def clear_caches() -> None:
-    """Forget every kept reference and template sheet (tests; a long-running process)."""
-    _TEMPLATE_SHEETS.clear()
-    _REFERENCES.clear()

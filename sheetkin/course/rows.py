@@ -26,9 +26,7 @@ from .localjudge import TURN, angle_difference, judge, name_causes
 from .localjudge import typed_tolerance as _typed_tolerance
 from .reference import row_ancestors
 from .report_model import Report, RowReport
-
-RTOL = 1e-9            # formulas: the same numbers up to rounding
-ATOL = 1e-9
+from .tolerance import ATOL, RTOL
 
 
 def _close(got, exp, name: str, typed: bool, period: float | None = None):

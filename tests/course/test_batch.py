@@ -16,6 +16,7 @@ import sheetkin
 from sheetkin.cli.commands import main
 from sheetkin.course import reference
 from sheetkin.course.batch import validate_many
+from sheetkin.course.caches import clear_caches
 from sheetkin.course.issued import Options
 from sheetkin.sheet.workbook import write_workbook
 
@@ -54,7 +55,7 @@ def _variants(scene):
 @pytest.mark.parametrize("stem", ["fourbar", "shaper", "shaper_dynamics", "slotted_lever"])
 def test_reference_from_the_template_is_the_rebuilt_workbook(stem):
     scene = sheetkin.load_scene(WORKBOOKS / f"{stem}.toml")
-    reference.clear_caches()
+    clear_caches()
     for variant in _variants(scene):
         _same_book(reference.reference_book(variant), reference.build_reference(variant), variant)
     # one generated sheet per structure (positions), however many variants
@@ -63,7 +64,7 @@ def test_reference_from_the_template_is_the_rebuilt_workbook(stem):
 
 def test_reference_is_cached_per_variant():
     scene = sheetkin.load_scene(WORKBOOKS / "fourbar.toml")
-    reference.clear_caches()
+    clear_caches()
     a = reference.reference_book(scene)
     assert reference.reference_book(dataclasses.replace(scene, source="other.toml", title="x")) is a
     other = dataclasses.replace(scene, crank=dataclasses.replace(scene.crank, length=0.15))
