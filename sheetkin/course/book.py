@@ -13,9 +13,10 @@ from sheetkin.sheet.workbook import (
     sheet_rows,
 )
 from sheetkin.xlsx.evaluator import Book, evaluate_sheets
+from sheetkin.xlsx.functions import NAME as NAME_ERROR
 
 from . import issued
-from .layout import without_unread
+from .layout import VALUE_COL, without_unread
 
 # Caps on the scene embedded in a book, for validation (docs/reliability.md): the course's
 # scenes have 1-3 groups and 0-3 points; a reference of rows x positions cells is built
@@ -83,9 +84,10 @@ def identity_text(evaluated, main: str, sh, row: int | None) -> str:
     cannot compute (=HYPERLINK(...)) is what the spreadsheet saved, not "#NAME?"."""
     if row is None:
         return ""
-    v = evaluated.value(main, row, 4)
-    if sh.computed(row, 4) and evaluated.tag[main][row, 4] == 14 and (row, 4) in sh.cached:
-        v = sh.cached[(row, 4)]
+    v = evaluated.value(main, row, VALUE_COL)
+    at = (row, VALUE_COL)
+    if sh.computed(*at) and evaluated.tag[main][at] == NAME_ERROR and at in sh.cached:
+        v = sh.cached[(row, VALUE_COL)]
     return _text(v)
 
 

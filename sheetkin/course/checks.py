@@ -14,6 +14,7 @@ from sheetkin.sheet.workbook import (
 from sheetkin.xlsx.cells import Sheet
 from sheetkin.xlsx.evaluator import Book
 
+from .layout import VALUE_COL
 from .localjudge import TURN, angle_difference
 from .report_model import Report
 from .rows import computes
@@ -28,7 +29,7 @@ def read_checks(report: Report, evaluated: Book, main: str, sh: Sheet, names: di
     # status 1 or an error fails; 0, n/a and "not filled in" do not (sheetkin/sheet/checks.py)
     # a status typed over its formula (a 0 typed to make the row green) says nothing: it
     # fails, as an error would (it once hid the failing checks and raised the score)
-    statuses = {n: evaluated.value(main, r, 4) if computes(sh, r, 4) else "#TYPED"
+    statuses = {n: evaluated.value(main, r, VALUE_COL) if computes(sh, r, VALUE_COL) else "#TYPED"
                 for n, r in names.items()
                 if n.startswith(("chk", "fd_")) and kinds.get(n) in ("check", "fdcheck")}
     _turns_pass(statuses, evaluated, main, names, ref_rows, ref_book, ref_names, positions)
@@ -68,7 +69,7 @@ def _turns_pass(statuses: dict, evaluated: Book, main: str, names: dict[str, int
     residuals within the sheet's Tol of a multiple of the turn, numbers where the reference
     has numbers). Sets the status to 0 in `statuses`."""
     units = {r.name: r.unit for r in ref_rows}
-    tol = evaluated.value(main, names["Tol"], 4) if "Tol" in names else None
+    tol = evaluated.value(main, names["Tol"], VALUE_COL) if "Tol" in names else None
     tol = tol if isinstance(tol, float) and not isinstance(tol, bool) and math.isfinite(tol) and tol >= 0 else 1e-9
     ref_sheet = ref_book.order[0]
     for n, status in statuses.items():

@@ -22,11 +22,12 @@ from sheetkin.xlsx.functions import XlError
 
 from .book import UnusableInput
 from .caches import Kept
+from .layout import VALUE_COL
 
 
 # --------------------------------------------------------------------------- the variant
 def input_values(book: Book, sheet: str, names: dict[str, int]) -> dict[str, object]:
-    return {n: book.value(sheet, r, 4) for n, r in names.items()}
+    return {n: book.value(sheet, r, VALUE_COL) for n, r in names.items()}
 
 
 def variant_scene(scene: Scene, inputs: dict[str, object], positions: int, where: dict[str, str]) -> Scene:
@@ -108,10 +109,10 @@ def reference_book(scene: Scene) -> Book:
         consts = dict(sheet.consts)
         for name, value in inputs:          # as the generated workbook writes them (ints as floats)
             if value is None:
-                consts.pop((input_rows[name], 4), None)
+                consts.pop((input_rows[name], VALUE_COL), None)
             else:
-                consts[(input_rows[name], 4)] = (float(value) if isinstance(value, int) and not isinstance(value, bool)
-                                                 else value)
+                number = isinstance(value, int) and not isinstance(value, bool)
+                consts[(input_rows[name], VALUE_COL)] = float(value) if number else value
         variant = Sheet(sheet.name, sheet.state, consts=consts, formulas=sheet.formulas,
                         max_row=sheet.max_row, max_col=sheet.max_col)
         book = evaluate_sheets("<reference>", {variant.name: variant}, [variant.name], {}, strict=True)

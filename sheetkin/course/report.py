@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 from .copies import MAX_LISTED
 from .grades import counts, explain, score, verdict
 from .issued import changed_line
+from .layout import VALUE_COL
 from .report_html import position_list, position_name
 from .report_messages import say
 from .report_model import Report
@@ -114,7 +115,7 @@ def _typed_where(rep: Report, r, lang: str) -> str:
     """Where a row holds typed values: its positions, or (a derived row) its cell in column D."""
     if r.kind == "derived":
         layout = rep.layout
-        return layout.cell(r.row, 4) if layout is not None else f"D{r.row}"
+        return layout.cell(r.row, VALUE_COL) if layout is not None else f"D{r.row}"
     return position_list(rep, r.typed_cells, lang)
 
 

@@ -17,11 +17,12 @@ from sheetkin.sheet.workbook import (
 )
 from sheetkin.xlsx.cells import Sheet
 from sheetkin.xlsx.evaluator import Book
+from sheetkin.xlsx.functions import NAME as NAME_ERROR
 from sheetkin.xlsx.parse import ParseError, functions_of, names_of, parse_formula, refs_of
 from sheetkin.xlsx.precedents import POSITIONAL, reaching
 
 from .copies import submission_marks  # the raw cells copy detection compares
-from .layout import Layout
+from .layout import VALUE_COL, Layout
 from .localjudge import TURN, angle_difference, judge, name_causes
 from .localjudge import typed_tolerance as _typed_tolerance
 from .reference import row_ancestors
@@ -79,7 +80,8 @@ def from_given(raw: Book, g: Graded, positions: int) -> np.ndarray:
     exercise gives filled in (i, phi_1, the guards) and the header's position numbers."""
     cols = g.layout.columns
     given_rows = {r.name for r in g.ref_rows if prefilled_in_exercise(r.name, r.kind)}
-    sources = [(r, cols[4]) for n, r in g.names.items() if n in {x.name for x in g.ref_rows if x.kind == "input"}]
+    input_names = {x.name for x in g.ref_rows if x.kind == "input"}
+    sources = [(r, cols[VALUE_COL]) for n, r in g.names.items() if n in input_names]
     rows = [r for n, r in g.names.items() if n in given_rows]
     if g.layout.header_row:
         rows.append(g.layout.header_row)
@@ -151,21 +153,21 @@ def _grade_derived(rep: RowReport, g: Graded, ref_sheet: str, rr: int, period: f
     positions), empty, or typed (a number, or a formula reading only typed numbers: it earns
     nothing)."""
     r = cast(int, rep.row)
-    if (r, 4) not in g.sh.formulas and (r, 4) not in g.sh.consts:
+    if (r, VALUE_COL) not in g.sh.formulas and (r, VALUE_COL) not in g.sh.consts:
         rep.status = "empty"
         return
-    got = g.evaluated.value(g.main, r, 4)
-    typed = not computes(g.sh, r, 4) or not g.reaches(r, 4)
+    got = g.evaluated.value(g.main, r, VALUE_COL)
+    typed = not computes(g.sh, r, VALUE_COL) or not g.reaches(r, VALUE_COL)
     if typed:
         rep.source = "typed"
-        if computes(g.sh, r, 4):
+        if computes(g.sh, r, VALUE_COL):
             rep.reads_typed = [1]
     else:
         rep.formula_cells = 1
-        if g.evaluated.tag[g.main][r, 4] == 14 and (r, 4) in g.sh.cached:
-            got, rep.source = g.sh.cached[(r, 4)], "cached"        # a formula we cannot evaluate
+        if g.evaluated.tag[g.main][r, VALUE_COL] == NAME_ERROR and (r, VALUE_COL) in g.sh.cached:
+            got, rep.source = g.sh.cached[(r, VALUE_COL)], "cached"        # a formula we cannot evaluate
             got = float(got) if isinstance(got, (int, float)) and not isinstance(got, bool) else got
-    exp = cast(Book, g.ref_book).value(ref_sheet, rr, 4)
+    exp = cast(Book, g.ref_book).value(ref_sheet, rr, VALUE_COL)
     ok, err = _close(got, exp, rep.name, typed, period)
     rep.max_error = err
     if not ok:
@@ -185,7 +187,7 @@ def _compare_cells(rep: RowReport, cells: list[tuple[int, int]], g: Graded, ref_
         if not typed and not g.reaches(r, c):
             typed = True
             rep.reads_typed.append(k + 1)
-        if not typed and evaluated.tag[main][r, c] == 14 and (r, c) in sh.cached:
+        if not typed and evaluated.tag[main][r, c] == NAME_ERROR and (r, c) in sh.cached:
             got, rep.source = sh.cached[(r, c)], "cached"        # a formula we cannot evaluate
             got = float(got) if isinstance(got, (int, float)) and not isinstance(got, bool) else got
         if not typed:

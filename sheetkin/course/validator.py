@@ -39,7 +39,7 @@ from sheetkin.xlsx.package import Limits, UnusableWorkbook
 from . import issued
 from .book import TITLE_AT, UnusableInput, book_lang, embedded_scene, evaluate_student, identity_text
 from .checks import read_checks
-from .layout import find_layout, standard_view
+from .layout import VALUE_COL, find_layout, standard_view
 from .reference import input_values, reference_book, variant_scene
 from .report_model import Report
 from .rows import Graded, from_given, grade_rows
@@ -103,7 +103,7 @@ def _new_report(g: Graded, book, scene_text: str, options: issued.Options | None
     scene, ref_rows, layout, evaluated, sh, names, main = (g.scene, g.ref_rows, g.layout, g.evaluated, g.sh,
                                                           g.names, g.main)
     input_names = {r.name for r in ref_rows if r.kind == "input"}
-    where = {n: f"{main}!{layout.cell(r, 4)}" for n, r in names.items()}
+    where = {n: f"{main}!{layout.cell(r, VALUE_COL)}" for n, r in names.items()}
     g.inputs = inputs = input_values(evaluated, main, {n: r for n, r in names.items() if n in input_names})
     positions = scene.crank.positions      # the issued ones, whatever lies right of the table
     # the given data: graded against the issued variant unless the changes are accepted
