@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import re
 
+from sheetkin.errors import InputError
 from sheetkin.kinematics.scene import Scene, SceneError, parse_scene
 from sheetkin.sheet.charts import PATHS_SHEET, PLOTTED_SHEET
 from sheetkin.sheet.workbook import (
@@ -45,7 +46,7 @@ def check_embedded_scene(scene: Scene, path: str) -> None:
                             f"books of at most {MAX_REFERENCE_CELLS:,}")
 
 
-class UnusableInput(ValueError):
+class UnusableInput(InputError):
     """A workbook that cannot be validated at all; str() is one line naming the file."""
 
 

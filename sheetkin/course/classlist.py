@@ -25,6 +25,8 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from sheetkin.errors import InputError
+
 MAX_CLASS_LIST_BYTES = 5_000_000       # a year's class is a few hundred KB
 ID_HEADERS = ("Email address", "ID number", "Username")      # Moodle's export names them so
 _NAME_HEADERS = {"first": ("first name", "имя"), "last": ("last name", "surname", "фамилия"),
@@ -37,7 +39,7 @@ _PATRONYMIC = re.compile(r"(вич|вна|ична|инична|ич|оглы|к
 NAME_WORD = re.compile(r"[^\W\d_]+(?:[-'][^\W\d_]+)*\.?")
 
 
-class ClassListError(ValueError):
+class ClassListError(InputError):
     """--class-list cannot be used: one line naming the file and line."""
 
 
