@@ -116,12 +116,6 @@ def counts(rep, accept_typed: bool | None = None) -> dict:
     return out
 
 
-def rows_correct(rep) -> tuple[int, int]:
-    """(rows computed right, rows graded)."""
-    c = counts(rep)
-    return c["correct"], c["total"]
-
-
 def checks_counts(rep) -> tuple[int | None, int | None]:
     """(check rows passing, check rows that apply); None where unknown (unusable).
 

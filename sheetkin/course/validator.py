@@ -1,7 +1,8 @@
 """The validator of student workbooks: which rows are right, which are wrong, and why.
 
 For one workbook:
-1. open it safely (xlsxsafe) and read the scene embedded in its hidden sheet;
+1. open it safely (sheetkin.xlsx.package) and read the scene embedded in its hidden sheet
+   (sheetkin.course.book);
 2. take the student's input block (column D of the input rows) as their variant: the
    scene with those lengths, coordinates, branches, Fi0, Fi_t, Fi_tt, Delta_Fi, and as many
    positions as the sheet has columns;
@@ -115,8 +116,8 @@ def _new_report(g: Graded, book, scene_text: str, options: issued.Options | None
     ref_sheet = ref_book.order[0]
     g.ref_names = ref_names = {ref_book.sheets[ref_sheet].consts.get((r, 1)): r
                                for r in range(5, ref_book.sheets[ref_sheet].max_row + 1)}
-    # who filled it in: D1, D2 (the lecture's rows 1-2); books issued before 0.16 had input
-    # rows "student", "group" (A1 the title, A2 the scheme's author, then)
+    # who filled it in: D1, D2 (the lecture's rows 1-2); a book whose table has input rows
+    # "student", "group" names them there (A1 its title, A2 the scheme's author)
     old = "student" in names
     position_names = [(ref_book.value(ref_sheet, ref_names["i"], FIRST_COL + k),
                        ref_book.value(ref_sheet, ref_names["phi_1"], FIRST_COL + k)) for k in range(positions)]
