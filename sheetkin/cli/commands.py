@@ -12,7 +12,6 @@ and their help texts are in sheetkin/cli/args.py; this module runs the commands.
 """
 from __future__ import annotations
 
-import contextlib
 import io
 import json
 import os
@@ -459,7 +458,8 @@ def _write_grades(args, reports, copies, class_list, identities=None, lang: str 
 
 
 def cmd_validate(args) -> int:
-    from sheetkin.course.batch import submission_files, validate_many
+    from sheetkin.course.batch import submission_files
+    from sheetkin.course.class_grading import grade_class
     from sheetkin.course.report import copies_lines, html_report, json_report, summary_table, text_report
     from sheetkin.course.report_texts import class_lang
     found = submission_files(args.paths)
@@ -476,39 +476,21 @@ def cmd_validate(args) -> int:
         bar = int(30 * done / len(files))
         sys.stderr.write(f"\r[{'#' * bar}{'.' * (30 - bar)}] {done}/{len(files)} {f.name[:40]:<40}")
         sys.stderr.flush()
+
+    def print_report(rep):
+        if not args.json:
+            sys.stdout.write(text_report(rep, args.lang or rep.lang or "ru"))
     options, keyless = _issued_options(args)
-    reports, real = [], []
-    # closing(): an interruption while a report is printed also stops the workers at once
-    with contextlib.closing(validate_many(files, args.jobs, progress if show else None, options)) as each:
-        for path, rep in zip(files, each, strict=False):
-            real.append(str(path))
-            _show_as(rep, str(path), found.name(path))
-            reports.append(_printable(rep))
-            if not args.json:
-                sys.stdout.write(text_report(rep, args.lang or getattr(rep, "lang", "") or "ru"))
-    from sheetkin.course.copies import Copies, file_digest, possible_copies
-    from sheetkin.course.identity import find_assignment, identify
-    assignment = find_assignment(args.roster)
-    if class_list is None and assignment is not None and args.grades:
-        class_list = assignment.as_class_list()
-    mtimes = [_mtime(p) for p in real]
-    identities = identify(reports, class_list, assignment, mtimes)
-    for rep, me in zip(reports, identities, strict=True):
-        rep.notes += [f"identity: {flag}" for flag in me.flags]      # --json carries them
-    digests = [None if r.error else file_digest(p) for r, p in zip(reports, real, strict=True)]
-    from sheetkin.course.copies import roster_variants
-    from sheetkin.course.validator import reference_book
-    variants = (roster_variants(options.roster, reference_book, assignment)
-                if options.roster is not None else None)
-    copies = possible_copies(reports, digests, [m.who for m in identities],
-                             assignment.assigned() if assignment else None, variants) if reports else Copies()
+    graded = grade_class(files, found.name, options, jobs=args.jobs, progress=progress if show else None,
+                         class_list=class_list, roster_path=args.roster, for_grades=bool(args.grades),
+                         each=print_report)
+    reports, copies, identities = graded.reports, graded.copies, graded.identities
     if show:
         sys.stderr.write("\n")
     if keyless and any(r.variant for r in reports):
         print(f"sheetkin: note: {keyless}", file=sys.stderr)
-    for warning in (_mismatched_key(reports, options), _roster_contradicts(reports, options)):
-        if warning:
-            print(f"sheetkin: warning: {warning}", file=sys.stderr)
+    for warning in graded.warnings:
+        print(f"sheetkin: warning: {warning}", file=sys.stderr)
     lang = args.lang or class_lang(reports)
     if args.json:
         sys.stdout.write(json_report(reports, copies, lang))
@@ -517,73 +499,13 @@ def cmd_validate(args) -> int:
     if args.html:
         _write(args.html, html_report(reports, copies, lang, identities))
     if args.grades:
-        _write_grades(args, reports, copies, class_list, identities, lang)
+        _write_grades(args, reports, copies, graded.class_list, identities, lang)
     else:
-        for i, me in enumerate(identities):
-            for flag in me.flags:
-                if flag.startswith(("issued to", "found in", "not graded")):
-                    print(f"sheetkin: warning: {reports[i].path}: {flag}", file=sys.stderr)
+        for warning in graded.identity_warnings():
+            print(f"sheetkin: warning: {warning}", file=sys.stderr)
     if any(r.error for r in reports):
         return EXIT_INPUT
     return 0 if all(r.ok for r in reports) else 1
-
-
-def _show_as(rep, real: str, name: str) -> None:
-    """A report of a file unpacked from a zip names it as the teacher knows it."""
-    if name == real:
-        return
-    rep.path = name
-    if rep.error and rep.error.startswith(real):
-        rep.error = name + rep.error[len(real):]
-
-
-def _mtime(path: str) -> float:
-    try:
-        return os.stat(path).st_mtime
-    except (OSError, ValueError):           # a name with a NUL character
-        return 0.0
-
-
-def _roster_contradicts(reports, options) -> str:
-    """One warning when most sealed books' seals check but the roster gives other data for
-    them: a roster re-written (`variants --force` before this version) or another class's.
-    Each such book was graded against its sealed data."""
-    sealed = [r for r in reports if not r.error and r.variant and r.seal == "ok"]
-    differ = [r for r in sealed if getattr(r, "roster_differs", False)]
-    if options.roster is None or not differ or 2 * len(differ) < len(sealed):
-        return ""
-    return (f"{options.roster.path} contradicts {len(differ)} of the {len(sealed)} sealed books (their seals "
-            "check, the roster's given data differ): is it another class's roster, or re-written? Each "
-            "sealed book is graded against its sealed data")
-
-
-def _printable(rep):
-    """The report with every text fit for UTF-8 output: a file name that is not UTF-8 (made
-    on another system) shown with \\xNN escapes (sheetkin.files.shown) in the text, JSON,
-    HTML and grades alike."""
-    import dataclasses
-    for f in dataclasses.fields(rep):
-        v = getattr(rep, f.name)
-        if isinstance(v, str):
-            setattr(rep, f.name, shown(v))
-        elif isinstance(v, list) and v and all(isinstance(x, str) for x in v):
-            setattr(rep, f.name, [shown(x) for x in v])
-    return rep
-
-
-def _mismatched_key(reports, options) -> str:
-    """One warning when no issued book's seal matches the key, or no book's variant is in
-    the roster: a teacher who gave another class's key or roster, rather than a class of
-    students who all edited their scene sheets (each book still says so on its own)."""
-    issued = [r for r in reports if not r.error and r.variant]
-    if len(issued) < 2:
-        return ""
-    if options.key is not None and not any(r.seal == "ok" for r in issued):
-        return (f"none of the {len(issued)} issued books' seals matches the key: is the key (or "
-                "--roster's folder) another class's?")
-    if options.roster is not None and all("is not in" in r.seal for r in issued):
-        return f"none of the {len(issued)} books' variants is in {options.roster.path}: is it another class's roster?"
-    return ""
 
 
 def _issued_options(args):

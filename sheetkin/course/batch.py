@@ -30,7 +30,7 @@ from pathlib import Path, PurePosixPath
 from sheetkin.files import child_ended, child_started
 from sheetkin.kinematics.scene import SceneError
 
-from .validator import Report
+from .report_model import Report
 from .validator import validate as _validate_one
 
 MAX_JOBS_PER_CORE = 2        # --jobs above this many per core only costs memory (docs/reliability.md)

@@ -36,27 +36,27 @@ _ID_ALIASES = {"Email address": ("email address", "email", "e-mail", "адрес
                "ID number": ("id number", "idnumber", "индивидуальный номер", "идентификационный номер"),
                "Username": ("username", "логин", "имя пользователя")}
 _PATRONYMIC = re.compile(r"(вич|вна|ична|инична|ич|оглы|кызы)$")
-_WORD = re.compile(r"[^\W\d_]+(?:[-'][^\W\d_]+)*\.?")
+NAME_WORD = re.compile(r"[^\W\d_]+(?:[-'][^\W\d_]+)*\.?")
 
 
 class ClassListError(InputError):
     """--class-list cannot be used: one line naming the file and line."""
 
 
-def _fold(text: str) -> str:
+def fold_name(text: str) -> str:
     return str(text).casefold().replace("ё", "е")
 
 
 def name_key(text: str) -> frozenset:
     """A name in any word order, case, with or without commas, ё as е: 'Иванов, Иван' ==
     'иван иванов'."""
-    return frozenset(w.rstrip(".") for w in _WORD.findall(_fold(text)))
+    return frozenset(w.rstrip(".") for w in NAME_WORD.findall(fold_name(text)))
 
 
 def _tokens(text: str) -> list[str]:
     """A typed name's words and initials in order: "Иванов И.С." -> ["иванов", "и.", "с."]."""
     out = []
-    for tok in _WORD.findall(_fold(text).replace(".", ". ")):
+    for tok in NAME_WORD.findall(fold_name(text).replace(".", ". ")):
         bare = tok.rstrip(".")
         out.append(bare[0] + "." if len(bare) == 1 or (tok.endswith(".") and len(bare) <= 2) else bare)
     return out
@@ -191,12 +191,12 @@ def read_class_list(path: str) -> ClassList:
         ident = cell(id_col)
         if full_col is not None:
             name = cell(full_col)
-            words = [w.rstrip(".") for w in _WORD.findall(_fold(name))]
+            words = [w.rstrip(".") for w in NAME_WORD.findall(fold_name(name))]
             surname, given = (words[0], tuple(words[1:])) if words else ("", ())
         else:
             name = f"{cell(last_col)} {cell(first_col)}".strip()
-            surname = " ".join(w.rstrip(".") for w in _WORD.findall(_fold(cell(last_col))))
-            given = tuple(w.rstrip(".") for w in _WORD.findall(_fold(cell(first_col))))
+            surname = " ".join(w.rstrip(".") for w in NAME_WORD.findall(fold_name(cell(last_col))))
+            given = tuple(w.rstrip(".") for w in NAME_WORD.findall(fold_name(cell(first_col))))
         key = name_key(name)
         if not key or not ident:
             raise ClassListError(f"{path}:{line}: --class-list: a line without a name or a {id_header}")

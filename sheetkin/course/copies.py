@@ -41,6 +41,8 @@ from collections import defaultdict
 from dataclasses import dataclass, field
 from functools import lru_cache
 
+from .reference import reference_book
+
 COPY_RIGHT_DIGITS = 2      # a number right in both books with fewer digits (0, 1, 0.5) says nothing
 COPY_TYPED_CELLS = 3       # shared typed numbers (wrong in one book at least) that flag a copy
 
@@ -100,7 +102,7 @@ def submission_marks(sheet, rows: dict[str, int], first_col: int, positions: int
     {(row name, position): number} that the formulas computed, as the spreadsheet saved them
     (a classmate who typed them in is found by them)."""
     typed, formulas, values = {}, {}, {}
-    cached = getattr(sheet, "cached", {})
+    cached = sheet.cached
     for name, r in rows.items():
         for k in range(positions):
             v = sheet.consts.get((r, first_col + k))
@@ -142,7 +144,7 @@ def _wrong_rows(rep) -> set[str]:
     values: issue 13, localjudge). Not only the likely causes: graded against the issued
     variant, a copier's retyped given data make the first rows the causes and the copied
     wrong formula one that depends on them."""
-    return {r.name for r in rep.rows if r.status == "wrong" or getattr(r, "local", "") == "wrong"}
+    return {r.name for r in rep.rows if r.status == "wrong" or r.local == "wrong"}
 
 
 def _wrong_cells(rep) -> set[tuple[str, int]]:
@@ -230,7 +232,7 @@ def _by_key(keys) -> list[list[int]]:
 
 
 def _name_of(rep) -> str:
-    return " ".join(str(getattr(rep, "student", "") or "").casefold().replace("ё", "е").split())
+    return " ".join(str(rep.student or "").casefold().replace("ё", "е").split())
 
 
 def _one_moodle_submitter(paths: list[str]) -> bool:
@@ -252,10 +254,10 @@ def _identity_groups(reports, who, assigned) -> list[tuple[str, list[int]]]:
         if _one_moodle_submitter([reports[i].path for i in g]):
             continue          # one student's old and new versions (one grade is kept): not a copy
         out.append(("the same student name", g))
-    for g in _by_key((r.variant, getattr(r, "issued_to", "")) if ok and r.variant else ""
+    for g in _by_key((r.variant, r.issued_to) if ok and r.variant else ""
                      for r, ok in zip(reports, usable, strict=True)):
         rep = reports[g[0]]
-        v, to = rep.variant, getattr(rep, "issued_to", "")
+        v, to = rep.variant, rep.issued_to
         hands = {who[i] for i in g if who[i]}
         if len(hands) > 1 and (to or (assigned is not None and assigned.get(v, 0) <= 1)):
             what = f"issued to {to}" if to else "issued to one student"
@@ -263,7 +265,7 @@ def _identity_groups(reports, who, assigned) -> list[tuple[str, list[int]]]:
         elif len(hands) > 1 and assigned is None:
             out.append((f"the same variant {v} from {len(hands)} students (no assignment: "
                         "`variants --class-list` gives each student their own)", g))
-        if any(getattr(reports[i], "given_changed", None) for i in g):
+        if any(reports[i].given_changed for i in g):
             out.append((f"the same issued variant {v}, its given data changed in one", g))
     return out
 
@@ -275,7 +277,7 @@ def _typed_pairs(reports, wrong) -> dict[tuple[int, int], int]:
     from .localjudge import typed_digits
     typed_at = defaultdict(list)
     for i, rep in enumerate(reports):
-        marks = getattr(rep, "marks", None)
+        marks = rep.marks
         if marks and not rep.error:
             for (name, k), v in marks["typed"].items():
                 typed_at[name, k, v].append(i)
@@ -303,7 +305,7 @@ def _computed_sources(reports, wrong) -> dict[tuple[int, int], int]:
     from .localjudge import typed_digits, typed_tolerance
     computed = defaultdict(list)
     for j, rep in enumerate(reports):
-        marks = getattr(rep, "marks", None)
+        marks = rep.marks
         if marks and not rep.error:
             for cell, v in marks.get("values", {}).items():
                 computed[cell].append((v, j))
@@ -311,7 +313,7 @@ def _computed_sources(reports, wrong) -> dict[tuple[int, int], int]:
         lst.sort()
     found: dict[tuple[int, int], int] = defaultdict(int)
     for i, rep in enumerate(reports):
-        marks = getattr(rep, "marks", None)
+        marks = rep.marks
         if not marks or rep.error:
             continue
         for cell, v in marks["typed"].items():
@@ -338,14 +340,14 @@ def _variant_sources(reports, wrong, variants: dict, linked: set[int],
     cache: dict = {}
     out = []
     for i, rep in enumerate(reports):
-        marks = getattr(rep, "marks", None)
+        marks = rep.marks
         if not marks or rep.error or i in linked:
             continue
         cells = {c: v for c, v in marks["typed"].items() if c in wrong[i] and typed_digits(v) >= 3}
         if len(cells) < COPY_TYPED_CELLS:
             continue
         for vid, (label, values, *key) in variants.items():
-            if vid == getattr(rep, "variant", ""):
+            if vid == rep.variant:
                 continue
             if vid not in cache:
                 try:
@@ -362,11 +364,9 @@ def _variant_sources(reports, wrong, variants: dict, linked: set[int],
     return out
 
 
-def roster_variants(roster, reference, assignment=None) -> dict:
+def roster_variants(roster, assignment=None) -> dict:
     """{variant id: (label, values)} for _variant_sources from the roster's scene files: the
-    label names the variant's key file and the students it was issued to (assignment).
-    reference(scene) -> its evaluated reference Book (the validator's reference_book, passed
-    in: the validator imports this module, so this one does not import it back)."""
+    label names the variant's key file and the students it was issued to (assignment)."""
     from pathlib import Path
     folder = Path(roster.path).parent
     issued_to: dict[str, list[str]] = defaultdict(list)
@@ -379,19 +379,18 @@ def roster_variants(roster, reference, assignment=None) -> dict:
             continue
         who = f", issued to {', '.join(issued_to[vid])}" if issued_to.get(vid) else ""
         key = str(folder / files.get("key", ""))
-        out[vid] = (f"key {key}{who}", lambda p=scene_file: _computed_values(p, reference), key,
+        out[vid] = (f"key {key}{who}", lambda p=scene_file: computed_values(p), key,
                     ", ".join(issued_to.get(vid, [])))
     return out
 
 
-def _computed_values(scene_file, reference) -> dict:
-    """{(row name, position): value} of the computed rows of a scene's reference sheet
-    (reference: as roster_variants')."""
+def computed_values(scene_file) -> dict:
+    """{(row name, position): value} of the computed rows of a scene's reference sheet."""
     from sheetkin.kinematics.scene import parse_scene
     from sheetkin.sheet.workbook import FIRST_COL, sheet_rows
 
     scene = parse_scene(scene_file.read_text(encoding="utf-8"), str(scene_file))
-    book = reference(scene)
+    book = reference_book(scene)
     sheet = book.order[0]
     rows = {book.sheets[sheet].consts.get((r, 1)): r for r in range(5, book.sheets[sheet].max_row + 1)}
     out = {}
@@ -405,7 +404,7 @@ def _computed_values(scene_file, reference) -> dict:
 
 
 def _label(reports, i: int) -> str:
-    name = str(getattr(reports[i], "student", "") or "")
+    name = str(reports[i].student or "")
     return f"{reports[i].path}{f' ({name})' if name else ''}"
 
 
@@ -421,7 +420,7 @@ def possible_copies(reports, digests: list | None = None, who: list | None = Non
         digests = [None if r.error else file_digest(r.path) for r in reports]
     who = list(who) if who is not None else [_name_of(r) for r in reports]
     groups: list[tuple[str, list[int]]] = [("byte-identical files", g) for g in _by_key(digests)]
-    wrong = [_wrong_cells(r) if getattr(r, "marks", None) else set() for r in reports]
+    wrong = [_wrong_cells(r) if r.marks else set() for r in reports]
     pairs = _typed_pairs(reports, wrong)
     links = defaultdict(list)
     for (i, j), n in pairs.items():
@@ -441,7 +440,7 @@ def possible_copies(reports, digests: list | None = None, who: list | None = Non
     groups += _identity_groups(reports, who, assigned)
     formula_at = defaultdict(list)
     for i, rep in enumerate(reports):
-        marks = getattr(rep, "marks", None)
+        marks = rep.marks
         if marks and not rep.error:
             bad = _wrong_rows(rep)
             for name, digest in marks["formulas"].items():

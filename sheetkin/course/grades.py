@@ -38,11 +38,15 @@ from __future__ import annotations
 import csv
 import io
 import os
+from typing import TYPE_CHECKING
 
 # the class list is read and matched in sheetkin/course/classlist.py (Russian name forms,
 # Moodle's folders); its names stay importable from here
 from .classlist import ClassList, name_key, read_class_list  # noqa: F401
 from .classlist import ClassListError as GradesError  # noqa: F401 (--grades, --class-list: one line)
+
+if TYPE_CHECKING:
+    from .copies import Copies
 
 CHECK_PENALTY = 2.0        # points off per failing check row (the sheet showed the mistake)
 ROWS_SHARE = 90.0          # the computed rows' share of the score
@@ -72,7 +76,7 @@ def graded_rows(rep) -> list:
 
 
 def _typed_ok(rep, accept_typed: bool | None) -> bool:
-    return bool(getattr(rep, "accepted_typed", False) if accept_typed is None else accept_typed)
+    return bool(rep.accepted_typed if accept_typed is None else accept_typed)
 
 
 def row_verdict(row, accept_typed: bool = False) -> str:
@@ -80,7 +84,7 @@ def row_verdict(row, accept_typed: bool = False) -> str:
     belongs; with accept_typed, a typed row right to its digits is correct) | wrong | missing."""
     if row.status in ("missing", "empty"):
         return "missing"
-    typed = row.is_typed if hasattr(row, "is_typed") else bool(getattr(row, "typed_cells", None))
+    typed = row.is_typed
     if typed and not (accept_typed and row.status == "correct"):
         return "typed"
     return "correct" if row.status == "correct" else "wrong"
@@ -98,24 +102,18 @@ def counts(rep, accept_typed: bool | None = None) -> dict:
     # the derived values of column D are graded, but three formulas there do not make a book
     # of typed positions computed work: NO_FORMULA_CAP)
     out["formula_rows"] = sum(1 for r in rows if r.status not in ("missing", "empty")
-                              and getattr(r, "kind", "") != "derived"
-                              and (bool(getattr(r, "formula_cells", 0))
-                                   or not (getattr(r, "typed_cells", None) or getattr(r, "source", "") == "typed")))
-    out["checks_issued"] = getattr(rep, "checks_issued", 0) or 0
-    out["checks_passing"] = getattr(rep, "checks_passing", 0) or 0
-    out["checks_apply"] = getattr(rep, "checks_apply", out["checks_issued"])
-    out["checks_na"] = getattr(rep, "checks_na", 0) or 0
+                              and r.kind != "derived"
+                              and (bool(r.formula_cells)
+                                   or not (r.typed_cells or r.source == "typed")))
+    out["checks_issued"] = rep.checks_issued or 0
+    out["checks_passing"] = rep.checks_passing or 0
+    out["checks_apply"] = (rep.checks_apply if rep.checks_apply is not None else out["checks_issued"])
+    out["checks_na"] = rep.checks_na or 0
     out["checks_failing"] = len(rep.failing_checks)
-    out["checks_deleted"] = len(getattr(rep, "checks_deleted", []) or [])
-    out["checks_typed"] = len(getattr(rep, "checks_typed", []) or [])
-    out["checks_unfilled"] = getattr(rep, "checks_unfilled", 0) or 0
+    out["checks_deleted"] = len(rep.checks_deleted or [])
+    out["checks_typed"] = len(rep.checks_typed or [])
+    out["checks_unfilled"] = rep.checks_unfilled or 0
     return out
-
-
-def rows_correct(rep) -> tuple[int, int]:
-    """(rows computed right, rows graded)."""
-    c = counts(rep)
-    return c["correct"], c["total"]
 
 
 def checks_counts(rep) -> tuple[int | None, int | None]:
@@ -124,27 +122,27 @@ def checks_counts(rep) -> tuple[int | None, int | None]:
     Passing is a status 0 (green) only: "не заполнено" is not passing (an empty exercise
     passes no check); the total is the issued check rows that apply to the variant (not
     "н/д" in its reference), the same for every book of the variant, deleted ones included."""
-    if rep.error or getattr(rep, "checks_total", None) is None:
+    if rep.error or rep.checks_total is None:
         return None, None
-    total = getattr(rep, "checks_apply", None)
+    total = rep.checks_apply
     if total is None:                           # a report made without the reference's checks
-        total = rep.checks_total - getattr(rep, "checks_na", 0)
-    passing = getattr(rep, "checks_passing", None)
+        total = rep.checks_total - rep.checks_na
+    passing = rep.checks_passing
     if passing is None:                         # a report made without the statuses
         passing = max(0, total - len(rep.failing_checks))
     return passing, total
 
 
 def given_changed(rep, accept_changed: bool = False) -> bool:
-    return bool(getattr(rep, "given_changed", None)) and not accept_changed
+    return bool(rep.given_changed) and not accept_changed
 
 
 def seal_failed(rep) -> bool:
-    return getattr(rep, "seal", "") not in ("", "ok", None)
+    return rep.seal not in ("", "ok", None)
 
 
 def _accept_changed(rep, accept_changed: bool | None) -> bool:
-    return bool(getattr(rep, "accepted_changes", False) if accept_changed is None else accept_changed)
+    return bool(rep.accepted_changes if accept_changed is None else accept_changed)
 
 
 def score_parts(rep, accept_changed: bool | None = None, accept_typed: bool | None = None) -> tuple[float, list[str]]:
@@ -211,7 +209,7 @@ def verdict(rep) -> str:
     if given_changed(rep, _accept_changed(rep, None)):
         return "given data changed"
     c = counts(rep)
-    if c["formula_rows"] == 0 and any(getattr(r, "typed_cells", None) or getattr(r, "is_typed", False)
+    if c["formula_rows"] == 0 and any(r.typed_cells or r.is_typed
                                       for r in graded_rows(rep)):
         return "typed, not computed"           # with --accept-typed too: no formula at all
     return "all correct" if score(rep) >= 100.0 else "mistakes"
@@ -219,16 +217,16 @@ def verdict(rep) -> str:
 
 def who(rep) -> str:
     """The student as they named themselves (their own cell; A2 is the scheme's author)."""
-    return str(getattr(rep, "student", "") or "")
+    return str(rep.student or "")
 
 
 def copy_text(reports, i: int, copies) -> str:
     """'b.xlsx (Petrov), c.xlsx and 3 more: byte-identical files; ...' for report i: at
     most MAX_LISTED others of its cluster (sheetkin/course/copies.py), a line stays short."""
     from .copies import MAX_LISTED
-    others = copies.others(i) if hasattr(copies, "others") else []
+    others = copies.others(i)
     if not others:      # a source that is no submission (a variant's key): the reason names it
-        return copies.why(i) if getattr(copies, "sources", {}).get(i) else ""
+        return copies.why(i) if copies.sources.get(i) else ""
     names = [f"{reports[j].path}{f' ({who(reports[j])})' if who(reports[j]) else ''}" for j in others[:MAX_LISTED]]
     more = f" and {len(others) - MAX_LISTED} more" if len(others) > MAX_LISTED else ""
     return f"{', '.join(names)}{more}: {copies.why(i)}"
@@ -241,7 +239,7 @@ def causes_text(rep) -> str:
 
 
 # --------------------------------------------------------------------------- grades.csv
-def grade_lines(reports, copies, class_list: ClassList | None = None, accept_changed: bool = False,
+def grade_lines(reports, copies: Copies | None, class_list: ClassList | None = None, accept_changed: bool = False,
                 identities: list | None = None, lang: str = "en") -> tuple[list[list[str]], list[str]]:
     """The header and one line per graded report (in their order), and warnings: the
     students the class list does not name, the older files of a student (not graded: one
@@ -250,9 +248,11 @@ def grade_lines(reports, copies, class_list: ClassList | None = None, accept_cha
     lang: the headers and the words of the cells (ru, uk, en); the identifier column keeps
     Moodle's own name (its import matches it), the numbers stay numbers; the warnings (for
     the operator's terminal) stay English."""
+    from .copies import Copies
     from .identity import identify
     from .report_messages import column_name, say
     from .report_texts import say_grading
+    copies = copies if copies is not None else Copies()
     if identities is None:
         identities = identify(reports, class_list)
     id_header = class_list.id_header if class_list else ID_HEADERS[0]
@@ -280,8 +280,8 @@ def grade_lines(reports, copies, class_list: ClassList | None = None, accept_cha
         passing, checks = checks_counts(rep)
         value, _ = score_parts(rep, accept_changed or None)
         lines.append([me.ident if class_list is not None else "", safe_text(student),
-                      safe_text(getattr(rep, "group", "") or ""),
-                      safe_text(getattr(rep, "variant", "") or ""), safe_text(rep.path), said(verdict(rep), True),
+                      safe_text(rep.group or ""),
+                      safe_text(rep.variant or ""), safe_text(rep.path), said(verdict(rep), True),
                       "" if rep.error else str(c["correct"]), "" if rep.error else str(c["typed"]),
                       "" if rep.error else str(c["total"]),
                       "" if passing is None else str(passing), "" if checks is None else str(checks),

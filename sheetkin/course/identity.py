@@ -52,10 +52,10 @@ class Assignment:
 
     def as_class_list(self) -> ClassList:
         """The students of the assignment as a class list (when --class-list is not given)."""
-        from .classlist import _WORD, _fold, name_key
+        from .classlist import NAME_WORD, fold_name, name_key
         cl = ClassList(self.id_header, {}, set(), [], self.path)
         for ident, (name, _, _) in self.people.items():
-            words = [w.rstrip(".") for w in _WORD.findall(_fold(name))]
+            words = [w.rstrip(".") for w in NAME_WORD.findall(fold_name(name))]
             cl.people.append(Person(name, ident, words[0] if words else "", tuple(words[1:])))
             cl.ids[name_key(name)] = ident
         return cl
@@ -118,8 +118,8 @@ def identify(reports, class_list: ClassList | None = None, assignment: Assignmen
 
 def _identify_one(rep, cl: ClassList | None, assignment: Assignment | None) -> Identity:
     me = Identity()
-    typed = " ".join(str(getattr(rep, "student", "") or "").split())
-    sealed = str(getattr(rep, "issued_to", "") or "")
+    typed = " ".join(str(rep.student or "").split())
+    sealed = str(rep.issued_to or "")
     sub = moodle_submitter(rep.path)
     sealed_name = ""
     if sealed:

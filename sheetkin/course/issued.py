@@ -30,11 +30,12 @@ from sheetkin.files import MAX_KEY_BYTES, read_bytes, read_text
 from sheetkin.kinematics.scene import Scene, SceneError, one_line
 from sheetkin.sheet.workbook import IDENTITY_ROWS, ISSUED_LABELS, sheet_rows
 
+from .tolerance import RTOL
+
 KEY_FILE = ".sheetkin-key"          # written by `variants` in its --out folder
 ROSTER_FILE = "roster.csv"
 ROSTER_FIXED = ("variant", "exercise", "key", "scene")   # roster.csv's first columns; given data follow
 MAX_ROSTER_BYTES = 5_000_000        # a class of 30 is a few KB
-RTOL = 1e-9                         # a given value read back (LibreOffice writes 15 digits) is the same
 _IDENTITY = {name for name, _, _ in IDENTITY_ROWS}
 STUDENT_LABEL, STUDENT_ROW = "student", len(ISSUED_LABELS) + 1   # scene!B3: the student it was issued to
 OLDER_KEYS = ".sheetkin-key-*"      # earlier keys kept dated by `variants --force`

@@ -114,14 +114,14 @@ def find_layout(sheets: dict[str, Sheet], order: list[str], names: set[str], iss
     nums: dict[float, int] = {}     # a number in the header row -> its column
     if header:
         for (r, c), v in sh.consts.items():
-            if r == header and c > cols[4] and isinstance(v, (int, float)) and not isinstance(v, bool):
+            if r == header and c > cols[VALUE_COL] and isinstance(v, (int, float)) and not isinstance(v, bool):
                 nums.setdefault(float(v), c)
     i_cols: dict[float, int] = {}   # a value of row i -> its column
     if i_row is not None:
         for (r, c), v in sh.consts.items():
-            if r == i_row and c > cols[4] and isinstance(v, (int, float)) and not isinstance(v, bool):
+            if r == i_row and c > cols[VALUE_COL] and isinstance(v, (int, float)) and not isinstance(v, bool):
                 i_cols.setdefault(float(v), c)
-    last = cols[4]
+    last = cols[VALUE_COL]
     for k in range(positions):
         c = nums.get(float(k))          # the header numbers positions by i, from 0 (as row i does)
         if c is None and k < len(i_values):

@@ -47,10 +47,9 @@ from sheetkin.xlsx.coords import get_column_letter
 from sheetkin.xlsx.evaluator import BOOL, EMPTY, NUM, TEXT, Book, Run, evaluate_runs, parse_rows, store_value
 from sheetkin.xlsx.functions import ERROR_TEXT, NAME
 
-RTOL = 1e-9            # formulas: the same numbers up to rounding (the validator's precision)
-ATOL = 1e-9
-DERIVED_COL = 4        # column D: the input block's values and the derived rows' formulas
-
+from .caches import Kept
+from .layout import VALUE_COL
+from .tolerance import ATOL, RTOL
 
 # a full turn in a row's unit: angles are compared modulo it (an angle taken MOD 2*PI() or
 # MOD 360, or one turn more, is the same angle)
@@ -116,8 +115,7 @@ class _Plan:
     reads: dict[str, set[str]]                               # name -> the rows its formula reads
 
 
-_PLANS: dict = {}
-_KEEP = 64
+_PLANS = Kept(64)
 
 
 def _plan(sheet, judged: tuple[str, ...]) -> _Plan:
@@ -147,10 +145,7 @@ def _plan(sheet, judged: tuple[str, ...]) -> _Plan:
         got.discard(n)
     cols = {n: np.unique(np.concatenate([run.cols for run in rs])) for n, rs in runs.items()}
     plan = _Plan(sheet.formulas, rows, runs, cols, reads)
-    if len(_PLANS) >= _KEEP:
-        del _PLANS[next(iter(_PLANS))]
-    _PLANS[key] = plan
-    return plan
+    return _PLANS.keep(key, plan)
 
 
 # --------------------------------------------------------------------------- judging
@@ -195,7 +190,7 @@ class Local:
         r = self.plan.rows[name]
         same = cast(np.ndarray, self.same)   # judge sets it before name_causes asks
         off = [int(c) for c in cols if not same[r, c]]
-        if off and off[0] == DERIVED_COL:
+        if off and off[0] == VALUE_COL:
             return set(range(1, self.num.shape[1] - FIRST_COL + 1))
         return {c - FIRST_COL + 1 for c in off}
 
@@ -217,7 +212,7 @@ class Local:
         """Whether the student's value of an input (column D) differs from the reference's."""
         if name not in self.plan.rows or name not in self.student_rows:
             return False
-        return self.value(name, DERIVED_COL) != self.value(name, DERIVED_COL, "reference")
+        return self.value(name, VALUE_COL) != self.value(name, VALUE_COL, "reference")
 
     def row_error(self, name: str, at: list[int] | None = None) -> float:
         """Largest difference of a row from the reference (in columns `at`, default all),
@@ -267,12 +262,12 @@ def _student_store(reference: Book, student: Book, sheet: str, plan: _Plan, name
     sr = np.array([p[1] for p in pairs])
     nc = num.shape[1]
     w = min(nc, s_num.shape[1])
-    tag[rr, DERIVED_COL:] = EMPTY
-    num[rr, DERIVED_COL:] = 0.0
+    tag[rr, VALUE_COL:] = EMPTY
+    num[rr, VALUE_COL:] = 0.0
     inside = sr < s_num.shape[0]
-    if w > DERIVED_COL and inside.any():
+    if w > VALUE_COL and inside.any():
         a, b = rr[inside][:, None], sr[inside][:, None]
-        cs = np.arange(DERIVED_COL, w)[None, :]
+        cs = np.arange(VALUE_COL, w)[None, :]
         num[a, cs], tag[a, cs], txt[a, cs] = s_num[b, cs], s_tag[b, cs], s_txt[b, cs]
         cached = student.sheets[sheet].cached
         for i, j in zip(*np.nonzero(tag[a, cs] == NAME), strict=False):
@@ -359,7 +354,7 @@ def _same_cells(local: Local) -> np.ndarray:
         close = np.abs(s - r) <= np.maximum(ATOL, RTOL * np.abs(r))
     same = np.where(rt == NUM, (st == NUM) & close,
                     np.where(rt == BOOL, (st == BOOL) & (s == r), (st != NUM) & (st != BOOL)))
-    same[:, :DERIVED_COL] = True
+    same[:, :VALUE_COL] = True
     return same
 
 
@@ -417,7 +412,7 @@ def typed_note(local: Local, name: str, dependents: list[str]) -> str:
         lv = local.local_value(name, c)
         what += f" (its inputs give {lv:.6g})" if isinstance(lv, float) else ""
     more = f", and {len(flagged) - 1} more typed cells" if len(flagged) > 1 else ""
-    at = None if c == DERIVED_COL else flagged          # a derived value: every position
+    at = None if c == VALUE_COL else flagged          # a derived value: every position
     if not dependents:
         below = "no row depends on it"
     else:

@@ -4,14 +4,19 @@ from __future__ import annotations
 import json
 import math
 import re
+from typing import TYPE_CHECKING
 
 from .copies import MAX_LISTED
 from .grades import counts, explain, score, verdict
 from .issued import changed_line
+from .layout import VALUE_COL
 from .report_html import position_list, position_name
 from .report_messages import say
+from .report_model import Report
 from .report_texts import READS_TYPED, say_grading, words
-from .validator import Report
+
+if TYPE_CHECKING:
+    from .copies import Copies
 
 
 def _num(v) -> str:
@@ -27,7 +32,7 @@ def text_report(rep: Report, lang: str = "en") -> str:
     if rep.error:
         return f"{head}: {t['unusable']}: {say(rep.error, lang)}\n"
     # who: the student (their own cells D1, D2), never the scheme's author
-    who = ", ".join(x for x in (getattr(rep, "student", ""), rep.title) if x)
+    who = ", ".join(x for x in (rep.student, rep.title) if x)
     lines = [f"{head}" + (f" ({who})" if who else "") + f", {rep.positions} {t['positions']}"]
     lines += issued_lines(rep, lang)
     # the counts, the verdict and the score: one vocabulary with the HTML, JSON and grades.csv
@@ -37,16 +42,16 @@ def text_report(rep: Report, lang: str = "en") -> str:
         lines.append(say_grading(f"  typed, not computed ({len(typed)}): ", lang) + ", ".join(
             f"{r.name} ({t['row']} {r.row}, {_typed_where(rep, r, lang)})" for r in typed[:12])
             + (" ..." if len(typed) > 12 else "")
-            + say_grading("; accepted (--accept-typed)" if getattr(rep, "accepted_typed", False)
+            + say_grading("; accepted (--accept-typed)" if rep.accepted_typed
                           else "; they earn nothing", lang))
-    pasted = [r.name for r in typed if getattr(r, "reads_typed", None)]
+    pasted = [r.name for r in typed if r.reads_typed]
     if pasted:
         lines.append(say_grading(f"  {READS_TYPED} ({len(pasted)}): ", lang) + ", ".join(pasted[:12])
                      + (" ..." if len(pasted) > 12 else ""))
     # the causes with a note (typed numbers: cell, digits, the error they carry) first
-    for r in sorted(rep.causes, key=lambda r: not getattr(r, "note", "")):
+    for r in sorted(rep.causes, key=lambda r: not r.note):
         where = f"{r.name} ({t['row']} {r.row}, {t.get(r.source, r.source)})"
-        note = getattr(r, "note", "")
+        note = r.note
         if note:
             lines.append(f"  {t['cause']}: {where}: {say(note, lang)}"
                          + (f"; {t['wrong_at']} {position_list(rep, r.wrong_cells, lang)}" if r.wrong_cells else ""))
@@ -99,7 +104,7 @@ def _saved_rows(rep: Report) -> set[int]:
 def _rows_of(problem: str, rep: Report) -> set[int]:
     """The graded sheet's rows an evaluator's problem concerns (none on another sheet)."""
     m = _WHERE.match(problem)
-    layout = getattr(rep, "layout", None)
+    layout = rep.layout
     if m is None or (layout is not None and m.group("sheet") != layout.sheet):
         return set()
     r1 = int(m.group("r1"))
@@ -109,8 +114,8 @@ def _rows_of(problem: str, rep: Report) -> set[int]:
 def _typed_where(rep: Report, r, lang: str) -> str:
     """Where a row holds typed values: its positions, or (a derived row) its cell in column D."""
     if r.kind == "derived":
-        layout = getattr(rep, "layout", None)
-        return layout.cell(r.row, 4) if layout is not None else f"D{r.row}"
+        layout = rep.layout
+        return layout.cell(r.row, VALUE_COL) if layout is not None else f"D{r.row}"
     return position_list(rep, r.typed_cells, lang)
 
 
@@ -152,7 +157,7 @@ def summary_table(reports: list[Report], lang: str = "en") -> str:
             rows.append((r.path, "", t["unusable"].lower(), "", "", "", "", "", say(r.reason, lang)[:60]))
         else:
             # the student's own cells (D1, D2), never the scheme's author
-            who = ", ".join(x for x in (getattr(r, "student", ""), getattr(r, "group", "")) if x)
+            who = ", ".join(x for x in (r.student, r.group) if x)
             c = counts(r)
             rows.append((r.path, who, say_grading(verdict(r), lang), f"{score(r):.1f}", str(c["correct"]),
                          str(c["typed"]), str(c["wrong"]), str(c["missing"]), r.causes[0].name if r.causes else ""))
@@ -164,7 +169,7 @@ def _named_positions(rep: Report) -> dict:
     """to_dict(), each row's wrong positions also named as the sheet names them: wrong_i,
     first_wrong_i and first_wrong_phi_1 (wrong_cells, first_wrong: 1-based column counts)."""
     d = rep.to_dict()
-    names = getattr(rep, "position_names", None) or []
+    names = rep.position_names or []
     for row in d.get("rows", []):
         cells = row.get("wrong_cells") or []
         row["wrong_i"] = [names[k - 1][0] for k in cells if 0 < k <= len(names)]
@@ -173,7 +178,7 @@ def _named_positions(rep: Report) -> dict:
     return d
 
 
-def json_report(reports: list[Report], copies=None, lang: str = "en") -> str:
+def json_report(reports: list[Report], copies: Copies | None = None, lang: str = "en") -> str:
     """Every report (Report.to_dict: verdict, score, score_explained, summary counts), each
     with its possible copies (sheetkin/course/copies.py): file, student and why. The notes
     and the reasons of copies are in `lang`; the keys, verdicts and counts, for programs,
@@ -186,16 +191,18 @@ def json_report(reports: list[Report], copies=None, lang: str = "en") -> str:
         if isinstance(o, list):
             return [clean(v) for v in o]
         return o
+    from .copies import Copies
+    copies = copies if copies is not None else Copies()
     out = []
     for i, r in enumerate(reports):
         d = _named_positions(r)
         # at most MAX_LISTED others of its cluster: the report stays linear in the class
-        others = copies.others(i)[:MAX_LISTED] if copies is not None else []
-        d["possible_copy_of"] = [{"file": reports[j].path, "student": getattr(reports[j], "student", ""),
+        others = copies.others(i)[:MAX_LISTED]
+        d["possible_copy_of"] = [{"file": reports[j].path, "student": reports[j].student,
                                   "why": say(copies.why(i), lang)} for j in others]
         # sources that are no submission (a variant's key): its file, whom it was issued to
         d["possible_copy_of"] += [{"file": f, "student": s, "why": say(why, lang)}
-                                  for f, s, why in getattr(copies, "sources", {}).get(i, [])]
+                                  for f, s, why in copies.sources.get(i, [])]
         if "notes" in d:
             d["notes"] = [say(n, lang) for n in d["notes"]]
         out.append(d)
@@ -203,7 +210,7 @@ def json_report(reports: list[Report], copies=None, lang: str = "en") -> str:
                              "all_correct": all(r.ok for r in reports)}), indent=1, ensure_ascii=False) + "\n"
 
 
-def html_report(reports: list[Report], copies: dict | None = None, lang: str = "en",
+def html_report(reports: list[Report], copies: Copies | None = None, lang: str = "en",
                 identities: list | None = None) -> str:
     """One offline page: the class at a glance, a sortable summary, per-student details,
     pictures (report_html.py), in `lang`; with identities (sheetkin.course.identity), who
@@ -216,7 +223,7 @@ def copies_lines(reports: list[Report], copies, lang: str = "en") -> str:
     """After the summary table: each cluster of possible copies (sheetkin/course/copies.py)
     a line, its files and its reasons (each reason's files when not the whole cluster)."""
     out = []
-    for c in getattr(copies, "clusters", []):
+    for c in copies.clusters:
         files = ", ".join(reports[i].path for i in c.members)
         why = "; ".join(t if len(m) == len(c.members) else f"{t} ({', '.join(reports[i].path for i in m)})"
                         for t, m in c.reasons)

@@ -17,10 +17,14 @@ from __future__ import annotations
 import html
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from .report_messages import say
+from .report_model import Report
 from .report_texts import READS_TYPED, say_grading, words
-from .validator import Report
+
+if TYPE_CHECKING:
+    from .copies import Copies
 
 _CSS = """body{font-family:sans-serif;margin:1.2em;color:#222}
 table{border-collapse:collapse;margin:.5em 0}td,th{border:1px solid #bbb;padding:2px 6px;font-size:90%}
@@ -68,7 +72,7 @@ def _num(v) -> str:
 def position_name(rep: Report, k: int, lang: str = "en") -> str:
     """Position column k (1-based) as the sheet names it: 'i = 3 (phi_1 = 90 deg)'."""
     t = words(lang)
-    names = getattr(rep, "position_names", None) or []
+    names = rep.position_names or []
     if k is not None and 0 < k <= len(names):
         i, phi = names[k - 1]
         return f"i = {i:g} (phi_1 = {phi:g} {t['deg']})"
@@ -77,7 +81,7 @@ def position_name(rep: Report, k: int, lang: str = "en") -> str:
 
 def position_list(rep: Report, cells: list[int], lang: str = "en") -> str:
     """Wrong position columns as the sheet's i values, runs shortened: 'i = 0-2, 6'."""
-    names = getattr(rep, "position_names", None) or []
+    names = rep.position_names or []
     ids = [int(names[k - 1][0]) if 0 < k <= len(names) else k for k in cells]
     out, start = [], None
     for n, c in enumerate(ids):
@@ -112,12 +116,12 @@ def _copy_links(reports, k: int, copies, with_reason: bool, lang: str = "en") ->
     from .copies import MAX_LISTED
     e = html.escape
     out = []
-    others = copies.others(k) if hasattr(copies, "others") else []
-    if not others and getattr(copies, "sources", {}).get(k):      # a variant's key: the reason names it
+    others = copies.others(k)
+    if not others and copies.sources.get(k):      # a variant's key: the reason names it
         return e(say(copies.why(k), lang))
     for j in others[:MAX_LISTED]:
         other = reports[j]
-        name = getattr(other, "student", "") or _file(other)
+        name = other.student or _file(other)
         out.append(f"<a href='#{_anchor(other, j)}' data-open='{_anchor(other, j)}'>{e(name)}</a>"
                    + (f" ({e(other.path)})" if with_reason else ""))
     if len(others) > MAX_LISTED:
@@ -140,13 +144,13 @@ def _anchor(rep: Report, k: int) -> str:
 def _picture(rep: Report, lang: str = "en") -> str:
     """The student's mechanism (their variant) at the first position where the first likely
     cause is wrong, else at the first position; '' when it cannot be drawn."""
-    scene = getattr(rep, "variant_scene", None)
+    scene = rep.variant_scene
     if scene is None:
         return ""
     try:
         from sheetkin.views.drawing import picture, svg
         at = scene.crank_angles_deg()
-        names = getattr(rep, "position_names", None) or []
+        names = rep.position_names or []
         k = next((c.first_wrong for c in rep.causes if c.first_wrong), 1)
         phi = names[k - 1][1] if 0 < k <= len(names) else at[min(k, len(at)) - 1]
         pic = picture(scene, [phi])
@@ -174,9 +178,9 @@ def _identity_lines(me, lang: str) -> list[str]:
 
 def _summary_row(rep: Report, k: int, copy: str = "", lang: str = "en", me=None) -> str:
     e, t = html.escape, words(lang)
-    who = getattr(rep, "student", "") or _file(rep)
-    group = getattr(rep, "group", "")
-    variant = getattr(rep, "variant", None) or ""
+    who = rep.student or _file(rep)
+    group = rep.group
+    variant = rep.variant or ""
     from .grades import VERDICTS, counts, verdict
     res = verdict(rep)
     cls = "ok" if res == "all correct" else "wrong"
@@ -184,7 +188,7 @@ def _summary_row(rep: Report, k: int, copy: str = "", lang: str = "en", me=None)
     sc = score(rep)
     causes = ", ".join(c.name for c in rep.causes) if not rep.error else say(rep.reason, lang)[:80]
     missing = ", ".join(r.name for r in rep.missing)
-    if getattr(rep, "given_changed", None):
+    if rep.given_changed:
         causes = t["given_changed"] + (f"; {causes}" if causes else "")
     flags = _identity_lines(me, lang)
     return (f"<tr><td><a href='#{_anchor(rep, k)}' data-open='{_anchor(rep, k)}'>{e(who or rep.path)}</a></td>"
@@ -203,7 +207,7 @@ def _summary_row(rep: Report, k: int, copy: str = "", lang: str = "en", me=None)
 
 def _details(rep: Report, k: int, copy: str = "", lang: str = "en", me=None) -> list[str]:
     e, t = html.escape, words(lang)
-    who = getattr(rep, "student", "") or _file(rep)
+    who = rep.student or _file(rep)
     from .grades import counts, explain, verdict
     res = verdict(rep)
     out = [f"<details id='{_anchor(rep, k)}'><summary>{e(who)}: {e(say_grading(res, lang))}</summary>",
@@ -212,14 +216,12 @@ def _details(rep: Report, k: int, copy: str = "", lang: str = "en", me=None) -> 
         out.append(f"<p class='unusable'>{t['unusable_p']}: {e(say(rep.error, lang))}</p></details>")
         return out
     out.append(f"<div class='pic'>{_picture(rep, lang)}</div>")
-    for label, attr in (("student", "student"), ("group", "group"), ("variant", "variant"),
-                        ("graded_against", "graded_against"), ("seal", "seal")):
-        v = getattr(rep, attr, None)
-        if attr == "seal" and v == "ok":            # "seal: ok" in words: "печать цела"
+    for label, v in (("student", rep.student), ("group", rep.group), ("variant", rep.variant), ("seal", rep.seal)):
+        if label == "seal" and v == "ok":            # "seal: ok" in words: "печать цела"
             out.append(f"<p class='note'>{t['seal_ok']}</p>")
         elif v:
             out.append(f"<p class='note'>{t[label]}: {e(say(str(v), lang))}</p>")
-    changed = getattr(rep, "given_changed", None) or []
+    changed = rep.given_changed or []
     if changed:
         out.append(f"<p class='wrong'>{t['given_changed']}: " + e(", ".join(_given_changed(c) for c in changed))
                    + "</p>")
@@ -238,7 +240,7 @@ def _details(rep: Report, k: int, copy: str = "", lang: str = "en", me=None) -> 
     if typed:
         out.append("<p class='wrong'>" + e(say_grading("typed, not computed: ", lang))
                    + e(", ".join(x.name for x in typed)) + "</p>")
-        pasted = [x.name for x in typed if getattr(x, "reads_typed", None)]
+        pasted = [x.name for x in typed if x.reads_typed]
         if pasted:
             out.append("<p class='wrong'>" + e(say_grading(f"{READS_TYPED}: ", lang)) + e(", ".join(pasted)) + "</p>")
     for c in rep.causes:
@@ -247,10 +249,10 @@ def _details(rep: Report, k: int, copy: str = "", lang: str = "en", me=None) -> 
                    f" {t['wrong_from']} {e(position_name(rep, c.first_wrong or 1, lang))}, {t['expected']} "
                    f"{e(_num(c.expected))}, {t['got']} {e(_num(c.got))}; {t['wrong_at']} "
                    f"{e(position_list(rep, c.wrong_cells, lang))}"
-                   + (f"<br>{e(say(c.note, lang))}" if getattr(c, "note", "") else "") + "</p>")
+                   + (f"<br>{e(say(c.note, lang))}" if c.note else "") + "</p>")
     bad = [x for x in rep.rows if x.status != "correct"]
     if bad:
-        names = getattr(rep, "position_names", None) or []
+        names = rep.position_names or []
         head = "".join(f"<th title='phi_1 = {names[j][1]:g} {t['deg']}'>{names[j][0]:g}<br>{names[j][1]:g}&deg;</th>"
                        if j < len(names) else f"<th>{j}</th>" for j in range(rep.positions))
         out.append(f"<table class='cells'><caption class='note'>{t['cells_caption']}</caption>"
@@ -269,9 +271,9 @@ def _details(rep: Report, k: int, copy: str = "", lang: str = "en", me=None) -> 
                        f"{cells}<td>{e(note)}</td></tr>")
         out.append("</table>")
     for title, items in ((t["failing_checks"], rep.failing_checks),
-                         ("Check rows deleted", getattr(rep, "checks_deleted", [])),
-                         ("Check statuses typed over their formulas", getattr(rep, "checks_typed", [])),
-                         ("Notes", [n for n in getattr(rep, "notes", [])
+                         ("Check rows deleted", rep.checks_deleted),
+                         ("Check statuses typed over their formulas", rep.checks_typed),
+                         ("Notes", [n for n in rep.notes
                                     if me is None or not n.startswith("identity: ")]),   # shown above
                          (t["disagree_h"], rep.cache_mismatch),
                          (t["cannot_h"], rep.problems)):
@@ -282,14 +284,15 @@ def _details(rep: Report, k: int, copy: str = "", lang: str = "en", me=None) -> 
     return out
 
 
-def html_page(reports: list[Report], copies: dict | None = None, lang: str = "en",
+def html_page(reports: list[Report], copies: Copies | None = None, lang: str = "en",
               identities: list | None = None) -> str:
     """The page (module docstring). identities: sheetkin.course.identity.identify's, one per
     report: who handed each book in, shown in the summary and the details."""
     t = words(lang)
     ids = identities if identities is not None and len(identities) == len(reports) else [None] * len(reports)
     correct = sum(r.ok for r in reports)
-    copies = copies or {}
+    from .copies import Copies
+    copies = copies if copies is not None else Copies()
     out = [f"<!doctype html><html lang='{lang}'><head><meta charset='utf-8'>"
            f"<link rel='icon' href='data:,'><title>{t['title']}</title>"
            f"<style>{_CSS}</style></head><body>",
@@ -318,14 +321,14 @@ SHOWN_IN_GROUP = 50          # the books a group of possible copies names on its
 def _copy_groups(reports: list[Report], copies, lang: str) -> list[str]:
     """Each group of possible copies (sheetkin/course/copies.py) a line: its books (links)
     and its reasons; one line per group, never every pair."""
-    clusters = getattr(copies, "clusters", None)
+    clusters = copies.clusters
     if not clusters:
         return []
     e, t = html.escape, words(lang)
     out = [f"<h3 id='copies'>{t['copies_h']}</h3><ul id='copy-groups'>"]
     for c in clusters:
         names = [f"<a href='#{_anchor(reports[i], i)}' data-open='{_anchor(reports[i], i)}'>"
-                 f"{e(getattr(reports[i], 'student', '') or _file(reports[i]))}</a>"
+                 f"{e(reports[i].student or _file(reports[i]))}</a>"
                  for i in c.members[:SHOWN_IN_GROUP]]
         more = len(c.members) - SHOWN_IN_GROUP
         why = "; ".join(say(x, lang) if len(m) == len(c.members) else

@@ -116,7 +116,7 @@ def words(lang: str) -> dict[str, str]:
 
 def class_lang(reports) -> str:
     """The language most of the books are in (their sheets' titles): the reports' default."""
-    langs = Counter(getattr(r, "lang", "") for r in reports if getattr(r, "lang", ""))
+    langs = Counter(r.lang for r in reports if r.lang)
     return langs.most_common(1)[0][0] if langs else "ru"
 
 

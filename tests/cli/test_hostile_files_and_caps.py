@@ -17,7 +17,7 @@ from helpers.clirun import run
 
 from sheetkin.cli import args as cli_args
 from sheetkin.course import batch
-from sheetkin.course.validator import MAX_EMBEDDED_GROUPS, MAX_EMBEDDED_POINTS
+from sheetkin.course.book import MAX_EMBEDDED_GROUPS, MAX_EMBEDDED_POINTS
 from sheetkin.files import MAX_AT_FILE_BYTES, MAX_CLASS_LIST_BYTES, MAX_KEY_BYTES, RefusedFile, read_bytes, shown
 from sheetkin.views import animate
 

@@ -1,4 +1,4 @@
-"""Validation that scales (sheetkin.course.batch, validator._reference): the reference of a variant
+"""Validation that scales (sheetkin.course.batch, sheetkin.course.reference): the reference of a variant
 is the generated sheet with the variant's inputs, evaluated, and equals the workbook rebuilt
 for that variant cell for cell; a batch gives the same reports in one process and in a
 pool, in the order of the files."""
@@ -14,8 +14,9 @@ import pytest
 
 import sheetkin
 from sheetkin.cli.commands import main
-from sheetkin.course import validator
+from sheetkin.course import reference
 from sheetkin.course.batch import validate_many
+from sheetkin.course.caches import clear_caches
 from sheetkin.course.issued import Options
 from sheetkin.sheet.workbook import write_workbook
 
@@ -24,9 +25,9 @@ WORKBOOKS = Path(__file__).resolve().parents[2] / "workbooks"
 
 def _same_book(a, b, scene):
     """Equal on every graded row: the reference leaves out the sheet's own check rows and
-    the summary above row 5 (validator._template_sheet), and nothing else."""
+    the summary above row 5 (reference._template_sheet), and nothing else."""
     (sa,), (sb,) = a.order, b.order
-    checks = validator._check_rows(scene)
+    checks = reference._check_rows(scene)
     names = b.sheets[sb].consts
     keep = [r for r in range(5, b.tag[sb].shape[0]) if names.get((r, 1)) not in checks]
     assert len(keep) > 40
@@ -35,7 +36,7 @@ def _same_book(a, b, scene):
     assert list(a.txt[sa][keep].ravel()) == list(b.txt[sb][keep].ravel())
     dropped = {r for r in range(5, b.tag[sb].shape[0]) if names.get((r, 1)) in checks}
     # the check rows keep their cells per position (which apply is the reference's), not their status
-    kept = validator._template_sheet(scene)[0].formulas
+    kept = reference._template_sheet(scene)[0].formulas
     assert dropped and not any((r in dropped and c < 5) or r < 5 for r, c in kept)
 
 
@@ -54,21 +55,20 @@ def _variants(scene):
 @pytest.mark.parametrize("stem", ["fourbar", "shaper", "shaper_dynamics", "slotted_lever"])
 def test_reference_from_the_template_is_the_rebuilt_workbook(stem):
     scene = sheetkin.load_scene(WORKBOOKS / f"{stem}.toml")
-    validator._TEMPLATE_SHEETS.clear()
-    validator._REFERENCES.clear()
+    clear_caches()
     for variant in _variants(scene):
-        _same_book(validator._reference(variant), validator._build_reference(variant), variant)
+        _same_book(reference.reference_book(variant), reference.build_reference(variant), variant)
     # one generated sheet per structure (positions), however many variants
-    assert len(validator._TEMPLATE_SHEETS) == 2
+    assert len(reference._TEMPLATE_SHEETS) == 2
 
 
 def test_reference_is_cached_per_variant():
     scene = sheetkin.load_scene(WORKBOOKS / "fourbar.toml")
-    validator._REFERENCES.clear()
-    a = validator._reference(scene)
-    assert validator._reference(dataclasses.replace(scene, source="other.toml", title="x")) is a
+    clear_caches()
+    a = reference.reference_book(scene)
+    assert reference.reference_book(dataclasses.replace(scene, source="other.toml", title="x")) is a
     other = dataclasses.replace(scene, crank=dataclasses.replace(scene.crank, length=0.15))
-    assert validator._reference(other) is not a
+    assert reference.reference_book(other) is not a
 
 
 @pytest.fixture(scope="module")

@@ -19,7 +19,7 @@ from helpers.classbooks import both, fill, flip_sign, issue_variants, row_values
 from helpers.libreoffice import recalculate
 
 from sheetkin.cli.commands import main
-from sheetkin.course.validator import Report
+from sheetkin.course.report_model import Report
 
 WORKBOOKS = Path(__file__).resolve().parents[2] / "workbooks"
 NAMES = {"ivanov": "Иванов Иван", "petrova": "Петрова Анна", "sidorov": "Сидоров Пётр",

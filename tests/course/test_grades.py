@@ -29,7 +29,8 @@ from sheetkin.course.grades import (
     score,
 )
 from sheetkin.course.report_html import html_page
-from sheetkin.course.validator import Report, RowReport, validate
+from sheetkin.course.report_model import Report, RowReport
+from sheetkin.course.validator import validate
 from sheetkin.xlsx.cells import read_book
 
 
@@ -97,7 +98,7 @@ def parse(data: bytes) -> list[dict]:
 def test_grades_csv_lines_columns_and_decimal_point():
     reps = [report(correct=3, wrong=1, failing=1, student="Иванов Иван", group="ГМ-21", variant="v07"),
             Report("bad.xlsx", error="bad.xlsx: not a zip file")]
-    lines, warnings = grade_lines(reps, {})
+    lines, warnings = grade_lines(reps, None)
     data = grades_csv(lines)
     assert b"\r\n" in data and data.count(b"\r\n") == 3
     got = parse(data)
@@ -118,7 +119,7 @@ def test_cells_cannot_become_formulas():
         assert safe_text(fine) == fine
     reps = [report(student=h, group="=HYPERLINK(\"http://x\")", variant="-v") for h in hostile]
     reps[0].path = "=evil.xlsx"
-    for row in parse(grades_csv(grade_lines(reps, {})[0])):
+    for row in parse(grades_csv(grade_lines(reps, None)[0])):
         for col in ("student", "group", "variant", "file"):
             assert not row[col].startswith(("=", "+", "-", "@", "\t", "\r")), (col, row[col])
     assert row["student"] == "'\r=1"                             # the text itself is kept
@@ -126,9 +127,9 @@ def test_cells_cannot_become_formulas():
 
 def test_given_data_changed_is_yes_and_scores_zero():
     rep = report(given_changed=[{"name": "L1", "cell": "D6", "issued": 0.14, "got": 0.05}])
-    row = parse(grades_csv(grade_lines([rep], {})[0]))[0]
+    row = parse(grades_csv(grade_lines([rep], None)[0]))[0]
     assert row["given data changed"] == "yes" and row["score"] == "0.0"
-    row = parse(grades_csv(grade_lines([rep], {}, accept_changed=True)[0]))[0]
+    row = parse(grades_csv(grade_lines([rep], None, accept_changed=True)[0]))[0]
     assert row["given data changed"] == "yes" and row["score"] == "100.0"     # accepted: graded as typed
 
 
@@ -147,7 +148,7 @@ def test_class_list_fills_the_identifier_by_name(tmp_path):
     assert cl.id_header == "Email address"
     reps = [report(student="Иванов, Иван"), report(student="петров пётр"), report(student="Петров Петр"),
             report(student="Смирнова Анна"), report(student="Сидоров")]
-    lines, warnings = grade_lines(reps, {}, cl)
+    lines, warnings = grade_lines(reps, None, cl)
     assert lines[0][0] == "Email address"
     # one grade per Moodle user: Petrov's two books give one line (the newer: the later here)
     assert [x[0] for x in lines[1:]] == ["ivanov@example.org", "petrov@example.org", "", ""]
@@ -406,7 +407,7 @@ def test_grades_csv_fuzz_round_trip(people):
         rep = report(student=student, group=group, variant=variant)
         rep.path = path
         reps.append(rep)
-    got = parse(grades_csv(grade_lines(reps, {})[0]))
+    got = parse(grades_csv(grade_lines(reps, None)[0]))
     assert len(got) == len(reps)
     for row, (student, group, variant, path) in zip(got, people, strict=False):
         assert None not in row and None not in row.values() and len(row) == len(COLUMNS) + 1
@@ -422,7 +423,7 @@ def test_checks_passing_counts_green_checks_only(tmp_path):
     books = issue_variants(tmp_path / "issued")
     ex, key = books["v1"]
     full = fill(ex, key, tmp_path / "full.xlsx", student="A B")
-    lines, _ = grade_lines([validate(ex), validate(full)], {})
+    lines, _ = grade_lines([validate(ex), validate(full)], None)
     head = lines[0]
     empty, done = (dict(zip(head, x, strict=False)) for x in lines[1:])
     # the total: the check rows that apply to the variant, the same for every book of it (issue 21)

@@ -23,7 +23,7 @@ from sheetkin.course.grades import grade_lines, grades_csv
 from sheetkin.course.identity import identify
 from sheetkin.course.issued import parse_roster, read_roster
 from sheetkin.course.report import copies_lines, html_report
-from sheetkin.course.validator import Report, RowReport
+from sheetkin.course.report_model import Report, RowReport
 from sheetkin.xlsx.cells import password_protected
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -319,16 +319,15 @@ def test_unpacking_refuses_names_outside(tmp_path):
 def test_typed_numbers_of_another_variant_no_one_handed_in(tmp_path):
     """The numbers of a variant nobody handed in (a key, an absent classmate), typed into
     another variant's book: named by the variant's key file and the student it was issued to."""
-    from sheetkin.course.copies import _computed_values, roster_variants
+    from sheetkin.course.copies import computed_values, roster_variants
     from sheetkin.course.identity import read_assignment
-    from sheetkin.course.validator import reference_book
     cl = tmp_path / "class.csv"
     cl.write_bytes(CLASS.encode("cp1251"))
     out = tmp_path / "issued"
     assert main(["variants", str(ROOT / "workbooks" / "fourbar.toml"), "-n", "3", "--class-list", str(cl),
                  "--out", str(out), "--seed", "2"]) == 0
     roster = read_roster(out / "roster.csv")
-    theirs = _computed_values(out / "fourbar-03.toml", reference_book)
+    theirs = computed_values(out / "fourbar-03.toml")
     rep = _rep("orlov.xlsx", "Орлов Денис", "fourbar-01")
     cells = [c for c in theirs if c[0] == "omega_2"]
     rep.marks["typed"] = {c: round(theirs[c], 5) for c in cells}
@@ -337,7 +336,7 @@ def test_typed_numbers_of_another_variant_no_one_handed_in(tmp_path):
     assignment = read_assignment(out / "assignment.csv")
     assert assignment.assigned() == {"fourbar-01": 2, "fourbar-02": 2, "fourbar-03": 1}
     copies = possible_copies([rep, honest], [None, None], ["a", "b"], assignment.assigned(),
-                             roster_variants(roster, reference_book, assignment))
+                             roster_variants(roster, assignment))
     why = copies.why(0)
     assert f"{len(cells)} typed numbers equal to variant fourbar-03's computed values" in why
     assert "fourbar-03-key.xlsx, issued to Сидоров Пётр" in why

@@ -248,7 +248,7 @@ def test_summary_table_names_an_unusable_scene_whole():
     """The reason of an error that does not start "path: " (an embedded scene that does not
     read: "x.xlsx (embedded scene):23: ...") was cut two characters into it."""
     from sheetkin.course.report import summary_table
-    from sheetkin.course.validator import Report
+    from sheetkin.course.report_model import Report
     rep = Report("b.xlsx", error="b.xlsx (embedded scene):23: [[group]] #1 key 'length': unknown key")
     assert rep.reason == rep.error
     assert "b.xlsx (embedded scene):23:" in summary_table([rep]).splitlines()[1]
@@ -262,7 +262,7 @@ def test_student_cell_with_a_formula_sheetkin_cannot_compute_is_the_saved_text()
     "#NAME?" although the validator said the saved values were used."""
     import numpy as np
 
-    from sheetkin.course.validator import _identity
+    from sheetkin.course.book import identity_text
 
     class Sheet:
         cached = {(6, 4): "click"}
@@ -275,8 +275,8 @@ def test_student_cell_with_a_formula_sheetkin_cannot_compute_is_the_saved_text()
 
         def value(self, sheet, r, c):
             return "#NAME?"
-    assert _identity(Evaluated(), "s", Sheet(), 6) == "click"
-    assert _identity(Evaluated(), "s", Sheet(), None) == ""
+    assert identity_text(Evaluated(), "s", Sheet(), 6) == "click"
+    assert identity_text(Evaluated(), "s", Sheet(), None) == ""
 
 
 def test_an_edited_scene_sheet_that_no_longer_reads_says_edited(issued, tmp_path):
@@ -293,7 +293,7 @@ def test_an_edited_scene_sheet_that_no_longer_reads_says_edited(issued, tmp_path
 
 def test_empty_and_missing_rows_are_one_line_each():
     """An empty exercise printed one line per row (60 lines "empty: Fi (row 32)" ...)."""
-    from sheetkin.course.validator import Report, RowReport
+    from sheetkin.course.report_model import Report, RowReport
     rep = Report("e.xlsx", positions=13,
                  rows=[RowReport(f"r{k}", 30 + k, "empty") for k in range(60)]
                  + [RowReport("omega_3", None, "missing")])

@@ -23,8 +23,10 @@ from openpyxl.utils import get_column_letter
 
 import sheetkin
 from sheetkin.course.localjudge import judge, magnitude, name_causes, typed_digits, typed_text, typed_tolerance
+from sheetkin.course.reference import reference_book, row_ancestors
 from sheetkin.course.report import json_report, text_report
-from sheetkin.course.validator import RowReport, _reference, row_ancestors, validate
+from sheetkin.course.report_model import RowReport
+from sheetkin.course.validator import validate
 from sheetkin.sheet.workbook import sheet_rows
 from sheetkin.xlsx.evaluator import evaluate
 
@@ -291,7 +293,7 @@ def test_given_data_different_from_the_reference(fourbar):
     text = (WORKBOOKS / "fourbar.toml").read_text(encoding="utf-8")
     scene = sheetkin.parse_scene(text, "fourbar.toml")
     issued = dataclasses.replace(scene, crank=dataclasses.replace(scene.crank, length=0.15))
-    ref = _reference(issued)
+    ref = reference_book(issued)
     student = evaluate(fourbar)
     ws = openpyxl.load_workbook(fourbar).worksheets[0]
     names = {n: r for n, r in rows_of(ws).items() if r >= 5}

@@ -21,7 +21,8 @@ from openpyxl.utils import get_column_letter
 from sheetkin.course import grades
 from sheetkin.course.copies import Copies, pairs_of, possible_copies
 from sheetkin.course.identity import identify
-from sheetkin.course.validator import Report, RowReport, validate
+from sheetkin.course.report_model import Report, RowReport
+from sheetkin.course.validator import validate
 from sheetkin.xlsx.evaluator import evaluate
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -13,7 +13,7 @@ from sheetkin.course.classlist import read_class_list
 from sheetkin.course.copies import possible_copies
 from sheetkin.course.identity import identify
 from sheetkin.course.report import html_report
-from sheetkin.course.validator import Report, RowReport
+from sheetkin.course.report_model import Report, RowReport
 
 
 def _rep(path: str, student: str) -> Report:

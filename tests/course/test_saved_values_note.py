@@ -12,7 +12,8 @@ from pathlib import Path
 import openpyxl
 
 from sheetkin.course.report import text_report
-from sheetkin.course.validator import Report, RowReport, validate
+from sheetkin.course.report_model import Report, RowReport
+from sheetkin.course.validator import validate
 
 ROOT = Path(__file__).resolve().parents[2]
 SAVED = {"en": "(the saved values were used)", "ru": "(взяты сохранённые значения)"}

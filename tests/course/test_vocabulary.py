@@ -7,7 +7,7 @@ from __future__ import annotations
 from sheetkin.course import grades
 from sheetkin.course.copies import Cluster, Copies
 from sheetkin.course.report import copies_lines, text_report
-from sheetkin.course.validator import Report, RowReport
+from sheetkin.course.report_model import Report, RowReport
 
 
 def report(correct=4, typed=0, wrong=0, typed_only=False, checks=10, deleted=0) -> Report:

@@ -30,7 +30,7 @@ import pytest
 from helpers.libreoffice import is_error, recalculate
 
 import sheetkin
-from sheetkin.course.validator import _build_reference
+from sheetkin.course.reference import build_reference
 from sheetkin.kinematics.scene import override_crank
 from sheetkin.sheet.checks import plural
 from sheetkin.sheet.workbook import FIRST_COL, build_workbook, sheet_rows
@@ -91,7 +91,7 @@ class Book:
         if kinematics_only:
             self.scene = dataclasses.replace(self.scene, masses=(), forces=())
         self.rows = sheet_rows(self.scene).rows
-        self.base = _build_reference(self.scene, evaluate=False)[0]
+        self.base = build_reference(self.scene, evaluate=False)[0]
         self.where = {v: r for (r, c), v in self.base.consts.items() if c == 1 and r >= 5}
         self.kind = {row.name: row.kind for row in self.rows}
         self.guard = {row.name: row.guard for row in self.rows}
@@ -266,7 +266,7 @@ def test_the_old_hole_is_closed():
     B, the coupler's other joint, is off, whatever the step."""
     scene, text = _fourbar_with_e()
     ws = build_workbook(scene, scene_text=text, charts=False).worksheets[0]
-    sheet = _build_reference(scene, evaluate=False)[0]
+    sheet = build_reference(scene, evaluate=False)[0]
     rows = {ws.cell(r, 1).value: r for r in range(1, ws.max_row + 1)}
     for k in range(N):
         sheet.formulas[(rows["vx_E"], FIRST_COL + k)] = mutate(sheet.formulas[(rows["vx_E"], FIRST_COL + k)], "neg")

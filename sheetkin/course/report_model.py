@@ -1,0 +1,133 @@
+"""The report of one graded book: its rows (RowReport) and every fact the reports, the
+grades and copy detection read about it (Report)."""
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+from typing import Any
+
+from sheetkin.kinematics.scene import Scene
+
+from .layout import Layout
+
+INTERNAL = {"to_dict": False}     # a Report field's metadata: not in to_dict (nor --json)
+
+
+@dataclass
+class RowReport:
+    name: str
+    row: int | None                  # the student's row number
+    status: str                      # correct | wrong | missing | empty
+    max_error: float = 0.0
+    first_wrong: int | None = None   # position number (1-based) of the first wrong cell
+    wrong_cells: list[int] = field(default_factory=list)   # position numbers
+    expected: object = None          # at the first wrong cell
+    got: object = None
+    cause: bool = False              # wrong, and no ancestor is wrong
+    because_of: list[str] = field(default_factory=list)    # the causes it depends on
+    kind: str = ""                   # accepted | calc | guard (the reference's kind of row)
+    source: str = "formula"          # formula | typed | cached
+    local: str = ""                  # right | wrong | "" (not judged): on the student's own inputs
+    note: str = ""                   # for a cause: one line why (a typed number: cell, digits, error below)
+    # issue 21: positions (1-based) where the row holds a typed value, no formula: a computed
+    # row earns credit only where it computes (sheetkin/course/grades.py)
+    typed_cells: list[int] = field(default_factory=list)
+    formula_cells: int = 0           # cells holding a formula (their own, or an array's)
+    # positions (1-based, among typed_cells) whose formula reads only typed numbers: none of
+    # the given data, through any formulas (a number pasted elsewhere, then "=Лист2!E5")
+    reads_typed: list[int] = field(default_factory=list)
+
+    @property
+    def is_typed(self) -> bool:
+        """A typed value where a formula belongs: at some position, or (a derived row) its
+        value in column D."""
+        return bool(self.typed_cells) or (self.kind == "derived" and self.source == "typed")
+
+
+@dataclass
+class Report:
+    path: str
+    author: str = ""
+    title: str = ""
+    rows: list[RowReport] = field(default_factory=list)
+    cache_mismatch: list[str] = field(default_factory=list)   # cells: formula != cached value
+    failing_checks: list[str] = field(default_factory=list)   # the student's check rows that fail
+    problems: list[str] = field(default_factory=list)         # unsupported functions ...
+    positions: int = 0
+    error: str | None = None         # unusable input: the one-line reason
+    # (i, phi_1) of each position column, as the sheet's rows i and phi_1 name it (the
+    # reference for the student's variant); the reports name positions this way
+    position_names: list[tuple[float, float]] = field(default_factory=list)
+    # issue 13: who filled it in (their own input rows; A2 is the scheme's author), the
+    # issued variant, the given data the student changed, the scene sheet's seal (issued.py)
+    student: str = ""
+    group: str = ""
+    variant: str = ""
+    given_changed: list[dict] = field(default_factory=list)
+    seal: str = ""                   # "" not checked | "ok" | why it fails
+    accepted_changes: bool = False   # --accept-changed-inputs: graded on the student's inputs
+    accepted_typed: bool = False     # --accept-typed: typed numbers right to their digits earn credit
+    # issue 21: the issued check rows deleted from the sheet, and those whose status (column
+    # D) is typed over its formula: they lose their share of the grade
+    checks_deleted: list[str] = field(default_factory=list)
+    checks_typed: list[str] = field(default_factory=list)
+    checks_issued: int = 0
+    issued_to: str = ""              # the identifier sealed in it by `variants --class-list`
+    notes: list[str] = field(default_factory=list)
+    # Facts of a usable book that the reports, grades and copy detection read but to_dict
+    # leaves out (INTERNAL): their defaults are what a report that stopped early says.
+    layout: Layout | None = field(default=None, metadata=INTERNAL)       # the student's cells (report texts)
+    roster_differs: bool = field(default=False, metadata=INTERNAL)       # one warning for the class
+    lang: str = field(default="", metadata=INTERNAL)                     # the reports' default language
+    variant_scene: Scene | None = field(default=None, metadata=INTERNAL)  # the report's picture
+    marks: dict | None = field(default=None, metadata=INTERNAL)          # the raw cells copy detection compares
+    checks_total: int | None = field(default=None, metadata=INTERNAL)    # check rows in the sheet
+    checks_apply: int | None = field(default=None, metadata=INTERNAL)    # issued check rows with a number somewhere
+    checks_passing: int | None = field(default=None, metadata=INTERNAL)
+    checks_na: int = field(default=0, metadata=INTERNAL)
+    checks_unfilled: int = field(default=0, metadata=INTERNAL)
+
+    @property
+    def wrong(self) -> list[RowReport]:
+        return [r for r in self.rows if r.status == "wrong"]
+
+    @property
+    def missing(self) -> list[RowReport]:
+        return [r for r in self.rows if r.status in ("missing", "empty")]
+
+    @property
+    def causes(self) -> list[RowReport]:
+        return [r for r in self.rows if r.cause]
+
+    @property
+    def reason(self) -> str:
+        """The unusable file's reason without its leading "path: " (the tables name the
+        file in a column of their own); "" for a usable file."""
+        if not self.error:
+            return ""
+        return self.error[len(self.path) + 2:] if self.error.startswith(self.path + ": ") else self.error
+
+    @property
+    def typed(self) -> list[RowReport]:
+        """Rows holding typed values where formulas belong ("typed, not computed")."""
+        return [r for r in self.rows if r.is_typed and r.status not in ("missing", "empty")]
+
+    @property
+    def ok(self) -> bool:
+        """"all correct": full marks (sheetkin/course/grades.py, the one rule every report uses)."""
+        from .grades import verdict
+        return verdict(self) == "all correct"
+
+    def to_dict(self) -> dict:
+        from .grades import counts, explain, score, verdict
+        internal = [f.name for f in dataclasses.fields(self) if f.metadata.get("to_dict", True) is False]
+        blank: dict[str, Any] = dict.fromkeys(internal)     # not copied by asdict (a Scene, a Layout)
+        d = dataclasses.asdict(dataclasses.replace(self, **blank))
+        for name in internal:
+            del d[name]
+        d["ok"] = self.ok
+        d["verdict"] = verdict(self)
+        d["score"] = None if self.error else score(self)
+        d["score_explained"] = explain(self)
+        d["summary"] = {**counts(self), "causes": [r.name for r in self.causes]}
+        return d
