@@ -8,7 +8,8 @@ grows meanwhile: the work is bounded by the cap, not by what the file holds.
 
 Names: `shown(path)` is a file name fit for a message, an HTML page or a CSV cell: bytes
 that are not UTF-8 (a name made on another system) appear as \\xNN escapes instead of
-failing when the text is encoded after all the work is done.
+failing when the text is encoded after all the work is done; controls, bidi overrides and
+zero-width characters as escapes too (sheetkin.untrusted).
 
 Only the standard library: every stage may import this module (it sits beside the
 stages, as sheetkin.lazy does).
@@ -77,19 +78,22 @@ def read_text(path: str | os.PathLike, cap: int, what: str = "file", encoding: s
 
 
 def shown(path: str | os.PathLike) -> str:
-    """The name of `path` as text that always encodes: undecodable bytes (which Python
-    keeps as lone surrogates) become \\xNN escapes."""
+    """The name of `path` (or any text from a student) as text that always encodes and
+    cannot forge or hide text: undecodable bytes (which Python keeps as lone surrogates)
+    become \\xNN escapes, and so do controls (ESC, CR, LF), bidi overrides and zero-width
+    characters (sheetkin.untrusted.shown_text: a forged "all correct" line is impossible)."""
+    from .untrusted import shown_text
     text = os.fspath(path)
     if isinstance(text, bytes):
-        return text.decode("utf-8", "backslashreplace")
+        return shown_text(text.decode("utf-8", "backslashreplace"))
     try:
         text.encode("utf-8")
-        return text
+        return shown_text(text)
     except UnicodeEncodeError:
         try:
-            return text.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace")
+            return shown_text(text.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace"))
         except UnicodeEncodeError:    # a surrogate not from a file name's bytes
-            return text.encode("utf-8", "backslashreplace").decode("utf-8")
+            return shown_text(text.encode("utf-8", "backslashreplace").decode("utf-8"))
 
 
 # --------------------------------------------------------------------------- writing
