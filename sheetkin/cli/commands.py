@@ -415,6 +415,8 @@ def _command_files(args) -> tuple[list[tuple[str, str]], list[str]]:
         if args.roster and not args.key:        # the key beside the roster is read too
             from sheetkin.course.issued import KEY_FILE
             inputs.append(str(Path(args.roster).parent / KEY_FILE))
+    from .inputs import more_inputs  # issue 30: zips in folders, assignment, the roster's scenes, keys
+    inputs += more_inputs(args)
     if getattr(args, "at_file", None):
         from .angles import split_column
         inputs.append(str(split_column(args.at_file)[0]))
