@@ -56,6 +56,8 @@ def cmd_variants(args) -> int:
     if getattr(args, "class_list", None):
         from sheetkin.course.classlist import read_class_list
         class_list = read_class_list(args.class_list)
+        from sheetkin.course.variants import check_class_size  # issue 30: before any variant is made
+        check_class_size(class_list)
     n = args.n or (min(len({p.ident for p in class_list.people}), MAX_VARIANTS) if class_list else 30)
     text = read_text(args.scene, MAX_SCENE_BYTES, "scene .toml file")
     seed = args.seed if args.seed is not None else secrets.randbelow(10 ** 6)

@@ -3,6 +3,7 @@ harmless, and one student never blocks the class. Each test makes the attacker's
 from __future__ import annotations
 
 import csv
+import os
 import io
 import json
 import re
@@ -229,3 +230,222 @@ def test_forged_line_never_reaches_the_terminal(tmp_path, books, capsys):
     main(["validate", str(z), "--json", "--jobs", "1"])
     data = capsys.readouterr().out
     assert not RAW.search(json.loads(data)[0]["student"] if isinstance(json.loads(data), list) else data)
+
+
+# --------------------------------------------------------------------------- 3. inputs are never outputs
+def _roster(folder: Path) -> Path:
+    """A roster naming a scene file beside it, and the assignment beside it."""
+    (folder / "v1.toml").write_text("scene", encoding="utf-8")
+    roster = folder / "roster.csv"
+    roster.write_text(roster_text(["L1"], [("v1", {"exercise": "v1-exercise.xlsx", "key": "v1-key.xlsx",
+                                                   "scene": "v1.toml"}, {"L1": 0.1})]), encoding="utf-8")
+    (folder / "assignment.csv").write_text(assignment_text("Email address", [("Иванов Иван", "i@x.ru", "v1",
+                                                                               "v1-exercise.xlsx")]),
+                                           encoding="utf-8")
+    return roster
+
+
+@pytest.mark.parametrize("target, option", [("class/moodle.zip", "--grades"), ("issued/assignment.csv", "--grades"),
+                                            ("issued/v1.toml", "--html"), ("issued/.sheetkin-key-20261101", "--html")])
+def test_files_read_are_refused_as_outputs(tmp_path, capsys, target, option):
+    """--grades onto the class's assignment.csv, --html onto a roster's scene file and
+    --grades onto a zip in the input folder overwrote each."""
+    (tmp_path / "class").mkdir()
+    (tmp_path / "issued").mkdir()
+    roster = _roster(tmp_path / "issued")
+    (tmp_path / "issued" / ".sheetkin-key").write_text("00" * 32 + "\n")
+    (tmp_path / "issued" / ".sheetkin-key-20261101").write_text("11" * 32 + "\n")
+    (tmp_path / "class" / "a.xlsx").write_bytes(b"not a book")
+    (tmp_path / "class" / "moodle.zip").write_bytes(b"PK\x05\x06" + b"\0" * 18)
+    out = tmp_path / target
+    before = out.read_bytes()
+    code = main(["validate", str(tmp_path / "class"), "--roster", str(roster), option, str(out)])
+    err = capsys.readouterr().err
+    assert code == 2 and out.read_bytes() == before
+    assert "refusing to overwrite it" in err and len(err.strip().splitlines()) == 1
+
+
+# --------------------------------------------------------------------------- 4. one submission never blocks the class
+def _patch_central(zpath: Path, entry: str, field: str, value: int) -> None:
+    """Rewrite one field of an entry's central directory header: what a forged zip says."""
+    import struct
+    data = bytearray(zpath.read_bytes())
+    at = data.index(b"PK\x01\x02" + data[data.index(b"PK\x01\x02") + 4:data.index(b"PK\x01\x02") + 4], 0)
+    name = entry.encode()
+    while True:
+        at = data.index(b"PK\x01\x02", at)
+        n = struct.unpack_from("<H", data, at + 28)[0]
+        if data[at + 46:at + 46 + n] == name:
+            break
+        at += 4
+    struct.pack_into("<I", data, at + {"compress_size": 20, "file_size": 24}[field], value)
+    zpath.write_bytes(bytes(data))
+
+
+def _reports(paths) -> dict[str, Report]:
+    from sheetkin.course.batch import submission_files, validate_many
+    found = submission_files([str(p) for p in paths])
+    return {found.name(f): rep for f, rep in zip(found.files, validate_many(found.files, 1), strict=True)}
+
+
+def test_one_submission_never_blocks_the_class(tmp_path, books):
+    """One 200-letter Cyrillic file name (400 bytes) or one 51 MB upload refused the whole
+    Moodle zip; a student's work.zip was skipped without a word; of two files under one
+    entry name the first was dropped silently; cp866 names came out as mojibake."""
+    import zipfile
+    ex, key = books["v1"]
+    good = fill(ex, key, tmp_path / "good.xlsx", student="Иванов Иван").read_bytes()
+    other = fill(ex, key, tmp_path / "other.xlsx", student="Иванов Иван", group="ГМ-21").read_bytes()
+    inner = io.BytesIO()
+    with zipfile.ZipFile(inner, "w") as zf:
+        zf.writestr("lab.xlsx", good)
+    long_name = "Л" * 200 + ".xlsx"
+    z = tmp_path / "class.zip"
+    with zipfile.ZipFile(z, "w", zipfile.ZIP_DEFLATED) as zf:
+        zf.writestr("Иван Иванов_1_assignsubmission_file_/lab.xlsx", good)
+        zf.writestr(f"Пётр Петров_2_assignsubmission_file_/{long_name}", good)
+        zf.writestr("Анна Петрова_3_assignsubmission_file_/big.xlsx", b"\0" * (51 * 2 ** 20))
+        zf.writestr("Олег Сидоров_4_assignsubmission_file_/work.zip", inner.getvalue())
+        zf.writestr("Ольга Смирнова_5_assignsubmission_file_/lab.xlsx", good)
+        zf.writestr("Ольга Смирнова_5_assignsubmission_file_/lab.xlsx", other)     # the same name twice
+        zf.writestr("Yan Kim_6_assignsubmission_file_/PPPPPP.xlsx", good)            # renamed to cp866 below
+    data = z.read_bytes().replace(b"PPPPPP.xlsx", "Петров.xlsx".encode("cp866"))
+    z.write_bytes(data)
+    got = _reports([z])
+    names = list(got)
+    assert len(got) == 7, names
+    lines = {n: (r.error or "") for n, r in got.items()}
+    assert not lines[f"{z}/Иван Иванов_1_assignsubmission_file_/lab.xlsx"]
+    assert not lines[f"{z}/Пётр Петров_2_assignsubmission_file_/{long_name}"]           # graded
+    assert "51 MB" in lines[f"{z}/Анна Петрова_3_assignsubmission_file_/big.xlsx"] or \
+        "unpacks to 53,477,376 bytes" in lines[f"{z}/Анна Петрова_3_assignsubmission_file_/big.xlsx"]
+    assert not lines[f"{z}/Олег Сидоров_4_assignsubmission_file_/work.zip/lab.xlsx"]    # graded, named
+    twice = [n for n in names if "Смирнова" in n]
+    assert len(twice) == 2 and "entry 2 of this name" in twice[1]
+    assert {got[n].group for n in twice} == {"", "ГМ-21"}                              # neither dropped
+    cp866 = f"{z}/Yan Kim_6_assignsubmission_file_/Петров.xlsx"
+    assert not lines[cp866] and any("cp866" in n for n in got[cp866].notes)
+    for n, line in lines.items():
+        assert "\n" not in line and "internal error" not in line, (n, line)
+
+
+@pytest.mark.parametrize("field, value, refused", [("file_size", 100, True), ("file_size", 10_000_000, True),
+                                                   ("compress_size", 50, True), ("compress_size", 2_000_000, False)])
+def test_a_lying_header_is_that_entrys_line(tmp_path, books, field, value, refused):
+    """A zip whose header lies about its size gave 'internal error ... please report'. (A
+    packed size larger than the data is harmless: the stream ends where it ends, its CRC
+    checks, the book is graded.)"""
+    import zipfile
+    ex, key = books["v1"]
+    good = fill(ex, key, tmp_path / "good.xlsx", student="Иванов Иван").read_bytes()
+    z = tmp_path / "class.zip"
+    with zipfile.ZipFile(z, "w", zipfile.ZIP_DEFLATED) as zf:
+        zf.writestr("A A_1_assignsubmission_file_/lab.xlsx", good)
+        zf.writestr("B B_2_assignsubmission_file_/lab.xlsx", good)
+    _patch_central(z, "B B_2_assignsubmission_file_/lab.xlsx", field, value)
+    got = _reports([z])
+    assert not got[f"{z}/A A_1_assignsubmission_file_/lab.xlsx"].error
+    line = got[f"{z}/B B_2_assignsubmission_file_/lab.xlsx"].error
+    assert bool(line) == refused
+    assert not line or "internal error" not in line and "\n" not in line and "B B_2" in line, line
+
+
+def test_unpacked_bytes_capped_across_the_run(tmp_path, monkeypatch):
+    """A 1.8 MB zip of 37 x 50 MB zero 'xlsx' wrote 1.8 GB to TMPDIR before any check (two
+    such zips: 3.7 GB; the cap was per zip). Judged from the ratio before unpacking; the
+    run's total is capped over every zip."""
+    import tempfile
+    import zipfile
+
+    import sheetkin.course.batch as batch
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path / "tmp"))
+    (tmp_path / "tmp").mkdir()
+    zips = []
+    for k in range(2):
+        z = tmp_path / f"bomb{k}.zip"
+        with zipfile.ZipFile(z, "w", zipfile.ZIP_DEFLATED) as zf:
+            for i in range(5):
+                zf.writestr(f"S{i}_{i}_assignsubmission_file_/z.xlsx", b"\0" * 50_000_000)
+        zips.append(z)
+    got = _reports(zips)
+    assert len(got) == 10 and all("zip bomb" in r.error for r in got.values())
+    written = sum(f.stat().st_size for f in (tmp_path / "tmp").rglob("*") if f.is_file())
+    assert written == 0
+    # the run's cap, over two zips of honest (incompressible) entries
+    monkeypatch.setattr(batch, "ZIP_MAX_BYTES", 250_000)
+    for k in range(2):
+        with zipfile.ZipFile(tmp_path / f"ok{k}.zip", "w") as zf:
+            for i in range(2):
+                zf.writestr(f"T{k}{i}_{i}_assignsubmission_file_/t.xlsx", os.urandom(100_000))
+    got = _reports([tmp_path / "ok0.zip", tmp_path / "ok1.zip"])
+    capped = [n for n, r in got.items() if r.error and "in one run" in r.error]
+    assert len(got) == 4 and len(capped) == 2 and all("ok1.zip" in n for n in capped)
+
+
+# --------------------------------------------------------------------------- 5, 6. bounded work, clear failures
+def test_a_file_taking_too_long_is_reported_and_the_class_goes_on(tmp_path, monkeypatch):
+    """A worker stalled on one file (30,000 defined names in a cycle took minutes) held the
+    class: past the per-file time limit the file gets its line, the others are graded."""
+    import time
+
+    import sheetkin.course.batch as batch
+
+    def validate(path, options=None):
+        if "slow" in str(path):
+            time.sleep(60)
+        return Report(str(path))
+    monkeypatch.setattr(batch, "_validate_one", validate)
+    paths = [tmp_path / "a.xlsx", tmp_path / "slow.xlsx", tmp_path / "b.xlsx"]
+    for jobs in (1, 2):
+        start = time.monotonic()
+        reps = list(batch.validate_many(paths, jobs, time_limit=1.0))
+        took = time.monotonic() - start
+        assert [r.path for r in reps] == [str(p) for p in paths]
+        assert not reps[0].error and not reps[2].error
+        assert "took longer than 1 s" in reps[1].error and str(paths[1]) in reps[1].error
+        assert took < 20, (jobs, took)
+
+
+def test_variants_class_size_cap(tmp_path):
+    from sheetkin.course.variants import MAX_CLASS_SIZE, check_class_size
+    from sheetkin.kinematics.scene import SceneError
+    cl = tmp_path / "class.csv"
+    cl.write_text("Full name,Email address\n" + "".join(f"Студент {k},s{k}@x.ru\n" for k in range(MAX_CLASS_SIZE + 1)),
+                  encoding="utf-8")
+    with pytest.raises(SceneError, match=f"names {MAX_CLASS_SIZE + 1:,} students"):
+        check_class_size(read_class_list(str(cl)))
+    code = main(["variants", str(Path(__file__).resolve().parents[2] / "workbooks" / "fourbar.toml"),
+                 "--class-list", str(cl), "--out", str(tmp_path / "out")])
+    assert code == 2 and not (tmp_path / "out").exists()
+
+
+def test_failed_variants_leaves_nothing_that_blocks_the_rerun(tmp_path, monkeypatch):
+    """A `variants` run that failed on a full disk left a key that blocked the rerun."""
+    import errno
+
+    import sheetkin.course.variants as variants
+    scene = Path(__file__).resolve().parents[2] / "workbooks" / "fourbar.toml"
+    vs = variants.make_variants(scene.read_text(encoding="utf-8"), str(scene), 2, seed=5)
+    real, calls = variants._atomic_book, []
+
+    def full_disk(path, wb):
+        calls.append(path)
+        if len(calls) == 3:
+            raise OSError(errno.ENOSPC, "No space left on device", str(path))
+        real(path, wb)
+    monkeypatch.setattr(variants, "_atomic_book", full_disk)
+    out = tmp_path / "issued"
+    with pytest.raises(OSError, match="No space"):
+        variants.write_variants(vs, out, charts=False)
+    assert list(out.iterdir()) == []
+    monkeypatch.setattr(variants, "_atomic_book", real)
+    roster = variants.write_variants(vs, out, charts=False)          # the rerun, without --force
+    assert roster.is_file() and (out / ".sheetkin-key").is_file()
+    # a failed --force run over an issued class leaves the issued roster and key as they were
+    key_before, roster_before = (out / ".sheetkin-key").read_bytes(), roster.read_bytes()
+    calls.clear()
+    monkeypatch.setattr(variants, "_atomic_book", full_disk)
+    with pytest.raises(OSError):
+        variants.write_variants(vs, out, charts=False, force=True)
+    assert (out / ".sheetkin-key").read_bytes() == key_before and roster.read_bytes() == roster_before
+    assert not list(out.glob(".sheetkin-key-*")) and not list(out.glob("roster-*"))
