@@ -133,16 +133,22 @@ class Output:
                                     self.path)
         self.final = real
         self.mode = stat.S_IMODE(st.st_mode) if st is not None else 0o666 & ~_umask()
-        fd, self.tmp = tempfile.mkstemp(prefix=".sheetkin-", suffix=suffix, dir=folder)
+        try:
+            fd, self.tmp = tempfile.mkstemp(prefix=".sheetkin-", suffix=suffix, dir=folder)
+        except OSError as e:     # named by the output, not by the temporary .sheetkin-XXXX.part
+            raise OSError(e.errno, e.strerror or str(e), self.path) from None
         _TEMPORARIES.add(self.tmp)
         self.file = os.fdopen(fd, "wb")
 
     def commit(self) -> None:
-        self.file.close()
-        if self.tmp is not None:
-            os.chmod(self.tmp, self.mode)
-            os.replace(self.tmp, self.final)
-            _TEMPORARIES.discard(self.tmp)
+        try:
+            self.file.close()                  # its last block may meet a full disk here
+            if self.tmp is not None:
+                os.chmod(self.tmp, self.mode)
+                os.replace(self.tmp, self.final)
+                _TEMPORARIES.discard(self.tmp)
+        except OSError as e:
+            raise OSError(e.errno, e.strerror or str(e), self.path) from None
 
     def abandon(self) -> None:
         with contextlib.suppress(OSError):
@@ -163,6 +169,35 @@ def _open_special(real: str, shown_as: str):
     if hasattr(os, "set_blocking"):
         os.set_blocking(fd, True)       # now that a reader is there, wait for it as a pipe does
     return os.fdopen(fd, "wb")
+
+
+def check_output(path: str | os.PathLike, what: str = "output") -> None:
+    """Before the work: an output whose folder is missing or cannot take a new file (read
+    only, a read-only file system, no permission) is one line naming the output, not the
+    temporary .sheetkin-XXXX.part after minutes of work. A device or FIFO is left to
+    Output. Tried for real (a file made and removed): permissions alone lie to root and
+    say nothing of a read-only mount."""
+    import tempfile
+    p = os.fspath(path)
+    try:
+        st = os.stat(p)
+    except FileNotFoundError:
+        st = None
+    except OSError as e:
+        raise OSError(e.errno, e.strerror or str(e), p) from None
+    if st is not None and stat.S_ISDIR(st.st_mode):
+        raise IsADirectoryError(errno.EISDIR, "Is a directory", p)
+    if st is not None and not stat.S_ISREG(st.st_mode):
+        return
+    folder = os.path.dirname(os.path.realpath(p))
+    if not os.path.isdir(folder):
+        raise FileNotFoundError(errno.ENOENT, "No such file or directory (the folder does not exist)", p)
+    try:
+        fd, probe = tempfile.mkstemp(prefix=".sheetkin-", suffix=".probe", dir=folder)
+    except OSError as e:
+        raise OSError(e.errno, f"{e.strerror or e} (its folder cannot take the {what})", p) from None
+    os.close(fd)
+    _unlink(probe)
 
 
 def write_file(path: str | os.PathLike, data: bytes | str) -> None:

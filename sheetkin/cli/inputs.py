@@ -49,3 +49,12 @@ def _roster_scenes(roster: str) -> list[str]:
         return [str(folder / name) for files in read_roster(roster).files.values()
                 for what, name in files.items() if name and what in ("scene", "key", "exercise")]
     return []
+
+
+def check_outputs(outputs: list[tuple[str, str]]) -> None:
+    """Every output's folder can take it, before the work (sheetkin.files.check_output):
+    a read-only folder is one line naming the output now (issue 30)."""
+    from sheetkin.files import check_output
+    for opt, path in outputs:
+        if path and path != "-" and opt != "--out":        # bench makes its --out folder
+            check_output(path, f"{opt} file")

@@ -3,9 +3,9 @@ harmless, and one student never blocks the class. Each test makes the attacker's
 from __future__ import annotations
 
 import csv
-import os
 import io
 import json
+import os
 import re
 import unicodedata
 from pathlib import Path
@@ -449,3 +449,55 @@ def test_failed_variants_leaves_nothing_that_blocks_the_rerun(tmp_path, monkeypa
         variants.write_variants(vs, out, charts=False, force=True)
     assert (out / ".sheetkin-key").read_bytes() == key_before and roster.read_bytes() == roster_before
     assert not list(out.glob(".sheetkin-key-*")) and not list(out.glob("roster-*"))
+
+
+@pytest.fixture
+def mounted(tmp_path):
+    """mount(options) -> a folder on a tmpfs of its own (read-only, or 64 KB: a full disk);
+    skipped where mounting is not allowed."""
+    import subprocess
+    points = []
+
+    def mount(options: str) -> Path:
+        point = tmp_path / f"mnt{len(points)}"
+        point.mkdir()
+        if subprocess.run(["mount", "-t", "tmpfs", "-o", options, "tmpfs", str(point)],
+                          capture_output=True).returncode != 0:
+            pytest.skip("cannot mount a tmpfs here")
+        points.append(point)
+        return point
+    yield mount
+    for point in points:
+        subprocess.run(["umount", "-l", str(point)], capture_output=True)
+
+
+WORKBOOKS = Path(__file__).resolve().parents[2] / "workbooks"
+
+
+@pytest.mark.parametrize("argv", [["validate", "{book}", "--html", "{out}/r.html"],
+                                  ["evaluate", "{book}", "-o", "{out}/e.csv"],
+                                  ["workbook", "{scene}", "-o", "{out}/w.xlsx"],
+                                  ["animate", "{scene}", "-o", "{out}/a.html", "--frames", "4"]])
+def test_read_only_output_folder_named_before_the_work(mounted, capsys, argv):
+    """A read-only output folder was reported after the work, naming the temporary
+    .sheetkin-XXXX.part."""
+    import time
+    out = mounted("ro,size=64k")
+    args = [a.format(book=WORKBOOKS / "fourbar.xlsx", scene=WORKBOOKS / "fourbar.toml", out=out) for a in argv]
+    start = time.monotonic()
+    code = main(args)
+    err = capsys.readouterr().err
+    assert code == 2 and len(err.strip().splitlines()) == 1, err
+    assert args[args.index(next(a for a in args if str(out) in a))] in err and ".part" not in err
+    assert "Read-only file system" in err
+    assert time.monotonic() - start < 5          # refused before the work
+
+
+def test_animate_full_disk_names_the_file(mounted, capsys):
+    """`animate` reported a full disk as 'stdout'."""
+    out = mounted("size=64k")
+    target = out / "a.gif"
+    code = main(["animate", str(WORKBOOKS / "fourbar.toml"), "-o", str(target), "--frames", "60"])
+    err = capsys.readouterr().err
+    assert code == 2 and f"{target}: No space left on device" in err and "stdout" not in err, err
+    assert list(out.iterdir()) == []
