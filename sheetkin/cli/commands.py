@@ -446,7 +446,7 @@ def refuse_overwriting_inputs(args) -> None:
         for opt2, other in outputs[k + 1:]:
             if opt2 != opt and _same_file(path, other):
                 raise SceneError(f"{path}: both {opt} and {opt2} name this file; choose two names")
-    from .inputs import check_outputs     # issue 30: a read-only output folder, before the work
+    from .inputs import check_outputs  # issue 30: a read-only output folder, before the work
     check_outputs(outputs)
 
 
