@@ -501,3 +501,93 @@ def test_animate_full_disk_names_the_file(mounted, capsys):
     err = capsys.readouterr().err
     assert code == 2 and f"{target}: No space left on device" in err and "stdout" not in err, err
     assert list(out.iterdir()) == []
+
+
+# --------------------------------------------------------------------------- 7. fuzz
+from hypothesis import HealthCheck, given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+_HOSTILE = st.sampled_from(list("=+-@\t\r\n\x1b\x07\x9b\x85\u202a\u202b\u202c\u202d\u202e\u2066\u2067\u2068\u2069"
+                                "\u200b\u200c\u200d\u200e\u200f\u2060\ufeff\u2028\u2029\x00\x7f"))
+_TEXT = st.lists(st.one_of(_HOSTILE, st.characters(codec="utf-8", exclude_characters="/\\")),
+                 min_size=1, max_size=24).map("".join)
+
+
+def _no_raw(text: str, where: str) -> None:
+    m = RAW.search(text)
+    assert m is None, (where, repr(text[max(0, m.start() - 20):m.end() + 20]))
+
+
+def _check_outputs(reports, class_list=None) -> None:
+    from sheetkin.cli.commands import _printable
+    from sheetkin.course.report import html_report, json_report, summary_table, text_report
+    reports = [_printable(r) for r in reports]
+    ids = identify(reports, class_list, mtimes=[0] * len(reports))
+    for rep in reports:
+        _no_raw(text_report(rep, "ru").replace("\n", ""), "text")
+    _no_raw(summary_table(reports, "ru").replace("\n", ""), "summary")
+    _no_raw(html_report(reports, Copies(), "ru", ids).replace("\n", ""), "html")
+    data = json.loads(json_report(reports, Copies(), "ru"))
+
+    def walk(x):
+        if isinstance(x, str):
+            _no_raw(x, "json")
+        elif isinstance(x, dict):
+            for k, v in x.items():
+                walk(k)
+                walk(v)
+        elif isinstance(x, list):
+            for v in x:
+                walk(v)
+    walk(data)
+    lines, warnings = grade_lines(reports, Copies(), class_list, identities=ids)
+    for w in warnings:
+        _no_raw(w, "warning")
+    for row in _csv(grades_csv(lines)):
+        for cell in row:
+            _no_raw(cell, "grades.csv")
+            assert not cell.lstrip(" ").startswith(FORMULA), cell
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=list(HealthCheck))
+@given(st.lists(st.tuples(_TEXT, _TEXT, _TEXT), min_size=1, max_size=3))
+def test_fuzz_names_reach_no_output_raw(people):
+    """Names typed in D1, Moodle folder names and file names: no raw control, bidi or
+    formula-leading text in the text report, JSON, HTML or grades.csv."""
+    reports = [_rep(f"{folder}_{k + 1}_assignsubmission_file_/{file}.xlsx", name)
+               for k, (name, folder, file) in enumerate(people)]
+    reports.append(_rep(f"{people[0][1]}.xlsx", people[0][0], error=f"{people[0][2]}: not a zip file"))
+    _check_outputs(reports)
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=list(HealthCheck))
+@given(st.lists(st.tuples(_TEXT, _TEXT), min_size=1, max_size=3))
+def test_fuzz_class_list_and_assignment_reach_no_csv_raw(people):
+    rows = [(name, ident, "v1", "v1-exercise.xlsx") for name, ident in people]
+    for row in csv.reader(io.StringIO(assignment_text("Email address", rows))):
+        for cell in row:
+            _no_raw(cell, "assignment.csv")
+            assert not cell.lstrip(" ").startswith(FORMULA), cell
+
+
+@settings(max_examples=15, deadline=None, suppress_health_check=list(HealthCheck))
+@given(st.lists(_TEXT, min_size=1, max_size=3, unique=True))
+def test_fuzz_zip_entry_names_reach_no_output_raw(tmp_path_factory, names):
+    """Zip entry names (the whole pipeline: unpacked, validated, reported)."""
+    import zipfile
+    folder = tmp_path_factory.mktemp("fuzz")
+    z = folder / "class.zip"
+    with zipfile.ZipFile(z, "w") as zf:
+        for k, name in enumerate(names):
+            zf.writestr(f"{name}_{k + 1}_assignsubmission_file_/{name}.xlsx", b"not a workbook")
+    from sheetkin.cli.commands import _show_as
+    from sheetkin.course.batch import submission_files, validate_many
+    found = submission_files([str(z)])
+    reports = []
+    for f, rep in zip(found.files, validate_many(found.files, 1), strict=True):
+        _show_as(rep, str(f), found.name(f))
+        reports.append(rep)
+    assert len(reports) == len(names)
+    for twice in found.twice:
+        _no_raw(twice, "note")
+    _check_outputs(reports)
