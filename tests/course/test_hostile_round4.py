@@ -591,3 +591,18 @@ def test_fuzz_zip_entry_names_reach_no_output_raw(tmp_path_factory, names):
     for twice in found.twice:
         _no_raw(twice, "note")
     _check_outputs(reports)
+
+
+def test_roster_scene_over_the_cap_is_not_read(tmp_path):
+    """A roster's scene column naming a 1.5 GB file was read whole (2.9 GB)."""
+    import resource
+
+    from sheetkin.course.copies import _computed_values
+    from sheetkin.kinematics.scene import SceneError
+    huge = tmp_path / "v1.toml"
+    with open(huge, "wb") as f:
+        f.truncate(1_500_000_000)                  # sparse: no disk, but 1.5 GB to a reader
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    with pytest.raises(SceneError, match="8,000,000"):
+        _computed_values(huge, lambda scene: pytest.fail("the scene must not be parsed"))
+    assert resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before < 100_000     # KB: nothing read
