@@ -71,8 +71,8 @@ def validate_many(paths: list[Path], jobs: int | None = None,
         for i, p in enumerate(paths, 1):
             rep = Report(str(p), error=_REFUSED[str(p)]) if str(p) in _REFUSED else next(each)
             rep.notes += _NOTES.get(str(p), [])
-            if progress:
-                progress(i, p)
+            if progress:       # a file's name on the terminal: a student's, escaped (issue 30)
+                progress(i, Path(shown(str(p))))
             yield rep
     finally:
         close = getattr(each, "close", None)
