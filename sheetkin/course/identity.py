@@ -127,6 +127,10 @@ def identify(reports, class_list: ClassList | None = None, assignment: Assignmen
     for rep in reports:
         out.append(_identify_one(rep, class_list, assignment))
     _newest_only(reports, out, mtimes or [_mtime(r.path) for r in reports])
+    from sheetkin.files import shown  # the class list's names are students' too (a Moodle profile)
+    for me in out:
+        me.flags = [shown(f) for f in me.flags]
+        me.submitter, me.unmatched = shown(me.submitter), shown(me.unmatched)
     return out
 
 

@@ -617,3 +617,16 @@ def test_roster_scene_over_the_cap_is_not_read(tmp_path):
     with pytest.raises(SceneError, match="8,000,000"):
         _computed_values(huge, lambda scene: pytest.fail("the scene must not be parsed"))
     assert resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before < 100_000     # KB: nothing read
+
+
+def test_class_list_names_reach_the_flags_escaped(tmp_path):
+    """A Moodle full name (editable in a profile) in the class list reaches the identity
+    flags, printed on the terminal: escaped there too."""
+    cl = tmp_path / "class.csv"
+    cl.write_text("First name,Last name,Email address\nИван\x1b[2K,Иванов,i@x.ru\nПётр,Петров\u202e,p@x.ru\n",
+                  encoding="utf-8")
+    class_list = read_class_list(str(cl))
+    reps = [_rep("Пётр Петров_102_assignsubmission_file_/lab.xlsx", "Иванов Иван")]
+    ids = identify(reps, class_list, mtimes=[0])
+    assert ids[0].flags and all(not RAW.search(f) for f in ids[0].flags)
+    assert "\\u202e" in ids[0].flags[0] and "\\x1b" in ids[0].flags[0]
