@@ -189,12 +189,17 @@ def test_name_matching_is_precomputed_once_per_class_list(tmp_path):
     cl.write_text("\n".join(lines) + "\n", encoding="utf-8")
     class_list = read_class_list(str(cl))
     start = time.perf_counter()
+    assert class_list.ident_of("Петра Ива") == "s0@x.ru"      # the first match indexes the list
+    indexed = time.perf_counter() - start
+    start = time.perf_counter()
     got = [class_list.ident_of(f"Петр{_letters(k * 97)} Ив{_letters(k * 97)}") for k in range(800)]
     got += [class_list.ident_of(f"Петр{_letters(k * 89)} И.") for k in range(800)]
     took = time.perf_counter() - start
     assert got[:800] == [f"s{k * 97}@x.ru" for k in range(800)]
     assert got[800:] == [f"s{k * 89}@x.ru" for k in range(800)]
-    assert took < 10, took
+    # each match a few lookups (comparing with every line: 1,600 x 100,000 name keys, hours);
+    # generous bounds for a busy 2-core VM (4 s and 1 s measured there)
+    assert took < 5 and indexed < 30, (took, indexed)
 
 
 # --------------------------------------------------------------------------- 1. the terminal
@@ -582,9 +587,10 @@ def test_fuzz_class_list_and_assignment_reach_no_csv_raw(people):
 
 
 @settings(max_examples=15, deadline=None, suppress_health_check=list(HealthCheck))
-@given(st.lists(_TEXT, min_size=1, max_size=3, unique=True))
+@given(st.lists(_TEXT.filter(lambda t: "\x00" not in t), min_size=1, max_size=3, unique=True))
 def test_fuzz_zip_entry_names_reach_no_output_raw(tmp_path_factory, names):
-    """Zip entry names (the whole pipeline: unpacked, validated, reported)."""
+    """Zip entry names (the whole pipeline: unpacked, validated, reported). No NUL: Python's
+    zipfile cuts a name at it, writing and reading."""
     import zipfile
     folder = tmp_path_factory.mktemp("fuzz")
     z = folder / "class.zip"
