@@ -273,6 +273,12 @@ class Submissions:
         return self.shown.get(str(path), str(path))
 
 
+def _escaped(name: str) -> str:
+    """A file's name as reports and notes show it (sheetkin.files.shown: a student's name
+    with ESC, CR or a bidi override in it is shown escaped)."""
+    return shown(name)
+
+
 def _spreadsheet(p: Path) -> bool:
     return p.suffix.lower() in SPREADSHEET_SUFFIXES and not p.name.startswith(("~$", ".~lock"))
 
@@ -315,12 +321,12 @@ def submission_files(paths, strict: bool = True, unpack: bool = True) -> Submiss
                     for g, shown in _unpack(f, strict):
                         add(g, shown)
                 else:
-                    add(f, str(f))
+                    add(f, _escaped(str(f)))
         elif unpack and _is_zip(p) and p.is_file():
             for g, shown in _unpack(p, strict):
                 add(g, shown)
         else:
-            add(p, str(p))
+            add(p, _escaped(str(p)))
     return out
 
 

@@ -636,3 +636,12 @@ def test_class_list_names_reach_the_flags_escaped(tmp_path):
     ids = identify(reps, class_list, mtimes=[0])
     assert ids[0].flags and all(not RAW.search(f) for f in ids[0].flags)
     assert "\\u202e" in ids[0].flags[0] and "\\x1b" in ids[0].flags[0]
+
+
+def test_a_file_given_twice_is_noted_escaped(tmp_path):
+    from sheetkin.course.batch import submission_files
+    f = tmp_path / "a\x1b[2K\u202e.xlsx"
+    f.write_bytes(b"x")
+    found = submission_files([str(tmp_path), str(f)])
+    assert len(found.files) == 1 and found.twice and not RAW.search(found.twice[0])
+    assert not RAW.search(found.name(found.files[0]))
