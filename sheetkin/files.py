@@ -8,7 +8,8 @@ grows meanwhile: the work is bounded by the cap, not by what the file holds.
 
 Names: `shown(path)` is a file name fit for a message, an HTML page or a CSV cell: bytes
 that are not UTF-8 (a name made on another system) appear as \\xNN escapes instead of
-failing when the text is encoded after all the work is done.
+failing when the text is encoded after all the work is done; controls, bidi overrides and
+zero-width characters as escapes too (sheetkin.untrusted).
 
 Only the standard library: every stage may import this module (it sits beside the
 stages, as sheetkin.lazy does).
@@ -77,19 +78,22 @@ def read_text(path: str | os.PathLike, cap: int, what: str = "file", encoding: s
 
 
 def shown(path: str | os.PathLike) -> str:
-    """The name of `path` as text that always encodes: undecodable bytes (which Python
-    keeps as lone surrogates) become \\xNN escapes."""
+    """The name of `path` (or any text from a student) as text that always encodes and
+    cannot forge or hide text: undecodable bytes (which Python keeps as lone surrogates)
+    become \\xNN escapes, and so do controls (ESC, CR, LF), bidi overrides and zero-width
+    characters (sheetkin.untrusted.shown_text: a forged "all correct" line is impossible)."""
+    from .untrusted import shown_text
     text = os.fspath(path)
     if isinstance(text, bytes):
-        return text.decode("utf-8", "backslashreplace")
+        return shown_text(text.decode("utf-8", "backslashreplace"))
     try:
         text.encode("utf-8")
-        return text
+        return shown_text(text)
     except UnicodeEncodeError:
         try:
-            return text.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace")
+            return shown_text(text.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace"))
         except UnicodeEncodeError:    # a surrogate not from a file name's bytes
-            return text.encode("utf-8", "backslashreplace").decode("utf-8")
+            return shown_text(text.encode("utf-8", "backslashreplace").decode("utf-8"))
 
 
 # --------------------------------------------------------------------------- writing
@@ -129,16 +133,22 @@ class Output:
                                     self.path)
         self.final = real
         self.mode = stat.S_IMODE(st.st_mode) if st is not None else 0o666 & ~_umask()
-        fd, self.tmp = tempfile.mkstemp(prefix=".sheetkin-", suffix=suffix, dir=folder)
+        try:
+            fd, self.tmp = tempfile.mkstemp(prefix=".sheetkin-", suffix=suffix, dir=folder)
+        except OSError as e:     # named by the output, not by the temporary .sheetkin-XXXX.part
+            raise OSError(e.errno, e.strerror or str(e), self.path) from None
         _TEMPORARIES.add(self.tmp)
         self.file = os.fdopen(fd, "wb")
 
     def commit(self) -> None:
-        self.file.close()
-        if self.tmp is not None:
-            os.chmod(self.tmp, self.mode)
-            os.replace(self.tmp, self.final)
-            _TEMPORARIES.discard(self.tmp)
+        try:
+            self.file.close()                  # its last block may meet a full disk here
+            if self.tmp is not None:
+                os.chmod(self.tmp, self.mode)
+                os.replace(self.tmp, self.final)
+                _TEMPORARIES.discard(self.tmp)
+        except OSError as e:
+            raise OSError(e.errno, e.strerror or str(e), self.path) from None
 
     def abandon(self) -> None:
         with contextlib.suppress(OSError):
@@ -159,6 +169,35 @@ def _open_special(real: str, shown_as: str):
     if hasattr(os, "set_blocking"):
         os.set_blocking(fd, True)       # now that a reader is there, wait for it as a pipe does
     return os.fdopen(fd, "wb")
+
+
+def check_output(path: str | os.PathLike, what: str = "output") -> None:
+    """Before the work: an output whose folder is missing or cannot take a new file (read
+    only, a read-only file system, no permission) is one line naming the output, not the
+    temporary .sheetkin-XXXX.part after minutes of work. A device or FIFO is left to
+    Output. Tried for real (a file made and removed): permissions alone lie to root and
+    say nothing of a read-only mount."""
+    import tempfile
+    p = os.fspath(path)
+    try:
+        st = os.stat(p)
+    except FileNotFoundError:
+        st = None
+    except OSError as e:
+        raise OSError(e.errno, e.strerror or str(e), p) from None
+    if st is not None and stat.S_ISDIR(st.st_mode):
+        raise IsADirectoryError(errno.EISDIR, "Is a directory", p)
+    if st is not None and not stat.S_ISREG(st.st_mode):
+        return
+    folder = os.path.dirname(os.path.realpath(p))
+    if not os.path.isdir(folder):
+        raise FileNotFoundError(errno.ENOENT, "No such file or directory (the folder does not exist)", p)
+    try:
+        fd, probe = tempfile.mkstemp(prefix=".sheetkin-", suffix=".probe", dir=folder)
+    except OSError as e:
+        raise OSError(e.errno, f"{e.strerror or e} (its folder cannot take the {what})", p) from None
+    os.close(fd)
+    _unlink(probe)
 
 
 def write_file(path: str | os.PathLike, data: bytes | str) -> None:

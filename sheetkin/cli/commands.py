@@ -56,6 +56,8 @@ def cmd_variants(args) -> int:
     if getattr(args, "class_list", None):
         from sheetkin.course.classlist import read_class_list
         class_list = read_class_list(args.class_list)
+        from sheetkin.course.variants import check_class_size  # issue 30: before any variant is made
+        check_class_size(class_list)
     n = args.n or (min(len({p.ident for p in class_list.people}), MAX_VARIANTS) if class_list else 30)
     text = read_text(args.scene, MAX_SCENE_BYTES, "scene .toml file")
     seed = args.seed if args.seed is not None else secrets.randbelow(10 ** 6)
@@ -399,6 +401,8 @@ def _command_files(args) -> tuple[list[tuple[str, str]], list[str]]:
         if args.roster and not args.key:        # the key beside the roster is read too
             from sheetkin.course.issued import KEY_FILE
             inputs.append(str(Path(args.roster).parent / KEY_FILE))
+    from .inputs import more_inputs  # issue 30: zips in folders, assignment, the roster's scenes, keys
+    inputs += more_inputs(args)
     if getattr(args, "at_file", None):
         from .angles import split_column
         inputs.append(str(split_column(args.at_file)[0]))
@@ -426,6 +430,8 @@ def refuse_overwriting_inputs(args) -> None:
         for opt2, other in outputs[k + 1:]:
             if opt2 != opt and _same_file(path, other):
                 raise UsageError(f"{path}: both {opt} and {opt2} name this file; choose two names")
+    from .inputs import check_outputs  # issue 30: a read-only output folder, before the work
+    check_outputs(outputs)
 
 
 def _validation_files(paths: list[str], strict: bool = True) -> list[Path]:

@@ -54,8 +54,8 @@ def grade_class(files: list[Path], shown_as: Callable[[Path], str], options: Opt
     with contextlib.closing(validate_many(files, jobs, progress, options)) as reports_of:
         for path, rep in zip(files, reports_of, strict=False):
             real.append(str(path))
-            _show_as(rep, str(path), shown_as(path))
-            reports.append(_printable(rep))
+            show_as(rep, str(path), shown_as(path))
+            reports.append(printable_report(rep))
             if each is not None:
                 each(rep)
     assignment = find_assignment(roster_path)
@@ -72,7 +72,7 @@ def grade_class(files: list[Path], shown_as: Callable[[Path], str], options: Opt
     return GradedClass(reports, identities, copies, class_list, warnings)
 
 
-def _show_as(rep: Report, real: str, name: str) -> None:
+def show_as(rep: Report, real: str, name: str) -> None:
     """A report of a file unpacked from a zip names it as the teacher knows it."""
     if name == real:
         return
@@ -88,7 +88,7 @@ def _mtime(path: str) -> float:
         return 0.0
 
 
-def _printable(rep: Report) -> Report:
+def printable_report(rep: Report) -> Report:
     """The report with every text fit for UTF-8 output: a file name that is not UTF-8 (made
     on another system) shown with \\xNN escapes (sheetkin.files.shown) in the text, JSON,
     HTML and grades alike."""

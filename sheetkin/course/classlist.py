@@ -26,6 +26,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from sheetkin.errors import InputError
+from sheetkin.untrusted import plain_text
 
 MAX_CLASS_LIST_BYTES = 5_000_000       # a year's class is a few hundred KB
 ID_HEADERS = ("Email address", "ID number", "Username")      # Moodle's export names them so
@@ -44,7 +45,9 @@ class ClassListError(InputError):
 
 
 def fold_name(text: str) -> str:
-    return str(text).casefold().replace("ё", "е")
+    # without the invisible characters a student can hide in a name ("Ива\u200bнов"), and in
+    # NFKC ("Ｉｖａｎｏｖ" is "Ivanov"): look-alike names compare equal (issue 30)
+    return plain_text(text).casefold().replace("ё", "е")
 
 
 def name_key(text: str) -> frozenset:
@@ -99,12 +102,32 @@ class ClassList:
         text = str(text or "").strip()
         if not text:
             return []
-        key = name_key(text)
-        exact = [p for p in self.people if name_key(p.name) == key]
+        by_key, by_surname, _ = self._index()
+        exact = by_key.get(name_key(text))
         if exact:
-            return exact
+            return [p for _, p in exact]
         tokens = _tokens(text)
-        return [p for p in self.people if p.fits(tokens)]
+        # only a person one of whose surname words is typed can fit (Person.fits)
+        found = {k: p for t in set(tokens) for k, p in by_surname.get(t, ())}
+        return [found[k] for k in sorted(found) if found[k].fits(tokens)]
+
+    def _index(self) -> tuple[dict, dict, dict]:
+        """The people (with their places in the list) by whole-name key, by surname word and
+        by identifier, made once per list: comparing every book's name with every line took
+        94 s for 800 books and a 100,000-line list. Remade when people were added since."""
+        cached = self.__dict__.get("_indexed")
+        if cached is not None and cached[0] == len(self.people):
+            return cached[1]
+        by_key: dict[frozenset, list] = {}
+        by_surname: dict[str, list] = {}
+        by_ident: dict[str, Person] = {}
+        for k, p in enumerate(self.people):
+            by_key.setdefault(name_key(p.name), []).append((k, p))
+            for w in set(p.surname.split()):
+                by_surname.setdefault(w, []).append((k, p))
+            by_ident.setdefault(p.ident, p)
+        self.__dict__["_indexed"] = (len(self.people), (by_key, by_surname, by_ident))
+        return by_key, by_surname, by_ident
 
     def ident_of(self, text: str) -> str:
         """The identifier of the one person `text` names; "" for none or several."""
@@ -112,7 +135,7 @@ class ClassList:
         return found.pop() if len(found) == 1 else ""
 
     def by_ident(self, ident: str) -> Person | None:
-        return next((p for p in self.people if p.ident == ident), None)
+        return self._index()[2].get(ident)
 
 
 def decode_table(raw: bytes, path: str, what: str) -> str:
@@ -208,7 +231,14 @@ def read_class_list(path: str) -> ClassList:
 
 
 # --------------------------------------------------------------------------- Moodle's download
-_MOODLE = re.compile(r"^(?P<name>.*?)_(?P<pid>\d+)_assign(?:submission|feedback)_[a-z]+_(?P<rest>.*)$", re.S)
+# A folder's participant number is read from its last fields only: the full name before it
+# is the student's own (editable in many profiles), and a name "Петров_102_assignsubmission_file_x"
+# must not make the folder Петров's (issue 30). A flat file's name ends with the student's
+# file name, so there the number follows the first "_": Moodle writes the full name with
+# its underscores replaced by spaces; a flat name that holds the pattern twice names no one.
+_MOODLE_FOLDER = re.compile(r"^(?P<name>.*)_(?P<pid>\d+)_assign(?:submission|feedback)_[a-z]+_$", re.S)
+_MOODLE_FLAT = re.compile(r"^(?P<name>[^_]*)_(?P<pid>\d+)_assign(?:submission|feedback)_[a-z]+_(?P<rest>.*)$", re.S)
+_MOODLE_ANY = re.compile(r"_\d+_assign(?:submission|feedback)_[a-z]+_")
 
 
 @dataclass(frozen=True)
@@ -229,8 +259,13 @@ def moodle_submitter(path: str | Path, root: str | Path | None = None) -> Submit
             parts = list(p.relative_to(root).parts)
     # the outermost name is Moodle's; a file inside is named by the student, who could name
     # it after a classmate's folder ("Иван Иванов_5501_assignsubmission_file_lab.xlsx")
-    for part in parts:
-        m = _MOODLE.match(part)
+    for k, part in enumerate(parts):
+        if k < len(parts) - 1:
+            m = _MOODLE_FOLDER.match(part)
+        else:
+            m = _MOODLE_FLAT.match(part)
+            if m and _MOODLE_ANY.search(m.group("rest")):
+                return None
         if m:
             return Submitter(" ".join(m.group("name").split()), m.group("pid"), part)
     return None

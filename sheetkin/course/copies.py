@@ -386,10 +386,10 @@ def roster_variants(roster, assignment=None) -> dict:
 
 def computed_values(scene_file) -> dict:
     """{(row name, position): value} of the computed rows of a scene's reference sheet."""
-    from sheetkin.kinematics.scene import parse_scene
+    from sheetkin.kinematics.scene import load_scene
     from sheetkin.sheet.workbook import FIRST_COL, sheet_rows
 
-    scene = parse_scene(scene_file.read_text(encoding="utf-8"), str(scene_file))
+    scene = load_scene(scene_file)      # issue 30: read under the scene cap (8 MB), never whole
     book = reference_book(scene)
     sheet = book.order[0]
     rows = {book.sheets[sheet].consts.get((r, 1)): r for r in range(5, book.sheets[sheet].max_row + 1)}

@@ -309,7 +309,8 @@ def grades_csv(lines: list[list[str]]) -> bytes:
     """UTF-8 with a byte-order mark (Excel then reads Cyrillic right; Moodle removes it),
     comma-separated, CRLF (RFC 4180), quoted where needed."""
     buf = io.StringIO()
-    csv.writer(buf, lineterminator="\r\n").writerows(lines)
+    from sheetkin.untrusted import csv_cell  # issue 30: every cell, the identifier too, neutralized
+    csv.writer(buf, lineterminator="\r\n").writerows([csv_cell(c) for c in row] for row in lines)
     return ("\ufeff" + buf.getvalue()).encode("utf-8")
 
 

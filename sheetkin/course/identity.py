@@ -20,7 +20,18 @@ import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .classlist import ClassList, ClassListError, Person, decode_table, delimiter, moodle_submitter, read_bounded
+from sheetkin.untrusted import csv_cell, from_csv_cell
+
+from .classlist import (
+    ClassList,
+    ClassListError,
+    Person,
+    decode_table,
+    delimiter,
+    moodle_submitter,
+    name_key,
+    read_bounded,
+)
 
 ASSIGNMENT_FILE = "assignment.csv"       # written by `variants --class-list` beside roster.csv
 ASSIGNMENT_COLUMNS = ("student", "identifier", "variant", "exercise")
@@ -67,8 +78,10 @@ def assignment_text(id_header: str, rows: list[tuple[str, str, str, str]]) -> st
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(ASSIGNMENT_COLUMNS)
-    w.writerow([f"# {id_header}", "", "", ""])
-    w.writerows(rows)
+    w.writerow([f"# {csv_cell(id_header)}", "", "", ""])
+    # every cell came from the class list, which a student can edit (an e-mail "=cmd|..."
+    # in a Moodle profile): neutralized, read back by from_csv_cell
+    w.writerows([csv_cell(c) for c in row] for row in rows)
     return buf.getvalue()
 
 
@@ -89,7 +102,8 @@ def read_assignment(path) -> Assignment:
             continue
         if len(row) < 4 or not row[1].strip() or not row[2].strip():
             raise ClassListError(f"{p}:{line}: expected a student, their identifier, a variant and an exercise")
-        people[row[1].strip()] = (row[0].strip(), row[2].strip(), row[3].strip())
+        name, ident, variant, exercise = (from_csv_cell(c.strip()) for c in row[:4])
+        people[ident] = (name, variant, exercise)
     return Assignment(p, id_header, people)
 
 
@@ -113,6 +127,10 @@ def identify(reports, class_list: ClassList | None = None, assignment: Assignmen
     for rep in reports:
         out.append(_identify_one(rep, class_list, assignment))
     _newest_only(reports, out, mtimes or [_mtime(r.path) for r in reports])
+    from sheetkin.files import shown  # the class list's names are students' too (a Moodle profile)
+    for me in out:
+        me.flags = [shown(f) for f in me.flags]
+        me.submitter, me.unmatched = shown(me.submitter), shown(me.unmatched)
     return out
 
 
@@ -137,9 +155,13 @@ def _identify_one(rep, cl: ClassList | None, assignment: Assignment | None) -> I
             me.unmatched = f"the folder {sub.where!r}: " + _describe(sub.name, cl.match(sub.name))
         if folder and typed and typed_person is not None and typed_person.ident != folder.ident:
             me.flags.append(f"found in the folder of {folder.name}, but {typed_person.name}'s name is typed in it")
+        elif typed and typed_person is None and not same_name_loosely(typed, sub.name):
+            # no class list (the README's path), or a typed name it does not hold: the
+            # folder's name and the typed one share no word (issue 30)
+            me.flags.append(f"found in the folder of {sub.name}, but the name typed in it is {typed!r}")
     elif typed:
         me.submitter = typed
-        me.who = typed_person.ident if typed_person else " ".join(typed.casefold().replace("ё", "е").split())
+        me.who = typed_person.ident if typed_person else " ".join(sorted(name_key(typed)))
         me.ident = typed_person.ident if typed_person else ""
         if cl is not None and typed_person is None:
             me.unmatched = _describe(typed, cl.match(typed))
@@ -148,11 +170,42 @@ def _identify_one(rep, cl: ClassList | None, assignment: Assignment | None) -> I
         me.ident = sealed if cl is None or cl.by_ident(sealed) else ""
     if sealed and me.ident and sealed != me.ident:
         me.flags.append(f"issued to {sealed_name or sealed} ({sealed}), handed in by {me.submitter}")
-    elif sealed and not me.ident and sub is not None and sealed_name and sub.name:
-        from .classlist import name_key
-        if name_key(sealed_name) != name_key(sub.name):
+    elif (sealed and not me.ident and sub is not None and sealed_name and sub.name
+          and name_key(sealed_name) != name_key(sub.name)):
             me.flags.append(f"issued to {sealed_name} ({sealed}), handed in by {me.submitter}")
     return me
+
+
+# Latin letters for Cyrillic ones (a Moodle profile may be in Latin, the typed name in Cyrillic)
+_LATIN = dict(zip("абвгдеёжзийклмнопрстуфхцчшщъыьэюяіїєґ",
+                  ["a", "b", "v", "g", "d", "e", "e", "zh", "z", "i", "i", "k", "l", "m", "n", "o", "p", "r", "s",
+                   "t", "u", "f", "kh", "ts", "ch", "sh", "shch", "", "y", "", "e", "yu", "ya", "i", "yi", "ye", "g"],
+                  strict=True))
+
+
+def _skeleton(word: str) -> str:
+    """A word's consonants in Latin letters, for comparing names across alphabets and
+    transliterations ("Щукин", "Shchukin", "Schukin": "sckn")."""
+    latin = "".join(_LATIN.get(c, c) for c in word)
+    return "".join(c for c in latin if c not in "aeiouyhjw'-.")
+
+
+def same_name_loosely(typed: str, folder_name: str) -> bool:
+    """Whether a typed name can be the folder's student's, without a class list: some word
+    of at least two letters is one of the folder name's words, in any alphabet or
+    transliteration. True when it cannot tell (blind marking's "Participant", no words)."""
+    from .classlist import NAME_WORD, fold_name
+    typed_words = [w.rstrip(".") for w in NAME_WORD.findall(fold_name(typed)) if len(w.rstrip(".")) >= 2]
+    folder_words = [w.rstrip(".") for w in NAME_WORD.findall(fold_name(folder_name)) if len(w.rstrip(".")) >= 2]
+    if not typed_words or not folder_words or folder_words in (["participant"], ["участник"]):
+        return True
+    theirs = {_skeleton(w) for w in folder_words} - {""}
+    for w in typed_words:
+        mine = _skeleton(w)
+        if mine and any(mine == t or (min(len(mine), len(t)) >= 3 and (mine.startswith(t) or t.startswith(mine)))
+                        for t in theirs):
+            return True
+    return False
 
 
 def _mtime(path: str) -> float:

@@ -29,6 +29,7 @@ from typing import cast
 from sheetkin.files import MAX_KEY_BYTES, read_bytes, read_text
 from sheetkin.kinematics.scene import Scene, SceneError, one_line
 from sheetkin.sheet.workbook import IDENTITY_ROWS, ISSUED_LABELS, sheet_rows
+from sheetkin.untrusted import csv_cell, from_csv_cell
 
 from .tolerance import RTOL
 
@@ -180,7 +181,8 @@ def roster_text(names: list[str], rows: list[tuple[str, dict[str, str], dict[str
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(list(ROSTER_FIXED) + list(names))
     for vid, files, values in rows:
-        w.writerow([vid] + [files[k] for k in ROSTER_FIXED[1:]] + [_cell(values[n]) for n in names])
+        # the texts neutralized for a spreadsheet (issue 30); the numbers stay numbers
+        w.writerow([csv_cell(vid)] + [csv_cell(files[k]) for k in ROSTER_FIXED[1:]] + [_cell(values[n]) for n in names])
     return buf.getvalue()
 
 
@@ -246,7 +248,7 @@ def parse_roster(text: str, p: str = "roster.csv") -> Roster:
             if len(fields) != len(header):
                 raise RosterError(one_line(f"{p}:{line}:{min(len(fields), len(header)) + 1}: {len(fields)} "
                                            f"fields, expected {len(header)} (as the header)"))
-            vid = fields[0].strip()
+            vid = from_csv_cell(fields[0].strip())
             if not vid:
                 raise RosterError(one_line(f"{p}:{line}:1: empty variant id"))
             if vid in rows:
@@ -261,7 +263,8 @@ def parse_roster(text: str, p: str = "roster.csv") -> Roster:
                     raise RosterError(one_line(f"{p}:{line}:{k}: {n}: expected a number, got {f!r}", 400))
                 values[n] = v
             rows[vid] = values
-            files[vid] = dict(zip(ROSTER_FIXED[1:], (f.strip() for f in fields[1:len(ROSTER_FIXED)]), strict=False))
+            files[vid] = dict(zip(ROSTER_FIXED[1:], (from_csv_cell(f.strip()) for f in fields[1:len(ROSTER_FIXED)]),
+                                   strict=False))
     except csv.Error as e:
         raise RosterError(one_line(f"{p}:{reader.line_num}: not a valid CSV file ({e})")) from None
     if not rows:

@@ -361,18 +361,40 @@ def write_variants(variants: list[Variant], out: str | Path, *, force: bool = Fa
     if kept is not None:
         kept += done
     key_hex = new_key()
-    _atomic(out / KEY_FILE, key_hex + "\n", private=True)
     key = bytes.fromhex(key_hex)
+    written: list[Path] = []
+    try:
+        _write_issue(variants, out, key, lang, charts, note, class_list, people, written)
+        # the key last: a run that fails before it (a full disk) leaves no key that would
+        # make the rerun refuse ("exists") or check books against a key nobody received
+        _atomic(out / KEY_FILE, key_hex + "\n", private=True)
+    except BaseException:
+        _undo(out, written, done)
+        raise
+    return out / ROSTER_FILE
+
+
+def _write_issue(variants, out: Path, key: bytes, lang: str, charts: bool, note, class_list, people,
+                 written: list[Path]) -> None:
+    """The scenes, books, assignment and roster of write_variants (each path appended to
+    `written` once it is there)."""
+    def atomic(path: Path, text: str) -> None:
+        _atomic(path, text)
+        written.append(path)
+
+    def book(path: Path, wb) -> None:
+        _atomic_book(path, wb)
+        written.append(path)
     names = list(given_values(variants[0].scene))
     rows = []
     for k, v in enumerate(variants, 1):
         files = file_names(v.id)
-        _atomic(out / files["scene"], v.text)
+        atomic(out / files["scene"], v.text)
         mark = (v.id, seal(key, v.id, v.text))
         for which, is_exercise in (("exercise", True), ("key", False)):
             wb = build_workbook(v.scene, lang=lang, exercise=is_exercise, scene_text=v.text, issued=mark,
                                 charts=charts)
-            _atomic_book(out / files[which], wb)
+            book(out / files[which], wb)
         rows.append((v.id, files, given_values(v.scene)))
         if note:
             note(k, v)
@@ -382,12 +404,41 @@ def write_variants(variants: list[Variant], out: str | Path, *, force: bool = Fa
         wb = build_workbook(v.scene, lang=lang, exercise=True, scene_text=v.text,
                             issued=(vid, seal(key, vid, v.text, ident)), charts=charts)
         _seal_student(wb, name, ident)
-        _atomic_book(out / exercise, wb)
+        book(out / exercise, wb)
     if people:
-        _atomic(out / ASSIGNMENT_FILE, assignment_text(class_list.id_header, people))
-    roster = out / ROSTER_FILE
-    _atomic(roster, roster_text(names, rows))
-    return roster
+        atomic(out / ASSIGNMENT_FILE, assignment_text(class_list.id_header, people))
+    atomic(out / ROSTER_FILE, roster_text(names, rows))
+
+
+def _undo(out: Path, written: list[Path], kept: list[Path]) -> None:
+    """After a failed run: the files it wrote removed, and the issued roster, key and
+    assignment it had kept dated (keep_issued) back under their names, so that the folder
+    is as before and the same command can be run again."""
+    for path in written:
+        with contextlib.suppress(OSError):
+            path.unlink()
+    for dated in kept:
+        for name in (ROSTER_FILE, KEY_FILE, ASSIGNMENT_FILE):
+            base = name.rpartition(".")[0] if not name.startswith(".") else name
+            if dated.name.startswith(base + "-"):
+                with contextlib.suppress(OSError):
+                    if (out / name).exists() and os.path.samefile(dated, out / name):
+                        dated.unlink()           # a hard link to the very file: rename() would do nothing
+                    else:
+                        os.replace(dated, out / name)
+                break
+
+
+MAX_CLASS_SIZE = 2_000      # students one `variants --class-list` issues books to (a year's course)
+
+
+def check_class_size(class_list) -> None:
+    """A class list of more students than MAX_CLASS_SIZE is one line, before any variant is
+    made (100,000 students took hours and 4.5 GB)."""
+    n = len({p.ident for p in class_list.people})
+    if n > MAX_CLASS_SIZE:
+        raise SceneError(one_line(f"{class_list.path}: --class-list names {n:,} students; `variants` issues books "
+                                  f"to at most {MAX_CLASS_SIZE:,} at a time (split the list by group)"))
 
 
 def assign(variants: list[Variant], class_list) -> list[tuple[str, str, str, str]]:
@@ -395,6 +446,7 @@ def assign(variants: list[Variant], class_list) -> list[tuple[str, str, str, str
     the list's order: the k-th student (from 0) gets variant k mod N. More students than
     variants is allowed (a variant is then shared, each student's book sealed with their
     own identity); a student listed twice (one identifier) gets one variant."""
+    check_class_size(class_list)
     out: list[tuple[str, str, str, str]] = []
     seen: set[str] = set()
     files: set[str] = set()         # the exercise files' names, casefolded

@@ -351,6 +351,7 @@ def animate(scene: Scene, out, *, frames: int = 36, fps: float = 12, size: int =
     # matplotlib and Pillow write by name (the suffix names the format): into a temporary
     # file beside the output, renamed when complete; a device or a FIFO gets its bytes after
     target = Output(out, suffix=".part" + suffix)
+    dest = target.tmp
     try:
         with tempfile.TemporaryDirectory(prefix="sheetkin-animate-") as scratch:
             dest = target.tmp or str(Path(scratch) / ("out" + suffix))
@@ -362,6 +363,12 @@ def animate(scene: Scene, out, *, frames: int = 36, fps: float = 12, size: int =
             if target.tmp is None:
                 target.file.write(Path(dest).read_bytes())
         target.commit()
+    except OSError as e:
+        target.abandon()
+        if not e.filename or e.filename in (target.tmp, dest):
+            # a full disk met by matplotlib or Pillow: named by the output, not "stdout" nor the .part
+            raise OSError(e.errno, e.strerror or str(e), str(out)) from None
+        raise
     except BaseException:
         target.abandon()
         raise
