@@ -30,8 +30,8 @@ from .package import Limits, UnusableWorkbook, open_package, sheet_parts
 
 _LETTERS = [""] + [get_column_letter(c) for c in range(1, 16385)]   # Excel's last column is XFD
 _COLUMN_INDEX = {letters: c for c, letters in enumerate(_LETTERS) if c}
-_MAX_COL = len(_LETTERS) - 1             # XFD
-_MAX_ROW = 1_048_576                      # Excel's last row
+MAX_COL = len(_LETTERS) - 1             # XFD
+MAX_ROW = 1_048_576                      # Excel's last row
 
 
 @dataclass
@@ -339,7 +339,7 @@ def _entity(m: re.Match) -> bytes:
     return char
 
 
-def _texts(items: list[bytes]) -> list[str]:
+def texts_of(items: list[bytes]) -> list[str]:
     """Character data (bytes without markup): unescaped and decoded, all in one pass. With
     references in it, expat reads them (C; each item in an element of its own, so no markup
     but ours; an undefined entity or a character XML forbids is a ParseError): 2x faster
@@ -440,7 +440,7 @@ def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits
                 raise UnusableWorkbook(pkg.path, f"sheet '{name}' has a cell at {(L + R).decode()}",
                                        f"at most {limits.max_rows} rows and {limits.max_cols} columns")
     # formulas: the text of every <f> that has one, decoded in one pass
-    formulas = dict(zip(compress(keys, ftexts), _texts(list(filter(None, ftexts))), strict=False))
+    formulas = dict(zip(compress(keys, ftexts), texts_of(list(filter(None, ftexts))), strict=False))
     if any(fattrs):
         formulas = _shared_and_arrays(sh, keys, fattrs, ftexts, formulas, {} if masters is None else masters)
     # values: constants, and the values saved for formula cells
@@ -538,7 +538,7 @@ def _column_spans(m) -> list[tuple[int, int, str]]:
     return []
 
 
-class _Template:
+class Template:
     """A formula as text with its relative columns left open: rendering it for the next
     columns and comparing strings tells whether those cells hold the same formula shifted."""
 
@@ -558,7 +558,7 @@ class _Template:
         self.text = "".join(p.replace("{", "{{").replace("}", "}}") + (f"{{{slots[i]}}}" if i < len(slots) else "")
                             for i, p in enumerate(pieces))
         self.low = -min(offsets, default=0)
-        self.high = _MAX_COL - max(offsets, default=0)
+        self.high = MAX_COL - max(offsets, default=0)
 
     def render(self, col: int) -> str | None:
         if not self.low < col <= self.high:        # a reference left of column A or past XFD
@@ -585,14 +585,14 @@ class _Shared:
 
     def __init__(self, text: str, row: int, col: int):
         self.text, self.row, self.col = text, row, col
-        self.template: _Template | None = None
+        self.template: Template | None = None
         self.agrees: bool | None = None
 
     def at(self, row: int, col: int) -> str:
         dr, dc = row - self.row, col - self.col
         if dr == 0 and dc > 0 and self.agrees is not False:
             if self.template is None:
-                self.template = _Template(self.text, self.col)
+                self.template = Template(self.text, self.col)
             text = self.template.render(col)
             if self.agrees and text is not None:
                 return text
@@ -624,13 +624,13 @@ def _shift_formula(formula: str, dr: int, dc: int) -> str:
         if abs_:
             return abs_ + letters
         c = _COLUMN_INDEX[letters] + dc
-        return _LETTERS[c] if 1 <= c <= _MAX_COL else None
+        return _LETTERS[c] if 1 <= c <= MAX_COL else None
 
     def row(abs_, digits):
         if abs_:
             return abs_ + digits
         r = int(digits) + dr
-        return str(r) if 1 <= r <= _MAX_ROW else None
+        return str(r) if 1 <= r <= MAX_ROW else None
 
     def sub(m):
         if m.group("str") is not None:

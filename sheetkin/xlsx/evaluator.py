@@ -29,7 +29,7 @@ shape (cells, rows, cols): (k, 1, 1) for one value per cell of a run, (k, R, C) 
 The modules, each importing only those before it: formula_values.py (Val, coercions,
 operators, functions, aggregates; kernels in functions.py), formula_parse.py (formula text
 to trees, Excel's limits for a formula), formula_runs.py (Run, grouping cells into runs),
-evaluator_context.py (_Context: a tree evaluated for a run), evaluator_limits.py (hostile
+evaluator_context.py (Context: a tree evaluated for a run), evaluator_limits.py (hostile
 input: depth, names, cells read, workbook-wide refusals), and this one: evaluate and
 evaluate_sheets, defined names and array formulas, the order of runs (_schedule), Book and
 the results as tables. The names the others hold are importable from here as before.
@@ -42,38 +42,32 @@ from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
-from .cells import _MAX_COL, _MAX_ROW, Sheet, read_book
-from .context import _Context, _lookup
+from .cells import MAX_COL, MAX_ROW, Sheet, read_book
+from .context import Context, lookup_name
 from .coords import get_column_letter
-from .functions import DIV0, ERROR_TEXT, ERRORS, NA, NAME, NULL, NUMERR, REF, VALUE, XlError  # noqa: F401
-from .limits import (  # noqa: F401
-    MAX_EVAL_DEPTH,
-    _check_formula_text,
-    _check_names,
-    _check_reads,
-    _chunks,
-    _names_used,
-    _run_notes,
-    _store_dims,
+from .functions import ERROR_TEXT, ERRORS, NA, VALUE, XlError
+from .limits import (
+    check_formula_text,
+    check_names,
+    check_reads,
     dims_signature,
+    names_used,
+    run_notes,
+    run_pieces,
+    store_dims,
 )
-from .package import Limits, UnusableWorkbook, _show
-from .parse import (  # noqa: F401
-    ARITY,
-    MAX_ARGS,
-    MAX_FORMULA_CHARS,
-    MAX_NESTING,
+from .package import Limits, UnusableWorkbook, shorten
+from .parse import (
     Note,
     ParseError,
     Ref,
-    _nodes,
-    arity_problem,
     functions_of,
     parse_formula,
     refs_of,
 )
-from .runs import _TEMPLATES, EvaluationError, Run, _group_runs, _span, _split  # noqa: F401
-from .values import AGGREGATES, BOOL, EMPTY, LAZY, NUM, SCALAR_FUNCS, SUPPORTED, TEXT, Val, _const, _err  # noqa: F401
+from .runs import EvaluationError, Run, group_runs, span, split_run
+from .table import SUPPORTED, arity_problem
+from .values import BOOL, EMPTY, NUM, TEXT, Val, error_value
 
 if TYPE_CHECKING:
     import pandas as pd  # only rows_frame builds a DataFrame: `sheetkin evaluate` loads no pandas
@@ -144,8 +138,8 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
     problems: list[str] = []
     runs: list[Run] = []
     for sh in sheets.values():
-        runs.extend(_array_runs(sh, _group_runs(sh)) if sh.arrays else _group_runs(sh))
-    _check_formula_text(path, runs, limits)
+        runs.extend(_array_runs(sh, group_runs(sh)) if sh.arrays else group_runs(sh))
+    check_formula_text(path, runs, limits)
     # whole columns and rows (A:A, 2:2) end at the workbook's used range
     bound = (max([sh.max_row for sh in sheets.values()] + [1]), max([sh.max_col for sh in sheets.values()] + [1]))
     name_notes: dict = {}                         # scope -> {NAME: Note} of names that cannot be evaluated
@@ -161,7 +155,7 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
             if any(_is_whole(ref) for ref in run.refs):
                 run.tree = _bound_whole(run.tree, bound)
                 run.refs = refs_of(run.tree)
-            problems.extend(_run_notes(run, sheets, name_refs,
+            problems.extend(run_notes(run, sheets, name_refs,
                                        {**name_notes.get(None, {}), **name_notes.get(run.sheet, {})}))
         if run.tree is not None and _has_names(run.tree):
             # a name is a dependency: what it refers to (through other names too) is
@@ -174,8 +168,8 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
         raise EvaluationError(f"{path}: " + "; ".join(problems[:10]) +
                               (f" (and {len(problems) - 10} more)" if len(problems) > 10 else ""))
     # value stores: the used range of each sheet (the cells that hold something); a
-    # reference past it reads as empty cells, a range is clipped to it (_Context.ref)
-    dims = _store_dims(path, sheets, limits)
+    # reference past it reads as empty cells, a range is clipped to it (Context.ref)
+    dims = store_dims(path, sheets, limits)
     num = {n: np.zeros(d) for n, d in dims.items()}
     tag = {n: np.full(d, EMPTY, np.int8) for n, d in dims.items()}
     txt = {n: np.empty(d, dtype=object) for n, d in dims.items()}
@@ -184,17 +178,17 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
             store_value(num[n], tag[n], txt[n], r, c, v)
         for (r, c) in getattr(sh, "dangling", {}):
             tag[n][r, c] = NA
-    _check_reads(path, runs, dims, name_refs, limits)      # before ordering: it scans the ranges too
+    check_reads(path, runs, dims, name_refs, limits)      # before ordering: it scans the ranges too
     order_runs = _schedule(path, runs, dims, sheets, strict=strict, problems=problems)
-    _check_reads(path, order_runs, dims, name_refs, limits)  # runs split into cells read more
-    ctx = _Context(num, tag, txt, scopes)
+    check_reads(path, order_runs, dims, name_refs, limits)  # runs split into cells read more
+    ctx = Context(num, tag, txt, scopes)
     ctx.arrays = {n: sh.arrays for n, sh in sheets.items()}
     with np.errstate(all="ignore"):
         cells = _run_all(path, order_runs, ctx, dims, name_refs, strict, problems)
     return Book(path, sheets, order, num, tag, txt, problems, len(order_runs), cells, order_runs)
 
 
-def _run_all(path: str, order_runs: list[Run], ctx: _Context, dims: dict, name_refs: dict, strict: bool,
+def _run_all(path: str, order_runs: list[Run], ctx: Context, dims: dict, name_refs: dict, strict: bool,
              problems: list[str]) -> int:
     """Every run evaluated in order, its values written into the context's stores (a run
     that cannot be evaluated: its error, and a note in `problems`); returns the cells."""
@@ -202,12 +196,12 @@ def _run_all(path: str, order_runs: list[Run], ctx: _Context, dims: dict, name_r
     cells, dims_key = 0, dims_signature(dims)
     for run in order_runs:
         cells += len(run.cols)
-        for part in _chunks(run, dims, name_refs, dims_key):
+        for part in run_pieces(run, dims, name_refs, dims_key):
             k = len(part.cols)
             if part.error:
-                v = _err(getattr(part.error, "code", "#NAME?"), k)
+                v = error_value(getattr(part.error, "code", "#NAME?"), k)
                 if part.array is not None:          # the whole range holds the error
-                    _write_array(_err(getattr(part.error, "code", "#NAME?")), part, num, tag, txt)
+                    _write_array(error_value(getattr(part.error, "code", "#NAME?")), part, num, tag, txt)
                     continue
             else:
                 try:
@@ -219,11 +213,11 @@ def _run_all(path: str, order_runs: list[Run], ctx: _Context, dims: dict, name_r
                     raise
                 except Exception as e:      # noqa: BLE001 - the cell's problem, not the process's
                     note = (f"{part.where()}: internal error of the evaluator "
-                            f"({type(e).__name__}: {_show(e, 120)}): #VALUE!")
+                            f"({type(e).__name__}: {shorten(e, 120)}): #VALUE!")
                     if strict:
                         raise EvaluationError(f"{path}: {note}") from e
                     problems.append(note)
-                    v = _err("#VALUE!", k)
+                    v = error_value("#VALUE!", k)
             n = part.sheet
             where = ((part.row, slice(int(part.cols[0]), int(part.cols[0]) + k)) if part.contiguous
                      else (part.row, part.cols))
@@ -238,7 +232,7 @@ def _run_all(path: str, order_runs: list[Run], ctx: _Context, dims: dict, name_r
 def _name_scopes(names: dict, sheets: dict[str, Sheet], bound, notes: dict | None = None) -> dict:
     """Parsed defined names by scope: None for the workbook's, a sheet's name for the names
     scoped to it (localSheetId). Names are case-insensitive. A name that cannot be read
-    (#VALUE!, as LibreOffice), or cannot be evaluated (_check_names: names in a circle,
+    (#VALUE!, as LibreOffice), or cannot be evaluated (check_names: names in a circle,
     unknown functions...) is a constant error where it is used, and notes[scope][NAME] says why."""
     notes = {} if notes is None else notes
 
@@ -250,17 +244,17 @@ def _name_scopes(names: dict, sheets: dict[str, Sheet], bound, notes: dict | Non
             except ParseError as e:
                 tree = ("const", XlError("#VALUE!"))
                 notes.setdefault(scope, {})[n.upper()] = Note(
-                    f"the name {_show(n, 60)} is not a formula (={_show(text, 60)}: {e})", "#VALUE!")
+                    f"the name {shorten(n, 60)} is not a formula (={shorten(text, 60)}: {e})", "#VALUE!")
             out[n.upper()] = _bound_whole(tree, bound)
         return out
     scopes: dict[str | None, dict] = {None: parsed(names, None)}
-    notes.setdefault(None, {}).update(_check_names(scopes[None]))
+    notes.setdefault(None, {}).update(check_names(scopes[None]))
     for n, sh in sheets.items():
         scopes[n] = parsed(sh.names, n) if sh.names else {}
         if scopes[n]:
             # a sheet's names see the workbook's too: checked together, kept for the sheet
             seen = {**scopes[None], **scopes[n]}
-            found = _check_names(seen)
+            found = check_names(seen)
             for name in scopes[n]:
                 scopes[n][name] = seen[name]
                 if name in found:
@@ -270,11 +264,11 @@ def _name_scopes(names: dict, sheets: dict[str, Sheet], bound, notes: dict | Non
 
 
 def _has_names(tree) -> bool:
-    return bool(_names_used(tree))             # kept per tree (limits._names_used)
+    return bool(names_used(tree))             # kept per tree (limits.names_used)
 
 
 def _names_in(tree, out: list):
-    out.extend(_names_used(tree))
+    out.extend(names_used(tree))
     return out
 
 
@@ -287,7 +281,7 @@ def _name_deps(tree, sheet: str, scopes: dict) -> list[Ref]:
         if name in seen:
             continue
         seen.add(name)
-        target = _lookup(scopes, sheet, name)
+        target = lookup_name(scopes, sheet, name)
         if target is not None:
             refs += refs_of(target)
             _names_in(target, todo)
@@ -295,8 +289,8 @@ def _name_deps(tree, sheet: str, scopes: dict) -> list[Ref]:
 
 
 def _is_whole(ref: Ref) -> bool:
-    return ((ref.r1_abs and ref.r2_abs and ref.r1 == 1 and ref.r2 == _MAX_ROW)
-            or (ref.c1_abs and ref.c2_abs and ref.c1 == 1 and ref.c2 == _MAX_COL))
+    return ((ref.r1_abs and ref.r2_abs and ref.r1 == 1 and ref.r2 == MAX_ROW)
+            or (ref.c1_abs and ref.c2_abs and ref.c1 == 1 and ref.c2 == MAX_COL))
 
 
 def _bound_whole(tree, bound: tuple[int, int]):
@@ -305,9 +299,9 @@ def _bound_whole(tree, bound: tuple[int, int]):
     the file holds. Rebuilt iteratively (children before parents): no recursion."""
     def fix(ref: Ref):
         r2, c2 = ref.r2, ref.c2
-        if ref.r1_abs and ref.r2_abs and ref.r1 == 1 and ref.r2 == _MAX_ROW:
+        if ref.r1_abs and ref.r2_abs and ref.r1 == 1 and ref.r2 == MAX_ROW:
             r2 = bound[0]
-        if ref.c1_abs and ref.c2_abs and ref.c1 == 1 and ref.c2 == _MAX_COL:
+        if ref.c1_abs and ref.c2_abs and ref.c1 == 1 and ref.c2 == MAX_COL:
             c2 = bound[1]
         return ("ref", Ref(ref.sheet, ref.r1, ref.c1, r2, c2, ref.r1_abs, ref.c1_abs, ref.r2_abs, ref.c2_abs))
 
@@ -388,7 +382,7 @@ def _as_cells(v: Val, k: int) -> Val:
     """A cell holds one value: an array result that is not a single value is #VALUE!;
     a formula whose value is an empty cell holds 0 (=Z99 with Z99 empty is 0)."""
     if v.shape[1:] != (1, 1):
-        return _err("#VALUE!", k)
+        return error_value("#VALUE!", k)
     if v.pure == -1 and (v.tag == EMPTY).any():
         v = Val(np.where(v.tag == EMPTY, 0.0, v.num), np.where(v.tag == EMPTY, NUM, v.tag).astype(np.int8), v.txt)
     if v.shape[0] != k:
@@ -420,7 +414,7 @@ def _schedule(path, runs: list[Run], dims, sheets, *, strict: bool = True, probl
                 target = ref.sheet or run.sheet
                 if target not in owner:
                     continue
-                r1, r2, c1, c2 = _span(run, ref)
+                r1, r2, c1, c2 = span(run, ref)
                 if r1 < 1 or c1 < 1:
                     continue
                 block = owner[target][r1:r2 + 1, c1:c2 + 1]
@@ -434,7 +428,7 @@ def _schedule(path, runs: list[Run], dims, sheets, *, strict: bool = True, probl
                 d |= ids
             deps.append(d)
         if split:
-            runs = [r for i, run in enumerate(runs) for r in (_split(run) if i in split else [run])]
+            runs = [r for i, run in enumerate(runs) for r in (split_run(run) if i in split else [run])]
             continue
         order, indeg = [], [len(d - {i}) for i, d in enumerate(deps)]
         users: list[list[int]] = [[] for _ in runs]
@@ -456,7 +450,7 @@ def _schedule(path, runs: list[Run], dims, sheets, *, strict: bool = True, probl
         multi = [i for i in stuck if len(runs[i].cols) > 1]
         if multi:
             keep = set(multi)
-            runs = [r for i, run in enumerate(runs) for r in (_split(run) if i in keep else [run])]
+            runs = [r for i, run in enumerate(runs) for r in (split_run(run) if i in keep else [run])]
             continue
         cells = sorted({runs[i].where() for i in stuck})
         what = (f"circular reference among {', '.join(cells[:12])}"
@@ -489,7 +483,7 @@ def _parse_run(formula: str, row: int, col: int, names: dict, names_key) -> tupl
         elif (wrong := arity_problem(tree)) is not None:
             error = Note(wrong, "#VALUE!")
     except ParseError as e:
-        error = Note(f"cannot read the formula ={_show(formula, 80)}: {e}", e.code)
+        error = Note(f"cannot read the formula ={shorten(formula, 80)}: {e}", e.code)
     hit = (tree, error, refs_of(tree) if tree is not None else [])
     if len(_PARSED) > 100_000:
         _PARSED.clear()
@@ -505,12 +499,12 @@ def parse_rows(sheet: Sheet, rows: set[int]) -> list[Run]:
     (as _schedule does); a formula that cannot be read is left out."""
     sub = Sheet(sheet.name, sheet.state, formulas={k: f for k, f in sheet.formulas.items() if k[0] in rows})
     out = []
-    for run in _group_runs(sub):
+    for run in group_runs(sub):
         run.tree, run.error, run.refs = _parse_run(run.formula, run.row, int(run.cols[0]), {}, frozenset())
         if run.error:
             continue
         varies = len(run.cols) > 1 and any(ref.c1_abs != ref.c2_abs for ref in run.refs)
-        out.extend(_split(run) if varies else [run])
+        out.extend(split_run(run) if varies else [run])
     return out
 
 
@@ -519,7 +513,7 @@ def evaluate_runs(runs: list[Run], num: dict, tag: dict, txt: dict) -> list[tupl
     (sheet -> arrays, as Book holds them), nothing written back: every run reads the
     stores as they are, whatever order the runs come in. An internal error of the
     evaluator is the cell's #VALUE!, as in evaluate_sheets without strict."""
-    ctx = _Context(num, tag, txt, {None: {}})
+    ctx = Context(num, tag, txt, {None: {}})
     out = []
     with np.errstate(all="ignore"):
         for run in runs:
@@ -527,7 +521,7 @@ def evaluate_runs(runs: list[Run], num: dict, tag: dict, txt: dict) -> list[tupl
             try:
                 v = _as_cells(ctx.formula(run.tree, run), k)
             except Exception:      # noqa: BLE001 - the cell's problem, not the caller's
-                v = _err("#VALUE!", k)
+                v = error_value("#VALUE!", k)
             out.append((run, v.num[:, 0, 0], v.tag[:, 0, 0]))
     return out
 
