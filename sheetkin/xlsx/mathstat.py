@@ -532,9 +532,8 @@ def _is_parity(odd: bool):
             raise Fail(_code(x))
         if x is None:
             n = 0.0
-        elif isinstance(x, str):
-            from .cellwise import number
-            n = number(x)
+        elif isinstance(x, str):         # text, a number's text too: #VALUE! (Excel's page)
+            raise Fail(VALUE)
         else:
             n = x
         return (math.trunc(n) % 2 == 1) == odd

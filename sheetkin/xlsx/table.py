@@ -201,3 +201,7 @@ def markdown() -> str:
     if notes:
         lines += ["", "Limits of some entries:", "", *notes]
     return "\n".join(lines) + "\n"
+
+
+if __name__ == "__main__":       # the docs' list: python -m sheetkin.xlsx.table
+    print(markdown(), end="")

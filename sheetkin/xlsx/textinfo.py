@@ -242,6 +242,10 @@ def _text(x: Any, fmt: str) -> str:
         ip, _, fp = body.partition(".")
         if min_int == 0 and ip.replace(",", "") == "0":
             ip = ""
+        keep = (m.group("dec") or "").rstrip("#").__len__()      # 0s are kept, #s only where not 0
+        while len(fp) > keep and fp.endswith("0"):
+            fp = fp[:-1]
+        dec = len(fp)
         body = ip + ("." + fp if dec else "")
         if q < 0:
             body = "-" + body
