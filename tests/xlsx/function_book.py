@@ -175,6 +175,21 @@ EXCEL_DIFFERS: dict[str, str] = {
     "CHAR(0)": "Excel: #VALUE! (codes 1 to 255); LibreOffice the character 0",
     'CODE("")': "Excel: #VALUE!; LibreOffice 0",
 }
+# Where Gnumeric (1.12) differs from Excel's documented answer; sheetkin follows Excel
+GNUMERIC_DIFFERS: dict[str, str] = {
+    "ACOT(-2)": "Excel: ACOT is in (0, pi), 2.678; Gnumeric -0.464",
+    'ARABIC("ab")': "Excel: #VALUE! for letters that are not Roman numerals; Gnumeric 0",
+    "BASE(-1,2)": "Excel: #NUM! for a negative number; Gnumeric the two's complement",
+    "CEILING(-2.5,2)": "Excel 2010 on: -2 (toward zero); Gnumeric #NUM! (Excel 2007's rule)",
+    "EXP(1000)": "Excel: #NUM! past the largest number; Gnumeric writes infinity",
+    "VAR(D!A1:A8)": "Excel: #NUM! past the largest number; Gnumeric writes infinity",
+    "FACT(5.9)": "Excel truncates to 5! = 120; Gnumeric the gamma function",
+    'COUNTIF(D!B1:B8,"#DIV/0!")': "Excel counts cells holding that error; Gnumeric 0",
+    "IF(D!B5,1,2)": "Excel: a text condition is #VALUE!; Gnumeric takes it as FALSE",
+    "IFS(FALSE,1)": "Excel: #N/A when no condition holds; Gnumeric #VALUE!",
+    'SWITCH("B","a",1,"b",2)': "Excel compares text case-insensitively (as =); Gnumeric exactly",
+    "ISEVEN(D!B2)": "Excel: #VALUE! for text; Gnumeric converts the text 2",
+}
 # LibreOffice's Err:502 (an argument outside the function's domain), which Excel calls #NUM!,
 # is saved to .xlsx as #VALUE!: where sheetkin gives Excel's #NUM!, LibreOffice's #VALUE! agrees
 NUM_AS_VALUE = "#NUM!"
