@@ -67,6 +67,7 @@ from .parse import (
 )
 from .runs import EvaluationError, Run, group_runs, span, split_run
 from .table import SUPPORTED, arity_problem
+from .uncomputed import Uncomputed
 from .values import BOOL, EMPTY, NUM, TEXT, Val, error_value
 
 if TYPE_CHECKING:
@@ -89,6 +90,19 @@ class Book:
     # the runs in the order they were evaluated (parsed trees, references): what
     # sheetkin.xlsx.precedents traces through
     schedule: list = field(default_factory=list, repr=False)
+    # cells "not computed here" (sheetkin.xlsx.uncomputed): {sheet: {(row, col): unknown functions}}
+    not_computed: dict[str, dict[tuple[int, int], tuple[str, ...]]] = field(default_factory=dict)
+
+    def computed(self, sheet: str, r: int, c: int) -> bool:
+        """Whether sheetkin computed the cell's value: False for a formula that calls a
+        function the evaluator does not know, or reads (through any chain of cells or names)
+        a cell that does; its value is then #NAME? and not sheetkin's to judge."""
+        return (int(r), int(c)) not in self.not_computed.get(sheet, {})
+
+    def uncomputed(self) -> list[str]:
+        """One line per cell not computed here: "Sheet!B3: FOO" (the unknown functions behind it)."""
+        return [f"{s}!{get_column_letter(c)}{r}: {', '.join(fs)}"
+                for s, cells in self.not_computed.items() for (r, c), fs in cells.items()]
 
     @property
     def notes(self) -> list[str]:
@@ -147,8 +161,10 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
     name_refs = {**scopes[None], **{n: t for sc in scopes.values() for n, t in sc.items()}}
     names_key = frozenset(name_refs)
     # parse each run once (its first cell)
+    unknown_in_names = _unknown_in_names(names, sheets)
     for run in runs:
         run.tree, run.error, run.refs = _parse_run(run.formula, run.row, int(run.cols[0]), name_refs, names_key)
+        run.unknown = _unknown_functions(run.tree, unknown_in_names)
         if run.error:
             problems.append(f"{run.where()}: {run.error}")
         else:
@@ -183,49 +199,88 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
     check_reads(path, order_runs, dims, name_refs, limits)  # runs split into cells read more
     ctx = Context(num, tag, txt, scopes)
     ctx.arrays = {n: sh.arrays for n, sh in sheets.items()}
+    marks = Uncomputed(dims)
     with np.errstate(all="ignore"):
-        cells = _run_all(path, order_runs, ctx, dims, name_refs, strict, problems)
-    return Book(path, sheets, order, num, tag, txt, problems, len(order_runs), cells, order_runs)
+        cells = _run_all(path, order_runs, ctx, dims, name_refs, strict, problems, marks)
+    return Book(path, sheets, order, num, tag, txt, problems, len(order_runs), cells, order_runs, marks.by_sheet())
+
+
+def _unknown_in_names(names: dict, sheets: dict[str, Sheet]) -> dict[str, frozenset[str]]:
+    """The unknown functions each defined name calls, itself (any scope; names are parsed
+    again here because checking them replaces such a name by an error)."""
+    out: dict[str, frozenset[str]] = {}
+    for table in [names, *(sh.names for sh in sheets.values() if sh.names)]:
+        for n, text in table.items():
+            try:
+                tree = parse_formula("=" + text.removeprefix("="), 1, 1, {})
+            except ParseError:
+                continue
+            bad = frozenset(f for f in functions_of(tree) if f not in SUPPORTED)
+            if bad:
+                out[n.upper()] = out.get(n.upper(), frozenset()) | bad
+    return out
+
+
+def _unknown_functions(tree, unknown_in_names: dict[str, frozenset[str]]) -> frozenset[str]:
+    """The functions a formula calls that the table lacks, itself or through the names it uses."""
+    if tree is None:
+        return frozenset()
+    bad = frozenset(f for f in functions_of(tree) if f not in SUPPORTED)
+    if unknown_in_names:
+        for n in names_used(tree):
+            bad |= unknown_in_names.get(n, frozenset())
+    return bad
 
 
 def _run_all(path: str, order_runs: list[Run], ctx: Context, dims: dict, name_refs: dict, strict: bool,
-             problems: list[str]) -> int:
+             problems: list[str], marks: Uncomputed) -> int:
     """Every run evaluated in order, its values written into the context's stores (a run
-    that cannot be evaluated: its error, and a note in `problems`); returns the cells."""
-    num, tag, txt = ctx.num, ctx.tag, ctx.txt
+    that cannot be evaluated: its error, and a note in `problems`); the cells not computed
+    here marked as they go (`marks`); returns the cells."""
     cells, dims_key = 0, dims_signature(dims)
     for run in order_runs:
         cells += len(run.cols)
         for part in run_pieces(run, dims, name_refs, dims_key):
-            k = len(part.cols)
-            if part.error:
-                v = error_value(getattr(part.error, "code", "#NAME?"), k)
-                if part.array is not None:          # the whole range holds the error
-                    _write_array(error_value(getattr(part.error, "code", "#NAME?")), part, num, tag, txt)
-                    continue
-            else:
-                try:
-                    if part.array is not None:
-                        _write_array(ctx.formula(part.tree, part), part, num, tag, txt)
-                        continue
-                    v = _as_cells(ctx.formula(part.tree, part), k)
-                except (EvaluationError, UnusableWorkbook):
-                    raise
-                except Exception as e:      # noqa: BLE001 - the cell's problem, not the process's
-                    note = (f"{part.where()}: internal error of the evaluator "
-                            f"({type(e).__name__}: {shorten(e, 120)}): #VALUE!")
-                    if strict:
-                        raise EvaluationError(f"{path}: {note}") from e
-                    problems.append(note)
-                    v = error_value("#VALUE!", k)
-            n = part.sheet
-            where = ((part.row, slice(int(part.cols[0]), int(part.cols[0]) + k)) if part.contiguous
-                     else (part.row, part.cols))
-            num[n][where] = v.num[:, 0, 0]
-            tag[n][where] = v.tag[:, 0, 0]
-            if v.txt is not None:
-                txt[n][where] = v.txt[:, 0, 0]
+            _run_part(path, part, ctx, strict, problems)
+            if part.unknown:
+                marks.unknown(part, part.unknown, ctx.tag)
+            elif part.refs:
+                marks.reads(part, part.refs, ctx.tag)
     return cells
+
+
+def _run_part(path: str, part: Run, ctx: Context, strict: bool, problems: list[str]) -> None:
+    """One piece of a run evaluated and written into the stores (an array formula over its range)."""
+    num, tag, txt = ctx.num, ctx.tag, ctx.txt
+    k = len(part.cols)
+    if part.error:
+        code = getattr(part.error, "code", "#NAME?")
+        if part.array is not None:          # the whole range holds the error
+            _write_array(error_value(code), part, num, tag, txt)
+            return
+        v = error_value(code, k)
+    else:
+        try:
+            if part.array is not None:
+                _write_array(ctx.formula(part.tree, part), part, num, tag, txt)
+                return
+            v = _as_cells(ctx.formula(part.tree, part), k)
+        except (EvaluationError, UnusableWorkbook):
+            raise
+        except Exception as e:      # noqa: BLE001 - the cell's problem, not the process's
+            note = (f"{part.where()}: internal error of the evaluator "
+                    f"({type(e).__name__}: {shorten(e, 120)}): #VALUE!")
+            if strict:
+                raise EvaluationError(f"{path}: {note}") from e
+            problems.append(note)
+            v = error_value("#VALUE!", k)
+    n = part.sheet
+    where = ((part.row, slice(int(part.cols[0]), int(part.cols[0]) + k)) if part.contiguous
+             else (part.row, part.cols))
+    num[n][where] = v.num[:, 0, 0]
+    tag[n][where] = v.tag[:, 0, 0]
+    if v.txt is not None:
+        txt[n][where] = v.txt[:, 0, 0]
 
 
 # --------------------------------------------------------------------------- names, arrays, whole columns
