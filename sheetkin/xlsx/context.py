@@ -17,7 +17,8 @@ from typing import cast
 import numpy as np
 
 from . import functions as fx
-from .parse import Ref
+from .cells import MAX_COL, MAX_ROW
+from .parse import ParseError, Ref, parse_formula
 from .runs import EvaluationError, Run, span, target_block
 from .table import FUNCTIONS, SCALAR_CONTEXT
 from .values import (
@@ -74,6 +75,21 @@ def _rows_cols(r1: int, r2: int, c1: int, c2: int, nr: int, nc: int) -> tuple[np
 
 
 
+class ReadsLater(Exception):
+    """A reference made while a formula runs (OFFSET, INDIRECT) reads a cell that is not
+    computed yet: the formula's cell is "not computed here" (the function named)."""
+
+
+def absolute(ref: Ref, run: Run) -> Ref:
+    """A reference as the run's first cell sees it: absolute rows and columns, its sheet named."""
+    c0 = int(run.cols[0])
+    r1 = ref.r1 if ref.r1_abs else run.row + ref.r1
+    r2 = ref.r2 if ref.r2_abs else run.row + ref.r2
+    c1 = ref.c1 if ref.c1_abs else c0 + ref.c1
+    c2 = ref.c2 if ref.c2_abs else c0 + ref.c2
+    return Ref(ref.sheet or run.sheet, min(r1, r2), min(c1, c2), max(r1, r2), max(c1, c2), True, True, True, True)
+
+
 def intersect(v: Val, ref: Ref, run: Run) -> Val:
     """Implicit intersection of the range `ref` (its value v, shape (k0, R, C)) with each cell
     of the run: the cell in the formula's row (a column range) or column (a row range);
@@ -111,6 +127,9 @@ class Context:
         # inside the arguments of functions that take ranges (SUM, SUMPRODUCT, INDEX ...),
         # which Excel evaluates as arrays. Set per run by formula().
         self.implicit = False
+        # formula cells not computed yet (per sheet): a reference made while a formula runs
+        # (OFFSET, INDIRECT) that reads one is "not computed here" (ReadsLater)
+        self.pending: dict[str, np.ndarray] = {}
 
     def formula(self, tree, run: Run) -> Val:
         """A run's formula evaluated, with implicit intersection unless it is an array formula."""
@@ -284,6 +303,97 @@ class Context:
         if args[0][0] != "ref":
             return Val(v.num[:, :1, :1], v.tag[:, :1, :1], None if v.txt is None else v.txt[:, :1, :1])
         return intersect(v, args[0][1], run)
+
+    def reference(self, node, run: Run) -> Ref | None:
+        """The block a reference-valued tree stands for in the run's first cell, absolute (sheet
+        set): a reference, a name of one, OFFSET(...), INDIRECT(...), INDEX(reference, ...);
+        None where it makes no reference (#REF!)."""
+        kind = node[0]
+        if kind == "ref":
+            return absolute(node[1], run)
+        if kind == "name":
+            tree = self.name(node[1], run)
+            return self.reference(tree, run) if tree is not None and node[1] not in self.open_names else None
+        if kind != "fn":
+            return None
+        name, args = node[1], node[2]
+        if name == "OFFSET":
+            return self._offset(args, run)
+        if name == "INDIRECT":
+            return self._indirect(args, run)
+        if name == "INDEX":
+            return self._index_reference(args, run)
+        return None
+
+    def _number(self, node, run: Run, default: float | None = None) -> float | None:
+        """An argument's value in the run's first cell as a number; None for an error or text."""
+        if node is None or node[0] == "missing":
+            return default
+        v = self.eval(node, run)
+        n, err = to_number(Val(v.num[:1, :1, :1], v.tag[:1, :1, :1], None if v.txt is None else v.txt[:1, :1, :1]))
+        return None if err.any() else float(n.reshape(-1)[0])
+
+    def _offset(self, args, run: Run) -> Ref | None:
+        base = self.reference(args[0], run)
+        if base is None:
+            return None
+        rows, cols = self._number(args[1], run), self._number(args[2], run)
+        h = self._number(args[3] if len(args) > 3 else None, run, float(base.r2 - base.r1 + 1))
+        w = self._number(args[4] if len(args) > 4 else None, run, float(base.c2 - base.c1 + 1))
+        if None in (rows, cols, h, w) or int(cast(float, h)) == 0 or int(cast(float, w)) == 0:
+            return None
+        r1, c1 = base.r1 + int(cast(float, rows)), base.c1 + int(cast(float, cols))
+        hh, ww = int(cast(float, h)), int(cast(float, w))
+        r2, c2 = r1 + hh - 1 if hh > 0 else r1, c1 + ww - 1 if ww > 0 else c1
+        r1, r2 = (r1, r2) if hh > 0 else (r1 + hh + 1, r1)
+        c1, c2 = (c1, c2) if ww > 0 else (c1 + ww + 1, c1)
+        if r1 < 1 or c1 < 1 or r2 > MAX_ROW or c2 > MAX_COL:
+            return None
+        return Ref(base.sheet, r1, c1, r2, c2, True, True, True, True)
+
+    def _indirect(self, args, run: Run) -> Ref | None:
+        v = self.eval(args[0], run)
+        if v.tag.reshape(-1)[0] != TEXT or v.txt is None:
+            return None
+        a1 = len(args) < 2 or args[1][0] == "missing" or self._number(args[1], run) != 0
+        text = str(v.txt.reshape(-1)[0]).strip()
+        if not a1 or not text:
+            return None                          # R1C1 text: not computed here (#REF!)
+        try:
+            tree = parse_formula("=" + text, run.row, int(run.cols[0]), {})
+        except ParseError:
+            return None
+        if tree[0] == "name":
+            target = self.name(tree[1], run)
+            return self.reference(target, run) if target is not None else None
+        return absolute(tree[1], run) if tree[0] == "ref" else None
+
+    def _index_reference(self, args, run: Run) -> Ref | None:
+        base = self.reference(args[0], run)
+        if base is None:
+            return None
+        r = self._number(args[1] if len(args) > 1 else None, run, 0.0)
+        c = self._number(args[2] if len(args) > 2 else None, run, None)
+        if r is None:
+            return None
+        ri, ci, bad = fx.index_positions(base.r2 - base.r1 + 1, base.c2 - base.c1 + 1, np.array([r]),
+                                         None if c is None else np.array([c]))
+        if bad[0]:
+            return None
+        r1, r2 = (base.r1, base.r2) if ri[0] < 0 else (base.r1 + int(ri[0]),) * 2
+        c1, c2 = (base.c1, base.c2) if ci[0] < 0 else (base.c1 + int(ci[0]),) * 2
+        return Ref(base.sheet, r1, c1, r2, c2, True, True, True, True)
+
+    def read_reference(self, ref: Ref | None, run: Run, function: str) -> Val:
+        """The values of a reference made while the formula runs; #REF! for none. A cell in
+        it still to be computed (ordered after this one) raises ReadsLater."""
+        if ref is None:
+            return error_value("#REF!", len(run.cols))
+        pending = self.pending.get(cast(str, ref.sheet))
+        if pending is not None and pending[ref.r1:ref.r2 + 1, ref.c1:ref.c2 + 1].any():
+            raise ReadsLater(function)
+        v = self.ref(ref, run)
+        return intersect(v, ref, run) if self.implicit and v.shape[1:] != (1, 1) else v
 
     def index(self, args, run: Run) -> Val:
         """INDEX(array, row, [column]): one element per cell of the run, or a whole row or

@@ -43,7 +43,7 @@ from typing import TYPE_CHECKING, cast
 import numpy as np
 
 from .cells import MAX_COL, MAX_ROW, Sheet, read_book
-from .context import Context, lookup_name
+from .context import Context, ReadsLater, lookup_name
 from .coords import get_column_letter
 from .functions import ERROR_TEXT, ERRORS, NA, VALUE, XlError
 from .limits import (
@@ -66,7 +66,7 @@ from .parse import (
     refs_of,
 )
 from .runs import EvaluationError, Run, group_runs, span, split_run
-from .table import SUPPORTED, arity_problem
+from .table import DYNAMIC, SUPPORTED, arity_problem
 from .uncomputed import Uncomputed
 from .values import BOOL, EMPTY, NUM, TEXT, Val, error_value
 
@@ -165,6 +165,7 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
     for run in runs:
         run.tree, run.error, run.refs = _parse_run(run.formula, run.row, int(run.cols[0]), name_refs, names_key)
         run.unknown = _unknown_functions(run.tree, unknown_in_names)
+        run.dynamic = run.tree is not None and bool(functions_of(run.tree) & DYNAMIC)
         if run.error:
             problems.append(f"{run.where()}: {run.error}")
         else:
@@ -199,6 +200,8 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
     check_reads(path, order_runs, dims, name_refs, limits)  # runs split into cells read more
     ctx = Context(num, tag, txt, scopes)
     ctx.arrays = {n: sh.arrays for n, sh in sheets.items()}
+    if any(run.dynamic for run in order_runs):
+        ctx.pending = _formula_cells(order_runs, dims)
     marks = Uncomputed(dims)
     with np.errstate(all="ignore"):
         cells = _run_all(path, order_runs, ctx, dims, name_refs, strict, problems, marks)
@@ -232,6 +235,12 @@ def _unknown_functions(tree, unknown_in_names: dict[str, frozenset[str]]) -> fro
     return bad
 
 
+def _formula_cells(runs: list[Run], dims: dict) -> dict[str, np.ndarray]:
+    """Per sheet, the cells that formulas compute (array formulas' whole ranges)."""
+    owner = _owners(runs, dims)
+    return {n: o >= 0 for n, o in owner.items()}
+
+
 def _run_all(path: str, order_runs: list[Run], ctx: Context, dims: dict, name_refs: dict, strict: bool,
              problems: list[str], marks: Uncomputed) -> int:
     """Every run evaluated in order, its values written into the context's stores (a run
@@ -241,12 +250,26 @@ def _run_all(path: str, order_runs: list[Run], ctx: Context, dims: dict, name_re
     for run in order_runs:
         cells += len(run.cols)
         for part in run_pieces(run, dims, name_refs, dims_key):
-            _run_part(path, part, ctx, strict, problems)
+            try:
+                _run_part(path, part, ctx, strict, problems)
+            except ReadsLater as e:
+                part.unknown = frozenset({str(e)})
+            if ctx.pending:
+                _done(ctx.pending, part)
             if part.unknown:
                 marks.unknown(part, part.unknown, ctx.tag)
             elif part.refs:
                 marks.reads(part, part.refs, ctx.tag)
     return cells
+
+
+def _done(pending: dict[str, np.ndarray], run: Run) -> None:
+    """The run's cells are computed now."""
+    c0 = int(run.cols[0])
+    if run.array is not None:
+        pending[run.sheet][run.row:run.array[0] + 1, c0:run.array[1] + 1] = False
+    else:
+        pending[run.sheet][run.row, run.cols] = False
 
 
 def _run_part(path: str, part: Run, ctx: Context, strict: bool, problems: list[str]) -> None:
@@ -265,7 +288,7 @@ def _run_part(path: str, part: Run, ctx: Context, strict: bool, problems: list[s
                 _write_array(ctx.formula(part.tree, part), part, num, tag, txt)
                 return
             v = _as_cells(ctx.formula(part.tree, part), k)
-        except (EvaluationError, UnusableWorkbook):
+        except (EvaluationError, UnusableWorkbook, ReadsLater):
             raise
         except Exception as e:      # noqa: BLE001 - the cell's problem, not the process's
             note = (f"{part.where()}: internal error of the evaluator "
@@ -450,73 +473,121 @@ def _schedule(path, runs: list[Run], dims, sheets, *, strict: bool = True, probl
     """Runs in dependency order; runs on a cycle (or referring to themselves) are split
     into single cells and ordered again; a cycle of single cells is circular: an
     EvaluationError with strict, else those cells get #VALUE! (as LibreOffice writes its
-    Err:522) and a note naming them."""
+    Err:522) and a note naming them. A run whose references are made while it runs (OFFSET,
+    INDIRECT) is split into cells, each evaluated after every run that does not depend on it."""
+    runs = [r for run in runs for r in (split_run(run) if run.dynamic and len(run.cols) > 1 else [run])]
     while True:
-        owner = {n: np.full(d, -1, np.int32) for n, d in dims.items()}
-        for i, run in enumerate(runs):
-            c0 = int(run.cols[0])
-            owner[run.sheet][run.row, slice(c0, c0 + len(run.cols)) if run.contiguous else run.cols] = i
-        for i, run in enumerate(runs):
-            if run.array is not None:          # an array formula owns its whole range
-                block = owner[run.sheet][run.row:run.array[0] + 1, int(run.cols[0]):run.array[1] + 1]
-                block[block == -1] = i
-        deps: list[set[int]] = []
-        split = set()
-        for i, run in enumerate(runs):
-            d = set()
-            # a run without an error has its references (set by _parse_run)
-            for ref in (cast(list, run.refs) if not run.error else ()):
-                target = ref.sheet or run.sheet
-                if target not in owner:
-                    continue
-                r1, r2, c1, c2 = span(run, ref)
-                if r1 < 1 or c1 < 1:
-                    continue
-                block = owner[target][r1:r2 + 1, c1:c2 + 1]
-                if block.size <= 4096:
-                    ids = set(block.ravel().tolist())
-                    ids.discard(-1)
-                else:
-                    ids = set(np.unique(block[block >= 0]).tolist())
-                if len(run.cols) > 1 and (i in ids or ref.c1_abs != ref.c2_abs):
-                    split.add(i)                # self-reference, or a range whose width varies
-                d |= ids
-            deps.append(d)
+        deps, split = _dependencies(runs, _owners(runs, dims))
         if split:
             runs = [r for i, run in enumerate(runs) for r in (split_run(run) if i in split else [run])]
             continue
-        order, indeg = [], [len(d - {i}) for i, d in enumerate(deps)]
-        users: list[list[int]] = [[] for _ in runs]
-        for i, d in enumerate(deps):
-            for j in d - {i}:
-                users[j].append(i)
-        ready = [i for i, n in enumerate(indeg) if n == 0]
-        self_loops = [i for i, d in enumerate(deps) if i in d]
-        while ready:
-            i = ready.pop()
-            order.append(i)
-            for u in users[i]:
-                indeg[u] -= 1
-                if indeg[u] == 0:
-                    ready.append(u)
-        stuck = [i for i in range(len(runs)) if indeg[i] > 0] + self_loops
+        _dynamic_last(runs, deps)
+        order, stuck = _topological(deps)
         if not stuck:
             return [runs[i] for i in order]
-        multi = [i for i in stuck if len(runs[i].cols) > 1]
+        multi = {i for i in stuck if len(runs[i].cols) > 1}
         if multi:
-            keep = set(multi)
-            runs = [r for i, run in enumerate(runs) for r in (split_run(run) if i in keep else [run])]
+            runs = [r for i, run in enumerate(runs) for r in (split_run(run) if i in multi else [run])]
             continue
-        cells = sorted({runs[i].where() for i in stuck})
-        what = (f"circular reference among {', '.join(cells[:12])}"
-                + (f" and {len(cells) - 12} more cells" if len(cells) > 12 else ""))
-        if strict or problems is None:
-            raise EvaluationError(f"{path}: {what}")
-        problems.append(f"{cells[0]}: {what}: #VALUE!")
-        note = Note(what, "#VALUE!")
-        for i in set(stuck):
-            runs[i].error = note                # no inputs now: ordered first in the next pass
+        _circular(path, runs, stuck, strict, problems)
 
+
+def _owners(runs: list[Run], dims) -> dict[str, np.ndarray]:
+    """Per sheet, the run that computes each cell (-1: none); an array formula owns its range."""
+    owner = {n: np.full(d, -1, np.int32) for n, d in dims.items()}
+    for i, run in enumerate(runs):
+        c0 = int(run.cols[0])
+        owner[run.sheet][run.row, slice(c0, c0 + len(run.cols)) if run.contiguous else run.cols] = i
+    for i, run in enumerate(runs):
+        if run.array is not None:
+            block = owner[run.sheet][run.row:run.array[0] + 1, int(run.cols[0]):run.array[1] + 1]
+            block[block == -1] = i
+    return owner
+
+
+def _dependencies(runs: list[Run], owner: dict[str, np.ndarray]) -> tuple[list[set[int]], set[int]]:
+    """The runs each run reads, and the runs to split into cells first (a run that reads
+    itself, or a range whose width changes from cell to cell)."""
+    deps: list[set[int]] = []
+    split = set()
+    for i, run in enumerate(runs):
+        d: set[int] = set()
+        # a run without an error has its references (set by _parse_run)
+        for ref in (cast(list, run.refs) if not run.error else ()):
+            target = ref.sheet or run.sheet
+            if target not in owner:
+                continue
+            r1, r2, c1, c2 = span(run, ref)
+            if r1 < 1 or c1 < 1:
+                continue
+            block = owner[target][r1:r2 + 1, c1:c2 + 1]
+            if block.size <= 4096:
+                ids = set(block.ravel().tolist())
+                ids.discard(-1)
+            else:
+                ids = set(np.unique(block[block >= 0]).tolist())
+            if len(run.cols) > 1 and (i in ids or ref.c1_abs != ref.c2_abs):
+                split.add(i)
+            d |= ids
+        deps.append(d)
+    return deps, split
+
+
+def _dynamic_last(runs: list[Run], deps: list[set[int]]) -> None:
+    """A run with references made while it runs (OFFSET, INDIRECT) reads cells nobody can
+    name before: it is ordered after every run that does not itself depend on such a run
+    (what it reads is then computed; a cell it reads that is still to be computed makes it
+    "not computed here", see Context.read_reference)."""
+    dynamic = [i for i, run in enumerate(runs) if run.dynamic]
+    if not dynamic:
+        return
+    users: list[list[int]] = [[] for _ in runs]
+    for i, d in enumerate(deps):
+        for j in d:
+            users[j].append(i)
+    downstream, todo = set(dynamic), list(dynamic)
+    while todo:
+        for u in users[todo.pop()]:
+            if u not in downstream:
+                downstream.add(u)
+                todo.append(u)
+    before = {i for i in range(len(runs)) if i not in downstream}
+    for i in dynamic:
+        deps[i] |= before
+
+
+def _topological(deps: list[set[int]]) -> tuple[list[int], list[int]]:
+    """The runs in an order where each comes after those it reads, and the runs left on a
+    cycle (or reading themselves)."""
+    order, indeg = [], [len(d - {i}) for i, d in enumerate(deps)]
+    users: list[list[int]] = [[] for _ in deps]
+    for i, d in enumerate(deps):
+        for j in d - {i}:
+            users[j].append(i)
+    ready = [i for i, n in enumerate(indeg) if n == 0]
+    self_loops = [i for i, d in enumerate(deps) if i in d]
+    while ready:
+        i = ready.pop()
+        order.append(i)
+        for u in users[i]:
+            indeg[u] -= 1
+            if indeg[u] == 0:
+                ready.append(u)
+    return order, [i for i in range(len(deps)) if indeg[i] > 0] + self_loops
+
+
+def _circular(path, runs: list[Run], stuck: list[int], strict: bool, problems: list | None) -> None:
+    """Single cells on a cycle: an EvaluationError with strict, else #VALUE! and a note."""
+    cells = sorted({runs[i].where() for i in stuck})
+    what = (f"circular reference among {', '.join(cells[:12])}"
+            + (f" and {len(cells) - 12} more cells" if len(cells) > 12 else ""))
+    if strict or problems is None:
+        raise EvaluationError(f"{path}: {what}")
+    problems.append(f"{cells[0]}: {what}: #VALUE!")
+    note = Note(what, "#VALUE!")
+    for i in set(stuck):
+        runs[i].error = note                # no inputs now: ordered first in the next pass
+        runs[i].dynamic = False
 
 
 _PARSED: dict = {}

@@ -228,3 +228,13 @@ def _cellwise_address():
 
 
 cellwise_address = _cellwise_address()
+
+
+def offset(ctx, args, run) -> Val:
+    """OFFSET(reference, rows, cols, [height], [width]): the values of the block made."""
+    return ctx.read_reference(ctx.reference(("fn", "OFFSET", args), run), run, "OFFSET")
+
+
+def indirect(ctx, args, run) -> Val:
+    """INDIRECT(text, [a1]): the values of the reference the text names (A1 style)."""
+    return ctx.read_reference(ctx.reference(("fn", "INDIRECT", args), run), run, "INDIRECT")

@@ -38,6 +38,7 @@ class Run:
     refs: list | None = None          # the references of tree (and of the names it uses)
     array: tuple | None = None        # an array formula's last cell (r2, c2); its anchor is the run
     unknown: frozenset = frozenset()  # functions it calls (itself or through names) that the table lacks
+    dynamic: bool = False             # it makes references while it runs (OFFSET, INDIRECT)
 
     @property
     def contiguous(self) -> bool:
@@ -109,7 +110,7 @@ def group_runs(sheet: Sheet) -> list[Run]:
 
 def split_run(run: Run) -> list[Run]:
     return [Run(run.sheet, run.row, np.array([c]), run.formula, run.tree, run.error, run.refs, run.array,
-                run.unknown) for c in run.cols]
+                run.unknown, run.dynamic) for c in run.cols]
 
 
 def target_block(run: Run, ref: Ref):

@@ -64,6 +64,7 @@ def _lazy(name: str) -> Callable[..., Any]:
 
 
 MANY = (1, MAX_ARGS)
+DYNAMIC = frozenset({"OFFSET", "INDIRECT"})   # they make references while they run (Run.dynamic)
 MATH, STAT, LOGIC, INFO, LOOKUP, TEXT = CATEGORIES
 
 # ---------------------------------------------------------------- the generated sheets' own (values.py)
@@ -148,6 +149,10 @@ _add(LOOKUP, {"VLOOKUP": _whole(lookup.LOOKUPS["VLOOKUP"]), "HLOOKUP": _whole(lo
 _add(LOOKUP, {"LOOKUP": _whole(lookup.LOOKUPS["LOOKUP"])}, (2, 3), ranges=True)
 _add(LOOKUP, {"TRANSPOSE": _whole(mathstat.transpose)}, (1, 1), ranges=True)
 _add(LOOKUP, {"ADDRESS": lookup.cellwise_address}, (2, 5))
+_add(LOOKUP, {"OFFSET": lookup.offset}, (3, 5), ranges=True, lazy=True,
+     note="evaluated after the cells it may read (a cell it reads that is computed later: not computed here)")
+_add(LOOKUP, {"INDIRECT": lookup.indirect}, (1, 2), ranges=True, lazy=True,
+     note="A1-style text only (R1C1 text is #REF!); evaluated after the cells it may read, as OFFSET")
 
 # ---------------------------------------------------------------- Text
 _add(TEXT, {n: textinfo.TEXT_SCALAR[n] for n in (

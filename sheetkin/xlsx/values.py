@@ -565,6 +565,8 @@ class Evaluates(Protocol):
     def spill(self, args: Sequence[Any], run: Any) -> Val: ...
     def single(self, args: Sequence[Any], run: Any) -> Val: ...
     def name(self, name: str, run: Any) -> Any: ...
+    def reference(self, node: Any, run: Any) -> Any: ...
+    def read_reference(self, ref: Any, run: Any, function: str) -> Val: ...
 
 
 Hook = Callable[[Evaluates, Sequence[Any], Any], Val]
@@ -684,6 +686,11 @@ def _where(which: str):
         node = args[0] if args and args[0][0] != "missing" else None
         if node is not None and node[0] == "name":
             node = ctx.name(node[1], run)
+        if node is not None and node[0] == "fn":          # OFFSET, INDIRECT, INDEX: the reference made
+            made = ctx.reference(node, run)
+            node = ("ref", made) if made is not None else None
+            if node is None:
+                return error_value("#REF!", k)
         if node is None and which in ("ROW", "COLUMN"):
             at = np.full(k, float(run.row)) if which == "ROW" else run.cols.astype(float)
         elif node is None or node[0] != "ref":

@@ -127,7 +127,11 @@ CASES: dict[str, list[str]] = {
     "LOOKUP": ["LOOKUP(3.5,D!E1:E5,D!F1:F5)", "LOOKUP(0,D!E1:E5,D!F1:F5)", 'LOOKUP("c",D!F1:G5)'],
     "MATCH": ["MATCH(3,D!E1:E5,0)", "MATCH(3.5,D!E1:E5)", 'MATCH("C",D!F1:F5,0)', 'MATCH("b*",D!C1:C6,0)',
               "MATCH(9,D!E1:E5,0)", "MATCH(0,D!E1:E5,1)"],
-    "ROW": ["ROW(D!C5)"], "ROWS": ["ROWS(D!A1:C4)"],
+    "ROW": ["ROW(D!C5)", "ROW(OFFSET(D!A1,3,1))"], "ROWS": ["ROWS(D!A1:C4)", 'ROWS(INDIRECT("D!A1:A3"))'],
+    "OFFSET": ["SUM(OFFSET(D!E1,1,0,3,1))", "OFFSET(D!E1,2,1)", "OFFSET(D!E1,-1,0)", "SUM(OFFSET(D!E1:E2,1,2,2,1))",
+               "COLUMNS(OFFSET(D!A1,0,0,1,3))"],
+    "INDIRECT": ['INDIRECT("D!E4")', 'SUM(INDIRECT("D!E1:E"&3))', 'INDIRECT("D!" & "F" & 2)', 'INDIRECT("nowhere!!")',
+                 "INDIRECT(B1)"],
     "TRANSPOSE": ["INDEX(TRANSPOSE(D!E1:G2),3,1)", "SUM(TRANSPOSE(D!E1:E5))"],
     "VLOOKUP": ["VLOOKUP(3,D!E1:G5,3,FALSE)", "VLOOKUP(3.7,D!E1:G5,2)", 'VLOOKUP("d",D!F1:G5,2,FALSE)',
                 "VLOOKUP(9,D!E1:G5,2,FALSE)", "VLOOKUP(3,D!E1:G5,4,FALSE)", "VLOOKUP(3,D!E1:G5,0,FALSE)",
@@ -172,6 +176,7 @@ EXCEL_DIFFERS: dict[str, str] = {
     **{f: "Excel: #N/A; LibreOffice #VALUE!" for f in ("SUMXMY2(D!E1:E5,D!Q1:Q4)", "MODE(D!E1:E5)")},
     **{f: "Excel: #REF! (past the table); LibreOffice #VALUE!"
        for f in ("INDEX(D!E1:G5,6,1)", "VLOOKUP(3,D!E1:G5,4,FALSE)")},
+    "OFFSET(D!E1,-1,0)": "Excel: #REF! (off the sheet); LibreOffice #VALUE!",
     "CHAR(0)": "Excel: #VALUE! (codes 1 to 255); LibreOffice the character 0",
     'CODE("")': "Excel: #VALUE!; LibreOffice 0",
 }
