@@ -32,6 +32,7 @@ _EXPORTS = {
     "parse_formula": "parse",
     "ParseError": "parse",
     "XlError": "functions",
+    "clear_caches": "caches",
 }
 
 

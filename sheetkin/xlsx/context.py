@@ -148,38 +148,48 @@ class Context:
         if sheet not in self.num:
             return error_value("#REF!", len(run.cols))
         if (ref.r1, ref.c1, ref.r1_abs, ref.c1_abs) == (ref.r2, ref.c2, ref.r2_abs, ref.c2_abs) and run.contiguous:
-            # one cell per cell of the run, adjacent: views of one stretch of a row
-            r = ref.r1 if ref.r1_abs else run.row + ref.r1
-            k = len(run.cols)
-            c = ref.c1 if ref.c1_abs else int(run.cols[0]) + ref.c1
-            if r < 1 or c < 1:
-                return error_value("#REF!", k)
-            n = 1 if ref.c1_abs else k
-            if r >= self.tag[sheet].shape[0] or c + n > self.tag[sheet].shape[1]:
-                return self._gather(sheet, np.array([r]), (c + np.arange(n))[:, None])   # past the used range
-            tag = self.tag[sheet][r, c:c + n].reshape(n, 1, 1)
-            if not tag.any():
-                return Val(self.num[sheet][r, c:c + n].reshape(n, 1, 1), tag, None, NUM)
-            if (tag == BOOL).all():
-                return Val(self.num[sheet][r, c:c + n].reshape(n, 1, 1), tag, None, BOOL)
-            txt = self.txt[sheet][r, c:c + n].reshape(n, 1, 1) if (tag == TEXT).any() else None
-            return Val(self.num[sheet][r, c:c + n].reshape(n, 1, 1), tag, txt)
+            return self._row_stretch(sheet, ref, run)
         if len(run.cols) == 1 or (ref.c1_abs and ref.c2_abs):
-            # one block for all the cells (a single cell's range, or absolute columns): a view
-            r1, r2, c1, c2 = span(run, ref)
-            if r1 < 1 or c1 < 1:
-                return error_value("#REF!", len(run.cols))
-            nr, nc = self.tag[sheet].shape
-            if r2 >= nr or c2 >= nc:                   # past the used range
-                rows, cols = _rows_cols(r1, r2, c1, c2, nr, nc)
-                return self._gather(sheet, rows, cols[None, :])
-            tag = self.tag[sheet][None, r1:r2 + 1, c1:c2 + 1]
-            if not tag.any():
-                return Val(self.num[sheet][None, r1:r2 + 1, c1:c2 + 1], tag, None, NUM)
-            if (tag == BOOL).all():
-                return Val(self.num[sheet][None, r1:r2 + 1, c1:c2 + 1], tag, None, BOOL)
-            txt = self.txt[sheet][None, r1:r2 + 1, c1:c2 + 1] if (tag == TEXT).any() else None
-            return Val(self.num[sheet][None, r1:r2 + 1, c1:c2 + 1], tag, txt)
+            return self._one_block(sheet, ref, run)
+        return self._block_per_cell(sheet, ref, run)
+
+    def _stored(self, sheet: str, rows, cols, shape) -> Val:
+        """The stores' cells at [rows, cols] (views where they can be), reshaped; pure when
+        they hold only numbers or only booleans."""
+        tag = self.tag[sheet][rows, cols].reshape(shape)
+        num = self.num[sheet][rows, cols].reshape(shape)
+        if not tag.any():
+            return Val(num, tag, None, NUM)
+        if (tag == BOOL).all():
+            return Val(num, tag, None, BOOL)
+        txt = self.txt[sheet][rows, cols].reshape(shape) if (tag == TEXT).any() else None
+        return Val(num, tag, txt)
+
+    def _row_stretch(self, sheet: str, ref: Ref, run: Run) -> Val:
+        """One cell per cell of the run, adjacent: views of one stretch of a row."""
+        r = ref.r1 if ref.r1_abs else run.row + ref.r1
+        k = len(run.cols)
+        c = ref.c1 if ref.c1_abs else int(run.cols[0]) + ref.c1
+        if r < 1 or c < 1:
+            return error_value("#REF!", k)
+        n = 1 if ref.c1_abs else k
+        if r >= self.tag[sheet].shape[0] or c + n > self.tag[sheet].shape[1]:
+            return self._gather(sheet, np.array([r]), (c + np.arange(n))[:, None])   # past the used range
+        return self._stored(sheet, r, slice(c, c + n), (n, 1, 1))
+
+    def _one_block(self, sheet: str, ref: Ref, run: Run) -> Val:
+        """One block for all the cells (a single cell's range, or absolute columns): a view."""
+        r1, r2, c1, c2 = span(run, ref)
+        if r1 < 1 or c1 < 1:
+            return error_value("#REF!", len(run.cols))
+        nr, nc = self.tag[sheet].shape
+        if r2 >= nr or c2 >= nc:                   # past the used range
+            rows, cols = _rows_cols(r1, r2, c1, c2, nr, nc)
+            return self._gather(sheet, rows, cols[None, :])
+        return self._stored(sheet, slice(r1, r2 + 1), slice(c1, c2 + 1), (1, r2 - r1 + 1, c2 - c1 + 1))
+
+    def _block_per_cell(self, sheet: str, ref: Ref, run: Run) -> Val:
+        """A block per cell of the run (relative columns), gathered."""
         r1, r2, c1, c2 = target_block(run, ref)
         if r1 < 1 or int(c1.min()) < 1:
             return error_value("#REF!", len(run.cols))
@@ -192,11 +202,10 @@ class Context:
             return self._gather(sheet, rows, cols)
         cols = (c1[:1] if absolute else c1)[:, None] + np.arange(width)[None, :]   # (k, C)
         rows = np.arange(r1, r2 + 1)
-        num = self.num[sheet][rows[:, None, None], cols[None, :, :]].transpose(1, 0, 2)
-        tag = self.tag[sheet][rows[:, None, None], cols[None, :, :]].transpose(1, 0, 2)
-        txt = None
-        if (tag == TEXT).any():
-            txt = self.txt[sheet][rows[:, None, None], cols[None, :, :]].transpose(1, 0, 2)
+        at = (rows[:, None, None], cols[None, :, :])
+        num = self.num[sheet][at].transpose(1, 0, 2)
+        tag = self.tag[sheet][at].transpose(1, 0, 2)
+        txt = self.txt[sheet][at].transpose(1, 0, 2) if (tag == TEXT).any() else None
         return Val(num, tag, txt)
 
     def _gather(self, sheet: str, rows: np.ndarray, cols: np.ndarray) -> Val:

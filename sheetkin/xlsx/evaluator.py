@@ -42,6 +42,7 @@ from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
+from .caches import Cache
 from .cells import MAX_COL, MAX_ROW, Sheet, read_book
 from .context import Context, ReadsLater, lookup_name
 from .coords import get_column_letter
@@ -214,6 +215,8 @@ def _unknown_in_names(names: dict, sheets: dict[str, Sheet]) -> dict[str, frozen
     out: dict[str, frozenset[str]] = {}
     for table in [names, *(sh.names for sh in sheets.values() if sh.names)]:
         for n, text in table.items():
+            if "(" not in text:                    # no function call: nothing to parse
+                continue
             try:
                 tree = parse_formula("=" + text.removeprefix("="), 1, 1, {})
             except ParseError:
@@ -590,7 +593,7 @@ def _circular(path, runs: list[Run], stuck: list[int], strict: bool, problems: l
         runs[i].dynamic = False
 
 
-_PARSED: dict = {}
+_PARSED = Cache("parsed formulas: (text, cell, names) -> (tree, error, references)", 100_000)
 
 
 def _parse_run(formula: str, row: int, col: int, names: dict, names_key) -> tuple:
@@ -611,9 +614,7 @@ def _parse_run(formula: str, row: int, col: int, names: dict, names_key) -> tupl
     except ParseError as e:
         error = Note(f"cannot read the formula ={shorten(formula, 80)}: {e}", e.code)
     hit = (tree, error, refs_of(tree) if tree is not None else [])
-    if len(_PARSED) > 100_000:
-        _PARSED.clear()
-    _PARSED[key] = hit
+    _PARSED.put(key, hit)
     return hit
 
 

@@ -16,6 +16,7 @@ import dataclasses
 from operator import itemgetter
 from typing import cast
 
+from .caches import Cache
 from .cells import Sheet
 from .context import PAD_CELLS
 from .coords import get_column_letter
@@ -50,7 +51,7 @@ def _depth(tree, weights: dict | None = None) -> int:
     return best
 
 
-_NAMES_USED: dict[int, tuple[object, tuple[str, ...]]] = {}     # id(tree) -> (tree, its names)
+_NAMES_USED = Cache("names a tree uses: id(tree) -> (tree, names)", 200_000)
 
 
 def names_used(tree) -> tuple[str, ...]:
@@ -61,9 +62,7 @@ def names_used(tree) -> tuple[str, ...]:
     if hit is not None and hit[0] is tree:
         return hit[1]
     names = tuple(node[1] for node in tree_nodes(tree) if node[0] == "name")
-    if len(_NAMES_USED) > 200_000:
-        _NAMES_USED.clear()
-    _NAMES_USED[id(tree)] = (tree, names)
+    _NAMES_USED.put(id(tree), (tree, names))
     return names
 
 
@@ -75,6 +74,8 @@ def check_names(name_refs: dict) -> dict[str, Note]:
     no recursion."""
     notes: dict[str, Note] = {}
     for n, tree in list(name_refs.items()):
+        if tree[0] in ("name", "ref", "const"):       # no call to check
+            continue
         bad = sorted(f for f in functions_of(tree) if f not in SUPPORTED)
         wrong = None if bad else arity_problem(tree)
         problem = f"unsupported function {', '.join(bad)}" if bad else wrong
@@ -82,7 +83,8 @@ def check_names(name_refs: dict) -> dict[str, Note]:
             code = "#NAME?" if bad else "#VALUE!"
             notes[n] = Note(f"the name {n}: " + problem, code)
             name_refs[n] = ("const", code)
-    uses = {n: [m for m in names_used(t) if m in name_refs] for n, t in name_refs.items()}
+    uses = {n: ([t[1]] if t[1] in name_refs else []) if t[0] == "name" else
+            [m for m in names_used(t) if m in name_refs] for n, t in name_refs.items()}
     state: dict[str, int] = {}          # 1 being visited, 2 done
     weight: dict[str, int] = {}
     for start in uses:
@@ -106,9 +108,13 @@ def check_names(name_refs: dict) -> dict[str, Note]:
                 continue
             if state.get(m) == 1:                   # back to a name on the path: a circle
                 circle = path[path.index(m):]
-                text = " -> ".join(circle + [m])
+                # the note shows the circle's first names only, built once: a circle of
+                # 30,000 names is one short text, not 30,000 long ones (issue 30)
+                shown = circle[:6] + [m] if len(circle) <= 6 else circle[:6] + [f"... {len(circle) - 6} more", m]
+                note = Note(f"the names refer to each other in a circle ({shorten(' -> '.join(shown), 200)}): #N/A",
+                            "#N/A")
                 for x in circle:
-                    notes[x] = Note(f"the names refer to each other in a circle ({shorten(text, 200)}): #N/A", "#N/A")
+                    notes[x] = note
                     name_refs[x], weight[x] = ("const", XlError("#N/A")), 1
             elif m not in state:
                 state[m] = 1
@@ -135,7 +141,7 @@ def run_notes(run: Run, sheets: dict, name_refs: dict, name_notes: dict) -> list
     return out
 
 
-_DEPTHS: dict = {}
+_DEPTHS = Cache("depths of the names last asked about", 4)
 
 
 def _name_depths(name_refs: dict) -> dict:
@@ -198,7 +204,7 @@ def _ref_reads(run: Run, ref: Ref, dims: dict, k: int) -> tuple[int, int]:
     return 0, rows * width
 
 
-_READS: dict[tuple, tuple[object, tuple[int, int]]] = {}
+_READS = Cache("cells a run reads: (references, place, stores) -> counts", 200_000)
 
 
 def dims_signature(dims: dict) -> tuple:
@@ -216,9 +222,7 @@ def _run_reads(run: Run, dims: dict, name_refs: dict, dims_key: tuple | None = N
         if hit is not None and hit[0] is run.refs:
             return hit[1]
         value = _count_reads(run, dims, name_refs)
-        if len(_READS) > 200_000:
-            _READS.clear()
-        _READS[key] = (run.refs, value)
+        _READS.put(key, (run.refs, value))
         return value
     return _count_reads(run, dims, name_refs)
 

@@ -179,6 +179,7 @@ def _check_limits(tokens: list) -> None:
             depth -= 1
 
 
+_SIMPLE_OPERAND = re.compile(r"^=((?:'[^'!]+'!|[A-Za-z_][\w.]*!)?\$?[A-Za-z_][\w.]*(?::\$?[A-Za-z]{1,3}\$?\d+)?)$")
 _MANTISSA_E = re.compile(r"^(\d+\.?\d*|\.\d+)[Ee]$")
 
 
@@ -207,6 +208,12 @@ def parse_formula(formula: str, host_r: int, host_c: int, names: dict):
     a ParseError."""
     if len(formula) > MAX_FORMULA_CHARS + 1:              # + 1: the "="
         raise ParseError(f"longer than {MAX_FORMULA_CHARS} characters (Excel's limit)", "#VALUE!")
+    simple = _SIMPLE_OPERAND.match(formula)
+    if simple and simple.group(1).upper() not in ("TRUE", "FALSE"):
+        # one reference or name (=$A$1, =Data!B2:C9, =dfi): the tree without the tokenizer, as
+        # defined names mostly are (30,000 names read in a tenth of the time, issue 30)
+        node = _operand_ref(simple.group(1), host_r, host_c, names)
+        return ("ref", node) if isinstance(node, Ref) else node
     try:
         tokens = _merge_exponents([t for t in _Tokenizer(formula).items if t.type != Token.WSPACE])
     except Exception as e:      # noqa: BLE001 - the tokenizer's own errors (TokenizerError, IndexError...)

@@ -16,6 +16,7 @@ from operator import itemgetter
 
 import numpy as np
 
+from .caches import Cache
 from .cells import MAX_COL, Sheet, Template
 from .coords import get_column_letter
 from .parse import Ref
@@ -56,7 +57,7 @@ class Run:
 
 
 
-TEMPLATES: dict = {}           # (formula, column) -> Template, for the rest of the process
+TEMPLATES = Cache("run templates: (formula, column) -> Template", 100_000)
 
 
 def group_runs(sheet: Sheet) -> list[Run]:
@@ -84,9 +85,7 @@ def group_runs(sheet: Sheet) -> list[Run]:
         while i < b:
             tpl = TEMPLATES.get((texts[i], col_list[i]))
             if tpl is None:
-                if len(TEMPLATES) > 100_000:
-                    TEMPLATES.clear()
-                tpl = TEMPLATES[texts[i], col_list[i]] = Template(texts[i], col_list[i])
+                tpl = TEMPLATES.put((texts[i], col_list[i]), Template(texts[i], col_list[i]))
             j, window = i + 1, 4
             while j < b:
                 m = min(b - j, window)

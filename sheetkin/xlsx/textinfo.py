@@ -196,9 +196,10 @@ _FORMAT = re.compile(r"^(?P<pre>[^0#.,%Ee]*)(?P<int>[0#,]*)(?:\.(?P<dec>[0#]*))?
 
 def _text(x: Any, fmt: str) -> str:
     """TEXT(value, format) for the number formats of a lab report: General, 0, 0.00,
-    #,##0.00, 0%, 0.0E+00, with literal text before or after; a text value is kept."""
+    #,##0.00, 0%, 0.0E+00, #.##, with literal text before or after and a section for
+    negatives; a text value is kept."""
+    from .cellwise import NUMERIC_TEXT
     if isinstance(x, str):
-        from .cellwise import NUMERIC_TEXT
         if not NUMERIC_TEXT.match(x):
             return x
         x = float(x)
@@ -213,44 +214,45 @@ def _text(x: Any, fmt: str) -> str:
         fmt = parts[1] if n < 0 and len(parts) > 1 else parts[0]
         if n < 0 and len(parts) > 1:
             n = -n
-    fmt_plain = re.sub(r'"([^"]*)"', lambda m: m.group(1).replace("0", "\x00").replace("#", "\x01"), fmt)
-    fmt_plain = re.sub(r"\\(.)", lambda m: m.group(1), fmt_plain)
-    m = _FORMAT.match(fmt_plain)
+    # literal text ("m", \x) keeps its digits and # out of the number's pattern
+    plain = re.sub(r'"([^"]*)"', lambda m: m.group(1).replace("0", "\x00").replace("#", "\x01"), fmt)
+    plain = re.sub(r"\\(.)", lambda m: m.group(1), plain)
+    m = _FORMAT.match(plain)
     if not m or (not m.group("int") and m.group("dec") is None):
         raise Fail(VALUE)
-    dec = len(m.group("dec") or "")
     pct = m.group("pct") == "%"
-    grouping = "," in m.group("int")
     if pct:
         n *= 100
-    if m.group("exp"):
-        digits = len(m.group("exp")) - 2
-        if n == 0:
-            exp = 0
-        else:
-            exp = math.floor(math.log10(abs(n)))
-            if round(abs(n) / 10 ** exp, dec) >= 10:
-                exp += 1
-        mant = n / 10 ** exp
-        body = f"{_rounded(mant, dec):.{dec}f}"
-        sign = "-" if exp < 0 else "+"
-        body += m.group("exp")[0] + sign + str(abs(exp)).rjust(digits, "0")
-    else:
-        q = _rounded(n, dec)
-        body = f"{abs(q):,.{dec}f}" if grouping else f"{abs(q):.{dec}f}"
-        min_int = m.group("int").replace(",", "").count("0")
-        ip, _, fp = body.partition(".")
-        if min_int == 0 and ip.replace(",", "") == "0":
-            ip = ""
-        keep = (m.group("dec") or "").rstrip("#").__len__()      # 0s are kept, #s only where not 0
-        while len(fp) > keep and fp.endswith("0"):
-            fp = fp[:-1]
-        dec = len(fp)
-        body = ip + ("." + fp if dec else "")
-        if q < 0:
-            body = "-" + body
+    body = _scientific(n, m) if m.group("exp") else _fixed_point(n, m)
     out = m.group("pre") + body + ("%" if pct else "") + m.group("post")
     return out.replace("\x00", "0").replace("\x01", "#")
+
+
+def _scientific(n: float, m: re.Match) -> str:
+    """A number as 0.00E+00 shows it."""
+    dec = len(m.group("dec") or "")
+    digits = len(m.group("exp")) - 2
+    exp = 0 if n == 0 else math.floor(math.log10(abs(n)))
+    if n != 0 and round(abs(n) / 10 ** exp, dec) >= 10:
+        exp += 1
+    body = f"{_rounded(n / 10 ** exp, dec):.{dec}f}"
+    return body + m.group("exp")[0] + ("-" if exp < 0 else "+") + str(abs(exp)).rjust(digits, "0")
+
+
+def _fixed_point(n: float, m: re.Match) -> str:
+    """A number as 0.00, #,##0.0 or #.## shows it (a 0 is a digit always shown, a # one
+    shown where it is not a leading or trailing zero)."""
+    places = len(m.group("dec") or "")
+    q = _rounded(n, places)
+    body = f"{abs(q):,.{places}f}" if "," in m.group("int") else f"{abs(q):.{places}f}"
+    ip, _, fp = body.partition(".")
+    if m.group("int").replace(",", "").count("0") == 0 and ip.replace(",", "") == "0":
+        ip = ""
+    keep = len((m.group("dec") or "").rstrip("#"))
+    while len(fp) > keep and fp.endswith("0"):
+        fp = fp[:-1]
+    body = ip + ("." + fp if places else "")
+    return "-" + body if q < 0 else body
 
 
 def _concat_all(args) -> str:

@@ -25,6 +25,7 @@ from typing import Any, Protocol, cast
 import numpy as np
 
 from . import functions as fx
+from .caches import Cache
 from .functions import DIV0, ERRORS, MAX_TEXT, NA, NUMERR, VALUE, XlError
 
 NUM, BOOL, TEXT, EMPTY = 0, 1, 2, 3
@@ -57,7 +58,7 @@ def pure_result(num: np.ndarray, kind: int = NUM) -> Val:
     return Val(num, None, None, kind)
 
 
-_CONSTS: dict = {}
+_CONSTS = Cache("constants of one value: (type, value) -> Val", 10_000)
 
 
 def constant(value, k=1) -> Val:
@@ -69,8 +70,7 @@ def constant(value, k=1) -> Val:
             v.pure = BOOL if type(value) is bool else NUM
             v.num.setflags(write=False)
             v.tag.setflags(write=False)
-            if len(_CONSTS) < 10000:
-                _CONSTS[key] = v
+            _CONSTS.put(key, v)
         return v
     return _const_new(value, k)
 
