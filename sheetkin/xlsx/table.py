@@ -17,10 +17,10 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from importlib import import_module
 from typing import Any
 
 from . import functions as fx
-from . import lookup, mathstat, textinfo
 from .parse import MAX_ARGS, tree_nodes
 from .values import AGGREGATES, LAZY, SCALAR_FUNCS
 
@@ -49,6 +49,38 @@ def _add(category: str, kernels: dict[str, Callable[..., Any]], arity: tuple[int
         if name in FUNCTIONS:
             raise ValueError(f"the function {name} is in the table twice")
         FUNCTIONS[name] = Function(name, category, kernel, arity, ranges, lazy, note)
+
+
+class _Later:
+    """The namespace of a module of kernels, each imported on its first call: the evaluator
+    starts without the modules of functions a book does not call (issue 32, speed)."""
+
+    def __init__(self, module: str):
+        self.module = module
+
+    def __getattr__(self, attr: str) -> Any:
+        return _Kernel(self.module, attr, None)
+
+    def get(self, attr: str, key: str) -> Callable[..., Any]:
+        return _Kernel(self.module, attr, key)
+
+
+class _Kernel:
+    """One kernel of a module imported on first use (see _Later)."""
+    __slots__ = ("module", "attr", "key", "target")
+
+    def __init__(self, module: str, attr: str, key: str | None):
+        self.module, self.attr, self.key = module, attr, key
+        self.target: Callable[..., Any] | None = None
+
+    def __call__(self, *args: Any) -> Any:
+        if self.target is None:
+            obj = getattr(import_module(f"{__package__}.{self.module}"), self.attr)
+            self.target = obj[self.key] if self.key is not None else obj
+        return self.target(*args)
+
+
+lookup, mathstat, textinfo = _Later("lookup"), _Later("mathstat"), _Later("textinfo")
 
 
 def _whole(fn: Callable[..., Any]) -> Callable[..., Any]:
@@ -96,39 +128,40 @@ _add(SYNTAX, {"ANCHORARRAY": _lazy("ANCHORARRAY")}, (1, 1), ranges=True, lazy=Tr
 _add(SYNTAX, {"SINGLE": _lazy("SINGLE")}, (1, 1), ranges=True, lazy=True)
 
 # ---------------------------------------------------------------- Math & Trig
-_add(MATH, {n: k for n, k in mathstat.TRIG.items()}, (1, 1))
+_add(MATH, {n: mathstat.get("TRIG", n) for n in ("ACOT", "ACOTH", "COT", "CSC", "SEC", "COTH", "CSCH", "SECH", "SINH",
+                                                  "COSH", "TANH", "ASINH", "ACOSH", "ATANH", "SQRTPI")}, (1, 1))
 _add(MATH, {"ROUNDUP": mathstat.ROUNDUP, "ROUNDDOWN": mathstat.ROUNDDOWN}, (2, 2))
 _add(MATH, {"LOG": mathstat.log}, (1, 2))
-_add(MATH, {n: mathstat.MATH_SCALAR[n] for n in ("EVEN", "ODD", "FACT", "FACTDOUBLE", "ARABIC")}, (1, 1))
-_add(MATH, {n: mathstat.MATH_SCALAR[n] for n in ("COMBIN", "COMBINA", "MROUND", "QUOTIENT", "DECIMAL")}, (2, 2))
-_add(MATH, {"ROMAN": mathstat.MATH_SCALAR["ROMAN"]}, (1, 2),
+_add(MATH, {n: mathstat.get("MATH_SCALAR", n) for n in ("EVEN", "ODD", "FACT", "FACTDOUBLE", "ARABIC")}, (1, 1))
+_add(MATH, {n: mathstat.get("MATH_SCALAR", n) for n in ("COMBIN", "COMBINA", "MROUND", "QUOTIENT", "DECIMAL")}, (2, 2))
+_add(MATH, {"ROMAN": mathstat.get("MATH_SCALAR", "ROMAN")}, (1, 2),
      note="the classic form only (ROMAN(x, 0)); the concise forms 1-4 are #VALUE!")
-_add(MATH, {"BASE": mathstat.MATH_SCALAR["BASE"]}, (2, 3))
-_add(MATH, {"GCD": mathstat.MATH_RANGES["GCD"], "LCM": mathstat.MATH_RANGES["LCM"],
-            "MULTINOMIAL": mathstat.MATH_RANGES["MULTINOMIAL"]}, MANY, ranges=True)
-_add(MATH, {n: mathstat.MATH_RANGES[n] for n in ("SUMX2MY2", "SUMX2PY2", "SUMXMY2")}, (2, 2), ranges=True)
-_add(MATH, {"SERIESSUM": mathstat.MATH_RANGES["SERIESSUM"]}, (4, 4), ranges=True)
+_add(MATH, {"BASE": mathstat.get("MATH_SCALAR", "BASE")}, (2, 3))
+_add(MATH, {"GCD": mathstat.get("MATH_RANGES", "GCD"), "LCM": mathstat.get("MATH_RANGES", "LCM"),
+            "MULTINOMIAL": mathstat.get("MATH_RANGES", "MULTINOMIAL")}, MANY, ranges=True)
+_add(MATH, {n: mathstat.get("MATH_RANGES", n) for n in ("SUMX2MY2", "SUMX2PY2", "SUMXMY2")}, (2, 2), ranges=True)
+_add(MATH, {"SERIESSUM": mathstat.get("MATH_RANGES", "SERIESSUM")}, (4, 4), ranges=True)
 _add(MATH, {"MDETERM": _whole(mathstat.mdeterm), "MINVERSE": _whole(mathstat.minverse),
             "MUNIT": _whole(mathstat.munit)}, (1, 1),
      ranges=True)
 _add(MATH, {"MMULT": _whole(mathstat.mmult)}, (2, 2), ranges=True)
-_add(MATH, {"SUMIF": lookup.CRITERIA["SUMIF"]}, (2, 3), ranges=True)
-_add(MATH, {"SUMIFS": lookup.CRITERIA["SUMIFS"]}, (3, MAX_ARGS), ranges=True)
+_add(MATH, {"SUMIF": lookup.get("CRITERIA", "SUMIF")}, (2, 3), ranges=True)
+_add(MATH, {"SUMIFS": lookup.get("CRITERIA", "SUMIFS")}, (3, MAX_ARGS), ranges=True)
 
 # ---------------------------------------------------------------- Statistical
-_add(STAT, {n: mathstat.STATISTICAL[n] for n in (
+_add(STAT, {n: mathstat.get("STATISTICAL", n) for n in (
     "MEDIAN", "STDEV", "STDEV.S", "STDEVP", "STDEV.P", "STDEVA", "STDEVPA", "VAR", "VAR.S", "VARP", "VAR.P",
     "VARA", "VARPA", "MODE", "MODE.SNGL", "AVERAGEA", "MAXA", "MINA", "AVEDEV", "DEVSQ", "GEOMEAN", "HARMEAN",
     "COUNTA", "COUNTBLANK")}, MANY, ranges=True)
-_add(STAT, {n: mathstat.STATISTICAL[n] for n in (
+_add(STAT, {n: mathstat.get("STATISTICAL", n) for n in (
     "LARGE", "SMALL", "PERCENTILE", "PERCENTILE.INC", "PERCENTILE.EXC", "QUARTILE", "QUARTILE.INC",
     "QUARTILE.EXC")}, (2, 2), ranges=True)
-_add(STAT, {n: mathstat.STATISTICAL[n] for n in ("RANK", "RANK.EQ", "RANK.AVG")}, (2, 3), ranges=True)
-_add(STAT, {"PERMUT": mathstat.MATH_SCALAR["PERMUT"]}, (2, 2))
-_add(STAT, {"COUNTIF": lookup.CRITERIA["COUNTIF"], "AVERAGEIF": lookup.CRITERIA["AVERAGEIF"]}, (2, 3),
+_add(STAT, {n: mathstat.get("STATISTICAL", n) for n in ("RANK", "RANK.EQ", "RANK.AVG")}, (2, 3), ranges=True)
+_add(STAT, {"PERMUT": mathstat.get("MATH_SCALAR", "PERMUT")}, (2, 2))
+_add(STAT, {"COUNTIF": lookup.get("CRITERIA", "COUNTIF"), "AVERAGEIF": lookup.get("CRITERIA", "AVERAGEIF")}, (2, 3),
      ranges=True)
-_add(STAT, {"COUNTIFS": lookup.CRITERIA["COUNTIFS"]}, (2, MAX_ARGS), ranges=True)
-_add(STAT, {n: lookup.CRITERIA[n] for n in ("AVERAGEIFS", "MAXIFS", "MINIFS")}, (3, MAX_ARGS), ranges=True)
+_add(STAT, {"COUNTIFS": lookup.get("CRITERIA", "COUNTIFS")}, (2, MAX_ARGS), ranges=True)
+_add(STAT, {n: lookup.get("CRITERIA", n) for n in ("AVERAGEIFS", "MAXIFS", "MINIFS")}, (3, MAX_ARGS), ranges=True)
 
 # ---------------------------------------------------------------- Logical
 _add(LOGIC, {"IFNA": textinfo.ifna}, (2, 2), lazy=True)
@@ -137,16 +170,16 @@ _add(LOGIC, {"SWITCH": textinfo.switch}, (3, MAX_ARGS), lazy=True)
 _add(LOGIC, {"XOR": textinfo.xor}, MANY, ranges=True)
 
 # ---------------------------------------------------------------- Information
-_add(INFO, dict(textinfo.INFORMATION_LAZY), (1, 1), lazy=True)
+_add(INFO, {n: textinfo.get("INFORMATION_LAZY", n) for n in ("ISBLANK", "ISLOGICAL", "ISNONTEXT")}, (1, 1),
+     lazy=True)
 _add(INFO, {"ISEVEN": mathstat.ISEVEN, "ISODD": mathstat.ISODD}, (1, 1))
 _add(INFO, {"ISREF": textinfo.is_ref}, (1, 1), lazy=True)
 _add(INFO, {"TYPE": textinfo.type_of}, (1, 1), ranges=True, lazy=True)
 
 # ---------------------------------------------------------------- Lookup & Reference
-_add(LOOKUP, {"MATCH": _whole(lookup.LOOKUPS["MATCH"])}, (2, 3), ranges=True)
-_add(LOOKUP, {"VLOOKUP": _whole(lookup.LOOKUPS["VLOOKUP"]), "HLOOKUP": _whole(lookup.LOOKUPS["HLOOKUP"])}, (3, 4),
-     ranges=True)
-_add(LOOKUP, {"LOOKUP": _whole(lookup.LOOKUPS["LOOKUP"])}, (2, 3), ranges=True)
+_add(LOOKUP, {"MATCH": _whole(lookup.get("LOOKUPS", "MATCH"))}, (2, 3), ranges=True)
+_add(LOOKUP, {n: _whole(lookup.get("LOOKUPS", n)) for n in ("VLOOKUP", "HLOOKUP")}, (3, 4), ranges=True)
+_add(LOOKUP, {"LOOKUP": _whole(lookup.get("LOOKUPS", "LOOKUP"))}, (2, 3), ranges=True)
 _add(LOOKUP, {"TRANSPOSE": _whole(mathstat.transpose)}, (1, 1), ranges=True)
 _add(LOOKUP, {"ADDRESS": lookup.cellwise_address}, (2, 5))
 _add(LOOKUP, {"OFFSET": lookup.offset}, (3, 5), ranges=True, lazy=True,
@@ -155,17 +188,17 @@ _add(LOOKUP, {"INDIRECT": lookup.indirect}, (1, 2), ranges=True, lazy=True,
      note="A1-style text only (R1C1 text is #REF!); evaluated after the cells it may read, as OFFSET")
 
 # ---------------------------------------------------------------- Text
-_add(TEXT, {n: textinfo.TEXT_SCALAR[n] for n in (
+_add(TEXT, {n: textinfo.get("TEXT_SCALAR", n) for n in (
     "LEN", "TRIM", "UPPER", "LOWER", "PROPER", "CHAR", "CODE", "UNICHAR", "UNICODE", "CLEAN", "T")}, (1, 1))
-_add(TEXT, {n: textinfo.TEXT_SCALAR[n] for n in ("LEFT", "RIGHT")}, (1, 2))
-_add(TEXT, {"MID": textinfo.TEXT_SCALAR["MID"]}, (3, 3))
-_add(TEXT, {"SUBSTITUTE": textinfo.TEXT_SCALAR["SUBSTITUTE"]}, (3, 4))
-_add(TEXT, {"FIND": textinfo.TEXT_SCALAR["FIND"], "SEARCH": textinfo.TEXT_SCALAR["SEARCH"]}, (2, 3))
-_add(TEXT, {"REPLACE": textinfo.TEXT_SCALAR["REPLACE"]}, (4, 4))
-_add(TEXT, {"EXACT": textinfo.TEXT_SCALAR["EXACT"], "TEXT": textinfo.TEXT_SCALAR["TEXT"]}, (2, 2))
-_add(TEXT, {"FIXED": textinfo.TEXT_SCALAR["FIXED"]}, (1, 3))
-_add(TEXT, {"CONCAT": textinfo.TEXT_RANGES["CONCAT"]}, MANY, ranges=True)
-_add(TEXT, {"TEXTJOIN": textinfo.TEXT_RANGES["TEXTJOIN"]}, (3, MAX_ARGS), ranges=True)
+_add(TEXT, {n: textinfo.get("TEXT_SCALAR", n) for n in ("LEFT", "RIGHT")}, (1, 2))
+_add(TEXT, {"MID": textinfo.get("TEXT_SCALAR", "MID")}, (3, 3))
+_add(TEXT, {"SUBSTITUTE": textinfo.get("TEXT_SCALAR", "SUBSTITUTE")}, (3, 4))
+_add(TEXT, {"FIND": textinfo.get("TEXT_SCALAR", "FIND"), "SEARCH": textinfo.get("TEXT_SCALAR", "SEARCH")}, (2, 3))
+_add(TEXT, {"REPLACE": textinfo.get("TEXT_SCALAR", "REPLACE")}, (4, 4))
+_add(TEXT, {"EXACT": textinfo.get("TEXT_SCALAR", "EXACT"), "TEXT": textinfo.get("TEXT_SCALAR", "TEXT")}, (2, 2))
+_add(TEXT, {"FIXED": textinfo.get("TEXT_SCALAR", "FIXED")}, (1, 3))
+_add(TEXT, {"CONCAT": textinfo.get("TEXT_RANGES", "CONCAT")}, MANY, ranges=True)
+_add(TEXT, {"TEXTJOIN": textinfo.get("TEXT_RANGES", "TEXTJOIN")}, (3, MAX_ARGS), ranges=True)
 
 
 SUPPORTED = frozenset(FUNCTIONS)

@@ -47,6 +47,16 @@ def test_every_documented_difference_is_a_case_of_the_book():
         assert f"`={f}`" in page, f
 
 
+def test_the_kernels_named_in_the_table_exist():
+    """The table names kernels of modules loaded on first call: each resolves."""
+    import importlib
+    for f in table.FUNCTIONS.values():
+        for k in [f.kernel, *(c.cell_contents for c in (getattr(f.kernel, "__closure__", None) or ()))]:
+            if isinstance(k, table._Kernel):
+                obj = getattr(importlib.import_module(f"sheetkin.xlsx.{k.module}"), k.attr)
+                assert callable(obj[k.key] if k.key is not None else obj), (f.name, k.attr, k.key)
+
+
 def test_excel_storage_prefixes_are_read():
     for text in ("_xlfn.IFS(1,2)", "_xlfn._xlws.SORT(A1)", "_xlws.FILTER(A1)", "_XLFN.ACOT(1)"):
         tree = parse_formula("=" + text, 1, 1, {})
