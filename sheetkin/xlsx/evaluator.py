@@ -164,9 +164,10 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
     # parse each run once (its first cell)
     unknown_in_names = _unknown_in_names(names, sheets)
     for run in runs:
-        run.tree, run.error, run.refs = _parse_run(run.formula, run.row, int(run.cols[0]), name_refs, names_key)
-        run.unknown = _unknown_functions(run.tree, unknown_in_names)
-        run.dynamic = run.tree is not None and bool(functions_of(run.tree) & DYNAMIC)
+        run.tree, run.error, run.refs, called = _parse_run(run.formula, run.row, int(run.cols[0]), name_refs,
+                                                            names_key)
+        run.unknown = _unknown_functions(run.tree, called, unknown_in_names)
+        run.dynamic = bool(called & DYNAMIC)
         if run.error:
             problems.append(f"{run.where()}: {run.error}")
         else:
@@ -227,11 +228,11 @@ def _unknown_in_names(names: dict, sheets: dict[str, Sheet]) -> dict[str, frozen
     return out
 
 
-def _unknown_functions(tree, unknown_in_names: dict[str, frozenset[str]]) -> frozenset[str]:
+def _unknown_functions(tree, called: frozenset[str], unknown_in_names: dict[str, frozenset[str]]) -> frozenset[str]:
     """The functions a formula calls that the table lacks, itself or through the names it uses."""
     if tree is None:
         return frozenset()
-    bad = frozenset(f for f in functions_of(tree) if f not in SUPPORTED)
+    bad = called - SUPPORTED
     if unknown_in_names:
         for n in names_used(tree):
             bad |= unknown_in_names.get(n, frozenset())
@@ -597,23 +598,25 @@ _PARSED = Cache("parsed formulas: (text, cell, names) -> (tree, error, reference
 
 
 def _parse_run(formula: str, row: int, col: int, names: dict, names_key) -> tuple:
-    """(tree, error, references) of a run's first formula; kept for the rest of the process
-    (a class's workbooks share their formulas), keyed by the text, the cell and the names."""
+    """(tree, error, references, the functions it calls) of a run's first formula; kept for
+    the rest of the process (a class's workbooks share their formulas), keyed by the text,
+    the cell and the names."""
     key = (formula, row, col, names_key)
     hit = _PARSED.get(key)
     if hit is not None:
         return hit
-    tree, error = None, None
+    tree, error, called = None, None, frozenset[str]()
     try:
         tree = parse_formula("=" + formula, row, col, names)
-        bad = sorted(f for f in functions_of(tree) if f not in SUPPORTED)
+        called = frozenset(functions_of(tree))
+        bad = sorted(f for f in called if f not in SUPPORTED)
         if bad:
             error = Note(f"unsupported function{'s' if len(bad) > 1 else ''} {', '.join(bad)}")
         elif (wrong := arity_problem(tree)) is not None:
             error = Note(wrong, "#VALUE!")
     except ParseError as e:
         error = Note(f"cannot read the formula ={shorten(formula, 80)}: {e}", e.code)
-    hit = (tree, error, refs_of(tree) if tree is not None else [])
+    hit = (tree, error, refs_of(tree) if tree is not None else [], called)
     _PARSED.put(key, hit)
     return hit
 
@@ -627,7 +630,7 @@ def parse_rows(sheet: Sheet, rows: set[int]) -> list[Run]:
     sub = Sheet(sheet.name, sheet.state, formulas={k: f for k, f in sheet.formulas.items() if k[0] in rows})
     out = []
     for run in group_runs(sub):
-        run.tree, run.error, run.refs = _parse_run(run.formula, run.row, int(run.cols[0]), {}, frozenset())
+        run.tree, run.error, run.refs, _ = _parse_run(run.formula, run.row, int(run.cols[0]), {}, frozenset())
         if run.error:
             continue
         varies = len(run.cols) > 1 and any(ref.c1_abs != ref.c2_abs for ref in run.refs)
