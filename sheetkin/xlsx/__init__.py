@@ -6,10 +6,10 @@ the cell reader (`cells`), the formula parser (`parse`), values and functions (`
 `functions`), the function table (`table`: every worksheet function one entry, its kernels
 in `mathstat`, `textinfo`, `lookup` and `cellwise`), runs of like formulas (`runs`), the
 evaluator with its context and limits (`evaluator`, `context`, `limits`), the cells not
-computed here (`uncomputed`), the memos (`caches`, `clear_caches()`), what a file that is not an .xlsx is and its conversion
-(`convert`: password sniffing, .ods/.fods/.xls, the OpenDocument gate), and LibreOffice
-itself (`libreoffice`). It imports nothing else of sheetkin: the course package grades
-with it, and it knows nothing of mechanisms.
+computed here (`uncomputed`), the memos (`caches`, `clear_caches()`), what a file that
+is not an .xlsx is and its conversion (`convert`: password sniffing, .ods/.fods/.xls, the
+OpenDocument gate), and LibreOffice itself (`libreoffice`). It imports nothing else of
+sheetkin: the course package grades with it, and it knows nothing of mechanisms.
 """
 from __future__ import annotations
 

@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 
 from .cellwise import CODE_TEXT, Fail, cellwise, from_py, numbers_of, per_cell
-from .functions import DIV0, NA, NUMERR, VALUE, XlError
+from .functions import DIV0, FIRST_ERROR, NA, NUMERR, VALUE, XlError
 from .values import NUM, Val, unary
 
 
@@ -454,7 +454,7 @@ def _matrix(v: Val, i: int) -> np.ndarray:
     c = i if v.shape[0] > 1 else 0
     tag = v.tag[c]
     if (tag != NUM).any():
-        errs = tag[tag >= 10]
+        errs = tag[tag >= FIRST_ERROR]
         raise Fail(int(errs[0]) if errs.size else VALUE)
     return np.asarray(v.num[c], float)
 

@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from .cellwise import Fail, cellwise, per_cell
-from .functions import MAX_TEXT, NA, VALUE
+from .functions import FIRST_ERROR, MAX_TEXT, NA, REF, VALUE
 from .values import (
     BOOL,
     EMPTY,
@@ -334,7 +334,7 @@ def switch(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
     for i in reversed(range(pairs)):
         hit = compare("=", expr, ctx.eval(args[1 + 2 * i], run))
         out = select((hit.tag == BOOL) & (hit.num != 0), ctx.eval(args[2 + 2 * i], run), out)
-    return with_error(out, np.where(expr.tag >= 10, expr.tag, 0).astype(np.int8))
+    return with_error(out, np.where(expr.tag >= FIRST_ERROR, expr.tag, 0).astype(np.int8))
 
 
 def xor(vals: Sequence[Val], ranges: Sequence[bool]) -> Val:
@@ -348,7 +348,7 @@ def xor(vals: Sequence[Val], ranges: Sequence[bool]) -> Val:
         if is_range or v.shape[1:] != (1, 1):
             use = (v.tag == NUM) | (v.tag == BOOL)
             b = v.num != 0
-            e = np.where(v.tag >= 10, v.tag, 0)
+            e = np.where(v.tag >= FIRST_ERROR, v.tag, 0)
         else:
             b, e = to_bool(v)
             use = v.tag != EMPTY
@@ -385,7 +385,7 @@ def is_ref(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
     yes = node[0] == "ref" or (node[0] == "fn" and node[1] in ("OFFSET", "INDIRECT", "INDEX"))
     if node[0] == "fn" and node[1] in ("OFFSET", "INDIRECT"):
         v = ctx.eval(node, run)
-        return Val(np.where(v.tag[:, :1, :1] == 13, 0.0, 1.0), np.full((v.shape[0], 1, 1), BOOL, np.int8))
+        return Val(np.where(v.tag[:, :1, :1] == REF, 0.0, 1.0), np.full((v.shape[0], 1, 1), BOOL, np.int8))
     return constant(bool(yes))
 
 
@@ -395,7 +395,7 @@ def type_of(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
     if v.shape[1:] != (1, 1):
         return constant(64.0)
     t = v.tag
-    n = np.where(t == TEXT, 2.0, np.where(t == BOOL, 4.0, np.where(t >= 10, 16.0, 1.0)))
+    n = np.where(t == TEXT, 2.0, np.where(t == BOOL, 4.0, np.where(t >= FIRST_ERROR, 16.0, 1.0)))
     return Val(n.astype(float), np.zeros(v.shape, np.int8), None, NUM)
 
 

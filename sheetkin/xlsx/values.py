@@ -26,7 +26,7 @@ import numpy as np
 
 from . import functions as fx
 from .caches import Cache
-from .functions import DIV0, ERRORS, MAX_TEXT, NA, NUMERR, VALUE, XlError
+from .functions import DIV0, ERRORS, FIRST_ERROR, MAX_TEXT, NA, NUMERR, VALUE, XlError
 
 NUM, BOOL, TEXT, EMPTY = 0, 1, 2, 3
 
@@ -96,7 +96,7 @@ def first_error_of(*tags) -> np.ndarray:
     """The first error among the operands (Excel reports the leftmost), else 0."""
     out = np.zeros(np.broadcast_shapes(*(t.shape for t in tags)), np.int8)
     for t in reversed(tags):
-        out = np.where(t >= 10, t, out)
+        out = np.where(t >= FIRST_ERROR, t, out)
     return out
 
 
@@ -110,7 +110,7 @@ NUMERIC_TEXT = re.compile(r"^\s*[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?\s*$")
 def to_number(v: Val):
     """Arithmetic coercion: numbers, booleans; empty is 0; numeric text converts;
     other text is #VALUE!. Returns (num, error tags)."""
-    num, err = v.num, np.where(v.tag >= 10, v.tag, 0).astype(np.int8)
+    num, err = v.num, np.where(v.tag >= FIRST_ERROR, v.tag, 0).astype(np.int8)
     text = v.tag == TEXT
     if text.any():
         num = num.copy()
@@ -135,7 +135,7 @@ def to_bool(v: Val):
     """Logical coercion (IF, AND...): numbers non-zero, booleans, empty FALSE; text #VALUE!."""
     if v.pure != -1:
         return v.num != 0, np.zeros(v.shape, np.int8)
-    err = np.where(v.tag >= 10, v.tag, np.where(v.tag == TEXT, VALUE, 0)).astype(np.int8)
+    err = np.where(v.tag >= FIRST_ERROR, v.tag, np.where(v.tag == TEXT, VALUE, 0)).astype(np.int8)
     return v.num != 0, err
 
 
@@ -159,7 +159,7 @@ def to_text(v: Val) -> tuple[np.ndarray, np.ndarray]:
         out[idx] = (cast(np.ndarray, v.txt)[idx] if t == TEXT else "" if t == EMPTY else
                     ("TRUE" if v.num[idx] else "FALSE") if t == BOOL
                     else number_text(cast(float, v.num[idx])))
-    return out, np.where(v.tag >= 10, v.tag, 0).astype(np.int8)
+    return out, np.where(v.tag >= FIRST_ERROR, v.tag, 0).astype(np.int8)
 
 
 # --------------------------------------------------------------------------- operators
@@ -396,7 +396,7 @@ def values_of(args: list[Val], ranges: list[bool], *, numbers_only_in_ranges=Tru
         k = v.shape[0]
         if is_range:
             use = v.tag == NUM if numbers_only_in_ranges else (v.tag == NUM) | (v.tag == BOOL)
-            err = np.where(v.tag >= 10, v.tag, 0)
+            err = np.where(v.tag >= FIRST_ERROR, v.tag, 0)
             n = v.num
         else:
             n, err = to_number(v)
@@ -511,7 +511,7 @@ def _agg_sumproduct(args, ranges):
     prod, err = None, None
     for v in args:
         n = np.where(v.tag == NUM, v.num, np.where(v.tag == BOOL, 0.0, 0.0))
-        e = np.where(v.tag >= 10, v.tag, 0).astype(np.int8)
+        e = np.where(v.tag >= FIRST_ERROR, v.tag, 0).astype(np.int8)
         prod = n if prod is None else prod * n
         err = e if err is None else first_error_of(err, e)
     # SUMPRODUCT has at least one argument (the parser's rule): both are set
@@ -527,7 +527,7 @@ def _agg_logical(all_: bool):
             k = v.shape[0]
             if is_range:
                 use = (v.tag == NUM) | (v.tag == BOOL)
-                e = np.where(v.tag >= 10, v.tag, 0).astype(np.int8)
+                e = np.where(v.tag >= FIRST_ERROR, v.tag, 0).astype(np.int8)
                 b = v.num != 0
             else:
                 b, e = to_bool(v)
@@ -596,7 +596,7 @@ def _if(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
 
 def _iferror(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
     a, b = ctx.eval(args[0], run), ctx.eval(args[1], run)
-    return select(a.tag >= 10, b, a)
+    return select(a.tag >= FIRST_ERROR, b, a)
 
 
 def _not(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
@@ -716,7 +716,7 @@ def _n_of(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
     v = ctx.eval(args[0], run)
     v = Val(v.num[:, :1, :1], v.tag[:, :1, :1], None if v.txt is None else v.txt[:, :1, :1])
     num = np.where((v.tag == NUM) | (v.tag == BOOL), v.num, 0.0)
-    return with_error(Val(num, np.zeros(v.shape, np.int8), None, NUM), np.where(v.tag >= 10, v.tag, 0))
+    return with_error(Val(num, np.zeros(v.shape, np.int8), None, NUM), np.where(v.tag >= FIRST_ERROR, v.tag, 0))
 
 
 def _value_of(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
@@ -737,9 +737,9 @@ LAZY: dict[str, Lazy] = {
     "IFERROR": Lazy(_iferror, "its first argument's errors are a value, not propagated"),
     "NOT": Lazy(_not, "a condition, coerced to a boolean with its own errors"),
     "ISNUMBER": Lazy(_is(lambda v: v.tag == NUM), "asks a value's type: errors are an answer"),
-    "ISERROR": Lazy(_is(lambda v: v.tag >= 10), "asks a value's type: errors are an answer"),
+    "ISERROR": Lazy(_is(lambda v: v.tag >= FIRST_ERROR), "asks a value's type: errors are an answer"),
     "ISTEXT": Lazy(_is(lambda v: v.tag == TEXT), "asks a value's type: errors are an answer"),
-    "ISERR": Lazy(_is(lambda v: (v.tag >= 10) & (v.tag != NA)), "asks a value's type: errors are an answer"),
+    "ISERR": Lazy(_is(lambda v: (v.tag >= FIRST_ERROR) & (v.tag != NA)), "asks a value's type: errors are an answer"),
     "ISNA": Lazy(_is(lambda v: v.tag == NA), "asks a value's type: errors are an answer"),
     "ERROR.TYPE": Lazy(_error_type, "asks which error: errors are an answer"),
     "CONCATENATE": Lazy(_concatenate, "any number of arguments, joined as `&` joins two"),
