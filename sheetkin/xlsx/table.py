@@ -51,7 +51,7 @@ def _add(category: str, kernels: dict[str, Callable[..., Any]], arity: tuple[int
         FUNCTIONS[name] = Function(name, category, kernel, arity, ranges, lazy, note)
 
 
-class _Later:
+class LazyModule:
     """The namespace of a module of kernels, each imported on its first call: the evaluator
     starts without the modules of functions a book does not call (issue 32, speed)."""
 
@@ -59,14 +59,14 @@ class _Later:
         self.module = module
 
     def __getattr__(self, attr: str) -> Any:
-        return _Kernel(self.module, attr, None)
+        return LazyKernel(self.module, attr, None)
 
     def get(self, attr: str, key: str) -> Callable[..., Any]:
-        return _Kernel(self.module, attr, key)
+        return LazyKernel(self.module, attr, key)
 
 
-class _Kernel:
-    """One kernel of a module imported on first use (see _Later)."""
+class LazyKernel:
+    """One kernel of a module imported on first use (see LazyModule)."""
     __slots__ = ("module", "attr", "key", "target")
 
     def __init__(self, module: str, attr: str, key: str | None):
@@ -80,7 +80,7 @@ class _Kernel:
         return self.target(*args)
 
 
-lookup, mathstat, textinfo = _Later("lookup"), _Later("mathstat"), _Later("textinfo")
+lookup, mathstat, textinfo = LazyModule("lookup"), LazyModule("mathstat"), LazyModule("textinfo")
 
 
 def _whole(fn: Callable[..., Any]) -> Callable[..., Any]:
