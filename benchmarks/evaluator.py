@@ -43,6 +43,7 @@ sys.path.insert(0, str(ROOT))
 
 import sheetkin.xlsx.evaluator as E  # noqa: E402
 import sheetkin.xlsx.runs as R  # noqa: E402
+from sheetkin.xlsx.caches import clear_caches  # noqa: E402  (parsed formulas, run templates ...)
 from sheetkin.xlsx.evaluator import evaluate  # noqa: E402
 
 MECHANISMS = (("fourbar", 1.0), ("shaper", -1.0))
@@ -53,12 +54,6 @@ def make_workbook(stem: str, step: float, positions: int, out: Path) -> Path:
                     "--positions", str(positions), "--step-deg", str(step), "-o", str(out)],
                    check=True, capture_output=True, cwd=ROOT)
     return out
-
-
-def clear_caches() -> None:
-    """Forget the parsed formulas and run templates the evaluator keeps per process."""
-    E._PARSED.clear()
-    R._TEMPLATES.clear()
 
 
 def time_ours(path: Path, repeat: int, cold: bool = True):
@@ -100,10 +95,10 @@ def phases(path: Path, repeat: int) -> dict[str, float]:
                 sh = X._read_sheet(pkg, info.name, info.part, info.state, shared, pkg.limits)
             sheets[info.name] = sh
             t = lap("reading cells from the sheet XML", t)
-        runs = [r for sh in sheets.values() for r in R._group_runs(sh)]
+        runs = [r for sh in sheets.values() for r in R.group_runs(sh)]
         t = lap("grouping formulas into runs", t)
-        E._PARSED.clear()
-        runs = [r for sh in sheets.values() for r in R._group_runs(sh)]   # templates kept
+        clear_caches()
+        runs = [r for sh in sheets.values() for r in R.group_runs(sh)]   # templates kept
         names_key = frozenset(n.upper() for n in names)
         t = time.perf_counter()
         for run in runs:
@@ -115,7 +110,7 @@ def phases(path: Path, repeat: int) -> dict[str, float]:
         total = time.perf_counter() - t
         t = time.perf_counter()
         for sh in sheets.values():
-            R._group_runs(sh)
+            R.group_runs(sh)
         regroup = time.perf_counter() - t
         stage["ordering and numpy evaluation"] = max(0.0, total - regroup)
         for k, v in stage.items():

@@ -25,6 +25,13 @@ OUTSIDE_THE_FAMILY = {
     "sheetkin.cli.commands.Terminated": "a signal",
     # control flow inside one module (a formula that is not a simple one); never leaves it
     "sheetkin.xlsx.cells._NotSimple": "module-private control flow",
+    # a kernel's Excel error (#NUM!, #VALUE!): becomes the cell's error value, never the user's
+    "sheetkin.xlsx.cellwise.Fail": "an Excel error value inside the engine",
+    # OFFSET/INDIRECT reading a cell computed later: the cell is "not computed here"
+    "sheetkin.xlsx.context.ReadsLater": "the engine's control flow",
+    # the per-file time limit's alarm: a BaseException so no `except Exception` swallows it;
+    # the file is reported as taking too long, the class goes on
+    "sheetkin.course.batch._TooLong": "the per-file time limit's alarm",
 }
 
 

@@ -3,11 +3,13 @@ computes its formulas headlessly, within Excel's limits.
 
 It owns the package gate (`package`: zip bombs, part sizes, `Limits`, `UnusableWorkbook`),
 the cell reader (`cells`), the formula parser (`parse`), values and functions (`values`,
-`functions`), runs of like formulas (`runs`), the evaluator with its context and limits
-(`evaluator`, `context`, `limits`), what a file that is not an .xlsx is and its conversion
-(`convert`: password sniffing, .ods/.fods/.xls, the OpenDocument gate), and LibreOffice
-itself (`libreoffice`). It imports nothing else of sheetkin: the course package grades
-with it, and it knows nothing of mechanisms.
+`functions`), the function table (`table`: every worksheet function one entry, its kernels
+in `mathstat`, `textinfo`, `lookup` and `cellwise`), runs of like formulas (`runs`), the
+evaluator with its context and limits (`evaluator`, `context`, `limits`), the cells not
+computed here (`uncomputed`), the memos (`caches`, `clear_caches()`), what a file that
+is not an .xlsx is and its conversion (`convert`: password sniffing, .ods/.fods/.xls, the
+OpenDocument gate), and LibreOffice itself (`libreoffice`). It imports nothing else of
+sheetkin: the course package grades with it, and it knows nothing of mechanisms.
 """
 from __future__ import annotations
 
@@ -32,6 +34,7 @@ _EXPORTS = {
     "parse_formula": "parse",
     "ParseError": "parse",
     "XlError": "functions",
+    "clear_caches": "caches",
 }
 
 

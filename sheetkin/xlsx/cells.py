@@ -10,6 +10,7 @@ the regex does not account for, goes through ElementTree (see _read_fast).
 """
 from __future__ import annotations
 
+import functools
 import gc
 import io
 import math
@@ -28,10 +29,17 @@ from .coords import column_index_from_string, get_column_letter
 from .functions import ERRORS, XlError, capped
 from .package import Limits, UnusableWorkbook, open_package, sheet_parts
 
-_LETTERS = [""] + [get_column_letter(c) for c in range(1, 16385)]   # Excel's last column is XFD
-_COLUMN_INDEX = {letters: c for c, letters in enumerate(_LETTERS) if c}
-_MAX_COL = len(_LETTERS) - 1             # XFD
-_MAX_ROW = 1_048_576                      # Excel's last row
+MAX_COL = 16_384                         # XFD, Excel's last column
+
+
+@functools.cache
+def _columns() -> tuple[list[str], dict[str, int], dict[bytes, int]]:
+    """Every column's letters ("" for 0, then A ... XFD), their numbers, and the same for bytes:
+    built on first use, not at import (`sheetkin evaluate` starts faster, issue 32)."""
+    letters = [""] + [get_column_letter(c) for c in range(1, MAX_COL + 1)]
+    index = {text: c for c, text in enumerate(letters) if c}
+    return letters, index, {text.encode(): c for text, c in index.items()}
+MAX_ROW = 1_048_576                      # Excel's last row
 
 
 @dataclass
@@ -124,7 +132,7 @@ def _read_tree(pkg, root, name: str, part: str, state: str, shared: list[str], l
     shared_f: dict[str, _Shared] = {}
     f_tag, v_tag, is_tag, t_tag = f"{ns}f", f"{ns}v", f"{ns}is", f"{ns}t"
     pending: list = []                     # shared-formula cells met before their master
-    col_of = _COLUMN_INDEX
+    col_of = _columns()[1]
     count = 0
     for c in cells:
         count += 1
@@ -137,15 +145,7 @@ def _read_tree(pkg, root, name: str, part: str, state: str, shared: list[str], l
             raise UnusableWorkbook(pkg.path, f"a cell without a valid reference ({ref!r})",
                                    "cells named like A1", part=part)
         row = int(ref[len(letters):])
-        f = v = inline = None
-        for child in c:                    # one pass over <f>, <v>, <is>
-            tag = child.tag
-            if tag == v_tag:
-                v = child
-            elif tag == f_tag:
-                f = child
-            elif tag == is_tag:
-                inline = child
+        f, v, inline = _children(c, f_tag, v_tag, is_tag)
         if f is None and (v is None or not v.text) and inline is None:
             continue                       # styled emptiness: no limit, not in the used range
         if row > limits.max_rows or col > limits.max_cols:
@@ -161,35 +161,57 @@ def _read_tree(pkg, root, name: str, part: str, state: str, shared: list[str], l
             raise UnusableWorkbook(pkg.path, f"sheet '{name}' cell {ref} has the value "
                                    f"{v.text if v is not None else None!r} of type {c.get('t', 'n')!r}",
                                    "a number, or an index into the shared strings", part=part) from None
-        if f is not None:
-            text = f.text
-            if f.get("t") == "shared":
-                si = f.get("si")
-                if text:
-                    shared_f[si] = _Shared(text, row, col)
-                elif si in shared_f:
-                    text = _shifted(sh, shared_f[si], row, col, si)
-                    if text is None:               # cannot be shifted: dangling
-                        if value is not None:
-                            sh.cached[(row, col)] = value
-                        continue
-                else:                      # before its master (a block the master is inside), or no master
-                    pending.append((row, col, si))
-                    if value is not None:
-                        sh.cached[(row, col)] = value
-                    continue
-            if text:
-                sh.formulas[(row, col)] = text
-                if f.get("t") == "array":
-                    sh.arrays[(row, col)] = _array_end(f.get("ref"), row, col)
-                if value is not None:
-                    sh.cached[(row, col)] = value
-                continue
+        if f is not None and _place_formula(sh, f, value, row, col, shared_f, pending):
+            continue
         if value is not None:
             sh.consts[(row, col)] = value
     _resolve_pending(sh, pending, shared_f, sh.formulas)
     _check_cells(pkg, name, sh, limits, budget)
     return _finish(sh, pkg, limits)
+
+
+def _children(c, f_tag: str, v_tag: str, is_tag: str) -> tuple:
+    """A cell element's <f>, <v> and <is> (None where absent), in one pass."""
+    f = v = inline = None
+    for child in c:
+        tag = child.tag
+        if tag == v_tag:
+            v = child
+        elif tag == f_tag:
+            f = child
+        elif tag == is_tag:
+            inline = child
+    return f, v, inline
+
+
+def _place_formula(sh: Sheet, f, value, row: int, col: int, shared_f: dict, pending: list) -> bool:
+    """A cell's <f> into the sheet (a shared formula's text shifted from its master, an array
+    formula's range noted), its saved value into sh.cached; False for an empty <f> that is
+    not shared (the cell is then a constant)."""
+    text = f.text
+    if f.get("t") == "shared":
+        si = f.get("si")
+        if text:
+            shared_f[si] = _Shared(text, row, col)
+        elif si in shared_f:
+            text = _shifted(sh, shared_f[si], row, col, si)
+            if text is None:               # cannot be shifted: dangling
+                if value is not None:
+                    sh.cached[(row, col)] = value
+                return True
+        else:                      # before its master (a block the master is inside), or no master
+            pending.append((row, col, si))
+            if value is not None:
+                sh.cached[(row, col)] = value
+            return True
+    if not text:
+        return False
+    sh.formulas[(row, col)] = text
+    if f.get("t") == "array":
+        sh.arrays[(row, col)] = _array_end(f.get("ref"), row, col)
+    if value is not None:
+        sh.cached[(row, col)] = value
+    return True
 
 
 def _tree_value(t: str, vtext: str | None, inline, t_tag: str, shared: list[str]) -> float | str | bool | None:
@@ -215,7 +237,7 @@ def _array_end(ref: str | None, row: int, col: int) -> tuple[int, int]:
     missing or unreadable ref is the anchor alone."""
     last = (ref or "").split(":")[-1].replace("$", "")
     letters = last.rstrip("0123456789")
-    c = _COLUMN_INDEX.get(letters.upper())
+    c = _columns()[1].get(letters.upper())
     if c is None or not last[len(letters):].isdigit():
         return row, col
     return max(row, int(last[len(letters):])), max(col, c)
@@ -229,7 +251,7 @@ def _finish(sh: Sheet, pkg, limits: Limits) -> Sheet:
     for (r, c), (r2, c2) in sh.arrays.items():
         if r2 > limits.max_rows or c2 > limits.max_cols:
             raise UnusableWorkbook(pkg.path, f"sheet '{sh.name}' has an array formula at "
-                                   f"{_LETTERS[c]}{r} over {_LETTERS[c]}{r}:{_LETTERS[c2]}{r2}",
+                                   f"{_columns()[0][c]}{r} over {_columns()[0][c]}{r}:{_columns()[0][c2]}{r2}",
                                    f"at most {limits.max_rows} rows and {limits.max_cols} columns")
         if (r2 - r + 1) * (c2 - c + 1) <= len(sh.consts):
             cells = [(i, j) for i in range(r, r2 + 1) for j in range(c, c2 + 1)]
@@ -305,7 +327,6 @@ _ARRAY = re.compile(rb'(?:^|[ \t\n])t="array"')
 _REF = re.compile(rb'(?:^|[ \t\n])ref="([^"]*)"')
 _CHAR_REF = re.compile(rb"#[0-9]{1,7}|#x[0-9A-Fa-f]{1,6}")
 _NAMED = {b"amp": b"&", b"lt": b"<", b"gt": b">", b"quot": b'"', b"apos": b"'"}
-_COLUMN_BYTES = {letters.encode(): c for letters, c in _COLUMN_INDEX.items()}
 
 
 class _NotSimple(Exception):
@@ -339,7 +360,7 @@ def _entity(m: re.Match) -> bytes:
     return char
 
 
-def _texts(items: list[bytes]) -> list[str]:
+def texts_of(items: list[bytes]) -> list[str]:
     """Character data (bytes without markup): unescaped and decoded, all in one pass. With
     references in it, expat reads them (C; each item in an element of its own, so no markup
     but ours; an undefined entity or a character XML forbids is a ParseError): 2x faster
@@ -409,18 +430,11 @@ def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits
               into: Sheet | None = None, masters: dict | None = None) -> Sheet:
     """The cells of one piece of <sheetData> (split by _CELLS), added to `into`; masters:
     the shared formulas' first cells met so far (a block may span pieces)."""
-    k = _GROUPS + 1
-    columns = [parts[g::k] for g in range(1, k)]
-    if columns[0] and columns[0][-1] is None and columns[0].count(None) == 1:
-        columns = [x[:-1] for x in columns]         # the last </row>
-    elif None in columns[0]:                        # <row> or </row> matched alone
-        keep = [x is not None for x in columns[0]]
-        columns = [list(compress(x, keep)) for x in columns]
-    letters, rownums, types, fattrs, ftexts, vtexts, itexts = columns
+    letters, rownums, types, fattrs, ftexts, vtexts, itexts = _columns_of(parts)
     sh = into if into is not None else Sheet(name, state)
     if not letters:
         return sh
-    cols = list(map(_COLUMN_BYTES.__getitem__, letters))    # KeyError past XFD
+    cols = list(map(_columns()[2].__getitem__, letters))    # KeyError past XFD
     rows = list(map(int, rownums))
     keys = list(zip(rows, cols, strict=False))
     if len(set(keys)) != len(keys):
@@ -435,18 +449,44 @@ def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits
         last_col = max(compress(cols, held), default=0)
     sh.max_row, sh.max_col = max(sh.max_row, last_row), max(sh.max_col, last_col)   # over the pieces
     if sh.max_row > limits.max_rows or sh.max_col > limits.max_cols:
-        for r, c, L, R, h in zip(rows, cols, letters, rownums, held, strict=False):
-            if h and (r > limits.max_rows or c > limits.max_cols):
-                raise UnusableWorkbook(pkg.path, f"sheet '{name}' has a cell at {(L + R).decode()}",
-                                       f"at most {limits.max_rows} rows and {limits.max_cols} columns")
+        _refuse_far_cell(pkg, name, limits, rows, cols, letters, rownums, held)
     # formulas: the text of every <f> that has one, decoded in one pass
-    formulas = dict(zip(compress(keys, ftexts), _texts(list(filter(None, ftexts))), strict=False))
+    formulas = dict(zip(compress(keys, ftexts), texts_of(list(filter(None, ftexts))), strict=False))
     if any(fattrs):
         formulas = _shared_and_arrays(sh, keys, fattrs, ftexts, formulas, {} if masters is None else masters)
     # values: constants, and the values saved for formula cells
     with_value: Iterable[int] = compress(range(len(keys)), vtexts)
     if any(itexts):
         with_value = sorted(set(with_value) | set(compress(range(len(keys)), itexts)))
+    _store_values(sh, with_value, keys, types, vtexts, itexts, shared, formulas)
+    sh.formulas.update(formulas)
+    return sh
+
+
+def _columns_of(parts: list) -> list[list]:
+    """The regex's groups of a piece of <sheetData>, one list per group (letters, row, t,
+    <f> attributes, <f>, <v>, <is>), the <row> and </row> matches left out."""
+    k = _GROUPS + 1
+    columns = [parts[g::k] for g in range(1, k)]
+    if columns[0] and columns[0][-1] is None and columns[0].count(None) == 1:
+        columns = [x[:-1] for x in columns]         # the last </row>
+    elif None in columns[0]:                        # <row> or </row> matched alone
+        keep = [x is not None for x in columns[0]]
+        columns = [list(compress(x, keep)) for x in columns]
+    return columns
+
+
+def _refuse_far_cell(pkg, name: str, limits: Limits, rows, cols, letters, rownums, held) -> None:
+    """One line naming the first cell that holds something past the rows or columns allowed."""
+    for r, c, L, R, h in zip(rows, cols, letters, rownums, held, strict=False):
+        if h and (r > limits.max_rows or c > limits.max_cols):
+            raise UnusableWorkbook(pkg.path, f"sheet '{name}' has a cell at {(L + R).decode()}",
+                                   f"at most {limits.max_rows} rows and {limits.max_cols} columns")
+
+
+def _store_values(sh: Sheet, with_value: Iterable[int], keys: list, types: list, vtexts: list, itexts: list,
+                  shared: list[str], formulas: dict) -> None:
+    """Constants into sh.consts, the values saved for formula cells into sh.cached."""
     consts, cached = sh.consts, sh.cached
     for i in with_value:
         t, v = types[i], vtexts[i] or None
@@ -461,8 +501,6 @@ def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits
             cached[key] = value
         else:
             consts[key] = value
-    sh.formulas.update(formulas)
-    return sh
 
 
 def _shared_and_arrays(sh: Sheet, keys: list, fattrs: list, ftexts: list, formulas: dict, masters: dict) -> dict:
@@ -538,7 +576,7 @@ def _column_spans(m) -> list[tuple[int, int, str]]:
     return []
 
 
-class _Template:
+class Template:
     """A formula as text with its relative columns left open: rendering it for the next
     columns and comparing strings tells whether those cells hold the same formula shifted."""
 
@@ -558,12 +596,12 @@ class _Template:
         self.text = "".join(p.replace("{", "{{").replace("}", "}}") + (f"{{{slots[i]}}}" if i < len(slots) else "")
                             for i, p in enumerate(pieces))
         self.low = -min(offsets, default=0)
-        self.high = _MAX_COL - max(offsets, default=0)
+        self.high = MAX_COL - max(offsets, default=0)
 
     def render(self, col: int) -> str | None:
         if not self.low < col <= self.high:        # a reference left of column A or past XFD
             return None
-        return self.text.format(*[_LETTERS[col + o] for o in self.offsets])
+        return self.text.format(*[_columns()[0][col + o] for o in self.offsets])
 
     def render_many(self, col: int, n: int) -> list[str | None]:
         """The formulas of columns col ... col + n - 1."""
@@ -573,8 +611,8 @@ class _Template:
             return [self.pieces[0]] * n
         if len(self.offsets) == 1:                 # every relative column the same: join the letters in
             o = self.offsets[0]
-            return list(map(str.join, _LETTERS[col + o:col + o + n], [self.pieces] * n))
-        return list(map(self.text.format, *[_LETTERS[col + o:col + o + n] for o in self.offsets]))
+            return list(map(str.join, _columns()[0][col + o:col + o + n], [self.pieces] * n))
+        return list(map(self.text.format, *[_columns()[0][col + o:col + o + n] for o in self.offsets]))
 
 
 class _Shared:
@@ -585,14 +623,14 @@ class _Shared:
 
     def __init__(self, text: str, row: int, col: int):
         self.text, self.row, self.col = text, row, col
-        self.template: _Template | None = None
+        self.template: Template | None = None
         self.agrees: bool | None = None
 
     def at(self, row: int, col: int) -> str:
         dr, dc = row - self.row, col - self.col
         if dr == 0 and dc > 0 and self.agrees is not False:
             if self.template is None:
-                self.template = _Template(self.text, self.col)
+                self.template = Template(self.text, self.col)
             text = self.template.render(col)
             if self.agrees and text is not None:
                 return text
@@ -623,19 +661,19 @@ def _shift_formula(formula: str, dr: int, dc: int) -> str:
     def col(abs_, letters):
         if abs_:
             return abs_ + letters
-        c = _COLUMN_INDEX[letters] + dc
-        return _LETTERS[c] if 1 <= c <= _MAX_COL else None
+        c = _columns()[1][letters] + dc
+        return _columns()[0][c] if 1 <= c <= MAX_COL else None
 
     def row(abs_, digits):
         if abs_:
             return abs_ + digits
         r = int(digits) + dr
-        return str(r) if 1 <= r <= _MAX_ROW else None
+        return str(r) if 1 <= r <= MAX_ROW else None
 
     def sub(m):
         if m.group("str") is not None:
             return m.group(0)
-        if any(g is not None and g not in _COLUMN_INDEX for g in (m.group("col"), m.group("wc1"), m.group("wc2"))):
+        if any(g is not None and g not in _columns()[1] for g in (m.group("col"), m.group("wc1"), m.group("wc2"))):
             return m.group(0)                 # past XFD (ZZZ9): a name, not a reference
         if any(g is not None and g.startswith("0") for g in (m.group("row"), m.group("wr1"), m.group("wr2"))):
             return m.group(0)                 # row 0 or a leading zero (A0, A01): no reference Excel writes

@@ -253,7 +253,7 @@ def _convert_batch(paths, limits: Limits, timeout_per_file: float, note) -> int:
 # ----------------------------------------------------------------- the OpenDocument gate
 _ODF_TABLE = "urn:oasis:names:tc:opendocument:xmlns:table:1.0"
 _ODF_OFFICE = "urn:oasis:names:tc:opendocument:xmlns:office:1.0"
-_ROW, _CELL, _COVERED = (f"{{{_ODF_TABLE}}}{t}" for t in ("table-row", "table-cell", "covered-table-cell"))
+_ROW, CELL_REF, _COVERED = (f"{{{_ODF_TABLE}}}{t}" for t in ("table-row", "table-cell", "covered-table-cell"))
 _ROWS_REP, _COLS_REP = f"{{{_ODF_TABLE}}}number-rows-repeated", f"{{{_ODF_TABLE}}}number-columns-repeated"
 _VALUE_TYPE, _FORMULA = f"{{{_ODF_OFFICE}}}value-type", f"{{{_ODF_TABLE}}}formula"
 _TABLE = f"{{{_ODF_TABLE}}}table"
@@ -330,7 +330,7 @@ def _check_odf_expansion(stream, shown: str, limits: Limits) -> None:
             reps = _repeat(el.get(_ROWS_REP))
             col = last_col = held = 0
             for c in el:
-                if c.tag not in (_CELL, _COVERED):
+                if c.tag not in (CELL_REF, _COVERED):
                     continue
                 n = _repeat(c.get(_COLS_REP))
                 col += n

@@ -29,10 +29,10 @@ shape (cells, rows, cols): (k, 1, 1) for one value per cell of a run, (k, R, C) 
 The modules, each importing only those before it: values.py (Val, coercions,
 operators, functions, aggregates; kernels in functions.py), parse.py (formula text
 to trees, Excel's limits for a formula), runs.py (Run, grouping cells into runs),
-context.py (_Context: a tree evaluated for a run), limits.py (hostile
+context.py (Context: a tree evaluated for a run), limits.py (hostile
 input: depth, names, cells read, workbook-wide refusals), and this one: evaluate and
 evaluate_sheets, defined names and array formulas, the order of runs (_schedule), Book and
-the results as tables. The names the others hold are importable from here as before.
+the results as tables.
 """
 from __future__ import annotations
 
@@ -42,38 +42,34 @@ from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
-from .cells import _MAX_COL, _MAX_ROW, Sheet, read_book
-from .context import _Context, _lookup
+from .caches import Cache
+from .cells import MAX_COL, MAX_ROW, Sheet, read_book
+from .context import Context, ReadsLater, lookup_name
 from .coords import get_column_letter
-from .functions import DIV0, ERROR_TEXT, ERRORS, NA, NAME, NULL, NUMERR, REF, VALUE, XlError  # noqa: F401
-from .limits import (  # noqa: F401
-    MAX_EVAL_DEPTH,
-    _check_formula_text,
-    _check_names,
-    _check_reads,
-    _chunks,
-    _names_used,
-    _run_notes,
-    _store_dims,
+from .functions import ERROR_TEXT, ERRORS, NA, VALUE, XlError
+from .limits import (
+    check_formula_text,
+    check_names,
+    check_reads,
     dims_signature,
+    names_used,
+    run_notes,
+    run_pieces,
+    store_dims,
 )
-from .package import Limits, UnusableWorkbook, _show
-from .parse import (  # noqa: F401
-    ARITY,
-    MAX_ARGS,
-    MAX_FORMULA_CHARS,
-    MAX_NESTING,
+from .package import Limits, UnusableWorkbook, shorten
+from .parse import (
     Note,
     ParseError,
     Ref,
-    _nodes,
-    arity_problem,
     functions_of,
     parse_formula,
     refs_of,
 )
-from .runs import _TEMPLATES, EvaluationError, Run, _group_runs, _span, _split  # noqa: F401
-from .values import AGGREGATES, BOOL, EMPTY, LAZY, NUM, SCALAR_FUNCS, SUPPORTED, TEXT, Val, _const, _err  # noqa: F401
+from .runs import EvaluationError, Run, group_runs, span, split_run
+from .table import DYNAMIC, SUPPORTED, arity_problem
+from .uncomputed import Uncomputed
+from .values import BOOL, EMPTY, NUM, TEXT, Val, error_value
 
 if TYPE_CHECKING:
     import pandas as pd  # only rows_frame builds a DataFrame: `sheetkin evaluate` loads no pandas
@@ -95,6 +91,19 @@ class Book:
     # the runs in the order they were evaluated (parsed trees, references): what
     # sheetkin.xlsx.precedents traces through
     schedule: list = field(default_factory=list, repr=False)
+    # cells "not computed here" (sheetkin.xlsx.uncomputed): {sheet: {(row, col): unknown functions}}
+    not_computed: dict[str, dict[tuple[int, int], tuple[str, ...]]] = field(default_factory=dict)
+
+    def computed(self, sheet: str, r: int, c: int) -> bool:
+        """Whether sheetkin computed the cell's value: False for a formula that calls a
+        function the evaluator does not know, or reads (through any chain of cells or names)
+        a cell that does; its value is then #NAME? and not sheetkin's to judge."""
+        return (int(r), int(c)) not in self.not_computed.get(sheet, {})
+
+    def uncomputed(self) -> list[str]:
+        """One line per cell not computed here: "Sheet!B3: FOO" (the unknown functions behind it)."""
+        return [f"{s}!{get_column_letter(c)}{r}: {', '.join(fs)}"
+                for s, cells in self.not_computed.items() for (r, c), fs in cells.items()]
 
     @property
     def notes(self) -> list[str]:
@@ -144,8 +153,8 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
     problems: list[str] = []
     runs: list[Run] = []
     for sh in sheets.values():
-        runs.extend(_array_runs(sh, _group_runs(sh)) if sh.arrays else _group_runs(sh))
-    _check_formula_text(path, runs, limits)
+        runs.extend(_array_runs(sh, group_runs(sh)) if sh.arrays else group_runs(sh))
+    check_formula_text(path, runs, limits)
     # whole columns and rows (A:A, 2:2) end at the workbook's used range
     bound = (max([sh.max_row for sh in sheets.values()] + [1]), max([sh.max_col for sh in sheets.values()] + [1]))
     name_notes: dict = {}                         # scope -> {NAME: Note} of names that cannot be evaluated
@@ -153,15 +162,19 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
     name_refs = {**scopes[None], **{n: t for sc in scopes.values() for n, t in sc.items()}}
     names_key = frozenset(name_refs)
     # parse each run once (its first cell)
+    unknown_in_names = _unknown_in_names(names, sheets)
     for run in runs:
-        run.tree, run.error, run.refs = _parse_run(run.formula, run.row, int(run.cols[0]), name_refs, names_key)
+        run.tree, run.error, run.refs, called = _parse_run(run.formula, run.row, int(run.cols[0]), name_refs,
+                                                            names_key)
+        run.unknown = _unknown_functions(run.tree, called, unknown_in_names)
+        run.dynamic = bool(called & DYNAMIC)
         if run.error:
             problems.append(f"{run.where()}: {run.error}")
         else:
             if any(_is_whole(ref) for ref in run.refs):
                 run.tree = _bound_whole(run.tree, bound)
                 run.refs = refs_of(run.tree)
-            problems.extend(_run_notes(run, sheets, name_refs,
+            problems.extend(run_notes(run, sheets, name_refs,
                                        {**name_notes.get(None, {}), **name_notes.get(run.sheet, {})}))
         if run.tree is not None and _has_names(run.tree):
             # a name is a dependency: what it refers to (through other names too) is
@@ -174,8 +187,8 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
         raise EvaluationError(f"{path}: " + "; ".join(problems[:10]) +
                               (f" (and {len(problems) - 10} more)" if len(problems) > 10 else ""))
     # value stores: the used range of each sheet (the cells that hold something); a
-    # reference past it reads as empty cells, a range is clipped to it (_Context.ref)
-    dims = _store_dims(path, sheets, limits)
+    # reference past it reads as empty cells, a range is clipped to it (Context.ref)
+    dims = store_dims(path, sheets, limits)
     num = {n: np.zeros(d) for n, d in dims.items()}
     tag = {n: np.full(d, EMPTY, np.int8) for n, d in dims.items()}
     txt = {n: np.empty(d, dtype=object) for n, d in dims.items()}
@@ -184,61 +197,124 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
             store_value(num[n], tag[n], txt[n], r, c, v)
         for (r, c) in getattr(sh, "dangling", {}):
             tag[n][r, c] = NA
-    _check_reads(path, runs, dims, name_refs, limits)      # before ordering: it scans the ranges too
+    check_reads(path, runs, dims, name_refs, limits)      # before ordering: it scans the ranges too
     order_runs = _schedule(path, runs, dims, sheets, strict=strict, problems=problems)
-    _check_reads(path, order_runs, dims, name_refs, limits)  # runs split into cells read more
-    ctx = _Context(num, tag, txt, scopes)
+    check_reads(path, order_runs, dims, name_refs, limits)  # runs split into cells read more
+    ctx = Context(num, tag, txt, scopes)
     ctx.arrays = {n: sh.arrays for n, sh in sheets.items()}
+    if any(run.dynamic for run in order_runs):
+        ctx.pending = _formula_cells(order_runs, dims)
+    marks = Uncomputed(dims)
     with np.errstate(all="ignore"):
-        cells = _run_all(path, order_runs, ctx, dims, name_refs, strict, problems)
-    return Book(path, sheets, order, num, tag, txt, problems, len(order_runs), cells, order_runs)
+        cells = _run_all(path, order_runs, ctx, dims, name_refs, strict, problems, marks)
+    return Book(path, sheets, order, num, tag, txt, problems, len(order_runs), cells, order_runs, marks.by_sheet())
 
 
-def _run_all(path: str, order_runs: list[Run], ctx: _Context, dims: dict, name_refs: dict, strict: bool,
-             problems: list[str]) -> int:
+def _unknown_in_names(names: dict, sheets: dict[str, Sheet]) -> dict[str, frozenset[str]]:
+    """The unknown functions each defined name calls, itself (any scope; names are parsed
+    again here because checking them replaces such a name by an error)."""
+    out: dict[str, frozenset[str]] = {}
+    for table in [names, *(sh.names for sh in sheets.values() if sh.names)]:
+        for n, text in table.items():
+            if "(" not in text:                    # no function call: nothing to parse
+                continue
+            try:
+                tree = parse_formula("=" + text.removeprefix("="), 1, 1, {})
+            except ParseError:
+                continue
+            bad = frozenset(f for f in functions_of(tree) if f not in SUPPORTED)
+            if bad:
+                out[n.upper()] = out.get(n.upper(), frozenset()) | bad
+    return out
+
+
+def _unknown_functions(tree, called: frozenset[str], unknown_in_names: dict[str, frozenset[str]]) -> frozenset[str]:
+    """The functions a formula calls that the table lacks, itself or through the names it uses."""
+    if tree is None:
+        return frozenset()
+    bad = called - SUPPORTED
+    if unknown_in_names:
+        for n in names_used(tree):
+            bad |= unknown_in_names.get(n, frozenset())
+    return bad
+
+
+def _formula_cells(runs: list[Run], dims: dict) -> dict[str, np.ndarray]:
+    """Per sheet, the cells that formulas compute (array formulas' whole ranges)."""
+    owner = _owners(runs, dims)
+    return {n: o >= 0 for n, o in owner.items()}
+
+
+def _run_all(path: str, order_runs: list[Run], ctx: Context, dims: dict, name_refs: dict, strict: bool,
+             problems: list[str], marks: Uncomputed) -> int:
     """Every run evaluated in order, its values written into the context's stores (a run
-    that cannot be evaluated: its error, and a note in `problems`); returns the cells."""
-    num, tag, txt = ctx.num, ctx.tag, ctx.txt
+    that cannot be evaluated: its error, and a note in `problems`); the cells not computed
+    here marked as they go (`marks`); returns the cells."""
     cells, dims_key = 0, dims_signature(dims)
     for run in order_runs:
         cells += len(run.cols)
-        for part in _chunks(run, dims, name_refs, dims_key):
-            k = len(part.cols)
-            if part.error:
-                v = _err(getattr(part.error, "code", "#NAME?"), k)
-                if part.array is not None:          # the whole range holds the error
-                    _write_array(_err(getattr(part.error, "code", "#NAME?")), part, num, tag, txt)
-                    continue
-            else:
-                try:
-                    if part.array is not None:
-                        _write_array(ctx.formula(part.tree, part), part, num, tag, txt)
-                        continue
-                    v = _as_cells(ctx.formula(part.tree, part), k)
-                except (EvaluationError, UnusableWorkbook):
-                    raise
-                except Exception as e:      # noqa: BLE001 - the cell's problem, not the process's
-                    note = (f"{part.where()}: internal error of the evaluator "
-                            f"({type(e).__name__}: {_show(e, 120)}): #VALUE!")
-                    if strict:
-                        raise EvaluationError(f"{path}: {note}") from e
-                    problems.append(note)
-                    v = _err("#VALUE!", k)
-            n = part.sheet
-            where = ((part.row, slice(int(part.cols[0]), int(part.cols[0]) + k)) if part.contiguous
-                     else (part.row, part.cols))
-            num[n][where] = v.num[:, 0, 0]
-            tag[n][where] = v.tag[:, 0, 0]
-            if v.txt is not None:
-                txt[n][where] = v.txt[:, 0, 0]
+        for part in run_pieces(run, dims, name_refs, dims_key):
+            try:
+                _run_part(path, part, ctx, strict, problems)
+            except ReadsLater as e:
+                part.unknown = frozenset({str(e)})
+            if ctx.pending:
+                _done(ctx.pending, part)
+            if part.unknown:
+                marks.unknown(part, part.unknown, ctx.tag)
+            elif part.refs:
+                marks.reads(part, part.refs, ctx.tag)
     return cells
+
+
+def _done(pending: dict[str, np.ndarray], run: Run) -> None:
+    """The run's cells are computed now."""
+    c0 = int(run.cols[0])
+    if run.array is not None:
+        pending[run.sheet][run.row:run.array[0] + 1, c0:run.array[1] + 1] = False
+    else:
+        pending[run.sheet][run.row, run.cols] = False
+
+
+def _run_part(path: str, part: Run, ctx: Context, strict: bool, problems: list[str]) -> None:
+    """One piece of a run evaluated and written into the stores (an array formula over its range)."""
+    num, tag, txt = ctx.num, ctx.tag, ctx.txt
+    k = len(part.cols)
+    if part.error:
+        code = getattr(part.error, "code", "#NAME?")
+        if part.array is not None:          # the whole range holds the error
+            _write_array(error_value(code), part, num, tag, txt)
+            return
+        v = error_value(code, k)
+    else:
+        try:
+            if part.array is not None:
+                _write_array(ctx.formula(part.tree, part), part, num, tag, txt)
+                return
+            v = _as_cells(ctx.formula(part.tree, part), k)
+        except (EvaluationError, UnusableWorkbook, ReadsLater):
+            raise
+        except Exception as e:      # noqa: BLE001 - the cell's problem, not the process's
+            note = (f"{part.where()}: internal error of the evaluator "
+                    f"({type(e).__name__}: {shorten(e, 120)}): #VALUE!")
+            if strict:
+                raise EvaluationError(f"{path}: {note}") from e
+            problems.append(note)
+            v = error_value("#VALUE!", k)
+    n = part.sheet
+    where = ((part.row, slice(int(part.cols[0]), int(part.cols[0]) + k)) if part.contiguous
+             else (part.row, part.cols))
+    num[n][where] = v.num[:, 0, 0]
+    tag[n][where] = v.tag[:, 0, 0]
+    if v.txt is not None:
+        txt[n][where] = v.txt[:, 0, 0]
 
 
 # --------------------------------------------------------------------------- names, arrays, whole columns
 def _name_scopes(names: dict, sheets: dict[str, Sheet], bound, notes: dict | None = None) -> dict:
     """Parsed defined names by scope: None for the workbook's, a sheet's name for the names
     scoped to it (localSheetId). Names are case-insensitive. A name that cannot be read
-    (#VALUE!, as LibreOffice), or cannot be evaluated (_check_names: names in a circle,
+    (#VALUE!, as LibreOffice), or cannot be evaluated (check_names: names in a circle,
     unknown functions...) is a constant error where it is used, and notes[scope][NAME] says why."""
     notes = {} if notes is None else notes
 
@@ -250,17 +326,17 @@ def _name_scopes(names: dict, sheets: dict[str, Sheet], bound, notes: dict | Non
             except ParseError as e:
                 tree = ("const", XlError("#VALUE!"))
                 notes.setdefault(scope, {})[n.upper()] = Note(
-                    f"the name {_show(n, 60)} is not a formula (={_show(text, 60)}: {e})", "#VALUE!")
+                    f"the name {shorten(n, 60)} is not a formula (={shorten(text, 60)}: {e})", "#VALUE!")
             out[n.upper()] = _bound_whole(tree, bound)
         return out
     scopes: dict[str | None, dict] = {None: parsed(names, None)}
-    notes.setdefault(None, {}).update(_check_names(scopes[None]))
+    notes.setdefault(None, {}).update(check_names(scopes[None]))
     for n, sh in sheets.items():
         scopes[n] = parsed(sh.names, n) if sh.names else {}
         if scopes[n]:
             # a sheet's names see the workbook's too: checked together, kept for the sheet
             seen = {**scopes[None], **scopes[n]}
-            found = _check_names(seen)
+            found = check_names(seen)
             for name in scopes[n]:
                 scopes[n][name] = seen[name]
                 if name in found:
@@ -270,11 +346,11 @@ def _name_scopes(names: dict, sheets: dict[str, Sheet], bound, notes: dict | Non
 
 
 def _has_names(tree) -> bool:
-    return bool(_names_used(tree))             # kept per tree (limits._names_used)
+    return bool(names_used(tree))             # kept per tree (limits.names_used)
 
 
 def _names_in(tree, out: list):
-    out.extend(_names_used(tree))
+    out.extend(names_used(tree))
     return out
 
 
@@ -287,7 +363,7 @@ def _name_deps(tree, sheet: str, scopes: dict) -> list[Ref]:
         if name in seen:
             continue
         seen.add(name)
-        target = _lookup(scopes, sheet, name)
+        target = lookup_name(scopes, sheet, name)
         if target is not None:
             refs += refs_of(target)
             _names_in(target, todo)
@@ -295,8 +371,8 @@ def _name_deps(tree, sheet: str, scopes: dict) -> list[Ref]:
 
 
 def _is_whole(ref: Ref) -> bool:
-    return ((ref.r1_abs and ref.r2_abs and ref.r1 == 1 and ref.r2 == _MAX_ROW)
-            or (ref.c1_abs and ref.c2_abs and ref.c1 == 1 and ref.c2 == _MAX_COL))
+    return ((ref.r1_abs and ref.r2_abs and ref.r1 == 1 and ref.r2 == MAX_ROW)
+            or (ref.c1_abs and ref.c2_abs and ref.c1 == 1 and ref.c2 == MAX_COL))
 
 
 def _bound_whole(tree, bound: tuple[int, int]):
@@ -305,9 +381,9 @@ def _bound_whole(tree, bound: tuple[int, int]):
     the file holds. Rebuilt iteratively (children before parents): no recursion."""
     def fix(ref: Ref):
         r2, c2 = ref.r2, ref.c2
-        if ref.r1_abs and ref.r2_abs and ref.r1 == 1 and ref.r2 == _MAX_ROW:
+        if ref.r1_abs and ref.r2_abs and ref.r1 == 1 and ref.r2 == MAX_ROW:
             r2 = bound[0]
-        if ref.c1_abs and ref.c2_abs and ref.c1 == 1 and ref.c2 == _MAX_COL:
+        if ref.c1_abs and ref.c2_abs and ref.c1 == 1 and ref.c2 == MAX_COL:
             c2 = bound[1]
         return ("ref", Ref(ref.sheet, ref.r1, ref.c1, r2, c2, ref.r1_abs, ref.c1_abs, ref.r2_abs, ref.c2_abs))
 
@@ -388,7 +464,7 @@ def _as_cells(v: Val, k: int) -> Val:
     """A cell holds one value: an array result that is not a single value is #VALUE!;
     a formula whose value is an empty cell holds 0 (=Z99 with Z99 empty is 0)."""
     if v.shape[1:] != (1, 1):
-        return _err("#VALUE!", k)
+        return error_value("#VALUE!", k)
     if v.pure == -1 and (v.tag == EMPTY).any():
         v = Val(np.where(v.tag == EMPTY, 0.0, v.num), np.where(v.tag == EMPTY, NUM, v.tag).astype(np.int8), v.txt)
     if v.shape[0] != k:
@@ -401,99 +477,147 @@ def _schedule(path, runs: list[Run], dims, sheets, *, strict: bool = True, probl
     """Runs in dependency order; runs on a cycle (or referring to themselves) are split
     into single cells and ordered again; a cycle of single cells is circular: an
     EvaluationError with strict, else those cells get #VALUE! (as LibreOffice writes its
-    Err:522) and a note naming them."""
+    Err:522) and a note naming them. A run whose references are made while it runs (OFFSET,
+    INDIRECT) is split into cells, each evaluated after every run that does not depend on it."""
+    runs = [r for run in runs for r in (split_run(run) if run.dynamic and len(run.cols) > 1 else [run])]
     while True:
-        owner = {n: np.full(d, -1, np.int32) for n, d in dims.items()}
-        for i, run in enumerate(runs):
-            c0 = int(run.cols[0])
-            owner[run.sheet][run.row, slice(c0, c0 + len(run.cols)) if run.contiguous else run.cols] = i
-        for i, run in enumerate(runs):
-            if run.array is not None:          # an array formula owns its whole range
-                block = owner[run.sheet][run.row:run.array[0] + 1, int(run.cols[0]):run.array[1] + 1]
-                block[block == -1] = i
-        deps: list[set[int]] = []
-        split = set()
-        for i, run in enumerate(runs):
-            d = set()
-            # a run without an error has its references (set by _parse_run)
-            for ref in (cast(list, run.refs) if not run.error else ()):
-                target = ref.sheet or run.sheet
-                if target not in owner:
-                    continue
-                r1, r2, c1, c2 = _span(run, ref)
-                if r1 < 1 or c1 < 1:
-                    continue
-                block = owner[target][r1:r2 + 1, c1:c2 + 1]
-                if block.size <= 4096:
-                    ids = set(block.ravel().tolist())
-                    ids.discard(-1)
-                else:
-                    ids = set(np.unique(block[block >= 0]).tolist())
-                if len(run.cols) > 1 and (i in ids or ref.c1_abs != ref.c2_abs):
-                    split.add(i)                # self-reference, or a range whose width varies
-                d |= ids
-            deps.append(d)
+        deps, split = _dependencies(runs, _owners(runs, dims))
         if split:
-            runs = [r for i, run in enumerate(runs) for r in (_split(run) if i in split else [run])]
+            runs = [r for i, run in enumerate(runs) for r in (split_run(run) if i in split else [run])]
             continue
-        order, indeg = [], [len(d - {i}) for i, d in enumerate(deps)]
-        users: list[list[int]] = [[] for _ in runs]
-        for i, d in enumerate(deps):
-            for j in d - {i}:
-                users[j].append(i)
-        ready = [i for i, n in enumerate(indeg) if n == 0]
-        self_loops = [i for i, d in enumerate(deps) if i in d]
-        while ready:
-            i = ready.pop()
-            order.append(i)
-            for u in users[i]:
-                indeg[u] -= 1
-                if indeg[u] == 0:
-                    ready.append(u)
-        stuck = [i for i in range(len(runs)) if indeg[i] > 0] + self_loops
+        _dynamic_last(runs, deps)
+        order, stuck = _topological(deps)
         if not stuck:
             return [runs[i] for i in order]
-        multi = [i for i in stuck if len(runs[i].cols) > 1]
+        multi = {i for i in stuck if len(runs[i].cols) > 1}
         if multi:
-            keep = set(multi)
-            runs = [r for i, run in enumerate(runs) for r in (_split(run) if i in keep else [run])]
+            runs = [r for i, run in enumerate(runs) for r in (split_run(run) if i in multi else [run])]
             continue
-        cells = sorted({runs[i].where() for i in stuck})
-        what = (f"circular reference among {', '.join(cells[:12])}"
-                + (f" and {len(cells) - 12} more cells" if len(cells) > 12 else ""))
-        if strict or problems is None:
-            raise EvaluationError(f"{path}: {what}")
-        problems.append(f"{cells[0]}: {what}: #VALUE!")
-        note = Note(what, "#VALUE!")
-        for i in set(stuck):
-            runs[i].error = note                # no inputs now: ordered first in the next pass
+        _circular(path, runs, stuck, strict, problems)
 
 
+def _owners(runs: list[Run], dims) -> dict[str, np.ndarray]:
+    """Per sheet, the run that computes each cell (-1: none); an array formula owns its range."""
+    owner = {n: np.full(d, -1, np.int32) for n, d in dims.items()}
+    for i, run in enumerate(runs):
+        c0 = int(run.cols[0])
+        owner[run.sheet][run.row, slice(c0, c0 + len(run.cols)) if run.contiguous else run.cols] = i
+    for i, run in enumerate(runs):
+        if run.array is not None:
+            block = owner[run.sheet][run.row:run.array[0] + 1, int(run.cols[0]):run.array[1] + 1]
+            block[block == -1] = i
+    return owner
 
-_PARSED: dict = {}
+
+def _dependencies(runs: list[Run], owner: dict[str, np.ndarray]) -> tuple[list[set[int]], set[int]]:
+    """The runs each run reads, and the runs to split into cells first (a run that reads
+    itself, or a range whose width changes from cell to cell)."""
+    deps: list[set[int]] = []
+    split = set()
+    for i, run in enumerate(runs):
+        d: set[int] = set()
+        # a run without an error has its references (set by _parse_run)
+        for ref in (cast(list, run.refs) if not run.error else ()):
+            target = ref.sheet or run.sheet
+            if target not in owner:
+                continue
+            r1, r2, c1, c2 = span(run, ref)
+            if r1 < 1 or c1 < 1:
+                continue
+            block = owner[target][r1:r2 + 1, c1:c2 + 1]
+            if block.size <= 4096:
+                ids = set(block.ravel().tolist())
+                ids.discard(-1)
+            else:
+                ids = set(np.unique(block[block >= 0]).tolist())
+            if len(run.cols) > 1 and (i in ids or ref.c1_abs != ref.c2_abs):
+                split.add(i)
+            d |= ids
+        deps.append(d)
+    return deps, split
+
+
+def _dynamic_last(runs: list[Run], deps: list[set[int]]) -> None:
+    """A run with references made while it runs (OFFSET, INDIRECT) reads cells nobody can
+    name before: it is ordered after every run that does not itself depend on such a run
+    (what it reads is then computed; a cell it reads that is still to be computed makes it
+    "not computed here", see Context.read_reference)."""
+    dynamic = [i for i, run in enumerate(runs) if run.dynamic]
+    if not dynamic:
+        return
+    users: list[list[int]] = [[] for _ in runs]
+    for i, d in enumerate(deps):
+        for j in d:
+            users[j].append(i)
+    downstream, todo = set(dynamic), list(dynamic)
+    while todo:
+        for u in users[todo.pop()]:
+            if u not in downstream:
+                downstream.add(u)
+                todo.append(u)
+    before = {i for i in range(len(runs)) if i not in downstream}
+    for i in dynamic:
+        deps[i] |= before
+
+
+def _topological(deps: list[set[int]]) -> tuple[list[int], list[int]]:
+    """The runs in an order where each comes after those it reads, and the runs left on a
+    cycle (or reading themselves)."""
+    order, indeg = [], [len(d - {i}) for i, d in enumerate(deps)]
+    users: list[list[int]] = [[] for _ in deps]
+    for i, d in enumerate(deps):
+        for j in d - {i}:
+            users[j].append(i)
+    ready = [i for i, n in enumerate(indeg) if n == 0]
+    self_loops = [i for i, d in enumerate(deps) if i in d]
+    while ready:
+        i = ready.pop()
+        order.append(i)
+        for u in users[i]:
+            indeg[u] -= 1
+            if indeg[u] == 0:
+                ready.append(u)
+    return order, [i for i in range(len(deps)) if indeg[i] > 0] + self_loops
+
+
+def _circular(path, runs: list[Run], stuck: list[int], strict: bool, problems: list | None) -> None:
+    """Single cells on a cycle: an EvaluationError with strict, else #VALUE! and a note."""
+    cells = sorted({runs[i].where() for i in stuck})
+    what = (f"circular reference among {', '.join(cells[:12])}"
+            + (f" and {len(cells) - 12} more cells" if len(cells) > 12 else ""))
+    if strict or problems is None:
+        raise EvaluationError(f"{path}: {what}")
+    problems.append(f"{cells[0]}: {what}: #VALUE!")
+    note = Note(what, "#VALUE!")
+    for i in set(stuck):
+        runs[i].error = note                # no inputs now: ordered first in the next pass
+        runs[i].dynamic = False
+
+
+_PARSED = Cache("parsed formulas: (text, cell, names) -> (tree, error, references)", 100_000)
 
 
 def _parse_run(formula: str, row: int, col: int, names: dict, names_key) -> tuple:
-    """(tree, error, references) of a run's first formula; kept for the rest of the process
-    (a class's workbooks share their formulas), keyed by the text, the cell and the names."""
+    """(tree, error, references, the functions it calls) of a run's first formula; kept for
+    the rest of the process (a class's workbooks share their formulas), keyed by the text,
+    the cell and the names."""
     key = (formula, row, col, names_key)
     hit = _PARSED.get(key)
     if hit is not None:
         return hit
-    tree, error = None, None
+    tree, error, called = None, None, frozenset[str]()
     try:
         tree = parse_formula("=" + formula, row, col, names)
-        bad = sorted(f for f in functions_of(tree) if f not in SUPPORTED)
+        called = frozenset(functions_of(tree))
+        bad = sorted(f for f in called if f not in SUPPORTED)
         if bad:
             error = Note(f"unsupported function{'s' if len(bad) > 1 else ''} {', '.join(bad)}")
         elif (wrong := arity_problem(tree)) is not None:
             error = Note(wrong, "#VALUE!")
     except ParseError as e:
-        error = Note(f"cannot read the formula ={_show(formula, 80)}: {e}", e.code)
-    hit = (tree, error, refs_of(tree) if tree is not None else [])
-    if len(_PARSED) > 100_000:
-        _PARSED.clear()
-    _PARSED[key] = hit
+        error = Note(f"cannot read the formula ={shorten(formula, 80)}: {e}", e.code)
+    hit = (tree, error, refs_of(tree) if tree is not None else [], called)
+    _PARSED.put(key, hit)
     return hit
 
 
@@ -505,12 +629,12 @@ def parse_rows(sheet: Sheet, rows: set[int]) -> list[Run]:
     (as _schedule does); a formula that cannot be read is left out."""
     sub = Sheet(sheet.name, sheet.state, formulas={k: f for k, f in sheet.formulas.items() if k[0] in rows})
     out = []
-    for run in _group_runs(sub):
-        run.tree, run.error, run.refs = _parse_run(run.formula, run.row, int(run.cols[0]), {}, frozenset())
+    for run in group_runs(sub):
+        run.tree, run.error, run.refs, _ = _parse_run(run.formula, run.row, int(run.cols[0]), {}, frozenset())
         if run.error:
             continue
         varies = len(run.cols) > 1 and any(ref.c1_abs != ref.c2_abs for ref in run.refs)
-        out.extend(_split(run) if varies else [run])
+        out.extend(split_run(run) if varies else [run])
     return out
 
 
@@ -519,7 +643,7 @@ def evaluate_runs(runs: list[Run], num: dict, tag: dict, txt: dict) -> list[tupl
     (sheet -> arrays, as Book holds them), nothing written back: every run reads the
     stores as they are, whatever order the runs come in. An internal error of the
     evaluator is the cell's #VALUE!, as in evaluate_sheets without strict."""
-    ctx = _Context(num, tag, txt, {None: {}})
+    ctx = Context(num, tag, txt, {None: {}})
     out = []
     with np.errstate(all="ignore"):
         for run in runs:
@@ -527,7 +651,7 @@ def evaluate_runs(runs: list[Run], num: dict, tag: dict, txt: dict) -> list[tupl
             try:
                 v = _as_cells(ctx.formula(run.tree, run), k)
             except Exception:      # noqa: BLE001 - the cell's problem, not the caller's
-                v = _err("#VALUE!", k)
+                v = error_value("#VALUE!", k)
             out.append((run, v.num[:, 0, 0], v.tag[:, 0, 0]))
     return out
 

@@ -33,6 +33,7 @@ def is_error(v: object) -> bool:
 
 
 ERROR_TEXT = {v: XlError(k) for k, v in ERRORS.items()}
+FIRST_ERROR = min(ERRORS.values())      # a value's tag from here on is an error (below: NUM, BOOL, TEXT, EMPTY)
 NULL, DIV0, VALUE, REF, NAME, NUMERR, NA = (ERRORS[k] for k in list(ERRORS)[:7])
 MAX_TEXT = 32_767          # characters of one cell's text, Excel's limit (#VALUE! past it)
 

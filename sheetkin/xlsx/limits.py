@@ -16,14 +16,15 @@ import dataclasses
 from operator import itemgetter
 from typing import cast
 
+from .caches import Cache
 from .cells import Sheet
 from .context import PAD_CELLS
 from .coords import get_column_letter
 from .functions import XlError
-from .package import Limits, UnusableWorkbook, _show
-from .parse import Note, Ref, _nodes, arity_problem, functions_of, refs_of
-from .runs import Run, _span
-from .values import SUPPORTED
+from .package import Limits, UnusableWorkbook, shorten
+from .parse import Note, Ref, functions_of, refs_of, tree_nodes
+from .runs import Run, span
+from .table import SUPPORTED, arity_problem
 
 MAX_EVAL_DEPTH = 200     # levels of a formula with the names it uses expanded (~2 Python frames each)
 CHUNK_READS = 1 << 22    # cells a piece of a run reads at once, per relative range (about 70 MB)
@@ -31,7 +32,7 @@ CHUNK_READS = 1 << 22    # cells a piece of a run reads at once, per relative ra
 
 def _depth(tree, weights: dict | None = None) -> int:
     """How deep evaluating a tree recurses: levels of functions, parentheses and operators
-    (a chain of + - ... leaning left counts once: _Context.eval walks it in a loop), plus
+    (a chain of + - ... leaning left counts once: Context.eval walks it in a loop), plus
     for each name the depth of the name's own formula (weights)."""
     best, stack = 0, [(tree, 1)]
     while stack:
@@ -50,24 +51,22 @@ def _depth(tree, weights: dict | None = None) -> int:
     return best
 
 
-_NAMES_USED: dict[int, tuple[object, tuple[str, ...]]] = {}     # id(tree) -> (tree, its names)
+_NAMES_USED = Cache("names a tree uses: id(tree) -> (tree, names)", 200_000)
 
 
-def _names_used(tree) -> tuple[str, ...]:
+def names_used(tree) -> tuple[str, ...]:
     """The defined names a tree uses, in order. Kept per tree (by identity, the tree held so
     that its id is not reused): parsed trees are shared by every book of a run (_PARSED),
     and this walk was asked 4-5 times per run per book (issue 24: 31k tree walks a book)."""
     hit = _NAMES_USED.get(id(tree))
     if hit is not None and hit[0] is tree:
         return hit[1]
-    names = tuple(node[1] for node in _nodes(tree) if node[0] == "name")
-    if len(_NAMES_USED) > 200_000:
-        _NAMES_USED.clear()
-    _NAMES_USED[id(tree)] = (tree, names)
+    names = tuple(node[1] for node in tree_nodes(tree) if node[0] == "name")
+    _NAMES_USED.put(id(tree), (tree, names))
     return names
 
 
-def _check_names(name_refs: dict) -> dict[str, Note]:
+def check_names(name_refs: dict) -> dict[str, Note]:
     """Defined names that cannot be evaluated, made constant errors (in place), with a note
     each: unknown functions (#NAME?), wrong numbers of arguments (#VALUE!), names that
     refer to each other in a circle or to themselves (#N/A, as LibreOffice gives), chains
@@ -75,6 +74,8 @@ def _check_names(name_refs: dict) -> dict[str, Note]:
     no recursion."""
     notes: dict[str, Note] = {}
     for n, tree in list(name_refs.items()):
+        if tree[0] in ("name", "ref", "const"):       # no call to check
+            continue
         bad = sorted(f for f in functions_of(tree) if f not in SUPPORTED)
         wrong = None if bad else arity_problem(tree)
         problem = f"unsupported function {', '.join(bad)}" if bad else wrong
@@ -82,7 +83,8 @@ def _check_names(name_refs: dict) -> dict[str, Note]:
             code = "#NAME?" if bad else "#VALUE!"
             notes[n] = Note(f"the name {n}: " + problem, code)
             name_refs[n] = ("const", code)
-    uses = {n: [m for m in _names_used(t) if m in name_refs] for n, t in name_refs.items()}
+    uses = {n: ([t[1]] if t[1] in name_refs else []) if t[0] == "name" else
+            [m for m in names_used(t) if m in name_refs] for n, t in name_refs.items()}
     state: dict[str, int] = {}          # 1 being visited, 2 done
     weight: dict[str, int] = {}
     for start in uses:
@@ -106,9 +108,13 @@ def _check_names(name_refs: dict) -> dict[str, Note]:
                 continue
             if state.get(m) == 1:                   # back to a name on the path: a circle
                 circle = path[path.index(m):]
-                text = " -> ".join(circle + [m])
+                # the note shows the circle's first names only, built once: a circle of
+                # 30,000 names is one short text, not 30,000 long ones (issue 30)
+                shown = circle[:6] + [m] if len(circle) <= 6 else circle[:6] + [f"... {len(circle) - 6} more", m]
+                note = Note(f"the names refer to each other in a circle ({shorten(' -> '.join(shown), 200)}): #N/A",
+                            "#N/A")
                 for x in circle:
-                    notes[x] = Note(f"the names refer to each other in a circle ({_show(text, 200)}): #N/A", "#N/A")
+                    notes[x] = note
                     name_refs[x], weight[x] = ("const", XlError("#N/A")), 1
             elif m not in state:
                 state[m] = 1
@@ -117,15 +123,15 @@ def _check_names(name_refs: dict) -> dict[str, Note]:
     return notes
 
 
-def _run_notes(run: Run, sheets: dict, name_refs: dict, name_notes: dict) -> list[str]:
+def run_notes(run: Run, sheets: dict, name_refs: dict, name_notes: dict) -> list[str]:
     """Notes for a run that parsed: a sheet that does not exist (#REF!), a name that could
     not be evaluated, formulas nested too deep through names (the run becomes #VALUE!)."""
     out = []
     for ref in cast(list, run.refs):        # called for a run that parsed: refs is set
         if ref.sheet is not None and ref.sheet not in sheets:
-            out.append(f"{run.where()}: refers to the sheet '{_show(ref.sheet, 60)}', which does not exist: #REF!")
+            out.append(f"{run.where()}: refers to the sheet '{shorten(ref.sheet, 60)}', which does not exist: #REF!")
             break
-    used = [n for n in _names_used(run.tree) if n in name_refs] if run.tree is not None else []
+    used = [n for n in names_used(run.tree) if n in name_refs] if run.tree is not None else []
     for n in dict.fromkeys(used):
         if n in name_notes:
             out.append(f"{run.where()}: {name_notes[n]}")
@@ -135,11 +141,11 @@ def _run_notes(run: Run, sheets: dict, name_refs: dict, name_notes: dict) -> lis
     return out
 
 
-_DEPTHS: dict = {}
+_DEPTHS = Cache("depths of the names last asked about", 4)
 
 
 def _name_depths(name_refs: dict) -> dict:
-    """Each name's own depth (after _check_names, no name is deeper than MAX_EVAL_DEPTH),
+    """Each name's own depth (after check_names, no name is deeper than MAX_EVAL_DEPTH),
     kept for the last dict of names asked about."""
     if _DEPTHS.get("of") is not name_refs:
         _DEPTHS.clear()
@@ -159,7 +165,7 @@ def _used_range(sh: Sheet) -> tuple[int, int]:
     return rows, cols
 
 
-def _store_dims(path: str, sheets: dict, limits: Limits) -> dict[str, list[int]]:
+def store_dims(path: str, sheets: dict, limits: Limits) -> dict[str, list[int]]:
     """The value stores' shapes: each sheet's used range (cell A1 is [1, 1]). Refused
     (one line) when all sheets together span more than limits.max_used_cells."""
     dims, total = {}, 0
@@ -170,7 +176,7 @@ def _store_dims(path: str, sheets: dict, limits: Limits) -> dict[str, list[int]]
     if total > limits.max_used_cells:
         n = max(dims, key=lambda x: dims[x][0] * dims[x][1])
         rows, cols = dims[n][0] - 1, dims[n][1] - 1
-        raise UnusableWorkbook(path, f"its sheets' used ranges span {total:,} cells (sheet '{_show(n, 60)}' "
+        raise UnusableWorkbook(path, f"its sheets' used ranges span {total:,} cells (sheet '{shorten(n, 60)}' "
                                f"A1:{get_column_letter(cols)}{rows}, {rows * cols:,})",
                                f"expected at most {limits.max_used_cells:,} cells (rows x columns from A1 "
                                "to the last cell that holds something): clear stray cells far from the table")
@@ -179,13 +185,13 @@ def _store_dims(path: str, sheets: dict, limits: Limits) -> dict[str, list[int]]
 
 def _ref_reads(run: Run, ref: Ref, dims: dict, k: int) -> tuple[int, int]:
     """(cells read once for the run, cells read for each cell of the run) by one
-    reference, as _Context.ref reads it (small blocks whole, large ones clipped)."""
+    reference, as Context.ref reads it (small blocks whole, large ones clipped)."""
     d = dims.get(ref.sheet or run.sheet)
     if d is None:
         return 0, 0
     if not ref.is_range:
         return 0, 1
-    r1, r2, c1, c2 = _span(run, ref)
+    r1, r2, c1, c2 = span(run, ref)
     clipped_rows = max(0, min(r2, d[0] - 1) - r1 + 1)
     if k == 1 or (ref.c1_abs and ref.c2_abs):          # one block for the run
         rows, cols = r2 - r1 + 1, c2 - c1 + 1
@@ -198,7 +204,7 @@ def _ref_reads(run: Run, ref: Ref, dims: dict, k: int) -> tuple[int, int]:
     return 0, rows * width
 
 
-_READS: dict[tuple, tuple[object, tuple[int, int]]] = {}
+_READS = Cache("cells a run reads: (references, place, stores) -> counts", 200_000)
 
 
 def dims_signature(dims: dict) -> tuple:
@@ -210,15 +216,13 @@ def _run_reads(run: Run, dims: dict, name_refs: dict, dims_key: tuple | None = N
     """(cells read once, cells read per cell) by a run. Kept, for runs that use no names,
     per (its references' list, its place, the stores' shapes): the same in every book of a
     class (the list is the parse cache's, held in the entry so that its id stays its own)."""
-    if dims_key is not None and run.refs is not None and (run.tree is None or not _names_used(run.tree)):
+    if dims_key is not None and run.refs is not None and (run.tree is None or not names_used(run.tree)):
         key = (id(run.refs), run.sheet, run.row, int(run.cols[0]), int(run.cols[-1]), len(run.cols), dims_key)
         hit = _READS.get(key)
         if hit is not None and hit[0] is run.refs:
             return hit[1]
         value = _count_reads(run, dims, name_refs)
-        if len(_READS) > 200_000:
-            _READS.clear()
-        _READS[key] = (run.refs, value)
+        _READS.put(key, (run.refs, value))
         return value
     return _count_reads(run, dims, name_refs)
 
@@ -228,7 +232,7 @@ def _count_reads(run: Run, dims: dict, name_refs: dict) -> tuple[int, int]:
     once = per_cell = 0
     refs = list(run.refs or [])
     if run.tree is not None:
-        for n in _names_used(run.tree):
+        for n in names_used(run.tree):
             if n in name_refs:
                 refs += refs_of(name_refs[n])
     for ref in refs:
@@ -237,7 +241,7 @@ def _count_reads(run: Run, dims: dict, name_refs: dict) -> tuple[int, int]:
     return once, per_cell
 
 
-def _check_reads(path: str, runs: list[Run], dims: dict, name_refs: dict, limits: Limits) -> None:
+def check_reads(path: str, runs: list[Run], dims: dict, name_refs: dict, limits: Limits) -> None:
     """Refuse (one line) a workbook whose formulas read more than limits.max_reads cells
     in all (the evaluation's time is about proportional)."""
     total = 0
@@ -253,7 +257,7 @@ def _check_reads(path: str, runs: list[Run], dims: dict, name_refs: dict, limits
                                    f"expected at most {limits.max_reads:,} (sheetkin's limit for a workbook)")
 
 
-def _check_formula_text(path: str, runs: list[Run], limits: Limits) -> None:
+def check_formula_text(path: str, runs: list[Run], limits: Limits) -> None:
     """Refuse (one line) a workbook with more formula text to parse than
     limits.max_formula_chars (a run's formula counts once)."""
     total = sum(len(run.formula) for run in runs)
@@ -263,7 +267,7 @@ def _check_formula_text(path: str, runs: list[Run], limits: Limits) -> None:
                                f"expected at most {limits.max_formula_chars:,} (sheetkin's limit for a workbook)")
 
 
-def _chunks(run: Run, dims: dict, name_refs: dict, dims_key: tuple | None = None) -> list[Run]:
+def run_pieces(run: Run, dims: dict, name_refs: dict, dims_key: tuple | None = None) -> list[Run]:
     """A run in pieces small enough that its relative ranges, read for every cell at once,
     stay below CHUNK_READS cells (a row of =SUM(A1:A100000) filled right is read 1000
     columns at a time, not 4000)."""

@@ -139,7 +139,7 @@ class Limits:
                 raise ValueError(f"Limits.{field} must be positive, got {value!r}")
 
 
-def _show(text: object, limit: int = 300) -> str:
+def shorten(text: object, limit: int = 300) -> str:
     """`text` made safe for a one-line message: control characters escaped, long text cut."""
     s = "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(text))
     return s if len(s) <= limit else s[:limit - 1] + "…"
@@ -169,9 +169,9 @@ class UnusableWorkbook(SpreadsheetError):
         self.part = part
         self.problem = problem
         self.expected = expected
-        msg = f"{_show(self.path, 1000)}: "
+        msg = f"{shorten(self.path, 1000)}: "
         if part is not None:
-            msg += f"{_show(part)}: "
+            msg += f"{shorten(part)}: "
         msg += problem
         if expected:
             msg += f"; {expected}"
@@ -235,7 +235,7 @@ class Package:
 
     def info(self, name: str) -> zipfile.ZipInfo:
         if name not in self._infos:
-            self._fail(f"no part {_show(name)!s} in the package", "expected a complete workbook")
+            self._fail(f"no part {shorten(name)!s} in the package", "expected a complete workbook")
         return self._infos[name]
 
     def content_type(self, name: str) -> str | None:
@@ -341,10 +341,10 @@ class Package:
             self._fail("XML with a DTD or entity declarations (possible entity bomb)",
                        "refused: Excel and LibreOffice never write one", name)
         if isinstance(e, ParseError):
-            self._fail(f"not well-formed XML ({_show(e, 120)})",
+            self._fail(f"not well-formed XML ({shorten(e, 120)})",
                        "expected XML as Excel or LibreOffice write it", name)
         if isinstance(e, (ValueError, LookupError, UnicodeError, TypeError)):
-            self._fail(f"unreadable XML ({type(e).__name__}: {_show(e, 120)})",
+            self._fail(f"unreadable XML ({type(e).__name__}: {shorten(e, 120)})",
                        "expected XML as Excel or LibreOffice write it", name)
         raise e
 
@@ -462,7 +462,7 @@ def open_package(path, limits: Limits = Limits()) -> Package:
     for name in pkg.names:
         low = name.lower()
         if "vbaproject" in posixpath.basename(low) or low.startswith("xl/macrosheets/"):
-            fail(f"contains macros ({_show(name)})", macro_hint)
+            fail(f"contains macros ({shorten(name)})", macro_hint)
     suffix = PurePath(shown).suffix.lower()
     if suffix in _MACRO_EXTENSIONS:
         fail(f"contains macros or is macro-enabled ({suffix})", macro_hint)
@@ -470,7 +470,7 @@ def open_package(path, limits: Limits = Limits()) -> Package:
                      "links (Excel: Data > Edit Links > Break Link)")
     for name in pkg.names:
         if name.lower().startswith("xl/externallinks/"):
-            fail(f"links to other files (external links: {_show(name)})", external_hint)
+            fail(f"links to other files (external links: {shorten(name)})", external_hint)
     if len(infos) > limits.max_parts:
         fail(f"has {len(infos)} parts in its zip archive",
              f"expected at most {limits.max_parts} (sheetkin's limit for a workbook)")
@@ -511,7 +511,7 @@ def _read_file(path, limits: Limits, fail: Callable[..., NoReturn]) -> bytes:
     except FileNotFoundError:
         fail("no such file", "expected an .xlsx workbook")
     except (OSError, ValueError) as e:
-        fail(f"cannot be read ({_show(getattr(e, 'strerror', None) or e)})",
+        fail(f"cannot be read ({shorten(getattr(e, 'strerror', None) or e)})",
              "expected a readable .xlsx file")
     if stat.S_ISDIR(st.st_mode):
         fail("is a directory", "expected an .xlsx file")
@@ -527,7 +527,7 @@ def _read_file(path, limits: Limits, fail: Callable[..., NoReturn]) -> bytes:
                      f"{_size(limits.max_file_bytes)} (sheetkin's limit for a workbook)")
             data = f.read(limits.max_file_bytes + 1)
     except OSError as e:
-        fail(f"cannot be read ({_show(e.strerror or e)})", "expected a readable .xlsx file")
+        fail(f"cannot be read ({shorten(e.strerror or e)})", "expected a readable .xlsx file")
     if len(data) > limits.max_file_bytes:
         fail(f"file is more than {_size(limits.max_file_bytes)}",
              f"expected at most {_size(limits.max_file_bytes)} (sheetkin's limit for a workbook)")
@@ -550,7 +550,7 @@ def _open_zip(path, data: bytes, limits: Limits,
         infos = archive.infolist()
     except (zipfile.BadZipFile, zipfile.LargeZipFile, EOFError, OSError, ValueError,
             NotImplementedError, struct.error, UnicodeError) as e:
-        detail = "its end is missing" if str(e) == "File is not a zip file" else _show(e, 120)
+        detail = "its end is missing" if str(e) == "File is not a zip file" else shorten(e, 120)
         fail(f"corrupt or truncated zip archive ({detail})",
              "expected a complete .xlsx file: save or copy it again")
     pkg = Package(path, data, archive, limits)
@@ -561,7 +561,7 @@ def _open_zip(path, data: bytes, limits: Limits,
             fail("not an .xlsx file (an OpenDocument spreadsheet, .ods)",
                  "expected .xlsx: in LibreOffice, File > Save As > Excel 2007-365 (.xlsx)")
         if kind.startswith("application/vnd.oasis.opendocument"):
-            fail(f"not an .xlsx file (an OpenDocument file, {_show(kind, 80)})",
+            fail(f"not an .xlsx file (an OpenDocument file, {shorten(kind, 80)})",
                  "expected an Excel workbook saved as .xlsx")
     return pkg, infos
 
@@ -590,7 +590,7 @@ def _scan_parts(pkg: Package, ct_name: str, infos: list[zipfile.ZipInfo], limits
                 first = False
                 encoding = _declared_encoding(chunk)
                 if encoding is not None and encoding not in _XML_ENCODINGS:
-                    pkg._fail(f"XML declared in encoding '{_show(encoding, 40)}'",
+                    pkg._fail(f"XML declared in encoding '{shorten(encoding, 40)}'",
                               "expected UTF-8 or UTF-16, as the .xlsx standard requires", name)
             if scan:
                 window = tail + chunk
@@ -609,16 +609,16 @@ def _check_content(pkg: Package, macro_hint: str, external_hint: str, fail: Call
     for name in pkg.names:
         ct = (pkg.content_type(name) or "").lower()
         if "macroenabled" in ct or "vbaproject" in ct or "macrosheet" in ct:
-            fail(f"contains macros or is macro-enabled (content type of {_show(name)})", macro_hint)
+            fail(f"contains macros or is macro-enabled (content type of {shorten(name)})", macro_hint)
     for rels in [n for n in pkg.names if n.lower().endswith(".rels")]:
         for _id, rtype, target, mode in pkg._parse_rels(rels, posixpath.dirname(posixpath.dirname(rels))):
             rel_kind = _rel_tail(rtype).lower()
             if "vbaproject" in rel_kind or "macrosheet" in rel_kind:
-                fail(f"contains macros ({_show(_rel_tail(rtype))} relationship in {_show(rels)})",
+                fail(f"contains macros ({shorten(_rel_tail(rtype))} relationship in {shorten(rels)})",
                      macro_hint)
             if "externallink" in rel_kind or (mode == "External" and rel_kind != "hyperlink"):
-                fail(f"links to other files ({_show(_rel_tail(rtype))} relationship to "
-                     f"{_show(target, 120)} in {_show(rels)})", external_hint)
+                fail(f"links to other files ({shorten(_rel_tail(rtype))} relationship to "
+                     f"{shorten(target, 120)} in {shorten(rels)})", external_hint)
 
 
 def _declared_encoding(head: bytes) -> str | None:
@@ -669,17 +669,17 @@ def sheet_parts(pkg: Package) -> list[SheetPart]:
         # Excel refuses two sheets whose names differ only in case; read on, the later
         # would replace the earlier (a book graded against a hidden sheet of the same name)
         if name.casefold() in seen:
-            pkg._fail(f"two sheets named '{_show(name, 100)}' (sheet names are compared ignoring case)",
+            pkg._fail(f"two sheets named '{shorten(name, 100)}' (sheet names are compared ignoring case)",
                       "expected distinct sheet names, as Excel requires", wb)
         seen.add(name.casefold())
         rid = next((v for k, v in node.attrib.items()
                     if _local(k) == "id" and k.startswith("{") and "relationships" in k), None)
         if rid is None or rid not in rels:
-            pkg._fail(f"sheet '{_show(name, 100)}' has no relationship to its part",
+            pkg._fail(f"sheet '{shorten(name, 100)}' has no relationship to its part",
                       "expected a complete workbook package", wb)
         rtype, target = rels[rid]
         if target not in pkg:
-            pkg._fail(f"sheet '{_show(name, 100)}' refers to a missing part ({_show(target, 120)})",
+            pkg._fail(f"sheet '{shorten(name, 100)}' refers to a missing part ({shorten(target, 120)})",
                       "expected a complete workbook package", wb)
         out.append(SheetPart(name, target, node.get("state", "visible"), _rel_tail(rtype)))
     if not out:
@@ -719,7 +719,7 @@ def check_dimension(path, sheet: str, rows: int, cols: int, limits: Limits = Lim
     """Raise UnusableWorkbook if a sheet reaches past `limits` (last row, last column)."""
     if rows > limits.max_rows or cols > limits.max_cols:
         raise UnusableWorkbook(
-            path, f"sheet '{_show(sheet, 100)}' spans {_count(rows, 'row')} and {_count(cols, 'column')}",
+            path, f"sheet '{shorten(sheet, 100)}' spans {_count(rows, 'row')} and {_count(cols, 'column')}",
             f"expected at most {limits.max_rows} rows and {limits.max_cols} columns per sheet "
             "(clear the cells outside the table, or delete those rows and columns)")
 

@@ -28,7 +28,7 @@ import numpy as np
 
 from .evaluator import Book
 from .parse import functions_of
-from .runs import _target_block
+from .runs import target_block
 
 # functions whose value is where the formula (or its reference) is: given, like the positions
 POSITIONAL = frozenset({"ROW", "COLUMN", "ROWS", "COLUMNS"})
@@ -76,7 +76,7 @@ def reaching(book: Book, sources: dict[str, Iterable[tuple[int, int]]]) -> dict[
 
 def _touches(arr: np.ndarray, run, ref) -> np.ndarray:
     """Per cell of the run: whether the block its reference reads holds a reaching cell."""
-    r1, r2, c1, c2 = _target_block(run, ref)
+    r1, r2, c1, c2 = target_block(run, ref)
     h, w = arr.shape[0], arr.shape[1]
     lo_r, hi_r = max(int(r1), 1), min(int(r2), h - 1)
     if lo_r > hi_r:

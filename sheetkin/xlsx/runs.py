@@ -1,8 +1,8 @@
 """Runs: the formula cells of a row that hold one formula with its relative references
 shifted, which the evaluator parses once and evaluates for all their cells at once (see
-evaluator.py). Here: Run; grouping a sheet's formula cells into runs (_group_runs, by
+evaluator.py). Here: Run; grouping a sheet's formula cells into runs (group_runs, by
 rendering the first formula as a template for the next columns); splitting a run into
-single cells (_split); the cells a reference of a run touches (_target_block, _span); and
+single cells (split_run); the cells a reference of a run touches (target_block, span); and
 EvaluationError, the error of a workbook that cannot be evaluated as a whole.
 
 Separate from evaluator.py so that the checks of hostile input (limits.py) and the
@@ -16,7 +16,8 @@ from operator import itemgetter
 
 import numpy as np
 
-from .cells import _MAX_COL, Sheet, _Template
+from .caches import Cache
+from .cells import MAX_COL, Sheet, Template
 from .coords import get_column_letter
 from .errors import SpreadsheetError
 from .parse import Ref
@@ -38,6 +39,8 @@ class Run:
     error: str | None = None          # parse problem or unsupported function
     refs: list | None = None          # the references of tree (and of the names it uses)
     array: tuple | None = None        # an array formula's last cell (r2, c2); its anchor is the run
+    unknown: frozenset = frozenset()  # functions it calls (itself or through names) that the table lacks
+    dynamic: bool = False             # it makes references while it runs (OFFSET, INDIRECT)
 
     @property
     def contiguous(self) -> bool:
@@ -55,10 +58,10 @@ class Run:
 
 
 
-_TEMPLATES: dict = {}           # (formula, column) -> _Template, for the rest of the process
+TEMPLATES = Cache("run templates: (formula, column) -> Template", 100_000)
 
 
-def _group_runs(sheet: Sheet) -> list[Run]:
+def group_runs(sheet: Sheet) -> list[Run]:
     """The sheet's formula cells as runs: in each row, the longest stretches of adjacent
     cells whose formulas are the first one's shifted (compared in growing batches of
     rendered text, so a regular row costs a few list comparisons)."""
@@ -69,7 +72,7 @@ def _group_runs(sheet: Sheet) -> list[Run]:
     texts = list(formulas.values())
     rows = np.fromiter(map(itemgetter(0), keys), np.int64, len(keys))
     cols = np.fromiter(map(itemgetter(1), keys), np.int64, len(keys))
-    code = rows * (_MAX_COL + 1) + cols
+    code = rows * (MAX_COL + 1) + cols
     if len(code) > 1 and not (np.diff(code) > 0).all():      # not in row, column order
         order = np.argsort(code, kind="stable")
         rows, cols, texts = rows[order], cols[order], [texts[i] for i in order.tolist()]
@@ -81,11 +84,9 @@ def _group_runs(sheet: Sheet) -> list[Run]:
         r = int(rows[a])
         i = a
         while i < b:
-            tpl = _TEMPLATES.get((texts[i], col_list[i]))
+            tpl = TEMPLATES.get((texts[i], col_list[i]))
             if tpl is None:
-                if len(_TEMPLATES) > 100_000:
-                    _TEMPLATES.clear()
-                tpl = _TEMPLATES[texts[i], col_list[i]] = _Template(texts[i], col_list[i])
+                tpl = TEMPLATES.put((texts[i], col_list[i]), Template(texts[i], col_list[i]))
             j, window = i + 1, 4
             while j < b:
                 m = min(b - j, window)
@@ -107,12 +108,12 @@ def _group_runs(sheet: Sheet) -> list[Run]:
     return runs
 
 
-def _split(run: Run) -> list[Run]:
-    return [Run(run.sheet, run.row, np.array([c]), run.formula, run.tree, run.error, run.refs, run.array)
-            for c in run.cols]
+def split_run(run: Run) -> list[Run]:
+    return [Run(run.sheet, run.row, np.array([c]), run.formula, run.tree, run.error, run.refs, run.array,
+                run.unknown, run.dynamic) for c in run.cols]
 
 
-def _target_block(run: Run, ref: Ref):
+def target_block(run: Run, ref: Ref):
     """Rows and columns (per cell of the run) a reference touches."""
     r1 = ref.r1 if ref.r1_abs else run.row + ref.r1
     r2 = ref.r2 if ref.r2_abs else run.row + ref.r2
@@ -121,7 +122,7 @@ def _target_block(run: Run, ref: Ref):
     return min(r1, r2), max(r1, r2), np.minimum(c1, c2), np.maximum(c1, c2)
 
 
-def _span(run: Run, ref: Ref) -> tuple[int, int, int, int]:
+def span(run: Run, ref: Ref) -> tuple[int, int, int, int]:
     """The rows and columns a reference touches from all the cells of a run: first row,
     last row, first column, last column (the block _schedule and the stores consider)."""
     r1 = ref.r1 if ref.r1_abs else run.row + ref.r1

@@ -25,7 +25,8 @@ from typing import Any, Protocol, cast
 import numpy as np
 
 from . import functions as fx
-from .functions import DIV0, ERRORS, MAX_TEXT, NA, NUMERR, VALUE, XlError
+from .caches import Cache
+from .functions import DIV0, ERRORS, FIRST_ERROR, MAX_TEXT, NA, NUMERR, VALUE, XlError
 
 NUM, BOOL, TEXT, EMPTY = 0, 1, 2, 3
 
@@ -52,15 +53,15 @@ class Val:
         return self.num.shape
 
 
-def _pure(num: np.ndarray, kind: int = NUM) -> Val:
+def pure_result(num: np.ndarray, kind: int = NUM) -> Val:
     """A result known to be all numbers (or all booleans), without errors."""
     return Val(num, None, None, kind)
 
 
-_CONSTS: dict = {}
+_CONSTS = Cache("constants of one value: (type, value) -> Val", 10_000)
 
 
-def _const(value, k=1) -> Val:
+def constant(value, k=1) -> Val:
     if k == 1 and type(value) in (bool, float, int):
         key = (type(value), value)
         v = _CONSTS.get(key)
@@ -69,8 +70,7 @@ def _const(value, k=1) -> Val:
             v.pure = BOOL if type(value) is bool else NUM
             v.num.setflags(write=False)
             v.tag.setflags(write=False)
-            if len(_CONSTS) < 10000:
-                _CONSTS[key] = v
+            _CONSTS.put(key, v)
         return v
     return _const_new(value, k)
 
@@ -87,59 +87,59 @@ def _const_new(value, k) -> Val:
     return Val(np.zeros((k, 1, 1)), np.full((k, 1, 1), TEXT, np.int8), txt)
 
 
-def _err(code: str, k: int = 1) -> Val:
+def error_value(code: str, k: int = 1) -> Val:
     """The error `code` ("#VALUE!") in each of k cells."""
-    return _const(XlError(code), k)
+    return constant(XlError(code), k)
 
 
-def _error_of(*tags) -> np.ndarray:
+def first_error_of(*tags) -> np.ndarray:
     """The first error among the operands (Excel reports the leftmost), else 0."""
     out = np.zeros(np.broadcast_shapes(*(t.shape for t in tags)), np.int8)
     for t in reversed(tags):
-        out = np.where(t >= 10, t, out)
+        out = np.where(t >= FIRST_ERROR, t, out)
     return out
 
 
-def _texts(v: Val) -> np.ndarray:
+def texts_of(v: Val) -> np.ndarray:
     return v.txt if v.txt is not None else np.full(v.shape, None, dtype=object)
 
 
-_NUMERIC_TEXT = re.compile(r"^\s*[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?\s*$")
+NUMERIC_TEXT = re.compile(r"^\s*[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?\s*$")
 
 
-def _to_number(v: Val):
+def to_number(v: Val):
     """Arithmetic coercion: numbers, booleans; empty is 0; numeric text converts;
     other text is #VALUE!. Returns (num, error tags)."""
-    num, err = v.num, np.where(v.tag >= 10, v.tag, 0).astype(np.int8)
+    num, err = v.num, np.where(v.tag >= FIRST_ERROR, v.tag, 0).astype(np.int8)
     text = v.tag == TEXT
     if text.any():
         num = num.copy()
         txt = cast(np.ndarray, v.txt)           # a TEXT tag: txt is set (Val's invariant)
         for idx in zip(*np.nonzero(text), strict=False):
             t = str(txt[idx])
-            if _NUMERIC_TEXT.match(t):          # not Python's float(): "1_000", "inf" are not numbers
+            if NUMERIC_TEXT.match(t):          # not Python's float(): "1_000", "inf" are not numbers
                 num[idx] = float(t)
             else:
                 err[idx] = VALUE
     return num, err
 
 
-def _result(num, err) -> Val:
+def numeric_result(num, err) -> Val:
     """A numeric result; NaN or infinity where no error is set yet becomes #NUM!."""
     bad = (err == 0) & ~np.isfinite(num)
     tag = np.where(bad, NUMERR, err).astype(np.int8)
     return Val(np.where(tag == 0, num, 0.0), tag, None, -1 if tag.any() else NUM)
 
 
-def _to_bool(v: Val):
+def to_bool(v: Val):
     """Logical coercion (IF, AND...): numbers non-zero, booleans, empty FALSE; text #VALUE!."""
     if v.pure != -1:
         return v.num != 0, np.zeros(v.shape, np.int8)
-    err = np.where(v.tag >= 10, v.tag, np.where(v.tag == TEXT, VALUE, 0)).astype(np.int8)
+    err = np.where(v.tag >= FIRST_ERROR, v.tag, np.where(v.tag == TEXT, VALUE, 0)).astype(np.int8)
     return v.num != 0, err
 
 
-def _number_text(x: float) -> str:
+def number_text(x: float) -> str:
     """A number as Excel's general format shows it in text (=2&"" is "2")."""
     if x == int(x) and abs(x) < 1e15:
         return str(int(x))
@@ -150,7 +150,7 @@ def _number_text(x: float) -> str:
     return s
 
 
-def _to_text(v: Val) -> tuple[np.ndarray, np.ndarray]:
+def to_text(v: Val) -> tuple[np.ndarray, np.ndarray]:
     out = np.empty(v.shape, dtype=object)
     for idx in np.ndindex(v.shape):
         t = v.tag[idx]
@@ -158,25 +158,25 @@ def _to_text(v: Val) -> tuple[np.ndarray, np.ndarray]:
         # index into num gives one float64, a float
         out[idx] = (cast(np.ndarray, v.txt)[idx] if t == TEXT else "" if t == EMPTY else
                     ("TRUE" if v.num[idx] else "FALSE") if t == BOOL
-                    else _number_text(cast(float, v.num[idx])))
-    return out, np.where(v.tag >= 10, v.tag, 0).astype(np.int8)
+                    else number_text(cast(float, v.num[idx])))
+    return out, np.where(v.tag >= FIRST_ERROR, v.tag, 0).astype(np.int8)
 
 
 # --------------------------------------------------------------------------- operators
 _OPS = {"+": np.add, "-": np.subtract, "*": np.multiply, "/": np.divide, "^": np.power}
 
 
-def _arith(op: str, a: Val, b: Val) -> Val:
+def arith(op: str, a: Val, b: Val) -> Val:
     if a.pure != -1 and b.pure != -1:            # numbers, booleans (1, 0): no coercion, no errors
         with np.errstate(all="ignore"):
             r = _OPS[op](a.num, b.num)
         # x/0, 0^-1 and overflow give NaN or infinity, and so a sum that is not finite (a
         # sum that overflows only sends finite values the general way): that path names the error
         if math.isfinite(r.sum()) and (op != "^" or not ((a.num == 0) & (b.num == 0)).any()):
-            return _pure(r)
-    an, ae = _to_number(a)
-    bn, be = _to_number(b)
-    err = _error_of(ae, be)
+            return pure_result(r)
+    an, ae = to_number(a)
+    bn, be = to_number(b)
+    err = first_error_of(ae, be)
     with np.errstate(all="ignore"):
         if op == "+":
             r = an + bn
@@ -191,7 +191,7 @@ def _arith(op: str, a: Val, b: Val) -> Val:
             r = np.power(an, bn)
             err = np.where((err == 0) & (an == 0) & (bn < 0), DIV0, err).astype(np.int8)
             err = np.where((err == 0) & (an == 0) & (bn == 0), NUMERR, err).astype(np.int8)   # Excel: 0^0
-    return _result(r, err)
+    return numeric_result(r, err)
 
 
 def _rank(tag):
@@ -203,20 +203,20 @@ def _all_text(v: Val) -> bool:
     return v.pure == -1 and v.tag.size <= 4096 and bool((v.tag == TEXT).all())
 
 
-def _compare(op: str, a: Val, b: Val) -> Val:
+def compare(op: str, a: Val, b: Val) -> Val:
     if a.pure == NUM and b.pure == NUM:          # the general path's arithmetic, without tags
         an, bn = a.num, b.num
         with np.errstate(all="ignore"):
             d = an - bn
             near = np.abs(d) <= 4 * np.finfo(float).eps * np.maximum(np.abs(an), np.abs(bn))
         diff = np.where(near, 0.0, np.sign(d))
-        return _pure(_COMPARE[op](diff, 0).astype(float), BOOL)
+        return pure_result(_COMPARE[op](diff, 0).astype(float), BOOL)
     if (a.pure == NUM and _all_text(b)) or (b.pure == NUM and _all_text(a)):
         # numbers against text (a generated sheet's checks: E34:Q34="" in every status
         # formula, 85% of a book's evaluation): never equal, numbers rank below text,
         # no error on either side: the general path's answer without its arrays (issue 24)
         sign = -1.0 if a.pure == NUM else 1.0
-        return _pure(np.full(np.broadcast_shapes(a.shape, b.shape), float(_COMPARE[op](sign, 0))), BOOL)
+        return pure_result(np.full(np.broadcast_shapes(a.shape, b.shape), float(_COMPARE[op](sign, 0))), BOOL)
     shape = np.broadcast_shapes(a.shape, b.shape)
     at, bt = np.broadcast_to(a.tag, shape), np.broadcast_to(b.tag, shape)
     # an empty cell takes the other side's type (0, "" or FALSE)
@@ -231,7 +231,7 @@ def _compare(op: str, a: Val, b: Val) -> Val:
     diff = np.where(ra != rb, np.sign(ra - rb).astype(float), np.where(near, 0.0, np.sign(d)))
     text = (at_eff == TEXT) & (bt_eff == TEXT)
     if text.any():
-        ta, tb = np.broadcast_to(_texts(a), shape), np.broadcast_to(_texts(b), shape)
+        ta, tb = np.broadcast_to(texts_of(a), shape), np.broadcast_to(texts_of(b), shape)
         diff = diff.copy()
         for idx in zip(*np.nonzero(text), strict=False):
             x = "" if at[idx] == EMPTY else str(ta[idx]).casefold()
@@ -239,7 +239,7 @@ def _compare(op: str, a: Val, b: Val) -> Val:
             diff[idx] = (x > y) - (x < y)
     res = {"=": diff == 0, "<>": diff != 0, "<": diff < 0, ">": diff > 0,
            "<=": diff <= 0, ">=": diff >= 0}[op]
-    err = _error_of(at, bt)
+    err = first_error_of(at, bt)
     return Val(np.where(err == 0, res.astype(float), 0.0), np.where(err == 0, BOOL, err).astype(np.int8))
 
 
@@ -247,13 +247,13 @@ _COMPARE = {"=": np.equal, "<>": np.not_equal, "<": np.less, ">": np.greater,
             "<=": np.less_equal, ">=": np.greater_equal}
 
 
-def _concat(a: Val, b: Val) -> Val:
-    ta, ea = _to_text(a)
-    tb, eb = _to_text(b)
+def concat(a: Val, b: Val) -> Val:
+    ta, ea = to_text(a)
+    tb, eb = to_text(b)
     shape = np.broadcast_shapes(ta.shape, tb.shape)
     ta, tb = np.broadcast_to(ta, shape), np.broadcast_to(tb, shape)
     out = np.empty(shape, dtype=object)
-    err = _error_of(ea, eb)
+    err = first_error_of(ea, eb)
     for idx in np.ndindex(shape):
         # Excel's cap on a cell's text: longer is #VALUE! (a text doubled 40 times by `&`
         # reached 2 GB before this)
@@ -266,17 +266,17 @@ def _concat(a: Val, b: Val) -> Val:
     return Val(np.zeros(shape), np.where(err == 0, TEXT, err).astype(np.int8), out)
 
 
-def _select(cond: np.ndarray, a: Val, b: Val) -> Val:
+def select(cond: np.ndarray, a: Val, b: Val) -> Val:
     if a.pure == b.pure != -1:
-        return _pure(np.where(cond, a.num, b.num), a.pure)
+        return pure_result(np.where(cond, a.num, b.num), a.pure)
     shape = np.broadcast_shapes(cond.shape, a.shape, b.shape)
     txt = None
     if a.txt is not None or b.txt is not None:
-        txt = np.where(cond, np.broadcast_to(_texts(a), shape), np.broadcast_to(_texts(b), shape))
+        txt = np.where(cond, np.broadcast_to(texts_of(a), shape), np.broadcast_to(texts_of(b), shape))
     return Val(np.where(cond, a.num, b.num), np.where(cond, a.tag, b.tag).astype(np.int8), txt)
 
 
-def _with_error(v: Val, err: np.ndarray) -> Val:
+def with_error(v: Val, err: np.ndarray) -> Val:
     if not err.any():
         return v
     shape = np.broadcast_shapes(v.shape, err.shape)
@@ -285,37 +285,37 @@ def _with_error(v: Val, err: np.ndarray) -> Val:
 
 
 # --------------------------------------------------------------------------- functions
-def _unary(fn, domain=None):
+def unary(fn, domain=None):
     def f(x: Val) -> Val:
         if x.pure != -1:
             with np.errstate(all="ignore"):
                 r = fn(x.num)
             if math.isfinite(r.sum()) and (domain is None or domain(x.num).all()):
-                return _pure(r)
-        n, err = _to_number(x)
+                return pure_result(r)
+        n, err = to_number(x)
         with np.errstate(all="ignore"):
             r = fn(n)
             if domain is not None:
                 err = np.where((err == 0) & ~domain(n), NUMERR, err).astype(np.int8)
-        return _result(r, err)
+        return numeric_result(r, err)
     return f
 
 
-def _binary(fn, check=None):
+def binary(fn, check=None):
     def f(a: Val, b: Val) -> Val:
         if a.pure != -1 and b.pure != -1:
             with np.errstate(all="ignore"):
                 r = fn(a.num, b.num)
                 if math.isfinite(r.sum()) and (check is None or not np.any(check(a.num, b.num))):
-                    return _pure(r)
-        an, ae = _to_number(a)
-        bn, be = _to_number(b)
-        err = _error_of(ae, be)
+                    return pure_result(r)
+        an, ae = to_number(a)
+        bn, be = to_number(b)
+        err = first_error_of(ae, be)
         with np.errstate(all="ignore"):
             r = fn(an, bn)
             if check is not None:
                 err = np.where(err == 0, check(an, bn), err).astype(np.int8)
-        return _result(r, err)
+        return numeric_result(r, err)
     return f
 
 
@@ -340,11 +340,11 @@ def _round(x, n):
 def _rept(a: Val, b: Val) -> Val:
     """REPT(text, times): #VALUE! for a negative count or past MAX_TEXT characters, known
     from the lengths before any text is built."""
-    ta, ea = _to_text(a)
-    n, eb = _to_number(b)
+    ta, ea = to_text(a)
+    n, eb = to_number(b)
     shape = np.broadcast_shapes(ta.shape, n.shape)
     ta, n = np.broadcast_to(ta, shape), np.broadcast_to(n, shape)
-    err = _error_of(ea, eb)
+    err = first_error_of(ea, eb)
     out = np.empty(shape, dtype=object)
     for idx in np.ndindex(shape):
         x = float(n[idx])
@@ -364,24 +364,24 @@ def _TRIG_OK(x):
 
 SCALAR_FUNCS = {
     # Excel refuses trigonometry of |x| >= 2^27 (#NUM!): too few digits are left for the angle
-    "SIN": _unary(np.sin, _TRIG_OK), "COS": _unary(np.cos, _TRIG_OK), "TAN": _unary(np.tan, _TRIG_OK),
-    "ASIN": _unary(np.arcsin, lambda x: np.abs(x) <= 1), "ACOS": _unary(np.arccos, lambda x: np.abs(x) <= 1),
-    "ATAN": _unary(np.arctan), "SQRT": _unary(np.sqrt, lambda x: x >= 0),
-    "RADIANS": _unary(np.radians), "DEGREES": _unary(np.degrees), "ABS": _unary(np.abs),
-    "SIGN": _unary(np.sign), "EXP": _unary(np.exp), "LN": _unary(np.log, lambda x: x > 0),
-    "LOG10": _unary(np.log10, lambda x: x > 0),
+    "SIN": unary(np.sin, _TRIG_OK), "COS": unary(np.cos, _TRIG_OK), "TAN": unary(np.tan, _TRIG_OK),
+    "ASIN": unary(np.arcsin, lambda x: np.abs(x) <= 1), "ACOS": unary(np.arccos, lambda x: np.abs(x) <= 1),
+    "ATAN": unary(np.arctan), "SQRT": unary(np.sqrt, lambda x: x >= 0),
+    "RADIANS": unary(np.radians), "DEGREES": unary(np.degrees), "ABS": unary(np.abs),
+    "SIGN": unary(np.sign), "EXP": unary(np.exp), "LN": unary(np.log, lambda x: x > 0),
+    "LOG10": unary(np.log10, lambda x: x > 0),
     # Excel's ATAN2 takes (x, y); ATAN2(0, 0) is #DIV/0!
-    "ATAN2": _binary(lambda x, y: np.arctan2(y, x), lambda x, y: np.where((x == 0) & (y == 0), DIV0, 0)),
-    "MOD": _binary(lambda a, b: a - b * np.floor(a / b), lambda a, b: np.where(b == 0, DIV0, 0)),
-    "POWER": _binary(np.power,
+    "ATAN2": binary(lambda x, y: np.arctan2(y, x), lambda x, y: np.where((x == 0) & (y == 0), DIV0, 0)),
+    "MOD": binary(lambda a, b: a - b * np.floor(a / b), lambda a, b: np.where(b == 0, DIV0, 0)),
+    "POWER": binary(np.power,
                      lambda a, b: np.where((a == 0) & (b < 0), DIV0, np.where((a == 0) & (b == 0), NUMERR, 0))),
-    "ROUND": _binary(lambda x, n: _round(x, np.trunc(n))),
-    "REPT": _rept, "INT": _unary(fx.int_), "FLOOR": _binary(fx.floor, fx.floor_check),
-    "CEILING": _binary(fx.ceiling, fx.ceiling_check),
+    "ROUND": binary(lambda x, n: _round(x, np.trunc(n))),
+    "REPT": _rept, "INT": unary(fx.int_), "FLOOR": binary(fx.floor, fx.floor_check),
+    "CEILING": binary(fx.ceiling, fx.ceiling_check),
 }
 
 
-def _values_of(args: list[Val], ranges: list[bool], *, numbers_only_in_ranges=True):
+def values_of(args: list[Val], ranges: list[bool], *, numbers_only_in_ranges=True):
     """The numbers an aggregate sees: in ranges only numbers (text, booleans, empty
     cells skipped); direct arguments coerced. Returns (num, use mask, first error), each
     with the per-cell axis first, concatenated over the other axes."""
@@ -396,10 +396,10 @@ def _values_of(args: list[Val], ranges: list[bool], *, numbers_only_in_ranges=Tr
         k = v.shape[0]
         if is_range:
             use = v.tag == NUM if numbers_only_in_ranges else (v.tag == NUM) | (v.tag == BOOL)
-            err = np.where(v.tag >= 10, v.tag, 0)
+            err = np.where(v.tag >= FIRST_ERROR, v.tag, 0)
             n = v.num
         else:
-            n, err = _to_number(v)
+            n, err = to_number(v)
             use = v.tag != EMPTY
         nums.append(n.reshape(k, -1))
         uses.append(use.reshape(k, -1))
@@ -408,10 +408,10 @@ def _values_of(args: list[Val], ranges: list[bool], *, numbers_only_in_ranges=Tr
     num_cols = np.concatenate([np.broadcast_to(x, (k, x.shape[1])) for x in nums], axis=1)
     use_cols = np.concatenate([np.broadcast_to(x, (k, x.shape[1])) for x in uses], axis=1)
     err_cols = np.concatenate([np.broadcast_to(x, (k, x.shape[1])) for x in errs], axis=1)
-    return num_cols, use_cols, _first_error(err_cols)
+    return num_cols, use_cols, first_error(err_cols)
 
 
-def _first_error(errs: np.ndarray) -> np.ndarray:
+def first_error(errs: np.ndarray) -> np.ndarray:
     """Per row of a (k, n) array of error tags: the first non-zero one (Excel reports the
     first error it meets), else 0."""
     if errs.shape[1] == 0:
@@ -420,8 +420,8 @@ def _first_error(errs: np.ndarray) -> np.ndarray:
     return errs[np.arange(errs.shape[0]), idx].astype(np.int8)
 
 
-def _scalar(num, err) -> Val:
-    return _result(num.reshape(-1, 1, 1), err.reshape(-1, 1, 1))
+def scalar_result(num, err) -> Val:
+    return numeric_result(num.reshape(-1, 1, 1), err.reshape(-1, 1, 1))
 
 
 def _one_block_for_all(args) -> bool:
@@ -437,18 +437,18 @@ def _by_argument(args, ranges, reduce):
     k = max(v.shape[0] for v in args)
     parts, errs = [], []
     for v, r in zip(args, ranges, strict=False):
-        n, use, err = _values_of([v], [r])
+        n, use, err = values_of([v], [r])
         parts.append(tuple(np.broadcast_to(x, (k,)) for x in reduce(n, use)))
         errs.append(np.broadcast_to(err, (k,)))
-    return parts, _first_error(np.stack(errs, axis=1))
+    return parts, first_error(np.stack(errs, axis=1))
 
 
 def _agg_sum(args, ranges):
     if _one_block_for_all(args):
         parts, err = _by_argument(args, ranges, lambda n, use: (np.where(use, n, 0.0).sum(axis=1),))
-        return _scalar(sum(p[0] for p in parts), err)
-    n, use, err = _values_of(args, ranges)
-    return _scalar(np.where(use, n, 0.0).sum(axis=1), err)
+        return scalar_result(sum(p[0] for p in parts), err)
+    n, use, err = values_of(args, ranges)
+    return scalar_result(np.where(use, n, 0.0).sum(axis=1), err)
 
 
 def _agg_average(args, ranges):
@@ -456,11 +456,11 @@ def _agg_average(args, ranges):
         parts, err = _by_argument(args, ranges, lambda n, use: (np.where(use, n, 0.0).sum(axis=1), use.sum(axis=1)))
         total, cnt = sum(p[0] for p in parts), sum(p[1] for p in parts)
     else:
-        n, use, err = _values_of(args, ranges)
+        n, use, err = values_of(args, ranges)
         total, cnt = np.where(use, n, 0.0).sum(axis=1), use.sum(axis=1)
     with np.errstate(all="ignore"):
         r = total / cnt
-    return _scalar(r, np.where((err == 0) & (cnt == 0), DIV0, err))
+    return scalar_result(r, np.where((err == 0) & (cnt == 0), DIV0, err))
 
 
 def _agg_minmax(fn, empty):
@@ -473,20 +473,20 @@ def _agg_minmax(fn, empty):
             r = getattr(np, "minimum" if fn == "min" else "maximum").reduce([p[0] for p in parts])
             seen = np.logical_or.reduce([p[1] for p in parts])
         else:
-            n, use, err = _values_of(args, ranges)
+            n, use, err = values_of(args, ranges)
             r, seen = reduce(n, use)
-        return _scalar(np.where(seen, r, 0.0), err)
+        return scalar_result(np.where(seen, r, 0.0), err)
     return f
 
 
 def _agg_sumsq(args, ranges):
-    n, use, err = _values_of(args, ranges)
-    return _scalar(fx.sumsq(n, use), err)
+    n, use, err = values_of(args, ranges)
+    return scalar_result(fx.sumsq(n, use), err)
 
 
 def _agg_product(args, ranges):
-    n, use, err = _values_of(args, ranges)
-    return _scalar(fx.product(n, use), err)
+    n, use, err = values_of(args, ranges)
+    return scalar_result(fx.product(n, use), err)
 
 
 def _agg_count(args, ranges):
@@ -497,8 +497,8 @@ def _agg_count(args, ranges):
         else:                               # typed: numbers, booleans and numeric text count
             hit = (v.tag == NUM) | (v.tag == BOOL)
             if (v.tag == TEXT).any():
-                hit = hit | np.vectorize(lambda t, x: t == TEXT and bool(_NUMERIC_TEXT.match(str(x))),
-                                         otypes=[bool])(v.tag, _texts(v))
+                hit = hit | np.vectorize(lambda t, x: t == TEXT and bool(NUMERIC_TEXT.match(str(x))),
+                                         otypes=[bool])(v.tag, texts_of(v))
         c = hit.reshape(v.shape[0], -1).sum(axis=1)
         counts = c if counts is None else counts + c
     counts = cast(np.ndarray, counts)       # COUNT has at least one argument (the parser's rule)
@@ -507,17 +507,17 @@ def _agg_count(args, ranges):
 
 def _agg_sumproduct(args, ranges):
     if len({v.shape[1:] for v in args}) > 1:      # arrays of different sizes
-        return _err("#VALUE!", max(v.shape[0] for v in args))
+        return error_value("#VALUE!", max(v.shape[0] for v in args))
     prod, err = None, None
     for v in args:
         n = np.where(v.tag == NUM, v.num, np.where(v.tag == BOOL, 0.0, 0.0))
-        e = np.where(v.tag >= 10, v.tag, 0).astype(np.int8)
+        e = np.where(v.tag >= FIRST_ERROR, v.tag, 0).astype(np.int8)
         prod = n if prod is None else prod * n
-        err = e if err is None else _error_of(err, e)
+        err = e if err is None else first_error_of(err, e)
     # SUMPRODUCT has at least one argument (the parser's rule): both are set
     prod, err = cast(np.ndarray, prod), cast(np.ndarray, err)
     k = prod.shape[0]
-    return _scalar(prod.reshape(k, -1).sum(axis=1), _first_error(err.reshape(k, -1)))
+    return scalar_result(prod.reshape(k, -1).sum(axis=1), first_error(err.reshape(k, -1)))
 
 
 def _agg_logical(all_: bool):
@@ -527,18 +527,18 @@ def _agg_logical(all_: bool):
             k = v.shape[0]
             if is_range:
                 use = (v.tag == NUM) | (v.tag == BOOL)
-                e = np.where(v.tag >= 10, v.tag, 0).astype(np.int8)
+                e = np.where(v.tag >= FIRST_ERROR, v.tag, 0).astype(np.int8)
                 b = v.num != 0
             else:
-                b, e = _to_bool(v)
+                b, e = to_bool(v)
                 use = v.tag != EMPTY
             b, use, e = b.reshape(k, -1), use.reshape(k, -1), e.reshape(k, -1)
             part = np.where(use, b, all_).all(axis=1) if all_ else np.where(use, b, False).any(axis=1)
             acc = part if acc is None else (acc & part if all_ else acc | part)
             s = use.any(axis=1)
             seen = s if seen is None else seen | s
-            first = _first_error(e)
-            err = first if err is None else _error_of(err, first)
+            first = first_error(e)
+            err = first if err is None else first_error_of(err, first)
         # AND/OR have at least one argument (the parser's rule): all three are set
         acc, seen, err = cast(np.ndarray, acc), cast(np.ndarray, seen), cast(np.ndarray, err)
         err = np.where((err == 0) & ~seen, VALUE, err).astype(np.int8)
@@ -565,6 +565,8 @@ class Evaluates(Protocol):
     def spill(self, args: Sequence[Any], run: Any) -> Val: ...
     def single(self, args: Sequence[Any], run: Any) -> Val: ...
     def name(self, name: str, run: Any) -> Any: ...
+    def reference(self, node: Any, run: Any) -> Any: ...
+    def read_reference(self, ref: Any, run: Any, function: str) -> Val: ...
 
 
 Hook = Callable[[Evaluates, Sequence[Any], Any], Val]
@@ -580,25 +582,25 @@ class Lazy:
     why: str
 
 
-def _arg(ctx: Evaluates, args: Sequence[Any], i: int, run: Any, default: Val) -> Val:
+def argument(ctx: Evaluates, args: Sequence[Any], i: int, run: Any, default: Val) -> Val:
     """Argument i evaluated, or `default` where it is left out (IF(c,,b)) or missing."""
     return ctx.eval(args[i], run) if len(args) > i and args[i][0] != "missing" else default
 
 
 def _if(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
-    cond, err = _to_bool(ctx.eval(args[0], run))
-    a = _arg(ctx, args, 1, run, _const(0.0))
-    b = ctx.eval(args[2], run) if len(args) > 2 else _const(False)
-    return _with_error(_select(cond, a, b), err)
+    cond, err = to_bool(ctx.eval(args[0], run))
+    a = argument(ctx, args, 1, run, constant(0.0))
+    b = ctx.eval(args[2], run) if len(args) > 2 else constant(False)
+    return with_error(select(cond, a, b), err)
 
 
 def _iferror(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
     a, b = ctx.eval(args[0], run), ctx.eval(args[1], run)
-    return _select(a.tag >= 10, b, a)
+    return select(a.tag >= FIRST_ERROR, b, a)
 
 
 def _not(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
-    b, err = _to_bool(ctx.eval(args[0], run))
+    b, err = to_bool(ctx.eval(args[0], run))
     return Val(np.where(err == 0, (~b).astype(float), 0.0), np.where(err == 0, BOOL, err).astype(np.int8))
 
 
@@ -626,22 +628,22 @@ def _error_type(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
 
 def _concatenate(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
     """CONCATENATE(a, b, ...): `&` over its arguments, capped the same way."""
-    out = _const("")
+    out = constant("")
     for a in args:
-        out = _concat(out, ctx.eval(a, run))
+        out = concat(out, ctx.eval(a, run))
     return out
 
 
 def _boolean(value: bool) -> Hook:
     def hook(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
-        return _const(value) if not args else _err("#VALUE!", len(run.cols))
+        return constant(value) if not args else error_value("#VALUE!", len(run.cols))
     return hook
 
 
 def _trunc(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
     if len(args) == 1:
-        return _unary(fx.trunc)(ctx.eval(args[0], run))
-    return _binary(fx.trunc)(ctx.eval(args[0], run), ctx.eval(args[1], run))
+        return unary(fx.trunc)(ctx.eval(args[0], run))
+    return binary(fx.trunc)(ctx.eval(args[0], run), ctx.eval(args[1], run))
 
 
 def _rounding(name: str) -> Hook:
@@ -650,29 +652,29 @@ def _rounding(name: str) -> Hook:
 
     def hook(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
         if not 1 <= len(args) <= fx.ROUNDING_ARITY[name]:
-            return _err("#VALUE!", len(run.cols))
-        vals = [_arg(ctx, args, i, run, _const(0.0)) for i in range(len(args))]
-        vals += [_const(d) for d in defaults[len(args) - 1:]]
-        nums, errs = zip(*(_to_number(v) for v in vals), strict=False)
+            return error_value("#VALUE!", len(run.cols))
+        vals = [argument(ctx, args, i, run, constant(0.0)) for i in range(len(args))]
+        vals += [constant(d) for d in defaults[len(args) - 1:]]
+        nums, errs = zip(*(to_number(v) for v in vals), strict=False)
         with np.errstate(all="ignore"):
             r = fn(*np.broadcast_arrays(*nums))
-        return _result(r, _error_of(*errs))
+        return numeric_result(r, first_error_of(*errs))
     return hook
 
 
 def _choose(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
     """CHOOSE(i, v1, v2, ...): the i-th value (per cell of the run)."""
-    i, err = _to_number(ctx.eval(args[0], run))
+    i, err = to_number(ctx.eval(args[0], run))
     pos, bad = fx.choose_index(i, len(args) - 1)
-    err = _error_of(err, bad)
+    err = first_error_of(err, bad)
     values = [ctx.eval(a, run) for a in args[1:]]
     shape = np.broadcast_shapes(pos.shape, *(v.shape for v in values))
     num = np.choose(np.broadcast_to(pos, shape), [np.broadcast_to(v.num, shape) for v in values])
     tags = np.choose(np.broadcast_to(pos, shape), [np.broadcast_to(v.tag, shape) for v in values])
     txt = None
     if any(v.txt is not None for v in values):
-        txt = np.choose(np.broadcast_to(pos, shape), [np.broadcast_to(_texts(v), shape) for v in values])
-    return _with_error(Val(num, tags.astype(np.int8), txt), np.broadcast_to(err, shape))
+        txt = np.choose(np.broadcast_to(pos, shape), [np.broadcast_to(texts_of(v), shape) for v in values])
+    return with_error(Val(num, tags.astype(np.int8), txt), np.broadcast_to(err, shape))
 
 
 def _where(which: str):
@@ -684,10 +686,15 @@ def _where(which: str):
         node = args[0] if args and args[0][0] != "missing" else None
         if node is not None and node[0] == "name":
             node = ctx.name(node[1], run)
+        if node is not None and node[0] == "fn":          # OFFSET, INDIRECT, INDEX: the reference made
+            made = ctx.reference(node, run)
+            node = ("ref", made) if made is not None else None
+            if node is None:
+                return error_value("#REF!", k)
         if node is None and which in ("ROW", "COLUMN"):
             at = np.full(k, float(run.row)) if which == "ROW" else run.cols.astype(float)
         elif node is None or node[0] != "ref":
-            return _err("#VALUE!", k)
+            return error_value("#VALUE!", k)
         else:
             ref = node[1]
             if which == "ROWS":
@@ -705,38 +712,38 @@ def _where(which: str):
 def _n_of(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
     """N(x): a number as it is, TRUE 1, text and empty 0, an error as it is."""
     if len(args) != 1:
-        return _err("#VALUE!", len(run.cols))
+        return error_value("#VALUE!", len(run.cols))
     v = ctx.eval(args[0], run)
     v = Val(v.num[:, :1, :1], v.tag[:, :1, :1], None if v.txt is None else v.txt[:, :1, :1])
     num = np.where((v.tag == NUM) | (v.tag == BOOL), v.num, 0.0)
-    return _with_error(Val(num, np.zeros(v.shape, np.int8), None, NUM), np.where(v.tag >= 10, v.tag, 0))
+    return with_error(Val(num, np.zeros(v.shape, np.int8), None, NUM), np.where(v.tag >= FIRST_ERROR, v.tag, 0))
 
 
 def _value_of(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
     """VALUE(text): numeric text as its number, a number as it is; other text, and a
     boolean, #VALUE!."""
     if len(args) != 1:
-        return _err("#VALUE!", len(run.cols))
+        return error_value("#VALUE!", len(run.cols))
     v = ctx.eval(args[0], run)
-    num, err = _to_number(v)
+    num, err = to_number(v)
     err = np.where((err == 0) & (v.tag == BOOL), VALUE, err).astype(np.int8)
-    return _result(num, err)
+    return numeric_result(num, err)
 
 
 # name -> its entry; the evaluator asks this table before SCALAR_FUNCS and AGGREGATES
 LAZY: dict[str, Lazy] = {
-    "PI": Lazy(lambda ctx, args, run: _const(math.pi), "no arguments"),
+    "PI": Lazy(lambda ctx, args, run: constant(math.pi), "no arguments"),
     "IF": Lazy(_if, "a branch is evaluated only where it is given (IF(c,,b) is 0 where c holds)"),
     "IFERROR": Lazy(_iferror, "its first argument's errors are a value, not propagated"),
     "NOT": Lazy(_not, "a condition, coerced to a boolean with its own errors"),
     "ISNUMBER": Lazy(_is(lambda v: v.tag == NUM), "asks a value's type: errors are an answer"),
-    "ISERROR": Lazy(_is(lambda v: v.tag >= 10), "asks a value's type: errors are an answer"),
+    "ISERROR": Lazy(_is(lambda v: v.tag >= FIRST_ERROR), "asks a value's type: errors are an answer"),
     "ISTEXT": Lazy(_is(lambda v: v.tag == TEXT), "asks a value's type: errors are an answer"),
-    "ISERR": Lazy(_is(lambda v: (v.tag >= 10) & (v.tag != NA)), "asks a value's type: errors are an answer"),
+    "ISERR": Lazy(_is(lambda v: (v.tag >= FIRST_ERROR) & (v.tag != NA)), "asks a value's type: errors are an answer"),
     "ISNA": Lazy(_is(lambda v: v.tag == NA), "asks a value's type: errors are an answer"),
     "ERROR.TYPE": Lazy(_error_type, "asks which error: errors are an answer"),
     "CONCATENATE": Lazy(_concatenate, "any number of arguments, joined as `&` joins two"),
-    "NA": Lazy(lambda ctx, args, run: _err("#N/A", len(run.cols)), "the charts' gap: #N/A is not plotted"),
+    "NA": Lazy(lambda ctx, args, run: error_value("#N/A", len(run.cols)), "the charts' gap: #N/A is not plotted"),
     "TRUE": Lazy(_boolean(True), "LibreOffice writes TRUE() and FALSE()"),
     "FALSE": Lazy(_boolean(False), "LibreOffice writes TRUE() and FALSE()"),
     "TRUNC": Lazy(_trunc, "an optional second argument"),

@@ -597,8 +597,8 @@ def test_fuzz_zip_entry_names_reach_no_output_raw(tmp_path_factory, names):
     with zipfile.ZipFile(z, "w") as zf:
         for k, name in enumerate(names):
             zf.writestr(f"{name}_{k + 1}_assignsubmission_file_/{name}.xlsx", b"not a workbook")
-    from sheetkin.course.class_grading import show_as
     from sheetkin.course.batch import submission_files, validate_many
+    from sheetkin.course.class_grading import show_as
     found = submission_files([str(z)])
     reports = []
     for f, rep in zip(found.files, validate_many(found.files, 1), strict=True):

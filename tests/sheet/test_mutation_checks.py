@@ -34,7 +34,7 @@ from sheetkin.course.reference import build_reference
 from sheetkin.kinematics.scene import override_crank
 from sheetkin.sheet.checks import plural
 from sheetkin.sheet.workbook import FIRST_COL, build_workbook, sheet_rows
-from sheetkin.xlsx.cells import Sheet, _Template, read_book
+from sheetkin.xlsx.cells import Sheet, Template, read_book
 from sheetkin.xlsx.evaluator import evaluate_sheets
 
 WORKBOOKS = Path(__file__).resolve().parents[2] / "workbooks"
@@ -133,14 +133,14 @@ class Book:
     @staticmethod
     def _render(row: list[str], blocks: int, at: int = 0) -> list[str]:
         """The row's N formulas (column E on) as they read in blocks at, at+1, ... at+blocks-1."""
-        tpl = _Template(row[0], FIRST_COL)
+        tpl = Template(row[0], FIRST_COL)
         uniform = not _own_range(row[0]) and tpl.render_many(FIRST_COL, N) == row
         if uniform:
             return tpl.render_many(FIRST_COL + N * at, N * blocks)
         out = []
         for j in range(at, at + blocks):
             for k, f in enumerate(row):
-                t = _Template(f, FIRST_COL + k).render(FIRST_COL + N * j + k)
+                t = Template(f, FIRST_COL + k).render(FIRST_COL + N * j + k)
                 # a range over the row's own positions ({scale:...}) is the block's own
                 out.append(_BLOCK_RANGE.sub(lambda m, j=j: _shift_range(m, N * j), t))
         return out

@@ -30,8 +30,8 @@ from helpers.libreoffice import is_error, recalculate
 from openpyxl.utils import get_column_letter
 from openpyxl.workbook.defined_name import DefinedName
 
-from sheetkin.xlsx.evaluator import ERRORS, EvaluationError, evaluate
-from sheetkin.xlsx.functions import XlError
+from sheetkin.xlsx.evaluator import EvaluationError, evaluate
+from sheetkin.xlsx.functions import ERRORS, XlError
 
 ROOT = Path(__file__).resolve().parents[2]
 BUNDLED = sorted((ROOT / "workbooks").glob("*.xlsx"))
@@ -618,7 +618,7 @@ def _save(tmp_path, name, cells: dict, sheet="Calc") -> Path:
 def test_unsupported_function_strict_names_file_sheet_cells_and_function(tmp_path):
     path = _save(tmp_path, "lookup.xlsx", {
         "A1": 1, "B1": 2, "A2": 3, "B2": 4,
-        "C3": "=VLOOKUP(1,A1:B2,2)",
+        "C3": "=XLOOKUP(1,A1:A2,B1:B2)",
         "Other sheet!D5": "=FOO(1)", "Other sheet!E5": "=FOO(1)", "Other sheet!F5": "=FOO(1)",
         "D1": "=A1+B1",
     })
@@ -626,14 +626,14 @@ def test_unsupported_function_strict_names_file_sheet_cells_and_function(tmp_pat
         evaluate(path, strict=True)
     msg = str(exc.value)
     assert "lookup.xlsx" in msg
-    assert "Calc!C3" in msg and "VLOOKUP" in msg
+    assert "Calc!C3" in msg and "XLOOKUP" in msg
     assert "FOO" in msg and "Other sheet!D5" in msg    # the run of FOO cells (D5:F5) or its cells
 
 
 def test_unsupported_function_lenient_gives_name_error_and_lists_problems(tmp_path):
     path = _save(tmp_path, "lenient.xlsx", {
         "A1": 1, "B1": 2, "A2": 3, "B2": 4,
-        "C3": "=VLOOKUP(1,A1:B2,2)", "C4": "=C3+1",
+        "C3": "=XLOOKUP(1,A1:A2,B1:B2)", "C4": "=C3+1",
         "D5": "=FOO(A1)", "E5": "=FOO(B1)", "F5": "=FOO(C1)",
         "D1": "=A1+B1",
     })
@@ -643,7 +643,7 @@ def test_unsupported_function_lenient_gives_name_error_and_lists_problems(tmp_pa
     assert [book.value("Calc", 5, c) for c in (4, 5, 6)] == ["#NAME?"] * 3
     assert book.value("Calc", 1, 4) == 3.0                  # the rest is computed
     problems = " ".join(book.problems)
-    assert "Calc!C3" in problems and "VLOOKUP" in problems
+    assert "Calc!C3" in problems and "XLOOKUP" in problems
     assert "FOO" in problems and "D5" in problems
     assert len(book.problems) == 2
 
@@ -969,13 +969,13 @@ def test_numbers_against_text_fast_path_is_the_general_one(op):
     # issue 24: E34:Q34="" in every check status; numbers rank below text, never equal
     import numpy as np
 
-    from sheetkin.xlsx.values import NUM, TEXT, Val, _compare
+    from sheetkin.xlsx.values import NUM, TEXT, Val, compare
     num = np.array([[[0.0, -1.5, 3e300, 2.0]]])
     pure = Val(num, None, None, NUM)
     general = Val(num, np.zeros(num.shape, np.int8))              # the same numbers, not marked pure
     for text in ("", "abc", "0"):
         t = Val(np.zeros((1, 1, 1)), np.full((1, 1, 1), TEXT, np.int8), np.array([[[text]]], dtype=object))
         for a, b, ga, gb in ((pure, t, general, t), (t, pure, t, general)):
-            fast, slow = _compare(op, a, b), _compare(op, ga, gb)
+            fast, slow = compare(op, a, b), compare(op, ga, gb)
             assert fast.shape == slow.shape
             assert np.array_equal(fast.num, slow.num) and np.array_equal(fast.tag, slow.tag), (op, text)

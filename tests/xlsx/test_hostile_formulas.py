@@ -11,6 +11,7 @@ names in a circle #N/A, a circular reference #VALUE!, its Err:522 saved to .xlsx
 """
 from __future__ import annotations
 
+import dataclasses
 import os
 import subprocess
 import sys
@@ -25,10 +26,12 @@ from openpyxl.workbook.defined_name import DefinedName
 
 from sheetkin.cli.commands import main
 from sheetkin.xlsx import cells as xlsxread
-from sheetkin.xlsx import evaluator
+from sheetkin.xlsx import evaluator, table
 from sheetkin.xlsx import limits as evaluator_limits
-from sheetkin.xlsx.evaluator import MAX_EVAL_DEPTH, MAX_FORMULA_CHARS, MAX_NESTING, EvaluationError, evaluate
+from sheetkin.xlsx.evaluator import EvaluationError, evaluate
+from sheetkin.xlsx.limits import MAX_EVAL_DEPTH
 from sheetkin.xlsx.package import Limits, UnusableWorkbook
+from sheetkin.xlsx.parse import MAX_FORMULA_CHARS, MAX_NESTING
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -193,7 +196,7 @@ def test_an_evaluator_bug_in_one_cell_is_that_cells_problem(tmp_path, monkeypatc
 
     def broken(args, ranges):
         raise IndexError("a bug")
-    monkeypatch.setitem(evaluator.AGGREGATES, "SUM", broken)
+    monkeypatch.setitem(table.FUNCTIONS, "SUM", dataclasses.replace(table.FUNCTIONS["SUM"], kernel=broken))
     book = evaluate(path, strict=False)
     assert book.value("Calc", 3, 2) == "#VALUE!" and book.value("Calc", 3, 3) == 6.0
     assert len(book.notes) == 1 and book.notes[0].startswith("Calc!B3: internal error of the evaluator (IndexError")

@@ -32,7 +32,8 @@ from hypothesis import strategies as st
 from openpyxl.utils import get_column_letter
 
 from sheetkin.course.validator import validate
-from sheetkin.xlsx.evaluator import ERRORS, evaluate
+from sheetkin.xlsx.evaluator import evaluate
+from sheetkin.xlsx.functions import ERRORS
 
 
 # ------------------------------------------------------------------ one soffice call
@@ -85,7 +86,7 @@ def agrees(ours, theirs) -> bool:
     return ours == theirs
 
 
-def _split(key: str) -> tuple[str, int, int]:
+def split_run(key: str) -> tuple[str, int, int]:
     sheet, ref = key.split("!")
     letters = ref.rstrip("0123456789")
     return sheet, int(ref[len(letters):]), openpyxl.utils.column_index_from_string(letters)
@@ -107,8 +108,8 @@ def test_feature_values_are_excels(lo, key):
     """Each book's cells against Excel's values worked out by hand."""
     b = lo["books"][key]
     book = _evaluated(b)
-    bad = [f"{k}: ours {book.value(*_split(k))!r}, Excel {v!r}" for k, v in b.expected.items()
-           if not agrees(book.value(*_split(k)), v)]
+    bad = [f"{k}: ours {book.value(*split_run(k))!r}, Excel {v!r}" for k, v in b.expected.items()
+           if not agrees(book.value(*split_run(k)), v)]
     assert not bad, "; ".join(bad)
 
 
@@ -182,8 +183,8 @@ def test_opendocument_spreadsheet_is_converted(lo, tmp_path, soffice):
     from sheetkin.cli.commands import main
     assert main(["evaluate", str(ods), "--format", "csv"]) == 0
     for key, v in b.expected.items():
-        assert agrees(ours.value(*_split(key)), v), key
-        assert agrees(ours.value(*_split(key)), ref.value(*_split(key))), key
+        assert agrees(ours.value(*split_run(key)), v), key
+        assert agrees(ours.value(*split_run(key)), ref.value(*split_run(key))), key
 
 
 def test_validate_accepts_an_ods_submission(lo, tmp_path):
