@@ -55,7 +55,7 @@ from sheetkin.xlsx.package import Limits, UnusableWorkbook
 from sheetkin.xlsx.parse import ParseError, functions_of, names_of, parse_formula, refs_of
 from sheetkin.xlsx.precedents import POSITIONAL, reaching
 
-from . import issued
+from . import behaviour, issued
 from .copies import submission_marks  # the raw cells copy detection compares
 from .layout import Layout, find_layout, standard_view, without_unread
 from .localjudge import TURN, angle_difference, judge, name_causes
@@ -119,6 +119,11 @@ class RowReport:
     # positions (1-based, among typed_cells) whose formula reads only typed numbers: none of
     # the given data, through any formulas (a number pasted elsewhere, then "=Лист2!E5")
     reads_typed: list[int] = field(default_factory=list)
+    # issue 31 (sheetkin/course/behaviour.py): positions (1-based) right on the issued data but
+    # not on nudged given data (also in typed_cells: they earn nothing); a row sheetkin cannot
+    # evaluate is not judged (out of the rows graded)
+    not_following: list[int] = field(default_factory=list)
+    not_judged: bool = False
 
     @property
     def is_typed(self) -> bool:
@@ -173,6 +178,7 @@ class Report(_UsableBookParts):
     checks_issued: int = 0
     issued_to: str = ""              # the identifier sealed in it by `variants --class-list`
     notes: list[str] = field(default_factory=list)
+    checks_not_judged: list[str] = field(default_factory=list)   # issue 31: status not evaluable (behaviour.py)
 
     @property
     def wrong(self) -> list[RowReport]:
@@ -337,9 +343,18 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
     g = _Graded(path, scene, ref_rows, layout, evaluated, sh, names)
     g.from_given = _from_given(raw, g, issued_positions)
     report = _new_report(g, book, scene_text, options)
+    beh = behaviour.prepare(g, raw, book.names, scene_text) if _judged_by_behaviour(report) else None  # issue 31
     _grade_rows(report, g)
+    behaviour.judge_rows(report, g, beh)                                                    # issue 31
     _read_checks(report, evaluated, layout.sheet, sh, names, ref_rows, cast(Book, g.ref_book), g.ref_names)
+    behaviour.judge_checks(report, g)                                                       # issue 31
     return report
+
+
+def _judged_by_behaviour(report: Report) -> bool:
+    """issue 31: a book graded 0 anyway (given data changed, seal broken) is not nudged."""
+    from .grades import given_changed, seal_failed
+    return not seal_failed(report) and not given_changed(report, report.accepted_changes)
 
 
 def _embedded_scene(book, path: str, options: issued.Options | None) -> tuple[Scene, str]:
