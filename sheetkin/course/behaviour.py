@@ -119,6 +119,7 @@ def judge_rows(report: Report, g: _Graded, beh: Behaviour | None) -> None:
             continue
         if beh is not None and rep.name in g.ref_names:
             candidates.append((rep, cols))
+    report.filled_share = _filled_share(report, g)
     # each row is also judged on its own nudged inputs (sheetkin.course.localjudge): a row
     # right given what it reads follows the given data, even when a row above it does not
     # (an honest formula reading a cheated row is not a cheat of its own)
@@ -163,6 +164,21 @@ def judge_rows(report: Report, g: _Graded, beh: Behaviour | None) -> None:
                             + (" ..." if len(unjudged) > 12 else ""))
 
 
+def _filled_share(report: Report, g: _Graded) -> float:
+    """The share of the graded rows' cells that hold something (a formula or a value): the
+    share of an unfilled check row's credit it keeps (credit per position: a book with its
+    last position left empty keeps 12/13 of its check rows' share)."""
+    cells = filled = 0
+    for rep in report.rows:
+        if rep.kind == "derived" or prefilled_in_exercise(rep.name, rep.kind):
+            continue
+        cells += report.positions
+        if rep.row is not None:
+            filled += sum(1 for k in range(report.positions)
+                          if (rep.row, FIRST_COL + k) in g.sh.formulas or (rep.row, FIRST_COL + k) in g.sh.consts)
+    return filled / cells if cells else 0.0
+
+
 def _positions(report: Report, cells: list[int]) -> str:
     """'0-12' or '3, 5': the positions' numbers i as the sheet names them."""
     names = [report.position_names[k - 1][0] if k - 1 < len(report.position_names) else k - 1 for k in cells]
@@ -175,7 +191,16 @@ def _positions(report: Report, cells: list[int]) -> str:
 def judge_checks(report: Report, g: _Graded) -> None:
     """A check row whose status sheetkin cannot evaluate is not failing: not judged, named,
     out of the check rows that apply."""
-    unjudged = [n for n in report.failing_checks if n in g.names and _unevaluable(g, g.names[n], 4)]
+    def unjudged_check(n: str) -> bool:
+        # its status is #NAME? here, or it fails here only because the cells it reads are
+        # (the sheet's own formula turns an error among them into 1) while the saved status passes
+        r = g.names[n]
+        if _unevaluable(g, r, 4):
+            return True
+        saved = g.sh.cached.get((r, 4))
+        return (isinstance(saved, (int, float)) and not isinstance(saved, bool) and saved == 0
+                and any(_unevaluable(g, r, FIRST_COL + k) for k in range(report.positions)))
+    unjudged = [n for n in report.failing_checks if n in g.names and unjudged_check(n)]
     if not unjudged:
         return
     report.failing_checks = [n for n in report.failing_checks if n not in unjudged]

@@ -180,13 +180,14 @@ def score_parts(rep, accept_changed: bool | None = None, accept_typed: bool | No
              + (f" ({', '.join(lost_rows)})" if lost_rows else "")]
     if c["not_judged"] or c["checks_not_judged"]:
         parts.append(f"not judged, check by hand: {c['not_judged']} rows, {c['checks_not_judged']} check rows")
-    lost = c["checks_deleted"] + c["checks_typed"] + c["checks_unfilled"]
+    # issue 31: a check row not filled in keeps the share of the sheet's cells that are filled
+    lost = c["checks_deleted"] + c["checks_typed"] + c["checks_unfilled"] * (1 - getattr(rep, "filled_share", 0.0))
     checks = CHECKS_SHARE * (issued - lost) / issued if issued else 0.0
     if issued:
         lost_checks = [f"{c[key]} {what}" for key, what in (
             ("checks_deleted", "deleted"), ("checks_typed", "status typed over"),
             ("checks_unfilled", "not filled in (rows they check are empty)")) if c[key]]
-        parts.append(f"{issued - lost} of {issued} check rows intact and filled in: {checks:.1f} of {CHECKS_SHARE:g}"
+        parts.append(f"{issued - lost:.4g} of {issued} check rows intact and filled in: {checks:.1f} of {CHECKS_SHARE:g}"
                      + (f" ({', '.join(lost_checks)})" if lost_checks else ""))
     s = unit * c["earned"] + checks
     if c["checks_failing"]:
