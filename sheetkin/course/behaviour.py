@@ -31,8 +31,11 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, cast
 
-from sheetkin.sheet.workbook import FIRST_COL, prefilled_in_exercise
+from sheetkin.kinematics.scene import Scene
+from sheetkin.sheet.workbook import FIRST_COL, prefilled_in_exercise, sheet_rows
 from sheetkin.xlsx.evaluator import Book
+from sheetkin.xlsx.parse import ParseError, functions_of, names_of, parse_formula, refs_of
+from sheetkin.xlsx.precedents import POSITIONAL
 from sheetkin.xlsx.replay import Replay
 
 from . import nudge
@@ -57,13 +60,27 @@ class Behaviour:
 def prepare(g: _Graded, raw: Book, names: dict, scene_text: str) -> Behaviour | None:
     """The book's nudged variants and its formulas evaluated on them; None when there is
     nothing to nudge or an input cell holds a formula (then the precedents decide, as before)."""
-    from .validator import _reference, variant_scene
+    from .validator import variant_scene
     scene, ref_book = g.student_scene, g.ref_book
     if scene is None or ref_book is None:
         return None
     positions = scene.crank.positions
+    if nudge.NUDGES <= 0:                        # switched off (benchmarks/per_book.py --behaviour-off)
+        return None
+    # a nudged variant's reference is the issued reference evaluated again with the nudged
+    # input block (the same generated sheet: validator._reference evaluates it so), its
+    # parsed formulas and their order shared
+    ref_sheet = ref_book.order[0]
+    ref_replay = Replay(ref_book, {})
+
+    def reference(s: Scene) -> Book:
+        inputs = {r.name: r.value for r in sheet_rows(s).rows if r.kind == "input" and r.value is not None}
+        return ref_replay.run({ref_sheet: {
+            (g.ref_names[n], 4): float(v) if isinstance(v, int) and not isinstance(v, bool) else v
+            for n, v in inputs.items() if n in g.ref_names}})
     variants = nudge.nudged_variants(scene, scene_text.encode("utf-8"), ref_book,
-                                     lambda s, inputs: variant_scene(s, inputs, positions, {}), _reference)
+                                     lambda s, inputs: variant_scene(s, inputs, positions, {}), reference,
+                                     nudge.NUDGES)
     if not variants:
         return None
     value_col = g.layout.columns[4]
@@ -73,12 +90,37 @@ def prepare(g: _Graded, raw: Book, names: dict, scene_text: str) -> Behaviour | 
             r = g.names.get(name)
             if r is not None and (r, value_col) in raw_sheet.formulas:
                 return None                      # a given value computed by a formula: not replayed
-    replay = Replay(raw, names)
+    # the sheet's own check rows and the summary above the table are not graded on the nudged
+    # data (their status formulas are most of a book's evaluation): not evaluated again
+    checks = {r for n, r in g.names.items() if n.startswith(("chk", "fd_"))} | set(range(1, 5))
+    replay = Replay(raw, names, skip={g.main: checks})
     sheets = []
     for v in variants:
         changes = {(g.names[n], value_col): x for n, x in v.inputs.items() if n in g.names}
         sheets.append(standard_view(replay.run({g.main: changes}), g.layout)[0])
     return Behaviour(variants, sheets)
+
+
+_READS: dict[str, bool] = {}
+_READS_KEEP = 100_000
+
+
+def formula_reads_something(text: str, r: int, c: int) -> bool:
+    """Whether a formula reads some cell or name, or a positional function (ROW, COLUMN): the
+    validator's computes() for a formula cell. Kept per formula text: whether a formula reads
+    anything does not depend on its cell, and a class's books share their formulas (parsing
+    them again was 46% of a further book's CPU, issue 31)."""
+    known = _READS.get(text)
+    if known is None:
+        try:
+            tree = parse_formula("=" + text.lstrip("="), r, c, {})
+            known = bool(refs_of(tree) or names_of(tree) or functions_of(tree) & POSITIONAL)
+        except ParseError:
+            known = True                                # its evaluation reports what is wrong
+        if len(_READS) >= _READS_KEEP:
+            _READS.clear()
+        _READS[text] = known
+    return known
 
 
 def _close(got, exp, period: float | None) -> bool:

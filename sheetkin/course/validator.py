@@ -592,11 +592,7 @@ def computes(sh: Sheet, r: int, c: int) -> bool:
     text = sh.formulas.get((r, c))
     if text is None:                                   # a spilled cell of an array formula
         return True
-    try:
-        tree = parse_formula("=" + text.lstrip("="), r, c, {})
-    except ParseError:
-        return True                                    # its evaluation reports what is wrong
-    return bool(refs_of(tree) or names_of(tree) or functions_of(tree) & _POSITIONAL)
+    return behaviour.formula_reads_something(text, r, c)        # issue 31: parsed once per text
 
 
 def _read_checks(report: Report, evaluated: Book, main: str, sh: Sheet, names: dict[str, int], ref_rows,

@@ -13,7 +13,6 @@ from __future__ import annotations
 import numpy as np
 
 from .evaluator import Book, _name_scopes, _run_all, store_value
-from .limits import _store_dims
 from .package import Limits
 
 
@@ -21,13 +20,18 @@ class Replay:
     """The plan of an evaluated book (its runs in order, its names), to evaluate it again
     with other values in some typed cells."""
 
-    def __init__(self, book: Book, names: dict, limits: Limits = Limits()):
+    def __init__(self, book: Book, names: dict, limits: Limits = Limits(),
+                 skip: dict[str, set[int]] | None = None):
+        """skip: rows (by sheet) whose formulas are not evaluated again (their values stay the
+        first evaluation's): rows nothing the caller reads depends on."""
         self.book = book
+        skip = skip or {}
+        self.schedule = [run for run in book.schedule if run.row not in skip.get(run.sheet, ())]
         sheets = book.sheets
         bound = (max([sh.max_row for sh in sheets.values()] + [1]), max([sh.max_col for sh in sheets.values()] + [1]))
         self.scopes = _name_scopes(names, sheets, bound, {})
         self.name_refs = {**self.scopes[None], **{n: t for sc in self.scopes.values() for n, t in sc.items()}}
-        self.dims = _store_dims(book.path, sheets, limits)
+        self.dims = {n: list(a.shape) for n, a in book.num.items()}     # as evaluate_sheets made them
         self.formula_cells = {(run.sheet, run.row, int(c)) for run in book.schedule for c in run.cols}
 
     def run(self, changes: dict[str, dict[tuple[int, int], object]]) -> Book:
@@ -48,5 +52,5 @@ class Replay:
         ctx.arrays = {n: sh.arrays for n, sh in b.sheets.items()}
         problems: list[str] = []
         with np.errstate(all="ignore"):
-            cells = _run_all(b.path, b.schedule, ctx, self.dims, self.name_refs, False, problems)
+            cells = _run_all(b.path, self.schedule, ctx, self.dims, self.name_refs, False, problems)
         return Book(b.path, b.sheets, b.order, num, tag, txt, problems, b.runs, cells, b.schedule)
