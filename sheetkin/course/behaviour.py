@@ -161,24 +161,25 @@ def judge_rows(report: Report, g: _Graded, beh: Behaviour | None) -> None:
             continue
         if beh is not None and rep.name in g.ref_names:
             candidates.append((rep, cols))
-    report.filled_share = _filled_share(report, g)
+    from .report_html import position_list  # it imports the validator, which imports this
+    report.filled_share = _filled_share(report, g)     # not a field (as checks_passing ...)
     # each row is also judged on its own nudged inputs (sheetkin.course.localjudge): a row
     # right given what it reads follows the given data, even when a row above it does not
     # (an honest formula reading a cheated row is not a cheat of its own)
     locals_ = [] if beh is None else [
         judge(n.reference, sheet, g.main, g.names, [rep.name for rep, _ in candidates], frozenset(), periods,
-              g.layout.columns) for n, sheet in zip(beh.nudged, beh.sheets)]
+              g.layout.columns) for n, sheet in zip(beh.nudged, beh.sheets, strict=True)]
     for rep, cols in candidates:
         r = cast(int, rep.row)
         rr, period = g.ref_names[rep.name], periods.get(rep.name)
         bad = set(rep.wrong_cells) | set(rep.typed_cells)
-        states = [dict(zip((int(c) for c in lo.judgements[rep.name].cols), lo.judgements[rep.name].state))
+        states = [dict(zip((int(c) for c in lo.judgements[rep.name].cols), lo.judgements[rep.name].state, strict=True))
                   if rep.name in lo.judgements and lo.judgements[rep.name].local else {} for lo in locals_]
         for k, c in enumerate(cols):
             if k + 1 in bad or (rep.kind == "derived" and (rep.status != "correct" or rep.source != "formula")):
                 continue
             issued = ref_book.value(ref_sheet, rr, c)
-            for n, sheet, state in zip(cast(Behaviour, beh).nudged, cast(Behaviour, beh).sheets, states):
+            for n, sheet, state in zip(cast(Behaviour, beh).nudged, cast(Behaviour, beh).sheets, states, strict=True):
                 exp = n.reference.value(n.reference.order[0], rr, c)
                 if _close(exp, issued, period):
                     continue                     # the right value does not move: the precedents decide
@@ -194,7 +195,7 @@ def judge_rows(report: Report, g: _Graded, beh: Behaviour | None) -> None:
             c = cols[k - 1]
             formula = g.sh.formulas.get((r, c), "")
             cell = g.layout.cell(r, c)
-            where = "" if rep.kind == "derived" else f", i = {_positions(report, rep.not_following)}"
+            where = "" if rep.kind == "derived" else f", {position_list(report, rep.not_following, 'en')}"
             not_following.append(f"{rep.name} (row {r}{where}: {cell} ={formula})")
     if not_following:
         report.notes.append(f"does not follow the given data ({len(not_following)}; right for the issued data, "
@@ -219,15 +220,6 @@ def _filled_share(report: Report, g: _Graded) -> float:
             filled += sum(1 for k in range(report.positions)
                           if (rep.row, FIRST_COL + k) in g.sh.formulas or (rep.row, FIRST_COL + k) in g.sh.consts)
     return filled / cells if cells else 0.0
-
-
-def _positions(report: Report, cells: list[int]) -> str:
-    """'0-12' or '3, 5': the positions' numbers i as the sheet names them."""
-    names = [report.position_names[k - 1][0] if k - 1 < len(report.position_names) else k - 1 for k in cells]
-    nums = [int(x) if isinstance(x, float) and x.is_integer() else x for x in names]
-    if len(nums) > 2 and all(isinstance(x, int) for x in nums) and nums == list(range(nums[0], nums[0] + len(nums))):
-        return f"{nums[0]}-{nums[-1]}"
-    return ", ".join(str(x) for x in nums)
 
 
 def judge_checks(report: Report, g: _Graded) -> None:

@@ -95,7 +95,7 @@ def counts(rep, accept_typed: bool | None = None) -> dict:
     rows = [r for r in rows if not getattr(r, "not_judged", False)]
     acc = _typed_ok(rep, accept_typed)
     by = [row_verdict(r, acc) for r in rows]
-    out = {k: by.count(k) for k in ("correct", "typed", "wrong", "missing")}
+    out: dict = {k: by.count(k) for k in ("correct", "typed", "wrong", "missing")}
     out["total"] = len(rows)
     out["not_judged"] = len(out_of_score)
     out["checks_not_judged"] = len(getattr(rep, "checks_not_judged", []) or [])
@@ -187,7 +187,8 @@ def score_parts(rep, accept_changed: bool | None = None, accept_typed: bool | No
         lost_checks = [f"{c[key]} {what}" for key, what in (
             ("checks_deleted", "deleted"), ("checks_typed", "status typed over"),
             ("checks_unfilled", "not filled in (rows they check are empty)")) if c[key]]
-        parts.append(f"{issued - lost:.4g} of {issued} check rows intact and filled in: {checks:.1f} of {CHECKS_SHARE:g}"
+        parts.append(f"{issued - lost:.4g} of {issued} check rows intact and filled in: "
+                     f"{checks:.1f} of {CHECKS_SHARE:g}"
                      + (f" ({', '.join(lost_checks)})" if lost_checks else ""))
     s = unit * c["earned"] + checks
     if c["checks_failing"]:

@@ -108,7 +108,7 @@ def nudged_variants(scene: Scene, seed: bytes, issued: Book,
                     count: int = NUDGES) -> list[Nudged]:
     """Up to `count` nudged variants of the scene (see the module's docstring); vary(scene,
     inputs) is the scene with those given data, reference(scene) its evaluated reference."""
-    out = []
+    out: list[Nudged] = []
     for which in range(count):
         scale = START_SCALE
         while scale >= MIN_SCALE:

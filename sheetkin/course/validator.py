@@ -52,7 +52,6 @@ from sheetkin.xlsx.cells import Sheet, read_book
 from sheetkin.xlsx.evaluator import Book, EvaluationError, evaluate_sheets
 from sheetkin.xlsx.functions import XlError
 from sheetkin.xlsx.package import Limits, UnusableWorkbook
-from sheetkin.xlsx.parse import ParseError, functions_of, names_of, parse_formula, refs_of
 from sheetkin.xlsx.precedents import POSITIONAL, reaching
 
 from . import behaviour, issued
@@ -146,6 +145,7 @@ class _UsableBookParts:
     checks_passing: int
     checks_na: int
     checks_unfilled: int
+    filled_share: float              # issue 31: the graded rows' cells filled (behaviour.py)
 
 
 @dataclass

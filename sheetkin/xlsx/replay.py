@@ -38,8 +38,8 @@ class Replay:
         """The book evaluated again with the typed cells `changes` (sheet -> {(r, c): value})."""
         from .context import _Context
         b = self.book
-        for sheet, cells in changes.items():
-            for (r, c) in cells:
+        for sheet, where in changes.items():
+            for (r, c) in where:
                 if (sheet, r, c) in self.formula_cells:
                     raise ValueError(f"{sheet}!R{r}C{c} holds a formula: only typed cells are replayed")
         num = {n: a.copy() for n, a in b.num.items()}
@@ -52,5 +52,5 @@ class Replay:
         ctx.arrays = {n: sh.arrays for n, sh in b.sheets.items()}
         problems: list[str] = []
         with np.errstate(all="ignore"):
-            cells = _run_all(b.path, self.schedule, ctx, self.dims, self.name_refs, False, problems)
-        return Book(b.path, b.sheets, b.order, num, tag, txt, problems, b.runs, cells, b.schedule)
+            evaluated = _run_all(b.path, self.schedule, ctx, self.dims, self.name_refs, False, problems)
+        return Book(b.path, b.sheets, b.order, num, tag, txt, problems, b.runs, evaluated, b.schedule)

@@ -190,7 +190,7 @@ def test_crank_slider_times_zero(classes, tmp_path):
 
 
 LOOKUPS = {
-    "VLOOKUP": lambda x: f"=VLOOKUP(\"phi_2\",Лист2!$A$1:$Z$200,COLUMN(),FALSE)",
+    "VLOOKUP": lambda x: "=VLOOKUP(\"phi_2\",Лист2!$A$1:$Z$200,COLUMN(),FALSE)",
     "HLOOKUP": lambda x: f"=HLOOKUP({x.at('i')},Лист2!$E${x.rows['i']}:$Q$200,{x.r - x.rows['i'] + 1},FALSE)",
     "INDEX/MATCH": lambda x: (f"=INDEX(Лист2!$E{x.r}:$Q{x.r},1,MATCH({x.at('phi_1')},"
                               f"Лист2!$E${x.rows['phi_1']}:$Q${x.rows['phi_1']},0))"),
