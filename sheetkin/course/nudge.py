@@ -27,7 +27,7 @@ import numpy as np
 
 from sheetkin.kinematics.scene import Scene
 from sheetkin.sheet.workbook import FIRST_COL, sheet_rows
-from sheetkin.xlsx.evaluator import Book
+from sheetkin.xlsx.evaluator import NUM, Book
 
 NUDGES = 2               # nudged variants per book
 START_SCALE = 0.04       # the largest relative change of a given value
@@ -66,28 +66,29 @@ def nudged_inputs(scene: Scene, seed: bytes, which: int, scale: float) -> dict[s
 def same_configuration(scene: Scene, issued: Book, nudged: Book) -> bool:
     """Whether the nudged reference is the issued configuration at every position: the same
     guards, every angle in its quadrant, numbers where the issued has numbers."""
-    rows = sheet_rows(scene).rows
     sheet_i, sheet_n = issued.order[0], nudged.order[0]
     where = {issued.sheets[sheet_i].consts.get((r, 1)): r for r in range(5, issued.sheets[sheet_i].max_row + 1)}
     positions = scene.crank.positions
-    for row in rows:
+    ni, ti, nn, tn = issued.num[sheet_i], issued.tag[sheet_i], nudged.num[sheet_n], nudged.tag[sheet_n]
+    for row in sheet_rows(scene).rows:
         if row.kind not in ("calc", "accepted", "guard", "derived") or row.name not in where:
             continue
         r = where[row.name]
-        cols = [4] if row.kind == "derived" else [FIRST_COL + k for k in range(positions)]
-        for c in cols:
-            a, b = issued.value(sheet_i, r, c), nudged.value(sheet_n, r, c)
-            if row.kind == "guard":
-                if a != b:
-                    return False                    # assembles elsewhere, or not at all
-                continue
-            if not isinstance(a, float):            # a marker or an error: stays one
-                if isinstance(b, float):
-                    return False
-                continue
-            if not isinstance(b, float) or not math.isfinite(b):
-                return False
-            if row.unit in ("deg", "rad") and not _same_quadrant(a, b, 360.0 if row.unit == "deg" else 2 * math.pi):
+        cols = slice(4, 5) if row.kind == "derived" else slice(FIRST_COL, FIRST_COL + positions)
+        a_tag, b_tag = ti[r, cols], tn[r, cols]
+        if not np.array_equal(a_tag, b_tag):
+            return False                     # a marker became a number, a number an error ...
+        if row.kind == "guard":
+            if not np.array_equal(ni[r, cols], nn[r, cols]):
+                return False                 # assembles elsewhere, or not at all
+            continue
+        numbers = a_tag == NUM
+        a, b = ni[r, cols][numbers], nn[r, cols][numbers]
+        if not np.isfinite(b).all():
+            return False
+        if row.unit in ("deg", "rad"):
+            turn = 360.0 if row.unit == "deg" else 2 * math.pi
+            if not all(_same_quadrant(float(x), float(y), turn) for x, y in zip(a, b, strict=True)):
                 return False
     return True
 
