@@ -310,3 +310,36 @@ def test_unsupported_function_is_not_judged(classes, tmp_path):
     row = {r.name: r for r in rep.rows}["phi_2"]
     # openpyxl saves no values: nothing is known about the row, so it cannot be credited
     assert row.not_judged or grades.row_verdict(row) != "correct"
+
+
+def test_without_the_nudges_the_cheats_pass(classes, tmp_path, monkeypatch):
+    """The mutation check: with the behavioural check off (no nudged variant), a cheat that
+    reads the given data and throws them away scores full marks, as before issue 31."""
+    import sheetkin.course.nudge as nudge
+    ex, key, options = classes["fourbar"]
+    path = make_book(ex, key, tmp_path / "cheat.xlsx", {"phi_2": CHEATS["IF(FALSE)"]})
+    monkeypatch.setattr(nudge, "NUDGES", 0)
+    assert grade(path, options)[1] == 100.0
+    monkeypatch.setattr(nudge, "NUDGES", 2)
+    assert grade(path, options)[1] < 100.0
+
+
+@pytest.mark.parametrize("path", SCENES, ids=lambda p: p.stem)
+def test_replayed_reference_is_the_nudged_reference(path):
+    """A nudged variant's reference, made by replaying the issued one's plan with the nudged
+    input block (behaviour.prepare), equals the reference built for the nudged scene, bit for bit."""
+    from sheetkin.sheet.workbook import sheet_rows
+    from sheetkin.xlsx.replay import Replay
+    scene = parse_scene(path.read_text(encoding="utf-8"), str(path))
+    ref = _reference(scene)
+    sh = ref.order[0]
+    rows = {ref.sheets[sh].consts.get((r, 1)): r for r in range(5, ref.sheets[sh].max_row + 1)}
+    nudged = variant_scene(scene, nudged_inputs(scene, b"seal", 1, 0.01), scene.crank.positions, {})
+    built = _reference(nudged)
+    inputs = {r.name: r.value for r in sheet_rows(nudged).rows if r.kind == "input" and r.value is not None}
+    replayed = Replay(ref, {}).run({sh: {(rows[n], 4): float(v) if isinstance(v, int) and not isinstance(v, bool)
+                                         else v for n, v in inputs.items()}})
+    assert (built.tag[sh] == replayed.tag[sh]).all()
+    from sheetkin.xlsx.evaluator import BOOL, NUM
+    valued = (built.tag[sh] == NUM) | (built.tag[sh] == BOOL)
+    assert (built.num[sh][valued] == replayed.num[sh][valued]).all()
