@@ -163,6 +163,7 @@ def judge_rows(report: Report, g: _Graded, beh: Behaviour | None) -> None:
             candidates.append((rep, cols))
     from .report_html import position_list  # it imports the validator, which imports this
     report.filled_share = _filled_share(report, g)     # not a field (as checks_passing ...)
+    _name_empty_cells(report, g, position_list)
     # each row is also judged on its own nudged inputs (sheetkin.course.localjudge): a row
     # right given what it reads follows the given data, even when a row above it does not
     # (an honest formula reading a cheated row is not a cheat of its own)
@@ -205,6 +206,23 @@ def judge_rows(report: Report, g: _Graded, beh: Behaviour | None) -> None:
         report.notes.append(f"not judged: check by hand ({len(unjudged)}; sheetkin cannot evaluate their "
                             f"formulas, they are left out of the score): " + ", ".join(unjudged[:12])
                             + (" ..." if len(unjudged) > 12 else ""))
+
+
+def _name_empty_cells(report: Report, g: _Graded, position_list) -> None:
+    """An empty cell is empty, not typed (issue 31): a row of formulas with cells left empty
+    is a row of formulas, and the report says where it is empty rather than "an error value
+    or text" there."""
+    for rep in report.rows:
+        if rep.kind == "derived" or rep.row is None or rep.status != "wrong":
+            continue
+        empty = [k + 1 for k in range(report.positions)
+                 if (rep.row, FIRST_COL + k) not in g.sh.formulas and (rep.row, FIRST_COL + k) not in g.sh.consts]
+        if not empty:
+            continue
+        if rep.source == "typed" and not rep.typed_cells:
+            rep.source = "formula" if rep.formula_cells else "empty"
+        if set(rep.wrong_cells) <= set(empty) and not rep.note:
+            rep.note = f"empty at {position_list(report, empty, 'en')}"
 
 
 def _filled_share(report: Report, g: _Graded) -> float:

@@ -298,6 +298,10 @@ def test_last_position_empty_scores_above_85(classes, tmp_path):
                    options)
     assert s > 85, grades.explain(rep)
     assert s < 100
+    from sheetkin.course.report import text_report
+    text = text_report(rep)
+    assert "empty at i = 12" in text and "an error value or text" not in text, text
+    assert not rep.typed
 
 
 def test_unsupported_function_is_not_judged(classes, tmp_path):
