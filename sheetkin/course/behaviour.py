@@ -71,7 +71,8 @@ def prepare(g: _Graded, raw: Book, names: dict, scene_text: str) -> Behaviour | 
     # input block (the same generated sheet: validator._reference evaluates it so), its
     # parsed formulas and their order shared
     ref_sheet = ref_book.order[0]
-    ref_replay = Replay(ref_book, {})
+    ref_replay = Replay(ref_book, {}, skip={ref_sheet: {r for n, r in g.ref_names.items()
+                                                       if isinstance(n, str) and n.startswith(("chk", "fd_"))}})
 
     def reference(s: Scene) -> Book:
         inputs = {r.name: r.value for r in sheet_rows(s).rows if r.kind == "input" and r.value is not None}
