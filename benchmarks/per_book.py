@@ -29,6 +29,9 @@ from pathlib import Path
 sys.path.insert(0, sys.argv[1])
 from sheetkin.course.validator import validate
 from sheetkin.course.issued import Options
+if len(sys.argv) > 3 and sys.argv[3] == "off":       # issue 31: the behavioural check switched off
+    import sheetkin.course.nudge
+    sheetkin.course.nudge.NUDGES = 0
 files = sorted(Path(sys.argv[2]).glob("*.xlsx"))
 opts = Options(accept_changed=True)
 assert validate(files[0], options=opts).ok
@@ -41,8 +44,8 @@ print(json.dumps({"cpu": (time.process_time() - c) / n, "wall": (time.perf_count
 """
 
 
-def per_book(tree: Path, folder: Path) -> dict:
-    p = subprocess.run([sys.executable, "-c", CHILD, str(tree), str(folder)], capture_output=True, text=True,
+def per_book(tree: Path, folder: Path, behaviour: str = "on") -> dict:
+    p = subprocess.run([sys.executable, "-c", CHILD, str(tree), str(folder), behaviour], capture_output=True, text=True,
                        cwd=tree, env=dict(os.environ, PYTHONPATH=str(tree)))
     if p.returncode != 0:
         raise RuntimeError(f"{tree}: {p.stderr[-800:]}")
@@ -55,6 +58,8 @@ def main(argv=None) -> int:
     ap.add_argument("--columns", type=int, default=13, choices=[13, 37, 360])
     ap.add_argument("--rounds", type=int, default=2, help="alternating rounds over the trees (default 2)")
     ap.add_argument("--baseline-tree", type=Path, help="also validate with this checkout, alternately")
+    ap.add_argument("--behaviour-off", action="store_true",
+                    help="also this tree with the behavioural check (issue 31) switched off, alternately")
     ap.add_argument("--tiny", action="store_true", help="a smoke run for CI: 2 further books, one round")
     args = ap.parse_args(argv)
     if args.tiny:
@@ -62,14 +67,15 @@ def main(argv=None) -> int:
     sys.path.insert(0, str(ROOT / "benchmarks"))
     sys.path.insert(0, str(ROOT))
     import validate as V  # benchmarks/validate.py: the class's books
-    trees = {"this tree": ROOT} | ({"baseline": args.baseline_tree.resolve()} if args.baseline_tree else {})
+    trees = {"this tree": (ROOT, "on")} | ({"check off": (ROOT, "off")} if args.behaviour_off else {}) | (
+        {"baseline": (args.baseline_tree.resolve(), "on")} if args.baseline_tree else {})
     print(f"load average before: {os.getloadavg()[0]:.1f}")
     with tempfile.TemporaryDirectory() as d:
         base, row = V.base_workbook(args.columns, Path(d))
         folder = V.make_folder(Path(d) / "class", base, row, args.books + 1, distinct=True)
         for k in range(args.rounds):
-            for name, tree in trees.items():
-                r = per_book(tree, folder)
+            for name, (tree, behaviour) in trees.items():
+                r = per_book(tree, folder, behaviour)
                 print(f"round {k + 1}, {name:<10}: each further book {r['cpu']:.4f} s CPU, {r['wall']:.4f} s wall "
                       f"({args.columns} columns, {args.books} books)", flush=True)
     print(f"load average after: {os.getloadavg()[0]:.1f}; target: <= 0.06 s wall a book with --jobs 2, "

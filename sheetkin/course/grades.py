@@ -55,7 +55,7 @@ NO_FORMULA_CAP = 10.0      # the most a book with no formula in its computed row
 ID_HEADERS = ("Email address", "ID number", "Username")      # Moodle's export names them so
 COLUMNS = ("student", "group", "variant", "file", "verdict", "rows correct", "rows typed", "rows total",
            "checks passing", "checks total", "given data changed", "likely causes", "possible copy of", "score",
-           "score explained", "identity")
+           "score explained", "identity", "not judged")   # issue 31: rows + check rows to check by hand
 _FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
 
 
@@ -94,10 +94,18 @@ def counts(rep, accept_typed: bool | None = None) -> dict:
     """The graded rows by verdict: correct + typed + wrong + missing == total; the check
     rows: issued, passing, failing, n/a, deleted, typed over (every report shows these)."""
     rows = graded_rows(rep)
+    # issue 31 (behaviour.py): rows sheetkin cannot evaluate are not judged, not graded
+    out_of_score = [r for r in rows if r.not_judged]
+    rows = [r for r in rows if not r.not_judged]
     acc = _typed_ok(rep, accept_typed)
     by = [row_verdict(r, acc) for r in rows]
-    out = {k: by.count(k) for k in ("correct", "typed", "wrong", "missing")}
+    out: dict = {k: by.count(k) for k in ("correct", "typed", "wrong", "missing")}
     out["total"] = len(rows)
+    out["not_judged"] = len(out_of_score)
+    out["checks_not_judged"] = len(rep.checks_not_judged)
+    # issue 31: credit per position, the rows' shares (behaviour.row_share)
+    from .behaviour import row_share
+    out["earned"] = sum(row_share(r, getattr(rep, "positions", 0), acc) for r in rows)
     # rows of positions holding a formula somewhere (a row of typed values only is not one;
     # the derived values of column D are graded, but three formulas there do not make a book
     # of typed positions computed work: NO_FORMULA_CAP)
@@ -163,17 +171,24 @@ def score_parts(rep, accept_changed: bool | None = None, accept_typed: bool | No
     # (earned rows + earned check rows - the penalty for failing checks)
     lost_rows = [f"{c[key]} {what}" for key, what in (("typed", "typed, not computed"), ("wrong", "wrong"),
                                                         ("missing", "missing or empty")) if c[key]]
-    parts = [f"{c['correct']} of {c['total']} rows computed right: {unit * c['correct']:.1f} of {share:g}"
+    partly = c["earned"] - c["correct"]          # issue 31: the right positions of rows not all right
+    if partly > 1e-9:
+        lost_rows.append(f"their right positions: {unit * partly:.1f}")
+    parts = [f"{c['correct']} of {c['total']} rows computed right: {unit * c['earned']:.1f} of {share:g}"
              + (f" ({', '.join(lost_rows)})" if lost_rows else "")]
-    lost = c["checks_deleted"] + c["checks_typed"] + c["checks_unfilled"]
+    if c["not_judged"] or c["checks_not_judged"]:
+        parts.append(f"not judged, check by hand: {c['not_judged']} rows, {c['checks_not_judged']} check rows")
+    # issue 31: a check row not filled in keeps the share of the sheet's cells that are filled
+    lost = c["checks_deleted"] + c["checks_typed"] + c["checks_unfilled"] * (1 - rep.filled_share)
     checks = CHECKS_SHARE * (issued - lost) / issued if issued else 0.0
     if issued:
         lost_checks = [f"{c[key]} {what}" for key, what in (
             ("checks_deleted", "deleted"), ("checks_typed", "status typed over"),
             ("checks_unfilled", "not filled in (rows they check are empty)")) if c[key]]
-        parts.append(f"{issued - lost} of {issued} check rows intact and filled in: {checks:.1f} of {CHECKS_SHARE:g}"
+        parts.append(f"{issued - lost:.4g} of {issued} check rows intact and filled in: "
+                     f"{checks:.1f} of {CHECKS_SHARE:g}"
                      + (f" ({', '.join(lost_checks)})" if lost_checks else ""))
-    s = unit * c["correct"] + checks
+    s = unit * c["earned"] + checks
     if c["checks_failing"]:
         s -= CHECK_PENALTY * c["checks_failing"]
         n = c["checks_failing"]
@@ -287,7 +302,8 @@ def grade_lines(reports, copies: Copies | None, class_list: ClassList | None = N
                       "" if passing is None else str(passing), "" if checks is None else str(checks),
                       column_name("yes" if given_changed(rep) else "no", lang),   # a fact, accepted or not
                       said(causes_text(rep)), said(copy_text(reports, i, copies)),
-                      f"{value:.1f}", said(explain(rep), not rep.error), said("; ".join(me.flags))])
+                      f"{value:.1f}", said(explain(rep), not rep.error), said("; ".join(me.flags)),
+                      "" if rep.error else str(c["not_judged"] + c["checks_not_judged"])])   # issue 31
     warnings = []
 
     def listed(items: list[str]) -> str:

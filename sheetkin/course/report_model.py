@@ -36,6 +36,11 @@ class RowReport:
     # positions (1-based, among typed_cells) whose formula reads only typed numbers: none of
     # the given data, through any formulas (a number pasted elsewhere, then "=Лист2!E5")
     reads_typed: list[int] = field(default_factory=list)
+    # issue 31 (sheetkin/course/behaviour.py): positions (1-based) right on the issued data but
+    # not on nudged given data (also in typed_cells: they earn nothing); a row sheetkin cannot
+    # evaluate is not judged (out of the rows graded)
+    not_following: list[int] = field(default_factory=list)
+    not_judged: bool = False
 
     @property
     def is_typed(self) -> bool:
@@ -74,6 +79,7 @@ class Report:
     checks_issued: int = 0
     issued_to: str = ""              # the identifier sealed in it by `variants --class-list`
     notes: list[str] = field(default_factory=list)
+    checks_not_judged: list[str] = field(default_factory=list)   # status not evaluable (behaviour.py)
     # Facts of a usable book that the reports, grades and copy detection read but to_dict
     # leaves out (INTERNAL): their defaults are what a report that stopped early says.
     layout: Layout | None = field(default=None, metadata=INTERNAL)       # the student's cells (report texts)
@@ -86,6 +92,9 @@ class Report:
     checks_passing: int | None = field(default=None, metadata=INTERNAL)
     checks_na: int = field(default=0, metadata=INTERNAL)
     checks_unfilled: int = field(default=0, metadata=INTERNAL)
+    # the share of the graded rows' cells filled in (behaviour.py): unfilled check rows lose
+    # only the rest of their share
+    filled_share: float = field(default=0.0, metadata=INTERNAL)
 
     @property
     def wrong(self) -> list[RowReport]:

@@ -18,7 +18,6 @@ from sheetkin.sheet.workbook import (
 from sheetkin.xlsx.cells import Sheet
 from sheetkin.xlsx.evaluator import Book
 from sheetkin.xlsx.functions import NAME as NAME_ERROR
-from sheetkin.xlsx.parse import ParseError, functions_of, names_of, parse_formula, refs_of
 from sheetkin.xlsx.precedents import POSITIONAL, reaching
 
 from .copies import submission_marks  # the raw cells copy detection compares
@@ -221,11 +220,8 @@ def computes(sh: Sheet, r: int, c: int) -> bool:
     text = sh.formulas.get((r, c))
     if text is None:                                   # a spilled cell of an array formula
         return True
-    try:
-        tree = parse_formula("=" + text.lstrip("="), r, c, {})
-    except ParseError:
-        return True                                    # its evaluation reports what is wrong
-    return bool(refs_of(tree) or names_of(tree) or functions_of(tree) & _POSITIONAL)
+    from .behaviour import formula_reads_something
+    return formula_reads_something(text, r, c)                  # parsed once per formula text
 
 
 def _cache_mismatches(book: Book, sheet: str, angle_rows: Set[int] = frozenset(), limit: int = 50,

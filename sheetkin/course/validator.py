@@ -37,7 +37,7 @@ from sheetkin.xlsx.cells import read_book
 from sheetkin.xlsx.evaluator import Book, EvaluationError
 from sheetkin.xlsx.package import Limits, UnusableWorkbook
 
-from . import issued
+from . import behaviour, issued
 from .book import TITLE_AT, UnusableInput, book_lang, embedded_scene, evaluate_student, identity_text
 from .checks import read_checks
 from .layout import VALUE_COL, find_layout, standard_view
@@ -93,9 +93,19 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
     g = Graded(path, scene, ref_rows, layout, evaluated, sh, names)
     g.from_given = from_given(raw, g, issued_positions)
     report = _new_report(g, book, scene_text, options)
+    # issue 31: the student's formulas evaluated again on nudged given data (behaviour.py)
+    beh = behaviour.prepare(g, raw, book.names, scene_text) if _judged_by_behaviour(report) else None
     grade_rows(report, g)
+    behaviour.judge_rows(report, g, beh)
     read_checks(report, evaluated, layout.sheet, sh, names, ref_rows, cast(Book, g.ref_book), g.ref_names)
+    behaviour.judge_checks(report, g)
     return report
+
+
+def _judged_by_behaviour(report: Report) -> bool:
+    """A book graded 0 anyway (given data changed, seal broken) is not nudged."""
+    from .grades import given_changed, seal_failed
+    return not seal_failed(report) and not given_changed(report, report.accepted_changes)
 
 
 def _new_report(g: Graded, book, scene_text: str, options: issued.Options | None) -> Report:

@@ -158,7 +158,7 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
     # whole columns and rows (A:A, 2:2) end at the workbook's used range
     bound = (max([sh.max_row for sh in sheets.values()] + [1]), max([sh.max_col for sh in sheets.values()] + [1]))
     name_notes: dict = {}                         # scope -> {NAME: Note} of names that cannot be evaluated
-    scopes = _name_scopes(names, sheets, bound, name_notes)
+    scopes = name_scopes(names, sheets, bound, name_notes)
     name_refs = {**scopes[None], **{n: t for sc in scopes.values() for n, t in sc.items()}}
     names_key = frozenset(name_refs)
     # parse each run once (its first cell)
@@ -206,7 +206,7 @@ def evaluate_sheets(path: str, sheets: dict[str, Sheet], order: list[str], names
         ctx.pending = _formula_cells(order_runs, dims)
     marks = Uncomputed(dims)
     with np.errstate(all="ignore"):
-        cells = _run_all(path, order_runs, ctx, dims, name_refs, strict, problems, marks)
+        cells = run_all(path, order_runs, ctx, dims, name_refs, strict, problems, marks)
     return Book(path, sheets, order, num, tag, txt, problems, len(order_runs), cells, order_runs, marks.by_sheet())
 
 
@@ -245,7 +245,7 @@ def _formula_cells(runs: list[Run], dims: dict) -> dict[str, np.ndarray]:
     return {n: o >= 0 for n, o in owner.items()}
 
 
-def _run_all(path: str, order_runs: list[Run], ctx: Context, dims: dict, name_refs: dict, strict: bool,
+def run_all(path: str, order_runs: list[Run], ctx: Context, dims: dict, name_refs: dict, strict: bool,
              problems: list[str], marks: Uncomputed) -> int:
     """Every run evaluated in order, its values written into the context's stores (a run
     that cannot be evaluated: its error, and a note in `problems`); the cells not computed
@@ -311,7 +311,7 @@ def _run_part(path: str, part: Run, ctx: Context, strict: bool, problems: list[s
 
 
 # --------------------------------------------------------------------------- names, arrays, whole columns
-def _name_scopes(names: dict, sheets: dict[str, Sheet], bound, notes: dict | None = None) -> dict:
+def name_scopes(names: dict, sheets: dict[str, Sheet], bound, notes: dict | None = None) -> dict:
     """Parsed defined names by scope: None for the workbook's, a sheet's name for the names
     scoped to it (localSheetId). Names are case-insensitive. A name that cannot be read
     (#VALUE!, as LibreOffice), or cannot be evaluated (check_names: names in a circle,

@@ -36,7 +36,10 @@ from sheetkin.xlsx.cells import read_book
 
 def report(correct=4, wrong=0, missing=0, failing=0, **extra) -> Report:
     rows = ([RowReport(f"ok{k}", 10 + k, "correct") for k in range(correct)]
-            + [RowReport(f"w{k}", 30 + k, "wrong", wrong_cells=[1], cause=k == 0) for k in range(wrong)]
+            # wrong at every position: earns nothing (a row wrong at some positions earns the
+            # others: test_credit_per_position)
+            + [RowReport(f"w{k}", 30 + k, "wrong", wrong_cells=list(range(1, 14)), cause=k == 0)
+               for k in range(wrong)]
             + [RowReport(f"m{k}", None, "missing") for k in range(missing)])
     rep = Report("b.xlsx", rows=rows, failing_checks=[f"chk{k}" for k in range(failing)], positions=13)
     rep.checks_total = 10

@@ -1,0 +1,280 @@
+"""Judging a sheet by what it computes (issue 31): the student's own formulas evaluated again
+on nudged given data, against the reference of those data.
+
+A computed cell right for the issued given data earns credit only when it is also right for
+the nudged variants of the same scheme (sheetkin/course/nudge.py: lengths, offsets, masses,
+forces and crank speed moved a little, the configuration kept). The student's book is
+evaluated again with the input block (column D of the input rows) replaced by each nudged
+variant's values: the same parsed formulas in the same order (sheetkin/xlsx/replay.py),
+nothing parsed twice. A cell right on the issued data and wrong on a nudged one "does not
+follow the given data": a number passed off as work (=E$41*0+0.5236, =IF(FALSE;..;Лист2!E42),
+=CHOOSE(E$40+1; 13 typed numbers) ...). It earns nothing, as a typed number does, and the
+report names the row, a cell and its formula.
+
+A cell whose right value does not move with the given data (a slider's fixed angle, i) cannot
+be told apart this way; there the precedent tracing (sheetkin.xlsx.precedents: "reads no
+given data") still decides, as before. Where the tracing and the nudges both apply they agree:
+a formula reading none of the given data cannot follow them.
+
+No penalty without evidence: a row whose formulas sheetkin cannot evaluate (a function the
+evaluator lacks, a formula it cannot read: the cell is #NAME? here and a number in the saved
+file) is "not judged: check by hand". It is left out of the rows graded and named in the
+report; so is a check row whose status sheetkin cannot evaluate (it is not failing).
+
+The validator calls, in order: prepare (after the variant's reference is known), judge_rows
+(after the rows are graded against the reference), judge_checks (after the check rows are
+read). Each leaves a report it cannot judge as it was.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, cast
+
+from sheetkin.kinematics.scene import Scene
+from sheetkin.sheet.workbook import FIRST_COL, prefilled_in_exercise, sheet_rows
+from sheetkin.xlsx.evaluator import Book
+from sheetkin.xlsx.functions import NAME as NAME_ERROR  # a function it lacks, a formula it cannot read
+from sheetkin.xlsx.parse import ParseError, functions_of, names_of, parse_formula, refs_of
+from sheetkin.xlsx.precedents import POSITIONAL
+from sheetkin.xlsx.replay import Replay
+
+from . import nudge
+from .layout import standard_view
+from .localjudge import TURN, angle_difference, judge
+from .tolerance import ATOL, RTOL
+
+if TYPE_CHECKING:
+    from .report_model import Report, RowReport
+    from .rows import Graded
+
+
+
+@dataclass
+class Behaviour:
+    """The nudged variants of one book and the student's sheet evaluated on each (views in
+    the issued layout, as the validator's evaluated sheet)."""
+    nudged: list[nudge.Nudged]
+    sheets: list[Book]
+
+
+def prepare(g: Graded, raw: Book, names: dict, scene_text: str) -> Behaviour | None:
+    """The book's nudged variants and its formulas evaluated on them; None when there is
+    nothing to nudge or an input cell holds a formula (then the precedents decide, as before)."""
+    from .reference import variant_scene
+    scene, ref_book = g.student_scene, g.ref_book
+    if scene is None or ref_book is None:
+        return None
+    positions = scene.crank.positions
+    if nudge.NUDGES <= 0:                        # switched off (benchmarks/per_book.py --behaviour-off)
+        return None
+    # a nudged variant's reference is the issued reference evaluated again with the nudged
+    # input block (the same generated sheet: validator._reference evaluates it so), its
+    # parsed formulas and their order shared
+    ref_sheet = ref_book.order[0]
+    ref_replay = Replay(ref_book, {}, skip={ref_sheet: {r for n, r in g.ref_names.items()
+                                                       if isinstance(n, str) and n.startswith(("chk", "fd_"))}})
+
+    def reference(s: Scene) -> Book:
+        inputs = {r.name: r.value for r in sheet_rows(s).rows if r.kind == "input" and r.value is not None}
+        return ref_replay.run({ref_sheet: {
+            (g.ref_names[n], 4): float(v) if isinstance(v, int) and not isinstance(v, bool) else v
+            for n, v in inputs.items() if n in g.ref_names}})
+    variants = nudge.nudged_variants(scene, scene_text.encode("utf-8"), ref_book,
+                                     lambda s, inputs: variant_scene(s, inputs, positions, {}), reference,
+                                     nudge.NUDGES)
+    if not variants:
+        return None
+    value_col = g.layout.columns[4]
+    raw_sheet = raw.sheets[g.main]
+    for v in variants:
+        for name in v.inputs:
+            r = g.names.get(name)
+            if r is not None and (r, value_col) in raw_sheet.formulas:
+                return None                      # a given value computed by a formula: not replayed
+    # the sheet's own check rows and the summary above the table are not graded on the nudged
+    # data (their status formulas are most of a book's evaluation): not evaluated again
+    checks = {r for n, r in g.names.items() if n.startswith(("chk", "fd_"))} | set(range(1, 5))
+    replay = Replay(raw, names, skip={g.main: checks})
+    sheets = []
+    for v in variants:
+        changes = {(g.names[n], value_col): x for n, x in v.inputs.items() if n in g.names}
+        sheets.append(standard_view(replay.run({g.main: changes}), g.layout)[0])
+    return Behaviour(variants, sheets)
+
+
+_READS: dict[str, bool] = {}
+_READS_KEEP = 100_000
+
+
+def formula_reads_something(text: str, r: int, c: int) -> bool:
+    """Whether a formula reads some cell or name, or a positional function (ROW, COLUMN): the
+    validator's computes() for a formula cell. Kept per formula text: whether a formula reads
+    anything does not depend on its cell, and a class's books share their formulas (parsing
+    them again was 46% of a further book's CPU, issue 31)."""
+    known = _READS.get(text)
+    if known is None:
+        try:
+            tree = parse_formula("=" + text.lstrip("="), r, c, {})
+            known = bool(refs_of(tree) or names_of(tree) or functions_of(tree) & POSITIONAL)
+        except ParseError:
+            known = True                                # its evaluation reports what is wrong
+        if len(_READS) >= _READS_KEEP:
+            _READS.clear()
+        _READS[text] = known
+    return known
+
+
+def _close(got, exp, period: float | None) -> bool:
+    if not isinstance(exp, float):
+        return not isinstance(got, float) if not isinstance(exp, bool) else got == exp
+    if not isinstance(got, float) or isinstance(got, bool):
+        return False
+    d = float(angle_difference(abs(got - exp), period))
+    return d <= max(ATOL, RTOL * abs(exp))
+
+
+def _unevaluable(g: Graded, r: int, c: int) -> bool:
+    """A formula cell sheetkin cannot evaluate while the spreadsheet could: #NAME? here, a
+    value that is no error in the saved file."""
+    if g.evaluated.tag[g.main][r, c] != NAME_ERROR or not g.sh.computed(r, c):
+        return False
+    saved = g.sh.cached.get((r, c))
+    return saved is not None and not (isinstance(saved, str) and saved.startswith("#"))
+
+
+def judge_rows(report: Report, g: Graded, beh: Behaviour | None) -> None:
+    """Mark the graded rows sheetkin cannot evaluate as not judged, and the computed cells right
+    on the issued data that do not follow the nudged data as not computed (typed)."""
+    periods = {r.name: TURN[r.unit] for r in g.ref_rows if r.unit in TURN}
+    ref_book = cast(Book, g.ref_book)
+    ref_sheet = ref_book.order[0]
+    unjudged: list[str] = []
+    not_following: list[str] = []
+    candidates = []
+    for rep in report.rows:
+        if rep.status not in ("correct", "wrong") or rep.row is None or prefilled_in_exercise(rep.name, rep.kind):
+            continue
+        r = rep.row
+        cols = [4] if rep.kind == "derived" else [FIRST_COL + k for k in range(report.positions)]
+        if any(_unevaluable(g, r, c) for c in cols):
+            rep.not_judged = True
+            unjudged.append(rep.name)
+            continue
+        if beh is not None and rep.name in g.ref_names:
+            candidates.append((rep, cols))
+    from .report_html import position_list  # it imports the validator, which imports this
+    report.filled_share = _filled_share(report, g)
+    _name_empty_cells(report, g, position_list)
+    # each row is also judged on its own nudged inputs (sheetkin.course.localjudge): a row
+    # right given what it reads follows the given data, even when a row above it does not
+    # (an honest formula reading a cheated row is not a cheat of its own)
+    locals_ = [] if beh is None else [
+        judge(n.reference, sheet, g.main, g.names, [rep.name for rep, _ in candidates], frozenset(), periods,
+              g.layout.columns) for n, sheet in zip(beh.nudged, beh.sheets, strict=True)]
+    for rep, cols in candidates:
+        r = cast(int, rep.row)
+        rr, period = g.ref_names[rep.name], periods.get(rep.name)
+        bad = set(rep.wrong_cells) | set(rep.typed_cells)
+        states = [dict(zip((int(c) for c in lo.judgements[rep.name].cols), lo.judgements[rep.name].state, strict=True))
+                  if rep.name in lo.judgements and lo.judgements[rep.name].local else {} for lo in locals_]
+        for k, c in enumerate(cols):
+            if k + 1 in bad or (rep.kind == "derived" and (rep.status != "correct" or rep.source != "formula")):
+                continue
+            issued = ref_book.value(ref_sheet, rr, c)
+            for n, sheet, state in zip(cast(Behaviour, beh).nudged, cast(Behaviour, beh).sheets, states, strict=True):
+                exp = n.reference.value(n.reference.order[0], rr, c)
+                if _close(exp, issued, period):
+                    continue                     # the right value does not move: the precedents decide
+                if not _close(sheet.value(g.main, r, c), exp, period) and state.get(c, 0) != 0:
+                    rep.not_following.append(k + 1)
+                    break
+        if rep.not_following:
+            if rep.kind == "derived":
+                rep.source = "typed"
+            else:
+                rep.typed_cells = sorted(set(rep.typed_cells) | set(rep.not_following))
+            k = rep.not_following[0]
+            c = cols[k - 1]
+            formula = g.sh.formulas.get((r, c), "")
+            cell = g.layout.cell(r, c)
+            where = "" if rep.kind == "derived" else f", {position_list(report, rep.not_following, 'en')}"
+            not_following.append(f"{rep.name} (row {r}{where}: {cell} ={formula})")
+    if not_following:
+        report.notes.append(f"does not follow the given data ({len(not_following)}; right for the issued data, "
+                            f"wrong when they change; they earn nothing): " + "; ".join(not_following[:12])
+                            + (" ..." if len(not_following) > 12 else ""))
+    if unjudged:
+        report.notes.append(f"not judged: check by hand ({len(unjudged)}; sheetkin cannot evaluate their "
+                            f"formulas, they are left out of the score): " + ", ".join(unjudged[:12])
+                            + (" ..." if len(unjudged) > 12 else ""))
+
+
+def _name_empty_cells(report: Report, g: Graded, position_list) -> None:
+    """An empty cell is empty, not typed (issue 31): a row of formulas with cells left empty
+    is a row of formulas, and the report says where it is empty rather than "an error value
+    or text" there."""
+    for rep in report.rows:
+        if rep.kind == "derived" or rep.row is None or rep.status != "wrong":
+            continue
+        empty = [k + 1 for k in range(report.positions)
+                 if (rep.row, FIRST_COL + k) not in g.sh.formulas and (rep.row, FIRST_COL + k) not in g.sh.consts]
+        if not empty:
+            continue
+        if rep.source == "typed" and not rep.typed_cells:
+            rep.source = "formula" if rep.formula_cells else "empty"
+        if set(rep.wrong_cells) <= set(empty) and not rep.note:
+            rep.note = f"empty at {position_list(report, empty, 'en')}"
+
+
+def _filled_share(report: Report, g: Graded) -> float:
+    """The share of the graded rows' cells that hold something (a formula or a value): the
+    share of an unfilled check row's credit it keeps (credit per position: a book with its
+    last position left empty keeps 12/13 of its check rows' share)."""
+    cells = filled = 0
+    for rep in report.rows:
+        if rep.kind == "derived" or prefilled_in_exercise(rep.name, rep.kind):
+            continue
+        cells += report.positions
+        if rep.row is not None:
+            filled += sum(1 for k in range(report.positions)
+                          if (rep.row, FIRST_COL + k) in g.sh.formulas or (rep.row, FIRST_COL + k) in g.sh.consts)
+    return filled / cells if cells else 0.0
+
+
+def judge_checks(report: Report, g: Graded) -> None:
+    """A check row whose status sheetkin cannot evaluate is not failing: not judged, named,
+    out of the check rows that apply."""
+    def unjudged_check(n: str) -> bool:
+        # its status is #NAME? here, or it fails here only because the cells it reads are
+        # (the sheet's own formula turns an error among them into 1) while the saved status passes
+        r = g.names[n]
+        if _unevaluable(g, r, 4):
+            return True
+        saved = g.sh.cached.get((r, 4))
+        return (isinstance(saved, (int, float)) and not isinstance(saved, bool) and saved == 0
+                and any(_unevaluable(g, r, FIRST_COL + k) for k in range(report.positions)))
+    unjudged = [n for n in report.failing_checks if n in g.names and unjudged_check(n)]
+    if not unjudged:
+        return
+    report.failing_checks = [n for n in report.failing_checks if n not in unjudged]
+    report.checks_not_judged = unjudged
+    report.checks_apply = max(0, (report.checks_apply or 0) - len(unjudged))
+    report.notes.append(f"check rows not judged: check by hand ({len(unjudged)}; sheetkin cannot evaluate "
+                        f"their status): {', '.join(unjudged[:12])}" + (" ..." if len(unjudged) > 12 else ""))
+
+
+def _finite(x) -> bool:
+    return isinstance(x, float) and math.isfinite(x)
+
+
+def row_share(row: RowReport, positions: int, accept_typed: bool) -> float:
+    """The share of a graded row's credit it earns (issue 31: credit per position): its
+    positions computed right over its positions; 1 or 0 for a derived value of column D."""
+    if row.status in ("missing", "empty"):
+        return 0.0
+    if row.kind == "derived" or positions <= 0:
+        typed = row.is_typed and not accept_typed
+        return 1.0 if row.status == "correct" and not typed else 0.0
+    bad = set(row.wrong_cells) | (set() if accept_typed else set(row.typed_cells)) | set(row.not_following)
+    return max(0, positions - len({k for k in bad if 1 <= k <= positions})) / positions

@@ -1,0 +1,350 @@
+"""Issue 31: a sheet is judged by what it computes. The student's formulas are evaluated again
+on nudged given data (sheetkin/course/nudge.py, behaviour.py); a cell right on the issued data
+but not on the nudged ones "does not follow the given data" and earns nothing. Honest habits
+keep full marks; a row sheetkin cannot evaluate is not judged; credit is per position.
+
+Books written with openpyxl as a student's LibreOffice saves them in formulas (the exercise,
+the key's formulas typed in, one row cheated); test_behaviour_uno.py makes some through
+LibreOffice."""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import openpyxl
+import pytest
+from openpyxl.utils import get_column_letter
+
+from sheetkin.course import grades
+from sheetkin.course.behaviour import row_share
+from sheetkin.course.issued import KEY_FILE, Options, read_key, read_roster
+from sheetkin.course.nudge import NUDGES, nudged_inputs, nudged_variants, same_configuration
+from sheetkin.course.reference import reference_book, variant_scene
+from sheetkin.course.validator import validate
+from sheetkin.kinematics.scene import parse_scene
+from sheetkin.xlsx.evaluator import evaluate
+
+ROOT = Path(__file__).resolve().parents[2]
+SCENES = sorted((ROOT / "workbooks").glob("*.toml"))
+
+
+# --------------------------------------------------------------------------- the nudges
+@pytest.mark.parametrize("path", SCENES, ids=lambda p: p.stem)
+def test_nudges_keep_the_configuration(path):
+    """Every bundled scene has NUDGES nudged variants; each moves the given data it nudges,
+    assembles where the issued one does with every angle in its quadrant (checked here again
+    against the solver's reference by its own rule: the angle rows' quadrants), and the same
+    seed gives the same variants."""
+    text = path.read_text(encoding="utf-8")
+    scene = parse_scene(text, str(path))
+    issued = reference_book(scene)
+    positions = scene.crank.positions
+
+    def vary(s, inputs):
+        return variant_scene(s, inputs, positions, {})
+    variants = nudged_variants(scene, text.encode(), issued, vary, reference_book)
+    assert len(variants) == NUDGES
+    again = nudged_variants(scene, text.encode(), issued, vary, reference_book)
+    assert [v.inputs for v in variants] == [v.inputs for v in again]
+    assert nudged_inputs(scene, b"another seal", 0, 0.04) != nudged_inputs(scene, text.encode(), 0, 0.04)
+    sheet = issued.order[0]
+    rows = {issued.sheets[sheet].consts.get((r, 1)): r for r in range(5, issued.sheets[sheet].max_row + 1)}
+    for v in variants:
+        assert v.inputs and all(x != 0 for x in v.inputs.values())
+        assert same_configuration(scene, issued, v.reference)
+        # the lengths really moved, the branches and Fi0, Delta_Fi did not
+        assert any(abs(v.inputs[n] / issued.value(sheet, rows[n], 4) - 1) > 1e-4 for n in v.inputs)
+        for name in ("Fi0", "Delta_Fi", *(n for n in rows if str(n).startswith("branch"))):
+            assert name not in v.inputs
+        # independently: the angle rows' sines and cosines keep their signs where they are not ~0
+        ref = v.reference
+        for n, r in rows.items():
+            if not isinstance(n, str) or not n.startswith("phi_"):
+                continue
+            for c in range(5, 5 + positions):
+                a, b = issued.value(sheet, r, c), ref.value(ref.order[0], r, c)
+                if isinstance(a, float):
+                    for f in (math.sin, math.cos):
+                        if abs(f(math.radians(a))) > 1e-6:
+                            assert f(math.radians(a)) * f(math.radians(b)) > 0, (n, c, a, b)
+
+
+# --------------------------------------------------------------------------- books
+@pytest.fixture(scope="module")
+def classes(tmp_path_factory):
+    """An issued variant of each scheme: (exercise, key, options)."""
+    from sheetkin.cli.commands import main
+    out = {}
+    for stem in ("fourbar", "crank_slider", "shaper", "slotted_lever", "scotch_yoke"):
+        d = tmp_path_factory.mktemp(stem)
+        assert main(["variants", str(ROOT / "workbooks" / f"{stem}.toml"), "-n", "1", "--out", str(d),
+                     "--seed", "5"]) == 0
+        ex, key = next(d.glob("*-01-exercise.xlsx")), next(d.glob("*-01-key.xlsx"))
+        out[stem] = (ex, key, Options(read_roster(str(d / "roster.csv")), read_key(d / KEY_FILE)))
+    return out
+
+
+class Cell:
+    """What a recipe sees of one cell of the key: its place, formula (with "="), value, the
+    rows by name, the pasted sheet (the key's values at the same addresses)."""
+
+    def __init__(self, r, c, formula, value, rows, positions):
+        self.r, self.c, self.formula, self.value, self.rows, self.positions = r, c, formula, value, rows, positions
+        self.col = get_column_letter(c)
+        self.k = c - 5
+
+    @property
+    def v(self) -> str:
+        return repr(self.value)
+
+    def at(self, name: str, col: str | None = None) -> str:
+        return f"{col or self.col}${self.rows[name]}"
+
+
+def make_book(ex: Path, key: Path, out: Path, recipes: dict, every=None, hide_scratch: bool = True) -> Path:
+    """The exercise filled with the key's formulas; the rows named in `recipes` written by
+    recipe(cell) instead; every(cell), if given, rewrites every formula. A sheet "Лист2" holds
+    the key's values at the same addresses (a pasted copy of a classmate's sheet)."""
+    kb = evaluate(key)
+    kws = openpyxl.load_workbook(key).worksheets[0]
+    wb = openpyxl.load_workbook(ex)
+    ws = wb.worksheets[0]
+    rows = {kws.cell(r, 1).value: r for r in range(1, kws.max_row + 1) if isinstance(kws.cell(r, 1).value, str)}
+    positions = sum(1 for c in range(5, kws.max_column + 1) if isinstance(kws.cell(rows["i"], c).value, (int, float)))
+    scratch = wb.create_sheet("Лист2")
+    for row in kws.iter_rows(min_row=5):
+        for cell in row:
+            v = kb.value(kb.order[0], cell.row, cell.column)
+            if isinstance(v, (float, bool)) and cell.column >= 4 or cell.column == 1:
+                scratch.cell(cell.row, cell.column, v)
+            f = cell.value
+            if not (isinstance(f, str) and f.startswith("=")) or ws.cell(cell.row, cell.column).value is not None:
+                continue
+            name = kws.cell(cell.row, 1).value
+            cx = Cell(cell.row, cell.column, f, v, rows, positions)
+            if cell.column >= 5 and name in recipes:
+                ws.cell(cell.row, cell.column, recipes[name](cx))
+            else:
+                ws.cell(cell.row, cell.column, every(cx) if every else f)
+    if hide_scratch:
+        scratch.sheet_state = "hidden"
+    wb.save(out)
+    return out
+
+
+def grade(path: Path, options: Options):
+    rep = validate(path, options=options)
+    assert rep.error is None, rep.error
+    return rep, grades.score(rep)
+
+
+# the thirteen cheats of issue 31, on the fourbar's phi_2 (a row of the group, deg)
+CHEATS = {
+    "times zero of phi_1": lambda x: f"={x.at('phi_1')}*0+{x.v}",
+    "L1 minus L1": lambda x: f"=$D${x.rows['L1']}-$D${x.rows['L1']}+{x.v}",
+    "IF on L1": lambda x: f"=IF($D${x.rows['L1']}>0,{x.v},0)",
+    "0 times SUM of the inputs": lambda x: f"={x.v}+0*SUM($D${x.rows['L1']}:$D${x.rows['Tol_FD']})",
+    "pasted plus 0 times L1": lambda x: f"=Лист2!{x.col}{x.r}+0*$D${x.rows['L1']}",
+    "IF(FALSE)": lambda x: f"=IF(FALSE,{x.formula[1:]},Лист2!{x.col}{x.r})",
+    "CHOOSE(2)": lambda x: f"=CHOOSE(2,{x.formula[1:]},Лист2!{x.col}{x.r})",
+    "the key's own guard": lambda x: f"=IF({x.col}{x.rows['asm_g1']},Лист2!{x.col}{x.r},\"не собирается\")",
+    "INDEX by position": lambda x: f"=INDEX(Лист2!$E{x.r}:$Q{x.r},1,{x.at('i')}+1)",
+    "INDEX ROW COLUMN": lambda x: "=INDEX(Лист2!$A$1:$Z$200,ROW(),COLUMN())",
+    "SUMPRODUCT over the pasted sheet": lambda x: (f"=SUMPRODUCT((Лист2!$E${x.rows['phi_1']}:$Q${x.rows['phi_1']}="
+                                                   f"{x.at('phi_1')})*Лист2!$E{x.r}:$Q{x.r})"),
+}
+
+
+def _choose13(key: Path):
+    """=CHOOSE(i+1; the row's 13 values typed in)."""
+    kb = evaluate(key)
+    return lambda x: (f"=CHOOSE({x.at('i')}+1,"
+                      f"{','.join(repr(kb.value(kb.order[0], x.r, 5 + k)) for k in range(x.positions))})")
+
+
+@pytest.mark.parametrize("cheat", [*CHEATS, "CHOOSE of 13 typed numbers"])
+def test_cheats_earn_nothing(classes, tmp_path, cheat):
+    """Each cheat on phi_2 (and a cheat on omega_3 too): the cheated rows earn nothing, are
+    named as not following the given data, and every honest row keeps its credit."""
+    ex, key, options = classes["fourbar"]
+    recipe = _choose13(key) if cheat == "CHOOSE of 13 typed numbers" else CHEATS[cheat]
+    rep, s = grade(make_book(ex, key, tmp_path / "cheat.xlsx", {"phi_2": recipe, "omega_3": recipe}), options)
+    by = {r.name: r for r in rep.rows}
+    for name in ("phi_2", "omega_3"):
+        assert row_share(by[name], rep.positions, False) == 0, (cheat, name, by[name])
+        assert grades.row_verdict(by[name]) == "typed"
+    honest = [r for r in grades.graded_rows(rep) if r.name not in ("phi_2", "omega_3")]
+    assert all(grades.row_verdict(r) == "correct" for r in honest), [r.name for r in honest
+                                                                    if grades.row_verdict(r) != "correct"]
+    assert s < 100
+    assert any("does not follow the given data" in n and "phi_2" in n for n in rep.notes), rep.notes
+
+
+def test_crank_slider_times_zero(classes, tmp_path):
+    """The crank-slider's x0: the formula kept and multiplied by 0, the value added."""
+    ex, key, options = classes["crank_slider"]
+    rep, s = grade(make_book(ex, key, tmp_path / "x0.xlsx",
+                             {"x_B": lambda x: f"=({x.formula[1:]})*0+{x.v}"}), options)
+    by = {r.name: r for r in rep.rows}
+    assert grades.row_verdict(by["x_B"]) == "typed" and row_share(by["x_B"], rep.positions, False) == 0
+    assert s < 100
+
+
+LOOKUPS = {
+    "VLOOKUP": lambda x: "=VLOOKUP(\"phi_2\",Лист2!$A$1:$Z$200,COLUMN(),FALSE)",
+    "HLOOKUP": lambda x: f"=HLOOKUP({x.at('i')},Лист2!$E${x.rows['i']}:$Q$200,{x.r - x.rows['i'] + 1},FALSE)",
+    "INDEX/MATCH": lambda x: (f"=INDEX(Лист2!$E{x.r}:$Q{x.r},1,MATCH({x.at('phi_1')},"
+                              f"Лист2!$E${x.rows['phi_1']}:$Q${x.rows['phi_1']},0))"),
+    "SUMIF": lambda x: f"=SUMIF(Лист2!$E${x.rows['i']}:$Q${x.rows['i']},{x.at('i')},Лист2!$E{x.r}:$Q{x.r})",
+    "OFFSET": lambda x: f"=OFFSET(Лист2!$E{x.r},0,{x.at('i')})",
+}
+
+
+@pytest.fixture(scope="module")
+def saved_by_libreoffice(classes, soffice, tmp_path_factory):
+    """The lookup books and a book choosing the branch by SWITCH, opened, recalculated and saved
+    by LibreOffice (one soffice run): the saved values are LibreOffice's."""
+    from sheetkin.xlsx.libreoffice import recalculate
+    ex, key, _ = classes["fourbar"]
+    d = tmp_path_factory.mktemp("lookups")
+    paths = [make_book(ex, key, d / f"{how.replace('/', '_')}.xlsx", {"phi_2": LOOKUPS[how]}) for how in LOOKUPS]
+    paths.append(make_book(ex, key, d / "switch.xlsx", {"phi_2": lambda x: (
+        f"=_xlfn.SWITCH($D${x.rows['branch_g1']},1,{x.formula[1:]},-1,{x.formula[1:]})")}))
+    out = recalculate(paths, d / "saved")
+    return {p.stem: out[p.resolve()] for p in paths}
+
+
+@pytest.mark.libreoffice
+@pytest.mark.parametrize("how", LOOKUPS)
+def test_lookups_are_never_credited(classes, saved_by_libreoffice, how):
+    """Lookups of pasted values, saved by LibreOffice: a function sheetkin has catches them as
+    not following; one it lacks leaves the row not judged (never credited, out of the score)."""
+    _, _, options = classes["fourbar"]
+    rep, s = grade(saved_by_libreoffice[how.replace("/", "_")], options)
+    row = {r.name: r for r in rep.rows}["phi_2"]
+    assert row.not_judged or (grades.row_verdict(row) == "typed" and row_share(row, rep.positions, False) == 0), row
+    assert s < 100 or row.not_judged
+    c = grades.counts(rep)
+    assert c["correct"] <= c["total"]
+    assert not [r.name for r in rep.rows if r.not_judged and grades.row_verdict(r) == "correct"
+                and r.name in [x.name for x in grades.graded_rows(rep) if not x.not_judged]]
+
+
+@pytest.mark.libreoffice
+def test_a_function_sheetkin_lacks_is_not_judged(classes, saved_by_libreoffice):
+    """SWITCH choosing the branch (honest; the evaluator lacks it): the row and the rows and check
+    rows that read it are not judged, none fails, the score is over the rest."""
+    _, _, options = classes["fourbar"]
+    rep, s = grade(saved_by_libreoffice["switch"], options)
+    if not any(r.not_judged for r in rep.rows):
+        pytest.skip("the evaluator has SWITCH now: judged as any formula")
+    assert not rep.failing_checks, rep.failing_checks
+    assert s == 100.0, grades.explain(rep)
+    assert any(n.startswith("not judged: check by hand") for n in rep.notes)
+    assert grades.counts(rep)["not_judged"] >= 1
+
+
+# --------------------------------------------------------------------------- honest habits
+def _habits(x: Cell) -> str:
+    """Honest habits on every formula: IFERROR around it, PI()/180 for RADIANS, absolute
+    references kept as they are."""
+    f = x.formula[1:].replace("RADIANS(", "(PI()/180)*(")
+    return f"=IFERROR({f},\"не собирается\")" if "не собирается" in f else f"=IFERROR({f},\"\")"
+
+
+def _quadrant_by_hand(x: Cell) -> str:
+    """An angle through ATAN with the quadrant's correction chosen by hand per position (the
+    issued configuration's), as a student does from the drawing."""
+    if not isinstance(x.value, float):
+        return x.formula
+    a = math.radians(x.value)
+    fix = 180 if math.cos(a) < 0 else (360 if math.sin(a) < 0 else 0)
+    return f"=DEGREES(ATAN(TAN(RADIANS({x.formula[1:]}))))+{fix}"
+
+
+def _branch_by_hand(x: Cell) -> str:
+    """A sign chosen by hand per position: |formula| times the issued sign."""
+    if not isinstance(x.value, float) or x.value == 0:
+        return x.formula
+    return f"=ABS({x.formula[1:]})*{1 if x.value > 0 else -1}"
+
+
+@pytest.mark.parametrize("stem", ["fourbar", "crank_slider", "shaper", "slotted_lever", "scotch_yoke"])
+def test_honest_habits_score_100(classes, tmp_path, stem):
+    ex, key, options = classes[stem]
+    rep, s = grade(make_book(ex, key, tmp_path / "key.xlsx", {}), options)
+    assert s == 100.0, grades.explain(rep)
+    rep, s = grade(make_book(ex, key, tmp_path / "habits.xlsx", {}, every=_habits), options)
+    assert s == 100.0, (grades.explain(rep), rep.notes)
+    angles = {n: _quadrant_by_hand for n in ("phi_2", "phi_3", "phi_4", "phi_5")}
+    signs = {n: _branch_by_hand for n in ("omega_2", "omega_3", "vx_B", "vy_B", "x_B", "y_B")}
+    rep, s = grade(make_book(ex, key, tmp_path / "by_hand.xlsx", {**angles, **signs}), options)
+    assert s == 100.0, (grades.explain(rep), rep.notes)
+    assert not any("does not follow" in n for n in rep.notes)
+
+
+# --------------------------------------------------------------------------- per position, not judged
+def test_last_position_empty_scores_above_85(classes, tmp_path):
+    """12 of 13 positions right (the last, 360 deg, left empty): above 85."""
+    ex, key, options = classes["fourbar"]
+    kws = openpyxl.load_workbook(key).worksheets[0]
+    last = 4 + 13
+
+    def skip_last(x: Cell):
+        return None if x.c == last else x.formula
+    rows = [kws.cell(r, 1).value for r in range(1, kws.max_row + 1) if isinstance(kws.cell(r, 1).value, str)]
+    keep = {"i", "phi_1"}
+    rep, s = grade(make_book(ex, key, tmp_path / "12of13.xlsx",
+                             {n: skip_last for n in rows if n not in keep and not n.startswith(("asm", "chk", "fd_"))}),
+                   options)
+    assert s > 85, grades.explain(rep)
+    assert s < 100
+    from sheetkin.course.report import text_report
+    text = text_report(rep)
+    assert "empty at i = 12" in text and "an error value or text" not in text, text
+    assert not rep.typed
+
+
+def test_unsupported_function_is_not_judged(classes, tmp_path):
+    """A row written with a function the evaluator lacks, the value saved by the spreadsheet:
+    not judged (out of the score), named, never failing, never credited."""
+    ex, key, options = classes["fourbar"]
+    path = make_book(ex, key, tmp_path / "switch.xlsx",
+                     {"phi_2": lambda x: f"=NOSUCHFUNCTION({x.formula[1:]})"})
+    rep = validate(path, options=options)
+    row = {r.name: r for r in rep.rows}["phi_2"]
+    # openpyxl saves no values: nothing is known about the row, so it cannot be credited
+    assert row.not_judged or grades.row_verdict(row) != "correct"
+
+
+def test_without_the_nudges_the_cheats_pass(classes, tmp_path, monkeypatch):
+    """The mutation check: with the behavioural check off (no nudged variant), a cheat that
+    reads the given data and throws them away scores full marks, as before issue 31."""
+    import sheetkin.course.nudge as nudge
+    ex, key, options = classes["fourbar"]
+    path = make_book(ex, key, tmp_path / "cheat.xlsx", {"phi_2": CHEATS["IF(FALSE)"]})
+    monkeypatch.setattr(nudge, "NUDGES", 0)
+    assert grade(path, options)[1] == 100.0
+    monkeypatch.setattr(nudge, "NUDGES", 2)
+    assert grade(path, options)[1] < 100.0
+
+
+@pytest.mark.parametrize("path", SCENES, ids=lambda p: p.stem)
+def test_replayed_reference_is_the_nudged_reference(path):
+    """A nudged variant's reference, made by replaying the issued one's plan with the nudged
+    input block (behaviour.prepare), equals the reference built for the nudged scene, bit for bit."""
+    from sheetkin.sheet.workbook import sheet_rows
+    from sheetkin.xlsx.replay import Replay
+    scene = parse_scene(path.read_text(encoding="utf-8"), str(path))
+    ref = reference_book(scene)
+    sh = ref.order[0]
+    rows = {ref.sheets[sh].consts.get((r, 1)): r for r in range(5, ref.sheets[sh].max_row + 1)}
+    nudged = variant_scene(scene, nudged_inputs(scene, b"seal", 1, 0.01), scene.crank.positions, {})
+    built = reference_book(nudged)
+    inputs = {r.name: r.value for r in sheet_rows(nudged).rows if r.kind == "input" and r.value is not None}
+    replayed = Replay(ref, {}).run({sh: {(rows[n], 4): float(v) if isinstance(v, int) and not isinstance(v, bool)
+                                         else v for n, v in inputs.items()}})
+    assert (built.tag[sh] == replayed.tag[sh]).all()
+    from sheetkin.xlsx.evaluator import BOOL, NUM
+    valued = (built.tag[sh] == NUM) | (built.tag[sh] == BOOL)
+    assert (built.num[sh][valued] == replayed.num[sh][valued]).all()
