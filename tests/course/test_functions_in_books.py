@@ -1,0 +1,165 @@
+"""Issue 32's "done when", through the grader: a correct book that computes with SWITCH, IFS,
+VLOOKUP of a computed table, MDETERM (Cramer's rule, the 2x2 determinant of the velocity
+system from cells) or ACOT scores 100; the same book with one formula wrong names that row.
+
+The books are typed into LibreOffice Calc through UNO and saved by it, as students make them
+(tests/helpers/studentbooks.py): Calc writes the functions newer than Excel 2007 as Excel
+stores them (`_xlfn.SWITCH(...)`, `_xlfn.IFS(...)`, `_xlfn.ACOT(...)`), so the test reads the
+same files Excel would write. Each kind of book is checked to hold its function, so a recipe
+that silently typed something else cannot pass."""
+from __future__ import annotations
+
+import zipfile
+from pathlib import Path
+
+import pytest
+from helpers.clirun import run
+from helpers.studentbooks import Recipe, make_books, uno_available
+
+from sheetkin.course import grades
+from sheetkin.course.issued import KEY_FILE, Options, read_key, read_roster
+from sheetkin.course.validator import validate
+
+ROOT = Path(__file__).resolve().parents[2]
+pytestmark = [pytest.mark.libreoffice,
+              pytest.mark.skipif(not uno_available(), reason="LibreOffice with python3-uno is not installed")]
+
+MAIN = "Кинематика"
+
+
+def _recipes(ex: Path, key: Path) -> dict[str, tuple[Recipe, str, str]]:
+    """{book: (recipe, the function's name as stored in the file, the row it computes)}; a
+    book whose name ends in "_wrong" has that row's formula wrong in one way a student errs."""
+    rows = Recipe(ex, key)._rows()
+    r = {n: rows[n] for n in ("phi_1", "i", "L2", "L3", "branch_g1", "Delta_g1", "sin_2", "cos_2", "sin_3",
+                              "cos_3", "psi_p_g1", "psi_m_g1", "xi_p_g1", "xi_m_g1", "asm_g1", "P_g1", "Q_g1",
+                              "F_g1", "D_g1", "phi_2")}
+    positions = Recipe(ex, key)._positions()
+
+    def switch(wrong: bool) -> Recipe:
+        # the branch chosen by SWITCH on the given branch sign (the wrong book swaps them)
+        a, b = ("{c}%d" % r["psi_m_g1"], "{c}%d" % r["psi_p_g1"]) if wrong else \
+            ("{c}%d" % r["psi_p_g1"], "{c}%d" % r["psi_m_g1"])
+        return Recipe(ex, key).honest().formula(
+            "phi_2", f"=IF({{c}}{r['asm_g1']};MOD(DEGREES(SWITCH($D${r['branch_g1']};1;{a};{b}));360);"
+                     "\"не собирается\")")
+
+    def ifs(wrong: bool) -> Recipe:
+        xi_p, xi_m = "{c}%d" % r["xi_p_g1"], "{c}%d" % r["xi_m_g1"]
+        other = xi_p if wrong else xi_m      # the wrong book takes the same branch both ways
+        return Recipe(ex, key).honest().formula(
+            "phi_3", f"=IF({{c}}{r['asm_g1']};MOD(DEGREES(IFS($D${r['branch_g1']}=1;{xi_p};"
+                     f"$D${r['branch_g1']}=-1;{other}));360);\"не собирается\")")
+
+    def vlookup(wrong: bool) -> Recipe:
+        # a helper sheet "Таблица": position i and cos of phi_2 computed from the main sheet,
+        # one position a row (transposed); cos_2 looked up by i
+        recipe = Recipe(ex, key).honest()
+        recipe.ops.append(["insert_sheet", "Таблица", 1])
+        cells = []
+        for k in range(positions):
+            col = _letter(5 + k)
+            cells.append([k + 1, 1, f"=$'{MAIN}'.{col}{r['i']}"])
+            cells.append([k + 1, 2, f"=COS(RADIANS($'{MAIN}'.{col}{r['phi_2']}))"])
+        recipe.ops.append(["formulas", "Таблица", cells])
+        column = 2 if not wrong else 1
+        return recipe.formula("cos_2", f"=IF({{c}}{r['asm_g1']};VLOOKUP({{c}}{r['i']};$Таблица.$A$1:$B${positions};"
+                                       f"{column};0);\"не собирается\")")
+
+    def mdeterm(wrong: bool) -> Recipe:
+        # Cramer's rule as in the lecture: the velocity system's matrix
+        # [[-L2 sin2, L3 sin3], [L2 cos2, -L3 cos3]] written in a helper sheet "Крамер", two
+        # rows a position, and its determinant by MDETERM
+        recipe = Recipe(ex, key).honest()
+        recipe.ops.append(["insert_sheet", "Крамер", 1])
+        cells = []
+        for k in range(positions):
+            col, top = _letter(5 + k), 2 * k + 1
+            m = f"$'{MAIN}'."
+            cells += [[top, 1, f"=-{m}$D${r['L2']}*{m}{col}{r['sin_2']}"],
+                      [top, 2, f"={m}$D${r['L3']}*{m}{col}{r['sin_3']}"],
+                      [top + 1, 1, f"={m}$D${r['L2']}*{m}{col}{r['cos_2']}"],
+                      [top + 1, 2, f"=-{m}$D${r['L3']}*{m}{col}{r['cos_3' if not wrong else 'sin_3']}"]]
+        recipe.ops.append(["formulas", "Крамер", cells])
+        for k in range(positions):
+            top = 2 * k + 1
+            recipe.formula("Delta_g1", f"=IF({{c}}{r['asm_g1']};MDETERM($Крамер.$A${top}:$B${top + 1});"
+                                       "\"не собирается\")", col=5 + k)
+        return recipe
+
+    def acot(wrong: bool) -> Recipe:
+        # the half-angle solution with ACOT for the issued branch (-1): the key's
+        # psi = 2 ATAN2(P + F; Q - sqrt D) is 2 acot((P + F)/(Q - sqrt D)) up to a turn, which
+        # MOD(...; 360) takes away (the wrong book takes the other branch's + sqrt D)
+        sign = "+" if wrong else "-"
+        return Recipe(ex, key).honest().formula(
+            "phi_2", f"=IF({{c}}{r['asm_g1']};MOD(DEGREES(2*ACOT(({{c}}{r['P_g1']}+{{c}}{r['F_g1']})/"
+                     f"({{c}}{r['Q_g1']}{sign}SQRT({{c}}{r['D_g1']}))));360);\"не собирается\")")
+
+    out = {}
+    for name, make, stored, row in (("switch", switch, "_xlfn.SWITCH(", "phi_2"), ("ifs", ifs, "_xlfn.IFS(", "phi_3"),
+                                    ("vlookup", vlookup, "VLOOKUP(", "cos_2"),
+                                    ("mdeterm", mdeterm, "MDETERM(", "Delta_g1"),
+                                    ("acot", acot, "_xlfn.ACOT(", "phi_2")):
+        out[name] = (make(False), stored, row)
+        out[name + "_wrong"] = (make(True), stored, row)
+    return out
+
+
+def _letter(c: int) -> str:
+    from openpyxl.utils import get_column_letter
+    return get_column_letter(c)
+
+
+@pytest.fixture(scope="module")
+def books(tmp_path_factory):
+    from sheetkin.cli.commands import main
+    d = tmp_path_factory.mktemp("functions32")
+    assert main(["variants", str(ROOT / "workbooks" / "fourbar.toml"), "-n", "1", "--out", str(d), "--seed", "7"]) == 0
+    ex, key = next(d.glob("*-01-exercise.xlsx")), next(d.glob("*-01-key.xlsx"))
+    options = Options(read_roster(str(d / "roster.csv")), read_key(d / KEY_FILE))
+    made = _recipes(ex, key)
+    paths = {d / f"{name}.xlsx": recipe for name, (recipe, _, _) in made.items()}
+    make_books(paths)
+    return {name: (d / f"{name}.xlsx", stored, row) for name, (_, stored, row) in made.items()}, options, d
+
+
+def _sheet_xml(path: Path) -> str:
+    with zipfile.ZipFile(path) as z:
+        return "".join(z.read(n).decode("utf-8") for n in z.namelist() if n.startswith("xl/worksheets/sheet"))
+
+
+FUNCTIONS = ["switch", "ifs", "vlookup", "mdeterm", "acot"]
+
+
+@pytest.mark.parametrize("name", FUNCTIONS)
+def test_a_correct_book_using_the_function_scores_100(books, name):
+    made, options, _ = books
+    path, stored, row = made[name]
+    assert stored in _sheet_xml(path), f"{name}: the saved book does not call {stored}"
+    rep = validate(path, options=options)
+    assert rep.error is None, rep.error
+    assert grades.score(rep) == 100, grades.explain(rep)
+    assert next(r for r in rep.rows if r.name == row).status == "correct"
+    assert not any(r.not_judged for r in rep.rows)          # computed here, not left to the teacher
+
+
+@pytest.mark.parametrize("name", FUNCTIONS)
+def test_the_same_book_with_one_wrong_formula_names_that_row(books, name):
+    made, options, _ = books
+    path, stored, row = made[name + "_wrong"]
+    assert stored in _sheet_xml(path)
+    rep = validate(path, options=options)
+    assert rep.error is None, rep.error
+    assert grades.score(rep) < 100
+    wrong = [r.name for r in rep.rows if r.status == "wrong"]
+    assert wrong and wrong[0] == row, wrong
+
+
+def test_sheetkin_validate_grades_the_switch_book_100(books, capsys, tmp_path):
+    made, _, d = books
+    grades_csv = tmp_path / "grades.csv"
+    code, out, err = run(capsys, "validate", made["switch"][0], "--key", d / KEY_FILE,
+                         "--roster", d / "roster.csv", "--grades", grades_csv)
+    assert code == 0, out + err
+    assert ",100" in grades_csv.read_text("utf-8-sig"), grades_csv.read_text("utf-8-sig")
