@@ -259,6 +259,10 @@ def _add_validate_parser(sub) -> None:
                    help="let a number typed where a formula belongs earn credit when it is right "
                         "to its last digit (default: a computed row earns credit only where it "
                         "computes; still reported as typed, not computed; see `sheetkin docs grading`)")
+    v.add_argument("--no-libreoffice", action="store_true",
+                   help="do not let LibreOffice compute the cells sheetkin cannot (a function it "
+                        "lacks): what reads them is \"not judged: check by hand\" (default: "
+                        "recalculated by soffice when it is installed)")
 
 
 def _add_bench_parser(sub) -> None:

@@ -529,7 +529,7 @@ def _issued_options(args):
     keyless = "" if key else ("no key (--key FILE, or .sheetkin-key next to --roster): the scene "
                               "sheets' seals are not checked")
     return Options(roster, key, args.accept_changed_inputs, bool(getattr(args, "accept_typed", False)),
-                   older), keyless
+                   older, libreoffice=not getattr(args, "no_libreoffice", False)), keyless
 
 
 def cmd_bench(args) -> int:

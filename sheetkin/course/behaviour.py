@@ -181,6 +181,8 @@ def judge_rows(report: Report, g: Graded, beh: Behaviour | None) -> None:
         for k, c in enumerate(cols):
             if k + 1 in bad or (rep.kind == "derived" and (rep.status != "correct" or rep.source != "formula")):
                 continue
+            if not g.evaluated.computed(g.main, r, c):
+                continue          # computed by LibreOffice on the issued data only (course/by_libreoffice.py)
             issued = ref_book.value(ref_sheet, rr, c)
             for n, sheet, state in zip(cast(Behaviour, beh).nudged, cast(Behaviour, beh).sheets, states, strict=True):
                 exp = n.reference.value(n.reference.order[0], rr, c)

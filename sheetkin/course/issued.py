@@ -281,6 +281,7 @@ class Options:
     accept_changed: bool = False
     accept_typed: bool = False       # --accept-typed (sheetkin/course/grades.py)
     older_keys: tuple[bytes, ...] = ()          # earlier issues' keys (dated, beside the key)
+    libreoffice: bool = True         # cells sheetkin cannot compute, by LibreOffice (--no-libreoffice)
 
 
 @dataclass

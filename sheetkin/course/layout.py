@@ -257,6 +257,11 @@ def standard_view(book: Book, layout: Layout) -> tuple[Book, Sheet]:
                  cached=moved(src.cached), max_row=src.max_row, max_col=width - 1, arrays=arrays,
                  names=src.names)
     sheets = {**book.sheets, layout.sheet: view}
+    # the cells not computed here (a function the evaluator lacks), in their new places too
+    not_computed = {**book.not_computed}
+    if layout.sheet in not_computed:
+        not_computed[layout.sheet] = {(r, back[c]): fs for (r, c), fs in not_computed[layout.sheet].items()
+                                      if c in back}
     out = Book(book.path, sheets, book.order, {**book.num, layout.sheet: num}, {**book.tag, layout.sheet: tag},
-               {**book.txt, layout.sheet: txt}, book.problems, book.runs, book.cells, book.schedule)
+               {**book.txt, layout.sheet: txt}, book.problems, book.runs, book.cells, book.schedule, not_computed)
     return out, view

@@ -37,7 +37,7 @@ from sheetkin.xlsx.cells import read_book
 from sheetkin.xlsx.evaluator import Book, EvaluationError
 from sheetkin.xlsx.package import Limits, UnusableWorkbook
 
-from . import behaviour, issued
+from . import behaviour, by_libreoffice, issued
 from .book import TITLE_AT, UnusableInput, book_lang, embedded_scene, evaluate_student, identity_text
 from .checks import read_checks
 from .layout import VALUE_COL, find_layout, standard_view
@@ -84,6 +84,8 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
         raise UnusableInput(f"{path}: no sheet holds the rows of the issued table (names such as "
                             f"{', '.join(r.name for r in ref_rows if r.kind == 'calc')[:60]}... in a column)")
     raw = evaluate_student(book, layout)
+    # what sheetkin cannot compute (a function it lacks), computed by LibreOffice when installed
+    by_libreoffice.fill_uncomputed(raw, path, options.libreoffice if options else True)
     evaluated, sh = standard_view(raw, layout)
     names: dict[str, int] = {}
     for r in range(5, sh.max_row + 1):

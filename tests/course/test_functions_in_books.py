@@ -10,6 +10,7 @@ that silently typed something else cannot pass."""
 from __future__ import annotations
 
 import zipfile
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -19,6 +20,7 @@ from helpers.studentbooks import Recipe, make_books, uno_available
 from sheetkin.course import grades
 from sheetkin.course.issued import KEY_FILE, Options, read_key, read_roster
 from sheetkin.course.validator import validate
+from sheetkin.xlsx.table import SUPPORTED
 
 ROOT = Path(__file__).resolve().parents[2]
 pytestmark = [pytest.mark.libreoffice,
@@ -96,8 +98,15 @@ def _recipes(ex: Path, key: Path) -> dict[str, tuple[Recipe, str, str]]:
             "phi_2", f"=IF({{c}}{r['asm_g1']};MOD(DEGREES(2*ACOT(({{c}}{r['P_g1']}+{{c}}{r['F_g1']})/"
                      f"({{c}}{r['Q_g1']}{sign}SQRT({{c}}{r['D_g1']}))));360);\"не собирается\")")
 
+    def bitand(wrong: bool) -> Recipe:
+        # a function sheetkin's table lacks (LibreOffice and Excel 2013 have it): cos_2 times
+        # BITAND(3;1) = 1; the wrong book takes the sine
+        trig = "SIN" if wrong else "COS"
+        return Recipe(ex, key).honest().formula(
+            "cos_2", f"=IF({{c}}{r['asm_g1']};BITAND(3;1)*{trig}(RADIANS({{c}}{r['phi_2']}));\"не собирается\")")
+
     out = {}
-    for name, make, stored, row in (("switch", switch, "_xlfn.SWITCH(", "phi_2"), ("ifs", ifs, "_xlfn.IFS(", "phi_3"),
+    for name, make, stored, row in (("bitand", bitand, "_xlfn.BITAND(", "cos_2"),("switch", switch, "_xlfn.SWITCH(", "phi_2"), ("ifs", ifs, "_xlfn.IFS(", "phi_3"),
                                     ("vlookup", vlookup, "VLOOKUP(", "cos_2"),
                                     ("mdeterm", mdeterm, "MDETERM(", "Delta_g1"),
                                     ("acot", acot, "_xlfn.ACOT(", "phi_2")):
@@ -163,3 +172,34 @@ def test_sheetkin_validate_grades_the_switch_book_100(books, capsys, tmp_path):
                          "--roster", d / "roster.csv", "--grades", grades_csv)
     assert code == 0, out + err
     assert ",100" in grades_csv.read_text("utf-8-sig"), grades_csv.read_text("utf-8-sig")
+
+
+def test_a_function_sheetkin_lacks_is_computed_by_libreoffice(books):
+    """Issue 31 item 2: the cells sheetkin cannot compute take LibreOffice's recalculation and
+    are judged: the right book scores 100, the wrong one names its row."""
+    assert "BITAND" not in SUPPORTED          # else this test no longer tests the fallback
+    made, options, _ = books
+    path, stored, row = made["bitand"]
+    assert stored in _sheet_xml(path)
+    rep = validate(path, options=options)
+    assert grades.score(rep) == 100, grades.explain(rep)
+    assert not any(r.not_judged for r in rep.rows)
+    rep = validate(made["bitand_wrong"][0], options=options)
+    wrong = [r.name for r in rep.rows if r.status == "wrong"]
+    assert wrong and wrong[0] == row, wrong
+    assert grades.score(rep) < 100
+
+
+def test_without_libreoffice_what_reads_it_is_not_judged(books):
+    """--no-libreoffice: the rows reading the unknown function are "not judged: check by
+    hand", out of the denominator; none is wrong, so the right and the wrong book alike score
+    on the rest (the teacher checks cos_2 and what reads it by hand)."""
+    made, options, _ = books
+    off = replace(options, libreoffice=False)
+    for name in ("bitand", "bitand_wrong"):
+        rep = validate(made[name][0], options=off)
+        unjudged = [r.name for r in rep.rows if r.not_judged]
+        assert unjudged and unjudged[0] == "cos_2", unjudged
+        assert not [r.name for r in rep.rows if r.status == "wrong" and not r.not_judged]
+        assert any("not judged: check by hand" in n for n in rep.notes)
+        assert grades.score(rep) == 100, grades.explain(rep)
