@@ -40,14 +40,14 @@ def _recipes(ex: Path, key: Path) -> dict[str, tuple[Recipe, str, str]]:
 
     def switch(wrong: bool) -> Recipe:
         # the branch chosen by SWITCH on the given branch sign (the wrong book swaps them)
-        a, b = ("{c}%d" % r["psi_m_g1"], "{c}%d" % r["psi_p_g1"]) if wrong else \
-            ("{c}%d" % r["psi_p_g1"], "{c}%d" % r["psi_m_g1"])
+        plus, minus = "{c}" + str(r["psi_p_g1"]), "{c}" + str(r["psi_m_g1"])
+        a, b = (minus, plus) if wrong else (plus, minus)
         return Recipe(ex, key).honest().formula(
             "phi_2", f"=IF({{c}}{r['asm_g1']};MOD(DEGREES(SWITCH($D${r['branch_g1']};1;{a};{b}));360);"
                      "\"не собирается\")")
 
     def ifs(wrong: bool) -> Recipe:
-        xi_p, xi_m = "{c}%d" % r["xi_p_g1"], "{c}%d" % r["xi_m_g1"]
+        xi_p, xi_m = "{c}" + str(r["xi_p_g1"]), "{c}" + str(r["xi_m_g1"])
         other = xi_p if wrong else xi_m      # the wrong book takes the same branch both ways
         return Recipe(ex, key).honest().formula(
             "phi_3", f"=IF({{c}}{r['asm_g1']};MOD(DEGREES(IFS($D${r['branch_g1']}=1;{xi_p};"
@@ -106,7 +106,8 @@ def _recipes(ex: Path, key: Path) -> dict[str, tuple[Recipe, str, str]]:
             "cos_2", f"=IF({{c}}{r['asm_g1']};BITAND(3;1)*{trig}(RADIANS({{c}}{r['phi_2']}));\"не собирается\")")
 
     out = {}
-    for name, make, stored, row in (("bitand", bitand, "_xlfn.BITAND(", "cos_2"),("switch", switch, "_xlfn.SWITCH(", "phi_2"), ("ifs", ifs, "_xlfn.IFS(", "phi_3"),
+    for name, make, stored, row in (("bitand", bitand, "_xlfn.BITAND(", "cos_2"),
+                                    ("switch", switch, "_xlfn.SWITCH(", "phi_2"), ("ifs", ifs, "_xlfn.IFS(", "phi_3"),
                                     ("vlookup", vlookup, "VLOOKUP(", "cos_2"),
                                     ("mdeterm", mdeterm, "MDETERM(", "Delta_g1"),
                                     ("acot", acot, "_xlfn.ACOT(", "phi_2")):
