@@ -29,6 +29,7 @@ from .values import (
     VALUE,
     Val,
     arith,
+    array_constant,
     compare,
     concat,
     constant,
@@ -254,6 +255,8 @@ class Context:
             return a
         if kind == "missing":
             return constant(0.0)
+        if kind == "array":
+            return array_constant(node[1])
         if kind == "fn":
             return self.call(node[1], node[2], run)
         raise EvaluationError(f"cannot evaluate {node!r}")

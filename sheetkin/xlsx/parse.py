@@ -1,7 +1,7 @@
 """Formula text to expression trees: openpyxl's tokenizer, then precedence climbing, after
 Excel's limits for one formula (length, nesting). A
 tree is nested tuples: ("const", value), ("ref", Ref), ("name", NAME), ("fn", NAME, args),
-("bin", op, left, right), ("neg", x), ("pct", x), ("missing",); a Ref's relative parts are
+("bin", op, left, right), ("neg", x), ("pct", x), ("missing",), ("array", rows); a Ref's relative parts are
 offsets from the host cell, so one tree serves every cell of a run.
 
 Separate from evaluator.py because parsing needs no values and no workbook: the evaluator,
@@ -275,7 +275,36 @@ class _Parser:
             return self.postfix(node)
         if t.type == Token.FUNC and t.subtype == Token.OPEN:
             return self.postfix(self.function(function_name(t.value[:-1])))
+        if t.type == Token.ARRAY and t.subtype == Token.OPEN:
+            return self.postfix(self.array_constant())
         raise ParseError(f"unexpected {t.value!r}")
+
+    def array_constant(self):
+        """An array constant after its "{": ("array", rows of values); "," between the values
+        of a row, ";" between rows, constants only (a number, optionally negative, a text, a
+        boolean, an error), every row as long as the first, as Excel requires."""
+        rows: list[list] = [[]]
+        sign = 1.0
+        while True:
+            t = self.take() if self.peek() else None
+            if t is None:
+                raise ParseError("{ is not closed")
+            if t.type == Token.ARRAY and t.subtype == Token.CLOSE:
+                break
+            if t.type == Token.SEP:
+                rows.append([]) if t.subtype == Token.ROW else None
+                continue
+            if t.type == Token.OP_PRE and t.value in "+-":
+                sign = -sign if t.value == "-" else sign
+                continue
+            node = _operand(t, self.host_r, self.host_c, {}) if t.type == Token.OPERAND else None
+            if node is None or node[0] != "const" or (sign < 0 and not isinstance(node[1], float)):
+                raise ParseError(f"{t.value!r} in an array constant (constants only)")
+            rows[-1].append(sign * node[1] if sign < 0 else node[1])
+            sign = 1.0
+        if not rows[0] or any(len(r) != len(rows[0]) for r in rows):
+            raise ParseError("an array constant's rows differ in length")
+        return ("array", tuple(tuple(r) for r in rows))
 
     def function(self, name: str):
         """A function's arguments, after its opening token, up to its closing one."""

@@ -87,6 +87,22 @@ def _const_new(value, k) -> Val:
     return Val(np.zeros((k, 1, 1)), np.full((k, 1, 1), TEXT, np.int8), txt)
 
 
+def array_constant(rows: tuple) -> Val:
+    """An array constant ({1,2;3,4}: a tuple of rows of constants) as one value of R x C
+    cells, what a range of those values would be."""
+    cells = [[constant(x) for x in row] for row in rows]
+    num = np.array([[v.num[0, 0, 0] for v in row] for row in cells])[None]
+    tag = np.array([[v.tag[0, 0, 0] for v in row] for row in cells], np.int8)[None]
+    txt = None
+    if (tag == TEXT).any():
+        txt = np.full(tag.shape, None, dtype=object)
+        for i, row in enumerate(rows):
+            for j, x in enumerate(row):
+                if tag[0, i, j] == TEXT:
+                    txt[0, i, j] = x
+    return Val(num, tag, txt)
+
+
 def error_value(code: str, k: int = 1) -> Val:
     """The error `code` ("#VALUE!") in each of k cells."""
     return constant(XlError(code), k)
@@ -693,6 +709,8 @@ def _where(which: str):
                 return error_value("#REF!", k)
         if node is None and which in ("ROW", "COLUMN"):
             at = np.full(k, float(run.row)) if which == "ROW" else run.cols.astype(float)
+        elif node is not None and node[0] == "array" and which in ("ROWS", "COLUMNS"):   # {1,2;3,4}
+            at = np.full(k, float(len(node[1]) if which == "ROWS" else len(node[1][0])))
         elif node is None or node[0] != "ref":
             return error_value("#VALUE!", k)
         else:
