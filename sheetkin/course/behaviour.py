@@ -188,6 +188,8 @@ def judge_rows(report: Report, g: Graded, beh: Behaviour | None) -> None:
                 exp = n.reference.value(n.reference.order[0], rr, c)
                 if _close(exp, issued, period):
                     continue                     # the right value does not move: the precedents decide
+                if sheet.tag[g.main][r, c] == NAME_ERROR:
+                    break                        # sheetkin cannot evaluate it (LibreOffice did, on the issued data)
                 if not _close(sheet.value(g.main, r, c), exp, period) and state.get(c, 0) != 0:
                     rep.not_following.append(k + 1)
                     break

@@ -6,10 +6,12 @@ the table), and every formula that reads one, is "not computed here" (Book.not_c
 sheetkin.xlsx.uncomputed): #NAME? in sheetkin's stores. When soffice is on the machine the
 student's file is recalculated by it (one `--convert-to xlsx` run with a private profile that
 recalculates every formula, sheetkin.xlsx.libreoffice) and those cells take LibreOffice's
-values: the rows and check rows that read them are judged on them as on sheetkin's own. The
-cells stay not computed here (Book.computed is False): the behavioural check does not judge
-them on the nudged data (recalculating a nudged copy per variant would cost a soffice run
-each, ~2 s; only the issued data are recalculated).
+values: the rows and check rows that read them are judged on them as on sheetkin's own. So do
+the formulas that are #NAME? here while LibreOffice computes them (a formula sheetkin cannot
+read, A1:INDEX(...), and what reads it). The cells stay not computed here (Book.computed is
+False, or #NAME? in a nudged copy): the behavioural check does not judge them on the nudged
+data (recalculating a nudged copy per variant would cost a soffice run each, ~3 s; only the
+issued data are recalculated).
 
 Without LibreOffice (or with --no-libreoffice) the cells stay #NAME? and what reads them is
 "not judged: check by hand", out of the score's denominator (sheetkin.course.behaviour).
@@ -20,7 +22,7 @@ from pathlib import Path
 
 from sheetkin.xlsx.cells import read_book
 from sheetkin.xlsx.evaluator import Book
-from sheetkin.xlsx.functions import ERRORS, XlError
+from sheetkin.xlsx.functions import ERRORS, NAME, XlError
 from sheetkin.xlsx.libreoffice import convert_to_xlsx, scratch_folder, soffice_path
 from sheetkin.xlsx.values import constant
 
@@ -31,7 +33,16 @@ def fill_uncomputed(book: Book, source: str | Path, enabled: bool = True) -> int
     """The cells of `book` not computed here set to LibreOffice's recalculation of the file
     `source` (in place); returns how many took a value (0: nothing to do, LibreOffice absent
     or switched off, or it failed: then the cells stay #NAME?, not judged)."""
-    if not enabled or not book.not_computed or soffice_path() is None or not Path(source).is_file():
+    # the cells not computed here, and the formulas that are #NAME? here (one sheetkin cannot
+    # read, such as a range ending in a function A1:INDEX(...), and every formula reading it)
+    cells = {s: set(marked) for s, marked in book.not_computed.items()}
+    for s, sh in book.sheets.items():
+        if s in book.tag:
+            tag = book.tag[s]
+            cells.setdefault(s, set()).update(
+                (r, c) for r, c in sh.formulas if r < tag.shape[0] and c < tag.shape[1] and tag[r, c] == NAME)
+    cells = {s: at for s, at in cells.items() if at}
+    if not enabled or not cells or soffice_path() is None or not Path(source).is_file():
         return 0
     try:
         with scratch_folder("sheetkin-recalc-") as folder:
@@ -39,12 +50,12 @@ def fill_uncomputed(book: Book, source: str | Path, enabled: bool = True) -> int
     except Exception:     # noqa: BLE001 - LibreOffice failing leaves the cells not judged, as without it
         return 0
     filled = 0
-    for sheet, cells in book.not_computed.items():
+    for sheet, at in cells.items():
         saved = recalculated.sheets.get(sheet)
         if saved is None or sheet not in book.num:
             continue
         num, tag, txt = book.num[sheet], book.tag[sheet], book.txt[sheet]
-        for r, c in cells:
+        for r, c in sorted(at):
             if (r, c) not in saved.cached or r >= num.shape[0] or c >= num.shape[1]:
                 continue
             value = saved.cached[(r, c)]

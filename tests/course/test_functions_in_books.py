@@ -105,8 +105,17 @@ def _recipes(ex: Path, key: Path) -> dict[str, tuple[Recipe, str, str]]:
         return Recipe(ex, key).honest().formula(
             "cos_2", f"=IF({{c}}{r['asm_g1']};BITAND(3;1)*{trig}(RADIANS({{c}}{r['phi_2']}));\"не собирается\")")
 
+    def index_range(wrong: bool) -> Recipe:
+        # a range ending in a function (phi_2's cell to INDEX of it: the cell itself), which
+        # sheetkin's parser does not read; LibreOffice computes it
+        trig = "SIN" if wrong else "COS"
+        return Recipe(ex, key).honest().formula(
+            "cos_2", f"=IF({{c}}{r['asm_g1']};{trig}(RADIANS(SUM({{c}}{r['phi_2']}:INDEX({{c}}{r['phi_2']}:"
+                     f"{{c}}{r['cos_2'] - 1};1))));\"не собирается\")")
+
     out = {}
-    for name, make, stored, row in (("bitand", bitand, "_xlfn.BITAND(", "cos_2"),
+    for name, make, stored, row in (("index_range", index_range, ":INDEX(", "cos_2"),
+                                    ("bitand", bitand, "_xlfn.BITAND(", "cos_2"),
                                     ("switch", switch, "_xlfn.SWITCH(", "phi_2"), ("ifs", ifs, "_xlfn.IFS(", "phi_3"),
                                     ("vlookup", vlookup, "VLOOKUP(", "cos_2"),
                                     ("mdeterm", mdeterm, "MDETERM(", "Delta_g1"),
@@ -175,17 +184,19 @@ def test_sheetkin_validate_grades_the_switch_book_100(books, capsys, tmp_path):
     assert ",100" in grades_csv.read_text("utf-8-sig"), grades_csv.read_text("utf-8-sig")
 
 
-def test_a_function_sheetkin_lacks_is_computed_by_libreoffice(books):
-    """Issue 31 item 2: the cells sheetkin cannot compute take LibreOffice's recalculation and
-    are judged: the right book scores 100, the wrong one names its row."""
+@pytest.mark.parametrize("name", ["bitand", "index_range"])
+def test_what_sheetkin_cannot_compute_is_computed_by_libreoffice(books, name):
+    """Issue 31 item 2: the cells sheetkin cannot compute (a function its table lacks, a
+    formula it cannot read) take LibreOffice's recalculation and are judged: the right book
+    scores 100, the wrong one names its row."""
     assert "BITAND" not in SUPPORTED          # else this test no longer tests the fallback
     made, options, _ = books
-    path, stored, row = made["bitand"]
+    path, stored, row = made[name]
     assert stored in _sheet_xml(path)
     rep = validate(path, options=options)
     assert grades.score(rep) == 100, grades.explain(rep)
     assert not any(r.not_judged for r in rep.rows)
-    rep = validate(made["bitand_wrong"][0], options=options)
+    rep = validate(made[name + "_wrong"][0], options=options)
     wrong = [r.name for r in rep.rows if r.status == "wrong"]
     assert wrong and wrong[0] == row, wrong
     assert grades.score(rep) < 100
@@ -197,7 +208,7 @@ def test_without_libreoffice_what_reads_it_is_not_judged(books):
     on the rest (the teacher checks cos_2 and what reads it by hand)."""
     made, options, _ = books
     off = replace(options, libreoffice=False)
-    for name in ("bitand", "bitand_wrong"):
+    for name in ("bitand", "bitand_wrong", "index_range", "index_range_wrong"):
         rep = validate(made[name][0], options=off)
         unjudged = [r.name for r in rep.rows if r.not_judged]
         assert unjudged and unjudged[0] == "cos_2", unjudged
