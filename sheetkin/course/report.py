@@ -11,6 +11,7 @@ from .issued import changed_line
 from .report_html import position_list, position_name
 from .report_messages import say
 from .report_texts import READS_TYPED, say_grading, words
+from .scratch_report import mapping_lines
 from .validator import Report
 
 
@@ -30,6 +31,7 @@ def text_report(rep: Report, lang: str = "en") -> str:
     who = ", ".join(x for x in (getattr(rep, "student", ""), rep.title) if x)
     lines = [f"{head}" + (f" ({who})" if who else "") + f", {rep.positions} {t['positions']}"]
     lines += issued_lines(rep, lang)
+    lines += mapping_lines(rep, lang)   # hook (issue 33): a from-scratch book's mapping; [] otherwise
     # the counts, the verdict and the score: one vocabulary with the HTML, JSON and grades.csv
     lines += [say_grading(counts_line(rep), lang), say_grading(f"  {verdict(rep)}; score {explain(rep)}", lang)]
     typed = rep.typed

@@ -317,6 +317,9 @@ def internal_error(path: str, e: BaseException) -> str:
 
 def _validate(path: str, limits: Limits, options: issued.Options | None = None) -> Report:
     book = read_book(path, limits, skip=frozenset({PATHS_SHEET}))    # never graded: not parsed
+    from . import scratch          # hook (issue 33): a book built from scratch, graded by value
+    if SCENE_SHEET not in book.sheets and scratch.applies(options):
+        return scratch.grade_book(book, path, options)
     scene, scene_text = _embedded_scene(book, path, options)
     # the graded sheet and its columns, found by their content (sheetkin/course/layout.py);
     # graded through a view in the issued layout (names A, value D, positions from E)
@@ -339,7 +342,7 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
     report = _new_report(g, book, scene_text, options)
     _grade_rows(report, g)
     _read_checks(report, evaluated, layout.sheet, sh, names, ref_rows, cast(Book, g.ref_book), g.ref_names)
-    return report
+    return scratch.own_table(book, path, options, report)   # hook (issue 33): the issued sheet empty
 
 
 def _embedded_scene(book, path: str, options: issued.Options | None) -> tuple[Scene, str]:
