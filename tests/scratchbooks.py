@@ -73,8 +73,30 @@ class StudentBook:
                 out.append(["insert_sheet", sheet, 1])
             values = [c for c in cells if not (isinstance(c[2], str) and c[2].startswith("="))]
             formulas = [c for c in cells if isinstance(c[2], str) and c[2].startswith("=")]
-            out += [["values", sheet, values], ["formulas", sheet, formulas]]
+            out += [["formula_lines", sheet, _lines(formulas)], ["values", sheet, values]]
         return out
+
+
+def _lines(formulas: list[list]) -> list[list]:
+    """Formulas grouped into runs of neighbouring cells of one row or one column."""
+    out: list[list] = []
+    for r, c, f in sorted(formulas, key=lambda x: (x[0], x[1])):
+        last = out[-1] if out else None
+        if last and last[0] == last[2] == r and c == last[3] + 1:
+            last[3] = c
+            last[4].append(f)
+        else:
+            out.append([r, c, r, c, [f]])
+    if len(out) > len(formulas) // 2:                   # columns: group down instead
+        out = []
+        for r, c, f in sorted(formulas, key=lambda x: (x[1], x[0])):
+            last = out[-1] if out else None
+            if last and last[1] == last[3] == c and r == last[2] + 1:
+                last[2] = r
+                last[4].append(f)
+            else:
+                out.append([r, c, r, c, [f]])
+    return out
 
 
 def student_book(scene: Scene, orientation: str = "row", angles: str = "deg", sheet: str = "main",

@@ -575,7 +575,8 @@ def own_table(raw: RawBook, path: str, options, report: Report) -> Report:
     sheet, found and graded against the issued variant (its identity and seal kept); the
     issued report when no table is found or the issued sheet holds work."""
     scene = getattr(report, "variant_scene", None)
-    if report.error or scene is None or any(r.status not in ("missing", "empty") for r in report.rows):
+    from .grades import graded_rows      # the rows the exercise gives filled in are not work
+    if report.error or scene is None or any(r.status not in ("missing", "empty") for r in graded_rows(report)):
         return report
     try:
         mine = grade_book(raw, path, options, scene=scene)

@@ -161,7 +161,7 @@ def test_issued_exercise_with_its_own_table_on_another_sheet(books):
 
 
 def test_a_book_without_scene_and_without_variant_is_unusable(books, capsys):
-    assert main(["validate", str(books["fourbar-row-deg"]), "--progress", "never"]) == 2
+    assert main(["validate", str(books["fourbar-row-deg"]), "--progress", "never", "--lang", "en"]) == 2
     assert "no embedded scene" in capsys.readouterr().out
 
 
