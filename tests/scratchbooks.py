@@ -111,7 +111,6 @@ def student_book(scene: Scene, orientation: str = "row", angles: str = "deg", sh
         name = gen.consts.get((r, 1))
         if isinstance(name, str):
             by_row[r] = name
-    kinds = {r.name: r for r in rows}
     n = scene.crank.positions
     inputs = [r for r in rows if r.kind == "input" and r.name not in ("Tol", "Tol_FD")]
     derived = [r for r in rows if r.kind == "derived"]
@@ -124,10 +123,12 @@ def student_book(scene: Scene, orientation: str = "row", angles: str = "deg", sh
     def reads(name: str) -> set[str]:
         f = gen.formulas.get((name_row[name], FIRST_COL)) or gen.formulas.get((name_row[name], 4)) or ""
         return {by_row.get(int(m.group(2)), "") for m in _REF.finditer(f)}
-    table = [r for r in keep if not (r.kind == "check" and (":" in (gen.formulas.get((name_row[r.name], FIRST_COL)) or "")
-                                                              or missing in reads(r.name)))]
+    def ranged(name: str) -> bool:
+        return ":" in (gen.formulas.get((name_row[name], FIRST_COL)) or "")
+    table = [r for r in keep if not (r.kind == "check" and (ranged(r.name) or missing in reads(r.name)))]
     table = [r for r in table if r.name in name_row]
-    radians = {"phi_1"} | {r.name for r in rows if r.unit == "deg" and r.name.startswith("phi_")} if angles == "rad" else set()
+    radians = ({"phi_1"} | {r.name for r in rows if r.unit == "deg" and r.name.startswith("phi_")}
+               if angles == "rad" else set())
     # where each sheetkin cell goes: inputs and derived values -> B5..; table -> rows or columns
     place: dict[tuple[int, int], tuple[int, int]] = {}
     cells: list[list] = [[1, 1, "Студент"], [1, 2, student], [2, 1, "Группа"], [2, 2, "МТ-21"],

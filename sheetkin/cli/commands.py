@@ -492,7 +492,7 @@ def cmd_validate(args) -> int:
         sys.stderr.write(f"\r[{'#' * bar}{'.' * (30 - bar)}] {done}/{len(files)} {f.name[:40]:<40}")
         sys.stderr.flush()
     options, keyless = _issued_options(args)
-    from sheetkin.course.scratch import scratch_options       # hook (issue 33): books built from scratch
+    from sheetkin.course.scratch import scratch_options  # hook (issue 33): books built from scratch
     options = scratch_options(options, getattr(args, "scene", None), args.roster)
     reports, real = [], []
     # closing(): an interruption while a report is printed also stops the workers at once

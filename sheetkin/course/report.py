@@ -31,7 +31,6 @@ def text_report(rep: Report, lang: str = "en") -> str:
     who = ", ".join(x for x in (getattr(rep, "student", ""), rep.title) if x)
     lines = [f"{head}" + (f" ({who})" if who else "") + f", {rep.positions} {t['positions']}"]
     lines += issued_lines(rep, lang)
-    lines += mapping_lines(rep, lang)   # hook (issue 33): a from-scratch book's mapping; [] otherwise
     # the counts, the verdict and the score: one vocabulary with the HTML, JSON and grades.csv
     lines += [say_grading(counts_line(rep), lang), say_grading(f"  {verdict(rep)}; score {explain(rep)}", lang)]
     typed = rep.typed
@@ -85,6 +84,7 @@ def text_report(rep: Report, lang: str = "en") -> str:
     saved = _saved_rows(rep)
     for p in rep.problems[:5]:
         lines.append(f"  {t['cannot']}: {say(p, lang)}" + (f" {t['saved_used']}" if _rows_of(p, rep) & saved else ""))
+    lines += mapping_lines(rep, lang)   # hook (issue 33): a from-scratch book's mapping; [] otherwise
     return "\n".join(lines) + "\n"
 
 

@@ -33,15 +33,17 @@ from __future__ import annotations
 import dataclasses
 import math
 import re
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import cast
 
 import numpy as np
 
 from sheetkin.kinematics.scene import Scene, SceneError, load_scene
 from sheetkin.sheet.charts import PATHS_SHEET, PLOTTED_SHEET
 from sheetkin.sheet.workbook import FIRST_COL, SCENE_SHEET, prefilled_in_exercise, sheet_rows
-from sheetkin.xlsx.cells import RawBook, Sheet
+from sheetkin.xlsx.cells import RawBook
 from sheetkin.xlsx.coords import get_column_letter
 from sheetkin.xlsx.evaluator import Book, evaluate_sheets
 from sheetkin.xlsx.precedents import reaching
@@ -168,7 +170,9 @@ class _Index:
             cs.append(cc)
         v = np.concatenate(vs) if vs else np.zeros(0)
         order = np.argsort(v, kind="stable")
-        cat = (lambda parts: np.concatenate(parts)[order] if parts else np.zeros(0, np.int64))
+
+        def cat(parts):
+            return np.concatenate(parts)[order] if parts else np.zeros(0, np.int64)
         return cls(v[order], cat(ss), cat(rs), cat(cs), names)
 
     def near(self, x: float, tol: float) -> range:
@@ -308,9 +312,10 @@ def locate(raw: RawBook, book: Book, scene: Scene, qs: list[Quantity]) -> Locate
         pos.sort(key=lambda p: _table_key(p.line) != table)
         out.positions = pos[0]
     for q in qs:
-        ms = out.found.get(q.name)
-        if not ms:
+        found = out.found.get(q.name)
+        if not found:
             continue
+        ms = found
         for m in ms:
             m.label = _label(book, m.line)
         keys = _name_keys(q.name)
@@ -357,14 +362,14 @@ def _nearest(book: Book, axis: Line, qs: list[Quantity], out: Located, taken: se
             continue
         found = out.found.get(q.name)
         keys = _name_keys(q.name)
-        named = None
+        named: int | None = None
         for ln in range(1, lines):
             if ln == axis.line or np.isnan(block[ln]).all():
                 continue
             if ln not in labels:
                 labels[ln] = _label(book, Line(axis.sheet, axis.axis, ln, axis.start, axis.n))
             if _key(labels[ln]) in keys:
-                named = ln                                   # the student's own name for it
+                named = int(ln)                              # the student's own name for it
                 break
         if found and (named is None or any(m.line.axis == axis.axis and m.line.line == named for m in found)):
             continue
@@ -376,10 +381,10 @@ def _nearest(book: Book, axis: Line, qs: list[Quantity], out: Located, taken: se
                 cand = (int(score[named]), unit, scale, turn, named)
                 best = cand if best is None or cand[0] > best[0] else best
                 continue
-            for ln in np.nonzero(score)[0]:
-                if (axis.sheet, axis.axis, int(ln)) in taken or ln == axis.line:
+            for j in np.nonzero(score)[0]:
+                if (axis.sheet, axis.axis, int(j)) in taken or j == axis.line:
                     continue
-                cand = (int(score[ln]), unit, scale, turn, int(ln))
+                cand = (int(score[j]), unit, scale, turn, int(j))
                 if best is None or cand[0] > best[0]:
                     best = cand
         if best is None:
@@ -443,15 +448,25 @@ def _given(raw: RawBook, book: Book, scene: Scene, loc: Located) -> tuple[dict, 
                 typed.append((s, r, c, v))
             elif isinstance(v, str) and _COMMA_NUMBER.match(v):
                 typed.append((s, r, c, float(v.replace(",", "."))))
-    typed.sort(key=lambda t: (book.order.index(t[0]), t[1], t[2]))
+    # sorted by value: each given value is a binary search, not a pass over the book
+    vals = np.array([t[3] for t in typed])
+    order = np.argsort(vals, kind="stable")
+    vals = vals[order]
+    sheet_at = {s: k for k, s in enumerate(book.order)}
     out, every = {}, {}
     table = loc.positions.line.sheet if loc.positions else ""
     for name, value in issued.given_values(scene).items():
         if name not in ("Fi0", "Delta_Fi") and (units.get(name) not in _NUDGED_UNITS or value == 0):
             continue
+        if value == 0:
+            continue
         scales = _NUDGED_UNITS.get(units.get(name, ""), (1.0, math.pi / 180))
-        hits = [(s, r, c, sc) for s, r, c, v in typed for sc in scales
-                if value != 0 and abs(v - value * sc) <= 1e-9 * abs(value * sc)]
+        hits = []
+        for sc in scales:
+            x, tol = value * sc, 1e-9 * abs(value * sc)
+            lo, hi = np.searchsorted(vals, x - tol, "left"), np.searchsorted(vals, x + tol, "right")
+            hits += [(*typed[int(order[j])][:3], sc) for j in range(int(lo), int(hi))]
+        hits.sort(key=lambda h: (sheet_at.get(h[0], 0), h[1], h[2]))          # reading order
         if not hits:
             continue
         def named(h, name=name):
@@ -465,7 +480,7 @@ def _given(raw: RawBook, book: Book, scene: Scene, loc: Located) -> tuple[dict, 
 
 
 # --------------------------------------------------------------------------- the behaviour
-def _evaluate(raw: RawBook, replace: dict[tuple[str, int, int], object] | None = None) -> Book:
+def _evaluate(raw: RawBook, replace: Mapping[tuple[str, int, int], object] | None = None) -> Book:
     """The book's sheets evaluated (sheetkin's hidden sheets left out), with some typed cells
     replaced."""
     sheets = {n: sh for n, sh in raw.sheets.items() if n not in (PATHS_SHEET, PLOTTED_SHEET, SCENE_SHEET)}
@@ -575,7 +590,7 @@ def own_table(raw: RawBook, path: str, options, report: Report) -> Report:
     sheet, found and graded against the issued variant (its identity and seal kept); the
     issued report when no table is found or the issued sheet holds work."""
     scene = getattr(report, "variant_scene", None)
-    from .grades import graded_rows      # the rows the exercise gives filled in are not work
+    from .grades import graded_rows  # the rows the exercise gives filled in are not work
     if report.error or scene is None or any(r.status not in ("missing", "empty") for r in graded_rows(report)):
         return report
     try:
@@ -629,7 +644,7 @@ def grade_book(raw: RawBook, path: str, options, scene: Scene | None = None) -> 
         sources.setdefault(loc.positions.line.sheet, []).extend(loc.positions.line.cells())
     for s, cells in _given_block(raw, loc).items():
         sources.setdefault(s, []).extend(cells)
-    reach = reaching(book, sources)
+    reach = reaching(book, cast(dict[str, Iterable[tuple[int, int]]], sources))
     ref_sheet = ref.order[0]
     ref_rows = {ref.sheets[ref_sheet].consts.get((r, 1)): r for r in range(5, ref.sheets[ref_sheet].max_row + 1)}
     qref2 = {}
@@ -650,6 +665,9 @@ def grade_book(raw: RawBook, path: str, options, scene: Scene | None = None) -> 
             elif ms and graded is not None:
                 ms = [graded] + [m for m in ms if m is not graded]
         rep.mapping.append(_mapped(q, ms, loc))
+        if q.required:
+            from .grades import row_verdict
+            rep.mapping[-1]["grade"] = row_verdict(rep.rows[-1])
     rep.mapping += [{"quantity": "", "status": "check row", "cells": ln.where(), "label": _label(book, ln),
                      "unit": ""} for ln in loc.checks]
     rep.given_found = [{"name": k, "cell": f"{s}!{get_column_letter(c)}{r}", "label": lab,

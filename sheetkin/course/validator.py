@@ -317,7 +317,7 @@ def internal_error(path: str, e: BaseException) -> str:
 
 def _validate(path: str, limits: Limits, options: issued.Options | None = None) -> Report:
     book = read_book(path, limits, skip=frozenset({PATHS_SHEET}))    # never graded: not parsed
-    from . import scratch          # hook (issue 33): a book built from scratch, graded by value
+    from . import scratch  # hook (issue 33): a book built from scratch, graded by value
     if SCENE_SHEET not in book.sheets and scratch.applies(options):
         return scratch.grade_book(book, path, options)
     scene, scene_text = _embedded_scene(book, path, options)
