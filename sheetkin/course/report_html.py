@@ -20,6 +20,7 @@ from pathlib import Path
 
 from .report_messages import say
 from .report_texts import READS_TYPED, say_grading, words
+from .scratch_report import mapping_table
 from .validator import Report
 
 _CSS = """body{font-family:sans-serif;margin:1.2em;color:#222}
@@ -278,6 +279,7 @@ def _details(rep: Report, k: int, copy: str = "", lang: str = "en", me=None) -> 
         if items:
             out.append(f"<p>{e(say(title, lang))}:</p><ul>" + "".join(f"<li>{e(say(i, lang))}</li>" for i in items)
                        + "</ul>")
+    out += mapping_table(rep, lang)     # hook (issue 33): a from-scratch book's mapping; [] otherwise
     out.append("<div class='clear'></div></details>")
     return out
 

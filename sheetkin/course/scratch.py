@@ -657,6 +657,11 @@ def grade_book(raw: RawBook, path: str, options, scene: Scene | None = None) -> 
     for q in qs:
         ms = loc.found.get(q.name)
         graded = None
+        # zero at every position (the slider's angle, Fi_tt at a constant speed): such a line
+        # cannot be told from empty cells by value, so it is graded only where found by its label
+        if q.required and not ms and q.name not in loc.nearest and bool(np.nanmax(np.abs(q.ref), initial=0) < 1e-6):
+            rep.mapping.append({"quantity": q.name, "required": False, "status": "not found"})
+            continue
         if q.required:
             row, graded = _grade_quantity(q, ms, loc, raw, nudged, qref2.get(q.name), reach)
             rep.rows.append(row)

@@ -3,22 +3,23 @@ quantity of the lecture, the cells found (sheet, row or column, the student's la
 A leaf: reads the report's `mapping` and `given_found` (absent on an issued book's report)."""
 from __future__ import annotations
 
-_WORDS = {
-    "en": {"head": "the student's table (found by value)", "given": "given data found", "found": "found",
-           "nearest": "nearest", "not found": "not found", "check row": "check row", "departs": "departs at position",
-           "also": "also", "required": "required", "helper": "not required",
-           "checks": "check rows (not graded)", "typed": "typed", "wrong": "wrong", "missing": "missing"},
-    "ru": {"head": "таблица студента (найдена по значениям)", "given": "исходные данные найдены", "found": "найдено",
-           "nearest": "ближайшая", "not found": "не найдено", "check row": "строка проверки",
-           "departs": "расходится с положения", "also": "также", "required": "обязательная",
-           "helper": "необязательная", "checks": "строки проверки (не оцениваются)", "typed": "набрано числами",
-           "wrong": "неверно", "missing": "нет"},
-    "uk": {"head": "таблиця студента (знайдена за значеннями)", "given": "вихідні дані знайдено",
-           "found": "знайдено", "nearest": "найближча", "not found": "не знайдено", "check row": "рядок перевірки",
-           "departs": "розходиться з положення", "also": "також", "required": "обов'язкова",
-           "helper": "необов'язкова", "checks": "рядки перевірки (не оцінюються)", "typed": "набрано числами",
-           "wrong": "невірно", "missing": "немає"},
-}
+import html
+
+_KEYS = ("head", "given", "found", "nearest", "not found", "check row", "departs", "also", "required", "helper",
+         "checks", "quantity", "grade", "cells", "label", "unit", "correct", "typed", "wrong", "missing")
+_WORDS = {lang: dict(zip(_KEYS, texts, strict=True)) for lang, texts in {
+    "en": ("the student's table (found by value)", "given data found", "found", "nearest", "not found", "check row",
+           "departs at position", "also", "required", "not required", "check rows (not graded)", "quantity",
+           "grade", "cells", "the student's label", "unit", "correct", "typed", "wrong", "missing"),
+    "ru": ("таблица студента (найдена по значениям)", "исходные данные найдены", "найдено", "ближайшая",
+           "не найдено", "строка проверки", "расходится с положения", "также", "обязательная", "необязательная",
+           "строки проверки (не оцениваются)", "величина", "оценка", "ячейки", "подпись студента", "единицы",
+           "верно", "набрано числами", "неверно", "нет"),
+    "uk": ("таблиця студента (знайдена за значеннями)", "вихідні дані знайдено", "знайдено", "найближча",
+           "не знайдено", "рядок перевірки", "розходиться з положення", "також", "обов'язкова", "необов'язкова",
+           "рядки перевірки (не оцінюються)", "величина", "оцінка", "клітинки", "підпис студента", "одиниці",
+           "вірно", "набрано числами", "невірно", "немає"),
+}.items()}
 
 
 def mapping_lines(rep, lang: str = "en") -> list[str]:
@@ -57,4 +58,30 @@ def mapping_lines(rep, lang: str = "en") -> list[str]:
     if checks:
         out.append(f"    {t['checks']} ({len(checks)}): " + ", ".join(
             m["cells"] + (f" «{m['label']}»" if m.get("label") else "") for m in checks))
+    return out
+
+
+def mapping_table(rep, lang: str = "en") -> list[str]:
+    """The mapping as an HTML table for the report page: each quantity, its grade, the cells
+    found and the student's own label beside them ([] without a mapping)."""
+    mapping = getattr(rep, "mapping", None)
+    if not mapping:
+        return []
+    e, t = html.escape, _WORDS.get(lang, _WORDS["en"])
+    out = [f"<table class='cells mapping'><caption class='note'>{e(t['head'])}</caption><tr><th>{t['quantity']}</th>"
+           f"<th>{t['grade']}</th><th>{t['cells']}</th><th>{e(t['label'])}</th><th>{t['unit']}</th></tr>"]
+    for m in mapping:
+        if m["status"] == "check row" or (not m.get("required", True) and m["status"] != "found"):
+            continue
+        grade = m.get("grade") or t["helper"]
+        where = m.get("cells", "") + (f" ({t['departs']} {m['departs_at']})" if m.get("departs_at") else "")
+        cls = "" if grade in ("correct", t["helper"]) else " class='wrong'"
+        out.append(f"<tr><td>{e(m['quantity'])}</td><td{cls}>{e(t.get(grade, grade))}</td><td>{e(where)}</td>"
+                   f"<td>{e(m.get('label', ''))}</td><td>{e(m.get('unit', ''))}</td></tr>")
+    checks = [m for m in mapping if m["status"] == "check row"]
+    if checks:
+        out.append(f"<tr><td colspan='5' class='note'>{e(t['checks'])}: "
+                   + e(", ".join(m["cells"] + (f" «{m['label']}»" if m.get("label") else "") for m in checks))
+                   + "</td></tr>")
+    out.append("</table>")
     return out
