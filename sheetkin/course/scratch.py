@@ -627,6 +627,9 @@ def grade_book(raw: RawBook, path: str, options, scene: Scene | None = None) -> 
     ref = _reference(scene)
     qs = quantities(scene, ref)
     loc = locate(raw, book, scene, qs)
+    if loc.positions is None and not loc.found:
+        raise UnusableInput(f"{path}: no embedded scene, and no table of the variant{' ' + vid if vid else ''} found "
+                            "by value (no row or column of its crank positions or of any quantity)")
     n = scene.crank.positions
     rep = ScratchReport(path, author="", title="", positions=n, problems=list(book.problems)[:20], variant=vid)
     rep.lang, rep.variant_scene, rep.roster_differs = "ru", scene, False
