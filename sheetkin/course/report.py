@@ -74,7 +74,7 @@ def text_report(rep: Report, lang: str = "en") -> str:
         if rows:
             lines.append(f"  {t[status]} ({len(rows)}): " + ", ".join(
                 r.name + (f" ({t['row']} {r.row})" if r.row else "") for r in rows)
-                + (t["no_row"] if status == "missing" else ""))
+                + (t["no_row"] if status == "missing" and not getattr(rep, "mapping", None) else ""))
     if rep.failing_checks:
         lines.append(f"  {t['own_checks']}: {', '.join(rep.failing_checks)}")
     if rep.cache_mismatch:

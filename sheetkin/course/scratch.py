@@ -15,7 +15,8 @@ module:
    reference value is looked up, and only the lines through the cells holding it are compared;
 3. finds the given data by value (typed numbers, or Russian texts "0,144") and label;
 4. confirms each match by behaviour: the located given data are nudged (each length by its
-   own small factor, the crank speed too), the book is evaluated again, and each matched line
+   own small factor, the crank speed too; every typed cell holding the value, so whichever
+   copy the formulas read moves), the book is evaluated again, and each matched line
    must follow the reference of the nudged variant (a private re-evaluation here,
    `_reevaluate_nudged`, to be unified with sheetkin/course/behaviour.py at merge); a line
    the nudge does not move (Fi, cos_1 ...) must be formulas reaching the given data
@@ -627,12 +628,26 @@ def grade_book(raw: RawBook, path: str, options, scene: Scene | None = None) -> 
     ref = _reference(scene)
     qs = quantities(scene, ref)
     loc = locate(raw, book, scene, qs)
+    notes = []
+    turn = _positions_ref(scene)
+    if loc.positions is None and len(turn) > 2 and abs(abs(turn[-1] - turn[0]) - 360.0) < 1e-9:
+        # the last position is the first one turned by 360 degrees: many students stop before it
+        # (0 ... 330); their table, one position short, is graded on the positions it has
+        short = dataclasses.replace(scene, crank=dataclasses.replace(scene.crank, positions=len(turn) - 1))
+        short_ref = _reference(short)
+        short_qs = quantities(short, short_ref)
+        short_loc = locate(raw, book, short, short_qs)
+        if short_loc.positions is not None:
+            scene, ref, qs, loc = short, short_ref, short_qs, short_loc
+            notes.append(f"the table stops one position before the full turn ({len(turn) - 1} positions; the last "
+                         f"issued one, {turn[-1]:g} deg, repeats {turn[0]:g} deg): graded on those")
     if loc.positions is None and not loc.found:
         raise UnusableInput(f"{path}: no embedded scene, and no table of the variant{' ' + vid if vid else ''} found "
                             "by value (no row or column of its crank positions or of any quantity)")
     n = scene.crank.positions
     rep = ScratchReport(path, author="", title="", positions=n, problems=list(book.problems)[:20], variant=vid)
     rep.lang, rep.variant_scene, rep.roster_differs = "ru", scene, False
+    rep.notes += notes
     for attr in ("checks_total", "checks_apply", "checks_passing", "checks_na", "checks_unfilled"):
         setattr(rep, attr, 0)
     rep.position_names = [(float(k), float(a)) for k, a in enumerate(_positions_ref(scene))]

@@ -211,3 +211,40 @@ def test_the_search_is_bounded_on_a_large_book(tmp_path):
     assert elapsed < 30, elapsed
     idx = _Index.of(__import__("sheetkin.course.scratch", fromlist=["_evaluate"])._evaluate(raw))
     assert len(idx.values) > 100_000
+
+
+def test_given_data_typed_as_russian_texts_are_found(tmp_path):
+    """A given value typed as the text "0,14" (a Russian decimal comma in a book whose cell was
+    formatted as text) is found where it is, and the behavioural check still runs on the
+    others; the student's formulas reading the number copies are graded as usual."""
+    s = scene("fourbar")
+    b = student_book(s, "row", "deg")
+    b.cells["main"].append([5, 4, "0,14"])              # D5: L1 again, as Russian text
+    b.cells["main"] = [c for c in b.cells["main"] if (c[0], c[1]) != (6, 2)] + [[6, 2, "0,5"]]   # L2 only as text
+    path = write_openpyxl(b, tmp_path / "texts.xlsx")
+    from sheetkin.xlsx.cells import read_book
+    rep = grade_book(read_book(path), str(path), ScratchOptions(scene=s))
+    given = {g["name"]: g["cell"] for g in rep.given_found}
+    assert given["L2"] == "Лист1!B6"                    # found as the text "0,5"
+    assert given["L1"] == "Лист1!B5"                    # the number, first in reading order
+    by = {r.name: row_verdict(r) for r in rep.rows}
+    # L2 as text: the rows reading it are errors in the spreadsheet too (#VALUE!), so not found
+    assert by["x_A"] == "correct" and by["x_B"] in ("wrong", "missing")
+
+
+def test_a_table_stopping_before_the_full_turn(tmp_path):
+    """0 ... 330 degrees where 0 ... 360 was issued (the last position repeats the first): the
+    table is found and graded on its 12 positions, and the report says so."""
+    s = scene("fourbar")
+    b = student_book(s, "row", "deg")
+    last = 3 + s.crank.positions - 1                     # the table's columns start at C
+    b.cells["main"] = [c for c in b.cells["main"] if c[1] != last]
+    path = write_openpyxl(b, tmp_path / "short.xlsx")
+    from sheetkin.xlsx.cells import read_book
+    rep = grade_book(read_book(path), str(path), ScratchOptions(scene=s))
+    assert rep.positions == s.crank.positions - 1 and score(rep) == 100.0, text_report(rep)
+    assert any("one position before the full turn" in n for n in rep.notes)
+    # the student's check rows are recognised, not graded
+    checks = [m for m in rep.mapping if m["status"] == "check row"]
+    assert any(m["label"].startswith("chk OA") for m in checks)
+    assert all(m["cells"].startswith("Лист1!C") for m in checks)
