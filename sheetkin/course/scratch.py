@@ -160,9 +160,9 @@ class _Index:
     names: list[str]
 
     @classmethod
-    def of(cls, book: Book) -> _Index:
+    def of(cls, book: Book, skip: frozenset[str] = frozenset()) -> _Index:
         vs, ss, rs, cs = [], [], [], []
-        names = list(book.order)
+        names = [n for n in book.order if n not in skip]
         for k, s in enumerate(names):
             rr, cc = np.nonzero(book.tag[s] == NUM)
             vs.append(book.num[s][rr, cc])
@@ -288,10 +288,11 @@ def _is_formula_line(raw: RawBook, ln: Line) -> bool:
     return sh is not None and any(sh.computed(r, c) for r, c in ln.cells())
 
 
-def locate(raw: RawBook, book: Book, scene: Scene, qs: list[Quantity]) -> Located:
+def locate(raw: RawBook, book: Book, scene: Scene, qs: list[Quantity], skip: frozenset[str] = frozenset()) -> Located:
     """The positions, every quantity's lines, the nearest line of those not found, the given
-    data and the check rows (the module's docstring, steps 1-3)."""
-    idx = _Index.of(book)
+    data and the check rows (the module's docstring, steps 1-3); no line on the sheets `skip`
+    (the issued sheet, when the student's own table is looked for elsewhere)."""
+    idx = _Index.of(book, skip)
     out = Located(cells_indexed=len(idx.values))
     n = scene.crank.positions
     pos = _full_matches(book, idx, _positions_ref(scene), _UNITS["deg"], None)
@@ -594,15 +595,15 @@ def own_table(raw: RawBook, path: str, options, report: Report) -> Report:
     from .grades import graded_rows  # the rows the exercise gives filled in are not work
     if report.error or scene is None or any(r.status not in ("missing", "empty") for r in graded_rows(report)):
         return report
-    try:
-        mine = grade_book(raw, path, options, scene=scene)
+    layout = getattr(report, "layout", None)
+    try:        # the issued sheet (its given data, its prefilled positions) is not the student's table
+        mine = grade_book(raw, path, options, scene=scene, skip=frozenset({layout.sheet}) if layout else frozenset())
     except (UnusableInput, SceneError):
         return report
     if all(r.status == "missing" for r in mine.rows):
         return report
     for name in ("student", "group", "variant", "given_changed", "seal", "accepted_changes", "issued_to"):
         setattr(mine, name, getattr(report, name))
-    layout = getattr(report, "layout", None)
     table = next((m["cells"].split("!")[0] for m in mine.mapping if m.get("status") == "found"), "?")
     mine.notes = ([f"the issued sheet {layout.sheet if layout else ''} is empty: the student's own table on "
                    f"sheet {table} is graded (found by value)"] + report.notes + mine.notes)
@@ -616,8 +617,10 @@ def applies(options) -> bool:
         getattr(options, "assignment", None) is not None and getattr(options, "roster", None) is not None)
 
 
-def grade_book(raw: RawBook, path: str, options, scene: Scene | None = None) -> ScratchReport:
-    """The Report of a book built from scratch (the module's docstring)."""
+def grade_book(raw: RawBook, path: str, options, scene: Scene | None = None,
+               skip: frozenset[str] = frozenset()) -> ScratchReport:
+    """The Report of a book built from scratch (the module's docstring); its table is not
+    looked for on the sheets `skip`."""
     vid = ""
     if scene is None:
         scene, vid = scene_for(path, options)
@@ -627,7 +630,7 @@ def grade_book(raw: RawBook, path: str, options, scene: Scene | None = None) -> 
     book = _evaluate(raw)
     ref = _reference(scene)
     qs = quantities(scene, ref)
-    loc = locate(raw, book, scene, qs)
+    loc = locate(raw, book, scene, qs, skip)
     notes = []
     turn = _positions_ref(scene)
     if loc.positions is None and len(turn) > 2 and abs(abs(turn[-1] - turn[0]) - 360.0) < 1e-9:
@@ -636,7 +639,7 @@ def grade_book(raw: RawBook, path: str, options, scene: Scene | None = None) -> 
         short = dataclasses.replace(scene, crank=dataclasses.replace(scene.crank, positions=len(turn) - 1))
         short_ref = _reference(short)
         short_qs = quantities(short, short_ref)
-        short_loc = locate(raw, book, short, short_qs)
+        short_loc = locate(raw, book, short, short_qs, skip)
         if short_loc.positions is not None:
             scene, ref, qs, loc = short, short_ref, short_qs, short_loc
             notes.append(f"the table stops one position before the full turn ({len(turn) - 1} positions; the last "
