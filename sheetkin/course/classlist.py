@@ -259,12 +259,9 @@ def moodle_submitter(path: str | Path, root: str | Path | None = None) -> Submit
     # the outermost name is Moodle's; a file inside is named by the student, who could name
     # it after a classmate's folder ("Иван Иванов_5501_assignsubmission_file_lab.xlsx")
     for k, part in enumerate(parts):
-        if k < len(parts) - 1:
-            m = _MOODLE_FOLDER.match(part)
-        else:
-            # Moodle writes the full name's underscores as spaces: the first `_id_assign..._`
-            # of a flat name is Moodle's, whatever the original name after it says
-            m = _MOODLE_FLAT.match(part)
+        # a flat name's first `_id_assign..._` is Moodle's (it writes the full name's
+        # underscores as spaces), whatever the original name after it says
+        m = _MOODLE_FOLDER.match(part) if k < len(parts) - 1 else _MOODLE_FLAT.match(part)
         if m:
             return Submitter(" ".join(m.group("name").split()), m.group("pid"), part)
     return None
