@@ -28,7 +28,7 @@ from typing import cast
 
 from sheetkin.files import MAX_KEY_BYTES, read_bytes, read_text
 from sheetkin.kinematics.scene import Scene, SceneError, one_line
-from sheetkin.sheet.workbook import IDENTITY_ROWS, ISSUED_LABELS, sheet_rows
+from sheetkin.sheet.workbook import IDENTITY_ROWS, ISSUED_LABELS, VERSION_LABEL, VERSION_ROW, sheet_rows
 from sheetkin.untrusted import csv_cell, from_csv_cell
 
 from .tolerance import RTOL
@@ -163,6 +163,15 @@ def student_mark(consts: dict) -> str:
         return ""
     v = consts.get((STUDENT_ROW, 3))
     return "" if v is None else " ".join(str(v).split())
+
+
+def version_mark(consts: dict) -> str:
+    """The version of sheetkin that wrote the book (scene!C4 beside its label in B4; every
+    book since issue 31); "" for a book written before (0.2.0 or earlier)."""
+    if consts.get((VERSION_ROW, 2)) != VERSION_LABEL:
+        return ""
+    v = consts.get((VERSION_ROW, 3))
+    return "" if v is None else str(v).strip()
 
 
 # --------------------------------------------------------------------------- roster.csv

@@ -139,5 +139,6 @@ def _new_report(g: Graded, book, scene_text: str, options: issued.Options | None
                   variant=given.variant, given_changed=given.changed, seal=given.seal,
                   accepted_changes=accept, accepted_typed=bool(options and options.accept_typed),
                   notes=given.notes + layout.notes + ([layout.outside_line()] if layout.outside else []),
-                  issued_to=given.student, layout=layout, roster_differs=given.roster_differs,
+                  issued_to=given.student, issued_by=issued.version_mark(book.sheets[SCENE_SHEET].consts),
+                  layout=layout, roster_differs=given.roster_differs,
                   lang=book_lang(main), variant_scene=student_scene)
