@@ -550,6 +550,11 @@ def existing_fingerprint(path) -> dict:
     from sheetkin.xlsx.package import open_package
     raw = read_book(path)
     out: dict = {name: (sh.state, sh.consts, sh.formulas) for name, sh in raw.sheets.items()}
+    if SCENE_SHEET in raw.sheets:
+        # the version that wrote it is no content: a release alone does not make a book stale
+        sh = raw.sheets[SCENE_SHEET]
+        out[SCENE_SHEET] = (sh.state, {k: v for k, v in sh.consts.items() if k[0] != VERSION_ROW or k[1] == 1},
+                            sh.formulas)
     pkg = open_package(path)
     charts = sorted(n for n in pkg.names if n.startswith("xl/charts/chart"))
     out["charts"] = [re.findall(r"<(?:c:)?f>([^<]*)</(?:c:)?f>", pkg.read(n).decode("utf-8", "replace"))
