@@ -343,5 +343,57 @@ def check_given(scene: Scene, scene_text: str, consts: dict, inputs: dict[str, o
                 out.notes.append(f"{roster.path} has no column for {', '.join(missing)}: "
                                  "those are checked against the embedded scene")
                 out.issued.update({n: embedded[n] for n in missing})
+    if roster is not None and (out.seal.startswith("scene sheet edited: the seal does not match")
+                               or not out.seal and set(embedded) - set(roster.names)):
+        # without a key only another scheme is told: the data of this scheme stay the roster's
+        other = _other_class(roster, vid, embedded)
+        if other:
+            # said first, before any word of tampering (issue 31): a book handed in to the
+            # wrong class is the likelier story, and its given data are its own class's
+            out.seal = f"{other}; {out.seal}" if out.seal else other
+            out.issued = embedded
     out.changed = changes(out.issued, inputs, where)
+    _text_numbers(out)
     return out
+
+
+def _other_class(roster: Roster, vid: str, embedded: dict[str, float]) -> str:
+    """Why a book whose seal fails under this class's key looks like another class's: its
+    scheme's given data are not the roster's columns, or its variant's data are not the
+    roster's row; "" when it looks like this class's."""
+    mine, theirs = set(embedded), set(roster.names)
+    if mine - theirs:
+        return (f"this book is of another scheme, not of the class issued with {roster.path} (its given data "
+                f"{', '.join(sorted(mine - theirs)[:4])} are not the roster's)")
+    row = roster.rows.get(vid)
+    if row is None or any(n in row and not _same(row[n], v) for n, v in embedded.items()):
+        return (f"this book is of a class issued with another roster, not {roster.path} (variant {vid}"
+                f"{' is not in it' if row is None else chr(39) + 's given data differ from its row'})")
+    return ""
+
+
+def as_text_number(v) -> float | None:
+    """The number a text such as "0,144" (a Russian spreadsheet's decimal comma) or "0.144"
+    reads as; None for any other text."""
+    if not isinstance(v, str):
+        return None
+    t = v.strip().replace("\u00a0", "").replace(" ", "")
+    try:
+        x = float(t.replace(",", ".", 1)) if t.count(",") <= 1 and "." not in t or "," not in t else None
+    except ValueError:
+        return None
+    return x if x is not None and math.isfinite(x) else None
+
+
+def _text_numbers(out: Given) -> None:
+    """A given value stored as text that reads as the issued number ("0,144": a Russian
+    Calc computes with it) is not changed data (issue 31): a remark, not a zero."""
+    kept = []
+    for c in out.changed:
+        x = as_text_number(c["got"])
+        if x is not None and _same(c["issued"], x):
+            out.notes.append(f"given {c['name']} ({c['cell']}) is the text {c['got']!r}, not a number: it is the "
+                             f"issued {_show(c['issued'])} (a spreadsheet may read it so; type it as a number)")
+        else:
+            kept.append(c)
+    out.changed = kept
