@@ -20,7 +20,6 @@ from .localjudge import TURN, angle_difference
 from .report_model import Report
 from .rows import computes
 
-
 # issue 31, item 4: every book grades by the rules of the version that issued it. The check
 # rows each release added to the sheet (sheetkin/sheet/checks.py), by the release that added
 # them: a book written by an older release never had them, so they are not "deleted" there.

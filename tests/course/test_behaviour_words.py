@@ -36,7 +36,8 @@ def test_the_new_notes_are_said_in_the_teachers_language(note, lang):
         assert kept in said
 
 
-@pytest.mark.parametrize(("lang", "want"), [("ru", "их верные положения: 9.5"), ("uk", "їхні правильні положення: 9.5")])
+@pytest.mark.parametrize(("lang", "want"), [("ru", "их верные положения: 9.5"),
+                                           ("uk", "їхні правильні положення: 9.5")])
 def test_the_score_explained_says_the_right_positions_and_not_judged(lang, want):
     text = ("63.5: 35 of 63 rows computed right: 59.5 of 90 (28 wrong, their right positions: 9.5); "
             "not judged, check by hand: 2 rows, 1 check rows")

@@ -27,7 +27,8 @@ CLASS = "First name;Last name;Email address\nИван;Иванов;ivan@x.ru\nИ
 
 
 def _options(folder: Path) -> issued.Options:
-    return issued.Options(roster=issued.read_roster(folder / "roster.csv"), key=issued.read_key(folder / ".sheetkin-key"))
+    return issued.Options(roster=issued.read_roster(folder / "roster.csv"),
+                          key=issued.read_key(folder / ".sheetkin-key"))
 
 
 def _report(path: str, student: str, issued_to: str = "") -> Report:
