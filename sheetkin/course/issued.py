@@ -40,6 +40,7 @@ MAX_ROSTER_BYTES = 5_000_000        # a class of 30 is a few KB
 _IDENTITY = {name for name, _, _ in IDENTITY_ROWS}
 STUDENT_LABEL, STUDENT_ROW = "student", len(ISSUED_LABELS) + 1   # scene!B3: the student it was issued to
 OLDER_KEYS = ".sheetkin-key-*"      # earlier keys kept dated by `variants --force`
+OTHER_CLASS_VALUES = 3              # given values unlike the roster's row, seal failing: another class's book
 
 
 class RosterError(SceneError):
@@ -366,7 +367,10 @@ def _other_class(roster: Roster, vid: str, embedded: dict[str, float]) -> str:
         return (f"this book is of another scheme, not of the class issued with {roster.path} (its given data "
                 f"{', '.join(sorted(mine - theirs)[:4])} are not the roster's)")
     row = roster.rows.get(vid)
-    if row is None or any(n in row and not _same(row[n], v) for n, v in embedded.items()):
+    # another class's variant differs in most of the drawn data (every length, offset ...); a
+    # student who edits a value or two in the input block and the hidden sheet alike is
+    # told "given data changed" as before
+    if row is None or sum(n in row and not _same(row[n], v) for n, v in embedded.items()) >= OTHER_CLASS_VALUES:
         return (f"this book is of a class issued with another roster, not {roster.path} (variant {vid}"
                 f"{' is not in it' if row is None else chr(39) + 's given data differ from its row'})")
     return ""
