@@ -2,6 +2,7 @@
 were deleted or typed over, and how many of the issued ones apply to the variant."""
 from __future__ import annotations
 
+import itertools
 import math
 
 from sheetkin.sheet.checks import STATUS as CHECK_STATUS
@@ -19,6 +20,34 @@ from .localjudge import TURN, angle_difference
 from .report_model import Report
 from .rows import computes
 
+# issue 31, item 4: every book grades by the rules of the version that issued it. The check
+# rows each release added to the sheet (sheetkin/sheet/checks.py), by the release that added
+# them: a book written by an older release never had them, so they are not "deleted" there.
+# A book without a version mark (scene!C4) was written by 0.2.0 or earlier; 0.1.0 and 0.2.0
+# wrote the same check rows (tests/data/issued/ holds books of both).
+UNMARKED = "0.2.0"
+CHECK_ROWS_ADDED: dict[str, frozenset[str]] = {}     # e.g. {"0.3.0": frozenset({"chk_..."})}
+
+
+def _release(version: str) -> tuple[int, ...]:
+    """(0, 2, 0) for "0.2.0" (a suffix such as ".dev1" or "rc1" is dropped); () unreadable."""
+    parts = []
+    for p in version.split(".")[:3]:
+        digits = "".join(itertools.takewhile(str.isdigit, p))
+        if not digits:
+            break
+        parts.append(int(digits))
+    return tuple(parts)
+
+
+def added_after(issued_by: str) -> frozenset[str]:
+    """The check rows that releases later than `issued_by` added: not part of that book's
+    work (a version newer than the running one, or unreadable, adds none)."""
+    book = _release(issued_by or UNMARKED)
+    if not book:
+        return frozenset()
+    return frozenset().union(*(rows for v, rows in CHECK_ROWS_ADDED.items() if _release(v) > book))
+
 
 def read_checks(report: Report, evaluated: Book, main: str, sh: Sheet, names: dict[str, int], ref_rows,
                  ref_book: Book, ref_names: dict) -> None:
@@ -35,12 +64,16 @@ def read_checks(report: Report, evaluated: Book, main: str, sh: Sheet, names: di
     _turns_pass(statuses, evaluated, main, names, ref_rows, ref_book, ref_names, positions)
     # issue 21: the check rows are part of the work (the lecture's step 10): a check row
     # deleted, or its status typed over, loses its share of the grade
-    issued_checks = [r.name for r in ref_rows if r.kind in ("check", "fdcheck")]
+    later = added_after(report.issued_by)
+    issued_checks = [r.name for r in ref_rows if r.kind in ("check", "fdcheck") and r.name not in later]
+    statuses = {n: s for n, s in statuses.items() if n not in later}
     report.checks_issued = len(issued_checks)
     # the check rows that apply: those with a number at some position of the reference (the
     # others are "н/д" in every book of the variant: numeric derivatives above 3 deg ...)
-    report.checks_apply = sum(any(isinstance(ref_book.value(ref_sheet, ref_names[n], FIRST_COL + k), float)
-                                  for k in range(positions)) for n in issued_checks if n in ref_names)
+    applying = {n for n in issued_checks if n in ref_names
+                and any(isinstance(ref_book.value(ref_sheet, ref_names[n], FIRST_COL + k), float)
+                        for k in range(positions))}
+    report.checks_apply = len(applying)
     report.checks_deleted = [n for n in issued_checks if n not in names]
     report.checks_typed = [n for n, v in statuses.items() if v == "#TYPED"]
     if report.checks_typed:
@@ -55,7 +88,8 @@ def read_checks(report: Report, evaluated: Book, main: str, sh: Sheet, names: di
     report.failing_checks = [n for n, s in statuses.items() if check_fails(s)] + report.checks_deleted
     # not fields: grades count the checks that pass (0) of those that apply (not "н/д"), as the
     # sheet's summary does; "не заполнено" and "н/д" are not passing (an empty book passes none)
-    report.checks_passing = sum(check_passes(s) for s in statuses.values())
+    # of those that apply only: a count never exceeds its total ("33 of 30 that apply")
+    report.checks_passing = sum(check_passes(s) for n, s in statuses.items() if n in applying)
     report.checks_na = sum(check_na(s) for s in statuses.values())
     unfilled = {t["unfilled"] for t in CHECK_STATUS.values()}
     report.checks_unfilled = sum(isinstance(s, str) and s in unfilled for s in statuses.values())

@@ -181,12 +181,18 @@ def read_bounded(path: str, limit: int, what: str) -> bytes:
         raise ClassListError(f"{path}: {what}: cannot read it ({e.strerror or e})") from None
 
 
+_BLANK = " \t\r\n\u00a0\u200b;,"      # what a line of no student may hold
+
+
 def read_class_list(path: str) -> ClassList:
     """The teacher's list of students: a CSV file with a header, its name columns ("First
     name" and "Last name"/"Surname", or "Full name") and an identifier column ("Email
     address", "ID number" or "Username"), as Moodle exports them; comma, semicolon or tab;
     UTF-8 or Windows-1251."""
     text = decode_table(read_bounded(path, MAX_CLASS_LIST_BYTES, "--class-list"), path, "--class-list")
+    # a stray byte-order mark (a second one, or one inside after files were joined) is no
+    # text of any name (issue 31): dropped wherever it is
+    text = text.replace("\ufeff", "")
     delim = delimiter(text.split("\n", 1)[0])
     try:
         rows = list(csv.reader(io.StringIO(text, newline=""), delimiter=delim))
@@ -206,8 +212,8 @@ def read_class_list(path: str) -> ClassList:
                              f"{', '.join(repr(h) for h in rows[0])}"[:600])
     out = ClassList(id_header or ID_HEADERS[0], {}, set(), [], path)
     for line, row in enumerate(rows[1:], 2):
-        if not any(c.strip() for c in row):
-            continue
+        if not any(c.strip(_BLANK) for c in row):
+            continue      # a blank-looking line: spaces, a lone ';' or ',' (another delimiter's empty line)
 
         def cell(k, row=row):
             return " ".join(row[k].split()) if k is not None and k < len(row) else ""

@@ -243,6 +243,16 @@ def _one_moodle_submitter(paths: list[str]) -> bool:
     return len(found) == len(subs) and len({s.participant for s in found}) == 1
 
 
+def _namesakes(a, b) -> bool:
+    """Whether two books under one name are two students: sealed to different students
+    (`variants --class-list`), or handed in from different Moodle participants' folders."""
+    from .classlist import moodle_submitter
+    if a.issued_to and b.issued_to and a.issued_to != b.issued_to:
+        return True
+    sa, sb = moodle_submitter(a.path), moodle_submitter(b.path)
+    return sa is not None and sb is not None and sa.participant != sb.participant
+
+
 def _identity_groups(reports, who, assigned) -> list[tuple[str, list[int]]]:
     """The same name typed in two files (a copy whose name was left, or one student handing
     in twice); one issued book handed in by two students (its sealed student, or a variant
@@ -253,7 +263,12 @@ def _identity_groups(reports, who, assigned) -> list[tuple[str, list[int]]]:
     for g in _by_key(_name_of(r) if ok else "" for r, ok in zip(reports, usable, strict=True)):
         if _one_moodle_submitter([reports[i].path for i in g]):
             continue          # one student's old and new versions (one grade is kept): not a copy
-        out.append(("the same student name", g))
+        # issue 31: namesakes (two "Иванов И.") are two students when their books are sealed
+        # to different students or came in different Moodle folders: the name alone is no copy
+        g = [i for i in g if any(j != i and not _namesakes(reports[i], reports[j])
+                                 and not _one_moodle_submitter([reports[i].path, reports[j].path]) for j in g)]
+        if len(g) > 1:
+            out.append(("the same student name", g))
     for g in _by_key((r.variant, r.issued_to) if ok and r.variant else ""
                      for r, ok in zip(reports, usable, strict=True)):
         rep = reports[g[0]]

@@ -160,6 +160,10 @@ def _identify_one(rep, cl: ClassList | None, assignment: Assignment | None) -> I
             # folder's name and the typed one share no word (issue 30)
             me.flags.append(f"found in the folder of {sub.name}, but the name typed in it is {typed!r}")
     elif typed:
+        if typed_person is None and sealed and cl is not None:
+            # a name two namesakes share ("Иванов И."): the book's seal says which of them
+            mine = cl.by_ident(sealed)
+            typed_person = mine if mine and any(p.ident == sealed for p in cl.match(typed)) else None
         me.submitter = typed
         me.who = typed_person.ident if typed_person else " ".join(sorted(name_key(typed)))
         me.ident = typed_person.ident if typed_person else ""

@@ -28,7 +28,7 @@ from typing import cast
 
 from sheetkin.files import MAX_KEY_BYTES, read_bytes, read_text
 from sheetkin.kinematics.scene import Scene, SceneError, one_line
-from sheetkin.sheet.workbook import IDENTITY_ROWS, ISSUED_LABELS, sheet_rows
+from sheetkin.sheet.workbook import IDENTITY_ROWS, ISSUED_LABELS, VERSION_LABEL, VERSION_ROW, sheet_rows
 from sheetkin.untrusted import csv_cell, from_csv_cell
 
 from .tolerance import RTOL
@@ -40,6 +40,7 @@ MAX_ROSTER_BYTES = 5_000_000        # a class of 30 is a few KB
 _IDENTITY = {name for name, _, _ in IDENTITY_ROWS}
 STUDENT_LABEL, STUDENT_ROW = "student", len(ISSUED_LABELS) + 1   # scene!B3: the student it was issued to
 OLDER_KEYS = ".sheetkin-key-*"      # earlier keys kept dated by `variants --force`
+OTHER_CLASS_VALUES = 3              # given values unlike the roster's row, seal failing: another class's book
 
 
 class RosterError(SceneError):
@@ -163,6 +164,15 @@ def student_mark(consts: dict) -> str:
         return ""
     v = consts.get((STUDENT_ROW, 3))
     return "" if v is None else " ".join(str(v).split())
+
+
+def version_mark(consts: dict) -> str:
+    """The version of sheetkin that wrote the book (scene!C4 beside its label in B4; every
+    book since issue 31); "" for a book written before (0.2.0 or earlier)."""
+    if consts.get((VERSION_ROW, 2)) != VERSION_LABEL:
+        return ""
+    v = consts.get((VERSION_ROW, 3))
+    return "" if v is None else str(v).strip()
 
 
 # --------------------------------------------------------------------------- roster.csv
@@ -335,5 +345,60 @@ def check_given(scene: Scene, scene_text: str, consts: dict, inputs: dict[str, o
                 out.notes.append(f"{roster.path} has no column for {', '.join(missing)}: "
                                  "those are checked against the embedded scene")
                 out.issued.update({n: embedded[n] for n in missing})
+    if roster is not None and (out.seal.startswith("scene sheet edited: the seal does not match")
+                               or not out.seal and set(embedded) - set(roster.names)):
+        # without a key only another scheme is told: the data of this scheme stay the roster's
+        other = _other_class(roster, vid, embedded)
+        if other:
+            # said first, before any word of tampering (issue 31): a book handed in to the
+            # wrong class is the likelier story, and its given data are its own class's
+            out.seal = f"{other}; {out.seal}" if out.seal else other
+            out.issued = embedded
     out.changed = changes(out.issued, inputs, where)
+    _text_numbers(out)
     return out
+
+
+def _other_class(roster: Roster, vid: str, embedded: dict[str, float]) -> str:
+    """Why a book whose seal fails under this class's key looks like another class's: its
+    scheme's given data are not the roster's columns, or its variant's data are not the
+    roster's row; "" when it looks like this class's."""
+    mine, theirs = set(embedded), set(roster.names)
+    if mine - theirs:
+        return (f"this book is of another scheme, not of the class issued with {roster.path} (its given data "
+                f"{', '.join(sorted(mine - theirs)[:4])} are not the roster's)")
+    row = roster.rows.get(vid)
+    # another class's variant differs in most of the drawn data (every length, offset ...); a
+    # student who edits a value or two in the input block and the hidden sheet alike is
+    # told "given data changed" as before
+    if row is None or sum(n in row and not _same(row[n], v) for n, v in embedded.items()) >= OTHER_CLASS_VALUES:
+        return (f"this book is of a class issued with another roster, not {roster.path} (variant {vid}"
+                f"{' is not in it' if row is None else chr(39) + 's given data differ from its row'})")
+    return ""
+
+
+def as_text_number(v) -> float | None:
+    """The number a text such as "0,144" (a Russian spreadsheet's decimal comma) or "0.144"
+    reads as; None for any other text."""
+    if not isinstance(v, str):
+        return None
+    t = v.strip().replace("\u00a0", "").replace(" ", "")
+    try:
+        x = float(t.replace(",", ".", 1)) if t.count(",") <= 1 and "." not in t or "," not in t else None
+    except ValueError:
+        return None
+    return x if x is not None and math.isfinite(x) else None
+
+
+def _text_numbers(out: Given) -> None:
+    """A given value stored as text that reads as the issued number ("0,144": a Russian
+    Calc computes with it) is not changed data (issue 31): a remark, not a zero."""
+    kept = []
+    for c in out.changed:
+        x = as_text_number(c["got"])
+        if x is not None and _same(c["issued"], x):
+            out.notes.append(f"given {c['name']} ({c['cell']}) is the text {c['got']!r}, not a number: it is the "
+                             f"issued {_show(c['issued'])} (a spreadsheet may read it so; type it as a number)")
+        else:
+            kept.append(c)
+    out.changed = kept

@@ -297,3 +297,45 @@ def say(text: str, lang: str) -> str:
 def column_name(column: str, lang: str) -> str:
     """A grades.csv header (or its yes / no) in `lang`."""
     return COLUMN_NAMES.get(lang, {}).get(column, column)
+
+
+# issue 31: the behavioural check's notes (sheetkin.course.behaviour), given data typed as
+# text (sheetkin.course.validator), a book of another class (sheetkin.course.issued)
+TEMPLATES = (
+    (r"check rows not judged: check by hand \((?P<n>\d+); sheetkin cannot evaluate their status\): (?P<names>.+)",
+     {"ru": "строки проверки не оценены: проверьте вручную ({n}; sheetkin не может вычислить их статус): {names}",
+      "uk": "рядки перевірки не оцінено: перевірте вручну ({n}; sheetkin не може обчислити їхній статус): {names}"}),
+    (r"not judged: check by hand \((?P<n>\d+); sheetkin cannot evaluate their formulas, they are left out of the "
+     r"score\): (?P<names>.+)",
+     {"ru": "не оценено: проверьте вручную ({n}; sheetkin не может вычислить их формулы, они не входят в "
+            "оценку): {names}",
+      "uk": "не оцінено: перевірте вручну ({n}; sheetkin не може обчислити їхні формули, вони не входять до "
+            "оцінки): {names}"}),
+    (r"does not follow the given data \((?P<n>\d+); right for the issued data, wrong when they change; they earn "
+     r"nothing\): (?P<list>.+)",
+     {"ru": "не следует за исходными данными ({n}; верно для выданных данных, неверно при их изменении; баллов не "
+            "приносят): {list}",
+      "uk": "не слідує за вихідними даними ({n}; правильно для виданих даних, неправильно при їх зміні; балів не "
+            "приносять): {list}"}),
+    (r"\(row (?P<r>\d+)(?P<rest>[,:)])", {"ru": "(строка {r}{rest}", "uk": "(рядок {r}{rest}"}),
+    (r"\bempty at i = ", {"ru": "пусто при i = ", "uk": "порожньо при i = "}),
+    (r"given (?P<name>\S+) \((?P<cell>[^)]+)\) is the text (?P<text>'[^']*'|\"[^\"]*\"), not a number: read as "
+     r"(?P<x>\S+), as a spreadsheet reads it \(type it as a number\)",
+     {"ru": "исходное {name} ({cell}) - текст {text}, а не число: прочитано как {x}, как его читает электронная "
+            "таблица (введите его числом)",
+      "uk": "вихідне {name} ({cell}) - текст {text}, а не число: прочитано як {x}, як його читає електронна "
+            "таблиця (введіть його числом)"}),
+    (r"this book is of another scheme, not of the class issued with (?P<roster>.+?) \(its given data "
+     r"(?P<names>.+?) are not the roster's\)",
+     {"ru": "эта книга другой схемы, а не группы, выданной с {roster} (её исходных данных {names} нет в списке "
+            "вариантов)",
+      "uk": "ця книга іншої схеми, а не групи, виданої з {roster} (її вихідних даних {names} немає в списку "
+            "варіантів)"}),
+    (r"this book is of a class issued with another roster, not (?P<roster>.+?) \(variant (?P<v>\S+?)"
+     r"(?:'s given data differ from its row| is not in it)\)",
+     {"ru": "эта книга группы, выданной с другим списком вариантов, а не {roster} (вариант {v} в нём другой "
+            "или его нет)",
+      "uk": "ця книга групи, виданої з іншим списком варіантів, а не {roster} (варіант {v} у ньому інший "
+            "або його немає)"}),
+    *TEMPLATES,
+)

@@ -95,6 +95,7 @@ class Report:
     # the share of the graded rows' cells filled in (behaviour.py): unfilled check rows lose
     # only the rest of their share
     filled_share: float = field(default=0.0, metadata=INTERNAL)
+    issued_by: str = field(default="", metadata=INTERNAL)   # the version that wrote the book ("" before 0.3)
 
     @property
     def wrong(self) -> list[RowReport]:

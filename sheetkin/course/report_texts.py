@@ -209,6 +209,7 @@ def say_grading(text: str, lang: str) -> str:
     """A phrase of the grading vocabulary (a verdict, the counts, the score explained) in
     `lang`; English as it is."""
     if lang in ("ru", "uk"):
+        text = _NOT_JUDGED.sub(lambda m: _NOT_JUDGED_SAID[lang].format(**m.groupdict()), text)
         text = _COUNTED.sub(lambda m: _counted(m, lang), text)
     for en, said in _GRADING_PHRASES.get(lang, ()):
         text = text.replace(en, said)
@@ -238,3 +239,11 @@ WORDS["ru"].update({"identity": "кто сдал", "identity_h": "Кто сда�
                     "copies_h": "Возможное списывание (одна строка на группу книг)"})
 WORDS["uk"].update({"identity": "хто здав", "identity_h": "Хто здав",
                     "copies_h": "Можливе списування (один рядок на групу книг)"})
+
+
+# issue 31: credit per position and the rows sheetkin cannot judge (sheetkin.course.grades)
+_NOT_JUDGED = re.compile(r"not judged, check by hand: (?P<r>\d+) rows, (?P<c>\d+) check rows")
+_NOT_JUDGED_SAID = {"ru": "не оценено, проверьте вручную: строк {r}, строк проверки {c}",
+                    "uk": "не оцінено, перевірте вручну: рядків {r}, рядків перевірки {c}"}
+_GRADING_PHRASES["ru"] = (("their right positions", "их верные положения"), *_GRADING_PHRASES["ru"])
+_GRADING_PHRASES["uk"] = (("their right positions", "їхні правильні положення"), *_GRADING_PHRASES["uk"])

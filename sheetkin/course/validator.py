@@ -85,6 +85,7 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
     if layout is None:
         raise UnusableInput(f"{path}: no sheet holds the rows of the issued table (names such as "
                             f"{', '.join(r.name for r in ref_rows if r.kind == 'calc')[:60]}... in a column)")
+    text_given = _given_as_text(book, layout, {r.name for r in ref_rows if r.kind == "input"})
     raw = evaluate_student(book, layout)
     # what sheetkin cannot compute (a function it lacks), computed by LibreOffice when installed
     by_libreoffice.fill_uncomputed(raw, path, options.libreoffice if options else True)
@@ -97,6 +98,7 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
     g = Graded(path, scene, ref_rows, layout, evaluated, sh, names)
     g.from_given = from_given(raw, g, issued_positions)
     report = _new_report(g, book, scene_text, options)
+    report.notes[:0] = text_given
     # issue 31: the student's formulas evaluated again on nudged given data (behaviour.py)
     beh = behaviour.prepare(g, raw, book.names, scene_text) if _judged_by_behaviour(report) else None
     grade_rows(report, g)
@@ -104,6 +106,25 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
     read_checks(report, evaluated, layout.sheet, sh, names, ref_rows, cast(Book, g.ref_book), g.ref_names)
     behaviour.judge_checks(report, g)
     return scratch.own_table(book, path, options, report)   # the issued sheet left empty: the student's own
+
+
+def _given_as_text(book, layout, input_names: set[str]) -> list[str]:
+    """Given data stored as text that reads as a number ("0,144": the decimal comma of a
+    Russian spreadsheet, which computes with it) are read as that number, as that spreadsheet
+    does (issue 31: a remark, not "given data changed" and every row wrong); one note each."""
+    sheet = book.sheets[layout.sheet]
+    name_col, value_col = layout.columns.get(1, 1), layout.columns.get(VALUE_COL, VALUE_COL)
+    notes = []
+    for (r, c), name in list(sheet.consts.items()):
+        if c != name_col or name not in input_names:
+            continue
+        text = sheet.consts.get((r, value_col))
+        x = issued.as_text_number(text)
+        if x is not None and (r, value_col) not in sheet.formulas:
+            sheet.consts[(r, value_col)] = x
+            notes.append(f"given {name} ({layout.sheet}!{layout.cell(r, VALUE_COL)}) is the text {text!r}, "
+                         f"not a number: read as {x:g}, as a spreadsheet reads it (type it as a number)")
+    return notes
 
 
 def _judged_by_behaviour(report: Report) -> bool:
@@ -143,5 +164,6 @@ def _new_report(g: Graded, book, scene_text: str, options: issued.Options | None
                   variant=given.variant, given_changed=given.changed, seal=given.seal,
                   accepted_changes=accept, accepted_typed=bool(options and options.accept_typed),
                   notes=given.notes + layout.notes + ([layout.outside_line()] if layout.outside else []),
-                  issued_to=given.student, layout=layout, roster_differs=given.roster_differs,
+                  issued_to=given.student, issued_by=issued.version_mark(book.sheets[SCENE_SHEET].consts),
+                  layout=layout, roster_differs=given.roster_differs,
                   lang=book_lang(main), variant_scene=student_scene)

@@ -65,6 +65,9 @@ T = Texts(TEXTS)
 FIRST_COL = 5                      # column E: the first crank position
 SCENE_SHEET = "scene"              # hidden sheet holding the scene's TOML text
 ISSUED_LABELS = ("variant", "seal")  # scene sheet B1:B2, values in C1:C2 (sheetkin variants)
+# scene!B4:C4 in every book (B3:C3 is the student an issued book is sealed to): the version
+# that wrote it, so that a later version grades it by the rules it was issued with (issue 31)
+VERSION_LABEL, VERSION_ROW = "sheetkin_version", len(ISSUED_LABELS) + 2
 # Central differences only where the step allows: their error, h^2/6 of the third
 # derivative, is within Tol_FD = 1% of a row's scale at 3 deg for every bundled mechanism,
 # but not at 4-5 deg for the quick-return ones (slotted lever, shaper).
@@ -519,6 +522,9 @@ def _embed_scene(wb, scene: Scene, scene_text: str | None, issued: tuple[str, st
         for r, (label, value) in enumerate(zip(ISSUED_LABELS, issued, strict=False), 1):
             _text_cell(ws.cell(r, 2), label)
             _text_cell(ws.cell(r, 3), value)
+    from sheetkin import __version__
+    _text_cell(ws.cell(VERSION_ROW, 2), VERSION_LABEL)
+    _text_cell(ws.cell(VERSION_ROW, 3), __version__)
     wb.properties.subject = f"sheetkin workbook; the scene is in the hidden sheet '{SCENE_SHEET}'"
 
 
@@ -544,6 +550,11 @@ def existing_fingerprint(path) -> dict:
     from sheetkin.xlsx.package import open_package
     raw = read_book(path)
     out: dict = {name: (sh.state, sh.consts, sh.formulas) for name, sh in raw.sheets.items()}
+    if SCENE_SHEET in raw.sheets:
+        # the version that wrote it is no content: a release alone does not make a book stale
+        sh = raw.sheets[SCENE_SHEET]
+        out[SCENE_SHEET] = (sh.state, {k: v for k, v in sh.consts.items() if k[0] != VERSION_ROW or k[1] == 1},
+                            sh.formulas)
     pkg = open_package(path)
     charts = sorted(n for n in pkg.names if n.startswith("xl/charts/chart"))
     out["charts"] = [re.findall(r"<(?:c:)?f>([^<]*)</(?:c:)?f>", pkg.read(n).decode("utf-8", "replace"))
