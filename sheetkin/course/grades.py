@@ -55,7 +55,12 @@ NO_FORMULA_CAP = 10.0      # the most a book with no formula in its computed row
 ID_HEADERS = ("Email address", "ID number", "Username")      # Moodle's export names them so
 COLUMNS = ("student", "group", "variant", "file", "verdict", "rows correct", "rows typed", "rows total",
            "checks passing", "checks total", "given data changed", "likely causes", "possible copy of", "score",
-           "score explained", "identity", "not judged")   # issue 31: rows + check rows to check by hand
+           "score explained", "identity", "not judged",   # issue 31: rows + check rows to check by hand
+           "status")                                      # issue 34: graded, held for review, not handed in
+PARTICIPANT_HEADER = "Identifier"   # Moodle's offline grading worksheet: "Participant N" (its own name, kept)
+COPY_POLICIES = ("hold", "keep", "zero")   # a possible copy's grade: empty (for review), its score, 0
+STATUS_GRADED, STATUS_HELD, STATUS_ABSENT = "graded", "held for review: possible copy", "not handed in"
+STATUS_ZERO = "possible copy: 0 (--copies zero)"
 _FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
 
 
@@ -255,14 +260,19 @@ def causes_text(rep) -> str:
 
 # --------------------------------------------------------------------------- grades.csv
 def grade_lines(reports, copies: Copies | None, class_list: ClassList | None = None, accept_changed: bool = False,
-                identities: list | None = None, lang: str = "en") -> tuple[list[list[str]], list[str]]:
-    """The header and one line per graded report (in their order), and warnings: the
+                identities: list | None = None, lang: str = "en",
+                copies_policy: str = "hold") -> tuple[list[list[str]], list[str]]:
+    """The header and one line per graded report (in their order), then one per student of
+    the class list who handed nothing in (empty score, status "not handed in"); and warnings: the
     students the class list does not name, the older files of a student (not graded: one
     grade per Moodle user), the books handed in by someone other than their student.
     identities: sheetkin.course.identity.identify's (made here from class_list if None).
     lang: the headers and the words of the cells (ru, uk, en); the identifier column keeps
     Moodle's own name (its import matches it), the numbers stay numbers; the warnings (for
-    the operator's terminal) stay English."""
+    the operator's terminal) stay English. The second column, Identifier, is Moodle's
+    "Participant N" from the folder a book came in (the offline grading worksheet's key,
+    blind marking's only one). copies_policy (COPY_POLICIES): a possible copy's score is
+    left empty and held for review (hold), kept (keep) or 0 (zero); the status says which."""
     from .copies import Copies
     from .identity import identify
     from .report_messages import column_name, say
@@ -274,8 +284,11 @@ def grade_lines(reports, copies: Copies | None, class_list: ClassList | None = N
 
     def said(text: str, grading: bool = False) -> str:       # the grading vocabulary, or a message
         return safe_text(say_grading(text, lang) if grading else say(text, lang))
-    lines = [[id_header, *(column_name(c, lang) for c in COLUMNS)]]
-    unmatched, older, flagged = [], [], []
+    if copies_policy not in COPY_POLICIES:
+        raise ValueError(f"copies_policy: one of {', '.join(COPY_POLICIES)}, not {copies_policy!r}")
+    lines = [[id_header, PARTICIPANT_HEADER, *(column_name(c, lang) for c in COLUMNS)]]
+    unmatched, older, flagged, held = [], [], [], []
+    graded_ids: set[str] = set()
     for i, rep in enumerate(reports):
         me = identities[i]
         # a classmate's book in a student's folder is listed as such, graded or not (it is
@@ -294,16 +307,30 @@ def grade_lines(reports, copies: Copies | None, class_list: ClassList | None = N
         c = counts(rep)
         passing, checks = checks_counts(rep)
         value, _ = score_parts(rep, accept_changed or None)
-        lines.append([me.ident if class_list is not None else "", safe_text(student),
+        copied = copy_text(reports, i, copies)
+        shown_score, status = f"{value:.1f}", STATUS_GRADED
+        if copied and copies_policy == "hold":
+            shown_score, status = "", STATUS_HELD
+            held.append(rep.path)
+        elif copied and copies_policy == "zero":
+            shown_score, status = "0.0", STATUS_ZERO
+        graded_ids.add(me.ident)
+        lines.append([me.ident if class_list is not None else "",
+                      f"Participant {me.participant}" if me.participant else "", safe_text(student),
                       safe_text(rep.group or ""),
                       safe_text(rep.variant or ""), safe_text(rep.path), said(verdict(rep), True),
                       "" if rep.error else str(c["correct"]), "" if rep.error else str(c["typed"]),
                       "" if rep.error else str(c["total"]),
                       "" if passing is None else str(passing), "" if checks is None else str(checks),
                       column_name("yes" if given_changed(rep) else "no", lang),   # a fact, accepted or not
-                      said(causes_text(rep)), said(copy_text(reports, i, copies)),
-                      f"{value:.1f}", said(explain(rep), not rep.error), said("; ".join(me.flags)),
-                      "" if rep.error else str(c["not_judged"] + c["checks_not_judged"])])   # issue 31
+                      said(causes_text(rep)), said(copied),
+                      shown_score, said(explain(rep), not rep.error), said("; ".join(me.flags)),
+                      "" if rep.error else str(c["not_judged"] + c["checks_not_judged"]),   # issue 31
+                      column_name(status, lang)])
+    absent = _not_handed_in(class_list, graded_ids) if class_list is not None else []
+    for person in absent:
+        lines.append([person.ident, "", safe_text(person.name), *[""] * (len(COLUMNS) - 2),
+                      column_name(STATUS_ABSENT, lang)])
     warnings = []
 
     def listed(items: list[str]) -> str:
@@ -318,7 +345,23 @@ def grade_lines(reports, copies: Copies | None, class_list: ClassList | None = N
         warnings.append(f"one grade per student: {len(older)} older file(s) not graded: " + listed(older))
     if flagged:
         warnings.append(f"{len(flagged)} book(s) not handed in by their own student: " + listed(flagged))
+    if held:
+        warnings.append(f"{len(held)} possible cop(ies) held for review, their score left empty "
+                        "(--copies keep: their score; --copies zero: 0): " + listed(held))
+    if absent:
+        warnings.append(f"{len(absent)} student(s) of the class list handed nothing in, their score left empty: "
+                        + listed([p.name for p in absent]))
     return lines, warnings
+
+
+def _not_handed_in(class_list: ClassList, graded_ids: set[str]) -> list:
+    """The class list's students (one each) no graded book is identified with."""
+    seen, out = set(graded_ids), []
+    for person in class_list.people:
+        if person.ident and person.ident not in seen:
+            seen.add(person.ident)
+            out.append(person)
+    return out
 
 
 def grades_csv(lines: list[list[str]]) -> bytes:

@@ -46,6 +46,13 @@ class Identity:
     flags: list[str] = field(default_factory=list)
     unmatched: str = ""              # why the class list names no one (or several)
     superseded_by: int | None = None   # an older book of the same student: not graded
+    participant: str = ""            # Moodle's participant number from the folder ("": not from Moodle)
+
+    @property
+    def student_key(self) -> str:
+        """Whose grade this is: the identifier, else (blind marking, no class list) the
+        Moodle participant; "" when nothing says."""
+        return self.ident or (f"participant {self.participant}" if self.participant else "")
 
 
 @dataclass
@@ -139,6 +146,13 @@ def _identify_one(rep, cl: ClassList | None, assignment: Assignment | None) -> I
     typed = " ".join(str(rep.student or "").split())
     sealed = str(rep.issued_to or "")
     sub = moodle_submitter(rep.path)
+    if sub is not None:
+        me.participant = sub.participant
+        if blind_marking(sub.name):
+            # blind marking: the folder says "Participant" only; the number is the student's
+            # identity in Moodle (its worksheet's Identifier), the name typed or sealed in
+            # the book finds the class list's line
+            return _identify_blind(me, rep, cl, assignment, sub.participant)
     sealed_name = ""
     if sealed:
         person = cl.by_ident(sealed) if cl else None
@@ -174,6 +188,34 @@ def _identify_one(rep, cl: ClassList | None, assignment: Assignment | None) -> I
           and name_key(sealed_name) != name_key(sub.name)):
             me.flags.append(f"issued to {sealed_name} ({sealed}), handed in by {me.submitter}")
     return me
+
+
+# Moodle's "Participant" (its string hiddenuser) in the site languages the course meets
+BLIND_NAMES = ("participant", "участник", "учасник")
+
+
+def blind_marking(folder_name: str) -> bool:
+    """Whether a Moodle folder's full name is blind marking's "Participant"."""
+    return folder_name.strip().casefold() in BLIND_NAMES
+
+
+def _identify_blind(me: Identity, rep, cl: ClassList | None, assignment: Assignment | None,
+                    participant: str) -> Identity:
+    """A blind-marked submission: graded under the typed (else sealed) name's identifier;
+    its submitter is "Participant N", whom no name can contradict."""
+    plain = _identify_one(_without_folder(rep), cl, assignment)
+    plain.participant = participant
+    plain.submitter = f"Participant {participant}"
+    plain.who = plain.ident or f"participant {participant}"
+    return plain
+
+
+def _without_folder(rep):
+    """The report as if handed in outside Moodle's folders (no path names a submitter)."""
+    import copy
+    flat = copy.copy(rep)
+    flat.path = ""
+    return flat
 
 
 # Latin letters for Cyrillic ones (a Moodle profile may be in Latin, the typed name in Cyrillic)
@@ -220,8 +262,8 @@ def _newest_only(reports, ids: list[Identity], mtimes: list[float]) -> None:
     point at it (superseded_by) and are listed."""
     by_ident: dict[str, list[int]] = {}
     for i, me in enumerate(ids):
-        if me.ident:
-            by_ident.setdefault(me.ident, []).append(i)
+        if me.student_key:       # blind marking without a class list: the participant number
+            by_ident.setdefault(me.student_key, []).append(i)
     for ident, idx in by_ident.items():
         if len(idx) < 2:
             continue
