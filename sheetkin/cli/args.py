@@ -235,6 +235,14 @@ def _add_validate_parser(sub) -> None:
                         "address or ID number); fills grades.csv's identifier column from the Moodle "
                         "folder each book came in, else the name the student typed (Russian forms: "
                         "'Иванов И.', 'Петрова Анна Сергеевна'); one grade per student (the newest file)")
+    v.add_argument("--copies", choices=["hold", "keep", "zero"], default="hold",
+                   help="with --grades: the grade of a possible copy (both books of a pair): hold "
+                        "(default: the score left empty, status 'held for review', the teacher decides), "
+                        "keep (its score), zero (0)")
+    v.add_argument("--worksheet", metavar="WORKSHEET.csv",
+                   help="with --grades: Moodle's offline grading worksheet of the assignment (Download "
+                        "grading worksheet); --grades then writes it back with its own columns and each "
+                        "participant's Grade filled in (scaled to its Maximum grade), to upload as it is")
     v.add_argument("--progress", choices=["auto", "always", "never"], default="auto",
                    help="progress bar on stderr for several files (auto: when stderr is a terminal)")
     v.add_argument("--jobs", type=_capped_int(MAX_JOBS, "two processes per core; each holds a workbook"),

@@ -393,7 +393,7 @@ def _command_files(args) -> tuple[list[tuple[str, str]], list[str]]:
         out += [("--out", str(Path(args.out) / f)) for f in
                 ("bench.csv", "bench.png", "stability.csv", "stability.png")]
     inputs = [p for p in ([getattr(args, "scene", None), getattr(args, "book", None),
-                           getattr(args, "class_list", None)] +
+                           getattr(args, "class_list", None), getattr(args, "worksheet", None)] +
                           list(getattr(args, "scenes", None) or [])) if p]
     if args.command == "validate":
         inputs += [str(f) for f in _validation_files(args.paths, strict=False)]
@@ -445,20 +445,33 @@ def _grades_first(args):
     one line now, not after the class is validated); returns the class list or None."""
     if args.class_list and not args.grades:
         raise SceneError("--class-list fills grades.csv's identifier column: give --grades GRADES.csv too")
+    if getattr(args, "worksheet", None) and not args.grades:
+        raise SceneError("--worksheet is filled in and written as --grades: give --grades GRADES.csv too")
     if not args.grades:
         return None
-    from sheetkin.course.grades import check_writable, read_class_list
+    from sheetkin.course.grades import check_writable, read_class_list, read_worksheet
     check_writable(args.grades)
+    # the worksheet's mistakes are one line now too (read again when written: it is small)
+    if getattr(args, "worksheet", None):
+        read_worksheet(args.worksheet)
     return read_class_list(args.class_list) if args.class_list else None
 
 
 def _write_grades(args, reports, copies, class_list, identities=None, lang: str = "en") -> None:
-    from sheetkin.course.grades import grade_lines, grades_csv, write_grades
+    from sheetkin.course.grades import COLUMNS, fill_worksheet, grade_lines, grades_csv, read_worksheet, write_grades
     lines, warnings = grade_lines(reports, copies, class_list,
                                   accept_changed=bool(getattr(args, "accept_changed_inputs", False)),
-                                  identities=identities, lang=lang)
-    write_grades(args.grades, grades_csv(lines))
-    print(f"{args.grades}: {len(lines) - 1} submission(s) graded", file=sys.stderr)
+                                  identities=identities, lang=lang, copies_policy=getattr(args, "copies", "hold"))
+    books = sum(1 for line in lines[1:] if line[2 + COLUMNS.index("file")])   # not "not handed in"
+    if getattr(args, "worksheet", None):
+        sheet, more = fill_worksheet(read_worksheet(args.worksheet), lines)
+        warnings += more
+        write_grades(args.grades, grades_csv(sheet))
+        print(f"{args.grades}: Moodle's grading worksheet {args.worksheet} with {books} submission(s) graded "
+              "(upload it: Upload grading worksheet)", file=sys.stderr)
+    else:
+        write_grades(args.grades, grades_csv(lines))
+        print(f"{args.grades}: {books} submission(s) graded", file=sys.stderr)
     for w in warnings:
         print(f"sheetkin: warning: {args.grades}: {w}", file=sys.stderr)
 

@@ -58,6 +58,8 @@ COLUMNS = ("student", "group", "variant", "file", "verdict", "rows correct", "ro
            "score explained", "identity", "not judged",   # issue 31: rows + check rows to check by hand
            "status")                                      # issue 34: graded, held for review, not handed in
 PARTICIPANT_HEADER = "Identifier"   # Moodle's offline grading worksheet: "Participant N" (its own name, kept)
+# Moodle's string hiddenuser, the Identifier's word, in the site's language (its import skips it)
+PARTICIPANT_WORD = {"en": "Participant", "ru": "Участник", "uk": "Учасник"}
 COPY_POLICIES = ("hold", "keep", "zero")   # a possible copy's grade: empty (for review), its score, 0
 STATUS_GRADED, STATUS_HELD, STATUS_ABSENT = "graded", "held for review: possible copy", "not handed in"
 STATUS_ZERO = "possible copy: 0 (--copies zero)"
@@ -316,7 +318,8 @@ def grade_lines(reports, copies: Copies | None, class_list: ClassList | None = N
             shown_score, status = "0.0", STATUS_ZERO
         graded_ids.add(me.ident)
         lines.append([me.ident if class_list is not None else "",
-                      f"Participant {me.participant}" if me.participant else "", safe_text(student),
+                      f"{PARTICIPANT_WORD.get(lang, 'Participant')} {me.participant}" if me.participant else "",
+                      safe_text(student),
                       safe_text(rep.group or ""),
                       safe_text(rep.variant or ""), safe_text(rep.path), said(verdict(rep), True),
                       "" if rep.error else str(c["correct"]), "" if rep.error else str(c["typed"]),
@@ -397,3 +400,66 @@ def write_grades(path: str, data: bytes) -> None:
         write_file(path, data)
     except OSError as e:
         raise OSError(e.errno, e.strerror or str(e), path) from None
+
+
+# --------------------------------------------------------------------------- Moodle's grading worksheet
+# its headers in the site languages the course meets (Moodle's strings recordid, grade, maximumgrade)
+WORKSHEET_IDENTIFIER = ("identifier", "идентификатор", "ідентифікатор")
+WORKSHEET_GRADE = ("grade", "оценка", "оцінка")
+WORKSHEET_MAXIMUM = ("maximum grade", "максимальная оценка", "максимальна оцінка")
+MAX_WORKSHEET_BYTES = 5_000_000
+
+
+def read_worksheet(path: str) -> list[list[str]]:
+    """Moodle's offline grading worksheet (Download grading worksheet) as rows of text;
+    one-line errors naming the file when it is not one."""
+    from .classlist import decode_table, delimiter, read_bounded
+    text = decode_table(read_bounded(path, MAX_WORKSHEET_BYTES, "worksheet"), path, "worksheet")
+    rows = [r for r in csv.reader(io.StringIO(text, newline=""), delimiter=delimiter(text.split("\n", 1)[0]))
+            if any(c.strip() for c in r)]
+    header = [h.strip().casefold() for h in rows[0]] if rows else []
+    if not any(h in WORKSHEET_IDENTIFIER for h in header) or not any(h in WORKSHEET_GRADE for h in header):
+        raise GradesError(f"{path}:1: --worksheet: expected Moodle's grading worksheet with the columns "
+                          "'Identifier' and 'Grade' (the assignment's Download grading worksheet)")
+    return rows
+
+
+def _column(header: list[str], names: tuple[str, ...]) -> int | None:
+    folded = [h.strip().casefold() for h in header]
+    return next((k for k, h in enumerate(folded) if h in names), None)
+
+
+def _number(text: str) -> float | None:
+    try:
+        return float(text.strip().replace("\u00a0", "").replace(",", "."))
+    except ValueError:
+        return None
+
+
+def fill_worksheet(rows: list[list[str]], lines: list[list[str]]) -> tuple[list[list[str]], list[str]]:
+    """The worksheet with its own columns and lines, each participant's Grade written from
+    grades.csv's lines (its Identifier "Participant N" to the score, scaled from 0..100 to
+    the line's Maximum grade, "." as the decimal point); a line with an empty score (held
+    for review, not handed in) keeps the worksheet's grade. Warnings: the graded books
+    whose participant the worksheet does not hold."""
+    header = rows[0]
+    ident_col, grade_col = _column(header, WORKSHEET_IDENTIFIER), _column(header, WORKSHEET_GRADE)
+    max_col = _column(header, WORKSHEET_MAXIMUM)
+    assert ident_col is not None and grade_col is not None       # read_worksheet checked them
+    score_col = 2 + COLUMNS.index("score")
+    scores = {line[1].split()[-1]: line[score_col] for line in lines[1:] if line[1]}
+    out, found = [list(header)], set()
+    for row in rows[1:]:
+        row = row + [""] * (len(header) - len(row))
+        number = (row[ident_col].split() or [""])[-1]
+        value = _number(scores.get(number, ""))
+        if value is not None:
+            found.add(number)
+            maximum = _number(row[max_col]) if max_col is not None else None
+            grade = value * (maximum if maximum else 100.0) / 100.0
+            row[grade_col] = f"{grade:.2f}"
+        out.append(row)
+    missing = sorted(set(scores) - found - {n for n, s in scores.items() if _number(s) is None}, key=int)
+    warnings = [f"the worksheet has no line for participant(s) {', '.join(missing)}: their grade is not in it"] \
+        if missing else []
+    return out, warnings
