@@ -19,7 +19,7 @@ from helpers.libreoffice import recalculate
 from sheetkin.cli.commands import main
 from sheetkin.course.classlist import moodle_submitter, read_class_list
 from sheetkin.course.copies import Copies, possible_copies
-from sheetkin.course.grades import grade_lines, grades_csv
+from sheetkin.course.grades import COLUMNS, grade_lines, grades_csv
 from sheetkin.course.identity import identify
 from sheetkin.course.issued import parse_roster, read_roster
 from sheetkin.course.report import copies_lines, html_report
@@ -304,7 +304,8 @@ def _date(stamp: float) -> tuple:
 def test_found_in_another_students_folder_flagged(tmp_path, class_list):
     reps = [_rep("Пётр Сидоров_3_assignsubmission_file_/a.xlsx", "Петрова А.")]
     lines, warnings = grade_lines(reps, Copies(), class_list, identities=identify(reps, class_list, mtimes=[0]))
-    assert lines[1][0] == "sidorov@example.org" and "found in the folder of Сидоров Пётр" in lines[1][2 + COLUMNS.index("identity")]
+    identity = lines[1][2 + COLUMNS.index("identity")]
+    assert lines[1][0] == "sidorov@example.org" and "found in the folder of Сидоров Пётр" in identity
     assert "1 book(s) not handed in by their own student" in " ".join(warnings)
 
 
