@@ -239,6 +239,18 @@ def _add_validate_parser(sub) -> None:
                    help="with --grades: the grade of a possible copy (both books of a pair): hold "
                         "(default: the score left empty, status 'held for review', the teacher decides), "
                         "keep (its score), zero (0)")
+    v.add_argument("--out-of", type=float, metavar="N",
+                   help="with --grades: also the grade out of N points (the Moodle grade item's maximum), "
+                        "beside the 0..100 score")
+    v.add_argument("--scale", nargs="?", const="", metavar="NAME=LEAST,...",
+                   help="with --grades: also the mark on a scale, beside the score; alone: the Russian "
+                        "five-point scale (отлично 85, хорошо 70, удовлетворительно 50, "
+                        "неудовлетворительно below), in the report's language; or your own thresholds: "
+                        "'отлично=90,хорошо=75,удовлетворительно=60,неудовлетворительно=0'")
+    v.add_argument("--grades-format", choices=["csv", "csv-excel", "xlsx"], default="csv",
+                   help="with --grades: csv (default: what Moodle's import reads: ',' between fields, "
+                        "'.' decimals, UTF-8), csv-excel (';' and ',' decimals: a Russian Excel opens it "
+                        "in columns) or xlsx (a workbook)")
     v.add_argument("--worksheet", metavar="WORKSHEET.csv",
                    help="with --grades: Moodle's offline grading worksheet of the assignment (Download "
                         "grading worksheet); --grades then writes it back with its own columns and each "

@@ -454,6 +454,12 @@ def _grades_first(args):
     # the worksheet's mistakes are one line now too (read again when written: it is small)
     if getattr(args, "worksheet", None):
         read_worksheet(args.worksheet)
+    out_of = getattr(args, "out_of", None)
+    if out_of is not None and not out_of > 0:
+        raise UsageError(f"--out-of {out_of:g}: expected the grade item's maximum, more than 0")
+    if getattr(args, "scale", None):
+        from sheetkin.course.grades import five_point_scale
+        five_point_scale("ru", args.scale)          # a mistake in the thresholds: one line now
     return read_class_list(args.class_list) if args.class_list else None
 
 
@@ -463,6 +469,11 @@ def _write_grades(args, reports, copies, class_list, identities=None, lang: str 
                                   accept_changed=bool(getattr(args, "accept_changed_inputs", False)),
                                   identities=identities, lang=lang, copies_policy=getattr(args, "copies", "hold"))
     books = sum(1 for line in lines[1:] if line[2 + COLUMNS.index("file")])   # not "not handed in"
+    out_of, scale_spec = getattr(args, "out_of", None), getattr(args, "scale", None)
+    if out_of or scale_spec is not None:
+        from sheetkin.course.grades import five_point_scale, with_course_grade
+        scale = five_point_scale(lang, scale_spec) if scale_spec is not None else None
+        lines = with_course_grade(lines, out_of, scale, lang)
     if getattr(args, "worksheet", None):
         sheet, more = fill_worksheet(read_worksheet(args.worksheet), lines)
         warnings += more
@@ -470,7 +481,8 @@ def _write_grades(args, reports, copies, class_list, identities=None, lang: str 
         print(f"{args.grades}: Moodle's grading worksheet {args.worksheet} with {books} submission(s) graded "
               "(upload it: Upload grading worksheet)", file=sys.stderr)
     else:
-        write_grades(args.grades, grades_csv(lines))
+        from sheetkin.course.grades import grades_data
+        write_grades(args.grades, grades_data(lines, getattr(args, "grades_format", "csv")))
         print(f"{args.grades}: {books} submission(s) graded", file=sys.stderr)
     for w in warnings:
         print(f"sheetkin: warning: {args.grades}: {w}", file=sys.stderr)

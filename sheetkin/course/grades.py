@@ -38,6 +38,7 @@ from __future__ import annotations
 import csv
 import io
 import os
+import re
 from typing import TYPE_CHECKING
 
 # the class list is read and matched in sheetkin/course/classlist.py (Russian name forms,
@@ -463,3 +464,120 @@ def fill_worksheet(rows: list[list[str]], lines: list[list[str]]) -> tuple[list[
     warnings = [f"the worksheet has no line for participant(s) {', '.join(missing)}: their grade is not in it"] \
         if missing else []
     return out, warnings
+
+
+# --------------------------------------------------------------------------- the course's own grade
+# the Russian five-point scale: (the least score, the mark's name, its number); a teacher
+# changes the thresholds with --scale "отлично=90,хорошо=75,удовлетворительно=60,неудовлетворительно=0"
+FIVE_POINT = {
+    "ru": ("отлично", "хорошо", "удовлетворительно", "неудовлетворительно"),
+    "uk": ("відмінно", "добре", "задовільно", "незадовільно"),
+    "en": ("excellent", "good", "satisfactory", "unsatisfactory"),
+}
+FIVE_POINT_THRESHOLDS = (85.0, 70.0, 50.0, 0.0)
+
+
+def five_point_scale(lang: str = "ru", spec: str | None = None) -> list[tuple[float, str]]:
+    """[(least score, mark)] best first: the five-point scale in `lang` with the default
+    thresholds, or `spec` ("name=least score,..." in any order, any names). A spec that is
+    not that is a one-line GradesError."""
+    if not spec:
+        return list(zip(FIVE_POINT_THRESHOLDS, FIVE_POINT.get(lang, FIVE_POINT["ru"]), strict=True))
+    scale = []
+    for part in spec.split(","):
+        name, eq, least = part.rpartition("=")
+        value = _number(least) if eq else None
+        if not name.strip() or value is None or not 0 <= value <= 100:
+            raise GradesError(f"--scale: {part.strip()!r}: expected NAME=LEAST SCORE (0..100), "
+                              "e.g. 'отлично=85,хорошо=70,удовлетворительно=50,неудовлетворительно=0'")
+        scale.append((value, name.strip()))
+    scale.sort(reverse=True)
+    if scale[-1][0] > 0:
+        raise GradesError(f"--scale: no mark for a score below {scale[-1][0]:g}: give one with =0")
+    return scale
+
+
+def mark(score_value: float, scale: list[tuple[float, str]]) -> str:
+    """The scale's mark for a 0..100 score (its least score reached, best first)."""
+    return next(name for least, name in scale if score_value >= least - 1e-9)
+
+
+def with_course_grade(lines: list[list[str]], out_of: float | None, scale: list[tuple[float, str]] | None,
+                      lang: str = "en") -> list[list[str]]:
+    """grades.csv's lines with, beside the score, the grade out of `out_of` points (the
+    Moodle grade item's maximum) and the scale's mark; an empty score stays empty."""
+    from .report_messages import column_name
+    at = 2 + COLUMNS.index("score") + 1
+    heads = ([f"{column_name('grade', lang)} (/{out_of:g})"] if out_of else []) + \
+        ([column_name("mark", lang)] if scale else [])
+    out = [lines[0][:at] + heads + lines[0][at:]]
+    for line in lines[1:]:
+        value = _number(line[at - 1])
+        extra = []
+        if out_of:
+            extra.append("" if value is None else f"{value * out_of / 100.0:.2f}")
+        if scale:
+            extra.append("" if value is None else mark(value, scale))
+        out.append(line[:at] + extra + line[at:])
+    return out
+
+
+GRADES_FORMATS = ("csv", "csv-excel", "xlsx")    # Moodle's CSV (default); ";" and "," decimals; a workbook
+
+
+def grades_data(lines: list[list[str]], fmt: str = "csv") -> bytes:
+    """grades.csv's lines as the format asks: csv (Moodle's import: ",", "." decimals,
+    UTF-8 with a BOM), csv-excel (a Russian Excel's: ";" between fields, "," decimals, the
+    same UTF-8 with a BOM, which Excel reads), xlsx (numbers as numbers)."""
+    if fmt == "csv":
+        return grades_csv(lines)
+    if fmt == "csv-excel":
+        buf = io.StringIO()
+        from sheetkin.untrusted import csv_cell
+        w = csv.writer(buf, delimiter=";", lineterminator="\r\n")
+        w.writerows([_decimal_comma(csv_cell(c)) for c in row] for row in lines)
+        return ("\ufeff" + buf.getvalue()).encode("utf-8")
+    if fmt == "xlsx":
+        return _grades_xlsx(lines)
+    raise ValueError(f"grades format: one of {', '.join(GRADES_FORMATS)}, not {fmt!r}")
+
+
+def _decimal_comma(cell: str) -> str:
+    # an identifier ("1001") has no point, so it is unchanged; a score "72.5" becomes "72,5"
+    return cell.replace(".", ",") if _NUMBER.fullmatch(cell) else cell
+
+
+def _grades_xlsx(lines: list[list[str]]) -> bytes:
+    from openpyxl import Workbook
+
+    from sheetkin.untrusted import csv_cell
+    book = Workbook()
+    sheet = book.active
+    sheet.title = "grades"
+    first_number = 2 + COLUMNS.index("rows correct")     # the identifiers, names, groups, variants stay text
+    for row in lines:
+        # numbers as numbers (a spreadsheet sums them); text stays text: openpyxl would take
+        # a leading "=" for a formula, so every text cell is neutralized as in the CSV
+        sheet.append([float(c) if k >= first_number and _NUMBER.fullmatch(c) else csv_cell(c)
+                      for k, c in enumerate(row)])
+    buf = io.BytesIO()
+    book.save(buf)
+    return buf.getvalue()
+
+
+def read_grades(data: bytes, fmt: str = "csv") -> list[list[str]]:
+    """The lines back from grades_data's bytes (numbers in "." form), for the round trip."""
+    if fmt == "xlsx":
+        from openpyxl import load_workbook
+        sheet = load_workbook(io.BytesIO(data)).active
+        return [["" if c is None else (f"{c:.2f}".rstrip("0").rstrip(".") if isinstance(c, float) else str(c))
+                 for c in row] for row in sheet.iter_rows(values_only=True)]
+    text = data.decode("utf-8-sig")
+    rows = list(csv.reader(io.StringIO(text, newline=""), delimiter=";" if fmt == "csv-excel" else ","))
+    if fmt == "csv-excel":
+        rows = [[c.replace(",", ".") if _NUMBER_COMMA.fullmatch(c) else c for c in row] for row in rows]
+    return rows
+
+
+_NUMBER = re.compile(r"-?\d+\.\d+|-?\d+")
+_NUMBER_COMMA = re.compile(r"-?\d+,\d+|-?\d+")

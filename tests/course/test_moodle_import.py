@@ -148,3 +148,47 @@ def test_copies_held_for_review_by_default_kept_or_zero_on_request():
     assert [r[score] for r in kept[1:]] == ["100.0", "100.0"]
     zero, _ = grade_lines([a, b], copies, copies_policy="zero")
     assert [r[score] for r in zero[1:]] == ["0.0", "0.0"]
+
+
+def test_grade_out_of_n_and_the_five_point_scale():
+    from sheetkin.course.grades import five_point_scale, mark, with_course_grade
+    reps = [_rep("a.xlsx", "A"), _rep("b.xlsx", "B", correct=3, wrong=1), _rep("c.xlsx", "C", correct=1, wrong=3)]
+    lines = with_course_grade(grade_lines(reps, None, lang="ru")[0], 5, five_point_scale("ru"), "ru")
+    at = 2 + COLUMNS.index("score")
+    assert lines[0][at + 1:at + 3] == ["оценка (/5)", "оценка по шкале"]
+    # no check rows issued: the rows share 100; 3 of 4 right: 75 -> 3.75 of 5, хорошо (70..85);
+    # 1 of 4: 25 -> неудовлетворительно (below 50)
+    assert [line[at:at + 3] for line in lines[1:]] == [["100.0", "5.00", "отлично"], ["75.0", "3.75", "хорошо"],
+                                                       ["25.0", "1.25", "неудовлетворительно"]]
+    own = five_point_scale("ru", "отлично=90,хорошо=75,удовлетворительно=25,неудовлетворительно=0")
+    assert mark(75.0, own) == "хорошо" and mark(25.0, own) == "удовлетворительно" and mark(0, own).startswith("не")
+    from sheetkin.course.grades import GradesError
+    with pytest.raises(GradesError, match="no mark for a score below 50"):
+        five_point_scale("ru", "отлично=90,удовлетворительно=50")
+    with pytest.raises(GradesError, match="expected NAME=LEAST SCORE"):
+        five_point_scale("ru", "отлично:90")
+
+
+@pytest.mark.parametrize("fmt", ["csv", "csv-excel", "xlsx"])
+def test_every_grades_format_round_trips(tmp_path, fmt):
+    from sheetkin.course.grades import five_point_scale, grades_data, read_grades, with_course_grade
+    reps, copies, cl, ids = _class(tmp_path, blind=False)
+    lines = with_course_grade(grade_lines(reps, copies, cl, identities=ids, lang="ru")[0], 10,
+                              five_point_scale("ru"), "ru")
+    data = grades_data(lines, fmt)
+    back = read_grades(data, fmt)
+
+    def same(a: str, b: str) -> bool:
+        try:
+            return float(a) == float(b)
+        except ValueError:
+            return a == b
+    assert len(back) == len(lines)
+    for mine, theirs in zip(lines, back, strict=True):
+        assert len(theirs) == len(mine) and all(same(a, b) for a, b in zip(mine, theirs, strict=True)), (mine, theirs)
+    if fmt == "csv-excel":               # what a Russian Excel needs: ";" between fields, "," decimals
+        text = data.decode("utf-8-sig")
+        assert text.split("\r\n")[0].count(";") == len(lines[0]) - 1 and ";100,0;10,00;отлично;" in text
+    if fmt == "csv":                     # the one Moodle reads
+        got = moodle_gradebook_import(data, "Email address", "балл", 100.0)
+        assert got["ivanov@example.org"] == 100.0
