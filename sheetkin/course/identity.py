@@ -17,6 +17,7 @@ from __future__ import annotations
 import csv
 import io
 import os
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -81,11 +82,11 @@ class Assignment:
 
 def assignment_text(id_header: str, rows: list[tuple[str, str, str, str]]) -> str:
     """assignment.csv: student, identifier, variant, exercise; the identifier column's own
-    name (Moodle's: Email address, ID number, Username) on the first line as a comment."""
+    name (Moodle's: Email address, ID number, Username) in its header, "identifier (Email
+    address)" (issue 34: no comment line a spreadsheet shows as a stray row)."""
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
-    w.writerow(ASSIGNMENT_COLUMNS)
-    w.writerow([f"# {csv_cell(id_header)}", "", "", ""])
+    w.writerow([ASSIGNMENT_COLUMNS[0], f"{ASSIGNMENT_COLUMNS[1]} ({csv_cell(id_header)})", *ASSIGNMENT_COLUMNS[2:]])
     # every cell came from the class list, which a student can edit (an e-mail "=cmd|..."
     # in a Moodle profile): neutralized, read back by from_csv_cell
     w.writerows([csv_cell(c) for c in row] for row in rows)
@@ -97,12 +98,14 @@ def read_assignment(path) -> Assignment:
     p = str(path)
     text = decode_table(read_bounded(p, MAX_ASSIGNMENT_BYTES, "assignment"), p, "assignment")
     rows = list(csv.reader(io.StringIO(text, newline=""), delimiter=delimiter(text.split("\n", 1)[0])))
-    if not rows or tuple(h.strip() for h in rows[0][:4]) != ASSIGNMENT_COLUMNS:
+    head = [h.strip() for h in rows[0][:4]] if rows else []
+    named = re.fullmatch(r"identifier(?: \((?P<name>.+)\))?", head[1]) if len(head) == 4 else None
+    if named is None or (head[0], head[2], head[3]) != (ASSIGNMENT_COLUMNS[0], *ASSIGNMENT_COLUMNS[2:]):
         raise ClassListError(f"{p}:1: expected the header {','.join(ASSIGNMENT_COLUMNS)} (as `sheetkin variants "
                              "--class-list` writes it)")
-    id_header, people = "Email address", {}
+    id_header, people = from_csv_cell(named.group("name") or "Email address"), {}
     for line, row in enumerate(rows[1:], 2):
-        if row and row[0].startswith("# "):
+        if row and row[0].startswith("# "):      # the identifier's name as files before issue 34 wrote it
             id_header = row[0][2:].strip() or id_header
             continue
         if not any(c.strip() for c in row):
