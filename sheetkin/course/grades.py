@@ -22,7 +22,7 @@ The score of a submission (`sheetkin docs grading`), 0..100 to one decimal:
 "all correct" means full marks (verdict); every report (text, HTML, JSON, grades.csv) takes
 its counts, verdict and score from here, and explain() says what cost how much.
 A possible copy (sheetkin/course/copies.py) does not change the score: it is flagged for the
-teacher, who decides.
+teacher, who decides; grades.csv holds its grade (empty) unless told otherwise (--copies).
 
 Moodle's CSV import maps one column to a user field (userid, username, useridnumber or
 useremail: a name cannot identify a user) and one column to a grade item; it reads UTF-8
