@@ -72,6 +72,11 @@ def cmd_variants(args) -> int:
         if class_list else ""
     print(f"{args.out}: {len(variants)} variants of {args.scene} (seed {seed}: --seed {seed} makes the "
           f"same again){who}; {roster}; the key {Path(args.out) / '.sheetkin-key'} stays with you", file=sys.stderr)
+    if class_list:
+        from sheetkin.course.variants import STUDENTS_FOLDER
+        print(f"sheetkin: hand out {Path(args.out) / STUDENTS_FOLDER} (one book per student, named by the "
+              f"student); the rest of {args.out} is yours (keys, roster, assignment.csv, the key): never "
+              "upload it", file=sys.stderr)
     return 0
 
 

@@ -193,14 +193,14 @@ def test_class_loop_with_assignment(tmp_path, soffice, capsys):
     assert main(["variants", str(WORKBOOKS / "fourbar.toml"), "-n", "4", "--class-list", str(cl), "--out", str(out),
                  "--seed", "3"]) == 0
     rows = list(csv.DictReader(io.StringIO((out / "assignment.csv").read_text(encoding="utf-8"))))
-    given = {r["identifier"]: r for r in rows if not r["student"].startswith("#")}
+    given = {r["identifier (Email address)"]: r for r in rows}      # the identifier's name in the header
     assert [given[f"s{k}@example.org"]["variant"] for k in range(6)] == [
         "fourbar-01", "fourbar-02", "fourbar-03", "fourbar-04", "fourbar-01", "fourbar-02"]    # k mod 4
     keys = {vid: ex_key[1] for vid, ex_key in _issued_books(out).items()}
 
     def book(k, change=None):
         r = given[f"s{k}@example.org"]
-        ex = out / r["exercise"]
+        ex = out / "students" / r["exercise"]            # the folder to hand out
         assert openpyxl.load_workbook(ex).worksheets[0].cell(1, 4).value == r["student"]    # the name in D1
         return fill(ex, keys[r["variant"]], tmp_path / "filled" / f"s{k}.xlsx", change=change)
     (tmp_path / "filled").mkdir()

@@ -75,7 +75,7 @@ def klass(tmp_path_factory):
                     d / "class.csv", "--seed", "4") == 0
 
     def ex(v, who):
-        return iss / f"fourbar-0{v}-{who}-exercise.xlsx"
+        return iss / "students" / f"fourbar-0{v}-{who}-exercise.xlsx"
 
     def key(v):
         return iss / f"fourbar-0{v}-key.xlsx"
