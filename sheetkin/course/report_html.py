@@ -33,7 +33,8 @@ th[aria-sort=ascending] button::after{content:" \\25B2"}th[aria-sort=descending]
 td.num{text-align:right}.wrong{background:#ffc7ce}.ok{background:#c6efce}.cause{font-weight:bold}
 .empty{background:#f2f2f2;background-image:repeating-linear-gradient(45deg,#ddd 0 2px,transparent 2px 6px)}
 .typed{background:#ffeb9c}.notjudged{background:#bdd7ee}
-td{overflow-wrap:anywhere}#summary td:last-child{max-width:22em}body{max-width:1320px}
+td{overflow-wrap:break-word}body{max-width:1320px}
+#summary td:nth-last-child(-n+2){overflow-wrap:anywhere;min-width:12em;max-width:22em}
 .unusable{color:#9c0006}details{margin:.6em 0;border:1px solid #ddd;padding:.3em .6em}
 summary{cursor:pointer;font-weight:bold}.pic{float:right;margin:0 0 .5em 1em}.cells td{min-width:1.2em}
 .note{color:#555;font-size:90%}.clear{clear:both}
@@ -313,13 +314,17 @@ def _details(rep: Report, k: int, copy: str = "", lang: str = "en", me=None) -> 
             cells = "".join(
                 f"<td class='{state}' title='{e(position_name(rep, j, lang))}: {e(cell_word(state, lang))}'></td>"
                 for j in range(1, rep.positions + 1) for state in (cell_state(x, j),))
+            # the row's word agrees with its cells: a typed row is never "right"
+            row_word = (cell_word("notjudged", lang) if getattr(x, "not_judged", False) else
+                        cell_word("typed", lang) if x.is_typed and x.status not in ("missing", "empty") else
+                        t.get(x.status, x.status))
             note = (t["cause"] if x.cause else
                     f"{t['depends_on']} {', '.join(x.because_of)}" if x.because_of else "")
             if x.status == "wrong":
                 note += (f"; {t['first_at']} {position_name(rep, x.first_wrong or 1, lang)}: {t['expected']} "
                          f"{_num(x.expected)}, {t['got']} {_num(x.got)}")
             out.append(f"<tr><td class='{'cause' if x.cause else ''}'>{e(x.name)}</td>"
-                       f"<td>{t.get(x.status, x.status)}</td>"
+                       f"<td>{e(row_word)}</td>"
                        f"{cells}<td>{e(note)}</td></tr>")
         out.append("</table>")
     for title, items in ((t["failing_checks"], rep.failing_checks),

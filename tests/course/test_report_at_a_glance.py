@@ -35,6 +35,7 @@ def test_each_state_its_colour_and_word_green_only_when_right():
     cells = re.findall(r"<td class='(\w+)' title='[^']*: ([^']*)'></td>", page)
     assert ("empty", "не заполнено") in cells and ("typed", "введено числом, не вычислено") in cells
     assert all(word == "верно" for cls, word in cells if cls == "ok")
+    assert "<tr><td class=''>t</td><td>введено числом, не вычислено</td>" in page     # the row's word too
     assert not any(cls == "ok" for cls, word in cells if word != "верно")
     # every state has its own colour in the page's style
     colours = {c: re.search(rf"\.{c}{{background:(#[0-9a-f]+)", page).group(1) for c in CELL_STATES}
