@@ -258,16 +258,31 @@ def _summary_row(rep: Report, k: int, copy: str = "", lang: str = "en", me=None)
 
 
 def _details(rep: Report, k: int, copy: str = "", lang: str = "en", me=None) -> list[str]:
+    """A book's details: who and what (_facts), its score and counts (_score_lines), the
+    likely causes (_cause_lines), its rows position by position (_cells_table) and the
+    lists of failing checks and notes (_lists)."""
     e, t = html.escape, words(lang)
-    who = rep.student or _file(rep)
-    from .grades import counts, explain, verdict
-    res = verdict(rep)
-    out = [f"<details id='{_anchor(rep, k)}'><summary>{e(who)}: {e(say_grading(res, lang))}</summary>",
+    from .grades import verdict
+    out = [f"<details id='{_anchor(rep, k)}'><summary>{e(rep.student or _file(rep))}: "
+           f"{e(say_grading(verdict(rep), lang))}</summary>",
            f"<p class='note'>{e(rep.path)}{' - ' + e(rep.title) if rep.title else ''}</p>"]
     if rep.error:
         out.append(f"<p class='unusable'>{t['unusable_p']}: {e(say(rep.error, lang))}</p></details>")
         return out
     out.append(f"<div class='pic'>{_picture(rep, lang)}</div>")
+    out += _facts(rep, copy, lang, me)
+    out += _score_lines(rep, lang)
+    out += _cause_lines(rep, lang)
+    out += _cells_table(rep, lang)
+    out += _lists(rep, lang, me)
+    out.append("<div class='clear'></div></details>")
+    return out
+
+
+def _facts(rep: Report, copy: str, lang: str, me) -> list[str]:
+    """Student, group, variant, seal; the given data changed, a possible copy, who handed it in."""
+    e, t = html.escape, words(lang)
+    out = []
     for label, v in (("student", rep.student), ("group", rep.group), ("variant", rep.variant), ("seal", rep.seal)):
         if label == "seal" and v == "ok":            # "seal: ok" in words: "печать цела"
             out.append(f"<p class='note'>{t['seal_ok']}</p>")
@@ -282,12 +297,19 @@ def _details(rep: Report, k: int, copy: str = "", lang: str = "en", me=None) -> 
     flags = _identity_lines(me, lang)
     if flags:
         out.append(f"<p class='wrong identity'>{t['identity_h']}: " + e("; ".join(flags)) + "</p>")
+    return out
+
+
+def _score_lines(rep: Report, lang: str) -> list[str]:
+    """The score explained, the rows counted, the typed rows (and those reading typed numbers)."""
+    e = html.escape
+    from .grades import counts, explain
     n = counts(rep)
     said = say_grading(f"score {explain(rep)} (the rules:", lang)
-    out.append(f"<p>{e(said)} <code>sheetkin docs grading</code>)</p>")
-    out.append("<p>" + e(say_grading(f"{n['correct']} of {n['total']} rows correct (computed), {n['typed']} typed "
-                                      f"(not computed), {n['wrong']} wrong, {n['missing']} missing or empty.", lang))
-               + "</p>")
+    out = [f"<p>{e(said)} <code>sheetkin docs grading</code>)</p>",
+           "<p>" + e(say_grading(f"{n['correct']} of {n['total']} rows correct (computed), {n['typed']} typed "
+                                 f"(not computed), {n['wrong']} wrong, {n['missing']} missing or empty.", lang))
+           + "</p>"]
     typed = rep.typed
     if typed:
         out.append("<p class='wrong'>" + e(say_grading("typed, not computed: ", lang))
@@ -295,6 +317,13 @@ def _details(rep: Report, k: int, copy: str = "", lang: str = "en", me=None) -> 
         pasted = [x.name for x in typed if x.reads_typed]
         if pasted:
             out.append("<p class='wrong'>" + e(say_grading(f"{READS_TYPED}: ", lang)) + e(", ".join(pasted)) + "</p>")
+    return out
+
+
+def _cause_lines(rep: Report, lang: str) -> list[str]:
+    """Each likely cause: its row, where it first goes wrong, expected and got."""
+    e, t = html.escape, words(lang)
+    out = []
     for c in rep.causes:
         src = e(t.get(c.source, c.source) or "")
         out.append(f"<p class='cause'>{t['cause']}: {e(c.name)} ({t['row']} {c.row}, {src}):"
@@ -302,31 +331,56 @@ def _details(rep: Report, k: int, copy: str = "", lang: str = "en", me=None) -> 
                    f"{e(_num(c.expected))}, {t['got']} {e(_num(c.got))}; {t['wrong_at']} "
                    f"{e(position_list(rep, c.wrong_cells, lang))}"
                    + (f"<br>{e(say(c.note, lang))}" if c.note else "") + "</p>")
+    return out
+
+
+def _row_word(x, lang: str) -> str:
+    """A row's status word, agreeing with its cells: a typed row is never "right"."""
+    if getattr(x, "not_judged", False):
+        return cell_word("notjudged", lang)
+    if x.is_typed and x.status not in ("missing", "empty"):
+        return cell_word("typed", lang)
+    t = words(lang)
+    return str(t.get(x.status, x.status))
+
+
+def _row_note(rep: Report, x, lang: str) -> str:
+    t = words(lang)
+    note = (t["cause"] if x.cause else
+            f"{t['depends_on']} {', '.join(x.because_of)}" if x.because_of else "")
+    if x.status == "wrong":
+        note += (f"; {t['first_at']} {position_name(rep, x.first_wrong or 1, lang)}: {t['expected']} "
+                 f"{_num(x.expected)}, {t['got']} {_num(x.got)}")
+    return note
+
+
+def _cells_table(rep: Report, lang: str) -> list[str]:
+    """The rows not right (wrong, empty, typed, not judged), a cell per position in its
+    state's colour and word (cell_state)."""
+    e, t = html.escape, words(lang)
     # a typed row equal to the reference, and a row not judged, are not right either
     bad = [x for x in rep.rows if x.status != "correct" or x.is_typed or getattr(x, "not_judged", False)]
-    if bad:
-        names = rep.position_names or []
-        head = "".join(f"<th title='phi_1 = {names[j][1]:g} {t['deg']}'>{names[j][0]:g}<br>{names[j][1]:g}&deg;</th>"
-                       if j < len(names) else f"<th>{j}</th>" for j in range(rep.positions))
-        out.append(f"<table class='cells'><caption class='note'>{t['cells_caption']}</caption>"
-                   f"<tr><th>{t['row']}</th><th>{t['status']}</th>{head}<th>{t['note']}</th></tr>")
-        for x in bad:
-            cells = "".join(
-                f"<td class='{state}' title='{e(position_name(rep, j, lang))}: {e(cell_word(state, lang))}'></td>"
-                for j in range(1, rep.positions + 1) for state in (cell_state(x, j),))
-            # the row's word agrees with its cells: a typed row is never "right"
-            row_word = (cell_word("notjudged", lang) if getattr(x, "not_judged", False) else
-                        cell_word("typed", lang) if x.is_typed and x.status not in ("missing", "empty") else
-                        t.get(x.status, x.status))
-            note = (t["cause"] if x.cause else
-                    f"{t['depends_on']} {', '.join(x.because_of)}" if x.because_of else "")
-            if x.status == "wrong":
-                note += (f"; {t['first_at']} {position_name(rep, x.first_wrong or 1, lang)}: {t['expected']} "
-                         f"{_num(x.expected)}, {t['got']} {_num(x.got)}")
-            out.append(f"<tr><td class='{'cause' if x.cause else ''}'>{e(x.name)}</td>"
-                       f"<td>{e(row_word)}</td>"
-                       f"{cells}<td>{e(note)}</td></tr>")
-        out.append("</table>")
+    if not bad:
+        return []
+    names = rep.position_names or []
+    head = "".join(f"<th title='phi_1 = {names[j][1]:g} {t['deg']}'>{names[j][0]:g}<br>{names[j][1]:g}&deg;</th>"
+                   if j < len(names) else f"<th>{j}</th>" for j in range(rep.positions))
+    out = [f"<table class='cells'><caption class='note'>{t['cells_caption']}</caption>"
+           f"<tr><th>{t['row']}</th><th>{t['status']}</th>{head}<th>{t['note']}</th></tr>"]
+    for x in bad:
+        cells = "".join(
+            f"<td class='{state}' title='{e(position_name(rep, j, lang))}: {e(cell_word(state, lang))}'></td>"
+            for j in range(1, rep.positions + 1) for state in (cell_state(x, j),))
+        out.append(f"<tr><td class='{'cause' if x.cause else ''}'>{e(x.name)}</td>"
+                   f"<td>{e(_row_word(x, lang))}</td>{cells}<td>{e(_row_note(rep, x, lang))}</td></tr>")
+    out.append("</table>")
+    return out
+
+
+def _lists(rep: Report, lang: str, me) -> list[str]:
+    """Failing checks, check rows deleted or typed over, notes, cache disagreements, problems."""
+    e, t = html.escape, words(lang)
+    out = []
     for title, items in ((t["failing_checks"], rep.failing_checks),
                          ("Check rows deleted", rep.checks_deleted),
                          ("Check statuses typed over their formulas", rep.checks_typed),
@@ -337,7 +391,6 @@ def _details(rep: Report, k: int, copy: str = "", lang: str = "en", me=None) -> 
         if items:
             out.append(f"<p>{e(say(title, lang))}:</p><ul>" + "".join(f"<li>{e(say(i, lang))}</li>" for i in items)
                        + "</ul>")
-    out.append("<div class='clear'></div></details>")
     return out
 
 
