@@ -469,7 +469,14 @@ def _grades_first(args):
 
 
 def _write_grades(args, reports, copies, class_list, identities=None, lang: str = "en") -> None:
-    from sheetkin.course.grades import COLUMNS, fill_worksheet, grade_lines, grades_csv, read_worksheet, write_grades
+    from sheetkin.course.grades import (
+        COLUMNS,
+        fill_worksheet,
+        grade_lines,
+        read_worksheet,
+        worksheet_csv,
+        write_grades,
+    )
     lines, warnings = grade_lines(reports, copies, class_list,
                                   accept_changed=bool(getattr(args, "accept_changed_inputs", False)),
                                   identities=identities, lang=lang, copies_policy=getattr(args, "copies", "hold"))
@@ -482,7 +489,7 @@ def _write_grades(args, reports, copies, class_list, identities=None, lang: str 
     if getattr(args, "worksheet", None):
         sheet, more = fill_worksheet(read_worksheet(args.worksheet), lines)
         warnings += more
-        write_grades(args.grades, grades_csv(sheet))
+        write_grades(args.grades, worksheet_csv(sheet))
         print(f"{args.grades}: Moodle's grading worksheet {args.worksheet} with {books} submission(s) graded "
               "(upload it: Upload grading worksheet)", file=sys.stderr)
     else:

@@ -437,6 +437,15 @@ def _number(text: str) -> float | None:
         return None
 
 
+def worksheet_csv(rows: list[list[str]]) -> bytes:
+    """The filled worksheet as Moodle wrote it (UTF-8, ",", CRLF): its own cells unchanged
+    (an apostrophe before Moodle's "-" for "no date" would spoil its upload's date check;
+    they came from Moodle as they are), the grades written here are numbers."""
+    buf = io.StringIO()
+    csv.writer(buf, lineterminator="\r\n").writerows(rows)
+    return ("\ufeff" + buf.getvalue()).encode("utf-8")
+
+
 def fill_worksheet(rows: list[list[str]], lines: list[list[str]]) -> tuple[list[list[str]], list[str]]:
     """The worksheet with its own columns and lines, each participant's Grade written from
     grades.csv's lines (its Identifier "Participant N" to the score, scaled from 0..100 to

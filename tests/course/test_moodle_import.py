@@ -11,7 +11,15 @@ import re
 import pytest
 
 from sheetkin.course.copies import possible_copies
-from sheetkin.course.grades import COLUMNS, fill_worksheet, grade_lines, grades_csv, read_class_list, read_worksheet
+from sheetkin.course.grades import (
+    COLUMNS,
+    fill_worksheet,
+    grade_lines,
+    grades_csv,
+    read_class_list,
+    read_worksheet,
+    worksheet_csv,
+)
 from sheetkin.course.identity import identify
 from sheetkin.course.report_model import Report, RowReport
 
@@ -128,7 +136,9 @@ def test_worksheet_filled_as_moodle_uploads_it(tmp_path, blind):
     sheet.write_text(WORKSHEET, encoding="utf-8")
     lines, _ = grade_lines(reps, copies, cl, identities=ids)
     filled, warnings = fill_worksheet(read_worksheet(str(sheet)), lines)
-    data = grades_csv(filled)
+    data = worksheet_csv(filled)
+    # the worksheet's own cells as Moodle wrote them ("-": no date; its upload compares it)
+    assert data.decode("utf-8-sig").split("\r\n")[1].endswith(",Yes,-,-,")
     header = next(csv.reader(io.StringIO(data.decode("utf-8-sig"))))
     assert header == WORKSHEET.split("\r\n")[0].split(",")             # its own columns, in order
     got = moodle_worksheet_upload(data)
