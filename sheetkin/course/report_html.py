@@ -400,14 +400,15 @@ def html_page(reports: list[Report], copies: Copies | None = None, lang: str = "
     report: who handed each book in, shown in the summary and the details."""
     t = words(lang)
     ids = identities if identities is not None and len(identities) == len(reports) else [None] * len(reports)
-    correct = sum(r.ok for r in reports)
+    graded = graded_books(reports, identities)     # an older file of a student is not counted
+    correct = sum(r.ok for r in graded)
     from .copies import Copies
     copies = copies if copies is not None else Copies()
     out = [f"<!doctype html><html lang='{lang}'><head><meta charset='utf-8'>"
            f"<link rel='icon' href='data:,'><title>{t['title']}</title>"
            f"<style>{_CSS}</style></head><body>",
            f"<h1>{html.escape(t['h1'].format(n=len(reports)))}</h1>",
-           f"<p>{html.escape(t['intro'].format(c=correct, o=len(reports) - correct))}</p>"]
+           f"<p>{html.escape(t['intro'].format(c=correct, o=len(graded) - correct))}</p>"]
     out += class_at_a_glance(reports, lang, identities)
     out += [f"<h2>{t['students']}</h2>",
             "<table id='summary'><thead><tr>" + "".join(
