@@ -14,6 +14,7 @@ from .report_html import position_list, position_name
 from .report_messages import say
 from .report_model import Report
 from .report_texts import READS_TYPED, say_grading, words
+from .scratch_report import mapping_lines
 
 if TYPE_CHECKING:
     from .copies import Copies
@@ -78,7 +79,7 @@ def text_report(rep: Report, lang: str = "en") -> str:
         if rows:
             lines.append(f"  {t[status]} ({len(rows)}): " + ", ".join(
                 r.name + (f" ({t['row']} {r.row})" if r.row else "") for r in rows)
-                + (t["no_row"] if status == "missing" else ""))
+                + (t["no_row"] if status == "missing" and not getattr(rep, "mapping", None) else ""))
     if rep.failing_checks:
         lines.append(f"  {t['own_checks']}: {', '.join(rep.failing_checks)}")
     if rep.cache_mismatch:
@@ -88,6 +89,7 @@ def text_report(rep: Report, lang: str = "en") -> str:
     saved = _saved_rows(rep)
     for p in rep.problems[:5]:
         lines.append(f"  {t['cannot']}: {say(p, lang)}" + (f" {t['saved_used']}" if _rows_of(p, rep) & saved else ""))
+    lines += mapping_lines(rep, lang)   # hook (issue 33): a from-scratch book's mapping; [] otherwise
     return "\n".join(lines) + "\n"
 
 
