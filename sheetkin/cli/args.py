@@ -235,6 +235,26 @@ def _add_validate_parser(sub) -> None:
                         "address or ID number); fills grades.csv's identifier column from the Moodle "
                         "folder each book came in, else the name the student typed (Russian forms: "
                         "'Иванов И.', 'Петрова Анна Сергеевна'); one grade per student (the newest file)")
+    v.add_argument("--copies", choices=["hold", "keep", "zero"], default="hold",
+                   help="with --grades: the grade of a possible copy (both books of a pair): hold "
+                        "(default: the score left empty, status 'held for review', the teacher decides), "
+                        "keep (its score), zero (0)")
+    v.add_argument("--out-of", type=float, metavar="N",
+                   help="with --grades: also the grade out of N points (the Moodle grade item's maximum), "
+                        "beside the 0..100 score")
+    v.add_argument("--scale", nargs="?", const="", metavar="NAME=LEAST,...",
+                   help="with --grades: also the mark on a scale, beside the score; alone: the Russian "
+                        "five-point scale (отлично 85, хорошо 70, удовлетворительно 50, "
+                        "неудовлетворительно below), in the report's language; or your own thresholds: "
+                        "'отлично=90,хорошо=75,удовлетворительно=60,неудовлетворительно=0'")
+    v.add_argument("--grades-format", choices=["csv", "csv-excel", "xlsx"], default="csv",
+                   help="with --grades: csv (default: what Moodle's import reads: ',' between fields, "
+                        "'.' decimals, UTF-8), csv-excel (';' and ',' decimals: a Russian Excel opens it "
+                        "in columns) or xlsx (a workbook)")
+    v.add_argument("--worksheet", metavar="WORKSHEET.csv",
+                   help="with --grades: Moodle's offline grading worksheet of the assignment (Download "
+                        "grading worksheet); --grades then writes it back with its own columns and each "
+                        "participant's Grade filled in (scaled to its Maximum grade), to upload as it is")
     v.add_argument("--progress", choices=["auto", "always", "never"], default="auto",
                    help="progress bar on stderr for several files (auto: when stderr is a terminal)")
     v.add_argument("--jobs", type=_capped_int(MAX_JOBS, "two processes per core; each holds a workbook"),

@@ -72,6 +72,11 @@ def cmd_variants(args) -> int:
         if class_list else ""
     print(f"{args.out}: {len(variants)} variants of {args.scene} (seed {seed}: --seed {seed} makes the "
           f"same again){who}; {roster}; the key {Path(args.out) / '.sheetkin-key'} stays with you", file=sys.stderr)
+    if class_list:
+        from sheetkin.course.variants import STUDENTS_FOLDER
+        print(f"sheetkin: hand out {Path(args.out) / STUDENTS_FOLDER} (one book per student, named by the "
+              f"student); the rest of {args.out} is yours (keys, roster, assignment.csv, the key): never "
+              "upload it", file=sys.stderr)
     return 0
 
 
@@ -393,7 +398,7 @@ def _command_files(args) -> tuple[list[tuple[str, str]], list[str]]:
         out += [("--out", str(Path(args.out) / f)) for f in
                 ("bench.csv", "bench.png", "stability.csv", "stability.png")]
     inputs = [p for p in ([getattr(args, "scene", None), getattr(args, "book", None),
-                           getattr(args, "class_list", None)] +
+                           getattr(args, "class_list", None), getattr(args, "worksheet", None)] +
                           list(getattr(args, "scenes", None) or [])) if p]
     if args.command == "validate":
         inputs += [str(f) for f in _validation_files(args.paths, strict=False)]
@@ -445,20 +450,52 @@ def _grades_first(args):
     one line now, not after the class is validated); returns the class list or None."""
     if args.class_list and not args.grades:
         raise SceneError("--class-list fills grades.csv's identifier column: give --grades GRADES.csv too")
+    if getattr(args, "worksheet", None) and not args.grades:
+        raise SceneError("--worksheet is filled in and written as --grades: give --grades GRADES.csv too")
     if not args.grades:
         return None
-    from sheetkin.course.grades import check_writable, read_class_list
+    from sheetkin.course.grades import check_writable, read_class_list, read_worksheet
     check_writable(args.grades)
+    # the worksheet's mistakes are one line now too (read again when written: it is small)
+    if getattr(args, "worksheet", None):
+        read_worksheet(args.worksheet)
+    out_of = getattr(args, "out_of", None)
+    if out_of is not None and not out_of > 0:
+        raise UsageError(f"--out-of {out_of:g}: expected the grade item's maximum, more than 0")
+    if getattr(args, "scale", None):
+        from sheetkin.course.grades import five_point_scale
+        five_point_scale("ru", args.scale)          # a mistake in the thresholds: one line now
     return read_class_list(args.class_list) if args.class_list else None
 
 
 def _write_grades(args, reports, copies, class_list, identities=None, lang: str = "en") -> None:
-    from sheetkin.course.grades import grade_lines, grades_csv, write_grades
+    from sheetkin.course.grades import (
+        COLUMNS,
+        fill_worksheet,
+        grade_lines,
+        read_worksheet,
+        worksheet_csv,
+        write_grades,
+    )
     lines, warnings = grade_lines(reports, copies, class_list,
                                   accept_changed=bool(getattr(args, "accept_changed_inputs", False)),
-                                  identities=identities, lang=lang)
-    write_grades(args.grades, grades_csv(lines))
-    print(f"{args.grades}: {len(lines) - 1} submission(s) graded", file=sys.stderr)
+                                  identities=identities, lang=lang, copies_policy=getattr(args, "copies", "hold"))
+    books = sum(1 for line in lines[1:] if line[2 + COLUMNS.index("file")])   # not "not handed in"
+    out_of, scale_spec = getattr(args, "out_of", None), getattr(args, "scale", None)
+    if out_of or scale_spec is not None:
+        from sheetkin.course.grades import five_point_scale, with_course_grade
+        scale = five_point_scale(lang, scale_spec) if scale_spec is not None else None
+        lines = with_course_grade(lines, out_of, scale, lang)
+    if getattr(args, "worksheet", None):
+        sheet, more = fill_worksheet(read_worksheet(args.worksheet), lines)
+        warnings += more
+        write_grades(args.grades, worksheet_csv(sheet))
+        print(f"{args.grades}: Moodle's grading worksheet {args.worksheet} with {books} submission(s) graded "
+              "(upload it: Upload grading worksheet)", file=sys.stderr)
+    else:
+        from sheetkin.course.grades import grades_data
+        write_grades(args.grades, grades_data(lines, getattr(args, "grades_format", "csv")))
+        print(f"{args.grades}: {books} submission(s) graded", file=sys.stderr)
     for w in warnings:
         print(f"sheetkin: warning: {args.grades}: {w}", file=sys.stderr)
 

@@ -22,7 +22,7 @@ The score of a submission (`sheetkin docs grading`), 0..100 to one decimal:
 "all correct" means full marks (verdict); every report (text, HTML, JSON, grades.csv) takes
 its counts, verdict and score from here, and explain() says what cost how much.
 A possible copy (sheetkin/course/copies.py) does not change the score: it is flagged for the
-teacher, who decides.
+teacher, who decides; grades.csv holds its grade (empty) unless told otherwise (--copies).
 
 Moodle's CSV import maps one column to a user field (userid, username, useridnumber or
 useremail: a name cannot identify a user) and one column to a grade item; it reads UTF-8
@@ -38,6 +38,7 @@ from __future__ import annotations
 import csv
 import io
 import os
+import re
 from typing import TYPE_CHECKING
 
 # the class list is read and matched in sheetkin/course/classlist.py (Russian name forms,
@@ -55,7 +56,14 @@ NO_FORMULA_CAP = 10.0      # the most a book with no formula in its computed row
 ID_HEADERS = ("Email address", "ID number", "Username")      # Moodle's export names them so
 COLUMNS = ("student", "group", "variant", "file", "verdict", "rows correct", "rows typed", "rows total",
            "checks passing", "checks total", "given data changed", "likely causes", "possible copy of", "score",
-           "score explained", "identity", "not judged")   # issue 31: rows + check rows to check by hand
+           "score explained", "identity", "not judged",   # issue 31: rows + check rows to check by hand
+           "status")                                      # issue 34: graded, held for review, not handed in
+PARTICIPANT_HEADER = "Identifier"   # Moodle's offline grading worksheet: "Participant N" (its own name, kept)
+# Moodle's string hiddenuser, the Identifier's word, in the site's language (its import skips it)
+PARTICIPANT_WORD = {"en": "Participant", "ru": "Участник", "uk": "Учасник"}
+COPY_POLICIES = ("hold", "keep", "zero")   # a possible copy's grade: empty (for review), its score, 0
+STATUS_GRADED, STATUS_HELD, STATUS_ABSENT = "graded", "held for review: possible copy", "not handed in"
+STATUS_ZERO = "possible copy: 0 (--copies zero)"
 _FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
 
 
@@ -255,14 +263,19 @@ def causes_text(rep) -> str:
 
 # --------------------------------------------------------------------------- grades.csv
 def grade_lines(reports, copies: Copies | None, class_list: ClassList | None = None, accept_changed: bool = False,
-                identities: list | None = None, lang: str = "en") -> tuple[list[list[str]], list[str]]:
-    """The header and one line per graded report (in their order), and warnings: the
+                identities: list | None = None, lang: str = "en",
+                copies_policy: str = "hold") -> tuple[list[list[str]], list[str]]:
+    """The header and one line per graded report (in their order), then one per student of
+    the class list who handed nothing in (empty score, status "not handed in"); and warnings: the
     students the class list does not name, the older files of a student (not graded: one
     grade per Moodle user), the books handed in by someone other than their student.
     identities: sheetkin.course.identity.identify's (made here from class_list if None).
     lang: the headers and the words of the cells (ru, uk, en); the identifier column keeps
     Moodle's own name (its import matches it), the numbers stay numbers; the warnings (for
-    the operator's terminal) stay English."""
+    the operator's terminal) stay English. The second column, Identifier, is Moodle's
+    "Participant N" from the folder a book came in (the offline grading worksheet's key,
+    blind marking's only one). copies_policy (COPY_POLICIES): a possible copy's score is
+    left empty and held for review (hold), kept (keep) or 0 (zero); the status says which."""
     from .copies import Copies
     from .identity import identify
     from .report_messages import column_name, say
@@ -274,8 +287,11 @@ def grade_lines(reports, copies: Copies | None, class_list: ClassList | None = N
 
     def said(text: str, grading: bool = False) -> str:       # the grading vocabulary, or a message
         return safe_text(say_grading(text, lang) if grading else say(text, lang))
-    lines = [[id_header, *(column_name(c, lang) for c in COLUMNS)]]
-    unmatched, older, flagged = [], [], []
+    if copies_policy not in COPY_POLICIES:
+        raise ValueError(f"copies_policy: one of {', '.join(COPY_POLICIES)}, not {copies_policy!r}")
+    lines = [[id_header, PARTICIPANT_HEADER, *(column_name(c, lang) for c in COLUMNS)]]
+    unmatched, older, flagged, held = [], [], [], []
+    graded_ids: set[str] = set()
     for i, rep in enumerate(reports):
         me = identities[i]
         # a classmate's book in a student's folder is listed as such, graded or not (it is
@@ -294,16 +310,31 @@ def grade_lines(reports, copies: Copies | None, class_list: ClassList | None = N
         c = counts(rep)
         passing, checks = checks_counts(rep)
         value, _ = score_parts(rep, accept_changed or None)
-        lines.append([me.ident if class_list is not None else "", safe_text(student),
+        copied = copy_text(reports, i, copies)
+        shown_score, status = f"{value:.1f}", STATUS_GRADED
+        if copied and copies_policy == "hold":
+            shown_score, status = "", STATUS_HELD
+            held.append(rep.path)
+        elif copied and copies_policy == "zero":
+            shown_score, status = "0.0", STATUS_ZERO
+        graded_ids.add(me.ident)
+        lines.append([me.ident if class_list is not None else "",
+                      f"{PARTICIPANT_WORD.get(lang, 'Participant')} {me.participant}" if me.participant else "",
+                      safe_text(student),
                       safe_text(rep.group or ""),
                       safe_text(rep.variant or ""), safe_text(rep.path), said(verdict(rep), True),
                       "" if rep.error else str(c["correct"]), "" if rep.error else str(c["typed"]),
                       "" if rep.error else str(c["total"]),
                       "" if passing is None else str(passing), "" if checks is None else str(checks),
                       column_name("yes" if given_changed(rep) else "no", lang),   # a fact, accepted or not
-                      said(causes_text(rep)), said(copy_text(reports, i, copies)),
-                      f"{value:.1f}", said(explain(rep), not rep.error), said("; ".join(me.flags)),
-                      "" if rep.error else str(c["not_judged"] + c["checks_not_judged"])])   # issue 31
+                      said(causes_text(rep)), said(copied),
+                      shown_score, said(explain(rep), not rep.error), said("; ".join(me.flags)),
+                      "" if rep.error else str(c["not_judged"] + c["checks_not_judged"]),   # issue 31
+                      column_name(status, lang)])
+    absent = _not_handed_in(class_list, graded_ids) if class_list is not None else []
+    for person in absent:
+        lines.append([person.ident, "", safe_text(person.name), *[""] * (len(COLUMNS) - 2),
+                      column_name(STATUS_ABSENT, lang)])
     warnings = []
 
     def listed(items: list[str]) -> str:
@@ -318,7 +349,23 @@ def grade_lines(reports, copies: Copies | None, class_list: ClassList | None = N
         warnings.append(f"one grade per student: {len(older)} older file(s) not graded: " + listed(older))
     if flagged:
         warnings.append(f"{len(flagged)} book(s) not handed in by their own student: " + listed(flagged))
+    if held:
+        warnings.append(f"{len(held)} possible cop(ies) held for review, their score left empty "
+                        "(--copies keep: their score; --copies zero: 0): " + listed(held))
+    if absent:
+        warnings.append(f"{len(absent)} student(s) of the class list handed nothing in, their score left empty: "
+                        + listed([p.name for p in absent]))
     return lines, warnings
+
+
+def _not_handed_in(class_list: ClassList, graded_ids: set[str]) -> list:
+    """The class list's students (one each) no graded book is identified with."""
+    seen, out = set(graded_ids), []
+    for person in class_list.people:
+        if person.ident and person.ident not in seen:
+            seen.add(person.ident)
+            out.append(person)
+    return out
 
 
 def grades_csv(lines: list[list[str]]) -> bytes:
@@ -354,3 +401,192 @@ def write_grades(path: str, data: bytes) -> None:
         write_file(path, data)
     except OSError as e:
         raise OSError(e.errno, e.strerror or str(e), path) from None
+
+
+# --------------------------------------------------------------------------- Moodle's grading worksheet
+# its headers in the site languages the course meets (Moodle's strings recordid, grade, maximumgrade)
+WORKSHEET_IDENTIFIER = ("identifier", "идентификатор", "ідентифікатор")
+WORKSHEET_GRADE = ("grade", "оценка", "оцінка")
+WORKSHEET_MAXIMUM = ("maximum grade", "максимальная оценка", "максимальна оцінка")
+MAX_WORKSHEET_BYTES = 5_000_000
+
+
+def read_worksheet(path: str) -> list[list[str]]:
+    """Moodle's offline grading worksheet (Download grading worksheet) as rows of text;
+    one-line errors naming the file when it is not one."""
+    from .classlist import decode_table, delimiter, read_bounded
+    text = decode_table(read_bounded(path, MAX_WORKSHEET_BYTES, "worksheet"), path, "worksheet")
+    rows = [r for r in csv.reader(io.StringIO(text, newline=""), delimiter=delimiter(text.split("\n", 1)[0]))
+            if any(c.strip() for c in r)]
+    header = [h.strip().casefold() for h in rows[0]] if rows else []
+    if not any(h in WORKSHEET_IDENTIFIER for h in header) or not any(h in WORKSHEET_GRADE for h in header):
+        raise GradesError(f"{path}:1: --worksheet: expected Moodle's grading worksheet with the columns "
+                          "'Identifier' and 'Grade' (the assignment's Download grading worksheet)")
+    return rows
+
+
+def _column(header: list[str], names: tuple[str, ...]) -> int | None:
+    folded = [h.strip().casefold() for h in header]
+    return next((k for k, h in enumerate(folded) if h in names), None)
+
+
+def _number(text: str) -> float | None:
+    try:
+        return float(text.strip().replace("\u00a0", "").replace(",", "."))
+    except ValueError:
+        return None
+
+
+def worksheet_csv(rows: list[list[str]]) -> bytes:
+    """The filled worksheet as Moodle wrote it (UTF-8, ",", CRLF): its own cells unchanged
+    (an apostrophe before Moodle's "-" for "no date" would spoil its upload's date check;
+    they came from Moodle as they are), the grades written here are numbers."""
+    buf = io.StringIO()
+    csv.writer(buf, lineterminator="\r\n").writerows(rows)
+    return ("\ufeff" + buf.getvalue()).encode("utf-8")
+
+
+def fill_worksheet(rows: list[list[str]], lines: list[list[str]]) -> tuple[list[list[str]], list[str]]:
+    """The worksheet with its own columns and lines, each participant's Grade written from
+    grades.csv's lines (its Identifier "Participant N" to the score, scaled from 0..100 to
+    the line's Maximum grade, "." as the decimal point); a line with an empty score (held
+    for review, not handed in) keeps the worksheet's grade. Warnings: the graded books
+    whose participant the worksheet does not hold."""
+    header = rows[0]
+    ident_col, grade_col = _column(header, WORKSHEET_IDENTIFIER), _column(header, WORKSHEET_GRADE)
+    max_col = _column(header, WORKSHEET_MAXIMUM)
+    assert ident_col is not None and grade_col is not None       # read_worksheet checked them
+    score_col = 2 + COLUMNS.index("score")
+    scores = {line[1].split()[-1]: line[score_col] for line in lines[1:] if line[1]}
+    out, found = [list(header)], set()
+    for row in rows[1:]:
+        row = row + [""] * (len(header) - len(row))
+        number = (row[ident_col].split() or [""])[-1]
+        value = _number(scores.get(number, ""))
+        if value is not None:
+            found.add(number)
+            maximum = _number(row[max_col]) if max_col is not None else None
+            grade = value * (maximum if maximum else 100.0) / 100.0
+            row[grade_col] = f"{grade:.2f}"
+        out.append(row)
+    missing = sorted(set(scores) - found - {n for n, s in scores.items() if _number(s) is None}, key=int)
+    warnings = [f"the worksheet has no line for participant(s) {', '.join(missing)}: their grade is not in it"] \
+        if missing else []
+    return out, warnings
+
+
+# --------------------------------------------------------------------------- the course's own grade
+# the Russian five-point scale: (the least score, the mark's name, its number); a teacher
+# changes the thresholds with --scale "отлично=90,хорошо=75,удовлетворительно=60,неудовлетворительно=0"
+FIVE_POINT = {
+    "ru": ("отлично", "хорошо", "удовлетворительно", "неудовлетворительно"),
+    "uk": ("відмінно", "добре", "задовільно", "незадовільно"),
+    "en": ("excellent", "good", "satisfactory", "unsatisfactory"),
+}
+FIVE_POINT_THRESHOLDS = (85.0, 70.0, 50.0, 0.0)
+
+
+def five_point_scale(lang: str = "ru", spec: str | None = None) -> list[tuple[float, str]]:
+    """[(least score, mark)] best first: the five-point scale in `lang` with the default
+    thresholds, or `spec` ("name=least score,..." in any order, any names). A spec that is
+    not that is a one-line GradesError."""
+    if not spec:
+        return list(zip(FIVE_POINT_THRESHOLDS, FIVE_POINT.get(lang, FIVE_POINT["ru"]), strict=True))
+    scale = []
+    for part in spec.split(","):
+        name, eq, least = part.rpartition("=")
+        value = _number(least) if eq else None
+        if not name.strip() or value is None or not 0 <= value <= 100:
+            raise GradesError(f"--scale: {part.strip()!r}: expected NAME=LEAST SCORE (0..100), "
+                              "e.g. 'отлично=85,хорошо=70,удовлетворительно=50,неудовлетворительно=0'")
+        scale.append((value, name.strip()))
+    scale.sort(reverse=True)
+    if scale[-1][0] > 0:
+        raise GradesError(f"--scale: no mark for a score below {scale[-1][0]:g}: give one with =0")
+    return scale
+
+
+def mark(score_value: float, scale: list[tuple[float, str]]) -> str:
+    """The scale's mark for a 0..100 score (its least score reached, best first)."""
+    return next(name for least, name in scale if score_value >= least - 1e-9)
+
+
+def with_course_grade(lines: list[list[str]], out_of: float | None, scale: list[tuple[float, str]] | None,
+                      lang: str = "en") -> list[list[str]]:
+    """grades.csv's lines with, beside the score, the grade out of `out_of` points (the
+    Moodle grade item's maximum) and the scale's mark; an empty score stays empty."""
+    from .report_messages import column_name
+    at = 2 + COLUMNS.index("score") + 1
+    heads = ([f"{column_name('grade', lang)} (/{out_of:g})"] if out_of else []) + \
+        ([column_name("mark", lang)] if scale else [])
+    out = [lines[0][:at] + heads + lines[0][at:]]
+    for line in lines[1:]:
+        value = _number(line[at - 1])
+        extra = []
+        if out_of:
+            extra.append("" if value is None else f"{value * out_of / 100.0:.2f}")
+        if scale:
+            extra.append("" if value is None else mark(value, scale))
+        out.append(line[:at] + extra + line[at:])
+    return out
+
+
+GRADES_FORMATS = ("csv", "csv-excel", "xlsx")    # Moodle's CSV (default); ";" and "," decimals; a workbook
+
+
+def grades_data(lines: list[list[str]], fmt: str = "csv") -> bytes:
+    """grades.csv's lines as the format asks: csv (Moodle's import: ",", "." decimals,
+    UTF-8 with a BOM), csv-excel (a Russian Excel's: ";" between fields, "," decimals, the
+    same UTF-8 with a BOM, which Excel reads), xlsx (numbers as numbers)."""
+    if fmt == "csv":
+        return grades_csv(lines)
+    if fmt == "csv-excel":
+        buf = io.StringIO()
+        from sheetkin.untrusted import csv_cell
+        w = csv.writer(buf, delimiter=";", lineterminator="\r\n")
+        w.writerows([_decimal_comma(csv_cell(c)) for c in row] for row in lines)
+        return ("\ufeff" + buf.getvalue()).encode("utf-8")
+    if fmt == "xlsx":
+        return _grades_xlsx(lines)
+    raise ValueError(f"grades format: one of {', '.join(GRADES_FORMATS)}, not {fmt!r}")
+
+
+def _decimal_comma(cell: str) -> str:
+    # an identifier ("1001") has no point, so it is unchanged; a score "72.5" becomes "72,5"
+    return cell.replace(".", ",") if _NUMBER.fullmatch(cell) else cell
+
+
+def _grades_xlsx(lines: list[list[str]]) -> bytes:
+    from openpyxl import Workbook
+
+    from sheetkin.untrusted import csv_cell
+    book = Workbook()
+    sheet = book.active
+    sheet.title = "grades"
+    first_number = 2 + COLUMNS.index("rows correct")     # the identifiers, names, groups, variants stay text
+    for row in lines:
+        # numbers as numbers (a spreadsheet sums them); text stays text: openpyxl would take
+        # a leading "=" for a formula, so every text cell is neutralized as in the CSV
+        sheet.append([float(c) if k >= first_number and _NUMBER.fullmatch(c) else csv_cell(c)
+                      for k, c in enumerate(row)])
+    buf = io.BytesIO()
+    book.save(buf)
+    return buf.getvalue()
+
+
+def read_grades(data: bytes, fmt: str = "csv") -> list[list[str]]:
+    """The lines back from grades_data's bytes (numbers in "." form), for the round trip."""
+    if fmt == "xlsx":
+        from openpyxl import load_workbook
+        sheet = load_workbook(io.BytesIO(data)).active
+        return [["" if c is None else (f"{c:.2f}".rstrip("0").rstrip(".") if isinstance(c, float) else str(c))
+                 for c in row] for row in sheet.iter_rows(values_only=True)]
+    text = data.decode("utf-8-sig")
+    rows = list(csv.reader(io.StringIO(text, newline=""), delimiter=";" if fmt == "csv-excel" else ","))
+    if fmt == "csv-excel":
+        rows = [[c.replace(",", ".") if _NUMBER_COMMA.fullmatch(c) else c for c in row] for row in rows]
+    return rows
+
+
+_NUMBER = re.compile(r"-?\d+\.\d+|-?\d+")
+_NUMBER_COMMA = re.compile(r"-?\d+,\d+|-?\d+")

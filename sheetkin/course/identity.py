@@ -17,6 +17,7 @@ from __future__ import annotations
 import csv
 import io
 import os
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -46,6 +47,13 @@ class Identity:
     flags: list[str] = field(default_factory=list)
     unmatched: str = ""              # why the class list names no one (or several)
     superseded_by: int | None = None   # an older book of the same student: not graded
+    participant: str = ""            # Moodle's participant number from the folder ("": not from Moodle)
+
+    @property
+    def student_key(self) -> str:
+        """Whose grade this is: the identifier, else (blind marking, no class list) the
+        Moodle participant; "" when nothing says."""
+        return self.ident or (f"participant {self.participant}" if self.participant else "")
 
 
 @dataclass
@@ -74,11 +82,11 @@ class Assignment:
 
 def assignment_text(id_header: str, rows: list[tuple[str, str, str, str]]) -> str:
     """assignment.csv: student, identifier, variant, exercise; the identifier column's own
-    name (Moodle's: Email address, ID number, Username) on the first line as a comment."""
+    name (Moodle's: Email address, ID number, Username) in its header, "identifier (Email
+    address)" (issue 34: no comment line a spreadsheet shows as a stray row)."""
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
-    w.writerow(ASSIGNMENT_COLUMNS)
-    w.writerow([f"# {csv_cell(id_header)}", "", "", ""])
+    w.writerow([ASSIGNMENT_COLUMNS[0], f"{ASSIGNMENT_COLUMNS[1]} ({csv_cell(id_header)})", *ASSIGNMENT_COLUMNS[2:]])
     # every cell came from the class list, which a student can edit (an e-mail "=cmd|..."
     # in a Moodle profile): neutralized, read back by from_csv_cell
     w.writerows([csv_cell(c) for c in row] for row in rows)
@@ -90,12 +98,14 @@ def read_assignment(path) -> Assignment:
     p = str(path)
     text = decode_table(read_bounded(p, MAX_ASSIGNMENT_BYTES, "assignment"), p, "assignment")
     rows = list(csv.reader(io.StringIO(text, newline=""), delimiter=delimiter(text.split("\n", 1)[0])))
-    if not rows or tuple(h.strip() for h in rows[0][:4]) != ASSIGNMENT_COLUMNS:
+    head = [h.strip() for h in rows[0][:4]] if rows else []
+    named = re.fullmatch(r"identifier(?: \((?P<name>.+)\))?", head[1]) if len(head) == 4 else None
+    if named is None or (head[0], head[2], head[3]) != (ASSIGNMENT_COLUMNS[0], *ASSIGNMENT_COLUMNS[2:]):
         raise ClassListError(f"{p}:1: expected the header {','.join(ASSIGNMENT_COLUMNS)} (as `sheetkin variants "
                              "--class-list` writes it)")
-    id_header, people = "Email address", {}
+    id_header, people = from_csv_cell(named.group("name") or "Email address"), {}
     for line, row in enumerate(rows[1:], 2):
-        if row and row[0].startswith("# "):
+        if row and row[0].startswith("# "):      # the identifier's name as files before issue 34 wrote it
             id_header = row[0][2:].strip() or id_header
             continue
         if not any(c.strip() for c in row):
@@ -139,6 +149,13 @@ def _identify_one(rep, cl: ClassList | None, assignment: Assignment | None) -> I
     typed = " ".join(str(rep.student or "").split())
     sealed = str(rep.issued_to or "")
     sub = moodle_submitter(rep.path)
+    if sub is not None:
+        me.participant = sub.participant
+        if blind_marking(sub.name):
+            # blind marking: the folder says "Participant" only; the number is the student's
+            # identity in Moodle (its worksheet's Identifier), the name typed or sealed in
+            # the book finds the class list's line
+            return _identify_blind(me, rep, cl, assignment, sub.participant)
     sealed_name = ""
     if sealed:
         person = cl.by_ident(sealed) if cl else None
@@ -178,6 +195,34 @@ def _identify_one(rep, cl: ClassList | None, assignment: Assignment | None) -> I
           and name_key(sealed_name) != name_key(sub.name)):
             me.flags.append(f"issued to {sealed_name} ({sealed}), handed in by {me.submitter}")
     return me
+
+
+# Moodle's "Participant" (its string hiddenuser) in the site languages the course meets
+BLIND_NAMES = ("participant", "участник", "учасник")
+
+
+def blind_marking(folder_name: str) -> bool:
+    """Whether a Moodle folder's full name is blind marking's "Participant"."""
+    return folder_name.strip().casefold() in BLIND_NAMES
+
+
+def _identify_blind(me: Identity, rep, cl: ClassList | None, assignment: Assignment | None,
+                    participant: str) -> Identity:
+    """A blind-marked submission: graded under the typed (else sealed) name's identifier;
+    its submitter is "Participant N", whom no name can contradict."""
+    plain = _identify_one(_without_folder(rep), cl, assignment)
+    plain.participant = participant
+    plain.submitter = f"Participant {participant}"
+    plain.who = plain.ident or f"participant {participant}"
+    return plain
+
+
+def _without_folder(rep):
+    """The report as if handed in outside Moodle's folders (no path names a submitter)."""
+    import copy
+    flat = copy.copy(rep)
+    flat.path = ""
+    return flat
 
 
 # Latin letters for Cyrillic ones (a Moodle profile may be in Latin, the typed name in Cyrillic)
@@ -224,8 +269,8 @@ def _newest_only(reports, ids: list[Identity], mtimes: list[float]) -> None:
     point at it (superseded_by) and are listed."""
     by_ident: dict[str, list[int]] = {}
     for i, me in enumerate(ids):
-        if me.ident:
-            by_ident.setdefault(me.ident, []).append(i)
+        if me.student_key:       # blind marking without a class list: the participant number
+            by_ident.setdefault(me.student_key, []).append(i)
     for ident, idx in by_ident.items():
         if len(idx) < 2:
             continue

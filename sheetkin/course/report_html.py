@@ -32,6 +32,10 @@ table{border-collapse:collapse;margin:.5em 0}td,th{border:1px solid #bbb;padding
 th{background:#eee}th button{font:inherit;font-weight:bold;background:none;border:0;cursor:pointer;padding:0}
 th[aria-sort=ascending] button::after{content:" \\25B2"}th[aria-sort=descending] button::after{content:" \\25BC"}
 td.num{text-align:right}.wrong{background:#ffc7ce}.ok{background:#c6efce}.cause{font-weight:bold}
+.empty{background:#f2f2f2;background-image:repeating-linear-gradient(45deg,#ddd 0 2px,transparent 2px 6px)}
+.typed{background:#ffeb9c}.notjudged{background:#bdd7ee}
+td{overflow-wrap:break-word}body{max-width:1320px}
+#summary td:nth-last-child(-n+2){overflow-wrap:anywhere;min-width:12em;max-width:22em}
 .unusable{color:#9c0006}details{margin:.6em 0;border:1px solid #ddd;padding:.3em .6em}
 summary{cursor:pointer;font-weight:bold}.pic{float:right;margin:0 0 .5em 1em}.cells td{min-width:1.2em}
 .note{color:#555;font-size:90%}.clear{clear:both}
@@ -68,6 +72,36 @@ def _num(v) -> str:
     if isinstance(v, float):
         return "inf" if math.isinf(v) else f"{v:.6g}"
     return "empty" if v is None else str(v)
+
+
+# a cell of a row's positions: each state its colour (_CSS) and word; green only when right
+CELL_STATES = ("ok", "wrong", "empty", "typed", "notjudged")
+_CELL_WORDS = {
+    "en": {"ok": "right", "wrong": "wrong", "empty": "not filled in", "typed": "typed, not computed",
+           "notjudged": "not judged: check by hand"},
+    "ru": {"ok": "верно", "wrong": "неверно", "empty": "не заполнено", "typed": "введено числом, не вычислено",
+           "notjudged": "не проверено: проверьте вручную"},
+    "uk": {"ok": "правильно", "wrong": "неправильно", "empty": "не заповнено",
+           "typed": "введено числом, не обчислено", "notjudged": "не перевірено: перевірте вручну"},
+}
+
+
+def cell_state(row, j: int) -> str:
+    """The state of position j of a row (CELL_STATES): a row sheetkin cannot judge, an
+    empty or missing row, a typed one, then right or wrong at j."""
+    if getattr(row, "not_judged", False):
+        return "notjudged"
+    if row.status in ("missing", "empty"):
+        return "empty"
+    if j in row.wrong_cells:
+        return "wrong"
+    if row.is_typed:
+        return "typed"
+    return "ok"
+
+
+def cell_word(state: str, lang: str) -> str:
+    return _CELL_WORDS.get(lang, _CELL_WORDS["en"])[state]
 
 
 def position_name(rep: Report, k: int, lang: str = "en") -> str:
@@ -111,7 +145,25 @@ def _given_changed(ch) -> str:
     return f"{ch.get('name', '?')}{cell}: {_num(ch.get('issued'))} -> {_num(ch.get('got'))}"
 
 
-def _copy_links(reports, k: int, copies, with_reason: bool, lang: str = "en") -> str:
+_IN_THE_BOOK = {"en": "name in the book", "ru": "имя в книге", "uk": "ім'я в книзі"}
+
+
+def copy_label(rep: Report, me, lang: str = "en") -> str:
+    """A book of a group of possible copies as the teacher needs it: who handed it in (the
+    Moodle folder's student), and the name typed in it when that is another (a copy of
+    Petrova's book handed in by Orlov reads "Орлов Денис (имя в книге: Петрова Анна)")."""
+    from .identity import same_name_loosely
+    handed = str(me.submitter) if me is not None and me.submitter else ""
+    typed = str(rep.student or "")
+    if not handed:
+        return typed or _file(rep)
+    handed = say(handed, lang)
+    if typed and not same_name_loosely(typed, handed.split(" (")[0]):
+        return f"{handed} ({_IN_THE_BOOK.get(lang, _IN_THE_BOOK['en'])}: {typed})"
+    return handed
+
+
+def _copy_links(reports, k: int, copies, with_reason: bool, lang: str = "en", ids: list | None = None) -> str:
     """Links to the submissions report k may be copied from (or to): at most MAX_LISTED of
     its cluster (sheetkin/course/copies.py), so that the page stays linear in the class."""
     from .copies import MAX_LISTED
@@ -122,7 +174,7 @@ def _copy_links(reports, k: int, copies, with_reason: bool, lang: str = "en") ->
         return e(say(copies.why(k), lang))
     for j in others[:MAX_LISTED]:
         other = reports[j]
-        name = other.student or _file(other)
+        name = copy_label(other, ids[j] if ids else None, lang)
         out.append(f"<a href='#{_anchor(other, j)}' data-open='{_anchor(other, j)}'>{e(name)}</a>"
                    + (f" ({e(other.path)})" if with_reason else ""))
     if len(others) > MAX_LISTED:
@@ -207,16 +259,32 @@ def _summary_row(rep: Report, k: int, copy: str = "", lang: str = "en", me=None)
 
 
 def _details(rep: Report, k: int, copy: str = "", lang: str = "en", me=None) -> list[str]:
+    """A book's details: who and what (_facts), its score and counts (_score_lines), the
+    likely causes (_cause_lines), its rows position by position (_cells_table) and the
+    lists of failing checks and notes (_lists)."""
     e, t = html.escape, words(lang)
-    who = rep.student or _file(rep)
-    from .grades import counts, explain, verdict
-    res = verdict(rep)
-    out = [f"<details id='{_anchor(rep, k)}'><summary>{e(who)}: {e(say_grading(res, lang))}</summary>",
+    from .grades import verdict
+    out = [f"<details id='{_anchor(rep, k)}'><summary>{e(rep.student or _file(rep))}: "
+           f"{e(say_grading(verdict(rep), lang))}</summary>",
            f"<p class='note'>{e(rep.path)}{' - ' + e(rep.title) if rep.title else ''}</p>"]
     if rep.error:
         out.append(f"<p class='unusable'>{t['unusable_p']}: {e(say(rep.error, lang))}</p></details>")
         return out
     out.append(f"<div class='pic'>{_picture(rep, lang)}</div>")
+    out += _facts(rep, copy, lang, me)
+    out += _score_lines(rep, lang)
+    out += _cause_lines(rep, lang)
+    out += _cells_table(rep, lang)
+    out += _lists(rep, lang, me)
+    out += mapping_table(rep, lang)     # hook (issue 33): a from-scratch book's mapping; [] otherwise
+    out.append("<div class='clear'></div></details>")
+    return out
+
+
+def _facts(rep: Report, copy: str, lang: str, me) -> list[str]:
+    """Student, group, variant, seal; the given data changed, a possible copy, who handed it in."""
+    e, t = html.escape, words(lang)
+    out = []
     for label, v in (("student", rep.student), ("group", rep.group), ("variant", rep.variant), ("seal", rep.seal)):
         if label == "seal" and v == "ok":            # "seal: ok" in words: "печать цела"
             out.append(f"<p class='note'>{t['seal_ok']}</p>")
@@ -231,12 +299,19 @@ def _details(rep: Report, k: int, copy: str = "", lang: str = "en", me=None) -> 
     flags = _identity_lines(me, lang)
     if flags:
         out.append(f"<p class='wrong identity'>{t['identity_h']}: " + e("; ".join(flags)) + "</p>")
+    return out
+
+
+def _score_lines(rep: Report, lang: str) -> list[str]:
+    """The score explained, the rows counted, the typed rows (and those reading typed numbers)."""
+    e = html.escape
+    from .grades import counts, explain
     n = counts(rep)
     said = say_grading(f"score {explain(rep)} (the rules:", lang)
-    out.append(f"<p>{e(said)} <code>sheetkin docs grading</code>)</p>")
-    out.append("<p>" + e(say_grading(f"{n['correct']} of {n['total']} rows correct (computed), {n['typed']} typed "
-                                      f"(not computed), {n['wrong']} wrong, {n['missing']} missing or empty.", lang))
-               + "</p>")
+    out = [f"<p>{e(said)} <code>sheetkin docs grading</code>)</p>",
+           "<p>" + e(say_grading(f"{n['correct']} of {n['total']} rows correct (computed), {n['typed']} typed "
+                                 f"(not computed), {n['wrong']} wrong, {n['missing']} missing or empty.", lang))
+           + "</p>"]
     typed = rep.typed
     if typed:
         out.append("<p class='wrong'>" + e(say_grading("typed, not computed: ", lang))
@@ -244,6 +319,13 @@ def _details(rep: Report, k: int, copy: str = "", lang: str = "en", me=None) -> 
         pasted = [x.name for x in typed if x.reads_typed]
         if pasted:
             out.append("<p class='wrong'>" + e(say_grading(f"{READS_TYPED}: ", lang)) + e(", ".join(pasted)) + "</p>")
+    return out
+
+
+def _cause_lines(rep: Report, lang: str) -> list[str]:
+    """Each likely cause: its row, where it first goes wrong, expected and got."""
+    e, t = html.escape, words(lang)
+    out = []
     for c in rep.causes:
         src = e(t.get(c.source, c.source) or "")
         out.append(f"<p class='cause'>{t['cause']}: {e(c.name)} ({t['row']} {c.row}, {src}):"
@@ -251,26 +333,56 @@ def _details(rep: Report, k: int, copy: str = "", lang: str = "en", me=None) -> 
                    f"{e(_num(c.expected))}, {t['got']} {e(_num(c.got))}; {t['wrong_at']} "
                    f"{e(position_list(rep, c.wrong_cells, lang))}"
                    + (f"<br>{e(say(c.note, lang))}" if c.note else "") + "</p>")
-    bad = [x for x in rep.rows if x.status != "correct"]
-    if bad:
-        names = rep.position_names or []
-        head = "".join(f"<th title='phi_1 = {names[j][1]:g} {t['deg']}'>{names[j][0]:g}<br>{names[j][1]:g}&deg;</th>"
-                       if j < len(names) else f"<th>{j}</th>" for j in range(rep.positions))
-        out.append(f"<table class='cells'><caption class='note'>{t['cells_caption']}</caption>"
-                   f"<tr><th>{t['row']}</th><th>{t['status']}</th>{head}<th>{t['note']}</th></tr>")
-        for x in bad:
-            cells = "".join(
-                f"<td class='{'wrong' if j in x.wrong_cells else 'ok'}' title='{e(position_name(rep, j, lang))}: "
-                f"{t['wrong'] if j in x.wrong_cells else t['right']}'></td>" for j in range(1, rep.positions + 1))
-            note = (t["cause"] if x.cause else
-                    f"{t['depends_on']} {', '.join(x.because_of)}" if x.because_of else "")
-            if x.status == "wrong":
-                note += (f"; {t['first_at']} {position_name(rep, x.first_wrong or 1, lang)}: {t['expected']} "
-                         f"{_num(x.expected)}, {t['got']} {_num(x.got)}")
-            out.append(f"<tr><td class='{'cause' if x.cause else ''}'>{e(x.name)}</td>"
-                       f"<td>{t.get(x.status, x.status)}</td>"
-                       f"{cells}<td>{e(note)}</td></tr>")
-        out.append("</table>")
+    return out
+
+
+def _row_word(x, lang: str) -> str:
+    """A row's status word, agreeing with its cells: a typed row is never "right"."""
+    if getattr(x, "not_judged", False):
+        return cell_word("notjudged", lang)
+    if x.is_typed and x.status not in ("missing", "empty"):
+        return cell_word("typed", lang)
+    t = words(lang)
+    return str(t.get(x.status, x.status))
+
+
+def _row_note(rep: Report, x, lang: str) -> str:
+    t = words(lang)
+    note = (t["cause"] if x.cause else
+            f"{t['depends_on']} {', '.join(x.because_of)}" if x.because_of else "")
+    if x.status == "wrong":
+        note += (f"; {t['first_at']} {position_name(rep, x.first_wrong or 1, lang)}: {t['expected']} "
+                 f"{_num(x.expected)}, {t['got']} {_num(x.got)}")
+    return note
+
+
+def _cells_table(rep: Report, lang: str) -> list[str]:
+    """The rows not right (wrong, empty, typed, not judged), a cell per position in its
+    state's colour and word (cell_state)."""
+    e, t = html.escape, words(lang)
+    # a typed row equal to the reference, and a row not judged, are not right either
+    bad = [x for x in rep.rows if x.status != "correct" or x.is_typed or getattr(x, "not_judged", False)]
+    if not bad:
+        return []
+    names = rep.position_names or []
+    head = "".join(f"<th title='phi_1 = {names[j][1]:g} {t['deg']}'>{names[j][0]:g}<br>{names[j][1]:g}&deg;</th>"
+                   if j < len(names) else f"<th>{j}</th>" for j in range(rep.positions))
+    out = [f"<table class='cells'><caption class='note'>{t['cells_caption']}</caption>"
+           f"<tr><th>{t['row']}</th><th>{t['status']}</th>{head}<th>{t['note']}</th></tr>"]
+    for x in bad:
+        cells = "".join(
+            f"<td class='{state}' title='{e(position_name(rep, j, lang))}: {e(cell_word(state, lang))}'></td>"
+            for j in range(1, rep.positions + 1) for state in (cell_state(x, j),))
+        out.append(f"<tr><td class='{'cause' if x.cause else ''}'>{e(x.name)}</td>"
+                   f"<td>{e(_row_word(x, lang))}</td>{cells}<td>{e(_row_note(rep, x, lang))}</td></tr>")
+    out.append("</table>")
+    return out
+
+
+def _lists(rep: Report, lang: str, me) -> list[str]:
+    """Failing checks, check rows deleted or typed over, notes, cache disagreements, problems."""
+    e, t = html.escape, words(lang)
+    out = []
     for title, items in ((t["failing_checks"], rep.failing_checks),
                          ("Check rows deleted", rep.checks_deleted),
                          ("Check statuses typed over their formulas", rep.checks_typed),
@@ -281,8 +393,6 @@ def _details(rep: Report, k: int, copy: str = "", lang: str = "en", me=None) -> 
         if items:
             out.append(f"<p>{e(say(title, lang))}:</p><ul>" + "".join(f"<li>{e(say(i, lang))}</li>" for i in items)
                        + "</ul>")
-    out += mapping_table(rep, lang)     # hook (issue 33): a from-scratch book's mapping; [] otherwise
-    out.append("<div class='clear'></div></details>")
     return out
 
 
@@ -292,27 +402,28 @@ def html_page(reports: list[Report], copies: Copies | None = None, lang: str = "
     report: who handed each book in, shown in the summary and the details."""
     t = words(lang)
     ids = identities if identities is not None and len(identities) == len(reports) else [None] * len(reports)
-    correct = sum(r.ok for r in reports)
+    graded = graded_books(reports, identities)     # an older file of a student is not counted
+    correct = sum(r.ok for r in graded)
     from .copies import Copies
     copies = copies if copies is not None else Copies()
     out = [f"<!doctype html><html lang='{lang}'><head><meta charset='utf-8'>"
            f"<link rel='icon' href='data:,'><title>{t['title']}</title>"
            f"<style>{_CSS}</style></head><body>",
            f"<h1>{html.escape(t['h1'].format(n=len(reports)))}</h1>",
-           f"<p>{html.escape(t['intro'].format(c=correct, o=len(reports) - correct))}</p>"]
-    out += class_at_a_glance(reports, lang)
+           f"<p>{html.escape(t['intro'].format(c=correct, o=len(graded) - correct))}</p>"]
+    out += class_at_a_glance(reports, lang, identities)
     out += [f"<h2>{t['students']}</h2>",
             "<table id='summary'><thead><tr>" + "".join(
                 f"<th><button type='button'>{t.get(h, h)}</button></th>" for h in
                 ("student", "group", "variant", "score", "result", "rows correct", "rows typed", "wrong_rows",
                  "likely_causes", "missing_rows", "copy_of", *(("identity",) if identities is not None else ()),
                  "file")) + "</tr></thead><tbody>"]
-    out += [_summary_row(r, k, _copy_links(reports, k, copies, False, lang), lang, ids[k])
+    out += [_summary_row(r, k, _copy_links(reports, k, copies, False, lang, ids), lang, ids[k])
             for k, r in enumerate(reports)]
     out.append("</tbody></table>")
-    out += _copy_groups(reports, copies, lang)
+    out += _copy_groups(reports, copies, lang, ids)
     for k, r in enumerate(reports):
-        out += _details(r, k, _copy_links(reports, k, copies, True, lang), lang, ids[k])
+        out += _details(r, k, _copy_links(reports, k, copies, True, lang, ids), lang, ids[k])
     out.append(f"<script>{_SCRIPT}</script></body></html>\n")
     return "\n".join(out)
 
@@ -320,7 +431,7 @@ def html_page(reports: list[Report], copies: Copies | None = None, lang: str = "
 SHOWN_IN_GROUP = 50          # the books a group of possible copies names on its line
 
 
-def _copy_groups(reports: list[Report], copies, lang: str) -> list[str]:
+def _copy_groups(reports: list[Report], copies, lang: str, ids: list | None = None) -> list[str]:
     """Each group of possible copies (sheetkin/course/copies.py) a line: its books (links)
     and its reasons; one line per group, never every pair."""
     clusters = copies.clusters
@@ -330,7 +441,7 @@ def _copy_groups(reports: list[Report], copies, lang: str) -> list[str]:
     out = [f"<h3 id='copies'>{t['copies_h']}</h3><ul id='copy-groups'>"]
     for c in clusters:
         names = [f"<a href='#{_anchor(reports[i], i)}' data-open='{_anchor(reports[i], i)}'>"
-                 f"{e(reports[i].student or _file(reports[i]))}</a>"
+                 f"{e(copy_label(reports[i], ids[i] if ids else None, lang))}</a>"
                  for i in c.members[:SHOWN_IN_GROUP]]
         more = len(c.members) - SHOWN_IN_GROUP
         why = "; ".join(say(x, lang) if len(m) == len(c.members) else
@@ -339,40 +450,60 @@ def _copy_groups(reports: list[Report], copies, lang: str) -> list[str]:
     return out + ["</ul>"]
 
 
-def _share_table(ident: str, what: str, counts: list[tuple[str, int]], books: int, t: dict) -> str:
-    """A table of names with how many books got each wrong and that share as a bar."""
+def _share_table(ident: str, what: str, counts: list[tuple[str, int]], books: int, t: dict,
+                 empty: dict[str, int] | None = None, lang: str = "en") -> str:
+    """A table of names with how many books got each wrong and that share as a bar; with
+    `empty`, a column of the books where the row is not filled in (not counted as wrong)."""
     e = html.escape
-    out = [f"<table id='{ident}'><tr><th>{what}</th><th>{t['books']}</th><th>{t['share']}</th></tr>"]
+    extra = f"<th>{e(cell_word('empty', lang))}</th>" if empty is not None else ""
+    out = [f"<table id='{ident}'><tr><th>{what}</th><th>{t['books']}</th><th>{t['share']}</th>{extra}</tr>"]
     for n, c in counts:
         share = c / books
+        more = f"<td class='num'>{empty.get(n, 0) or ''}</td>" if empty is not None else ""
         out.append(f"<tr data-row='{e(n)}' data-share='{share:.4f}'><td>{e(n)}</td><td class='num'>{c}</td>"
-                   f"<td><span class='bar' style='width:{share * 20:.2f}em'></span> {100 * share:.0f}%</td></tr>")
+                   f"<td><span class='bar' style='width:{share * 20:.2f}em'></span> {100 * share:.0f}%</td>{more}</tr>")
     return "".join(out) + "</table>"
 
 
-def class_at_a_glance(reports: list[Report], lang: str = "en") -> list[str]:
+def graded_books(reports: list[Report], identities: list | None = None) -> list[Report]:
+    """The books that are graded: not an older file of a student whose newer one is
+    (identity.py's superseded_by)."""
+    ids = identities if identities is not None and len(identities) == len(reports) else [None] * len(reports)
+    return [r for r, me in zip(reports, ids, strict=True) if me is None or me.superseded_by is None]
+
+
+def class_at_a_glance(reports: list[Report], lang: str = "en", identities: list | None = None) -> list[str]:
     """Issue 22: the picture of the class before the list of students. Each row's share of
-    wrong books (wrong, missing or empty: not done right), in the lecture's order (the
-    order of the rows in the sheet), as bars; then the distribution of scores in tens.
-    Rows right in every book are left out; the bars are plain HTML (no script needed)."""
+    wrong books (computed wrong or typed: not done right), in the lecture's order (the
+    order of the rows in the sheet), as bars, and beside it the books where the row is not
+    filled in (issue 34: empty is not wrong); then the distribution of scores in tens.
+    Only graded books count (an older file of a student is not one). Rows right in every
+    book are left out; the bars are plain HTML (no script needed)."""
     e, t = html.escape, words(lang)
+    reports = graded_books(reports, identities)
     usable = [r for r in reports if not r.error]
     out = [f"<section id='class'><h2>{t['class']}</h2>"]
     order: list[str] = []
     wrong: dict[str, int] = {}
+    empty: dict[str, int] = {}
     for r in usable:
         for x in r.rows:
             if x.name not in wrong:
                 order.append(x.name)
-                wrong[x.name] = 0
-            if x.status != "correct":
+                wrong[x.name] = empty[x.name] = 0
+            if getattr(x, "not_judged", False) or x.status == "correct":
+                continue
+            if x.status in ("missing", "empty"):
+                empty[x.name] += 1
+            else:
                 wrong[x.name] += 1
-    shown = [n for n in order if wrong[n]]
+    shown = [n for n in order if wrong[n] or empty[n]]
     out.append(f"<h3>{e(t['class_rows'].format(n=len(usable)))}</h3>")
     if not shown:
         out.append(f"<p class='note'>{t['none_wrong']}</p>")
     else:
-        out.append(_share_table("class-rows", t["row"], [(n, wrong[n]) for n in shown], len(usable), t))
+        out.append(_share_table("class-rows", t["row"], [(n, wrong[n]) for n in shown], len(usable), t,
+                                empty, lang))
     failing: dict[str, int] = {}
     for r in usable:                    # in the sheet's order, as each book lists them
         for n in r.failing_checks:

@@ -28,13 +28,21 @@ COLUMN_NAMES: dict[str, dict[str, str]] = {
            "checks passing": "проверок выполнено", "checks total": "проверок всего",
            "given data changed": "исходные данные изменены", "likely causes": "вероятные причины",
            "possible copy of": "возможно, списано у", "score": "балл", "score explained": "как получен балл",
-           "identity": "кто сдал", "not judged": "не проверено (проверьте вручную)", "yes": "да", "no": "нет"},
+           "identity": "кто сдал", "not judged": "не проверено (проверьте вручную)", "yes": "да", "no": "нет",
+           "status": "состояние", "graded": "оценено", "held for review: possible copy":
+           "отложено для проверки: возможно, списано", "not handed in": "не сдано",
+           "possible copy: 0 (--copies zero)": "возможно, списано: 0 (--copies zero)",
+           "grade": "оценка", "mark": "оценка по шкале"},
     "uk": {"student": "студент", "group": "група", "variant": "варіант", "file": "файл", "verdict": "підсумок",
            "rows correct": "рядків правильно", "rows typed": "рядків введено числами", "rows total": "рядків усього",
            "checks passing": "перевірок виконано", "checks total": "перевірок усього",
            "given data changed": "вихідні дані змінено", "likely causes": "ймовірні причини",
            "possible copy of": "можливо, списано в", "score": "бал", "score explained": "як отримано бал",
-           "identity": "хто здав", "not judged": "не перевірено (перевірте вручну)", "yes": "так", "no": "ні"},
+           "identity": "хто здав", "not judged": "не перевірено (перевірте вручну)", "yes": "так", "no": "ні",
+           "status": "стан", "graded": "оцінено", "held for review: possible copy":
+           "відкладено для перевірки: можливо, списано", "not handed in": "не здано",
+           "possible copy: 0 (--copies zero)": "можливо, списано: 0 (--copies zero)",
+           "grade": "оцінка", "mark": "оцінка за шкалою"},
 }
 
 # (English pattern, {lang: template}); the values are the named groups

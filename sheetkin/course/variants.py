@@ -331,6 +331,12 @@ def _on_grid(k: int, step: float) -> float:
 
 
 # --------------------------------------------------------------------------- writing them
+# with a class list, the students' own books (one each) go to this folder of --out, the one
+# to upload; the rest of --out is the teacher's (keys, scenes, roster, assignment, the key,
+# the generic exercises): issue 34, a folder of 16 exercises for 8 students handed out both
+STUDENTS_FOLDER = "students"
+
+
 def file_names(vid: str) -> dict[str, str]:
     return {"exercise": f"{vid}-exercise.xlsx", "key": f"{vid}-key.xlsx", "scene": f"{vid}.toml"}
 
@@ -339,7 +345,8 @@ def write_variants(variants: list[Variant], out: str | Path, *, force: bool = Fa
                    charts: bool = True, note=None, class_list=None, kept: list | None = None) -> Path:
     """Write the variants' scenes, exercise and key workbooks, roster.csv and the teacher's
     key in `out`; with a class list (classlist.ClassList) each student's own exercise too,
-    and assignment.csv (assign()). Refuses to overwrite a file unless force. An issued
+    in out/STUDENTS_FOLDER (the folder to hand out), and assignment.csv (assign()).
+    Refuses to overwrite a file unless force. An issued
     class's roster, key and assignment are never overwritten: with force they are renamed
     beside the new ones, dated (roster-20261126-113000.csv, .sheetkin-key-20261126-113000),
     and `validate` still checks the books sealed with the older keys (their names are
@@ -348,7 +355,7 @@ def write_variants(variants: list[Variant], out: str | Path, *, force: bool = Fa
     people = assign(variants, class_list) if class_list is not None else []
     targets = ([out / ROSTER_FILE, out / KEY_FILE, out / ASSIGNMENT_FILE]
                + [out / f for v in variants for f in file_names(v.id).values()]
-               + [out / exercise for _, _, _, exercise in people])
+               + [out / STUDENTS_FOLDER / exercise for _, _, _, exercise in people])
     if not force:
         for t in targets:
             if t.exists():
@@ -357,6 +364,8 @@ def write_variants(variants: list[Variant], out: str | Path, *, force: bool = Fa
     if out.exists() and not out.is_dir():
         raise SceneError(one_line(f"--out {out}: not a folder"))
     out.mkdir(parents=True, exist_ok=True)
+    if people:
+        (out / STUDENTS_FOLDER).mkdir(exist_ok=True)
     done = keep_issued(out)
     if kept is not None:
         kept += done
@@ -404,7 +413,7 @@ def _write_issue(variants, out: Path, key: bytes, lang: str, charts: bool, note,
         wb = build_workbook(v.scene, lang=lang, exercise=True, scene_text=v.text,
                             issued=(vid, seal(key, vid, v.text, ident)), charts=charts)
         _seal_student(wb, name, ident)
-        book(out / exercise, wb)
+        book(out / STUDENTS_FOLDER / exercise, wb)
     if people:
         atomic(out / ASSIGNMENT_FILE, assignment_text(class_list.id_header, people))
     atomic(out / ROSTER_FILE, roster_text(names, rows))

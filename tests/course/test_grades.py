@@ -105,7 +105,7 @@ def test_grades_csv_lines_columns_and_decimal_point():
     data = grades_csv(lines)
     assert b"\r\n" in data and data.count(b"\r\n") == 3
     got = parse(data)
-    assert list(got[0]) == ["Email address", *COLUMNS]
+    assert list(got[0]) == ["Email address", "Identifier", *COLUMNS]
     a, b = got
     assert (a["student"], a["group"], a["variant"], a["file"]) == ("Иванов Иван", "ГМ-21", "v07", "b.xlsx")
     assert (a["rows correct"], a["rows total"], a["checks passing"], a["checks total"]) == ("3", "4", "9", "10")
@@ -156,8 +156,12 @@ def test_class_list_fills_the_identifier_by_name(tmp_path):
     lines, warnings = grade_lines(reps, None, cl)
     assert lines[0][0] == "Email address"
     # one grade per Moodle user: Petrov's two books give one line (the newer: the later here)
-    assert [x[0] for x in lines[1:]] == ["ivanov@example.org", "petrov@example.org", "", ""]
-    assert lines[2][1] == "Петров Петр"
+    # then every student of the class list who handed nothing in: empty score, "not handed in"
+    assert [x[0] for x in lines[1:]] == ["ivanov@example.org", "petrov@example.org", "", "",
+                                         "a.smirnova@example.org", "anna.smirnova@example.org"]
+    assert [x[-1] for x in lines[1:]] == ["graded"] * 4 + ["not handed in"] * 2
+    assert lines[-1][2] == "Смирнова Анна" and lines[-1][COLUMNS.index("score") + 2] == ""
+    assert lines[2][2] == "Петров Петр"
     assert "2 submission(s)" in warnings[0] and "Сидоров" in warnings[0] and "can be Смирнова Анна" in warnings[0]
     assert "one grade per student: 1 older file(s) not graded" in warnings[1]
     assert name_key("Иванов,  Иван ") == name_key("иван иванов") != name_key("Иван Иваненко")
@@ -417,7 +421,7 @@ def test_grades_csv_fuzz_round_trip(people):
     got = parse(grades_csv(grade_lines(reps, None)[0]))
     assert len(got) == len(reps)
     for row, (student, group, variant, path) in zip(got, people, strict=False):
-        assert None not in row and None not in row.values() and len(row) == len(COLUMNS) + 1
+        assert None not in row and None not in row.values() and len(row) == len(COLUMNS) + 2
         for col, text in (("student", student), ("group", group), ("variant", variant), ("file", path)):
             assert not row[col].startswith(("=", "+", "-", "@", "\t", "\r"))
             assert row[col] in (shown_text(text), "'" + shown_text(text))

@@ -19,7 +19,7 @@ from helpers.libreoffice import recalculate
 from sheetkin.cli.commands import main
 from sheetkin.course.classlist import moodle_submitter, read_class_list
 from sheetkin.course.copies import Copies, possible_copies
-from sheetkin.course.grades import grade_lines, grades_csv
+from sheetkin.course.grades import COLUMNS, grade_lines, grades_csv
 from sheetkin.course.identity import identify
 from sheetkin.course.issued import parse_roster, read_roster
 from sheetkin.course.report import copies_lines, html_report
@@ -95,13 +95,17 @@ def test_one_grade_per_student_and_books_in_the_wrong_folder(class_list, tmp_pat
             _rep(file("Participant_4_assignsubmission_file_/a.xlsx", 10), "Петрова Анна"),
             _rep(file("loose.xlsx", 10), "Никто Никтоевич")]
     ids = identify(reps, class_list)
-    assert [m.ident for m in ids] == ["ivanov@example.org", "ivanov@example.org", "sidorov@example.org", "", ""]
+    # blind marking ("Participant"): graded under the name typed in the book (issue 34)
+    assert [m.ident for m in ids] == ["ivanov@example.org", "ivanov@example.org", "sidorov@example.org",
+                                      "petrova@example.org", ""]
+    assert ids[3].participant == "4" and ids[3].submitter == "Participant 4" and not ids[3].flags
     assert ids[0].superseded_by == 1 and ids[1].superseded_by is None
     assert "found in the folder of Сидоров Пётр, but Петрова Анна's name is typed in it" in ids[2].flags
     lines, warnings = grade_lines(reps, Copies(), class_list, identities=ids)
-    got = {Path(r[5]).name: r[0] for r in lines[1:]}
-    assert got == {"new.xlsx": "ivanov@example.org", "a.xlsx": "", "loose.xlsx": ""} or len(lines) == 5
-    assert [r[0] for r in lines[1:]] == ["ivanov@example.org", "sidorov@example.org", "", ""]
+    # then the class list's students who handed nothing in
+    assert [r[0] for r in lines[1:]] == ["ivanov@example.org", "sidorov@example.org", "petrova@example.org", "",
+                                         "ilya.ivanov@example.org", "smirnova@example.org"]
+    assert [r[1] for r in lines[1:4]] == ["Participant 1", "Participant 3", "Participant 4"]
     text = " ".join(warnings)
     assert "1 older file(s) not graded" in text and "old.xlsx (newer:" in text
     assert "no one in the class list is named 'Никто Никтоевич'" in text
@@ -300,8 +304,8 @@ def _date(stamp: float) -> tuple:
 def test_found_in_another_students_folder_flagged(tmp_path, class_list):
     reps = [_rep("Пётр Сидоров_3_assignsubmission_file_/a.xlsx", "Петрова А.")]
     lines, warnings = grade_lines(reps, Copies(), class_list, identities=identify(reps, class_list, mtimes=[0]))
-    identity = lines[0].index("identity")        # the column by its name: columns are added at the end
-    assert lines[1][0] == "sidorov@example.org" and "found in the folder of Сидоров Пётр" in lines[1][identity]
+    identity = lines[1][2 + COLUMNS.index("identity")]
+    assert lines[1][0] == "sidorov@example.org" and "found in the folder of Сидоров Пётр" in identity
     assert "1 book(s) not handed in by their own student" in " ".join(warnings)
 
 

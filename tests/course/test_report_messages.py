@@ -75,7 +75,7 @@ def klass(tmp_path_factory):
                     d / "class.csv", "--seed", "4") == 0
 
     def ex(v, who):
-        return iss / f"fourbar-0{v}-{who}-exercise.xlsx"
+        return iss / "students" / f"fourbar-0{v}-{who}-exercise.xlsx"
 
     def key(v):
         return iss / f"fourbar-0{v}-key.xlsx"
@@ -175,15 +175,15 @@ def test_every_kind_of_message_in_the_teachers_language(said, lang):
 
 def test_grades_headers_by_language_the_identifier_as_moodle_names_it(said):
     heads = {lang: said[lang][2][0] for lang in said}
-    assert heads["en"] == ["Email address", *COLUMNS]
+    assert heads["en"] == ["Email address", "Identifier", *COLUMNS]
     for lang in ("ru", "uk"):
-        assert heads[lang][0] == "Email address"             # Moodle's import matches it by name
-        assert heads[lang][1:] == [COLUMN_NAMES[lang][c] for c in COLUMNS]
-        assert not _english(" ".join(heads[lang][1:]))
+        assert heads[lang][:2] == ["Email address", "Identifier"]     # Moodle's import matches them by name
+        assert heads[lang][2:] == [COLUMN_NAMES[lang][c] for c in COLUMNS]
+        assert not _english(" ".join(heads[lang][2:]))
     # the numbers stay numbers in every language: the score column is the same
-    score = {lang: [r[COLUMNS.index("score") + 1] for r in said[lang][2][1:]] for lang in said}
+    score = {lang: [r[COLUMNS.index("score") + 2] for r in said[lang][2][1:]] for lang in said}
     assert score["ru"] == score["uk"] == score["en"] and "0.0" in score["en"]
-    changed = {lang: [r[COLUMNS.index("given data changed") + 1] for r in said[lang][2][1:]] for lang in said}
+    changed = {lang: [r[COLUMNS.index("given data changed") + 2] for r in said[lang][2][1:]] for lang in said}
     assert sorted(set(changed["ru"])) == ["да", "нет"] and sorted(set(changed["uk"])) == ["ні", "так"]
     assert sorted(set(changed["en"])) == ["no", "yes"]
 
@@ -224,7 +224,7 @@ def test_say_values_and_file_names(message, ru):
 def test_grade_lines_default_is_english():
     """The Python API speaks English unless told, as it did."""
     lines, _ = grade_lines([], None)
-    assert lines == [["Email address", *COLUMNS]]
+    assert lines == [["Email address", "Identifier", *COLUMNS]]
 
 
 def test_json_notes_in_the_teachers_language(klass):

@@ -671,3 +671,18 @@ def test_a_file_given_twice_is_noted_escaped(tmp_path):
     found = submission_files([str(tmp_path), str(f)])
     assert len(found.files) == 1 and found.twice and not RAW.search(found.twice[0])
     assert not RAW.search(found.name(found.files[0]))
+
+
+def test_assignment_csv_names_its_identifier_in_its_header_old_files_still_read(tmp_path):
+    """issue 34: no "# Email address,,," line a spreadsheet shows as a stray row; the files
+    written before that (with it) are read as they were."""
+    rows = [("Иванов Иван", "1001", "v1", "v1-Иванов-exercise.xlsx")]
+    text = assignment_text("ID number", rows)
+    assert text.splitlines()[0] == "student,identifier (ID number),variant,exercise" and "#" not in text
+    new, old = tmp_path / "new.csv", tmp_path / "old.csv"
+    new.write_text(text, encoding="utf-8")
+    old.write_text("student,identifier,variant,exercise\n# ID number,,,\nИванов Иван,1001,v1,v1-Иванов-exercise.xlsx\n",
+                   encoding="utf-8")
+    for path in (new, old):
+        got = read_assignment(path)
+        assert got.id_header == "ID number" and got.people == {"1001": ("Иванов Иван", "v1", "v1-Иванов-exercise.xlsx")}

@@ -321,3 +321,23 @@ def test_vary_twice_for_one_value_is_refused():
     with pytest.raises(SceneError, match=r"^--vary L2=0\.4\.\.0\.6: L2 is given a range twice$"):
         ranges(params, ["L2=0.45..0.55", "L2=0.4..0.6"])
     assert len(ranges(params, ["L2=0.45..0.55", "L3=0.3..0.4"])) == len(ranges(params, []))
+
+
+def test_class_list_one_folder_to_hand_out_one_to_keep(tmp_path, capsys):
+    """issue 34: `variants --class-list` put 16 exercises for 8 students in one folder (the
+    students' own and the generic ones); now out/students holds one book per student, named
+    by the student, and the command says to hand out that folder only."""
+    from sheetkin.cli.commands import main
+    cl = tmp_path / "class.csv"
+    cl.write_text("First name,Last name,Email address\nИван,Иванов,i@x.ru\nАнна,Петрова,p@x.ru\nПётр,Сидоров,s@x.ru\n",
+                  encoding="utf-8")
+    out = tmp_path / "issued"
+    scene = Path(__file__).resolve().parents[2] / "workbooks" / "fourbar.toml"
+    assert main(["variants", str(scene), "-n", "2", "--class-list", str(cl), "--out", str(out), "--seed", "1"]) == 0
+    err = capsys.readouterr().err
+    handed = sorted(p.name for p in (out / "students").iterdir())
+    assert len(handed) == 3 and all(any(n in h for h in handed) for n in ("Иванов", "Петрова", "Сидоров"))
+    assert not any((out / "students" / name).exists() for name in ("roster.csv", ".sheetkin-key", "assignment.csv"))
+    assert all("Иванов" not in p.name for p in out.glob("*.xlsx"))        # the teacher's folder: generic books
+    assert (out / "roster.csv").exists() and (out / ".sheetkin-key").exists() and (out / "assignment.csv").exists()
+    assert f"hand out {out / 'students'}" in err
