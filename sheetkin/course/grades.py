@@ -105,7 +105,7 @@ def counts(rep, accept_typed: bool | None = None) -> dict:
     out["checks_not_judged"] = len(rep.checks_not_judged)
     # issue 31: credit per position, the rows' shares (behaviour.row_share)
     from .behaviour import row_share
-    out["earned"] = sum(row_share(r, getattr(rep, "positions", 0), acc) for r in rows)
+    out["earned"] = sum(row_share(r, rep.positions, acc) for r in rows)
     # rows of positions holding a formula somewhere (a row of typed values only is not one;
     # the derived values of column D are graded, but three formulas there do not make a book
     # of typed positions computed work: NO_FORMULA_CAP)

@@ -26,8 +26,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import cast
 
+from sheetkin.errors import InputError
 from sheetkin.files import MAX_KEY_BYTES, read_bytes, read_text
-from sheetkin.kinematics.scene import Scene, SceneError, one_line
+from sheetkin.kinematics.scene import Scene, one_line
 from sheetkin.sheet.workbook import IDENTITY_ROWS, ISSUED_LABELS, sheet_rows
 from sheetkin.untrusted import csv_cell, from_csv_cell
 
@@ -42,8 +43,9 @@ STUDENT_LABEL, STUDENT_ROW = "student", len(ISSUED_LABELS) + 1   # scene!B3: the
 OLDER_KEYS = ".sheetkin-key-*"      # earlier keys kept dated by `variants --force`
 
 
-class RosterError(SceneError):
-    """roster.csv or the key file cannot be used; str() is one line naming file:line:column."""
+class RosterError(InputError):
+    """roster.csv or the key file cannot be used; str() is one line naming file:line:column.
+    Not a SceneError: a roster is not a scene (the command line reports both the same way)."""
 
 
 # --------------------------------------------------------------------------- the given data
