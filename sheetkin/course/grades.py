@@ -47,6 +47,7 @@ from .classlist import ClassListError as GradesError  # noqa: F401 (--grades, --
 
 if TYPE_CHECKING:
     from .copies import Copies
+    from .report_model import RowReport, RowVerdict
 
 CHECK_PENALTY = 2.0        # points off per failing check row (the sheet showed the mistake)
 ROWS_SHARE = 90.0          # the computed rows' share of the score
@@ -79,7 +80,7 @@ def _typed_ok(rep, accept_typed: bool | None) -> bool:
     return bool(rep.accepted_typed if accept_typed is None else accept_typed)
 
 
-def row_verdict(row, accept_typed: bool = False) -> str:
+def row_verdict(row: RowReport, accept_typed: bool = False) -> RowVerdict:
     """One graded row: correct (computed right) | typed (a typed value where a formula
     belongs; with accept_typed, a typed row right to its digits is correct) | wrong | missing."""
     if row.status in ("missing", "empty"):
