@@ -440,7 +440,18 @@ def name_causes(rows: list, local: Local, ancestors: dict[str, set[str]], inputs
         if r.status in ("correct", "wrong"):
             for a in ancestors.get(r.name, ()):
                 below.setdefault(a, []).append(r.name)
-    causes, explained = [], set()
+    causes = _find_causes(rows, by, local, wrong, below, new_row)
+    _note_typed_causes(by, local, causes, below, ancestors)
+    _name_because_of(rows, local, causes, ancestors, inputs)
+
+
+def _find_causes(rows: list, by: dict, local: Local, wrong: dict[str, set[int]],
+                 below: dict[str, list[str]], new_row) -> list[str]:
+    """The causes, in the judged rows' order: each row's local judgement set on its report;
+    a cause marked (cause, local "wrong"; wrong at its flagged cells if its comparison with
+    the reference passed; a derived value's new row appended to rows)."""
+    causes: list[str] = []
+    explained: set[tuple[str, int]] = set()
     for n, j in local.judgements.items():
         rep = by.get(n)
         if rep is not None:
@@ -473,11 +484,23 @@ def name_causes(rows: list, local: Local, ancestors: dict[str, set[str]], inputs
         causes.append(n)
         if rep.status != "wrong":
             _mark_wrong(rep, local, j)
-    for n in causes:          # the error a typed number carries: in the rows below it alone
+    return causes
+
+
+def _note_typed_causes(by: dict, local: Local, causes: list[str], below: dict[str, list[str]],
+                       ancestors: dict[str, set[str]]) -> None:
+    """The error a typed number carries: in the rows below it alone (the cause's note)."""
+    for n in causes:
         j = local.judgements[n]
         if any(s in (CELL_ROUNDED, CELL_WRONG) and t for s, t in zip(j.state, j.typed, strict=False)):
             mine = [d for d in below.get(n, ()) if not any(c in ancestors.get(d, ()) for c in causes if c != n)]
             by[n].note = typed_note(local, n, mine or below.get(n, []))
+
+
+def _name_because_of(rows: list, local: Local, causes: list[str], ancestors: dict[str, set[str]],
+                     inputs: set[str]) -> None:
+    """The other wrong rows: wrong because of the causes above them, or of given data that
+    differ from the reference's; a row not judged, because of what is wrong above it."""
     changed = [n for n in inputs if local.changed(n)]
     bad = {r.name for r in rows if r.status in ("wrong", "missing", "empty")}
     for rep in rows:
