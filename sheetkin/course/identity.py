@@ -143,28 +143,10 @@ def _identify_one(rep, cl: ClassList | None, assignment: Assignment | None) -> I
     if sealed:
         person = cl.by_ident(sealed) if cl else None
         sealed_name = person.name if person else (assignment.people.get(sealed, ("",))[0] if assignment else "")
-    folder = typed_person = None
-    if cl is not None:
-        folder = _one(cl.match(sub.name)) if sub else None
-        typed_person = _one(cl.match(typed)) if typed else None
     if sub is not None:
-        me.submitter = f"{sub.name} (Moodle participant {sub.participant})"
-        me.who = folder.ident if folder else f"participant {sub.participant}"
-        me.ident = folder.ident if folder else ""
-        if cl is not None and folder is None:
-            me.unmatched = f"the folder {sub.where!r}: " + _describe(sub.name, cl.match(sub.name))
-        if folder and typed and typed_person is not None and typed_person.ident != folder.ident:
-            me.flags.append(f"found in the folder of {folder.name}, but {typed_person.name}'s name is typed in it")
-        elif typed and typed_person is None and not same_name_loosely(typed, sub.name):
-            # no class list (the README's path), or a typed name it does not hold: the
-            # folder's name and the typed one share no word (issue 30)
-            me.flags.append(f"found in the folder of {sub.name}, but the name typed in it is {typed!r}")
+        _from_folder(me, sub, typed, cl)
     elif typed:
-        me.submitter = typed
-        me.who = typed_person.ident if typed_person else " ".join(sorted(name_key(typed)))
-        me.ident = typed_person.ident if typed_person else ""
-        if cl is not None and typed_person is None:
-            me.unmatched = _describe(typed, cl.match(typed))
+        _from_typed_name(me, typed, cl)
     elif sealed:
         me.submitter, me.who = sealed_name or sealed, sealed
         me.ident = sealed if cl is None or cl.by_ident(sealed) else ""
@@ -174,6 +156,34 @@ def _identify_one(rep, cl: ClassList | None, assignment: Assignment | None) -> I
           and name_key(sealed_name) != name_key(sub.name)):
             me.flags.append(f"issued to {sealed_name} ({sealed}), handed in by {me.submitter}")
     return me
+
+
+def _from_folder(me: Identity, sub, typed: str, cl: ClassList | None) -> None:
+    """A book in a Moodle participant's folder: the folder's student (matched in the class
+    list), flagged when the name typed in the book is someone else's."""
+    folder = _one(cl.match(sub.name)) if cl is not None else None
+    typed_person = _one(cl.match(typed)) if cl is not None and typed else None
+    me.submitter = f"{sub.name} (Moodle participant {sub.participant})"
+    me.who = folder.ident if folder else f"participant {sub.participant}"
+    me.ident = folder.ident if folder else ""
+    if cl is not None and folder is None:
+        me.unmatched = f"the folder {sub.where!r}: " + _describe(sub.name, cl.match(sub.name))
+    if folder and typed and typed_person is not None and typed_person.ident != folder.ident:
+        me.flags.append(f"found in the folder of {folder.name}, but {typed_person.name}'s name is typed in it")
+    elif typed and typed_person is None and not same_name_loosely(typed, sub.name):
+        # no class list (the README's path), or a typed name it does not hold: the
+        # folder's name and the typed one share no word (issue 30)
+        me.flags.append(f"found in the folder of {sub.name}, but the name typed in it is {typed!r}")
+
+
+def _from_typed_name(me: Identity, typed: str, cl: ClassList | None) -> None:
+    """A book outside a Moodle folder: the student whose name is typed in it."""
+    typed_person = _one(cl.match(typed)) if cl is not None else None
+    me.submitter = typed
+    me.who = typed_person.ident if typed_person else " ".join(sorted(name_key(typed)))
+    me.ident = typed_person.ident if typed_person else ""
+    if cl is not None and typed_person is None:
+        me.unmatched = _describe(typed, cl.match(typed))
 
 
 # Latin letters for Cyrillic ones (a Moodle profile may be in Latin, the typed name in Cyrillic)
