@@ -255,6 +255,11 @@ def _add_validate_parser(sub) -> None:
     v.add_argument("--accept-changed-inputs", action="store_true",
                    help="grade each book against the student's own input block even where it "
                         "differs from the issued variant (still reported, no longer a failure)")
+    v.add_argument("--scene", metavar="SCENE.toml",
+                   help="the variant of a workbook built from scratch (no sheetkin template): its table is "
+                        "found by value on any sheet, in either orientation, and graded by the lecture's "
+                        "required quantities (see `sheetkin docs grading`); with --roster, assignment.csv "
+                        "beside it names each student's variant instead")
     v.add_argument("--accept-typed", action="store_true",
                    help="let a number typed where a formula belongs earn credit when it is right "
                         "to its last digit (default: a computed row earns credit only where it "

@@ -487,6 +487,8 @@ def cmd_validate(args) -> int:
         if not args.json:
             sys.stdout.write(text_report(rep, args.lang or rep.lang or "ru"))
     options, keyless = _issued_options(args)
+    from sheetkin.course.scratch import scratch_options  # hook (issue 33): books built from scratch
+    options = scratch_options(options, getattr(args, "scene", None), args.roster)
     graded = grade_class(files, found.name, options, jobs=args.jobs, progress=progress if show else None,
                          class_list=class_list, roster_path=args.roster, for_grades=bool(args.grades),
                          each=print_report)

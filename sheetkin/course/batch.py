@@ -341,7 +341,7 @@ def _unpack(zpath: Path, strict: bool, shown_as: str | None = None, depth: int =
     judged from the headers and the compression ratio before a byte is written."""
     shown_zip = shown_as or str(zpath)
     try:
-        zf = zipfile.ZipFile(zpath)
+        zf = _open_zip(zpath)
     except Exception as e:   # noqa: BLE001 - a crafted central directory: struct.error, ValueError, ...
         raise SceneError(f"{shown(shown_zip)}: not a zip archive this reads ({shown(str(e))})") from None
     with zf:
@@ -395,6 +395,51 @@ ZIP_MAX_DEPTH = 1                 # a zip inside the class's zip is unpacked; on
 _BUDGET = [0]                     # bytes unpacked in this run (submission_files resets it)
 _REFUSED: dict[str, str] = {}     # an entry's placeholder path -> its one line
 _NOTES: dict[str, list[str]] = {} # an unpacked file -> notes for its report (a name read as cp866)
+
+
+def _open_zip(zpath: Path) -> zipfile.ZipFile:
+    """The zip, opened; one whose entry is marked UTF-8 but is not (a zipper's slip, or a
+    student's crafted name) makes zipfile refuse the whole archive: it is opened again from
+    a copy whose bad entries lose that mark, so their names are read as DOS names
+    (_entry_name: cp866, said in a note) and the rest of the class is graded."""
+    try:
+        return zipfile.ZipFile(zpath)
+    except UnicodeDecodeError:
+        pass
+    tmp = tempfile.mkdtemp(prefix="sheetkin-zip-")
+    _UNPACKED.append(tmp)
+    copy = Path(tmp, "names-unmarked.zip")
+    shutil.copyfile(zpath, copy)
+    with open(copy, "r+b") as f:
+        _unmark_bad_utf8_names(f)
+    return zipfile.ZipFile(copy)
+
+
+def _unmark_bad_utf8_names(f) -> None:
+    """Clear the UTF-8 flag (bit 11) of every entry whose name does not decode as UTF-8, in
+    its central directory record and in its local header (zipfile compares the two)."""
+    data = f.read()
+    at = data.rfind(b"PK\x05\x06")                      # the end of central directory
+    if at < 0 or at + 22 > len(data):
+        return
+    count = int.from_bytes(data[at + 10:at + 12], "little")
+    pos = int.from_bytes(data[at + 16:at + 20], "little")
+    for _ in range(count):
+        if data[pos:pos + 4] != b"PK\x01\x02" or pos + 46 > len(data):
+            return
+        flags = int.from_bytes(data[pos + 8:pos + 10], "little")
+        n, extra, comment = (int.from_bytes(data[pos + k:pos + k + 2], "little") for k in (28, 30, 32))
+        local = int.from_bytes(data[pos + 42:pos + 46], "little")
+        try:
+            data[pos + 46:pos + 46 + n].decode("utf-8")
+        except UnicodeDecodeError:
+            if flags & 0x800:
+                f.seek(pos + 8)
+                f.write((flags & ~0x800).to_bytes(2, "little"))
+                if data[local:local + 4] == b"PK\x03\x04":
+                    f.seek(local + 6)
+                    f.write((int.from_bytes(data[local + 6:local + 8], "little") & ~0x800).to_bytes(2, "little"))
+        pos += 46 + n + extra + comment
 
 
 def _entry_problem(info: zipfile.ZipInfo) -> str | None:

@@ -238,7 +238,6 @@ def read_class_list(path: str) -> ClassList:
 # its underscores replaced by spaces; a flat name that holds the pattern twice names no one.
 _MOODLE_FOLDER = re.compile(r"^(?P<name>.*)_(?P<pid>\d+)_assign(?:submission|feedback)_[a-z]+_$", re.S)
 _MOODLE_FLAT = re.compile(r"^(?P<name>[^_]*)_(?P<pid>\d+)_assign(?:submission|feedback)_[a-z]+_(?P<rest>.*)$", re.S)
-_MOODLE_ANY = re.compile(r"_\d+_assign(?:submission|feedback)_[a-z]+_")
 
 
 @dataclass(frozen=True)
@@ -260,12 +259,9 @@ def moodle_submitter(path: str | Path, root: str | Path | None = None) -> Submit
     # the outermost name is Moodle's; a file inside is named by the student, who could name
     # it after a classmate's folder ("Иван Иванов_5501_assignsubmission_file_lab.xlsx")
     for k, part in enumerate(parts):
-        if k < len(parts) - 1:
-            m = _MOODLE_FOLDER.match(part)
-        else:
-            m = _MOODLE_FLAT.match(part)
-            if m and _MOODLE_ANY.search(m.group("rest")):
-                return None
+        # a flat name's first `_id_assign..._` is Moodle's (it writes the full name's
+        # underscores as spaces), whatever the original name after it says
+        m = _MOODLE_FOLDER.match(part) if k < len(parts) - 1 else _MOODLE_FLAT.match(part)
         if m:
             return Submitter(" ".join(m.group("name").split()), m.group("pid"), part)
     return None

@@ -14,6 +14,7 @@ from .report_html import position_list, position_name
 from .report_messages import say
 from .report_model import Report
 from .report_texts import READS_TYPED, say_grading, words
+from .scratch_report import mapping_lines
 
 if TYPE_CHECKING:
     from .copies import Copies
@@ -42,6 +43,7 @@ def text_report(rep: Report, lang: str = "en") -> str:
     lines += _dependent_lines(rep, lang)
     lines += _missing_lines(rep, lang)
     lines += _sheet_problem_lines(rep, lang)
+    lines += mapping_lines(rep, lang)   # hook (issue 33): a from-scratch book's mapping; [] otherwise
     return "\n".join(lines) + "\n"
 
 
@@ -110,7 +112,7 @@ def _missing_lines(rep: Report, lang: str) -> list[str]:
         if rows:
             lines.append(f"  {t[status]} ({len(rows)}): " + ", ".join(
                 r.name + (f" ({t['row']} {r.row})" if r.row else "") for r in rows)
-                + (t["no_row"] if status == "missing" else ""))
+                + (t["no_row"] if status == "missing" and not getattr(rep, "mapping", None) else ""))
     return lines
 
 

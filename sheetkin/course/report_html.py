@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING
 from .report_messages import say
 from .report_model import Report
 from .report_texts import READS_TYPED, say_grading, words
+from .scratch_report import mapping_table
 
 if TYPE_CHECKING:
     from .copies import Copies
@@ -280,6 +281,7 @@ def _details(rep: Report, k: int, copy: str = "", lang: str = "en", me=None) -> 
         if items:
             out.append(f"<p>{e(say(title, lang))}:</p><ul>" + "".join(f"<li>{e(say(i, lang))}</li>" for i in items)
                        + "</ul>")
+    out += mapping_table(rep, lang)     # hook (issue 33): a from-scratch book's mapping; [] otherwise
     out.append("<div class='clear'></div></details>")
     return out
 

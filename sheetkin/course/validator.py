@@ -37,7 +37,7 @@ from sheetkin.xlsx.cells import read_book
 from sheetkin.xlsx.evaluator import Book, EvaluationError
 from sheetkin.xlsx.package import Limits, UnusableWorkbook
 
-from . import behaviour, issued
+from . import behaviour, issued, scratch
 from .book import TITLE_AT, UnusableInput, book_lang, embedded_scene, evaluate_student, identity_text
 from .checks import read_checks
 from .layout import VALUE_COL, find_layout, standard_view
@@ -73,6 +73,8 @@ def internal_error(path: str, e: BaseException) -> str:
 
 def _validate(path: str, limits: Limits, options: issued.Options | None = None) -> Report:
     book = read_book(path, limits, skip=frozenset({PATHS_SHEET}))    # never graded: not parsed
+    if SCENE_SHEET not in book.sheets and scratch.applies(options):
+        return scratch.grade_book(book, path, options)      # a book built from scratch, graded by value
     scene, scene_text = embedded_scene(book, path, options)
     # the graded sheet and its columns, found by their content (sheetkin/course/layout.py);
     # graded through a view in the issued layout (names A, value D, positions from E)
@@ -99,7 +101,7 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
     behaviour.judge_rows(report, g, beh)
     read_checks(report, evaluated, layout.sheet, sh, names, ref_rows, cast(Book, g.ref_book), g.ref_names)
     behaviour.judge_checks(report, g)
-    return report
+    return scratch.own_table(book, path, options, report)   # the issued sheet left empty: the student's own
 
 
 def _judged_by_behaviour(report: Report) -> bool:

@@ -1,5 +1,5 @@
 """Issue 31 on books made as students make them: typed into LibreOffice Calc through UNO
-(tests/studentbooks.py) and saved by it. Cheats that read the given data and throw them
+(tests/helpers/studentbooks.py) and saved by it. Cheats that read the given data and throw them
 away earn nothing for their rows; honest habits keep 100; the last position left empty keeps
 most of the grade. The cheap variants (openpyxl) are in test_behaviour.py."""
 from __future__ import annotations

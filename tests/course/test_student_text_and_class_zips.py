@@ -121,9 +121,11 @@ def test_participant_id_from_the_folder_names_last_fields():
     sub = moodle_submitter(f"{folder}/lab.xlsx")
     assert sub is not None and sub.participant == "5501"
     assert moodle_submitter("Иван Иванов_12_assignsubmission_file_/a.xlsx").participant == "12"
-    # flat: the name Moodle writes has no underscore; a flat name holding the pattern twice names no one
+    # flat: the name Moodle writes has no underscore, so its first `_id_assign..._` is Moodle's;
+    # an original name copying a classmate's prefix does not change whose file it is
     assert moodle_submitter("Иван Иванов_12_assignsubmission_file_lab.xlsx").participant == "12"
-    assert moodle_submitter("Иван Иванов_12_assignsubmission_file_Петров_102_assignsubmission_file_.xlsx") is None
+    assert moodle_submitter("Иван Иванов_12_assignsubmission_file_Петров_102_assignsubmission_file_.xlsx"
+                            ).participant == "12"
     # a student's own sub-folder named after a classmate's does not count: the outermost does
     inner = moodle_submitter("Иван Иванов_12_assignsubmission_file_/Петров_102_assignsubmission_file_/a.xlsx")
     assert inner.participant == "12"
@@ -343,6 +345,30 @@ def test_one_submission_never_blocks_the_class(tmp_path, books):
     assert not lines[cp866] and any("cp866" in n for n in got[cp866].notes)
     for n, line in lines.items():
         assert "\n" not in line and "internal error" not in line, (n, line)
+
+
+def test_a_name_marked_utf8_but_not_is_that_entrys_note(tmp_path, books):
+    """A zip entry whose name is marked UTF-8 but is not (a zipper's slip, a crafted name)
+    made zipfile refuse the whole class's zip: now the name is read as a DOS name (cp866,
+    said in a note) and every book of the class is graded."""
+    import zipfile
+    ex, key = books["v1"]
+    good = fill(ex, key, tmp_path / "good.xlsx", student="Иванов Иван").read_bytes()
+    z = tmp_path / "class.zip"
+    with zipfile.ZipFile(z, "w", zipfile.ZIP_DEFLATED) as zf:
+        zf.writestr("Иван Иванов_1_assignsubmission_file_/lab.xlsx", good)
+        zf.writestr("Yan Kim_2_assignsubmission_file_/Иванов.xlsx", good)          # marked UTF-8 (0x800)
+    # the same number of bytes, no longer UTF-8, the mark kept: in both headers of the entry
+    bad = "ИвановИванов".encode("cp866")
+    assert len(bad) == len("Иванов".encode()) and zipfile.ZipFile(z).infolist()[1].flag_bits & 0x800
+    z.write_bytes(z.read_bytes().replace("Иванов.xlsx".encode(), bad + b".xlsx"))
+    with pytest.raises(UnicodeDecodeError):
+        zipfile.ZipFile(z)                           # what refused the whole class before
+    got = _reports([z])
+    assert len(got) == 2, list(got)
+    assert all(not r.error for r in got.values()), {n: r.error for n, r in got.items()}
+    odd = next(n for n in got if "Yan Kim" in n)
+    assert odd.endswith("ИвановИванов.xlsx") and any("cp866" in note for note in got[odd].notes)
 
 
 @pytest.mark.parametrize("field, value, refused", [("file_size", 100, True), ("file_size", 10_000_000, True),

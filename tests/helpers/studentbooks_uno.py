@@ -9,6 +9,7 @@ ops (rows and columns from 1, as the sheet shows them; "main" is the exercise's 
 as issued, found by name before any op moves it):
   ["formulas", sheet, [[row, col, "=..."], ...]]   type formulas (Excel syntax, English names)
   ["values", sheet, [[row, col, value], ...]]      type numbers or text (None clears)
+  ["formula_lines", sheet, [[r0, c0, r1, c1, ["=...", ...]], ...]]   a row or column of formulas
   ["insert_sheet", name, position]                 a new sheet at `position` (0: first)
   ["move_sheet", name, position]                   drag a tab
   ["insert_columns", sheet, col, count]            insert before column `col`
@@ -62,6 +63,14 @@ def run_job(desktop, job):
             for r, c, f in args[1]:
                 # setFormula takes the English names and ';' between arguments
                 sh.getCellByPosition(c - 1, r - 1).setFormula(f.replace(",", ";"))
+        elif kind == "formula_lines":
+            # a line of formulas at once (a row or a column the student fills by dragging its
+            # first cell): one UNO call per line instead of one per cell
+            sh = sheet_of(doc, args[0], main)
+            for r0, c0, r1, c1, texts in args[1]:
+                cells = [t.replace(",", ";") for t in texts]
+                rows = (tuple(cells),) if r0 == r1 else tuple((t,) for t in cells)
+                sh.getCellRangeByPosition(c0 - 1, r0 - 1, c1 - 1, r1 - 1).setFormulaArray(rows)
         elif kind == "values":
             sh = sheet_of(doc, args[0], main)
             for r, c, v in args[1]:
