@@ -449,9 +449,9 @@ def _grades_first(args):
     """Before validating: --grades' folder writable, the class list read (its mistakes are
     one line now, not after the class is validated); returns the class list or None."""
     if args.class_list and not args.grades:
-        raise SceneError("--class-list fills grades.csv's identifier column: give --grades GRADES.csv too")
+        raise UsageError("--class-list fills grades.csv's identifier column: give --grades GRADES.csv too")
     if getattr(args, "worksheet", None) and not args.grades:
-        raise SceneError("--worksheet is filled in and written as --grades: give --grades GRADES.csv too")
+        raise UsageError("--worksheet is filled in and written as --grades: give --grades GRADES.csv too")
     if not args.grades:
         return None
     from sheetkin.course.grades import check_writable, read_class_list, read_worksheet

@@ -41,7 +41,7 @@ from sheetkin.xlsx.replay import Replay
 
 from . import nudge
 from .layout import standard_view
-from .localjudge import TURN, angle_difference, judge
+from .localjudge import CELL_RIGHT, TURN, angle_difference, judge
 from .tolerance import ATOL, RTOL
 
 if TYPE_CHECKING:
@@ -190,7 +190,7 @@ def judge_rows(report: Report, g: Graded, beh: Behaviour | None) -> None:
                     continue                     # the right value does not move: the precedents decide
                 if sheet.tag[g.main][r, c] == NAME_ERROR:
                     break                        # sheetkin cannot evaluate it (LibreOffice did, on the issued data)
-                if not _close(sheet.value(g.main, r, c), exp, period) and state.get(c, 0) != 0:
+                if not _close(sheet.value(g.main, r, c), exp, period) and state.get(c, CELL_RIGHT) != CELL_RIGHT:
                     rep.not_following.append(k + 1)
                     break
         if rep.not_following:

@@ -8,7 +8,6 @@ it, prints and writes."""
 from __future__ import annotations
 
 import contextlib
-import os
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -18,7 +17,7 @@ from sheetkin.files import shown
 from .batch import validate_many
 from .classlist import ClassList
 from .copies import Copies, file_digest, possible_copies, roster_variants
-from .identity import Identity, find_assignment, identify
+from .identity import Identity, file_mtime, find_assignment, identify
 from .issued import Options
 from .report_model import Report
 
@@ -61,7 +60,7 @@ def grade_class(files: list[Path], shown_as: Callable[[Path], str], options: Opt
     assignment = find_assignment(roster_path)
     if class_list is None and assignment is not None and for_grades:
         class_list = assignment.as_class_list()
-    identities = identify(reports, class_list, assignment, [_mtime(p) for p in real])
+    identities = identify(reports, class_list, assignment, [file_mtime(p) for p in real])
     for rep, me in zip(reports, identities, strict=True):
         rep.notes += [f"identity: {flag}" for flag in me.flags]      # --json carries them
     digests = [None if r.error else file_digest(p) for r, p in zip(reports, real, strict=True)]
@@ -79,13 +78,6 @@ def show_as(rep: Report, real: str, name: str) -> None:
     rep.path = name
     if rep.error and rep.error.startswith(real):
         rep.error = name + rep.error[len(real):]
-
-
-def _mtime(path: str) -> float:
-    try:
-        return os.stat(path).st_mtime
-    except (OSError, ValueError):           # a name with a NUL character
-        return 0.0
 
 
 def printable_report(rep: Report) -> Report:

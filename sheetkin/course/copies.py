@@ -101,30 +101,48 @@ def submission_marks(sheet, rows: dict[str, int], first_col: int, positions: int
     number: the given data it depends on} (from `ancestors`, the validator's); `values`:
     {(row name, position): number} that the formulas computed, as the spreadsheet saved them
     (a classmate who typed them in is found by them)."""
-    typed, formulas, values = {}, {}, {}
-    cached = sheet.cached
+    typed: dict[tuple[str, int], float] = {}
+    formulas: dict[str, str] = {}
+    values: dict[tuple[str, int], float] = {}
     for name, r in rows.items():
-        for k in range(positions):
-            v = sheet.consts.get((r, first_col + k))
-            if isinstance(v, (int, float)) and not isinstance(v, bool) and (r, first_col + k) not in sheet.formulas:
-                typed[(name, k + 1)] = float(v)
-            c = cached.get((r, first_col + k)) if (r, first_col + k) in sheet.formulas else None
-            if isinstance(c, (int, float)) and not isinstance(c, bool) and c == c and abs(c) != float("inf"):
-                values[(name, k + 1)] = float(c)
-        if (reference is not None and ref_rows is not None and name in ref_rows
-                and _as_lecture(sheet, r, reference, ref_rows[name], first_col, positions)):
-            continue                                # the lecture's texts in the lecture's cells: nothing to hash
-        texts = _row_formulas(sheet, r, first_col, positions)
-        if not any(texts):
-            continue
-        if reference is not None and ref_rows is not None and name in ref_rows:
-            lecture = _row_formulas(reference, ref_rows[name], first_col, positions)
-            if all(t is None or t == l for t, l in zip(texts, lecture, strict=False)):
-                continue
-        formulas[name] = hashlib.sha256("\n".join(t or "" for t in texts).encode()).hexdigest()[:16]
+        _row_numbers(sheet, name, r, first_col, positions, typed, values)
+        lecture_row = ref_rows.get(name) if reference is not None and ref_rows is not None else None
+        digest = _own_formulas_digest(sheet, r, reference, lecture_row, first_col, positions)
+        if digest is not None:
+            formulas[name] = digest
     inputs = {n: v for n, v in (inputs or {}).items() if isinstance(v, (int, float, str)) and not isinstance(v, bool)}
     depends = {n: sorted((ancestors or {}).get(n, set()) & inputs.keys()) for n in {n for n, _ in typed}}
     return {"typed": typed, "formulas": formulas, "inputs": inputs, "depends": depends, "values": values}
+
+
+def _row_numbers(sheet, name: str, r: int, first_col: int, positions: int,
+                 typed: dict[tuple[str, int], float], values: dict[tuple[str, int], float]) -> None:
+    """A row's typed numbers (into typed) and the finite numbers its formulas saved (into
+    values), by (row name, position 1..n)."""
+    cached = sheet.cached
+    for k in range(positions):
+        v = sheet.consts.get((r, first_col + k))
+        if isinstance(v, (int, float)) and not isinstance(v, bool) and (r, first_col + k) not in sheet.formulas:
+            typed[(name, k + 1)] = float(v)
+        c = cached.get((r, first_col + k)) if (r, first_col + k) in sheet.formulas else None
+        if isinstance(c, (int, float)) and not isinstance(c, bool) and c == c and abs(c) != float("inf"):
+            values[(name, k + 1)] = float(c)
+
+
+def _own_formulas_digest(sheet, r: int, reference, lecture_row: int | None, first_col: int,
+                         positions: int) -> str | None:
+    """The digest of a row's relative formulas, None if it has none or they are the
+    lecture's (the reference's row lecture_row): the lecture's formulas are everybody's."""
+    if lecture_row is not None and _as_lecture(sheet, r, reference, lecture_row, first_col, positions):
+        return None                                 # the lecture's texts in the lecture's cells: nothing to hash
+    texts = _row_formulas(sheet, r, first_col, positions)
+    if not any(texts):
+        return None
+    if lecture_row is not None:
+        lecture = _row_formulas(reference, lecture_row, first_col, positions)
+        if all(t is None or t == l for t, l in zip(texts, lecture, strict=False)):
+            return None
+    return hashlib.sha256("\n".join(t or "" for t in texts).encode()).hexdigest()[:16]
 
 
 def file_digest(path) -> str | None:

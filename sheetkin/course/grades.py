@@ -48,6 +48,7 @@ from .classlist import ClassListError as GradesError  # noqa: F401 (--grades, --
 
 if TYPE_CHECKING:
     from .copies import Copies
+    from .report_model import RowReport, RowVerdict
 
 CHECK_PENALTY = 2.0        # points off per failing check row (the sheet showed the mistake)
 ROWS_SHARE = 90.0          # the computed rows' share of the score
@@ -87,7 +88,7 @@ def _typed_ok(rep, accept_typed: bool | None) -> bool:
     return bool(rep.accepted_typed if accept_typed is None else accept_typed)
 
 
-def row_verdict(row, accept_typed: bool = False) -> str:
+def row_verdict(row: RowReport, accept_typed: bool = False) -> RowVerdict:
     """One graded row: correct (computed right) | typed (a typed value where a formula
     belongs; with accept_typed, a typed row right to its digits is correct) | wrong | missing."""
     if row.status in ("missing", "empty"):
@@ -113,7 +114,7 @@ def counts(rep, accept_typed: bool | None = None) -> dict:
     out["checks_not_judged"] = len(rep.checks_not_judged)
     # issue 31: credit per position, the rows' shares (behaviour.row_share)
     from .behaviour import row_share
-    out["earned"] = sum(row_share(r, getattr(rep, "positions", 0), acc) for r in rows)
+    out["earned"] = sum(row_share(r, rep.positions, acc) for r in rows)
     # rows of positions holding a formula somewhere (a row of typed values only is not one;
     # the derived values of column D are graded, but three formulas there do not make a book
     # of typed positions computed work: NO_FORMULA_CAP)

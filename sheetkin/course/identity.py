@@ -136,7 +136,7 @@ def identify(reports, class_list: ClassList | None = None, assignment: Assignmen
     out = []
     for rep in reports:
         out.append(_identify_one(rep, class_list, assignment))
-    _newest_only(reports, out, mtimes or [_mtime(r.path) for r in reports])
+    _newest_only(reports, out, mtimes or [file_mtime(r.path) for r in reports])
     from sheetkin.files import shown  # the class list's names are students' too (a Moodle profile)
     for me in out:
         me.flags = [shown(f) for f in me.flags]
@@ -257,7 +257,7 @@ def same_name_loosely(typed: str, folder_name: str) -> bool:
     return False
 
 
-def _mtime(path: str) -> float:
+def file_mtime(path: str) -> float:
     try:
         return os.stat(path).st_mtime
     except (OSError, ValueError):           # a name with a NUL character

@@ -26,8 +26,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import cast
 
+from sheetkin.errors import InputError
 from sheetkin.files import MAX_KEY_BYTES, read_bytes, read_text
-from sheetkin.kinematics.scene import Scene, SceneError, one_line
+from sheetkin.kinematics.scene import Scene, one_line
 from sheetkin.sheet.workbook import IDENTITY_ROWS, ISSUED_LABELS, VERSION_LABEL, VERSION_ROW, sheet_rows
 from sheetkin.untrusted import csv_cell, from_csv_cell
 
@@ -43,8 +44,9 @@ OLDER_KEYS = ".sheetkin-key-*"      # earlier keys kept dated by `variants --for
 OTHER_CLASS_VALUES = 3              # given values unlike the roster's row, seal failing: another class's book
 
 
-class RosterError(SceneError):
-    """roster.csv or the key file cannot be used; str() is one line naming file:line:column."""
+class RosterError(InputError):
+    """roster.csv or the key file cannot be used; str() is one line naming file:line:column.
+    Not a SceneError: a roster is not a scene (the command line reports both the same way)."""
 
 
 # --------------------------------------------------------------------------- the given data
@@ -231,22 +233,8 @@ def parse_roster(text: str, p: str = "roster.csv") -> Roster:
     delim = ";" if text.split("\n", 1)[0].count(";") > text.split("\n", 1)[0].count(",") else ","
     reader = csv.reader(io.StringIO(text, newline=""), delimiter=delim)
     try:
-        header = next(reader, None)
-        if not header or not any(h.strip() for h in header):
-            raise RosterError(one_line(f"{p}:1:1: empty; expected a header: {','.join(ROSTER_FIXED)},<given data>..."))
-        header = [h.strip() for h in header]
-        while len(header) > len(ROSTER_FIXED) and not header[-1]:
-            header.pop()                  # Excel's empty trailing columns
-        for k, want in enumerate(ROSTER_FIXED):
-            if k >= len(header) or header[k] != want:
-                got = header[k] if k < len(header) else "nothing"
-                raise RosterError(one_line(f"{p}:1:{k + 1}: expected column '{want}', got {got!r}"))
+        header = _roster_header(next(reader, None), p)
         names = header[len(ROSTER_FIXED):]
-        seen: set[str] = set()
-        for k, n in enumerate(names, len(ROSTER_FIXED) + 1):
-            if not n or n in seen or n in ROSTER_FIXED:
-                raise RosterError(one_line(f"{p}:1:{k}: column name {n!r} is empty or repeated"))
-            seen.add(n)
         rows: dict[str, dict[str, float]] = {}
         files: dict[str, dict[str, str]] = {}
         for fields in reader:
@@ -263,16 +251,7 @@ def parse_roster(text: str, p: str = "roster.csv") -> Roster:
                 raise RosterError(one_line(f"{p}:{line}:1: empty variant id"))
             if vid in rows:
                 raise RosterError(one_line(f"{p}:{line}:1: variant {vid!r} appears twice"))
-            values = {}
-            for k, (n, f) in enumerate(zip(names, fields[len(ROSTER_FIXED):], strict=False), len(ROSTER_FIXED) + 1):
-                try:
-                    v = float(f.strip().replace(",", ".") if delim == ";" else f)
-                except ValueError:
-                    v = math.nan
-                if not math.isfinite(v):
-                    raise RosterError(one_line(f"{p}:{line}:{k}: {n}: expected a number, got {f!r}", 400))
-                values[n] = v
-            rows[vid] = values
+            rows[vid] = _roster_values(names, fields[len(ROSTER_FIXED):], delim == ";", f"{p}:{line}")
             files[vid] = dict(zip(ROSTER_FIXED[1:], (from_csv_cell(f.strip()) for f in fields[1:len(ROSTER_FIXED)]),
                                    strict=False))
     except csv.Error as e:
@@ -280,6 +259,40 @@ def parse_roster(text: str, p: str = "roster.csv") -> Roster:
     if not rows:
         raise RosterError(one_line(f"{p}:2: no variants (a header only)"))
     return Roster(p, tuple(names), rows, files)
+
+
+def _roster_header(header: list[str] | None, p: str) -> list[str]:
+    """roster.csv's header, stripped of Excel's empty trailing columns: the fixed columns,
+    then the given data's names (each once)."""
+    if not header or not any(h.strip() for h in header):
+        raise RosterError(one_line(f"{p}:1:1: empty; expected a header: {','.join(ROSTER_FIXED)},<given data>..."))
+    header = [h.strip() for h in header]
+    while len(header) > len(ROSTER_FIXED) and not header[-1]:
+        header.pop()                  # Excel's empty trailing columns
+    for k, want in enumerate(ROSTER_FIXED):
+        if k >= len(header) or header[k] != want:
+            got = header[k] if k < len(header) else "nothing"
+            raise RosterError(one_line(f"{p}:1:{k + 1}: expected column '{want}', got {got!r}"))
+    seen: set[str] = set()
+    for k, n in enumerate(header[len(ROSTER_FIXED):], len(ROSTER_FIXED) + 1):
+        if not n or n in seen or n in ROSTER_FIXED:
+            raise RosterError(one_line(f"{p}:1:{k}: column name {n!r} is empty or repeated"))
+        seen.add(n)
+    return header
+
+
+def _roster_values(names: list[str], fields: list[str], decimal_comma: bool, where: str) -> dict[str, float]:
+    """One variant's given data (name -> number); where: "file:line"."""
+    values = {}
+    for k, (n, f) in enumerate(zip(names, fields, strict=False), len(ROSTER_FIXED) + 1):
+        try:
+            v = float(f.strip().replace(",", ".") if decimal_comma else f)
+        except ValueError:
+            v = math.nan
+        if not math.isfinite(v):
+            raise RosterError(one_line(f"{where}:{k}: {n}: expected a number, got {f!r}", 400))
+        values[n] = v
+    return values
 
 
 # --------------------------------------------------------------------------- for the validator

@@ -111,16 +111,8 @@ def find_layout(sheets: dict[str, Sheet], order: list[str], names: set[str], iss
         found = [c for c, t in sorted(row_texts.items()) if c > name_col and t in _headers(key)]
         cols[std] = found[0] if found else cols[std - 1] + 1
     i_row = next((r for (r, c), v in sh.consts.items() if c == name_col and v == "i"), None)
-    nums: dict[float, int] = {}     # a number in the header row -> its column
-    if header:
-        for (r, c), v in sh.consts.items():
-            if r == header and c > cols[VALUE_COL] and isinstance(v, (int, float)) and not isinstance(v, bool):
-                nums.setdefault(float(v), c)
-    i_cols: dict[float, int] = {}   # a value of row i -> its column
-    if i_row is not None:
-        for (r, c), v in sh.consts.items():
-            if r == i_row and c > cols[VALUE_COL] and isinstance(v, (int, float)) and not isinstance(v, bool):
-                i_cols.setdefault(float(v), c)
+    nums = _numbers_in_row(sh, header, cols[VALUE_COL])     # a number in the header row -> its column
+    i_cols = _numbers_in_row(sh, i_row, cols[VALUE_COL])    # a value of row i -> its column
     last = cols[VALUE_COL]
     for k in range(positions):
         c = nums.get(float(k))          # the header numbers positions by i, from 0 (as row i does)
@@ -131,6 +123,24 @@ def find_layout(sheets: dict[str, Sheet], order: list[str], names: set[str], iss
         cols[FIRST_COL + k] = last = c
     layout = Layout(sheet, cols, positions, header)
     layout.outside = _outside(sh, set(cols.values()), name_col)
+    _note_where(layout, order)
+    return layout
+
+
+def _numbers_in_row(sh: Sheet, row: int | None, after: int) -> dict[float, int]:
+    """The numbers of a row (none if row is None or 0) right of column `after`: each the
+    column where it first stands."""
+    out: dict[float, int] = {}
+    if row:
+        for (r, c), v in sh.consts.items():
+            if r == row and c > after and isinstance(v, (int, float)) and not isinstance(v, bool):
+                out.setdefault(float(v), c)
+    return out
+
+
+def _note_where(layout: Layout, order: list[str]) -> None:
+    """The layout's notes: a graded sheet that is not the first tab, columns that moved."""
+    sheet, cols = layout.sheet, layout.columns
     if sheet != order[0]:
         layout.notes.append(f"graded sheet: '{sheet}' (found by its row names; tab {order.index(sheet) + 1} "
                             f"of {len(order)})")
@@ -138,7 +148,6 @@ def find_layout(sheets: dict[str, Sheet], order: list[str], names: set[str], iss
         layout.notes.append("columns found by their headers: " + ", ".join(
             f"{what} {get_column_letter(cols[c])}" for c, what in ((1, "names"), (4, "values"),
                                                                    (FIRST_COL, "first position")) if cols[c] != c))
-    return layout
 
 
 def _headers(key: str) -> set[str]:

@@ -49,6 +49,7 @@ from sheetkin.xlsx.functions import ERROR_TEXT, NAME
 
 from .caches import Kept
 from .layout import VALUE_COL
+from .report_model import LocalJudgement
 from .tolerance import ATOL, RTOL
 
 # a full turn in a row's unit: angles are compared modulo it (an angle taken MOD 2*PI() or
@@ -149,18 +150,23 @@ def _plan(sheet, judged: tuple[str, ...]) -> _Plan:
 
 
 # --------------------------------------------------------------------------- judging
+# A judged cell's state (Judgement.state, _compare): right on its own inputs; a typed number
+# off by more than rounding but within its digits; wrong.
+CELL_RIGHT, CELL_ROUNDED, CELL_WRONG = 0, 1, 2
+
+
 @dataclass
 class Judgement:
     """One row judged on its own inputs: per judged column (cols) 0 right, 1 rounded (a
     typed number off its inputs' value by more than rounding but within its digits), 2
     wrong; local is "right", "wrong", or "" (not judged: it reads a missing or empty row)."""
     name: str
-    local: str = ""
+    local: LocalJudgement = ""
     cols: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
     state: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int8))
     typed: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))
 
-    def flagged(self, states=(1, 2)) -> list[int]:
+    def flagged(self, states=(CELL_ROUNDED, CELL_WRONG)) -> list[int]:
         """Columns whose state is one of states."""
         return [int(c) for c, s in zip(self.cols, self.state, strict=False) if s in states]
 
@@ -280,15 +286,15 @@ def _student_store(reference: Book, student: Book, sheet: str, plan: _Plan, name
 def _compare(name: str, s, st, lv, lt, typed, tol, period: float | None = None) -> np.ndarray:
     """Per cell 0 right, 1 rounded, 2 wrong: the student's values (s, st) against the
     reference formula's over them (lv, lt); typed cells within tol (their digits)."""
-    out = np.full(len(s), 2, np.int8)
+    out = np.full(len(s), CELL_WRONG, np.int8)
     both = (st == NUM) & (lt == NUM)
     d = angle_difference(np.abs(s - lv), period)      # angles: 0 and 360 agree
     with np.errstate(invalid="ignore"):
         tight = d <= np.maximum(ATOL, RTOL * np.abs(lv))
-        out[both & tight] = 0
-        out[both & ~tight & typed & (d <= tol)] = 1
-    out[(lt == BOOL) & (st == BOOL) & (s == lv)] = 0
-    out[(lt != NUM) & (lt != BOOL) & (st != NUM)] = 0   # a marker or an error: any non-number
+        out[both & tight] = CELL_RIGHT
+        out[both & ~tight & typed & (d <= tol)] = CELL_ROUNDED
+    out[(lt == BOOL) & (st == BOOL) & (s == lv)] = CELL_RIGHT
+    out[(lt != NUM) & (lt != BOOL) & (st != NUM)] = CELL_RIGHT   # a marker or an error: any non-number
     return out
 
 
@@ -339,7 +345,7 @@ def judge(reference: Book, student: Book, sheet: str, names: dict[str, int], jud
         j, r = local.judgements[n], plan.rows[n]
         j.state = _compare(n, num[r, j.cols], tag[r, j.cols], local.lnum[r, j.cols], local.ltag[r, j.cols],
                            j.typed, tols[n] + prop.get(n, 0.0), local.periods.get(n))
-        j.local = "wrong" if (j.state == 2).any() else "right"
+        j.local = "wrong" if (j.state == CELL_WRONG).any() else "right"
     for n in judged:
         local.judgements.setdefault(n, Judgement(n))
     return local
@@ -404,11 +410,11 @@ def typed_note(local: Local, name: str, dependents: list[str]) -> str:
     its inputs give when it is off by more than its digits, and the largest relative
     difference from the reference of the rows that depend on it."""
     j = local.judgements[name]
-    flagged = [c for c, s, t in zip(j.cols, j.state, j.typed, strict=False) if s in (1, 2) and t]
+    flagged = [c for c, s, t in zip(j.cols, j.state, j.typed, strict=False) if s in (CELL_ROUNDED, CELL_WRONG) and t]
     c = int(flagged[0])
     got = local.value(name, c)
     what = f"typed {typed_text(got)}, {typed_digits(got)} digits" if isinstance(got, float) else f"typed {got!r}"
-    if j.state[list(j.cols).index(c)] == 2:
+    if j.state[list(j.cols).index(c)] == CELL_WRONG:
         lv = local.local_value(name, c)
         what += f" (its inputs give {lv:.6g})" if isinstance(lv, float) else ""
     more = f", and {len(flagged) - 1} more typed cells" if len(flagged) > 1 else ""
@@ -434,7 +440,18 @@ def name_causes(rows: list, local: Local, ancestors: dict[str, set[str]], inputs
         if r.status in ("correct", "wrong"):
             for a in ancestors.get(r.name, ()):
                 below.setdefault(a, []).append(r.name)
-    causes, explained = [], set()
+    causes = _find_causes(rows, by, local, wrong, below, new_row)
+    _note_typed_causes(by, local, causes, below, ancestors)
+    _name_because_of(rows, local, causes, ancestors, inputs)
+
+
+def _find_causes(rows: list, by: dict, local: Local, wrong: dict[str, set[int]],
+                 below: dict[str, list[str]], new_row) -> list[str]:
+    """The causes, in the judged rows' order: each row's local judgement set on its report;
+    a cause marked (cause, local "wrong"; wrong at its flagged cells if its comparison with
+    the reference passed; a derived value's new row appended to rows)."""
+    causes: list[str] = []
+    explained: set[tuple[str, int]] = set()
     for n, j in local.judgements.items():
         rep = by.get(n)
         if rep is not None:
@@ -442,11 +459,11 @@ def name_causes(rows: list, local: Local, ancestors: dict[str, set[str]], inputs
         if not j.local:
             continue
         wrong_below = [d for d in below.get(n, ()) if d in wrong]
-        off = {c - FIRST_COL + 1 for c in j.flagged((2,))}
+        off = {c - FIRST_COL + 1 for c in j.flagged((CELL_WRONG,))}
         if rep is not None and rep.status == "wrong" and off & wrong[n]:
             named = True                       # a cell wrong, and wrong on its own inputs: a mistake
             explained |= {(d, k) for d in wrong_below for k in wrong[d] if k in wrong[n]}
-        elif j.local == "wrong" or (j.state == 1).any():
+        elif j.local == "wrong" or (j.state == CELL_ROUNDED).any():
             # a cell right to its digits, or right but not on the student's inputs, or a
             # derived value: a cause where the error it carries down (its flagged cells
             # that differ from the reference) makes a cell below it wrong that nothing
@@ -467,11 +484,23 @@ def name_causes(rows: list, local: Local, ancestors: dict[str, set[str]], inputs
         causes.append(n)
         if rep.status != "wrong":
             _mark_wrong(rep, local, j)
-    for n in causes:          # the error a typed number carries: in the rows below it alone
+    return causes
+
+
+def _note_typed_causes(by: dict, local: Local, causes: list[str], below: dict[str, list[str]],
+                       ancestors: dict[str, set[str]]) -> None:
+    """The error a typed number carries: in the rows below it alone (the cause's note)."""
+    for n in causes:
         j = local.judgements[n]
-        if any(s in (1, 2) and t for s, t in zip(j.state, j.typed, strict=False)):
+        if any(s in (CELL_ROUNDED, CELL_WRONG) and t for s, t in zip(j.state, j.typed, strict=False)):
             mine = [d for d in below.get(n, ()) if not any(c in ancestors.get(d, ()) for c in causes if c != n)]
             by[n].note = typed_note(local, n, mine or below.get(n, []))
+
+
+def _name_because_of(rows: list, local: Local, causes: list[str], ancestors: dict[str, set[str]],
+                     inputs: set[str]) -> None:
+    """The other wrong rows: wrong because of the causes above them, or of given data that
+    differ from the reference's; a row not judged, because of what is wrong above it."""
     changed = [n for n in inputs if local.changed(n)]
     bad = {r.name for r in rows if r.status in ("wrong", "missing", "empty")}
     for rep in rows:

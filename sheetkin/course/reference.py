@@ -93,6 +93,12 @@ _TEMPLATE_SHEETS = Kept(64)               # structure -> the generated Sheet, {i
 _REFERENCES = Kept(64)                    # (structure, inputs) -> Book
 
 
+def kept_structures() -> int:
+    """How many generated sheets are kept (one per structure, however many variants):
+    what a test or a long-running process can see of the cache."""
+    return len(_TEMPLATE_SHEETS)
+
+
 def reference_book(scene: Scene) -> Book:
     """The variant's reference: its generated workbook's first sheet, evaluated (cached per
     structure and inputs); also what copy detection compares another variant's typed numbers
@@ -104,7 +110,7 @@ def reference_book(scene: Scene) -> Book:
     book = _REFERENCES.get(key)
     if book is None:
         if structure not in _TEMPLATE_SHEETS:
-            _TEMPLATE_SHEETS.keep(structure, _template_sheet(scene))
+            _TEMPLATE_SHEETS.keep(structure, template_sheet(scene))
         sheet, input_rows = _TEMPLATE_SHEETS[structure]
         consts = dict(sheet.consts)
         for name, value in inputs:          # as the generated workbook writes them (ints as floats)
@@ -120,7 +126,7 @@ def reference_book(scene: Scene) -> Book:
     return book
 
 
-def _template_sheet(scene: Scene) -> tuple[Sheet, dict[str, int]]:
+def template_sheet(scene: Scene) -> tuple[Sheet, dict[str, int]]:
     """The first sheet of the scene's generated workbook as the evaluator reads it, and the
     row of every input."""
     book = build_reference(scene, evaluate=False)
@@ -130,14 +136,16 @@ def _template_sheet(scene: Scene) -> tuple[Sheet, dict[str, int]]:
     # against a reference (the student's checks are read from the student's sheet): left
     # out, they would be half of each variant's evaluation (SUMPRODUCT, COUNT, IF per row)
     # (their cells per position stay: which check rows apply, not "н/д", is the reference's)
-    checks = _check_rows(scene)              # once: sheet_rows costs ~3 ms a call
+    checks = check_row_names(scene)              # once: sheet_rows costs ~3 ms a call
     unchecked = {r for n, r in input_rows.items() if n in checks}
     sheet.formulas = {(r, c): f for (r, c), f in sheet.formulas.items()
                       if r >= 5 and (r not in unchecked or c >= FIRST_COL)}
     return sheet, input_rows
 
 
-def _check_rows(scene: Scene) -> set[str]:
+def check_row_names(scene: Scene) -> set[str]:
+    """The names of the sheet's own check rows (kinds check and fdcheck): graded from the
+    student's sheet, not against the reference."""
     return {r.name for r in sheet_rows(scene).rows if r.kind in ("check", "fdcheck")}
 
 

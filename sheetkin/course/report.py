@@ -38,6 +38,19 @@ def text_report(rep: Report, lang: str = "en") -> str:
     lines += issued_lines(rep, lang)
     # the counts, the verdict and the score: one vocabulary with the HTML, JSON and grades.csv
     lines += [say_grading(counts_line(rep), lang), say_grading(f"  {verdict(rep)}; score {explain(rep)}", lang)]
+    lines += _typed_lines(rep, lang)
+    lines += _cause_lines(rep, lang)
+    lines += _dependent_lines(rep, lang)
+    lines += _missing_lines(rep, lang)
+    lines += _sheet_problem_lines(rep, lang)
+    lines += mapping_lines(rep, lang)   # hook (issue 33): a from-scratch book's mapping; [] otherwise
+    return "\n".join(lines) + "\n"
+
+
+def _typed_lines(rep: Report, lang: str) -> list[str]:
+    """The rows typed, not computed, and those whose formulas read only typed numbers."""
+    t = words(lang)
+    lines = []
     typed = rep.typed
     if typed:
         lines.append(say_grading(f"  typed, not computed ({len(typed)}): ", lang) + ", ".join(
@@ -49,7 +62,13 @@ def text_report(rep: Report, lang: str = "en") -> str:
     if pasted:
         lines.append(say_grading(f"  {READS_TYPED} ({len(pasted)}): ", lang) + ", ".join(pasted[:12])
                      + (" ..." if len(pasted) > 12 else ""))
-    # the causes with a note (typed numbers: cell, digits, the error they carry) first
+    return lines
+
+
+def _cause_lines(rep: Report, lang: str) -> list[str]:
+    """The causes, those with a note (typed numbers: cell, digits, the error they carry) first."""
+    t = words(lang)
+    lines = []
     for r in sorted(rep.causes, key=lambda r: not r.note):
         where = f"{r.name} ({t['row']} {r.row}, {t.get(r.source, r.source)})"
         note = r.note
@@ -63,6 +82,14 @@ def text_report(rep: Report, lang: str = "en") -> str:
                          f" ({t['expected']} {_num(r.expected)}, {t['got']} {_num(r.got)}); {t['wrong_at']} "
                          f"{position_list(rep, r.wrong_cells, lang)}; "
                          + (t["error_value"] if math.isinf(r.max_error) else f"{t['largest']} {_num(r.max_error)}"))
+    return lines
+
+
+def _dependent_lines(rep: Report, lang: str) -> list[str]:
+    """The wrong rows below each cause, then below each given value that differs from the
+    reference's (the issued variant's)."""
+    t = words(lang)
+    lines = []
     dependents = [r for r in rep.wrong if not r.cause]
     for cause in rep.causes:
         deps = [r.name for r in dependents if cause.name in r.because_of]
@@ -70,16 +97,30 @@ def text_report(rep: Report, lang: str = "en") -> str:
             lines.append(f"  {t['depend']} {cause.name}: {', '.join(deps)}")
     causes = {r.name for r in rep.causes}
     given = sorted({n for r in dependents for n in r.because_of if n not in causes})
-    for n in given:         # given data that differ from the reference's (the issued variant's)
+    for n in given:
         deps = [r.name for r in dependents if n in r.because_of]
         lines.append(f"  {t['depend']} {n}: {', '.join(deps)}")
-    # one line per kind (an empty exercise once printed 60 lines "empty: Fi (row 32)" ...)
+    return lines
+
+
+def _missing_lines(rep: Report, lang: str) -> list[str]:
+    """One line per kind (an empty exercise once printed 60 lines "empty: Fi (row 32)" ...)."""
+    t = words(lang)
+    lines = []
     for status in ("missing", "empty"):
         rows = [r for r in rep.missing if r.status == status]
         if rows:
             lines.append(f"  {t[status]} ({len(rows)}): " + ", ".join(
                 r.name + (f" ({t['row']} {r.row})" if r.row else "") for r in rows)
                 + (t["no_row"] if status == "missing" and not getattr(rep, "mapping", None) else ""))
+    return lines
+
+
+def _sheet_problem_lines(rep: Report, lang: str) -> list[str]:
+    """The student's own failing checks, formulas that disagree with their saved values,
+    what the evaluator could not compute."""
+    t = words(lang)
+    lines = []
     if rep.failing_checks:
         lines.append(f"  {t['own_checks']}: {', '.join(rep.failing_checks)}")
     if rep.cache_mismatch:
@@ -89,8 +130,7 @@ def text_report(rep: Report, lang: str = "en") -> str:
     saved = _saved_rows(rep)
     for p in rep.problems[:5]:
         lines.append(f"  {t['cannot']}: {say(p, lang)}" + (f" {t['saved_used']}" if _rows_of(p, rep) & saved else ""))
-    lines += mapping_lines(rep, lang)   # hook (issue 33): a from-scratch book's mapping; [] otherwise
-    return "\n".join(lines) + "\n"
+    return lines
 
 
 # where an evaluator's problem is ("Sheet!E42:Q42: what"): its sheet and rows

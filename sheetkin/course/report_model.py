@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Literal
 
 from sheetkin.kinematics.scene import Scene
 
@@ -12,12 +12,26 @@ from .layout import Layout
 
 INTERNAL = {"to_dict": False}     # a Report field's metadata: not in to_dict (nor --json)
 
+# The named states of a graded row; the strings are what --json writes (and tests read).
+# A row of the sheet against the reference for the student's variant:
+RowStatus = Literal["correct", "wrong", "missing", "empty"]
+# the reference's kind of a graded row ("" before it is known): sheetkin.sheet.workbook's kinds
+RowKind = Literal["", "calc", "accepted", "guard", "derived"]
+# where its graded value comes from: its formula, a typed number, the cached value of a
+# formula sheetkin cannot evaluate; "empty" a row with neither (behaviour.py)
+RowSource = Literal["formula", "typed", "cached", "empty"]
+# judged on the student's own inputs (localjudge.py): "" not judged (it reads a missing row)
+LocalJudgement = Literal["right", "wrong", ""]
+# a row's verdict in the grade (grades.row_verdict)
+RowVerdict = Literal["correct", "typed", "wrong", "missing"]
+MISSING_STATUSES: tuple[RowStatus, ...] = ("missing", "empty")
+
 
 @dataclass
 class RowReport:
     name: str
     row: int | None                  # the student's row number
-    status: str                      # correct | wrong | missing | empty
+    status: RowStatus
     max_error: float = 0.0
     first_wrong: int | None = None   # position number (1-based) of the first wrong cell
     wrong_cells: list[int] = field(default_factory=list)   # position numbers
@@ -25,9 +39,9 @@ class RowReport:
     got: object = None
     cause: bool = False              # wrong, and no ancestor is wrong
     because_of: list[str] = field(default_factory=list)    # the causes it depends on
-    kind: str = ""                   # accepted | calc | guard (the reference's kind of row)
-    source: str = "formula"          # formula | typed | cached
-    local: str = ""                  # right | wrong | "" (not judged): on the student's own inputs
+    kind: RowKind = ""               # the reference's kind of row
+    source: RowSource = "formula"
+    local: LocalJudgement = ""       # on the student's own inputs
     note: str = ""                   # for a cause: one line why (a typed number: cell, digits, error below)
     # issue 21: positions (1-based) where the row holds a typed value, no formula: a computed
     # row earns credit only where it computes (sheetkin/course/grades.py)

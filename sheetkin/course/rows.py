@@ -114,27 +114,40 @@ def grade_rows(report: Report, g: Graded) -> None:
     for row in ref_rows:
         if row.kind not in ("calc", "accepted", "guard", "derived") or row.name in ("i",):
             continue
-        rep = RowReport(row.name, names.get(row.name), "correct", kind=row.kind)
-        report.rows.append(rep)
-        if rep.row is None:
-            rep.status = "missing"
-            continue
-        r, rr = rep.row, ref_names[row.name]
-        if row.kind == "derived":             # its value in column D (Delta_Fi_rad, Alfa_A ...)
-            _grade_derived(rep, g, ref_sheet, rr, periods.get(row.name))
-            continue
-        cells = [(r, FIRST_COL + k) for k in range(positions)]
-        if not any(c in sh.formulas or c in sh.consts for c in cells):
-            rep.status = "empty"
-            continue
-        _compare_cells(rep, cells, g, ref_sheet, rr, periods.get(row.name))
-        if rep.wrong_cells:
-            rep.status = "wrong"
-    # likely causes: each row judged on the student's own values of what it reads
-    # (sheetkin.course.localjudge); the wrong rows right on their inputs depend on a cause
+        report.rows.append(_grade_row(row, g, ref_sheet, positions, periods.get(row.name)))
+    _find_causes(report, g, ancestors, periods)
+    report.cache_mismatch = _cache_mismatches(evaluated, main, {r for n, r in names.items() if n.startswith("phi_")},
+                                              columns=g.layout.columns)
+
+
+def _grade_row(row, g: Graded, ref_sheet: str, positions: int, period: float | None) -> RowReport:
+    """One computed (or derived) row of the reference against the student's: missing, empty,
+    right or wrong at its cells."""
+    rep = RowReport(row.name, g.names.get(row.name), "correct", kind=row.kind)
+    if rep.row is None:
+        rep.status = "missing"
+        return rep
+    r, rr = rep.row, g.ref_names[row.name]
+    if row.kind == "derived":             # its value in column D (Delta_Fi_rad, Alfa_A ...)
+        _grade_derived(rep, g, ref_sheet, rr, period)
+        return rep
+    cells = [(r, FIRST_COL + k) for k in range(positions)]
+    if not any(c in g.sh.formulas or c in g.sh.consts for c in cells):
+        rep.status = "empty"
+        return rep
+    _compare_cells(rep, cells, g, ref_sheet, rr, period)
+    if rep.wrong_cells:
+        rep.status = "wrong"
+    return rep
+
+
+def _find_causes(report: Report, g: Graded, ancestors: dict[str, set[str]], periods: dict[str, float]) -> None:
+    """The likely causes: each row judged on the student's own values of what it reads
+    (sheetkin.course.localjudge); the wrong rows right on their inputs depend on a cause."""
+    ref_rows, names, sh = g.ref_rows, g.names, g.sh
     graded = {r.name for r in report.rows if r.status in ("correct", "wrong")}
     judged = [r.name for r in ref_rows if r.name in graded or (r.kind == "derived" and r.name in names)]
-    local = judge(ref_book, evaluated, main, names, judged,
+    local = judge(cast(Book, g.ref_book), g.evaluated, g.main, names, judged,
                   {r.name for r in report.rows if r.status in ("missing", "empty")}, periods, g.layout.columns)
     input_names = {r.name for r in ref_rows if r.kind == "input"}
 
@@ -142,8 +155,6 @@ def grade_rows(report: Report, g: Graded) -> None:
         return RowReport(name, names[name], "correct", kind="derived",
                          source="formula" if sh.computed(names[name], col) else "typed")
     name_causes(report.rows, local, ancestors, input_names, derived_row)
-    report.cache_mismatch = _cache_mismatches(evaluated, main, {r for n, r in names.items() if n.startswith("phi_")},
-                                              columns=g.layout.columns)
 
 
 def _grade_derived(rep: RowReport, g: Graded, ref_sheet: str, rr: int, period: float | None) -> None:

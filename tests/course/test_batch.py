@@ -25,9 +25,9 @@ WORKBOOKS = Path(__file__).resolve().parents[2] / "workbooks"
 
 def _same_book(a, b, scene):
     """Equal on every graded row: the reference leaves out the sheet's own check rows and
-    the summary above row 5 (reference._template_sheet), and nothing else."""
+    the summary above row 5 (reference.template_sheet), and nothing else."""
     (sa,), (sb,) = a.order, b.order
-    checks = reference._check_rows(scene)
+    checks = reference.check_row_names(scene)
     names = b.sheets[sb].consts
     keep = [r for r in range(5, b.tag[sb].shape[0]) if names.get((r, 1)) not in checks]
     assert len(keep) > 40
@@ -36,7 +36,7 @@ def _same_book(a, b, scene):
     assert list(a.txt[sa][keep].ravel()) == list(b.txt[sb][keep].ravel())
     dropped = {r for r in range(5, b.tag[sb].shape[0]) if names.get((r, 1)) in checks}
     # the check rows keep their cells per position (which apply is the reference's), not their status
-    kept = reference._template_sheet(scene)[0].formulas
+    kept = reference.template_sheet(scene)[0].formulas
     assert dropped and not any((r in dropped and c < 5) or r < 5 for r, c in kept)
 
 
@@ -59,7 +59,7 @@ def test_reference_from_the_template_is_the_rebuilt_workbook(stem):
     for variant in _variants(scene):
         _same_book(reference.reference_book(variant), reference.build_reference(variant), variant)
     # one generated sheet per structure (positions), however many variants
-    assert len(reference._TEMPLATE_SHEETS) == 2
+    assert reference.kept_structures() == 2
 
 
 def test_reference_is_cached_per_variant():

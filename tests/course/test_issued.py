@@ -183,6 +183,14 @@ def test_roster_file_errors(tmp_path):
         read_key(tmp_path / "k")
 
 
+def test_roster_error_is_an_input_error_not_a_scene_error():
+    """A roster is not a scene: RosterError sits directly under InputError (issue 29), which
+    is what the command line catches, so its exit code and one line stay the same."""
+    from sheetkin.errors import InputError
+    from sheetkin.kinematics.scene import SceneError
+    assert issubclass(RosterError, InputError) and not issubclass(RosterError, SceneError)
+
+
 def test_cli_roster_errors_are_one_line(issued, tmp_path, capsys):
     bad = tmp_path / "roster.csv"
     bad.write_text(HEAD + "v1,a,b,c,0.1,x\n", encoding="utf-8")

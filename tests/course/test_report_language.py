@@ -48,6 +48,24 @@ def test_every_language_has_every_word():
     assert WORDS["ru"].keys() == WORDS["uk"].keys() == WORDS["en"].keys()
 
 
+def test_every_word_the_reports_use_is_in_the_table():
+    """Each `t["key"]` of the modules that look words up (t = words(lang)) names a word of
+    WORDS: a misspelt or removed key would be a KeyError in one language's report only
+    where that line is reached; read from the sources, independently of any report."""
+    import re
+    from pathlib import Path
+
+    import sheetkin.course
+    folder = Path(sheetkin.course.__file__).parent
+    used = set()
+    for module in ("report.py", "report_html.py"):
+        text = (folder / module).read_text(encoding="utf-8")
+        assert "= words(" in text
+        used |= set(re.findall(r"\bt\[[\"']([a-z_0-9]+)[\"']\]", text))
+    assert len(used) > 40 and "unusable" in used          # the scan found the lookups
+    assert used - WORDS["en"].keys() == set()
+
+
 def test_the_books_language_is_the_reports_default(reports, books, capsys):
     assert {lang: rep.lang for lang, rep in reports.items()} == {"ru": "ru", "uk": "uk", "en": "en"}
     assert class_lang(list(reports.values())) in ("ru", "uk", "en")
