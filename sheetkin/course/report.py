@@ -14,6 +14,7 @@ from .report_html import position_list, position_name
 from .report_messages import say
 from .report_model import Report
 from .report_texts import READS_TYPED, say_grading, words
+from .scratch import ScratchReport
 from .scratch_report import mapping_lines
 
 if TYPE_CHECKING:
@@ -107,12 +108,13 @@ def _missing_lines(rep: Report, lang: str) -> list[str]:
     """One line per kind (an empty exercise once printed 60 lines "empty: Fi (row 32)" ...)."""
     t = words(lang)
     lines = []
+    from_scratch = isinstance(rep, ScratchReport) and bool(rep.mapping)     # its rows have no row numbers
     for status in ("missing", "empty"):
         rows = [r for r in rep.missing if r.status == status]
         if rows:
             lines.append(f"  {t[status]} ({len(rows)}): " + ", ".join(
                 r.name + (f" ({t['row']} {r.row})" if r.row else "") for r in rows)
-                + (t["no_row"] if status == "missing" and not getattr(rep, "mapping", None) else ""))
+                + (t["no_row"] if status == "missing" and not from_scratch else ""))
     return lines
 
 
