@@ -36,6 +36,7 @@ from helpers.scratchbooks import student_book, write_openpyxl  # noqa: E402
 from sheetkin.course import scratch, validator  # noqa: E402
 from sheetkin.course.caches import clear_caches  # noqa: E402
 from sheetkin.course.grades import score  # noqa: E402
+from sheetkin.course.reference import reference_book  # noqa: E402
 from sheetkin.kinematics.scene import load_scene  # noqa: E402
 from sheetkin.sheet.workbook import write_workbook  # noqa: E402
 from sheetkin.xlsx.cells import read_book  # noqa: E402
@@ -57,11 +58,12 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--runs", type=int, default=3)
     ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results" / "scratch" / "scratch.json"))
+    ap.add_argument("--tiny", action="store_true", help="a smoke run: the four-bar once, nothing written")
     args = ap.parse_args()
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         d = Path(tmp)
-        for name in SCHEMES:
+        for name in SCHEMES[:1] if args.tiny else SCHEMES:
             toml = ROOT / "workbooks" / f"{name}.toml"
             scene = load_scene(str(toml))
             key = d / f"{name}-key.xlsx"
@@ -78,6 +80,8 @@ def main() -> int:
                 row[f"ratio_{orient}"] = round(t / t_issued, 2)
             rows.append(row)
             print(json.dumps(row, ensure_ascii=False), flush=True)
+        if args.tiny:
+            return 0
         big = _big_book(d, load_scene(str(ROOT / "workbooks" / "fourbar.toml")))
         rows.append(big)
         print(json.dumps(big, ensure_ascii=False), flush=True)
@@ -101,7 +105,7 @@ def _big_book(d: Path, scene) -> dict:
     t, rep = _best(1, lambda: validator.validate(path, options=opts))
     raw = read_book(path)
     book = scratch._evaluate(raw)
-    qs = scratch.quantities(scene, scratch._reference(scene))
+    qs = scratch.quantities(scene, reference_book(scene))
     t0 = time.perf_counter()
     loc = scratch.locate(raw, book, scene, qs)
     t_locate = time.perf_counter() - t0

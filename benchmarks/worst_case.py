@@ -27,8 +27,8 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from sheetkin.course.batch import max_jobs  # noqa: E402
+from sheetkin.course.book import MAX_EMBEDDED_POINTS  # noqa: E402
 from sheetkin.course.issued import MAX_ROSTER_BYTES  # noqa: E402
-from sheetkin.course.validator import MAX_EMBEDDED_POINTS  # noqa: E402
 from sheetkin.files import MAX_AT_FILE_BYTES, MAX_CLASS_LIST_BYTES  # noqa: E402
 from sheetkin.kinematics.caps import MAX_SCENE_BYTES  # noqa: E402
 from sheetkin.views.animate import MAX_FRAMES, MAX_SIZE  # noqa: E402
