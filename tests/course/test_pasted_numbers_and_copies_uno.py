@@ -172,7 +172,8 @@ def test_classmates_book_in_a_folder_is_not_the_students_grade(tmp_path):
     ids = identify(reps, cl)
     assert ids[0].superseded_by is None and ids[1].superseded_by == 0
     lines, warnings = grades.grade_lines(reps, Copies(), cl, identities=ids)
-    assert [(r[0], Path(r[4]).name) for r in lines[1:]] == [("popova@example.ru", "popova.xlsx")]
+    f = lines[0].index("file")        # by name; a class-list student who handed nothing in has no file
+    assert [(r[0], Path(r[f]).name) for r in lines[1:] if r[f]] == [("popova@example.ru", "popova.xlsx")]
     text = " ".join(warnings)
     assert "smirnova.xlsx: found in the folder of Попова Ольга" in text and "not graded" in text
     assert "older file" not in text
@@ -192,7 +193,9 @@ def test_one_students_two_versions_are_no_copy(tmp_path):
             _rep(at("Ольга Попова_5508_assignsubmission_file_", "lab.xlsx"), "Иванов Дмитрий")]
     assert pairs_of(possible_copies(reps[:2])) == {}
     got = pairs_of(possible_copies(reps))
-    assert got[0, 2] == "the same student name" and got[1, 2] == "the same student name"
+    # the third book lies in another participant's folder: namesakes of different Moodle folders
+    # are never copies (issue 31); the identity check flags the typed name there instead
+    assert (0, 2) not in got and (1, 2) not in got
 
 
 def test_a_corrupt_reupload_does_not_replace_a_usable_book(tmp_path):
@@ -214,7 +217,8 @@ def test_a_corrupt_reupload_does_not_replace_a_usable_book(tmp_path):
     ids = identify(reps, cl)
     assert ids[0].superseded_by is None and ids[1].superseded_by == 0
     lines, _ = grades.grade_lines(reps, Copies(), cl, identities=ids)
-    assert [(r[0], Path(r[4]).name) for r in lines[1:]] == [("ivanov@example.ru", "lab.xlsx")]
+    f = lines[0].index("file")
+    assert [(r[0], Path(r[f]).name) for r in lines[1:] if r[f]] == [("ivanov@example.ru", "lab.xlsx")]
 
 
 def test_a_file_named_like_a_classmates_folder_is_still_its_folders(tmp_path):

@@ -287,7 +287,7 @@ def _evaluator_problems(tmp_path: Path) -> list[str]:
     ws.title = "Кинематика"
     ws["A1"], ws["A2"], ws["A3"], ws["A4"] = "=NOSUCHFUNCTION(1)", "=SUM(1,2", "=1+*2", "=arr"
     ws["A5"], ws["B1"], ws["B2"] = "=NOSUCH(1)+OTHERFN(2)", "=B2+1", "=B1+1"
-    wb.defined_names["arr"] = DefinedName("arr", attr_text="{1,2,3}")
+    wb.defined_names["arr"] = DefinedName("arr", attr_text="1+*2")     # {1,2,3} reads since array constants
     wb.save(tmp_path / "p.xlsx")
     problems = evaluate(tmp_path / "p.xlsx", strict=False).problems
     for what in ("unsupported function NOSUCHFUNCTION", "cannot read the formula", "is not a formula",
