@@ -381,6 +381,7 @@ def _unpack(zpath: Path, strict: bool, shown_as: str | None = None, depth: int =
                 continue
             if _name_note(info):
                 _NOTES.setdefault(str(target), []).append(_name_note(info))
+            _UNPACKED_AS[str(target)] = entry
             stamp = time.mktime((*info.date_time, 0, 0, -1))   # Moodle's date of the submission's file
             os.utime(target, (stamp, stamp))
             if _is_zip(target):
@@ -395,6 +396,14 @@ ZIP_MAX_DEPTH = 1                 # a zip inside the class's zip is unpacked; on
 _BUDGET = [0]                     # bytes unpacked in this run (submission_files resets it)
 _REFUSED: dict[str, str] = {}     # an entry's placeholder path -> its one line
 _NOTES: dict[str, list[str]] = {} # an unpacked file -> notes for its report (a name read as cp866)
+_UNPACKED_AS: dict[str, str] = {}  # an unpacked file -> its entry as the teacher knows it (zip/folder/name)
+
+
+def unpacked_as(path: str) -> str:
+    """The name a file unpacked from a zip had there (its Moodle folder in it), else `path`:
+    a file is unpacked under a short name of its own, and who handed it in is read from the
+    entry's folder (the from-scratch grading asks it inside the worker)."""
+    return _UNPACKED_AS.get(str(path), str(path))
 
 
 def _open_zip(zpath: Path) -> zipfile.ZipFile:

@@ -559,8 +559,9 @@ def scene_for(path: str, options) -> tuple[Scene | None, str]:
     assignment, roster = getattr(options, "assignment", None), getattr(options, "roster", None)
     if assignment is None or roster is None:
         return None, ""
+    from .batch import unpacked_as
     from .classlist import moodle_submitter
-    sub = moodle_submitter(path)
+    sub = moodle_submitter(unpacked_as(path))      # a book from a zip: its entry's Moodle folder
     if sub is None:
         return None, ""
     people = assignment.as_class_list().match(sub.name)
