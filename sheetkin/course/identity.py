@@ -48,6 +48,13 @@ class Identity:
     unmatched: str = ""              # why the class list names no one (or several)
     superseded_by: int | None = None   # an older book of the same student: not graded
     participant: str = ""            # Moodle's participant number from the folder ("": not from Moodle)
+    by_text: bool = False            # blind marking: the identifier came from a name typed in the book
+
+    @property
+    def moodle_user(self) -> str:
+        """One grade per this key: Moodle's participant (one user per folder number), else
+        whose grade it is."""
+        return f"participant {self.participant}" if self.participant else self.student_key
 
     @property
     def student_key(self) -> str:
@@ -137,6 +144,7 @@ def identify(reports, class_list: ClassList | None = None, assignment: Assignmen
     for rep in reports:
         out.append(_identify_one(rep, class_list, assignment))
     _newest_only(reports, out, mtimes or [file_mtime(r.path) for r in reports])
+    _one_line_per_identifier(reports, out)
     from sheetkin.files import shown  # the class list's names are students' too (a Moodle profile)
     for me in out:
         me.flags = [shown(f) for f in me.flags]
@@ -213,7 +221,10 @@ def _identify_blind(me: Identity, rep, cl: ClassList | None, assignment: Assignm
     plain = _identify_one(_without_folder(rep), cl, assignment)
     plain.participant = participant
     plain.submitter = f"Participant {participant}"
-    plain.who = plain.ident or f"participant {participant}"
+    # the Moodle user is the participant: a name typed in the book finds the class list's
+    # line, but never merges this participant's books with another user's (issue 30)
+    plain.who = f"participant {participant}"
+    plain.by_text = bool(plain.ident)
     return plain
 
 
@@ -269,8 +280,8 @@ def _newest_only(reports, ids: list[Identity], mtimes: list[float]) -> None:
     point at it (superseded_by) and are listed."""
     by_ident: dict[str, list[int]] = {}
     for i, me in enumerate(ids):
-        if me.student_key:       # blind marking without a class list: the participant number
-            by_ident.setdefault(me.student_key, []).append(i)
+        if me.moodle_user:
+            by_ident.setdefault(me.moodle_user, []).append(i)
     for ident, idx in by_ident.items():
         if len(idx) < 2:
             continue
@@ -288,6 +299,30 @@ def _newest_only(reports, ids: list[Identity], mtimes: list[float]) -> None:
         older = "older" if all(mtimes[i] <= mtimes[newest] for i in idx) else "other"
         ids[newest].flags.append(f"graded; {older} files of this student not graded: "
                                  + ", ".join(reports[i].path for i in idx if i != newest)[:300])
+
+
+def _one_line_per_identifier(reports, ids: list[Identity]) -> None:
+    """Two Moodle users' graded books under one identifier: a name typed in a blind-marked
+    book never takes over the grade of the student whose own folder names them (issue 30);
+    when no single folder settles it, none of them is graded under the identifier (the
+    teacher decides, each book keeps its own line)."""
+    claims: dict[str, list[int]] = {}
+    for i, me in enumerate(ids):
+        if me.ident and me.superseded_by is None:
+            claims.setdefault(me.ident, []).append(i)
+    for ident, idx in claims.items():
+        if len({ids[i].moodle_user for i in idx}) < 2:
+            continue
+        by_folder = [i for i in idx if ids[i].participant and not ids[i].by_text]
+        keep = by_folder[0] if len(by_folder) == 1 else None
+        for i in idx:
+            if i == keep:
+                continue
+            others = ", ".join(reports[j].path for j in idx if j != i)[:300]
+            ids[i].unmatched = (f"{ident} is claimed by {ids[i].submitter or 'this book'} and by {others}: "
+                                "not graded under it")
+            ids[i].flags.append(ids[i].unmatched)
+            ids[i].ident = ""
 
 
 def find_assignment(roster_path: str | None) -> Assignment | None:

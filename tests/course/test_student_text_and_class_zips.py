@@ -140,6 +140,35 @@ def test_attackers_book_does_not_take_over_petrovs_grade(tmp_path):
     assert ids[0].who != ids[1].who
 
 
+def test_a_typed_name_in_a_blind_book_never_takes_over_a_grade(tmp_path):
+    """Blind marking grades a book under the name typed in it; that name must not drop the
+    named student's own book (a newer upload used to supersede it) nor give one student two
+    lines. Two participants typing one name: neither is graded under it."""
+    cl = tmp_path / "class.csv"
+    cl.write_text("First name,Last name,Email address\nПётр,Петров,petrov@x.ru\nИван,Иванов,ivanov@x.ru\n",
+                  encoding="utf-8")
+    class_list = read_class_list(str(cl))
+    reps = [_rep("Пётр Петров_102_assignsubmission_file_/lab.xlsx", "Петров Пётр"),
+            _rep("Participant_104_assignsubmission_file_/lab.xlsx", "Петров П."),
+            _rep("Participant_105_assignsubmission_file_/lab.xlsx", "Иванов Иван"),
+            _rep("Participant_106_assignsubmission_file_/lab.xlsx", "Иванов Иван"),
+            _rep("Participant_107_assignsubmission_file_/a.xlsx", "Иванов Иван")]
+    ids = identify(reps, class_list, mtimes=[1, 2, 1, 1, 2])
+    assert [m.superseded_by for m in ids] == [None] * 5
+    assert [m.ident for m in ids] == ["petrov@x.ru", "", "", "", ""]
+    assert "claimed by Participant 104" in ids[1].unmatched
+    lines, warnings = grade_lines(reps, Copies(), class_list, identities=ids)
+    emails = [line[0] for line in lines[1:] if line[0]]
+    assert sorted(emails) == ["ivanov@x.ru", "petrov@x.ru"] and len(emails) == len(set(emails))
+    status = {line[0]: line[-1] for line in lines[1:] if line[0]}
+    assert status["ivanov@x.ru"] == "not handed in" and status["petrov@x.ru"] == "graded"
+    assert "4 submission(s) not found" in " ".join(warnings)
+    # one participant's two books: still one grade (the newest)
+    again = identify([reps[4], _rep("Participant_107_assignsubmission_file_/b.xlsx", "Иванов Иван")], class_list,
+                     mtimes=[1, 2])
+    assert again[0].superseded_by == 1 and again[1].ident == "ivanov@x.ru"
+
+
 def test_name_typed_in_another_students_folder_flagged_without_class_list():
     reps = [_rep("Пётр Петров_102_assignsubmission_file_/lab.xlsx", "Иванов Иван"),
             _rep("Ivan Ivanov_103_assignsubmission_file_/lab.xlsx", "Иванов И.И."),       # transliterated: fine

@@ -127,7 +127,7 @@ def test_every_function_agrees_with_libreoffice(book, tmp_path, soffice):
 
 def test_every_function_agrees_with_gnumeric(book, tmp_path, ssconvert):
     """Gnumeric where it has the function (a function it lacks is its #NAME?)."""
-    from engines import gnumeric_recalc
+    from helpers.engines import gnumeric_recalc
     path, cells = book
     out = gnumeric_recalc(path, tmp_path / "gnumeric")
     theirs = _theirs(out, cells)
