@@ -295,7 +295,8 @@ def _newest_only(reports, ids: list[Identity], mtimes: list[float]) -> None:
                 ids[i].superseded_by = newest
                 why = ("which is newer" if mtimes[i] <= mtimes[newest] else
                        "their own book (this one is not)" if i in foreign else "which is usable (this one is not)")
-                ids[i].flags.append(f"not graded: {ident} handed in {reports[newest].path} too, {why}")
+                whom = ids[newest].student_key or ident          # the identifier a teacher knows
+                ids[i].flags.append(f"not graded: {whom} handed in {reports[newest].path} too, {why}")
         older = "older" if all(mtimes[i] <= mtimes[newest] for i in idx) else "other"
         ids[newest].flags.append(f"graded; {older} files of this student not graded: "
                                  + ", ".join(reports[i].path for i in idx if i != newest)[:300])
