@@ -542,7 +542,7 @@ def cmd_validate(args) -> int:
     elif len(reports) > 1:
         sys.stdout.write("\n" + summary_table(reports, lang) + copies_lines(reports, copies, lang))
     if args.html:
-        _write(args.html, html_report(reports, copies, lang, identities))
+        _write(args.html, html_report(reports, copies, lang, identities, getattr(args, "copies", "hold")))
     if args.grades:
         _write_grades(args, reports, copies, graded.class_list, identities, lang)
     else:
