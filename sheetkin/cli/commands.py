@@ -68,15 +68,15 @@ def cmd_variants(args) -> int:
     for k in kept:
         print(f"sheetkin: {k}: the previous issue's {k.name.split('-2')[0].lstrip('.')} kept "
               "(validate still checks the books sealed with it)", file=sys.stderr)
-    who = f", assigned to the {len(class_list.people)} students of {args.class_list} (assignment.csv)" \
+    who = f", assigned to the {len(class_list.people)} students of {args.class_list} ({roster.parent / 'assignment.csv'})" \
         if class_list else ""
     print(f"{args.out}: {len(variants)} variants of {args.scene} (seed {seed}: --seed {seed} makes the "
-          f"same again){who}; {roster}; the key {Path(args.out) / '.sheetkin-key'} stays with you", file=sys.stderr)
+          f"same again){who}; {roster}; the key {roster.parent / '.sheetkin-key'} stays with you", file=sys.stderr)
     if class_list:
         from sheetkin.course.variants import STUDENTS_FOLDER
-        print(f"sheetkin: hand out {Path(args.out) / STUDENTS_FOLDER} (one book per student, named by the "
-              f"student); the rest of {args.out} is yours (keys, roster, assignment.csv, the key): never "
-              "upload it", file=sys.stderr)
+        print(f"sheetkin: upload to Moodle {Path(args.out) / STUDENTS_FOLDER} (one book per student, named by "
+              f"the student); {roster.parent} is yours (keys, roster, assignment.csv, the key): never upload it; "
+              f"grade with --roster {roster}", file=sys.stderr)
     return 0
 
 
