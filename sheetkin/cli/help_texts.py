@@ -322,6 +322,10 @@ ERRORS: tuple[tuple[str, dict[str, str], str], ...] = (
     (r"\(see '(?P<prog>[^']+) --help'\)$", {"ru": "(см. '{prog} --help')", "uk": "(див. '{prog} --help')"},
      "unrecognized arguments: --bogus (see 'sheetkin --help')"),
     # the roster and the key (sheetkin/course/issued.py)
+    (r"^(?P<f>.+?): no such roster file; `variants --class-list` keeps it in (?P<moved>.+)$",
+     {"ru": "{f}: нет такого файла roster; `variants --class-list` хранит его в {moved}",
+      "uk": "{f}: немає такого файлу roster; `variants --class-list` зберігає його в {moved}"},
+     "class-21/roster.csv: no such roster file; `variants --class-list` keeps it in class-21/teacher/roster.csv"),
     (r"^(?P<f>.+?): no such roster file$",
      {"ru": "{f}: нет такого файла roster (его пишет `sheetkin variants`)",
       "uk": "{f}: немає такого файлу roster (його пише `sheetkin variants`)"},

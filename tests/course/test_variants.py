@@ -376,3 +376,16 @@ def test_a_class_list_issue_grades_from_either_layout(tmp_path, capsys, layout):
     from sheetkin.course.identity import find_assignment
     found = find_assignment(str(home / "roster.csv"))
     assert found is not None and found.people["p@x.ru"][1:] == ("fourbar-02", book.name)
+
+
+def test_the_old_roster_path_of_a_new_issue_points_to_the_teachers_folder(tmp_path):
+    """`--roster OUT/roster.csv` for a class issued into OUT/teacher: one line naming where
+    the roster is; without it, the plain "no such roster file"."""
+    from sheetkin.course.issued import RosterError, read_roster
+    (tmp_path / "teacher").mkdir()
+    with pytest.raises(RosterError, match=r"^[^\n]*roster\.csv: no such roster file$"):
+        read_roster(tmp_path / "roster.csv")
+    (tmp_path / "teacher" / "roster.csv").write_text("variant,exercise,key,scene\n", encoding="utf-8")
+    with pytest.raises(RosterError) as e:
+        read_roster(tmp_path / "roster.csv")
+    assert str(e.value).endswith(f"keeps it in {tmp_path / 'teacher' / 'roster.csv'}")
