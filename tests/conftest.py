@@ -16,6 +16,13 @@ settings.register_profile("ci", derandomize=True, print_blob=True)
 if os.environ.get("CI", "").lower() not in ("", "0", "false", "no"):
     settings.load_profile("ci")
 
+# The tests read the English messages: a Russian or Ukrainian locale would make `validate`'s
+# and `variants`' help and errors speak it (issue 34, sheetkin/cli/platform.py user_lang);
+# the tests of that set the locale themselves.
+for _var in ("LC_ALL", "LC_MESSAGES", "LANG"):
+    if os.environ.get(_var, "").split(".")[0].split("_")[0].lower() in ("ru", "uk"):
+        os.environ[_var] = "C.UTF-8"
+
 
 @pytest.fixture(scope="session")
 def soffice() -> str:

@@ -83,11 +83,14 @@ class _Parser(argparse.ArgumentParser):
         # like a number, so every number-like token is a value.
         self._negative_number_matcher = _NEGATIVE_NUMBER
 
+    error_lang: str | None = None   # ru, uk: the mistake said in it (help_texts.error_line)
+
     def error(self, message):
         if message == "argument --range: expected one argument":
             # `--range -90:90:1`: argparse takes the negative START for an option
             message += "; a negative START needs '=': --range=-90:90:1"
-        self.exit(EXIT_INPUT, f"sheetkin: error: {message} (see '{self.prog} --help')\n")
+        from .help_texts import error_line
+        self.exit(EXIT_INPUT, error_line(f"{message} (see '{self.prog} --help')", self.error_lang) + "\n")
 
 
 def build_parser(lang: str | None = None) -> argparse.ArgumentParser:
@@ -249,8 +252,8 @@ def _add_validate_parser(sub) -> None:
                         "'отлично=90,хорошо=75,удовлетворительно=60,неудовлетворительно=0'")
     v.add_argument("--grades-format", choices=["csv", "csv-excel", "xlsx"], default="csv",
                    help="with --grades: csv (default: what Moodle's import reads: ',' between fields, "
-                        "'.' decimals, UTF-8), csv-excel (';' and ',' decimals: a Russian Excel opens it "
-                        "in columns) or xlsx (a workbook)")
+                        "'.' decimals, UTF-8), csv-excel (';' and ',' decimals, UTF-8 with a BOM: a Russian Excel "
+                        "opens it in columns by a double click) or xlsx (a workbook)")
     v.add_argument("--worksheet", metavar="WORKSHEET.csv",
                    help="with --grades: Moodle's offline grading worksheet of the assignment (Download "
                         "grading worksheet); --grades then writes it back with its own columns and each "

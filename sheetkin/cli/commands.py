@@ -68,15 +68,15 @@ def cmd_variants(args) -> int:
     for k in kept:
         print(f"sheetkin: {k}: the previous issue's {k.name.split('-2')[0].lstrip('.')} kept "
               "(validate still checks the books sealed with it)", file=sys.stderr)
-    who = f", assigned to the {len(class_list.people)} students of {args.class_list} (assignment.csv)" \
-        if class_list else ""
+    who = (f", assigned to the {len(class_list.people)} students of {args.class_list} "
+           f"({roster.parent / 'assignment.csv'})") if class_list else ""
     print(f"{args.out}: {len(variants)} variants of {args.scene} (seed {seed}: --seed {seed} makes the "
-          f"same again){who}; {roster}; the key {Path(args.out) / '.sheetkin-key'} stays with you", file=sys.stderr)
+          f"same again){who}; {roster}; the key {roster.parent / '.sheetkin-key'} stays with you", file=sys.stderr)
     if class_list:
         from sheetkin.course.variants import STUDENTS_FOLDER
-        print(f"sheetkin: hand out {Path(args.out) / STUDENTS_FOLDER} (one book per student, named by the "
-              f"student); the rest of {args.out} is yours (keys, roster, assignment.csv, the key): never "
-              "upload it", file=sys.stderr)
+        print(f"sheetkin: upload to Moodle {Path(args.out) / STUDENTS_FOLDER} (one book per student, named by "
+              f"the student); {roster.parent} is yours (keys, roster, assignment.csv, the key): never upload it; "
+              f"grade with --roster {roster}", file=sys.stderr)
     return 0
 
 
@@ -542,7 +542,7 @@ def cmd_validate(args) -> int:
     elif len(reports) > 1:
         sys.stdout.write("\n" + summary_table(reports, lang) + copies_lines(reports, copies, lang))
     if args.html:
-        _write(args.html, html_report(reports, copies, lang, identities))
+        _write(args.html, html_report(reports, copies, lang, identities, getattr(args, "copies", "hold")))
     if args.grades:
         _write_grades(args, reports, copies, graded.class_list, identities, lang)
     else:
@@ -688,9 +688,18 @@ class _Signals:
 def main(argv=None) -> int:
     # the help in the teacher's language (--lang, else the locale); the patterns Windows'
     # shells leave as typed (`class/*.xlsx`) expanded by sheetkin
-    from .help_texts import help_lang
+    from .help_texts import ERROR_COMMANDS, error_parsers, help_lang
     from .platform import expand_patterns
-    args = build_parser(help_lang(sys.argv[1:] if argv is None else list(argv))).parse_args(argv)
+    given = sys.argv[1:] if argv is None else [str(a) for a in argv]
+    lang = help_lang(given)
+    parser = build_parser(lang)
+    # issue 34: the usage errors of validate and variants in the teacher's language too
+    command = next((a for a in given if not a.startswith("-")), None)
+    if command in ERROR_COMMANDS:
+        for p in (parser, *error_parsers(parser)):
+            setattr(p, "error_lang", lang)     # noqa: B010 (args._Parser's; mypy sees ArgumentParser)
+    args = parser.parse_args(argv)
+    args.error_lang = lang if args.command in ERROR_COMMANDS else None
     for many in ("paths", "scenes"):            # the commands that take many files
         if isinstance(getattr(args, many, None), list):
             setattr(args, many, expand_patterns(getattr(args, many)))
@@ -735,7 +744,8 @@ def _run(args) -> int:
         print(f"sheetkin: error: {getattr(args, 'scene', '')}: {said}", file=sys.stderr)
         return EXIT_ASSEMBLY
     except InputError as e:             # the user's to mend (UsageError among them): one line
-        print(one_line(f"sheetkin: error: {e}", 2000), file=sys.stderr)
+        from .help_texts import error_line  # validate's and variants': in the teacher's language
+        print(one_line(error_line(str(e), getattr(args, "error_lang", None)), 2000), file=sys.stderr)
         return EXIT_INPUT
     except BrokenPipeError:
         raise

@@ -59,8 +59,8 @@ VALIDATE = {
                    "на языке отчёта; или свои пороги: "
                    "'отлично=90,хорошо=75,удовлетворительно=60,неудовлетворительно=0'",
         "--grades-format": "вместе с --grades: csv (по умолчанию: то, что читает импорт Moodle: ',' между "
-                           "полями, '.' в числах, UTF-8), csv-excel (';' и ',' в числах: русский Excel "
-                           "открывает его по столбцам) или xlsx (книга)",
+                           "полями, '.' в числах, UTF-8), csv-excel (';' и ',' в числах, UTF-8 с BOM: русский "
+                           "Excel открывает его двойным щелчком по столбцам) или xlsx (книга)",
         "--progress": "индикатор хода проверки в stderr для нескольких файлов (auto: когда stderr - "
                       "терминал)",
         "--jobs": "проверять в N процессах (по умолчанию - по одному на ядро, здесь {cpus}; не "
@@ -131,8 +131,8 @@ VALIDATE = {
                    "(відмінно від 85, добре від 70, задовільно від 50, нижче - незадовільно) мовою "
                    "звіту; або свої пороги: 'відмінно=90,добре=75,задовільно=60,незадовільно=0'",
         "--grades-format": "разом із --grades: csv (типово: те, що читає імпорт Moodle: ',' між полями, "
-                           "'.' у числах, UTF-8), csv-excel (';' і ',' у числах: Excel відкриває його "
-                           "по стовпцях) або xlsx (книга)",
+                           "'.' у числах, UTF-8), csv-excel (';' і ',' у числах, UTF-8 з BOM: Excel "
+                           "відкриває його подвійним клацанням по стовпцях) або xlsx (книга)",
         "--progress": "індикатор перебігу перевірки в stderr для кількох файлів (auto: коли stderr - "
                       "термінал)",
         "--jobs": "перевіряти в N процесах (типово - по одному на ядро, тут {cpus}; не більше "
@@ -275,3 +275,145 @@ def translate(parser: argparse.ArgumentParser, lang: str | None, values: dict[st
                 action.help = HELP_FLAG[lang]
             elif key in texts:
                 action.help = texts[key].format(**values)
+
+
+# --------------------------------------------------------------------------- errors
+# The usage errors of `validate` and `variants` in the teacher's language (issue 34): the
+# same language as their help (help_lang: --lang, else the locale). Each entry: the English
+# message as a regular expression (its named groups the values: file names, options), the
+# ru and uk templates, and an example of the English message as sheetkin prints it (the
+# tests hold that each example matches its pattern and is said in both languages). What no
+# entry matches goes through the validator's phrases (report_messages.say: "no such
+# file" ...) and otherwise stays English. The line keeps the form "sheetkin: error: ...",
+# its word "error" said too (ERROR_WORD).
+ERROR_WORD = {"ru": "ошибка", "uk": "помилка"}
+ERROR_COMMANDS = ("validate", "variants")
+
+
+def error_parsers(parser: argparse.ArgumentParser) -> list[argparse.ArgumentParser]:
+    """The subparsers of ERROR_COMMANDS (their argparse errors are said in the language)."""
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    return [sub.choices[c] for c in ERROR_COMMANDS]
+
+
+ERRORS: tuple[tuple[str, dict[str, str], str], ...] = (
+    # argparse's own (sheetkin/cli/args.py _Parser.error)
+    (r"the following arguments are required: (?P<what>.+?)(?= \(see |$)",
+     {"ru": "не указаны обязательные аргументы: {what}", "uk": "не вказано обов'язкові аргументи: {what}"},
+     "the following arguments are required: FILE|FOLDER|ZIP (see 'sheetkin validate --help')"),
+    (r"argument (?P<opt>\S+): invalid choice: (?P<v>'[^']*') \(choose from (?P<list>[^)]*)\)",
+     {"ru": "аргумент {opt}: недопустимое значение {v} (допустимы: {list})",
+      "uk": "аргумент {opt}: неприпустиме значення {v} (припустимі: {list})"},
+     "argument --copies: invalid choice: 'x' (choose from 'hold', 'keep', 'zero') (see 'sheetkin validate --help')"),
+    (r"argument (?P<opt>\S+): expected a whole number, got (?P<v>'[^']*'|\"[^\"]*\")",
+     {"ru": "аргумент {opt}: ожидалось целое число, получено {v}",
+      "uk": "аргумент {opt}: очікувалося ціле число, отримано {v}"},
+     "argument --jobs: expected a whole number, got 'x' (see 'sheetkin validate --help')"),
+    (r"argument (?P<opt>\S+): expected a number >= (?P<n>\d+), got (?P<v>'[^']*'|\"[^\"]*\")",
+     {"ru": "аргумент {opt}: ожидалось число не меньше {n}, получено {v}",
+      "uk": "аргумент {opt}: очікувалося число не менше {n}, отримано {v}"},
+     "argument -n: expected a number >= 1, got '0' (see 'sheetkin variants --help')"),
+    (r"argument (?P<opt>\S+): expected one argument",
+     {"ru": "аргумент {opt}: ожидалось одно значение", "uk": "аргумент {opt}: очікувалося одне значення"},
+     "argument --roster: expected one argument (see 'sheetkin validate --help')"),
+    (r"unrecognized arguments: (?P<what>.+?)(?= \(see |$)",
+     {"ru": "неизвестные аргументы: {what}", "uk": "невідомі аргументи: {what}"},
+     "unrecognized arguments: --bogus (see 'sheetkin --help')"),
+    (r"\(see '(?P<prog>[^']+) --help'\)$", {"ru": "(см. '{prog} --help')", "uk": "(див. '{prog} --help')"},
+     "unrecognized arguments: --bogus (see 'sheetkin --help')"),
+    # the roster and the key (sheetkin/course/issued.py)
+    (r"^(?P<f>.+?): no such roster file; `variants --class-list` keeps it in (?P<moved>.+)$",
+     {"ru": "{f}: нет такого файла roster; `variants --class-list` хранит его в {moved}",
+      "uk": "{f}: немає такого файлу roster; `variants --class-list` зберігає його в {moved}"},
+     "class-21/roster.csv: no such roster file; `variants --class-list` keeps it in class-21/teacher/roster.csv"),
+    (r"^(?P<f>.+?): no such roster file$",
+     {"ru": "{f}: нет такого файла roster (его пишет `sheetkin variants`)",
+      "uk": "{f}: немає такого файлу roster (його пише `sheetkin variants`)"},
+     "class-21/roster.csv: no such roster file"),
+    (r"^(?P<f>.+?): no such key file \(`sheetkin variants` writes \.sheetkin-key in its --out folder\)$",
+     {"ru": "{f}: нет такого файла-ключа (`sheetkin variants` пишет .sheetkin-key в свою папку --out)",
+      "uk": "{f}: немає такого файлу-ключа (`sheetkin variants` пише .sheetkin-key у свою теку --out)"},
+     "nope.key: no such key file (`sheetkin variants` writes .sheetkin-key in its --out folder)"),
+    # the class list (sheetkin/course/classlist.py)
+    (r"^(?P<f>.+?): (?P<opt>--class-list|--worksheet): no such file$",
+     {"ru": "{f}: {opt}: нет такого файла", "uk": "{f}: {opt}: немає такого файлу"},
+     "participants.csv: --class-list: no such file"),
+    (r"^(?P<f>.+?):1: --class-list: expected columns 'First name' and 'Last name' \(or 'Full name'\) and one of "
+     r"(?P<ids>.+?); got (?P<got>.*)$",
+     {"ru": "{f}:1: --class-list: ожидались столбцы 'First name' и 'Last name' (или 'Full name') и один из "
+            "{ids} (или их русские названия из Moodle); получено {got}",
+      "uk": "{f}:1: --class-list: очікувалися стовпці 'First name' і 'Last name' (або 'Full name') та один із "
+            "{ids} (або їхні російські назви з Moodle); отримано {got}"},
+     "class.csv:1: --class-list: expected columns 'First name' and 'Last name' (or 'Full name') and one of "
+     "'Email address', 'ID number', 'Username'; got 'foo', 'bar'"),
+    (r"^(?P<f>.+?): (?P<opt>--class-list|--worksheet): not UTF-8 text but a binary file \(a workbook\?\); save it "
+     r"as CSV UTF-8$",
+     {"ru": "{f}: {opt}: не текст UTF-8, а двоичный файл (книга?); сохраните его как CSV UTF-8",
+      "uk": "{f}: {opt}: не текст UTF-8, а двійковий файл (книга?); збережіть його як CSV UTF-8"},
+     "class.xlsx: --class-list: not UTF-8 text but a binary file (a workbook?); save it as CSV UTF-8"),
+    (r"^(?P<f>[^:]+):(?P<line>\d+): (?P<opt>--class-list|--worksheet): not UTF-8 \(nor Windows-1251\) text; ",
+     {"ru": "{f}:{line}: {opt}: не текст UTF-8 (и не Windows-1251); ",
+      "uk": "{f}:{line}: {opt}: не текст UTF-8 (і не Windows-1251); "},
+     "class.csv:3: --class-list: not UTF-8 (nor Windows-1251) text; save it as CSV UTF-8"),
+    (r"^(?P<f>.+?): --class-list: empty; expected a header and one line per student$",
+     {"ru": "{f}: --class-list: файл пуст; ожидались заголовок и по строке на студента",
+      "uk": "{f}: --class-list: файл порожній; очікувалися заголовок і по рядку на студента"},
+     "class.csv: --class-list: empty; expected a header and one line per student"),
+    (r"^(?P<f>[^:]+):(?P<line>\d+): --class-list: a line without a name or an? (?P<id>.+)$",
+     {"ru": "{f}:{line}: --class-list: строка без имени или без {id}",
+      "uk": "{f}:{line}: --class-list: рядок без імені або без {id}"},
+     "class.csv:4: --class-list: a line without a name or a Email address"),
+    (r"^(?P<f>.+?): --class-list names no student$",
+     {"ru": "{f}: в --class-list нет ни одного студента", "uk": "{f}: у --class-list немає жодного студента"},
+     "class.csv: --class-list names no student"),
+    # validate's options (sheetkin/cli/commands.py)
+    (r"^--class-list fills grades\.csv's identifier column: give --grades GRADES\.csv too$",
+     {"ru": "--class-list заполняет столбец идентификатора grades.csv: укажите и --grades GRADES.csv",
+      "uk": "--class-list заповнює стовпець ідентифікатора grades.csv: вкажіть і --grades GRADES.csv"},
+     "--class-list fills grades.csv's identifier column: give --grades GRADES.csv too"),
+    (r"^--out-of (?P<v>\S+): expected the grade item's maximum, more than 0$",
+     {"ru": "--out-of {v}: ожидался максимум элемента оценивания, больше 0",
+      "uk": "--out-of {v}: очікувався максимум елемента оцінювання, більше 0"},
+     "--out-of 0: expected the grade item's maximum, more than 0"),
+    (r"^--scale: (?P<v>'.*?'|\".*?\"): expected NAME=LEAST SCORE \(0\.\.100\), e\.g\. (?P<e>.+)$",
+     {"ru": "--scale: {v}: ожидалось ИМЯ=НАИМЕНЬШИЙ БАЛЛ (0..100), например {e}",
+      "uk": "--scale: {v}: очікувалося НАЗВА=НАЙМЕНШИЙ БАЛ (0..100), наприклад {e}"},
+     "--scale: 'a=b': expected NAME=LEAST SCORE (0..100), e.g. 'отлично=85,хорошо=70'"),
+    # variants' (sheetkin/course/variants.py)
+    (r"^(?P<f>.+?): exists; refusing to overwrite it \(use --force: an issued roster and key are then kept "
+     r"beside the new ones, dated; or another --out\)$",
+     {"ru": "{f}: уже есть; не перезаписываю (--force: выданные roster и ключ тогда сохраняются рядом с "
+            "новыми, с датой; или другая папка --out)",
+      "uk": "{f}: уже є; не перезаписую (--force: видані roster і ключ тоді зберігаються поруч із новими, "
+            "з датою; або інша тека --out)"},
+     "class-21/teacher/roster.csv: exists; refusing to overwrite it (use --force: an issued roster and key are "
+     "then kept beside the new ones, dated; or another --out)"),
+    (r"^--out (?P<f>.+?): not a folder$", {"ru": "--out {f}: не папка", "uk": "--out {f}: не тека"},
+     "--out class.csv: not a folder"),
+    (r"^--vary (?P<v>\S+): no given value (?P<name>'[^']*') in this scene; valid: (?P<list>.+)$",
+     {"ru": "--vary {v}: в этой схеме нет исходного значения {name}; допустимы: {list}",
+      "uk": "--vary {v}: у цій схемі немає вихідного значення {name}; припустимі: {list}"},
+     "--vary Q=1..2: no given value 'Q' in this scene; valid: L1, L2, L3"),
+)
+
+
+def say_error(text: str, lang: str | None) -> str:
+    """A usage error of `validate` or `variants` in `lang` (ru, uk: ERRORS, then the
+    validator's phrases); None or en: as it is."""
+    if lang not in ERROR_WORD:
+        return text
+    import re
+
+    from sheetkin.course.report_messages import say
+    for pattern, said, _ in ERRORS:
+        template = said[lang]
+
+        def fill(m: re.Match, t: str = template) -> str:
+            return t.format(**m.groupdict())
+        text = re.sub(pattern, fill, text)
+    return say(text, lang)
+
+
+def error_line(text: str, lang: str | None) -> str:
+    """'sheetkin: error: TEXT' in `lang` (say_error)."""
+    return f"sheetkin: {ERROR_WORD.get(lang or '', 'error')}: {say_error(text, lang)}"

@@ -538,7 +538,9 @@ GRADES_FORMATS = ("csv", "csv-excel", "xlsx")    # Moodle's CSV (default); ";" a
 def grades_data(lines: list[list[str]], fmt: str = "csv") -> bytes:
     """grades.csv's lines as the format asks: csv (Moodle's import: ",", "." decimals,
     UTF-8 with a BOM), csv-excel (a Russian Excel's: ";" between fields, "," decimals, the
-    same UTF-8 with a BOM, which Excel reads), xlsx (numbers as numbers)."""
+    same UTF-8 with a BOM, which Excel 2007+ reads on a double click whatever the code page,
+    and no "sep=" line, which would make it ignore the BOM: docs/class.md says why not
+    cp1251), xlsx (numbers as numbers)."""
     if fmt == "csv":
         return grades_csv(lines)
     if fmt == "csv-excel":

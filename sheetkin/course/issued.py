@@ -208,6 +208,10 @@ def read_roster(path) -> Roster:
     try:
         raw = read_bytes(path, MAX_ROSTER_BYTES, "roster")
     except FileNotFoundError:
+        moved = Path(p).parent / "teacher" / ROSTER_FILE    # variants.TEACHER_FOLDER (issue 34)
+        if moved.is_file():
+            raise RosterError(one_line(f"{p}: no such roster file; `variants --class-list` keeps it in "
+                                       f"{moved}")) from None
         raise RosterError(one_line(f"{p}: no such roster file")) from None
     except OSError as e:
         raise RosterError(one_line(f"{p}: cannot read the roster ({e.strerror or e})")) from None

@@ -255,12 +255,13 @@ def json_report(reports: list[Report], copies: Copies | None = None, lang: str =
 
 
 def html_report(reports: list[Report], copies: Copies | None = None, lang: str = "en",
-                identities: list | None = None) -> str:
+                identities: list | None = None, copies_policy: str = "hold") -> str:
     """One offline page: the class at a glance, a sortable summary, per-student details,
     pictures (report_html.py), in `lang`; with identities (sheetkin.course.identity), who
-    handed each book in and what does not fit."""
+    handed each book in and what does not fit; copies_policy (`validate --copies`): the
+    possible copies held for review, as in grades.csv."""
     from .report_html import html_page
-    return html_page(reports, copies, lang, identities)
+    return html_page(reports, copies, lang, identities, copies_policy)
 
 
 def copies_lines(reports: list[Report], copies, lang: str = "en") -> str:

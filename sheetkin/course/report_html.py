@@ -33,7 +33,7 @@ th{background:#eee}th button{font:inherit;font-weight:bold;background:none;borde
 th[aria-sort=ascending] button::after{content:" \\25B2"}th[aria-sort=descending] button::after{content:" \\25BC"}
 td.num{text-align:right}.wrong{background:#ffc7ce}.ok{background:#c6efce}.cause{font-weight:bold}
 .empty{background:#f2f2f2;background-image:repeating-linear-gradient(45deg,#ddd 0 2px,transparent 2px 6px)}
-.typed{background:#ffeb9c}.notjudged{background:#bdd7ee}
+.typed{background:#ffeb9c}.notjudged{background:#bdd7ee}td.held{font-style:italic;color:#9c0006}
 td{overflow-wrap:break-word}body{max-width:1320px}
 #summary td:nth-last-child(-n+2){overflow-wrap:anywhere;min-width:12em;max-width:22em}
 .unusable{color:#9c0006}details{margin:.6em 0;border:1px solid #ddd;padding:.3em .6em}
@@ -229,7 +229,7 @@ def _identity_lines(me, lang: str) -> list[str]:
     return [say(x, lang) for x in [*me.flags, *([me.unmatched] if me.unmatched else [])]]
 
 
-def _summary_row(rep: Report, k: int, copy: str = "", lang: str = "en", me=None) -> str:
+def _summary_row(rep: Report, k: int, copy: str = "", lang: str = "en", me=None, held: bool = False) -> str:
     e, t = html.escape, words(lang)
     who = rep.student or _file(rep)
     group = rep.group
@@ -246,7 +246,8 @@ def _summary_row(rep: Report, k: int, copy: str = "", lang: str = "en", me=None)
     flags = _identity_lines(me, lang)
     return (f"<tr><td><a href='#{_anchor(rep, k)}' data-open='{_anchor(rep, k)}'>{e(who or rep.path)}</a></td>"
             f"<td>{e(group)}</td><td>{e(str(variant))}</td>"
-            f"<td class='num' data-sort='{'' if sc is None else f'{sc:.3f}'}'>{'' if sc is None else f'{sc:.1f}'}</td>"
+            f"<td class='num{' held' if held else ''}' data-sort='{'' if sc is None else f'{sc:.3f}'}'>"
+            f"{'' if sc is None else f'{sc:.1f}'}{' (' + e(t['held']) + ')' if held else ''}</td>"
             f"<td class='{cls}' data-sort='{VERDICTS.index(res)}'>{say_grading(res, lang)}</td>"
             f"<td class='num'>{'' if rep.error else c['correct']}</td>"
             f"<td class='num'>{'' if rep.error else c['typed']}</td>"
@@ -397,9 +398,11 @@ def _lists(rep: Report, lang: str, me) -> list[str]:
 
 
 def html_page(reports: list[Report], copies: Copies | None = None, lang: str = "en",
-              identities: list | None = None) -> str:
+              identities: list | None = None, copies_policy: str = "hold") -> str:
     """The page (module docstring). identities: sheetkin.course.identity.identify's, one per
-    report: who handed each book in, shown in the summary and the details."""
+    report: who handed each book in, shown in the summary and the details; copies_policy
+    (`validate --copies`): with hold, the possible copies are counted and marked held for
+    review, as grades.csv holds them."""
     t = words(lang)
     ids = identities if identities is not None and len(identities) == len(reports) else [None] * len(reports)
     graded = graded_books(reports, identities)     # an older file of a student is not counted
@@ -411,14 +414,15 @@ def html_page(reports: list[Report], copies: Copies | None = None, lang: str = "
            f"<style>{_CSS}</style></head><body>",
            f"<h1>{html.escape(t['h1'].format(n=len(reports)))}</h1>",
            f"<p>{html.escape(t['intro'].format(c=correct, o=len(graded) - correct))}</p>"]
-    out += class_at_a_glance(reports, lang, identities)
+    out += class_at_a_glance(reports, lang, identities, copies, copies_policy)
+    held = held_books(reports, copies, identities, copies_policy)
     out += [f"<h2>{t['students']}</h2>",
             "<table id='summary'><thead><tr>" + "".join(
                 f"<th><button type='button'>{t.get(h, h)}</button></th>" for h in
                 ("student", "group", "variant", "score", "result", "rows correct", "rows typed", "wrong_rows",
                  "likely_causes", "missing_rows", "copy_of", *(("identity",) if identities is not None else ()),
                  "file")) + "</tr></thead><tbody>"]
-    out += [_summary_row(r, k, _copy_links(reports, k, copies, False, lang, ids), lang, ids[k])
+    out += [_summary_row(r, k, _copy_links(reports, k, copies, False, lang, ids), lang, ids[k], k in held)
             for k, r in enumerate(reports)]
     out.append("</tbody></table>")
     out += _copy_groups(reports, copies, lang, ids)
@@ -451,15 +455,17 @@ def _copy_groups(reports: list[Report], copies, lang: str, ids: list | None = No
 
 
 def _share_table(ident: str, what: str, counts: list[tuple[str, int]], books: int, t: dict,
-                 empty: dict[str, int] | None = None, lang: str = "en") -> str:
+                 apart: dict[str, dict[str, int]] | None = None, lang: str = "en") -> str:
     """A table of names with how many books got each wrong and that share as a bar; with
-    `empty`, a column of the books where the row is not filled in (not counted as wrong)."""
+    `apart` ({cell state: {name: books}}), a column for each state (typed, not filled in):
+    the books where the row is so, not counted as wrong."""
     e = html.escape
-    extra = f"<th>{e(cell_word('empty', lang))}</th>" if empty is not None else ""
+    apart = apart or {}
+    extra = "".join(f"<th class='{s}'>{e(cell_word(s, lang))}</th>" for s in apart)
     out = [f"<table id='{ident}'><tr><th>{what}</th><th>{t['books']}</th><th>{t['share']}</th>{extra}</tr>"]
     for n, c in counts:
         share = c / books
-        more = f"<td class='num'>{empty.get(n, 0) or ''}</td>" if empty is not None else ""
+        more = "".join(f"<td class='num' data-state='{s}'>{apart[s].get(n, 0) or ''}</td>" for s in apart)
         out.append(f"<tr data-row='{e(n)}' data-share='{share:.4f}'><td>{e(n)}</td><td class='num'>{c}</td>"
                    f"<td><span class='bar' style='width:{share * 20:.2f}em'></span> {100 * share:.0f}%</td>{more}</tr>")
     return "".join(out) + "</table>"
@@ -472,38 +478,61 @@ def graded_books(reports: list[Report], identities: list | None = None) -> list[
     return [r for r, me in zip(reports, ids, strict=True) if me is None or me.superseded_by is None]
 
 
-def class_at_a_glance(reports: list[Report], lang: str = "en", identities: list | None = None) -> list[str]:
+def held_books(reports: list[Report], copies=None, identities: list | None = None,
+               copies_policy: str = "hold") -> set[int]:
+    """The graded books held for review as possible copies (grades.csv leaves their score
+    empty, status STATUS_HELD): none unless the policy is hold (`validate --copies`)."""
+    if copies is None or copies_policy != "hold":
+        return set()
+    from .grades import copy_text
+    graded = {id(r) for r in graded_books(reports, identities)}
+    return {i for i, r in enumerate(reports) if id(r) in graded and copy_text(reports, i, copies)}
+
+
+def class_at_a_glance(reports: list[Report], lang: str = "en", identities: list | None = None,
+                      copies=None, copies_policy: str = "hold") -> list[str]:
     """Issue 22: the picture of the class before the list of students. Each row's share of
-    wrong books (computed wrong or typed: not done right), in the lecture's order (the
-    order of the rows in the sheet), as bars, and beside it the books where the row is not
-    filled in (issue 34: empty is not wrong); then the distribution of scores in tens.
-    Only graded books count (an older file of a student is not one). Rows right in every
-    book are left out; the bars are plain HTML (no script needed)."""
+    wrong books (computed wrong: grades.row_verdict), in the lecture's order (the order of
+    the rows in the sheet), as bars, and beside it the books where the row is typed (numbers
+    where formulas belong) and where it is not filled in: issue 34, neither is wrong; then
+    the distribution of scores in tens. Only graded books count (an older file of a student
+    is not one); a line says how many, and how many of them are held for review as possible
+    copies (copies, copies_policy: held_books). Rows right in every book are left out; the
+    bars are plain HTML (no script needed)."""
+    from .grades import _typed_ok, row_verdict
     e, t = html.escape, words(lang)
+    held = len(held_books(reports, copies, identities, copies_policy))
     reports = graded_books(reports, identities)
     usable = [r for r in reports if not r.error]
-    out = [f"<section id='class'><h2>{t['class']}</h2>"]
+    out = [f"<section id='class'><h2>{t['class']}</h2>",
+           f"<p id='class-counts' data-graded='{len(reports)}' data-held='{held}'>"
+           f"{e(t['class_counts'].format(n=len(reports), h=held))}</p>"]
     order: list[str] = []
     wrong: dict[str, int] = {}
+    typed: dict[str, int] = {}
     empty: dict[str, int] = {}
     for r in usable:
+        acc = _typed_ok(r, None)
         for x in r.rows:
             if x.name not in wrong:
                 order.append(x.name)
-                wrong[x.name] = empty[x.name] = 0
-            if getattr(x, "not_judged", False) or x.status == "correct":
+                wrong[x.name] = typed[x.name] = empty[x.name] = 0
+            if getattr(x, "not_judged", False):
                 continue
-            if x.status in ("missing", "empty"):
+            v = row_verdict(x, acc)
+            if v == "missing":
                 empty[x.name] += 1
-            else:
+            elif v == "typed":
+                typed[x.name] += 1
+            elif v == "wrong":
                 wrong[x.name] += 1
-    shown = [n for n in order if wrong[n] or empty[n]]
+    shown = [n for n in order if wrong[n] or typed[n] or empty[n]]
     out.append(f"<h3>{e(t['class_rows'].format(n=len(usable)))}</h3>")
     if not shown:
         out.append(f"<p class='note'>{t['none_wrong']}</p>")
     else:
         out.append(_share_table("class-rows", t["row"], [(n, wrong[n]) for n in shown], len(usable), t,
-                                empty, lang))
+                                {"typed": typed, "empty": empty}, lang))
     failing: dict[str, int] = {}
     for r in usable:                    # in the sheet's order, as each book lists them
         for n in r.failing_checks:

@@ -38,7 +38,9 @@ WORDS: dict[str, dict[str, str]] = {
         "wrong books, in the lecture's order (usable books: {n})", "class_scores": "Scores ({n} books)",
         "books": "books", "share": "share wrong", "none_wrong": "no row is wrong in any book",
         "students": "Students", "class_checks": "The sheet's check rows that fail: each one's share of books",
-        "check": "check",
+        "check": "check", "held": "held for review",
+        "class_counts": "Graded books: {n}; held for review as possible copies: {h} (their grade is left empty "
+        "in grades.csv). An older file of a student is not counted.",
     },
     "ru": {
         "unusable": "НЕ ПРОВЕРЯЕТСЯ", "positions": "положений",
@@ -70,6 +72,9 @@ WORDS: dict[str, dict[str, str]] = {
         "строкой, в порядке лекции (проверено книг: {n})", "class_scores": "Баллы (книг: {n})", "books": "книг",
         "share": "доля неверных", "class_checks": "Проверки листа, которые не выполнены: доля книг",
         "check": "проверка", "none_wrong": "ни в одной книге нет неверных строк", "students": "Студенты",
+        "held": "отложено для проверки",
+        "class_counts": "Оценено книг: {n}; отложено для проверки как возможные копии: {h} (в grades.csv их "
+        "оценка пуста). Более старый файл студента не считается.",
     },
     "uk": {
         "unusable": "НЕ ПЕРЕВІРЯЄТЬСЯ", "positions": "положень",
@@ -102,7 +107,9 @@ WORDS: dict[str, dict[str, str]] = {
         "неправильним рядком, у порядку лекції (перевірено книг: {n})", "class_scores": "Бали (книг: {n})",
         "books": "книг", "share": "частка неправильних", "none_wrong": "у жодній книзі немає неправильних рядків",
         "students": "Студенти", "class_checks": "Перевірки аркуша, які не виконано: частка книг",
-        "check": "перевірка",
+        "check": "перевірка", "held": "відкладено для перевірки",
+        "class_counts": "Оцінено книг: {n}; відкладено для перевірки як можливі копії: {h} (у grades.csv їхня "
+        "оцінка порожня). Старіший файл студента не враховується.",
     },
 }
 

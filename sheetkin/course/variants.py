@@ -332,9 +332,18 @@ def _on_grid(k: int, step: float) -> float:
 
 # --------------------------------------------------------------------------- writing them
 # with a class list, the students' own books (one each) go to this folder of --out, the one
-# to upload; the rest of --out is the teacher's (keys, scenes, roster, assignment, the key,
-# the generic exercises): issue 34, a folder of 16 exercises for 8 students handed out both
+# to upload, and everything else to TEACHER_FOLDER (keys, scenes, roster, assignment, the
+# key, the generic exercises), never uploaded: issue 34, a folder of 16 exercises for 8
+# students handed out both. Without a class list all is in --out, as before (and a class
+# issued before this layout, roster.csv directly in --out, is read as it was).
 STUDENTS_FOLDER = "students"
+TEACHER_FOLDER = "teacher"
+
+
+def teacher_folder(out: str | Path, class_list: bool) -> Path:
+    """Where `variants` writes the roster, the key, assignment.csv and the books of each
+    variant: out/TEACHER_FOLDER with a class list, else out itself."""
+    return Path(out) / TEACHER_FOLDER if class_list else Path(out)
 
 
 def file_names(vid: str) -> dict[str, str]:
@@ -344,28 +353,31 @@ def file_names(vid: str) -> dict[str, str]:
 def write_variants(variants: list[Variant], out: str | Path, *, force: bool = False, lang: str = "ru",
                    charts: bool = True, note=None, class_list=None, kept: list | None = None) -> Path:
     """Write the variants' scenes, exercise and key workbooks, roster.csv and the teacher's
-    key in `out`; with a class list (classlist.ClassList) each student's own exercise too,
-    in out/STUDENTS_FOLDER (the folder to hand out), and assignment.csv (assign()).
+    key in `out`; with a class list (classlist.ClassList) each student's own exercise in
+    out/STUDENTS_FOLDER (the folder to hand out), and all the rest, with assignment.csv
+    (assign()), in out/TEACHER_FOLDER (teacher_folder: never uploaded).
     Refuses to overwrite a file unless force. An issued
     class's roster, key and assignment are never overwritten: with force they are renamed
     beside the new ones, dated (roster-20261126-113000.csv, .sheetkin-key-20261126-113000),
     and `validate` still checks the books sealed with the older keys (their names are
     appended to `kept`). Returns the roster."""
-    out = Path(out)
+    top = Path(out)
     people = assign(variants, class_list) if class_list is not None else []
+    out = teacher_folder(top, class_list is not None)
     targets = ([out / ROSTER_FILE, out / KEY_FILE, out / ASSIGNMENT_FILE]
                + [out / f for v in variants for f in file_names(v.id).values()]
-               + [out / STUDENTS_FOLDER / exercise for _, _, _, exercise in people])
+               + [top / STUDENTS_FOLDER / exercise for _, _, _, exercise in people])
     if not force:
         for t in targets:
             if t.exists():
                 raise SceneError(one_line(f"{t}: exists; refusing to overwrite it (use --force: an issued "
                                           "roster and key are then kept beside the new ones, dated; or another --out)"))
-    if out.exists() and not out.is_dir():
-        raise SceneError(one_line(f"--out {out}: not a folder"))
+    for folder in (top, out, top / STUDENTS_FOLDER):
+        if folder.exists() and not folder.is_dir():
+            raise SceneError(one_line(f"--out {folder}: not a folder"))
     out.mkdir(parents=True, exist_ok=True)
     if people:
-        (out / STUDENTS_FOLDER).mkdir(exist_ok=True)
+        (top / STUDENTS_FOLDER).mkdir(exist_ok=True)
     done = keep_issued(out)
     if kept is not None:
         kept += done
@@ -373,7 +385,7 @@ def write_variants(variants: list[Variant], out: str | Path, *, force: bool = Fa
     key = bytes.fromhex(key_hex)
     written: list[Path] = []
     try:
-        _write_issue(variants, out, key, lang, charts, note, class_list, people, written)
+        _write_issue(variants, out, key, lang, charts, note, class_list, people, written, top / STUDENTS_FOLDER)
         # the key last: a run that fails before it (a full disk) leaves no key that would
         # make the rerun refuse ("exists") or check books against a key nobody received
         _atomic(out / KEY_FILE, key_hex + "\n", private=True)
@@ -384,9 +396,9 @@ def write_variants(variants: list[Variant], out: str | Path, *, force: bool = Fa
 
 
 def _write_issue(variants, out: Path, key: bytes, lang: str, charts: bool, note, class_list, people,
-                 written: list[Path]) -> None:
-    """The scenes, books, assignment and roster of write_variants (each path appended to
-    `written` once it is there)."""
+                 written: list[Path], students: Path) -> None:
+    """The scenes, books, assignment and roster of write_variants in `out`, the students'
+    own books in `students` (each path appended to `written` once it is there)."""
     def atomic(path: Path, text: str) -> None:
         _atomic(path, text)
         written.append(path)
@@ -413,7 +425,7 @@ def _write_issue(variants, out: Path, key: bytes, lang: str, charts: bool, note,
         wb = build_workbook(v.scene, lang=lang, exercise=True, scene_text=v.text,
                             issued=(vid, seal(key, vid, v.text, ident)), charts=charts)
         _seal_student(wb, name, ident)
-        book(out / STUDENTS_FOLDER / exercise, wb)
+        book(students / exercise, wb)
     if people:
         atomic(out / ASSIGNMENT_FILE, assignment_text(class_list.id_header, people))
     atomic(out / ROSTER_FILE, roster_text(names, rows))

@@ -196,11 +196,12 @@ def test_class_loop_with_assignment(tmp_path, soffice, capsys):
         f"{last};{first};s{k}@example.org\n" for k, (last, first) in enumerate(ASSIGNED))).encode("cp1251"))
     assert main(["variants", str(WORKBOOKS / "fourbar.toml"), "-n", "4", "--class-list", str(cl), "--out", str(out),
                  "--seed", "3"]) == 0
-    rows = list(csv.DictReader(io.StringIO((out / "assignment.csv").read_text(encoding="utf-8"))))
+    home = out / "teacher"                 # issue 34: the teacher's folder, never uploaded
+    rows = list(csv.DictReader(io.StringIO((home / "assignment.csv").read_text(encoding="utf-8"))))
     given = {r["identifier (Email address)"]: r for r in rows}      # the identifier's name in the header
     assert [given[f"s{k}@example.org"]["variant"] for k in range(6)] == [
         "fourbar-01", "fourbar-02", "fourbar-03", "fourbar-04", "fourbar-01", "fourbar-02"]    # k mod 4
-    keys = {vid: ex_key[1] for vid, ex_key in _issued_books(out).items()}
+    keys = {vid: ex_key[1] for vid, ex_key in _issued_books(home).items()}
 
     def book(k, change=None):
         r = given[f"s{k}@example.org"]
@@ -226,11 +227,11 @@ def test_class_loop_with_assignment(tmp_path, soffice, capsys):
                  "--seed", "4"]) == 2
     assert main(["variants", str(WORKBOOKS / "fourbar.toml"), "-n", "4", "--class-list", str(cl), "--out", str(out),
                  "--seed", "4", "--force"]) == 0
-    assert len(list(out.glob("roster-*.csv"))) == 1 and len(list(out.glob(".sheetkin-key-*"))) == 1
-    assert len(list(out.glob("assignment-*.csv"))) == 1
+    assert len(list(home.glob("roster-*.csv"))) == 1 and len(list(home.glob(".sheetkin-key-*"))) == 1
+    assert len(list(home.glob("assignment-*.csv"))) == 1
     capsys.readouterr()
     grades, html = tmp_path / "grades.csv", tmp_path / "report.html"
-    code = main(["validate", str(zpath), "--roster", str(out / "roster.csv"), "--class-list", str(cl),
+    code = main(["validate", str(zpath), "--roster", str(home / "roster.csv"), "--class-list", str(cl),
                  "--grades", str(grades), "--copies", "keep", "--html", str(html), "--progress", "never",
                  "--lang", "en"])
     text, err = capsys.readouterr()

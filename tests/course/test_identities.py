@@ -335,6 +335,7 @@ def test_typed_numbers_of_another_variant_no_one_handed_in(tmp_path):
     out = tmp_path / "issued"
     assert main(["variants", str(ROOT / "workbooks" / "fourbar.toml"), "-n", "3", "--class-list", str(cl),
                  "--out", str(out), "--seed", "2"]) == 0
+    out = out / "teacher"                  # issue 34: the teacher's folder of a class list's issue
     roster = read_roster(out / "roster.csv")
     theirs = computed_values(out / "fourbar-03.toml")
     rep = _rep("orlov.xlsx", "Орлов Денис", "fourbar-01")

@@ -202,3 +202,26 @@ def test_every_grades_format_round_trips(tmp_path, fmt):
     if fmt == "csv":                     # the one Moodle reads
         got = moodle_gradebook_import(data, "Email address", "балл", 100.0)
         assert got["ivanov@example.org"] == 100.0
+
+
+def test_csv_excel_is_utf8_with_a_bom_and_no_sep_line(tmp_path):
+    """--grades-format csv-excel, byte by byte as docs/class.md states it: UTF-8 after a
+    byte-order mark (EF BB BF: Excel 2007 and later on Windows then read it as UTF-8 on a
+    double click, whatever the code page; without it a Russian Excel would read cp1251),
+    no `sep=;` line (it makes Excel ignore the BOM), `;` between fields (a Russian Windows'
+    list separator), `,` decimals, CRLF; the default csv stays Moodle's (`,`, `.`)."""
+    from sheetkin.course.grades import grades_data
+    reps, copies, cl, ids = _class(tmp_path, blind=False)
+    lines = grade_lines(reps, copies, cl, identities=ids, lang="ru")[0]
+    data = grades_data(lines, "csv-excel")
+    assert data.startswith(b"\xef\xbb\xbf") and not data.startswith(b"\xef\xbb\xbfsep=")
+    text = data[3:].decode("utf-8")                    # strict UTF-8 after the mark
+    assert "студент".encode() in data and "студент".encode("cp1251") not in data
+    rows = text.split("\r\n")
+    assert rows[-1] == "" and all("\n" not in r for r in rows)
+    assert next(csv.reader(io.StringIO(rows[0]), delimiter=";")) == lines[0]
+    assert re.search(r";\d+,\d;", text) and not re.search(r";\d+\.\d;", text)
+    default = grades_data(lines, "csv")
+    assert default.startswith(b"\xef\xbb\xbf")
+    assert next(csv.reader(io.StringIO(default[3:].decode("utf-8").split("\r\n")[0]))) == lines[0]
+    assert re.search(r",\d+\.\d,", default.decode("utf-8-sig"))

@@ -50,7 +50,7 @@ def test_the_class_at_a_glance_counts_graded_books_and_empty_apart():
     html = "".join(class_at_a_glance([old, new, empty], "ru", ids))
     # two graded books: omega_2 wrong in none, not filled in in one
     row = re.search(r"<tr data-row='omega_2' data-share='([\d.]+)'>(.*?)</tr>", html)
-    assert row and float(row.group(1)) == 0.0 and row.group(2).endswith("<td class='num'>1</td>")
+    assert row and float(row.group(1)) == 0.0 and row.group(2).endswith("<td class='num' data-state='empty'>1</td>")
     assert "не заполнено" in html and "(проверено книг: 2)" in html
 
 
@@ -62,3 +62,58 @@ def test_a_copy_names_who_handed_it_in_and_whose_book_it_is():
     assert copy_label(own, Identity(submitter="Анна Петрова (Moodle participant 2)"), "en") == \
         "Анна Петрова (Moodle participant 2)"
     assert copy_label(own, None, "en") == "Петрова Анна"
+
+
+def _class_with_each_kind():
+    """A typed row, a wrong row, an empty row, and two books held as copies of each other;
+    an older file (superseded) whose wrong row must not count."""
+    from sheetkin.course.copies import Cluster, Copies
+    typed = _book("typed.xlsx", [RowReport("omega_2", 10, "correct", source="typed", typed_cells=[1, 2, 3, 4]),
+                                 RowReport("eps_2", 11, "correct")], student="Иванов")
+    wrong = _book("wrong.xlsx", [RowReport("omega_2", 10, "correct"),
+                                 RowReport("eps_2", 11, "wrong", wrong_cells=[2])], student="Петров")
+    empty = _book("empty.xlsx", [RowReport("omega_2", 10, "empty"), RowReport("eps_2", 11, "correct")],
+                  student="Сидоров")
+    copy_a = _book("a.xlsx", [RowReport("omega_2", 10, "correct"), RowReport("eps_2", 11, "correct")],
+                   student="Орлов")
+    copy_b = _book("b.xlsx", [RowReport("omega_2", 10, "correct"), RowReport("eps_2", 11, "correct")],
+                   student="Орлова")
+    older = _book("old.xlsx", [RowReport("omega_2", 10, "wrong", wrong_cells=[1]),
+                               RowReport("eps_2", 11, "wrong", wrong_cells=[1])], student="Петров")
+    reports = [typed, wrong, empty, copy_a, copy_b, older]
+    ids = [Identity(ident=f"s{k}") for k in range(5)] + [Identity(ident="s1", superseded_by=1)]
+    copies = Copies([Cluster([3, 4], [("byte-identical files", [3, 4])])])
+    return reports, ids, copies
+
+
+def _counts(page: str) -> dict[str, list[str]]:
+    """{row: [wrong books, typed, not filled in]} of the class-rows table."""
+    table = re.search(r"<table id='class-rows'>(.*?)</table>", page).group(1)
+    out = {}
+    for name, cells in re.findall(r"<tr data-row='(\w+)'[^>]*>(.*?)</tr>", table):
+        nums = re.findall(r"<td class='num'(?: data-state='(\w+)')?>(\d*)</td>", cells)
+        out[name] = {state or "wrong": int(v or 0) for state, v in nums}
+    return out
+
+
+def test_the_class_at_a_glance_typed_and_empty_apart_from_wrong_and_held_counted():
+    reports, ids, copies = _class_with_each_kind()
+    for lang, typed_word, empty_word, held_word in (
+            ("ru", "введено числом, не вычислено", "не заполнено", "отложено для проверки"),
+            ("en", "typed, not computed", "not filled in", "held for review")):
+        page = html_page(reports, copies, lang, ids)
+        got = _counts(page)
+        # the older file's wrong rows are not counted; typed and empty are not wrong
+        assert got["omega_2"] == {"wrong": 0, "typed": 1, "empty": 1}
+        assert got["eps_2"] == {"wrong": 1, "typed": 0, "empty": 0}
+        head = re.search(r"<table id='class-rows'><tr>(.*?)</tr>", page).group(1)
+        assert f"<th class='typed'>{typed_word}</th><th class='empty'>{empty_word}</th>" in head
+        counts = re.search(r"<p id='class-counts' data-graded='(\d+)' data-held='(\d+)'>([^<]*)</p>", page)
+        assert counts and counts.group(1, 2) == ("5", "2")
+        assert "5" in counts.group(3) and "2" in counts.group(3)
+        # the two copies' scores are marked held in the students' table, no other
+        held = re.findall(r"<td class='num held'[^>]*>([^<]*)</td>", page)
+        assert len(held) == 2 and all(held_word in h for h in held)
+        # with --copies keep nothing is held
+        kept = html_page(reports, copies, lang, ids, copies_policy="keep")
+        assert "data-held='0'" in kept and "num held" not in kept

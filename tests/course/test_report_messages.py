@@ -20,6 +20,7 @@ from sheetkin.course.grades import COLUMNS, grade_lines
 from sheetkin.course.report_messages import COLUMN_NAMES, PHRASES, TEMPLATES, say
 
 ROOT = Path(__file__).resolve().parents[2]
+TEACHER = Path("issued") / "teacher"     # issue 34: the teacher's folder of `variants --class-list`
 CLASS = ("Фамилия;Имя;Индивидуальный номер;Адрес электронной почты\n"
          "Иванов;Иван;1001;ivanov@example.org\nПетрова;Анна;1002;petrova@example.org\n"
          "Сидоров;Пётр;1003;sidorov@example.org\nОрлов;Денис;1004;orlov@example.org\n")
@@ -78,7 +79,7 @@ def klass(tmp_path_factory):
         return iss / "students" / f"fourbar-0{v}-{who}-exercise.xlsx"
 
     def key(v):
-        return iss / f"fourbar-0{v}-key.xlsx"
+        return iss / "teacher" / f"fourbar-0{v}-key.xlsx"
     sub = d / "submissions"
     iv = fill(ex(1, "Иванов_Иван"), key(1), _moodle_folder(sub, "Иван Иванов", 1) / "ivanov.xlsx",
               student="Иванов Иван", group="ГИ-21", change=type_numbers("omega_2", row_values(key(1), "omega_2"), 3))
@@ -94,7 +95,7 @@ def klass(tmp_path_factory):
     bad = _moodle_folder(sub, "Participant", 9)
     (bad / "broken.xlsx").write_text("this is not a workbook\n")
     (bad / "empty.xlsx").write_bytes(b"")
-    typed = fill(iss / "fourbar-02-exercise.xlsx", key(2), bad / "typed.xlsx", student="Кузнецов Олег",
+    typed = fill(iss / "teacher" / "fourbar-02-exercise.xlsx", key(2), bad / "typed.xlsx", student="Кузнецов Олег",
                  change=_all_typed(key(2)))
     os.utime(typed, (2e9, 2e9))                 # the newest of the folder, and usable: graded
     return d
@@ -130,8 +131,8 @@ def said(klass):
         page, grades = klass / f"r-{lang}.html", klass / f"g-{lang}.csv"
         buf = io.StringIO()
         with contextlib.redirect_stdout(buf):
-            code = run_main("validate", klass / "submissions", "--roster", klass / "issued" / "roster.csv",
-                            "--key", klass / "issued" / ".sheetkin-key", "--class-list", klass / "class.csv",
+            code = run_main("validate", klass / "submissions", "--roster", klass / TEACHER / "roster.csv",
+                            "--key", klass / TEACHER / ".sheetkin-key", "--class-list", klass / "class.csv",
                             "--grades", grades, "--html", page, "--lang", lang, "--progress", "never", "--jobs", "1")
         assert code == 2                                   # unusable files among them
         text = page.read_text(encoding="utf-8")
@@ -233,7 +234,7 @@ def test_json_notes_in_the_teachers_language(klass):
     import json
     buf = io.StringIO()
     with contextlib.redirect_stdout(buf):
-        run_main("validate", klass / "submissions", "--roster", klass / "issued" / "roster.csv", "--class-list",
+        run_main("validate", klass / "submissions", "--roster", klass / TEACHER / "roster.csv", "--class-list",
                  klass / "class.csv", "--grades", klass / "g-json.csv", "--json", "--lang", "uk", "--progress",
                  "never", "--jobs", "1")
     books = json.loads(buf.getvalue())["reports"]

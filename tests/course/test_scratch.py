@@ -75,6 +75,7 @@ def books(tmp_path_factory, soffice) -> dict[str, Path]:
     issued = tmp / "issued"
     assert main(["variants", str(WORKBOOKS / "fourbar.toml"), "-n", "2", "--class-list", str(cl), "--out",
                  str(issued), "--seed", "5"]) == 0
+    issued = issued / "teacher"            # issue 34: roster, assignment, scenes: the teacher's folder
     rows = list(csv.reader(io.StringIO((issued / "assignment.csv").read_text(encoding="utf-8"))))
     # student, identifier (named by its header since issue 34), variant, exercise
     vid = next(r[2] for r in rows[1:] if r[1] == "s1@example.org")

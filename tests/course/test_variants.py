@@ -326,7 +326,7 @@ def test_vary_twice_for_one_value_is_refused():
 def test_class_list_one_folder_to_hand_out_one_to_keep(tmp_path, capsys):
     """issue 34: `variants --class-list` put 16 exercises for 8 students in one folder (the
     students' own and the generic ones); now out/students holds one book per student, named
-    by the student, and the command says to hand out that folder only."""
+    by the student, out/teacher everything else, and the command says which to upload."""
     from sheetkin.cli.commands import main
     cl = tmp_path / "class.csv"
     cl.write_text("First name,Last name,Email address\nИван,Иванов,i@x.ru\nАнна,Петрова,p@x.ru\nПётр,Сидоров,s@x.ru\n",
@@ -335,9 +335,57 @@ def test_class_list_one_folder_to_hand_out_one_to_keep(tmp_path, capsys):
     scene = Path(__file__).resolve().parents[2] / "workbooks" / "fourbar.toml"
     assert main(["variants", str(scene), "-n", "2", "--class-list", str(cl), "--out", str(out), "--seed", "1"]) == 0
     err = capsys.readouterr().err
+    assert sorted(p.name for p in out.iterdir()) == ["students", "teacher"]
     handed = sorted(p.name for p in (out / "students").iterdir())
     assert len(handed) == 3 and all(any(n in h for h in handed) for n in ("Иванов", "Петрова", "Сидоров"))
-    assert not any((out / "students" / name).exists() for name in ("roster.csv", ".sheetkin-key", "assignment.csv"))
-    assert all("Иванов" not in p.name for p in out.glob("*.xlsx"))        # the teacher's folder: generic books
-    assert (out / "roster.csv").exists() and (out / ".sheetkin-key").exists() and (out / "assignment.csv").exists()
-    assert f"hand out {out / 'students'}" in err
+    teacher = out / "teacher"
+    kept = {p.name for p in teacher.iterdir()}
+    assert {"roster.csv", ".sheetkin-key", "assignment.csv"} <= kept
+    assert {f"fourbar-0{k}-{w}" for k in (1, 2) for w in ("key.xlsx", "exercise.xlsx")} <= kept
+    assert not any(n in name for name in kept for n in ("Иванов", "Петрова", "Сидоров"))
+    assert f"upload to Moodle {out / 'students'}" in err and f"--roster {teacher / 'roster.csv'}" in err
+    assert f"{teacher}" in err.split("upload to Moodle")[1] and "never upload" in err
+
+
+@pytest.mark.parametrize("layout", ["teacher", "old"])
+def test_a_class_list_issue_grades_from_either_layout(tmp_path, capsys, layout):
+    """The teacher's folder (out/teacher) and a class issued before it (roster, key and
+    assignment.csv directly in --out): `validate --roster` checks the student's seal and
+    finds the assignment beside the roster in both."""
+    import json
+    import shutil
+
+    from sheetkin.cli.commands import main
+    cl = tmp_path / "class.csv"
+    cl.write_text("First name,Last name,Email address\nИван,Иванов,i@x.ru\nАнна,Петрова,p@x.ru\n", encoding="utf-8")
+    out = tmp_path / "issued"
+    scene = Path(__file__).resolve().parents[2] / "workbooks" / "fourbar.toml"
+    assert main(["variants", str(scene), "-n", "2", "--class-list", str(cl), "--out", str(out), "--seed", "2"]) == 0
+    home = out / "teacher"
+    if layout == "old":
+        for f in home.iterdir():
+            shutil.move(str(f), str(out / f.name))
+        home.rmdir()
+        home = out
+    book = next((out / "students").glob("*Петрова*"))
+    capsys.readouterr()
+    main(["validate", str(book), "--roster", str(home / "roster.csv"), "--json",
+          "--progress", "never"])
+    rep = json.loads(capsys.readouterr().out)["reports"][0]
+    assert rep["seal"] == "ok" and rep["issued_to"] == "p@x.ru" and rep["variant"] == "fourbar-02"
+    from sheetkin.course.identity import find_assignment
+    found = find_assignment(str(home / "roster.csv"))
+    assert found is not None and found.people["p@x.ru"][1:] == ("fourbar-02", book.name)
+
+
+def test_the_old_roster_path_of_a_new_issue_points_to_the_teachers_folder(tmp_path):
+    """`--roster OUT/roster.csv` for a class issued into OUT/teacher: one line naming where
+    the roster is; without it, the plain "no such roster file"."""
+    from sheetkin.course.issued import RosterError, read_roster
+    (tmp_path / "teacher").mkdir()
+    with pytest.raises(RosterError, match=r"^[^\n]*roster\.csv: no such roster file$"):
+        read_roster(tmp_path / "roster.csv")
+    (tmp_path / "teacher" / "roster.csv").write_text("variant,exercise,key,scene\n", encoding="utf-8")
+    with pytest.raises(RosterError) as e:
+        read_roster(tmp_path / "roster.csv")
+    assert str(e.value).endswith(f"keeps it in {tmp_path / 'teacher' / 'roster.csv'}")
