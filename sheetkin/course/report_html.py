@@ -35,7 +35,8 @@ td.num{text-align:right}.wrong{background:#ffc7ce}.ok{background:#c6efce}.cause{
 .empty{background:#f2f2f2;background-image:repeating-linear-gradient(45deg,#ddd 0 2px,transparent 2px 6px)}
 .typed{background:#ffeb9c}.notjudged{background:#bdd7ee}td.held{font-style:italic;color:#9c0006}
 td{overflow-wrap:break-word}body{max-width:1320px}
-#summary td:nth-last-child(-n+2){overflow-wrap:anywhere;min-width:12em;max-width:22em}
+#summary td{overflow-wrap:anywhere;min-width:6em}#summary td.num{overflow-wrap:normal;min-width:0}
+#summary td:nth-last-child(-n+2){min-width:8em;max-width:22em}
 .unusable{color:#9c0006}details{margin:.6em 0;border:1px solid #ddd;padding:.3em .6em}
 summary{cursor:pointer;font-weight:bold}.pic{float:right;margin:0 0 .5em 1em}.cells td{min-width:1.2em}
 .note{color:#555;font-size:90%}.clear{clear:both}

@@ -114,3 +114,37 @@ def test_the_class_at_a_glance_opens_the_page_in_the_books_language(page):
         assert "sheetkin example" not in body and "Sidorov A." in body
     finally:
         driver.get(src)
+
+
+def test_the_russian_page_of_a_class_with_held_copies_fits_a_laptop_screen(tmp_path):
+    """Issue 34: the page fits a 1,366 px screen in Russian, whose words are the longest: a
+    class issued with a class list, a held copy ("100.0 (отложено для проверки)"), a book
+    handed in empty (its missing rows listed), long file names (measured 1,396 px before)."""
+    import shutil
+    paths = require(chromium_paths(), HINT)
+    cl = tmp_path / "class.csv"              # a Russian Excel's class list
+    cl.write_bytes("Фамилия;Имя;Адрес электронной почты\nИванов;Иван;iv@x.ru\nПетрова;Анна;pe@x.ru\n"
+                   "Сидоров;Пётр;si@x.ru\nКузнецов;Олег;ku@x.ru\n".encode("cp1251"))
+    out = tmp_path / "cls"
+    assert main(["variants", str(ROOT / "workbooks" / "fourbar.toml"), "--class-list", str(cl), "-n", "3",
+                 "--out", str(out), "--seed", "1"]) == 0
+    subs = tmp_path / "sub"
+    subs.mkdir()
+    teacher = out / "teacher"
+    shutil.copy(teacher / "fourbar-01-key.xlsx", subs / "ivanov.xlsx")
+    shutil.copy(teacher / "fourbar-01-key.xlsx", subs / ("Кузнецов_Олег_лабораторная_работа_1_кинематика_шарнирно-"
+                                                        "рычажного_механизма_окончательный_вариант.xlsx"))
+    shutil.copy(next((out / "students").glob("fourbar-02-*")), subs / "petrova.xlsx")
+    shutil.copy(teacher / "fourbar-03-key.xlsx", subs / "sidorov.xlsx")
+    html = tmp_path / "ru.html"
+    main(["validate", *map(str, sorted(subs.iterdir())), "--roster", str(teacher / "roster.csv"), "--class-list",
+          str(cl), "--grades", str(tmp_path / "grades.csv"), "--html", str(html), "--lang", "ru",
+          "--progress", "never"])
+    assert "отложено для проверки" in html.read_text(encoding="utf-8")
+    driver = chrome(*paths, width=1366, height=800)
+    try:
+        driver.get(html.as_uri())
+        wide, window = driver.execute_script("return [document.documentElement.scrollWidth, window.innerWidth]")
+    finally:
+        driver.quit()
+    assert wide <= window, f"the page is {wide} px wide in a {window} px window"
