@@ -348,3 +348,101 @@ def test_replayed_reference_is_the_nudged_reference(path):
     from sheetkin.xlsx.evaluator import BOOL, NUM
     valued = (built.tag[sh] == NUM) | (built.tag[sh] == BOOL)
     assert (built.num[sh][valued] == replayed.num[sh][valued]).all()
+
+
+# --------------------------------------------------------------------------- a cheat per function family
+def _typed_row(key: Path):
+    """The row's values at every position, typed in as numbers (the key's, full precision)."""
+    kb = evaluate(key)
+    return lambda x: [repr(kb.value(kb.order[0], x.r, 5 + k)) for k in range(x.positions)]
+
+
+def _family_cheats(key: Path) -> dict[tuple[str, str], object]:
+    """Cheats invented for each family of sheetkin/xlsx/table.py: a function of the family
+    makes the issued values while reading some given data (so precedent tracing alone would
+    credit them) and not following them."""
+    typed = _typed_row(key)
+
+    def l1(x: Cell) -> str:
+        return f"$D${x.rows['L1']}"
+
+    def i(x: Cell) -> str:
+        return x.at("i")
+
+    def arr(x: Cell) -> str:
+        return "{" + ",".join(typed(x)) + "}"
+
+    def idx(x: Cell) -> str:
+        return "{" + ",".join(str(k) for k in range(x.positions)) + "}"
+    return {
+        ("Math & Trig", "POWER(L1,0)"): lambda x: f"=POWER({l1(x)},0)*{x.v}",
+        ("Math & Trig", "ROUND"): lambda x: f"=ROUND({x.v}+0*SQRT({l1(x)}),12)",
+        ("Math & Trig", "ABS(SIGN)"): lambda x: f"={x.v}*ABS(SIGN({l1(x)}))",
+        ("Math & Trig", "SUMPRODUCT of typed"): lambda x: f"=SUMPRODUCT(({idx(x)}={i(x)})*{arr(x)})",
+        ("Statistical", "MEDIAN"): lambda x: f"=MEDIAN({x.v},{x.v},{l1(x)}*1E9)",
+        ("Statistical", "LARGE"): lambda x: f"=LARGE({{{x.v},-1E300}},1)+0*{l1(x)}",
+        ("Statistical", "COUNTIF"): lambda x: f"=COUNTIF({l1(x)},\">0\")*{x.v}",
+        ("Statistical", "AVERAGE"): lambda x: f"=AVERAGE({x.v},{x.v}+0*{l1(x)})",
+        ("Logical", "IF(AND)"): lambda x: f"=IF(AND({l1(x)}>0,$D${x.rows['L2']}>0),{x.v},0)",
+        ("Logical", "IFERROR"): lambda x: f"=IFERROR({l1(x)}/0,{x.v})",
+        ("Logical", "OR times"): lambda x: f"={x.v}*OR({l1(x)})",
+        ("Logical", "IFS"): lambda x: f"=_xlfn.IFS({l1(x)}>0,{x.v})",
+        ("Information", "ISNUMBER"): lambda x: f"=IF(ISNUMBER({l1(x)}),{x.v})",
+        ("Information", "TYPE"): lambda x: f"={x.v}*TYPE({l1(x)})",
+        ("Information", "ISBLANK"): lambda x: f"=IF(ISBLANK({l1(x)}),0,{x.v})",
+        ("Information", "ISERR"): lambda x: f"={x.v}+ISERR({l1(x)})",
+        ("Lookup & Reference", "INDEX of typed"): lambda x: f"=INDEX({arr(x)},1,{i(x)}+1)",
+        ("Lookup & Reference", "LOOKUP of typed"): lambda x: f"=LOOKUP({i(x)},{idx(x)},{arr(x)})",
+        ("Lookup & Reference", "HLOOKUP of typed"): lambda x: (
+            f"=HLOOKUP({i(x)},{{{','.join(str(k) for k in range(x.positions))};"
+            f"{','.join(typed(x))}}},2,FALSE)"),
+        ("Lookup & Reference", "MATCH"): lambda x: f"={x.v}*MATCH({l1(x)},{l1(x)},0)",
+        ("Text", "VALUE(MID)"): lambda x: f"=VALUE(MID(\"x{x.v}\",2,40))+0*{l1(x)}",
+        ("Text", "LEN(TEXT)"): lambda x: f"={x.v}*LEN(TEXT({l1(x)},\"0\"))",
+        ("Text", "CONCATENATE REPT"): lambda x: f"=VALUE(CONCATENATE(\"{x.v}\",REPT(\"0\",0*{l1(x)})))",
+        ("Text", "SUBSTITUTE"): lambda x: (f"=VALUE(SUBSTITUTE(\"{x.v.replace('.', ',')}\",\",\",\".\"))"
+                                           f"+0*LEN({l1(x)})"),
+    }
+
+
+FAMILY_CHEATS = [
+    ("Math & Trig", "POWER(L1,0)"), ("Math & Trig", "ROUND"), ("Math & Trig", "ABS(SIGN)"),
+    ("Math & Trig", "SUMPRODUCT of typed"),
+    ("Statistical", "MEDIAN"), ("Statistical", "LARGE"), ("Statistical", "COUNTIF"), ("Statistical", "AVERAGE"),
+    ("Logical", "IF(AND)"), ("Logical", "IFERROR"), ("Logical", "OR times"), ("Logical", "IFS"),
+    ("Information", "ISNUMBER"), ("Information", "TYPE"), ("Information", "ISBLANK"), ("Information", "ISERR"),
+    ("Lookup & Reference", "INDEX of typed"), ("Lookup & Reference", "LOOKUP of typed"),
+    ("Lookup & Reference", "HLOOKUP of typed"), ("Lookup & Reference", "MATCH"),
+    ("Text", "VALUE(MID)"), ("Text", "LEN(TEXT)"), ("Text", "CONCATENATE REPT"), ("Text", "SUBSTITUTE"),
+]
+
+
+def test_every_family_has_a_cheat():
+    """The cheats below cover every family of the function table, each with a function of it."""
+    from sheetkin.xlsx.table import CATEGORIES, FUNCTIONS
+    assert {f for f, _ in FAMILY_CHEATS} == set(CATEGORIES)
+    for family, name in FAMILY_CHEATS:
+        assert any(FUNCTIONS[w].category == family for w in name.replace("(", " ").replace(")", " ").split()
+                   if w in FUNCTIONS), (family, name)
+
+
+@pytest.mark.parametrize(("family", "cheat"), FAMILY_CHEATS, ids=lambda v: v.replace(" ", "_"))
+def test_a_cheat_of_every_family_earns_nothing(classes, tmp_path, family, cheat):
+    """A book filled correctly with phi_2 and omega_3 cheated by a function of one family: the
+    formula reads given data (L1 or the position i) but makes the issued values without
+    following them. Both rows earn nothing and are named as not following the given data; every
+    other row keeps its credit."""
+    ex, key, options = classes["fourbar"]
+    recipe = _family_cheats(key)[(family, cheat)]
+    rep, s = grade(make_book(ex, key, tmp_path / "cheat.xlsx", {"phi_2": recipe, "omega_3": recipe}), options)
+    by = {r.name: r for r in rep.rows}
+    for name in ("phi_2", "omega_3"):
+        assert not by[name].not_judged, (cheat, name)
+        assert row_share(by[name], rep.positions, False) == 0, (cheat, name, by[name])
+        assert grades.row_verdict(by[name]) == "typed", (cheat, name, by[name])
+    honest = [r for r in grades.graded_rows(rep) if r.name not in ("phi_2", "omega_3")]
+    assert all(grades.row_verdict(r) == "correct" for r in honest), [r.name for r in honest
+                                                                    if grades.row_verdict(r) != "correct"]
+    assert s < 100
+    follow = [n for n in rep.notes if "does not follow the given data" in n]
+    assert follow and "phi_2" in follow[0] and "omega_3" in follow[0], rep.notes
