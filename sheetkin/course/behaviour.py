@@ -28,7 +28,7 @@ read). Each leaves a report it cannot judge as it was.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, cast
 
 from sheetkin.kinematics.scene import Scene
@@ -44,6 +44,8 @@ from .layout import standard_view
 from .localjudge import CELL_RIGHT, TURN, angle_difference, judge
 from .tolerance import ATOL, RTOL
 
+HELD_FI0 = 1.0           # degrees Fi0 moves by when the check rows are judged with their rows held
+
 if TYPE_CHECKING:
     from .report_model import Report, RowReport
     from .rows import Graded
@@ -56,6 +58,10 @@ class Behaviour:
     the issued layout, as the validator's evaluated sheet)."""
     nudged: list[nudge.Nudged]
     sheets: list[Book]
+    # the check rows alone evaluated again on each variant's given data, every other cell
+    # held at its issued value: (the student's, in the issued layout; the reference's)
+    # (the first pair: None and the reference's check rows on the issued data)
+    held: list[tuple[Book | None, Book]] = field(default_factory=list)
 
 
 def prepare(g: Graded, raw: Book, names: dict, scene_text: str) -> Behaviour | None:
@@ -100,7 +106,47 @@ def prepare(g: Graded, raw: Book, names: dict, scene_text: str) -> Behaviour | N
     for v in variants:
         changes = {(g.names[n], value_col): x for n, x in v.inputs.items() if n in g.names}
         sheets.append(standard_view(replay.run({g.main: changes}), g.layout)[0])
-    return Behaviour(variants, sheets)
+    return Behaviour(variants, sheets, _held_checks(g, raw, names, ref_book, variants))
+
+
+def _held_inputs(v: nudge.Nudged, ref_book: Book, ref_names: dict) -> dict[str, float]:
+    """The given data the check rows are evaluated on with the rows they check held: the
+    variant's nudged data, and Fi0 moved by HELD_FI0 degrees (no configuration to keep there:
+    the rows are not computed again, so chk_Fi reacts too)."""
+    out = dict(v.inputs)
+    if "Fi0" in ref_names:
+        fi0 = ref_book.value(ref_book.order[0], ref_names["Fi0"], 4)
+        if isinstance(fi0, float) and not isinstance(fi0, bool):
+            out["Fi0"] = fi0 + HELD_FI0
+    return out
+
+
+def _held_checks(g: Graded, raw: Book, names: dict, ref_book: Book,
+                 variants: list[nudge.Nudged]) -> list[tuple[Book | None, Book]]:
+    """The student's check rows and the reference's, alone evaluated again on each variant's
+    given data (_held_inputs) with every other cell kept at its issued value: an honest check
+    then fails where the reference's fails (its rows no longer agree with the given data); a
+    check that still passes checks nothing (a status or residual of constants)."""
+    ref_sheet = ref_book.order[0]
+    mine = {r for n, r in g.names.items() if n.startswith(("chk", "fd_"))}
+    theirs = {r for n, r in g.ref_names.items() if isinstance(n, str) and n.startswith(("chk", "fd_"))}
+    if not mine or not theirs:
+        return []
+    value_col = g.layout.columns[4]
+    raw_sheet = raw.sheets[g.main]
+    student = Replay(raw, names, only={g.main: mine})
+    reference = Replay(ref_book, {}, only={ref_sheet: theirs})
+    # first the reference's check rows on the issued data (the validator's reference leaves
+    # them unevaluated): a check row judged so must pass there
+    out: list[tuple[Book | None, Book]] = [(None, reference.run({}))]
+    for v in variants:
+        inputs = _held_inputs(v, ref_book, g.ref_names)
+        if any((g.names[n], value_col) in raw_sheet.formulas for n in inputs if n in g.names):
+            return []
+        s = student.run({g.main: {(g.names[n], value_col): x for n, x in inputs.items() if n in g.names}})
+        r = reference.run({ref_sheet: {(g.ref_names[n], 4): x for n, x in inputs.items() if n in g.ref_names}})
+        out.append((standard_view(s, g.layout)[0], r))
+    return out
 
 
 _READS: dict[str, bool] = {}
@@ -266,6 +312,54 @@ def judge_checks(report: Report, g: Graded) -> None:
     report.checks_apply = max(0, (report.checks_apply or 0) - len(unjudged))
     report.notes.append(f"check rows not judged: check by hand ({len(unjudged)}; sheetkin cannot evaluate "
                         f"their status): {', '.join(unjudged[:12])}" + (" ..." if len(unjudged) > 12 else ""))
+
+
+def judge_held_checks(report: Report, g: Graded, beh: Behaviour | None) -> None:
+    """A check row passing on the issued data must check (issue 31): evaluated on a nudged
+    variant's given data with the rows it checks held at their issued values, the reference's
+    check row fails there; the student's must fail too. One that still passes (a status
+    `=0*$D$17`, residuals `=0*$D$17` or pasted) does not check: it counts as failing, named
+    in the report with its status cell's formula. A check row whose reference does not react
+    (it reads none of the given data the variants change: chk_mag_A) is judged as before."""
+    if beh is None or not beh.held:
+        return
+    from sheetkin.sheet.checks import passing
+    issued_checks = beh.held[0][1]
+    ref_sheet = issued_checks.order[0]
+    tol = {p: issued_checks.value(ref_sheet, g.ref_names[t], 4) if t in g.ref_names else None
+           for p, t in (("chk", "Tol"), ("fd_", "Tol_FD"))}
+    not_checking: list[str] = []
+    for n, r in g.names.items():
+        if (not n.startswith(("chk", "fd_")) or n in report.failing_checks or n in report.checks_not_judged
+                or n not in g.ref_names or not passing(g.evaluated.value(g.main, r, 4))):
+            continue
+        rr, t = g.ref_names[n], tol["fd_" if n.startswith("fd_") else "chk"]
+        if not _finite(t):
+            continue
+        for mine, theirs in beh.held[1:]:
+            if _reacts(issued_checks, theirs, rr, report.positions, cast(float, t)) \
+                    and passing(cast(Book, mine).value(g.main, r, 4)):
+                formula = g.sh.formulas.get((r, 4), "")
+                not_checking.append(f"{n} (row {r}: {g.layout.cell(r, 4)} ={formula})")
+                report.failing_checks.append(n)
+                report.checks_passing = max(0, (report.checks_passing or 0) - 1)
+                break
+    if not_checking:
+        report.notes.append(f"check rows that do not check ({len(not_checking)}; they still pass when the given "
+                            f"data change and the rows they check do not; counted as failing): "
+                            + "; ".join(not_checking[:12]) + (" ..." if len(not_checking) > 12 else ""))
+
+
+def _reacts(issued: Book, held: Book, r: int, positions: int, tol: float) -> bool:
+    """Whether the reference's check row r would fail held (its residuals within tol on the
+    issued data, beyond it at some position on the held evaluation): the reference's status
+    cells are not written, its residuals are."""
+    sheet = issued.order[0]
+    before = [issued.value(sheet, r, FIRST_COL + k) for k in range(positions)]
+    after = [held.value(sheet, r, FIRST_COL + k) for k in range(positions)]
+    if not all(abs(x) <= tol for x in before if _finite(x)):
+        return False
+    return any(_finite(x) and abs(x) > tol for x in after)
 
 
 def _finite(x) -> bool:

@@ -446,3 +446,54 @@ def test_a_cheat_of_every_family_earns_nothing(classes, tmp_path, family, cheat)
     assert s < 100
     follow = [n for n in rep.notes if "does not follow the given data" in n]
     assert follow and "phi_2" in follow[0] and "omega_3" in follow[0], rep.notes
+
+
+# --------------------------------------------------------------------------- check rows that do not check
+def _cheat_check(path: Path, name: str, status: str | None, residual: str | None) -> Path:
+    """The book at `path` with the check row `name`'s status (column D) and/or its residual
+    cells rewritten (a student making a red check green)."""
+    wb = openpyxl.load_workbook(path)
+    ws = wb.worksheets[0]
+    r = next(r for r in range(1, ws.max_row + 1) if ws.cell(r, 1).value == name)
+    l1 = next(r for r in range(1, ws.max_row + 1) if ws.cell(r, 1).value == "L1")
+    if status is not None:
+        ws.cell(r, 4, status.format(L1=f"$D${l1}"))
+    if residual is not None:
+        for c in range(5, ws.max_column + 1):
+            if ws.cell(r, c).value is not None:
+                ws.cell(r, c, residual.format(L1=f"$D${l1}"))
+    out = path.with_name(f"{path.stem}-{name}.xlsx")
+    wb.save(out)
+    return out
+
+
+@pytest.mark.parametrize(("status", "residual"), [("=0*{L1}", None), (None, "=0*{L1}"),
+                                                  ("=IF({L1}>0,0,1)", None), (None, "=Лист2!E59+0*{L1}")],
+                         ids=["status 0*L1", "residuals 0*L1", "status IF(L1>0)", "residuals pasted"])
+def test_a_check_row_that_does_not_check_fails(classes, tmp_path, status, residual):
+    """chk_OA (|OA| - L1 at every position) made green whatever the rows hold: evaluated on
+    the nudged given data with the rows it checks held, the reference's check fails and this
+    one passes: it does not check, counts as failing (-2) and the report names it with its
+    status cell. The honest book's check rows all check (no such note, 100)."""
+    ex, key, options = classes["fourbar"]
+    honest = make_book(ex, key, tmp_path / "honest.xlsx", {})
+    rep, s = grade(honest, options)
+    assert s == 100.0 and not rep.failing_checks
+    assert not any("do not check" in n for n in rep.notes), rep.notes
+    rep, s = grade(_cheat_check(honest, "chk_OA", status, residual), options)
+    assert rep.failing_checks == ["chk_OA"], rep.failing_checks
+    assert s == 98.0, grades.explain(rep)
+    note = [n for n in rep.notes if n.startswith("check rows that do not check (1;")]
+    assert note and "chk_OA (row " in note[0], rep.notes
+    c = grades.counts(rep)
+    assert c["checks_passing"] == c["checks_apply"] - 1
+
+
+def test_a_check_row_of_no_given_data_is_judged_as_before(classes, tmp_path):
+    """What the rule cannot tell (docs/grading.md): chk_mag_A (|v_A| against vx_A, vy_A) reads
+    none of the given data, so its reference does not react and a constant status there still
+    passes."""
+    ex, key, options = classes["fourbar"]
+    honest = make_book(ex, key, tmp_path / "honest.xlsx", {})
+    rep, s = grade(_cheat_check(honest, "chk_mag_A", "=0*{L1}", None), options)
+    assert s == 100.0 and not rep.failing_checks
