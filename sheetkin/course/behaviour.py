@@ -86,11 +86,16 @@ def prepare(g: Graded, raw: Book, names: dict, scene_text: str) -> Behaviour | N
         return ref_replay.run({ref_sheet: {
             (g.ref_names[n], 4): float(v) if isinstance(v, int) and not isinstance(v, bool) else v
             for n, v in inputs.items() if n in g.ref_names}})
-    variants = nudge.nudged_variants(scene, scene_text.encode("utf-8"), ref_book,
-                                     lambda s, inputs: variant_scene(s, inputs, positions, {}), reference,
-                                     nudge.NUDGES)
+    def vary(s: Scene, inputs: dict) -> Scene:
+        return variant_scene(s, inputs, positions, {})
+    seed = scene_text.encode("utf-8")
+    variants = nudge.nudged_variants(scene, seed, ref_book, vary, reference, nudge.NUDGES)
     if not variants:
         return None
+    # last, the turned variant (Fi0 and Delta_Fi moved): for the cells the others leave unmoved
+    turned = nudge.turned_variant(scene, seed, ref_book, vary, reference) if nudge.TURNED else None
+    if turned is not None:
+        variants.append(turned)
     value_col = g.layout.columns[4]
     raw_sheet = raw.sheets[g.main]
     for v in variants:
@@ -106,7 +111,7 @@ def prepare(g: Graded, raw: Book, names: dict, scene_text: str) -> Behaviour | N
     for v in variants:
         changes = {(g.names[n], value_col): x for n, x in v.inputs.items() if n in g.names}
         sheets.append(standard_view(replay.run({g.main: changes}), g.layout)[0])
-    return Behaviour(variants, sheets, _held_checks(g, raw, names, ref_book, variants))
+    return Behaviour(variants, sheets, _held_checks(g, raw, names, ref_book, [v for v in variants if not v.turned]))
 
 
 def _held_inputs(v: nudge.Nudged, ref_book: Book, ref_names: dict) -> dict[str, float]:
@@ -230,10 +235,16 @@ def judge_rows(report: Report, g: Graded, beh: Behaviour | None) -> None:
             if not g.evaluated.computed(g.main, r, c):
                 continue          # computed by LibreOffice on the issued data only (course/by_libreoffice.py)
             issued = ref_book.value(ref_sheet, rr, c)
+            moved = False
             for n, sheet, state in zip(cast(Behaviour, beh).nudged, cast(Behaviour, beh).sheets, states, strict=True):
+                if n.turned and (moved or _finite(issued) and abs(cast(float, issued)) <= ATOL):
+                    # judged on the nudged lengths already; or zero here (x_A at 90 deg, omega_2 at a
+                    # dead centre): a zero has no sign, and a sign chosen by hand there is honest
+                    break
                 exp = n.reference.value(n.reference.order[0], rr, c)
                 if _close(exp, issued, period):
                     continue                     # the right value does not move: the precedents decide
+                moved = True
                 if sheet.tag[g.main][r, c] == NAME_ERROR:
                     break                        # sheetkin cannot evaluate it (LibreOffice did, on the issued data)
                 if not _close(sheet.value(g.main, r, c), exp, period) and state.get(c, CELL_RIGHT) != CELL_RIGHT:

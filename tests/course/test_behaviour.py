@@ -497,3 +497,42 @@ def test_a_check_row_of_no_given_data_is_judged_as_before(classes, tmp_path):
     honest = make_book(ex, key, tmp_path / "honest.xlsx", {})
     rep, s = grade(_cheat_check(honest, "chk_mag_A", "=0*{L1}", None), options)
     assert s == 100.0 and not rep.failing_checks
+
+
+# --------------------------------------------------------------------------- the turned variant
+@pytest.mark.parametrize("row", ["Fi", "dFi", "cos_1", "sin_1"])
+def test_the_crank_rows_are_judged_by_the_turned_variant(classes, tmp_path, row):
+    """The crank's own rows do not move with the nudged lengths (Fi0 and Delta_Fi drive them):
+    the turned variant (Fi0 and Delta_Fi moved) judges them, so `=<value>+0*L1` there earns
+    nothing (it scored before), while the honest book keeps 100."""
+    ex, key, options = classes["fourbar"]
+    rep, s = grade(make_book(ex, key, tmp_path / "cheat.xlsx", {row: CHEATS["pasted plus 0 times L1"]}), options)
+    by = {r.name: r for r in rep.rows}
+    share = row_share(by[row], rep.positions, False)
+    # a zero keeps its credit (dFi and Fi at i = 0, cos_1 at 90 and 270 deg, sin_1 at 0, 180
+    # and 360 deg): the turned variant leaves the zeros to the precedents (a sign by hand there)
+    assert share <= 3 / rep.positions, (row, by[row])
+    assert any("does not follow the given data" in n and row in n for n in rep.notes), rep.notes
+    honest = [r for r in grades.graded_rows(rep) if r.name != row]
+    assert all(grades.row_verdict(r) == "correct" for r in honest), [r.name for r in honest
+                                                                    if grades.row_verdict(r) != "correct"]
+
+
+def test_without_the_turned_variant_the_crank_cheat_scores(classes, tmp_path, monkeypatch):
+    """The mutation check: with the turned variant off, `=<value>+0*L1` in cos_1 scores 100."""
+    import sheetkin.course.nudge as nudge
+    ex, key, options = classes["fourbar"]
+    path = make_book(ex, key, tmp_path / "cheat.xlsx", {"cos_1": CHEATS["pasted plus 0 times L1"]})
+    monkeypatch.setattr(nudge, "TURNED", False)
+    assert grade(path, options)[1] == 100.0
+    monkeypatch.setattr(nudge, "TURNED", True)
+    assert grade(path, options)[1] < 100.0
+
+
+def test_a_row_fixed_by_the_configuration_is_left_to_the_precedents(classes, tmp_path):
+    """What the rule cannot tell (docs/grading.md): the crank-slider's phi_3, the guide's fixed
+    angle, is the same for every given data that keep the configuration, so a cheat there
+    keeps its credit (at most the share measured in the docs)."""
+    ex, key, options = classes["crank_slider"]
+    rep, s = grade(make_book(ex, key, tmp_path / "phi3.xlsx", {"phi_3": CHEATS["pasted plus 0 times L1"]}), options)
+    assert s == 100.0, grades.explain(rep)
