@@ -11,8 +11,13 @@ follow the given data": a number passed off as work (=E$41*0+0.5236, =IF(FALSE;.
 =CHOOSE(E$40+1; 13 typed numbers) ...). It earns nothing, as a typed number does, and the
 report names the row, a cell and its formula.
 
-A cell whose right value does not move with the given data (a slider's fixed angle, i) cannot
-be told apart this way; there the precedent tracing (sheetkin.xlsx.precedents: "reads no
+The crank's own rows (Fi, cos_1 ...), which the nudged lengths leave unmoved, are judged on
+the turned variant (nudge.turned_variant: Fi0 and Delta_Fi moved), which judges only such
+cells and not a zero. A check row passing on the issued data must fail on a nudged variant's
+given data with the rows it checks held, where the reference's does (judge_held_checks).
+
+A cell whose right value does not move with any of them (a slider's fixed angle, a zero)
+cannot be told apart this way; there the precedent tracing (sheetkin.xlsx.precedents: "reads no
 given data") still decides, as before. Where the tracing and the nudges both apply they agree:
 a formula reading none of the given data cannot follow them.
 

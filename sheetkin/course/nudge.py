@@ -15,6 +15,9 @@ chosen by hand, ATAN with a fixed quadrant correction) stays right on the nudged
 check is made on the reference workbook of the nudged variant, whose values equal the
 solver's (tests/sheet). A nudge that fails is halved, down to MIN_SCALE; below that the
 variant is dropped (a book with no nudged variant is judged as before, by its precedents).
+
+The turned variant (turned_variant) moves Fi0 and Delta_Fi instead, for the cells the others
+leave unmoved (the crank's own rows): the positions move, so only the assembly is kept.
 """
 from __future__ import annotations
 
