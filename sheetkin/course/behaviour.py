@@ -33,7 +33,7 @@ read). Each leaves a report it cannot judge as it was.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, cast
 
 from sheetkin.kinematics.scene import Scene
@@ -58,15 +58,22 @@ if TYPE_CHECKING:
 
 
 @dataclass
+class Held:
+    """The check rows whose reference fails with the rows they check held (reacting), and
+    the student's sheet with those check rows so evaluated (issued layout; None: none react)."""
+    reacting: set[str]
+    sheet: Book | None
+
+
+@dataclass
 class Behaviour:
     """The nudged variants of one book and the student's sheet evaluated on each (views in
     the issued layout, as the validator's evaluated sheet)."""
     nudged: list[nudge.Nudged]
     sheets: list[Book]
-    # the check rows alone evaluated again on each variant's given data, every other cell
-    # held at its issued value: (the student's, in the issued layout; the reference's)
-    # (the first pair: None and the reference's check rows on the issued data)
-    held: list[tuple[Book | None, Book]] = field(default_factory=list)
+    # the check rows alone evaluated again on a variant's given data, every other cell held
+    # at its issued value (_held_checks)
+    held: Held | None = None
 
 
 def prepare(g: Graded, raw: Book, names: dict, scene_text: str) -> Behaviour | None:
@@ -131,32 +138,37 @@ def _held_inputs(v: nudge.Nudged, ref_book: Book, ref_names: dict) -> dict[str, 
     return out
 
 
-def _held_checks(g: Graded, raw: Book, names: dict, ref_book: Book,
-                 variants: list[nudge.Nudged]) -> list[tuple[Book | None, Book]]:
-    """The student's check rows and the reference's, alone evaluated again on each variant's
-    given data (_held_inputs) with every other cell kept at its issued value: an honest check
-    then fails where the reference's fails (its rows no longer agree with the given data); a
-    check that still passes checks nothing (a status or residual of constants)."""
+def _held_checks(g: Graded, raw: Book, names: dict, ref_book: Book, variants: list[nudge.Nudged]) -> Held | None:
+    """The check rows evaluated alone on the first variant's given data (_held_inputs), every
+    other cell kept at its issued value: first the reference's (its residuals), then the
+    student's check rows whose reference reacts (fails so while it passes on the issued
+    data). An honest check then fails where the reference's does (its rows no longer agree
+    with the given data); one that still passes checks nothing. One variant, the reacting
+    rows only: a check of constants passes on any (issue 31's cost: the status formulas are
+    most of a book's evaluation)."""
     ref_sheet = ref_book.order[0]
-    mine = {r for n, r in g.names.items() if n.startswith(("chk", "fd_"))}
-    theirs = {r for n, r in g.ref_names.items() if isinstance(n, str) and n.startswith(("chk", "fd_"))}
-    if not mine or not theirs:
-        return []
+    theirs = {n: r for n, r in g.ref_names.items() if isinstance(n, str) and n.startswith(("chk", "fd_"))}
+    if not variants or not theirs or not any(n in g.names for n in theirs):
+        return None
     value_col = g.layout.columns[4]
-    raw_sheet = raw.sheets[g.main]
-    student = Replay(raw, names, only={g.main: mine})
-    reference = Replay(ref_book, {}, only={ref_sheet: theirs})
-    # first the reference's check rows on the issued data (the validator's reference leaves
-    # them unevaluated): a check row judged so must pass there
-    out: list[tuple[Book | None, Book]] = [(None, reference.run({}))]
-    for v in variants:
-        inputs = _held_inputs(v, ref_book, g.ref_names)
-        if any((g.names[n], value_col) in raw_sheet.formulas for n in inputs if n in g.names):
-            return []
-        s = student.run({g.main: {(g.names[n], value_col): x for n, x in inputs.items() if n in g.names}})
-        r = reference.run({ref_sheet: {(g.ref_names[n], 4): x for n, x in inputs.items() if n in g.ref_names}})
-        out.append((standard_view(s, g.layout)[0], r))
-    return out
+    inputs = _held_inputs(variants[0], ref_book, g.ref_names)
+    if any((g.names[n], value_col) in raw.sheets[g.main].formulas for n in inputs if n in g.names):
+        return None
+    held_ref = Replay(ref_book, {}, only={ref_sheet: set(theirs.values())}).run(
+        {ref_sheet: {(g.ref_names[n], 4): x for n, x in inputs.items() if n in g.ref_names}})
+    tol = {p: ref_book.value(ref_sheet, g.ref_names[t], 4) if t in g.ref_names else None
+           for p, t in (("chk", "Tol"), ("fd_", "Tol_FD"))}
+    positions = g.student_scene.crank.positions if g.student_scene is not None else 0
+    reacting = set()
+    for n, rr in theirs.items():
+        t = tol["fd_" if n.startswith("fd_") else "chk"]
+        if n in g.names and _finite(t) and _reacts(ref_book, held_ref, rr, positions, cast(float, t)):
+            reacting.add(n)
+    if not reacting:
+        return Held(reacting, None)
+    mine = Replay(raw, names, only={g.main: {g.names[n] for n in reacting}}).run(
+        {g.main: {(g.names[n], value_col): x for n, x in inputs.items() if n in g.names}})
+    return Held(reacting, standard_view(mine, g.layout)[0])
 
 
 _READS: dict[str, bool] = {}
@@ -337,29 +349,21 @@ def judge_held_checks(report: Report, g: Graded, beh: Behaviour | None) -> None:
     `=0*$D$17`, residuals `=0*$D$17` or pasted) does not check: it counts as failing, named
     in the report with its status cell's formula. A check row whose reference does not react
     (it reads none of the given data the variants change: chk_mag_A) is judged as before."""
-    if beh is None or not beh.held:
+    if beh is None or beh.held is None or beh.held.sheet is None:
         return
     from sheetkin.sheet.checks import passing
-    issued_checks = beh.held[0][1]
-    ref_sheet = issued_checks.order[0]
-    tol = {p: issued_checks.value(ref_sheet, g.ref_names[t], 4) if t in g.ref_names else None
-           for p, t in (("chk", "Tol"), ("fd_", "Tol_FD"))}
+    held = beh.held.sheet
     not_checking: list[str] = []
-    for n, r in g.names.items():
-        if (not n.startswith(("chk", "fd_")) or n in report.failing_checks or n in report.checks_not_judged
-                or n not in g.ref_names or not passing(g.evaluated.value(g.main, r, 4))):
+    for n in sorted(beh.held.reacting, key=lambda n: g.names[n]):
+        r = g.names[n]
+        if (n in report.failing_checks or n in report.checks_not_judged
+                or not passing(g.evaluated.value(g.main, r, 4))):
             continue
-        rr, t = g.ref_names[n], tol["fd_" if n.startswith("fd_") else "chk"]
-        if not _finite(t):
-            continue
-        for mine, theirs in beh.held[1:]:
-            if _reacts(issued_checks, theirs, rr, report.positions, cast(float, t)) \
-                    and passing(cast(Book, mine).value(g.main, r, 4)):
-                formula = g.sh.formulas.get((r, 4), "")
-                not_checking.append(f"{n} (row {r}: {g.layout.cell(r, 4)} ={formula})")
-                report.failing_checks.append(n)
-                report.checks_passing = max(0, (report.checks_passing or 0) - 1)
-                break
+        if passing(held.value(g.main, r, 4)):
+            formula = g.sh.formulas.get((r, 4), "")
+            not_checking.append(f"{n} (row {r}: {g.layout.cell(r, 4)} ={formula})")
+            report.failing_checks.append(n)
+            report.checks_passing = max(0, (report.checks_passing or 0) - 1)
     if not_checking:
         report.notes.append(f"check rows that do not check ({len(not_checking)}; they still pass when the given "
                             f"data change and the rows they check do not; counted as failing): "
@@ -373,8 +377,8 @@ def _reacts(issued: Book, held: Book, r: int, positions: int, tol: float) -> boo
     sheet = issued.order[0]
     before = [issued.value(sheet, r, FIRST_COL + k) for k in range(positions)]
     after = [held.value(sheet, r, FIRST_COL + k) for k in range(positions)]
-    if not all(abs(x) <= tol for x in before if _finite(x)):
-        return False
+    if not all(_finite(x) and abs(x) <= tol for x, y in zip(before, after, strict=True) if _finite(y)):
+        return False                    # fails, or is not evaluated, on the issued data
     return any(_finite(x) and abs(x) > tol for x in after)
 
 
