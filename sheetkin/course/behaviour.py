@@ -11,8 +11,13 @@ follow the given data": a number passed off as work (=E$41*0+0.5236, =IF(FALSE;.
 =CHOOSE(E$40+1; 13 typed numbers) ...). It earns nothing, as a typed number does, and the
 report names the row, a cell and its formula.
 
-A cell whose right value does not move with the given data (a slider's fixed angle, i) cannot
-be told apart this way; there the precedent tracing (sheetkin.xlsx.precedents: "reads no
+The crank's own rows (Fi, cos_1 ...), which the nudged lengths leave unmoved, are judged on
+the turned variant (nudge.turned_variant: Fi0 and Delta_Fi moved), which judges only such
+cells and not a zero. A check row passing on the issued data must fail on a nudged variant's
+given data with the rows it checks held, where the reference's does (judge_held_checks).
+
+A cell whose right value does not move with any of them (a slider's fixed angle, a zero)
+cannot be told apart this way; there the precedent tracing (sheetkin.xlsx.precedents: "reads no
 given data") still decides, as before. Where the tracing and the nudges both apply they agree:
 a formula reading none of the given data cannot follow them.
 
@@ -44,10 +49,20 @@ from .layout import standard_view
 from .localjudge import CELL_RIGHT, TURN, angle_difference, judge
 from .tolerance import ATOL, RTOL
 
+HELD_FI0 = 1.0           # degrees Fi0 moves by when the check rows are judged with their rows held
+
 if TYPE_CHECKING:
     from .report_model import Report, RowReport
     from .rows import Graded
 
+
+
+@dataclass
+class Held:
+    """The check rows whose reference fails with the rows they check held (reacting), and
+    the student's sheet with those check rows so evaluated (issued layout; None: none react)."""
+    reacting: set[str]
+    sheet: Book | None
 
 
 @dataclass
@@ -56,6 +71,9 @@ class Behaviour:
     the issued layout, as the validator's evaluated sheet)."""
     nudged: list[nudge.Nudged]
     sheets: list[Book]
+    # the check rows alone evaluated again on a variant's given data, every other cell held
+    # at its issued value (_held_checks)
+    held: Held | None = None
 
 
 def prepare(g: Graded, raw: Book, names: dict, scene_text: str) -> Behaviour | None:
@@ -80,11 +98,16 @@ def prepare(g: Graded, raw: Book, names: dict, scene_text: str) -> Behaviour | N
         return ref_replay.run({ref_sheet: {
             (g.ref_names[n], 4): float(v) if isinstance(v, int) and not isinstance(v, bool) else v
             for n, v in inputs.items() if n in g.ref_names}})
-    variants = nudge.nudged_variants(scene, scene_text.encode("utf-8"), ref_book,
-                                     lambda s, inputs: variant_scene(s, inputs, positions, {}), reference,
-                                     nudge.NUDGES)
+    def vary(s: Scene, inputs: dict) -> Scene:
+        return variant_scene(s, inputs, positions, {})
+    seed = scene_text.encode("utf-8")
+    variants = nudge.nudged_variants(scene, seed, ref_book, vary, reference, nudge.NUDGES)
     if not variants:
         return None
+    # last, the turned variant (Fi0 and Delta_Fi moved): for the cells the others leave unmoved
+    turned = nudge.turned_variant(scene, seed, ref_book, vary, reference) if nudge.TURNED else None
+    if turned is not None:
+        variants.append(turned)
     value_col = g.layout.columns[4]
     raw_sheet = raw.sheets[g.main]
     for v in variants:
@@ -100,7 +123,52 @@ def prepare(g: Graded, raw: Book, names: dict, scene_text: str) -> Behaviour | N
     for v in variants:
         changes = {(g.names[n], value_col): x for n, x in v.inputs.items() if n in g.names}
         sheets.append(standard_view(replay.run({g.main: changes}), g.layout)[0])
-    return Behaviour(variants, sheets)
+    return Behaviour(variants, sheets, _held_checks(g, raw, names, ref_book, [v for v in variants if not v.turned]))
+
+
+def _held_inputs(v: nudge.Nudged, ref_book: Book, ref_names: dict) -> dict[str, float]:
+    """The given data the check rows are evaluated on with the rows they check held: the
+    variant's nudged data, and Fi0 moved by HELD_FI0 degrees (no configuration to keep there:
+    the rows are not computed again, so chk_Fi reacts too)."""
+    out = dict(v.inputs)
+    if "Fi0" in ref_names:
+        fi0 = ref_book.value(ref_book.order[0], ref_names["Fi0"], 4)
+        if isinstance(fi0, float) and not isinstance(fi0, bool):
+            out["Fi0"] = fi0 + HELD_FI0
+    return out
+
+
+def _held_checks(g: Graded, raw: Book, names: dict, ref_book: Book, variants: list[nudge.Nudged]) -> Held | None:
+    """The check rows evaluated alone on the first variant's given data (_held_inputs), every
+    other cell kept at its issued value: first the reference's (its residuals), then the
+    student's check rows whose reference reacts (fails so while it passes on the issued
+    data). An honest check then fails where the reference's does (its rows no longer agree
+    with the given data); one that still passes checks nothing. One variant, the reacting
+    rows only: a check of constants passes on any (issue 31's cost: the status formulas are
+    most of a book's evaluation)."""
+    ref_sheet = ref_book.order[0]
+    theirs = {n: r for n, r in g.ref_names.items() if isinstance(n, str) and n.startswith(("chk", "fd_"))}
+    if not variants or not theirs or not any(n in g.names for n in theirs):
+        return None
+    value_col = g.layout.columns[4]
+    inputs = _held_inputs(variants[0], ref_book, g.ref_names)
+    if any((g.names[n], value_col) in raw.sheets[g.main].formulas for n in inputs if n in g.names):
+        return None
+    held_ref = Replay(ref_book, {}, only={ref_sheet: set(theirs.values())}).run(
+        {ref_sheet: {(g.ref_names[n], 4): x for n, x in inputs.items() if n in g.ref_names}})
+    tol = {p: ref_book.value(ref_sheet, g.ref_names[t], 4) if t in g.ref_names else None
+           for p, t in (("chk", "Tol"), ("fd_", "Tol_FD"))}
+    positions = g.student_scene.crank.positions if g.student_scene is not None else 0
+    reacting = set()
+    for n, rr in theirs.items():
+        t = tol["fd_" if n.startswith("fd_") else "chk"]
+        if n in g.names and _finite(t) and _reacts(ref_book, held_ref, rr, positions, cast(float, t)):
+            reacting.add(n)
+    if not reacting:
+        return Held(reacting, None)
+    mine = Replay(raw, names, only={g.main: {g.names[n] for n in reacting}}).run(
+        {g.main: {(g.names[n], value_col): x for n, x in inputs.items() if n in g.names}})
+    return Held(reacting, standard_view(mine, g.layout)[0])
 
 
 _READS: dict[str, bool] = {}
@@ -184,10 +252,16 @@ def judge_rows(report: Report, g: Graded, beh: Behaviour | None) -> None:
             if not g.evaluated.computed(g.main, r, c):
                 continue          # computed by LibreOffice on the issued data only (course/by_libreoffice.py)
             issued = ref_book.value(ref_sheet, rr, c)
+            moved = False
             for n, sheet, state in zip(cast(Behaviour, beh).nudged, cast(Behaviour, beh).sheets, states, strict=True):
+                if n.turned and (moved or _finite(issued) and abs(cast(float, issued)) <= ATOL):
+                    # judged on the nudged lengths already; or zero here (x_A at 90 deg, omega_2 at a
+                    # dead centre): a zero has no sign, and a sign chosen by hand there is honest
+                    break
                 exp = n.reference.value(n.reference.order[0], rr, c)
                 if _close(exp, issued, period):
                     continue                     # the right value does not move: the precedents decide
+                moved = True
                 if sheet.tag[g.main][r, c] == NAME_ERROR:
                     break                        # sheetkin cannot evaluate it (LibreOffice did, on the issued data)
                 if not _close(sheet.value(g.main, r, c), exp, period) and state.get(c, CELL_RIGHT) != CELL_RIGHT:
@@ -266,6 +340,46 @@ def judge_checks(report: Report, g: Graded) -> None:
     report.checks_apply = max(0, (report.checks_apply or 0) - len(unjudged))
     report.notes.append(f"check rows not judged: check by hand ({len(unjudged)}; sheetkin cannot evaluate "
                         f"their status): {', '.join(unjudged[:12])}" + (" ..." if len(unjudged) > 12 else ""))
+
+
+def judge_held_checks(report: Report, g: Graded, beh: Behaviour | None) -> None:
+    """A check row passing on the issued data must check (issue 31): evaluated on a nudged
+    variant's given data with the rows it checks held at their issued values, the reference's
+    check row fails there; the student's must fail too. One that still passes (a status
+    `=0*$D$17`, residuals `=0*$D$17` or pasted) does not check: it counts as failing, named
+    in the report with its status cell's formula. A check row whose reference does not react
+    (it reads none of the given data the variants change: chk_mag_A) is judged as before."""
+    if beh is None or beh.held is None or beh.held.sheet is None:
+        return
+    from sheetkin.sheet.checks import passing
+    held = beh.held.sheet
+    not_checking: list[str] = []
+    for n in sorted(beh.held.reacting, key=lambda n: g.names[n]):
+        r = g.names[n]
+        if (n in report.failing_checks or n in report.checks_not_judged
+                or not passing(g.evaluated.value(g.main, r, 4))):
+            continue
+        if passing(held.value(g.main, r, 4)):
+            formula = g.sh.formulas.get((r, 4), "")
+            not_checking.append(f"{n} (row {r}: {g.layout.cell(r, 4)} ={formula})")
+            report.failing_checks.append(n)
+            report.checks_passing = max(0, (report.checks_passing or 0) - 1)
+    if not_checking:
+        report.notes.append(f"check rows that do not check ({len(not_checking)}; they still pass when the given "
+                            f"data change and the rows they check do not; counted as failing): "
+                            + "; ".join(not_checking[:12]) + (" ..." if len(not_checking) > 12 else ""))
+
+
+def _reacts(issued: Book, held: Book, r: int, positions: int, tol: float) -> bool:
+    """Whether the reference's check row r would fail held (its residuals within tol on the
+    issued data, beyond it at some position on the held evaluation): the reference's status
+    cells are not written, its residuals are."""
+    sheet = issued.order[0]
+    before = [issued.value(sheet, r, FIRST_COL + k) for k in range(positions)]
+    after = [held.value(sheet, r, FIRST_COL + k) for k in range(positions)]
+    if not all(_finite(x) and abs(x) <= tol for x, y in zip(before, after, strict=True) if _finite(y)):
+        return False                    # fails, or is not evaluated, on the issued data
+    return any(_finite(x) and abs(x) > tol for x in after)
 
 
 def _finite(x) -> bool:

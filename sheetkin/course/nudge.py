@@ -15,6 +15,9 @@ chosen by hand, ATAN with a fixed quadrant correction) stays right on the nudged
 check is made on the reference workbook of the nudged variant, whose values equal the
 solver's (tests/sheet). A nudge that fails is halved, down to MIN_SCALE; below that the
 variant is dropped (a book with no nudged variant is judged as before, by its precedents).
+
+The turned variant (turned_variant) moves Fi0 and Delta_Fi instead, for the cells the others
+leave unmoved (the crank's own rows): the positions move, so only the assembly is kept.
 """
 from __future__ import annotations
 
@@ -30,12 +33,18 @@ from sheetkin.sheet.workbook import FIRST_COL, sheet_rows
 from sheetkin.xlsx.evaluator import NUM, Book
 
 NUDGES = 2               # nudged variants per book
+TURNED = True           # and the turned variant (Fi0, Delta_Fi moved), for the cells the others do not move
 START_SCALE = 0.04       # the largest relative change of a given value
 MIN_SCALE = 0.0025       # below this a nudge tells too little: the variant is dropped
 # the units of given values that a formula must read and that do not fix the configuration
 NUDGED_UNITS = frozenset({"m", "rad/s", "rad/s^2", "kg", "kg m^2", "N", "N m", "m/s^2"})
 _FIXED = frozenset({"Fi0", "Delta_Fi", "Tol", "Tol_FD"})
 _QUADRANT_SLACK = 1e-7   # an angle this close to a quadrant's edge (in degrees) may sit on it
+# the turned variant (turned_variant): the crank's start moved by up to TURN_SHIFT degrees and
+# its step scaled by 1 +- up to TURN_STEP, each halved down to 1/TURN_HALVINGS... if needed
+TURN_SHIFT = 0.5
+TURN_STEP = 0.01
+TURN_TRIES = 5
 
 
 @dataclass(frozen=True)
@@ -45,6 +54,7 @@ class Nudged:
     scene: Scene
     reference: Book
     scale: float
+    turned: bool = False     # the turned variant: judges only the cells the others do not move
 
 
 def nudged_inputs(scene: Scene, seed: bytes, which: int, scale: float) -> dict[str, float]:
@@ -63,9 +73,10 @@ def nudged_inputs(scene: Scene, seed: bytes, which: int, scale: float) -> dict[s
     return out
 
 
-def same_configuration(scene: Scene, issued: Book, nudged: Book) -> bool:
+def same_configuration(scene: Scene, issued: Book, nudged: Book, quadrants: bool = True) -> bool:
     """Whether the nudged reference is the issued configuration at every position: the same
-    guards, every angle in its quadrant, numbers where the issued has numbers."""
+    guards, every angle in its quadrant (unless not `quadrants`), numbers where the issued
+    has numbers."""
     sheet_i, sheet_n = issued.order[0], nudged.order[0]
     where = {issued.sheets[sheet_i].consts.get((r, 1)): r for r in range(5, issued.sheets[sheet_i].max_row + 1)}
     positions = scene.crank.positions
@@ -86,7 +97,7 @@ def same_configuration(scene: Scene, issued: Book, nudged: Book) -> bool:
         a, b = ni[r, cols][numbers], nn[r, cols][numbers]
         if not np.isfinite(b).all():
             return False
-        if row.unit in ("deg", "rad"):
+        if quadrants and row.unit in ("deg", "rad"):
             turn = 360.0 if row.unit == "deg" else 2 * math.pi
             if not all(_same_quadrant(float(x), float(y), turn) for x, y in zip(a, b, strict=True)):
                 return False
@@ -123,3 +134,41 @@ def nudged_variants(scene: Scene, seed: bytes, issued: Book,
                 break
             scale /= 2
     return out
+
+
+def turned_inputs(scene: Scene, seed: bytes, scale: float) -> dict[str, float]:
+    """The given data of the turned variant: Fi0 moved by scale * TURN_SHIFT * u degrees and
+    Delta_Fi scaled by 1 + scale * TURN_STEP * u' (u, u' in +-[0.5, 1] from the seed)."""
+    rng = np.random.default_rng(int.from_bytes(hashlib.sha256(seed + b"\0turned").digest()[:8], "big"))
+    out = {}
+    for r in sheet_rows(scene).rows:
+        if r.kind != "input" or r.name not in ("Fi0", "Delta_Fi"):
+            continue
+        v = r.value
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            continue
+        u = rng.uniform(0.5, 1.0) * (1 if rng.random() < 0.5 else -1)
+        out[r.name] = float(v) + scale * TURN_SHIFT * u if r.name == "Fi0" else float(v) * (1 + scale * TURN_STEP * u)
+    return out
+
+
+def turned_variant(scene: Scene, seed: bytes, issued: Book, vary: Callable[[Scene, dict], Scene],
+                   reference: Callable[[Scene], Book]) -> Nudged | None:
+    """The turned variant (issue 31): the crank's start Fi0 and step Delta_Fi moved a little,
+    every other given datum as issued. It moves what the nudged lengths do not: the crank's
+    own rows (Fi, dFi, cos_1, sin_1, phi_1 and Delta_Fi_rad), the zeros of a quadrant's edge
+    (x_A at 90 deg) ... The positions move, so the angles may leave a quadrant's edge: it is
+    kept when the mechanism assembles where the issued one does, numbers where the issued has
+    numbers (no quadrant kept), and it judges only the cells the nudged lengths leave
+    unmoved (sheetkin/course/behaviour.py), not a formula's quadrant or branch chosen by hand."""
+    scale = 1.0
+    for _ in range(TURN_TRIES):
+        inputs = turned_inputs(scene, seed, scale)
+        if not inputs:
+            return None
+        s = vary(scene, inputs)
+        ref = reference(s)
+        if same_configuration(scene, issued, ref, quadrants=False):
+            return Nudged(inputs, s, ref, scale, turned=True)
+        scale /= 2
+    return None

@@ -105,6 +105,7 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
     behaviour.judge_rows(report, g, beh)
     read_checks(report, evaluated, layout.sheet, sh, names, ref_rows, cast(Book, g.ref_book), g.ref_names)
     behaviour.judge_checks(report, g)
+    behaviour.judge_held_checks(report, g, beh)
     return scratch.own_table(book, path, options, report)   # the issued sheet left empty: the student's own
 
 

@@ -22,12 +22,15 @@ class Replay:
     with other values in some typed cells."""
 
     def __init__(self, book: Book, names: dict, limits: Limits = Limits(),
-                 skip: dict[str, set[int]] | None = None):
+                 skip: dict[str, set[int]] | None = None, only: dict[str, set[int]] | None = None):
         """skip: rows (by sheet) whose formulas are not evaluated again (their values stay the
-        first evaluation's): rows nothing the caller reads depends on."""
+        first evaluation's): rows nothing the caller reads depends on. only: the rows (by
+        sheet) whose formulas alone are evaluated again, every other formula's value kept
+        (the validator's check rows judged with the rows they check held)."""
         self.book = book
         skip = skip or {}
-        self.schedule = [run for run in book.schedule if run.row not in skip.get(run.sheet, ())]
+        self.schedule = [run for run in book.schedule if run.row not in skip.get(run.sheet, ())
+                         and (only is None or run.row in only.get(run.sheet, ()))]
         sheets = book.sheets
         bound = (max([sh.max_row for sh in sheets.values()] + [1]), max([sh.max_col for sh in sheets.values()] + [1]))
         self.scopes = name_scopes(names, sheets, bound, {})

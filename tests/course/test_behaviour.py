@@ -348,3 +348,191 @@ def test_replayed_reference_is_the_nudged_reference(path):
     from sheetkin.xlsx.evaluator import BOOL, NUM
     valued = (built.tag[sh] == NUM) | (built.tag[sh] == BOOL)
     assert (built.num[sh][valued] == replayed.num[sh][valued]).all()
+
+
+# --------------------------------------------------------------------------- a cheat per function family
+def _typed_row(key: Path):
+    """The row's values at every position, typed in as numbers (the key's, full precision)."""
+    kb = evaluate(key)
+    return lambda x: [repr(kb.value(kb.order[0], x.r, 5 + k)) for k in range(x.positions)]
+
+
+def _family_cheats(key: Path) -> dict[tuple[str, str], object]:
+    """Cheats invented for each family of sheetkin/xlsx/table.py: a function of the family
+    makes the issued values while reading some given data (so precedent tracing alone would
+    credit them) and not following them."""
+    typed = _typed_row(key)
+
+    def l1(x: Cell) -> str:
+        return f"$D${x.rows['L1']}"
+
+    def i(x: Cell) -> str:
+        return x.at("i")
+
+    def arr(x: Cell) -> str:
+        return "{" + ",".join(typed(x)) + "}"
+
+    def idx(x: Cell) -> str:
+        return "{" + ",".join(str(k) for k in range(x.positions)) + "}"
+    return {
+        ("Math & Trig", "POWER(L1,0)"): lambda x: f"=POWER({l1(x)},0)*{x.v}",
+        ("Math & Trig", "ROUND"): lambda x: f"=ROUND({x.v}+0*SQRT({l1(x)}),12)",
+        ("Math & Trig", "ABS(SIGN)"): lambda x: f"={x.v}*ABS(SIGN({l1(x)}))",
+        ("Math & Trig", "SUMPRODUCT of typed"): lambda x: f"=SUMPRODUCT(({idx(x)}={i(x)})*{arr(x)})",
+        ("Statistical", "MEDIAN"): lambda x: f"=MEDIAN({x.v},{x.v},{l1(x)}*1E9)",
+        ("Statistical", "LARGE"): lambda x: f"=LARGE({{{x.v},-1E300}},1)+0*{l1(x)}",
+        ("Statistical", "COUNTIF"): lambda x: f"=COUNTIF({l1(x)},\">0\")*{x.v}",
+        ("Statistical", "AVERAGE"): lambda x: f"=AVERAGE({x.v},{x.v}+0*{l1(x)})",
+        ("Logical", "IF(AND)"): lambda x: f"=IF(AND({l1(x)}>0,$D${x.rows['L2']}>0),{x.v},0)",
+        ("Logical", "IFERROR"): lambda x: f"=IFERROR({l1(x)}/0,{x.v})",
+        ("Logical", "OR times"): lambda x: f"={x.v}*OR({l1(x)})",
+        ("Logical", "IFS"): lambda x: f"=_xlfn.IFS({l1(x)}>0,{x.v})",
+        ("Information", "ISNUMBER"): lambda x: f"=IF(ISNUMBER({l1(x)}),{x.v})",
+        ("Information", "TYPE"): lambda x: f"={x.v}*TYPE({l1(x)})",
+        ("Information", "ISBLANK"): lambda x: f"=IF(ISBLANK({l1(x)}),0,{x.v})",
+        ("Information", "ISERR"): lambda x: f"={x.v}+ISERR({l1(x)})",
+        ("Lookup & Reference", "INDEX of typed"): lambda x: f"=INDEX({arr(x)},1,{i(x)}+1)",
+        ("Lookup & Reference", "LOOKUP of typed"): lambda x: f"=LOOKUP({i(x)},{idx(x)},{arr(x)})",
+        ("Lookup & Reference", "HLOOKUP of typed"): lambda x: (
+            f"=HLOOKUP({i(x)},{{{','.join(str(k) for k in range(x.positions))};"
+            f"{','.join(typed(x))}}},2,FALSE)"),
+        ("Lookup & Reference", "MATCH"): lambda x: f"={x.v}*MATCH({l1(x)},{l1(x)},0)",
+        ("Text", "VALUE(MID)"): lambda x: f"=VALUE(MID(\"x{x.v}\",2,40))+0*{l1(x)}",
+        ("Text", "LEN(TEXT)"): lambda x: f"={x.v}*LEN(TEXT({l1(x)},\"0\"))",
+        ("Text", "CONCATENATE REPT"): lambda x: f"=VALUE(CONCATENATE(\"{x.v}\",REPT(\"0\",0*{l1(x)})))",
+        ("Text", "SUBSTITUTE"): lambda x: (f"=VALUE(SUBSTITUTE(\"{x.v.replace('.', ',')}\",\",\",\".\"))"
+                                           f"+0*LEN({l1(x)})"),
+    }
+
+
+FAMILY_CHEATS = [
+    ("Math & Trig", "POWER(L1,0)"), ("Math & Trig", "ROUND"), ("Math & Trig", "ABS(SIGN)"),
+    ("Math & Trig", "SUMPRODUCT of typed"),
+    ("Statistical", "MEDIAN"), ("Statistical", "LARGE"), ("Statistical", "COUNTIF"), ("Statistical", "AVERAGE"),
+    ("Logical", "IF(AND)"), ("Logical", "IFERROR"), ("Logical", "OR times"), ("Logical", "IFS"),
+    ("Information", "ISNUMBER"), ("Information", "TYPE"), ("Information", "ISBLANK"), ("Information", "ISERR"),
+    ("Lookup & Reference", "INDEX of typed"), ("Lookup & Reference", "LOOKUP of typed"),
+    ("Lookup & Reference", "HLOOKUP of typed"), ("Lookup & Reference", "MATCH"),
+    ("Text", "VALUE(MID)"), ("Text", "LEN(TEXT)"), ("Text", "CONCATENATE REPT"), ("Text", "SUBSTITUTE"),
+]
+
+
+def test_every_family_has_a_cheat():
+    """The cheats below cover every family of the function table, each with a function of it."""
+    from sheetkin.xlsx.table import CATEGORIES, FUNCTIONS
+    assert {f for f, _ in FAMILY_CHEATS} == set(CATEGORIES)
+    for family, name in FAMILY_CHEATS:
+        assert any(FUNCTIONS[w].category == family for w in name.replace("(", " ").replace(")", " ").split()
+                   if w in FUNCTIONS), (family, name)
+
+
+@pytest.mark.parametrize(("family", "cheat"), FAMILY_CHEATS, ids=lambda v: v.replace(" ", "_"))
+def test_a_cheat_of_every_family_earns_nothing(classes, tmp_path, family, cheat):
+    """A book filled correctly with phi_2 and omega_3 cheated by a function of one family: the
+    formula reads given data (L1 or the position i) but makes the issued values without
+    following them. Both rows earn nothing and are named as not following the given data; every
+    other row keeps its credit."""
+    ex, key, options = classes["fourbar"]
+    recipe = _family_cheats(key)[(family, cheat)]
+    rep, s = grade(make_book(ex, key, tmp_path / "cheat.xlsx", {"phi_2": recipe, "omega_3": recipe}), options)
+    by = {r.name: r for r in rep.rows}
+    for name in ("phi_2", "omega_3"):
+        assert not by[name].not_judged, (cheat, name)
+        assert row_share(by[name], rep.positions, False) == 0, (cheat, name, by[name])
+        assert grades.row_verdict(by[name]) == "typed", (cheat, name, by[name])
+    honest = [r for r in grades.graded_rows(rep) if r.name not in ("phi_2", "omega_3")]
+    assert all(grades.row_verdict(r) == "correct" for r in honest), [r.name for r in honest
+                                                                    if grades.row_verdict(r) != "correct"]
+    assert s < 100
+    follow = [n for n in rep.notes if "does not follow the given data" in n]
+    assert follow and "phi_2" in follow[0] and "omega_3" in follow[0], rep.notes
+
+
+# --------------------------------------------------------------------------- check rows that do not check
+def _cheat_check(path: Path, name: str, status: str | None, residual: str | None) -> Path:
+    """The book at `path` with the check row `name`'s status (column D) and/or its residual
+    cells rewritten (a student making a red check green)."""
+    wb = openpyxl.load_workbook(path)
+    ws = wb.worksheets[0]
+    r = next(r for r in range(1, ws.max_row + 1) if ws.cell(r, 1).value == name)
+    l1 = next(r for r in range(1, ws.max_row + 1) if ws.cell(r, 1).value == "L1")
+    if status is not None:
+        ws.cell(r, 4, status.format(L1=f"$D${l1}"))
+    if residual is not None:
+        for c in range(5, ws.max_column + 1):
+            if ws.cell(r, c).value is not None:
+                ws.cell(r, c, residual.format(L1=f"$D${l1}"))
+    out = path.with_name(f"{path.stem}-{name}.xlsx")
+    wb.save(out)
+    return out
+
+
+@pytest.mark.parametrize(("status", "residual"), [("=0*{L1}", None), (None, "=0*{L1}"),
+                                                  ("=IF({L1}>0,0,1)", None), (None, "=Лист2!E59+0*{L1}")],
+                         ids=["status 0*L1", "residuals 0*L1", "status IF(L1>0)", "residuals pasted"])
+def test_a_check_row_that_does_not_check_fails(classes, tmp_path, status, residual):
+    """chk_OA (|OA| - L1 at every position) made green whatever the rows hold: evaluated on
+    the nudged given data with the rows it checks held, the reference's check fails and this
+    one passes: it does not check, counts as failing (-2) and the report names it with its
+    status cell. The honest book's check rows all check (no such note, 100)."""
+    ex, key, options = classes["fourbar"]
+    honest = make_book(ex, key, tmp_path / "honest.xlsx", {})
+    rep, s = grade(honest, options)
+    assert s == 100.0 and not rep.failing_checks
+    assert not any("do not check" in n for n in rep.notes), rep.notes
+    rep, s = grade(_cheat_check(honest, "chk_OA", status, residual), options)
+    assert rep.failing_checks == ["chk_OA"], rep.failing_checks
+    assert s == 98.0, grades.explain(rep)
+    note = [n for n in rep.notes if n.startswith("check rows that do not check (1;")]
+    assert note and "chk_OA (row " in note[0], rep.notes
+    c = grades.counts(rep)
+    assert c["checks_passing"] == c["checks_apply"] - 1
+
+
+def test_a_check_row_of_no_given_data_is_judged_as_before(classes, tmp_path):
+    """What the rule cannot tell (docs/grading.md): chk_mag_A (|v_A| against vx_A, vy_A) reads
+    none of the given data, so its reference does not react and a constant status there still
+    passes."""
+    ex, key, options = classes["fourbar"]
+    honest = make_book(ex, key, tmp_path / "honest.xlsx", {})
+    rep, s = grade(_cheat_check(honest, "chk_mag_A", "=0*{L1}", None), options)
+    assert s == 100.0 and not rep.failing_checks
+
+
+# --------------------------------------------------------------------------- the turned variant
+@pytest.mark.parametrize("row", ["Fi", "dFi", "cos_1", "sin_1"])
+def test_the_crank_rows_are_judged_by_the_turned_variant(classes, tmp_path, row):
+    """The crank's own rows do not move with the nudged lengths (Fi0 and Delta_Fi drive them):
+    the turned variant (Fi0 and Delta_Fi moved) judges them, so `=<value>+0*L1` there earns
+    nothing (it scored before), while the honest book keeps 100."""
+    ex, key, options = classes["fourbar"]
+    rep, s = grade(make_book(ex, key, tmp_path / "cheat.xlsx", {row: CHEATS["pasted plus 0 times L1"]}), options)
+    by = {r.name: r for r in rep.rows}
+    share = row_share(by[row], rep.positions, False)
+    # a zero keeps its credit (dFi and Fi at i = 0, cos_1 at 90 and 270 deg, sin_1 at 0, 180
+    # and 360 deg): the turned variant leaves the zeros to the precedents (a sign by hand there)
+    assert share <= 3 / rep.positions, (row, by[row])
+    assert any("does not follow the given data" in n and row in n for n in rep.notes), rep.notes
+    honest = [r for r in grades.graded_rows(rep) if r.name != row]
+    assert all(grades.row_verdict(r) == "correct" for r in honest), [r.name for r in honest
+                                                                    if grades.row_verdict(r) != "correct"]
+
+
+def test_without_the_turned_variant_the_crank_cheat_scores(classes, tmp_path, monkeypatch):
+    """The mutation check: with the turned variant off, `=<value>+0*L1` in cos_1 scores 100."""
+    import sheetkin.course.nudge as nudge
+    ex, key, options = classes["fourbar"]
+    path = make_book(ex, key, tmp_path / "cheat.xlsx", {"cos_1": CHEATS["pasted plus 0 times L1"]})
+    monkeypatch.setattr(nudge, "TURNED", False)
+    assert grade(path, options)[1] == 100.0
+    monkeypatch.setattr(nudge, "TURNED", True)
+    assert grade(path, options)[1] < 100.0
+
+
+def test_a_row_fixed_by_the_configuration_is_left_to_the_precedents(classes, tmp_path):
+    """What the rule cannot tell (docs/grading.md): the crank-slider's phi_3, the guide's fixed
+    angle, is the same for every given data that keep the configuration, so a cheat there
+    keeps its credit (at most the share measured in the docs)."""
+    ex, key, options = classes["crank_slider"]
+    rep, s = grade(make_book(ex, key, tmp_path / "phi3.xlsx", {"phi_3": CHEATS["pasted plus 0 times L1"]}), options)
+    assert s == 100.0, grades.explain(rep)
