@@ -465,14 +465,10 @@ def store_value(num, tag, txt, r, c, v):
 
 
 def _as_cells(v: Val, k: int) -> Val:
-    """A cell holds one value: of an array result (={1,2}, =TRANSPOSE({1,2}) in one cell,
-    not an array formula) its first element, as Excel 2016 and LibreOffice show it (a
-    reference was intersected with the cell's row or column before); an empty array is
-    #VALUE!; a formula whose value is an empty cell holds 0 (=Z99 with Z99 empty is 0)."""
+    """A cell holds one value: an array result that is not a single value is #VALUE!;
+    a formula whose value is an empty cell holds 0 (=Z99 with Z99 empty is 0)."""
     if v.shape[1:] != (1, 1):
-        if v.shape[1] == 0 or v.shape[2] == 0:
-            return error_value("#VALUE!", k)
-        v = Val(v.num[:, :1, :1], v.tag[:, :1, :1], None if v.txt is None else v.txt[:, :1, :1])
+        return error_value("#VALUE!", k)
     if v.pure == -1 and (v.tag == EMPTY).any():
         v = Val(np.where(v.tag == EMPTY, 0.0, v.num), np.where(v.tag == EMPTY, NUM, v.tag).astype(np.int8), v.txt)
     if v.shape[0] != k:

@@ -43,33 +43,3 @@ def test_array_constants_compute_as_their_ranges(tmp_path):
 def test_what_excel_refuses_in_an_array_constant_does_not_parse(text):
     with pytest.raises(ParseError):
         parse_formula(text, 1, 1, {})
-
-
-# an array result in one cell that is not an array formula: its first element, as Excel 2016
-# and LibreOffice show it (issue 32: it was #VALUE!)
-ONE_CELL = {"={1,2}": 1.0, "={3;4}*2": 6.0, '={"a",2}': "a", "=TRANSPOSE({1,2})": 1.0,
-            "=-{5,6;7,8}": -5.0, "={TRUE,1}": True, "=MMULT({1,2},{3;4})": 11.0}
-
-
-def _one_cell_book(tmp_path):
-    wb = openpyxl.Workbook()
-    for i, f in enumerate(ONE_CELL, start=1):
-        wb.active.cell(i, 1, f)
-    path = tmp_path / "one_cell.xlsx"
-    wb.save(path)
-    return path
-
-
-def test_an_array_in_one_cell_shows_its_first_element(tmp_path):
-    book = evaluate(_one_cell_book(tmp_path))
-    assert [book.value(book.order[0], i, 1) for i in range(1, len(ONE_CELL) + 1)] == list(ONE_CELL.values())
-
-
-def test_an_array_in_one_cell_as_libreoffice(tmp_path, soffice):
-    from helpers.libreoffice import recalculate
-    path = _one_cell_book(tmp_path)
-    out = recalculate([path], tmp_path / "lo")[path.resolve()]
-    theirs = openpyxl.load_workbook(out, data_only=True).active
-    ours = evaluate(path)
-    for i, f in enumerate(ONE_CELL, start=1):
-        assert ours.value(ours.order[0], i, 1) == theirs.cell(i, 1).value, f
