@@ -5,6 +5,11 @@ process tree, and wall time). CPU time is what a loaded machine distorts least.
 
     python benchmarks/evaluator_ab.py --rounds 6 --before /path/to/old/tree --after .
     python benchmarks/evaluator_ab.py --tiny        # a smoke run: the four-bar, one round, no LibreOffice
+
+--bytecode: the trees' modules run from compiled bytecode, as an installed sheetkin does (pip
+compiles .pyc files on install): PYTHONDONTWRITEBYTECODE is dropped and the bytecode goes to
+a temporary PYTHONPYCACHEPREFIX, written by one untimed run of each tree. Without it the
+environment decides (where PYTHONDONTWRITEBYTECODE=1, every process compiles every module).
 """
 from __future__ import annotations
 
@@ -40,8 +45,12 @@ def main() -> None:
     ap.add_argument("--before", default=str(ROOT), help="the source tree before (default: this one)")
     ap.add_argument("--after", default=str(ROOT), help="the source tree after (default: this one)")
     ap.add_argument("--tiny", action="store_true", help="the four-bar at 13 positions, one round, no LibreOffice")
+    ap.add_argument("--bytecode", action="store_true", help="run from compiled bytecode, as installed (see above)")
     args = ap.parse_args()
     work = Path(tempfile.mkdtemp(prefix="sheetkin-ab-"))
+    base_env = dict(os.environ)
+    if args.bytecode:
+        base_env.pop("PYTHONDONTWRITEBYTECODE", None)
     try:
         book = work / "book.xlsx"
         scene, extra = (("fourbar.toml", []) if args.tiny
@@ -51,9 +60,16 @@ def main() -> None:
                         "-o", str(book)], check=True, env=env, capture_output=True)
         trees = {"before": args.before, "after": args.after}
         res = {k: {"process cpu": [], "process wall": [], "evaluate cpu": []} for k in trees}
+        tree_env = {name: {**base_env, "PYTHONPATH": root,
+                           **({"PYTHONPYCACHEPREFIX": str(work / f"pyc-{name}")} if args.bytecode else {})}
+                    for name, root in trees.items()}
+        if args.bytecode:                   # one untimed run of each tree writes its bytecode
+            for name in trees:
+                cpu_of([sys.executable, "-m", "sheetkin", "evaluate", str(book), "--format", "csv",
+                        "-o", os.devnull], tree_env[name], work)
         for _ in range(1 if args.tiny else args.rounds):
-            for name, root in trees.items():
-                env = {**os.environ, "PYTHONPATH": root}
+            for name in trees:
+                env = tree_env[name]
                 cpu, wall, _ = cpu_of([sys.executable, "-m", "sheetkin", "evaluate", str(book), "--format", "csv",
                                        "-o", os.devnull], env, work)
                 res[name]["process cpu"].append(cpu)
@@ -65,13 +81,19 @@ def main() -> None:
                                   for k, v in r.items()))
         if args.tiny or not shutil.which("soffice"):
             return
+        lo = []
         for i in range(2):     # LibreOffice: CPU of the soffice process tree for one file, same run
             out = work / f"lo{i}"
             out.mkdir()
             cpu, wall, _ = cpu_of(["soffice", f"-env:UserInstallation=file://{work}/lo-profile", "--headless",
                                    "--norestore", "--convert-to", "xlsx:Calc MS Excel 2007 XML", "--outdir",
                                    str(out), str(book)], os.environ, work)
+            lo.append((cpu, wall))
             print("LibreOffice soffice --convert-to (1 file):", f"cpu {cpu:.2f} s, wall {wall:.2f} s")
+        for name, r in res.items():     # the ratios: LibreOffice's best against each tree's best
+            print(f"ratio LibreOffice / {name} `sheetkin evaluate` process: "
+                  f"cpu {min(c for c, _ in lo) / min(r['process cpu']):.1f}x, "
+                  f"wall {min(w for _, w in lo) / min(r['process wall']):.1f}x")
     finally:
         shutil.rmtree(work, ignore_errors=True)
 

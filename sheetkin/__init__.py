@@ -7,10 +7,10 @@ workbook writer) | xlsx (the spreadsheet engine, standing alone) -> course (vali
 grading, variants) -> cli; views (output, drawings) and studies (bench, synthesis) stand
 beside them.
 
-The public names load on first use: `import sheetkin` costs only the scene reader,
-without numpy, so `sheetkin --help` and small commands start quickly; the solver loads
-with `sheetkin.solve` / `sheetkin.compute`, pandas with `compute()`'s DataFrame, openpyxl
-with the workbooks.
+The public names load on first use (PEP 562): `import sheetkin` loads no stage, so
+`sheetkin --help` and small commands start quickly; the scene reader loads with
+`sheetkin.load_scene`, the solver with `sheetkin.solve` / `sheetkin.compute`, pandas with
+`compute()`'s DataFrame, openpyxl with the workbooks.
 """
 from __future__ import annotations
 
@@ -19,24 +19,22 @@ from typing import Any
 
 __version__ = "0.2.0"
 
-from sheetkin.kinematics import scene as _scene  # noqa: E402
-from sheetkin.kinematics.scene import AssemblyError, Scene, SceneError, load_scene, parse_scene  # noqa: E402
-
-
-def _draw_scene(scene: Scene) -> str:
-    """A Scene in a notebook: the drawing (sheetkin.views, loaded on first use)."""
-    from sheetkin.views.notebook import scene_repr_svg
-    return scene_repr_svg(scene)
-
-
-# the package sits above every stage: it wires the view into the scene's notebook hook
-_scene.draw_in_notebook = _draw_scene
-del _scene
-
-# name -> the module that defines it, imported when the name is first used
-_LAZY = {"Gap": "sheetkin.kinematics.table", "column_names": "sheetkin.kinematics.table",
+# name -> the module that defines it, imported when the name is first used: `import
+# sheetkin` (and so every command, `sheetkin evaluate` among them) loads no module of a stage
+_LAZY = {"AssemblyError": "sheetkin.kinematics.scene", "Scene": "sheetkin.kinematics.scene",
+         "SceneError": "sheetkin.kinematics.scene", "load_scene": "sheetkin.kinematics.scene",
+         "parse_scene": "sheetkin.kinematics.scene",
+         "Gap": "sheetkin.kinematics.table", "column_names": "sheetkin.kinematics.table",
          "compute": "sheetkin.kinematics.table", "solve": "sheetkin.kinematics.solver",
          "evaluate_frame": "sheetkin.xlsx.evaluator", "result": "sheetkin.views.notebook"}
+
+
+def _draw_scene(scene) -> str:
+    """A Scene in a notebook: the drawing (sheetkin.views, loaded on first use). The scene
+    finds it here (kinematics.scene.draw_in_notebook's default): the package sits above
+    every stage and offers the view to the scene, which never imports a view."""
+    from sheetkin.views.notebook import scene_repr_svg
+    return scene_repr_svg(scene)
 
 
 def __getattr__(name: str) -> Any:

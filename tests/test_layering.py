@@ -36,15 +36,15 @@ ALLOWED: dict[str, set[str]] = {
     "cli": {"groups", "kinematics", "sheet", "xlsx", "views", "studies", "course"},
     "__main__": {"cli"},
     # the package itself (sheetkin/__init__.py) is the public API above every stage: it
-    # re-exports the scene reader and loads the rest on use, and wires the notebook view
-    # into the scene's hook (kinematics.scene.draw_in_notebook)
+    # re-exports the public names, each loaded on first use, and offers the notebook view
+    # to the scene (_draw_scene: kinematics.scene.draw_in_notebook's default)
     "sheetkin": {"kinematics", "views", "xlsx"},
 }
 
 # Imports against ALLOWED that are declared, each with its reason: (importer, imported name).
 EXCEPTIONS: dict[tuple[str, str], str] = {
-    # the version string, for messages and reports; sheetkin/__init__.py imports only the
-    # scene reader eagerly, so this pulls in nothing above the importing stage
+    # the version string, for messages and reports; sheetkin/__init__.py imports no stage
+    # eagerly, so this pulls in nothing above the importing stage
     ("sheet", "sheetkin.__version__"): "the version that issued a book, marked in its scene sheet (issue 31)",
     ("course", "sheetkin.__version__"): "the version in reports",
     ("cli", "sheetkin.__version__"): "the version in --version and internal-error lines",

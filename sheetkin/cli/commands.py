@@ -12,6 +12,7 @@ and their help texts are in sheetkin/cli/args.py; this module runs the commands.
 """
 from __future__ import annotations
 
+import functools
 import io
 import json
 import os
@@ -19,22 +20,19 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-# Only the standard library and the scene reader here: `--help` and small commands start
-# quickly, and each command imports what it needs (numpy, pandas, openpyxl, matplotlib)
-# inside its function (tests/cli/test_startup.py checks which modules a command loads).
+# Only the standard library and the scene's caps here: `--help` and small commands start
+# quickly, and each command imports what it needs (the scene reader, numpy, pandas,
+# openpyxl, matplotlib) inside its function; `evaluate` loads no scene reader
+# (tests/cli/test_startup.py checks which modules a command loads).
 from sheetkin import __version__
 from sheetkin.errors import InputError, UsageError
 from sheetkin.files import read_text, shown, write_file
-from sheetkin.kinematics.scene import (
+from sheetkin.kinematics.caps import (
     MAX_POSITIONS,
     MAX_SCENE_BYTES,
     WORKBOOK_MAX_POSITIONS,
-    AssemblyError,
     SceneError,
-    key_line,
-    load_scene,
     one_line,
-    override_crank,
 )
 
 from .args import EXIT_INPUT, build_parser
@@ -51,6 +49,7 @@ def cmd_variants(args) -> int:
     import secrets
 
     from sheetkin.course.variants import MAX_VARIANTS, make_variants, write_variants
+    from sheetkin.kinematics.scene import load_scene
     load_scene(args.scene)                       # one line naming file, line and key
     class_list = None
     if getattr(args, "class_list", None):
@@ -81,6 +80,7 @@ def cmd_variants(args) -> int:
 
 
 def cmd_animate(args) -> int:
+    from sheetkin.kinematics.scene import load_scene
     from sheetkin.views.animate import FORMATS, animate, stderr_progress
     scene = load_scene(args.scene)
     if Path(args.output).suffix.lower() not in FORMATS:
@@ -205,6 +205,7 @@ def _api_directives(text: str) -> str:
 def cmd_compute(args) -> int:
     import numpy as np
 
+    from sheetkin.kinematics.scene import load_scene
     from sheetkin.views.output import write_compute
 
     from .angles import parse_range, read_angles
@@ -230,6 +231,7 @@ def cmd_compute(args) -> int:
 
 
 def cmd_workbook(args) -> int:
+    from sheetkin.kinematics.scene import load_scene, override_crank
     from sheetkin.sheet.workbook import (  # openpyxl only here
         WorkbookTooLarge,
         build_workbook,
@@ -286,6 +288,7 @@ def cmd_workbook(args) -> int:
 def check_workbook_positions(scene, text: str, path: str, from_option: bool) -> None:
     """A workbook has one column per position after A-D: refuse more than a sheet holds
     (Excel's 16,384 columns) with a line naming the scene's key (or the option)."""
+    from sheetkin.kinematics.scene import key_line
     n = scene.crank.positions
     if n <= WORKBOOK_MAX_POSITIONS:
         return
@@ -299,9 +302,10 @@ def check_workbook_positions(scene, text: str, path: str, from_option: bool) -> 
 
 
 def cmd_evaluate(args) -> int:
-    from sheetkin.views.output import fmt_cell as _fmt
     from sheetkin.xlsx.evaluator import evaluate, rows_csv, rows_table  # no pandas: rows_frame is the API's
-    book = _evaluate_one_line(evaluate, args.book)
+    # only the printed sheet and those it reads (the others' XML is neither parsed nor
+    # computed), and not the values the file saved for formula cells: they are computed
+    book = _evaluate_one_line(functools.partial(evaluate, needed_for=args.sheet or 0, saved=False), args.book)
     if args.sheet and args.sheet not in book.sheets:
         raise UsageError(f"{args.book}: no sheet {args.sheet!r}; sheets: {', '.join(book.order)}")
     if args.format == "csv":
@@ -317,6 +321,7 @@ def cmd_evaluate(args) -> int:
                 print(f"sheetkin: warning: {shown(args.book)}: {len(bad)} value(s) not finite (first: "
                       f"{', '.join(bad[:5])}) written as null", file=sys.stderr)
         else:
+            from sheetkin.views.output import fmt_cell as _fmt  # the table only: it loads the solver
             text = "\n".join(f"{n:<16}" + "".join(f"{_fmt(v):>13}" for v in row)
                              for n, row in zip(names, data, strict=True)) + "\n"
     _write(args.output, text)
@@ -577,6 +582,7 @@ def cmd_bench(args) -> int:
         return _cmd_stability(args)
     if args.scene is None:
         raise UsageError("bench: a SCENE.toml is needed (or --stability)")
+    from sheetkin.kinematics.scene import load_scene
     scene = load_scene(args.scene)
     table, warnings = run_bench(scene, args.positions, args.out, libreoffice=not args.no_libreoffice)
     sys.stdout.write(format_bench(table))
@@ -738,12 +744,12 @@ def _run(args) -> int:
                 "examples": cmd_examples, "docs": cmd_docs}[args.command](args)
         _flush_stdout()
         return code
-    except AssemblyError as e:          # an InputError with its own exit code: before them
-        # the Python API says allow_gaps=True; on the command line it is the option
-        said = str(e).replace("allow_gaps=True", "--allow-gaps")
-        print(f"sheetkin: error: {getattr(args, 'scene', '')}: {said}", file=sys.stderr)
-        return EXIT_ASSEMBLY
     except InputError as e:             # the user's to mend (UsageError among them): one line
+        if _is_assembly_error(e):       # an InputError with its own exit code
+            # the Python API says allow_gaps=True; on the command line it is the option
+            said = str(e).replace("allow_gaps=True", "--allow-gaps")
+            print(f"sheetkin: error: {getattr(args, 'scene', '')}: {said}", file=sys.stderr)
+            return EXIT_ASSEMBLY
         from .help_texts import error_line  # validate's and variants': in the teacher's language
         print(one_line(error_line(str(e), getattr(args, "error_lang", None)), 2000), file=sys.stderr)
         return EXIT_INPUT
@@ -771,6 +777,13 @@ def _run(args) -> int:
                        f"{__version__}: please report it with the command and its files; "
                        "SHEETKIN_DEBUG=1 shows the traceback)", 2000), file=sys.stderr)
         return EXIT_INTERNAL
+
+
+def _is_assembly_error(e: BaseException) -> bool:
+    """Whether e is the scene's AssemblyError: only a command that loaded the scene reader
+    can raise one, so it is looked up, not imported (`evaluate` loads no kinematics)."""
+    scene = sys.modules.get("sheetkin.kinematics.scene")
+    return scene is not None and isinstance(e, scene.AssemblyError)
 
 
 def _flush_stdout():

@@ -12,7 +12,6 @@ from __future__ import annotations
 import math
 import re
 import reprlib
-import tomllib
 from typing import Any
 
 from sheetkin.errors import InputError
@@ -69,6 +68,7 @@ def load_toml(text: str, source: str = "<scene>") -> dict:
     limit (tomllib recurses once per level). Lines longer than MAX_LINE are refused first:
     tomllib's time grows with the square of a dotted key's length (a header of 20,000
     dotted parts takes seconds)."""
+    import tomllib  # here: the command line imports the caps, not always a scene
     long_line = _LONG_LINE.search(text)
     if long_line:
         no = text.count("\n", 0, long_line.start()) + 1

@@ -10,6 +10,7 @@ from __future__ import annotations
 import heapq
 import math
 import re
+import sys
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -35,8 +36,9 @@ GROUP_TYPES = tuple(KINDS)
 NAME_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 
 # How a Scene draws itself in a notebook (Scene._repr_svg_): the drawing lives in
-# sheetkin.views, above this stage, so the package installs it here (sheetkin/__init__.py)
-# rather than the scene importing a view.
+# sheetkin.views, above this stage, so the package offers it (sheetkin/__init__.py's
+# _draw_scene, found through sys.modules) rather than the scene importing a view; setting
+# this replaces it.
 draw_in_notebook: Callable[[Scene], str] | None = None
 
 
@@ -116,9 +118,11 @@ class Scene:
 
     def _repr_svg_(self) -> str | None:
         """Jupyter shows a Scene as its mechanism at the first crank position. The drawing
-        is a view above this stage: `draw_in_notebook` holds it, set by the package
-        (sheetkin/__init__.py); without one, Jupyter shows the repr."""
-        return draw_in_notebook(self) if draw_in_notebook is not None else None
+        is a view above this stage: `draw_in_notebook` if set, else the package's
+        (sheetkin/__init__.py: `import sheetkin` no longer loads this module to install it);
+        without one, Jupyter shows the repr."""
+        draw = draw_in_notebook or getattr(sys.modules.get("sheetkin"), "_draw_scene", None)
+        return draw(self) if draw is not None else None
 
     @property
     def has_dynamics(self) -> bool:

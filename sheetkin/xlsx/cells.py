@@ -17,7 +17,7 @@ import math
 import re
 from collections.abc import Iterable
 from dataclasses import dataclass, field
-from itertools import compress
+from itertools import compress, product
 from pathlib import Path
 from xml.etree import ElementTree
 
@@ -25,7 +25,7 @@ from .convert import check_opendocument as check_opendocument  # re-exported: ce
 from .convert import convert_opendocument as convert_opendocument
 from .convert import converted, is_old_excel, is_opendocument
 from .convert import password_protected as password_protected
-from .coords import column_index_from_string, get_column_letter
+from .coords import column_index_from_string
 from .functions import ERRORS, XlError, capped
 from .package import Limits, UnusableWorkbook, open_package, sheet_parts
 
@@ -33,12 +33,30 @@ MAX_COL = 16_384                         # XFD, Excel's last column
 
 
 @functools.cache
-def _columns() -> tuple[list[str], dict[str, int], dict[bytes, int]]:
-    """Every column's letters ("" for 0, then A ... XFD), their numbers, and the same for bytes:
-    built on first use, not at import (`sheetkin evaluate` starts faster, issue 32)."""
-    letters = [""] + [get_column_letter(c) for c in range(1, MAX_COL + 1)]
-    index = {text: c for c, text in enumerate(letters) if c}
-    return letters, index, {text.encode(): c for text, c in index.items()}
+def _columns() -> tuple[list[str], dict[str, int]]:
+    """Every column's letters ("" for 0, then A ... XFD) and their numbers: built on first
+    use, not at import (`sheetkin evaluate` starts faster, issue 32)."""
+    abc = _ABC
+    letters = ["", *abc, *map("".join, product(abc, abc)), *map("".join, product(abc, abc, abc))][:MAX_COL + 1]
+    return letters, dict(zip(letters[1:], range(1, MAX_COL + 1), strict=True))
+
+
+def _column_numbers(letters: list[bytes]) -> list[int]:
+    """The column numbers of a sheet's cell references' letters (b"A" ... b"XFD", as _CELLS
+    matches them: 1-3 capitals); KeyError past XFD. Each distinct column is worked out once
+    (a book has a few hundred), not a table of all 16,384 built."""
+    table = {}
+    for b in set(letters):
+        c = 0
+        for ch in b:
+            c = c * 26 + ch - 64
+        if not 1 <= c <= MAX_COL:
+            raise KeyError(b)
+        table[b] = c
+    return list(map(table.__getitem__, letters))
+
+
+_ABC = "ABCDEFGHIJKLMNOPQRSTUVWXYZ"
 MAX_ROW = 1_048_576                      # Excel's last row
 
 
@@ -68,12 +86,14 @@ class Sheet:
 
 
 def _read_sheet(pkg, name: str, part: str, state: str, shared: list[str], limits: Limits,
-                budget: int | None = None) -> Sheet:
-    """budget: cells that may still hold something (Limits.max_cells less the sheets before)."""
+                budget: int | None = None, saved: bool = True) -> Sheet:
+    """budget: cells that may still hold something (Limits.max_cells less the sheets before).
+    saved: whether the values saved for formula cells are wanted (sh.cached); the fast path
+    leaves them unread without (the evaluator computes them)."""
     if not part.lower().endswith(".xml"):           # only .xml parts were pre-scanned
         return _read_tree(pkg, pkg.xml(part), name, part, state, shared, limits, budget)
     data = pkg.read(part)
-    sh = _read_fast(pkg, data, name, state, shared, limits, budget)
+    sh = _read_fast(pkg, data, name, state, shared, limits, budget, saved)
     if sh is not None:
         return sh
     return _read_tree(pkg, _streamed(pkg, data, part), name, part, state, shared, limits, budget)
@@ -388,7 +408,7 @@ _PIECE = 4 << 20        # bytes of <sheetData> split at a time (the split's list
 
 
 def _read_fast(pkg, data: bytes, name: str, state: str, shared: list[str], limits: Limits,
-               budget: int | None = None) -> Sheet | None:
+               budget: int | None = None, saved: bool = True) -> Sheet | None:
     """The cells of a sheet part in the simple shape (see _CELLS), else None. Read in
     pieces of about _PIECE bytes ending at a </row>, so that the regex's lists stay small
     whatever the part's size."""
@@ -413,7 +433,7 @@ def _read_fast(pkg, data: bytes, name: str, state: str, shared: list[str], limit
             parts = _CELLS.split(piece)
             if any(parts[::_GROUPS + 1]):
                 return None                         # bytes that no match accounts for
-            _cells_of(pkg, parts, name, state, shared, limits, into=sh, masters=masters)
+            _cells_of(pkg, parts, name, state, shared, limits, into=sh, masters=masters, saved=saved)
             _check_cells(pkg, name, sh, limits, budget)
             pos = cut
         return _finish(sh, pkg, limits)
@@ -427,14 +447,15 @@ def _read_fast(pkg, data: bytes, name: str, state: str, shared: list[str], limit
 
 
 def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits: Limits,
-              into: Sheet | None = None, masters: dict | None = None) -> Sheet:
+              into: Sheet | None = None, masters: dict | None = None, saved: bool = True) -> Sheet:
     """The cells of one piece of <sheetData> (split by _CELLS), added to `into`; masters:
-    the shared formulas' first cells met so far (a block may span pieces)."""
+    the shared formulas' first cells met so far (a block may span pieces); saved: whether
+    the values saved for formula cells are read (into sh.cached)."""
     letters, rownums, types, fattrs, ftexts, vtexts, itexts = _columns_of(parts)
     sh = into if into is not None else Sheet(name, state)
     if not letters:
         return sh
-    cols = list(map(_columns()[2].__getitem__, letters))    # KeyError past XFD
+    cols = _column_numbers(letters)                  # KeyError past XFD
     rows = list(map(int, rownums))
     keys = list(zip(rows, cols, strict=False))
     if len(set(keys)) != len(keys):
@@ -458,6 +479,8 @@ def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits
     with_value: Iterable[int] = compress(range(len(keys)), vtexts)
     if any(itexts):
         with_value = sorted(set(with_value) | set(compress(range(len(keys)), itexts)))
+    if not saved:                                   # constants only (and what dangling cells saved)
+        with_value = [i for i in with_value if keys[i] not in formulas]
     _store_values(sh, with_value, keys, types, vtexts, itexts, shared, formulas)
     sh.formulas.update(formulas)
     return sh
@@ -744,12 +767,19 @@ class RawBook:
 
 
 def read_book(path: str | Path, limits: Limits = Limits(), *, convert_timeout: float = 120,
-              skip: frozenset[str] = frozenset()) -> RawBook:
+              skip: frozenset[str] = frozenset(), needed_for: str | int | None = None,
+              saved: bool = True) -> RawBook:
     """Read an .xlsx safely (package.py): never modified, never trusted. An OpenDocument
     spreadsheet (.ods, .fods) is converted to .xlsx by LibreOffice first (see
     `convert.converted`). skip: names of sheets the caller never reads (the validator's
     hidden `paths` sheet, 74% of a workbook's XML): listed, empty, their cells not parsed
-    (the package gate has checked their part's size and shape all the same)."""
+    (the package gate has checked their part's size and shape all the same).
+    needed_for: a sheet (its name, or 0 for the first) whose values alone the caller wants:
+    only it and the sheets its formulas name, through each other, are read, the others
+    listed empty as with skip (`sheetkin evaluate` prints one sheet); every sheet is read
+    when the formulas' text cannot tell (see _sheets_named). saved=False: the values the
+    file saved for formula cells (RawBook's Sheet.cached) may be left unread, as the
+    evaluator computes them."""
     locked = password_protected(path)
     if locked:
         raise UnusableWorkbook(str(path), f"password-protected ({locked})",
@@ -757,7 +787,7 @@ def read_book(path: str | Path, limits: Limits = Limits(), *, convert_timeout: f
     if is_opendocument(path) or is_old_excel(path):
         with converted(path, limits, convert_timeout) as out:        # rare: read whole
             return _read_converted(out, str(path), limits)
-    return _read_xlsx(path, limits, skip)
+    return _read_xlsx(path, limits, skip, needed_for, saved)
 
 
 def _read_converted(out: Path, shown: str, limits: Limits) -> RawBook:
@@ -771,19 +801,92 @@ def _read_converted(out: Path, shown: str, limits: Limits) -> RawBook:
 
 
 
-def _read_xlsx(path, limits: Limits, skip: frozenset[str] = frozenset()) -> RawBook:
+def _read_xlsx(path, limits: Limits, skip: frozenset[str] = frozenset(),
+               needed_for: str | int | None = None, saved: bool = True) -> RawBook:
     pkg = open_package(path, limits)
     shared = _shared_strings(pkg)
     names, local = _defined_names(pkg)
-    sheets, order = {}, []
+    sheets: dict[str, Sheet] = {}
+    order: list[str] = []
     held = 0
-    for i, info in enumerate(sheet_parts(pkg)):
-        if info.name in skip:
+    infos = sheet_parts(pkg)
+    if needed_for is not None and not _user_names(names, *local.values()):
+        skip = skip | _not_needed(pkg, infos, needed_for, shared, limits, skip, sheets, saved)
+    for i, info in enumerate(infos):
+        if info.name in sheets:                     # read already (_not_needed)
+            sh = sheets[info.name]
+        elif info.name in skip:
             sh = sheets[info.name] = Sheet(info.name, info.state)
         else:
             sh = sheets[info.name] = _read_sheet(pkg, info.name, info.part, info.state, shared, limits,
-                                                 limits.max_cells - held)
+                                                 limits.max_cells - held, saved)
         sh.names = local.get(i, {})
         held += len(sh.consts) + len(sh.formulas) + len(sh.dangling)
         order.append(info.name)
-    return RawBook(str(path), sheets, order, names)
+    return RawBook(str(path), {n: sheets[n] for n in order}, order, names)
+
+
+def _user_names(*tables: dict[str, str]) -> bool:
+    """Whether any defined name is the user's (a formula may read any sheet through it), not
+    one of Excel's own (_xlnm.Print_Area ...: a formula cannot use them by that name)."""
+    return any(not n.lower().startswith("_xlnm.") for table in tables for n in table)
+
+
+def _not_needed(pkg, infos: list, needed_for: str | int, shared: list[str], limits: Limits,
+                skip: frozenset[str], read: dict[str, Sheet], saved: bool = True) -> frozenset[str]:
+    """The sheets that the sheet `needed_for` does not read, through its formulas and theirs
+    (the sheets it reads are read here, into `read`); none when that cannot be told."""
+    by_name = {info.name: info for info in infos if info.name not in skip}
+    first = infos[0].name if needed_for == 0 and infos else needed_for
+    if first not in by_name:
+        return frozenset()
+    todo, held = [first], 0
+    while todo:
+        info = by_name[todo.pop()]
+        sh = read[info.name] = _read_sheet(pkg, info.name, info.part, info.state, shared, limits,
+                                           limits.max_cells - held, saved)
+        held += len(sh.consts) + len(sh.formulas) + len(sh.dangling)
+        named = _sheets_named(sh, list(by_name))
+        if named is None:                           # every sheet read in order, as without needed_for
+            for n in list(read):
+                if n != infos[0].name or len(read) > 1:
+                    del read[n]                     # (read again there, within the same caps)
+            return frozenset()
+        todo += [n for n in named if n not in read and n not in todo]
+    return frozenset(by_name) - frozenset(read)
+
+
+# What in a formula's text may read a sheet it does not name as Sheet! (or makes a sheet's
+# used range matter: whole columns and rows end at the workbook's used range): a reference
+# built from text (INDIRECT), the sheet functions, external and structured references
+# ([..]); and after a colon, 3-D references (Sheet1:Sheet3!A1), whole columns (A:C) and
+# rows (2:5). Looked for in the ASCII-lowercased UTF-8 text, strings included (a false alarm
+# only reads every sheet); each pattern starts with a literal, which the regex engine scans
+# for quickly (3 MB of formulas in the 360-column shaper).
+_READS_UNNAMED = [re.compile(p) for p in (
+    rb"indirect", rb"sheets?\s*\(", rb"cell\s*\(", rb"info\s*\(", rb"\[",
+    rb":\$?(?:[a-z]{1,3}|[0-9]+)(?![\w(.!$])|:'|:[^\W\d][\w.]*!")]
+
+
+def _sheets_named(sh: Sheet, sheet_names: list[str]) -> list[str] | None:
+    """The sheets that sh's formulas may read: every sheet whose name, followed by "!"
+    (quoted or not, in any case, as Excel compares sheet names), occurs in their text;
+    None when the text does not tell (_READS_UNNAMED). A sheet without formulas reads none."""
+    if not sh.formulas:
+        return []
+    text = "\0".join(sh.formulas.values()).encode("utf-8").lower()
+    if any(p.search(text) for p in _READS_UNNAMED):
+        return None
+    named, heads = [], None
+    for name in sheet_names:
+        low = name.encode("utf-8").lower()
+        if low + b"!" in text or b"'" + low.replace(b"'", b"''") + b"'!" in text:
+            named.append(name)
+        elif not name.isascii():        # another case of its other letters: compared casefolded
+            if heads is None:           # what precedes each "!", as long as a quoted name can be
+                k = 4 * (2 * max(map(len, sheet_names)) + 2)       # 4: bytes of a character, at most
+                heads = [b.decode("utf-8", "replace").casefold() for b in {p[-k:] for p in text.split(b"!")[:-1]}]
+            n = name.casefold()
+            if any(h.endswith(n) or h.endswith("'" + n.replace("'", "''") + "'") for h in heads):
+                named.append(name)
+    return named

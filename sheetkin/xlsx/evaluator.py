@@ -138,13 +138,17 @@ class Book:
 
 
 # --------------------------------------------------------------------------- evaluation
-def evaluate(path: str | Path, *, strict: bool = True, limits: Limits = Limits()) -> Book:
+def evaluate(path: str | Path, *, strict: bool = True, limits: Limits = Limits(),
+             needed_for: str | int | None = None, saved: bool = True) -> Book:
     """Evaluate every formula of an .xlsx workbook (an .ods or .fods is converted by
     LibreOffice first, see cells.read_book); `Book.value(sheet, row, col)` then gives any
     cell. With strict, an unsupported function or an unparsable formula raises
     EvaluationError naming the cells; otherwise those cells become #NAME? and the problem is
-    listed in Book.problems."""
-    raw = read_book(path, limits)
+    listed in Book.problems. needed_for: a sheet (its name, or 0 for the first) whose values
+    alone are wanted: only it and the sheets it reads are read and computed (the others are
+    listed, empty; their problems are not looked for), as `sheetkin evaluate` prints one.
+    saved=False: Book.sheets need not hold the values the file saved for formula cells."""
+    raw = read_book(path, limits, needed_for=needed_for, saved=saved)
     return evaluate_sheets(raw.path, raw.sheets, raw.order, raw.names, strict=strict, limits=limits)
 
 

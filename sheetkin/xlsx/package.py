@@ -216,6 +216,9 @@ class Package:
         self._overrides: dict[str, str] = {}
         self.workbook_part = "xl/workbook.xml"
         self._sheets: list[SheetPart] | None = None
+        # parts the gate's scan inflated (and checked: sizes, CRC), kept up to _KEEP_BYTES in
+        # all so that reading them is not inflating them again (`sheetkin evaluate`, issue 32)
+        self._inflated: dict[str, bytes] = {}
 
     # -- errors ---------------------------------------------------------------------------
     def _fail(self, problem: str, expected: str | None = None, part: str | None = None) -> NoReturn:
@@ -315,7 +318,12 @@ class Package:
             self._corrupt(name, "bad CRC-32")
 
     def read(self, name: str, limit: int | None = None) -> bytes:
-        """The part's uncompressed bytes, limits enforced while inflating (see `chunks`)."""
+        """The part's uncompressed bytes, limits enforced while inflating (see `chunks`), or
+        as the gate's scan kept them (inflated and checked there within the default limit;
+        a smaller limit they exceed is left to `chunks` to refuse)."""
+        kept = self._inflated.get(name)
+        if kept is not None and (limit is None or len(kept) <= limit):
+            return kept
         return b"".join(self.chunks(name, limit))
 
     def xml(self, name: str) -> Element:
@@ -576,7 +584,7 @@ def _scan_parts(pkg: Package, ct_name: str, infos: list[zipfile.ZipInfo], limits
             pkg._defaults[node.get("Extension", "").lower()] = node.get("ContentType", "")
         elif tag == "Override":
             pkg._overrides[node.get("PartName", "").lower()] = node.get("ContentType", "")
-    real_total = 0
+    real_total = kept = 0
     for info in infos:
         if info.is_dir():
             continue
@@ -584,7 +592,10 @@ def _scan_parts(pkg: Package, ct_name: str, infos: list[zipfile.ZipInfo], limits
         scan = _is_xmlish(name, pkg.content_type(name))
         tail = b""
         first = True
+        keep: list[bytes] | None = [] if kept + info.file_size <= _KEEP_BYTES else None
         for chunk in pkg.chunks(name):
+            if keep is not None:
+                keep.append(chunk)
             real_total += len(chunk)
             if scan and first:
                 first = False
@@ -601,6 +612,12 @@ def _scan_parts(pkg: Package, ct_name: str, infos: list[zipfile.ZipInfo], limits
         if real_total > limits.max_total_bytes:
             fail(f"more than {_size(limits.max_total_bytes)} uncompressed in all",
                  f"expected at most {_size(limits.max_total_bytes)}")
+        if keep is not None:                    # the whole part, checked (chunks raised otherwise)
+            pkg._inflated[name] = b"".join(keep)
+            kept += len(pkg._inflated[name])
+
+
+_KEEP_BYTES = 64 * 1024 * 1024      # inflated parts the scan keeps for reading (see Package._inflated)
 
 
 def _check_content(pkg: Package, macro_hint: str, external_hint: str, fail: Callable[..., NoReturn]) -> None:

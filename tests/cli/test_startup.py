@@ -94,3 +94,33 @@ def test_validate_command_loads_no_pandas():
              "with contextlib.redirect_stdout(io.StringIO()) as out:\n"
              "    assert main(['validate', 'workbooks/fourbar.xlsx']) == 0")
     assert loaded(setup) == {"numpy", "openpyxl"}
+
+
+def sheetkin_modules(setup: str) -> set[str]:
+    """The sheetkin modules loaded after `setup`, in a fresh process."""
+    code = setup + "\nimport json, sys\nprint(json.dumps(sorted(m for m in sys.modules if m.startswith('sheetkin'))))"
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT,
+                          timeout=120, env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
+    assert proc.returncode == 0, proc.stderr
+    return set(json.loads(proc.stdout.splitlines()[-1]))
+
+
+def test_import_sheetkin_loads_no_stage_and_names_load_on_use():
+    # issue 32: the package's public names load on first use (PEP 562), the scene reader too
+    assert sheetkin_modules("import sheetkin") <= {"sheetkin", "sheetkin.errors", "sheetkin.lazy"}
+    loaded_ = sheetkin_modules("import sheetkin\nassert sheetkin.Scene.__name__ == 'Scene'\n"
+                               "from sheetkin import load_scene, AssemblyError")
+    assert "sheetkin.kinematics.scene" in loaded_ and "sheetkin.kinematics.solver" not in loaded_
+
+
+@pytest.mark.parametrize("fmt", ["csv", "json"])
+def test_evaluate_command_loads_no_kinematics(fmt):
+    # issue 32: `sheetkin evaluate` is the engine (xlsx) and the command line, no scene reader
+    # or solver (the table format alone loads the output module's number formatting)
+    setup = ("from sheetkin.cli.commands import main\n"
+             "import contextlib, io\n"
+             "with contextlib.redirect_stdout(io.StringIO()) as out:\n"
+             f"    assert main(['evaluate', 'workbooks/fourbar.xlsx', '--format', '{fmt}']) == 0")
+    mods = sheetkin_modules(setup)
+    assert not {m for m in mods if m.startswith(("sheetkin.kinematics.", "sheetkin.views", "sheetkin.groups"))
+                and m != "sheetkin.kinematics.caps"}, mods

@@ -1,0 +1,97 @@
+"""read_book(needed_for=...) and `sheetkin evaluate`: only the printed sheet and the sheets
+its formulas read are parsed and computed (issue 32, speed), with the same values as when
+every sheet is; whenever the formulas' text cannot tell which sheets they read, every sheet
+is read."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from openpyxl import Workbook
+
+from sheetkin.cli.commands import main
+from sheetkin.xlsx.cells import read_book
+from sheetkin.xlsx.evaluator import evaluate
+
+WORKBOOKS = Path(__file__).resolve().parents[2] / "workbooks"
+
+
+def book(tmp_path: Path, sheets: dict[str, dict[str, object]], names: dict[str, str] | None = None) -> Path:
+    wb = Workbook()
+    wb.remove(wb.active)
+    for title, cells in sheets.items():
+        ws = wb.create_sheet(title)
+        for at, v in cells.items():
+            ws[at] = v
+    if names:
+        from openpyxl.workbook.defined_name import DefinedName
+        for n, text in names.items():
+            wb.defined_names[n] = DefinedName(n, attr_text=text)
+    path = tmp_path / "b.xlsx"
+    wb.save(path)
+    return path
+
+
+def parsed(path: Path, needed_for) -> set[str]:
+    """The sheets whose cells were read."""
+    raw = read_book(path, needed_for=needed_for)
+    assert raw.order == list(raw.sheets)
+    return {n for n, sh in raw.sheets.items() if sh.formulas or sh.consts}
+
+
+def test_only_the_sheets_read_through_the_formulas(tmp_path):
+    p = book(tmp_path, {"Main": {"A1": "=Data!A1*2", "A2": 1},
+                        "Data": {"A1": "='Более данных'!B2+1"},
+                        "Более данных": {"B2": 5},
+                        "Other": {"A1": 7, "A2": "=1/0"}})
+    assert parsed(p, 0) == {"Main", "Data", "Более данных"}
+    assert parsed(p, "Data") == {"Data", "Более данных"}
+    assert parsed(p, "Other") == {"Other"}
+    assert parsed(p, None) == {"Main", "Data", "Более данных", "Other"}
+    assert parsed(p, "nope") == {"Main", "Data", "Более данных", "Other"}   # the caller says it is missing
+    b = evaluate(p, needed_for=0, saved=False)
+    assert b.value("Main", 1, 1) == 12.0 and b.order == ["Main", "Data", "Более данных", "Other"]
+
+
+def test_sheet_names_in_another_case_or_quoted(tmp_path):
+    p = book(tmp_path, {"Main": {"A1": "=data!A1+'МОЙ Лист'!A1+'it''s'!A1"},
+                        "Data": {"A1": 1}, "Мой лист": {"A1": 2}, "it's": {"A1": 3}, "Other": {"A1": 4}})
+    # read in any case (Excel's way; the evaluator itself wants the name as it is written)
+    assert parsed(p, 0) == {"Main", "Data", "Мой лист", "it's"}
+    p = book(tmp_path, {"Main": {"A1": "=Data!A1+'Мой лист'!A1+'it''s'!A1"},
+                        "Data": {"A1": 1}, "Мой лист": {"A1": 2}, "it's": {"A1": 3}, "Other": {"A1": 4}})
+    assert parsed(p, 0) == {"Main", "Data", "Мой лист", "it's"}
+    assert evaluate(p, needed_for=0).value("Main", 1, 1) == 6.0
+
+
+@pytest.mark.parametrize("formula", ['=INDIRECT("Other!A1")', "=SUM(A:A)", "=SUM(2:3)", "=SHEETS()",
+                                     '=CELL("address",A2)', "=SUM(Data:Other!A1)"])
+def test_every_sheet_when_the_text_cannot_tell(tmp_path, formula):
+    p = book(tmp_path, {"Main": {"A1": formula, "A2": 1}, "Data": {"A1": 1}, "Other": {"A1": 4, "A9": 5}})
+    assert parsed(p, 0) == {"Main", "Data", "Other"}
+
+
+def test_every_sheet_with_a_defined_name(tmp_path):
+    p = book(tmp_path, {"Main": {"A1": "=x+1"}, "Other": {"A1": 4}}, names={"x": "Other!$A$1"})
+    assert parsed(p, 0) == {"Main", "Other"}
+    assert evaluate(p, needed_for=0).value("Main", 1, 1) == 5.0
+
+
+def test_without_saved_values_the_same_values(tmp_path):
+    for path in sorted(WORKBOOKS.glob("*.xlsx"))[:3]:
+        full, lean = evaluate(path), evaluate(path, needed_for=0, saved=False)
+        main_sheet = full.order[0]
+        assert (full.num[main_sheet] == lean.num[main_sheet]).all()
+        assert (full.tag[main_sheet] == lean.tag[main_sheet]).all()
+        assert not lean.sheets[main_sheet].cached and full.sheets[main_sheet].cached
+
+
+def test_the_command_prints_the_same_sheet(tmp_path, capsys):
+    p = book(tmp_path, {"Main": {"A5": "x", "E5": "=Data!A1*2", "F5": 3},
+                        "Data": {"A1": 2}, "Other": {"A5": "y", "E5": "=1+1"}})
+    assert main(["evaluate", str(p), "--format", "csv"]) == 0
+    assert capsys.readouterr().out == "name,1,2\nx,4.0,3.0\n"
+    assert main(["evaluate", str(p), "--format", "csv", "--sheet", "Other"]) == 0
+    assert capsys.readouterr().out == "name,1\ny,2.0\n"
+    assert main(["evaluate", str(p), "--sheet", "nope"]) == 2
+    assert "no sheet 'nope'; sheets: Main, Data, Other" in capsys.readouterr().err
