@@ -69,13 +69,17 @@ def cmd_variants(args) -> int:
               "(validate still checks the books sealed with it)", file=sys.stderr)
     who = (f", assigned to the {len(class_list.people)} students of {args.class_list} "
            f"({roster.parent / 'assignment.csv'})") if class_list else ""
-    print(f"{args.out}: {len(variants)} variants of {args.scene} (seed {seed}: --seed {seed} makes the "
-          f"same again){who}; {roster}; the key {roster.parent / '.sheetkin-key'} stays with you", file=sys.stderr)
+    from .help_texts import say_line
+    teacher = getattr(args, "error_lang", None)      # the teacher's language, as the errors'
+    print(say_line(f"{args.out}: {len(variants)} variants of {args.scene} (seed {seed}: --seed {seed} makes the "
+                   f"same again){who}; {roster}; the key {roster.parent / '.sheetkin-key'} stays with you", teacher),
+          file=sys.stderr)
     if class_list:
         from sheetkin.course.variants import STUDENTS_FOLDER
-        print(f"sheetkin: upload to Moodle {Path(args.out) / STUDENTS_FOLDER} (one book per student, named by "
-              f"the student); {roster.parent} is yours (keys, roster, assignment.csv, the key): never upload it; "
-              f"grade with --roster {roster}", file=sys.stderr)
+        print("sheetkin: " + say_line(f"upload to Moodle {Path(args.out) / STUDENTS_FOLDER} (one book per student, "
+                                      f"named by the student); {roster.parent} is yours (keys, roster, "
+                                      f"assignment.csv, the key): never upload it; grade with --roster {roster}",
+                                      teacher), file=sys.stderr)
     return 0
 
 
@@ -474,6 +478,8 @@ def _grades_first(args):
 
 
 def _write_grades(args, reports, copies, class_list, identities=None, lang: str = "en") -> None:
+    from .help_texts import say_line, warning_line
+    teacher = getattr(args, "error_lang", None)      # the teacher's language, as the errors'
     from sheetkin.course.grades import (
         COLUMNS,
         fill_worksheet,
@@ -495,14 +501,14 @@ def _write_grades(args, reports, copies, class_list, identities=None, lang: str 
         sheet, more = fill_worksheet(read_worksheet(args.worksheet), lines)
         warnings += more
         write_grades(args.grades, worksheet_csv(sheet))
-        print(f"{args.grades}: Moodle's grading worksheet {args.worksheet} with {books} submission(s) graded "
-              "(upload it: Upload grading worksheet)", file=sys.stderr)
+        print(say_line(f"{args.grades}: Moodle's grading worksheet {args.worksheet} with {books} submission(s) "
+                       "graded (upload it: Upload grading worksheet)", teacher), file=sys.stderr)
     else:
         from sheetkin.course.grades import grades_data
         write_grades(args.grades, grades_data(lines, getattr(args, "grades_format", "csv")))
-        print(f"{args.grades}: {books} submission(s) graded", file=sys.stderr)
+        print(say_line(f"{args.grades}: {books} submission(s) graded", teacher), file=sys.stderr)
     for w in warnings:
-        print(f"sheetkin: warning: {args.grades}: {w}", file=sys.stderr)
+        print(warning_line(f"{args.grades}: {w}", teacher), file=sys.stderr)
 
 
 def cmd_validate(args) -> int:
@@ -539,8 +545,10 @@ def cmd_validate(args) -> int:
         sys.stderr.write("\n")
     if keyless and any(r.variant for r in reports):
         print(f"sheetkin: note: {keyless}", file=sys.stderr)
+    from .help_texts import warning_line
+    teacher = getattr(args, "error_lang", None)      # the teacher's language, as the errors'
     for warning in graded.warnings:
-        print(f"sheetkin: warning: {warning}", file=sys.stderr)
+        print(warning_line(warning, teacher), file=sys.stderr)
     lang = args.lang or class_lang(reports)
     if args.json:
         sys.stdout.write(json_report(reports, copies, lang))
@@ -552,7 +560,7 @@ def cmd_validate(args) -> int:
         _write_grades(args, reports, copies, graded.class_list, identities, lang)
     else:
         for warning in graded.identity_warnings():
-            print(f"sheetkin: warning: {warning}", file=sys.stderr)
+            print(warning_line(warning, teacher), file=sys.stderr)
     if any(r.error for r in reports):
         return EXIT_INPUT
     return 0 if all(r.ok for r in reports) else 1

@@ -397,15 +397,127 @@ ERRORS: tuple[tuple[str, dict[str, str], str], ...] = (
 )
 
 
+# The warnings and the closing lines of `validate` and `variants` in the same language (issue
+# 34: a Russian teacher reads no English line): the same form as ERRORS.
+WARNING_WORD = {"ru": "предупреждение", "uk": "попередження"}
+WARNINGS: tuple[tuple[str, dict[str, str], str], ...] = (
+    # grades.csv (sheetkin/course/grades.py grade_lines, fill_worksheet)
+    (r"^(?P<f>.+?): (?P<n>\d+) submission\(s\) graded$",
+     {"ru": "{f}: оценено работ: {n}", "uk": "{f}: оцінено робіт: {n}"},
+     "grades.csv: 4 submission(s) graded"),
+    (r"^(?P<f>.+?): Moodle's grading worksheet (?P<w>.+?) with (?P<n>\d+) submission\(s\) graded \(upload it: "
+     r"Upload grading worksheet\)$",
+     {"ru": "{f}: ведомость оценок Moodle {w}, оценено работ: {n} (загрузите её: «Загрузить ведомость оценок»)",
+      "uk": "{f}: відомість оцінок Moodle {w}, оцінено робіт: {n} (завантажте її: «Завантажити відомість "
+            "оцінок»)"},
+     "grades.csv: Moodle's grading worksheet worksheet.csv with 4 submission(s) graded (upload it: Upload "
+     "grading worksheet)"),
+    (r"no --class-list: the column (?P<c>'[^']*') is empty; Moodle identifies a student by it, not by name \(fill "
+     r"it in, or give Moodle's participants export as --class-list\)",
+     {"ru": "нет --class-list: столбец {c} пуст; Moodle узнаёт студента по нему, а не по имени (заполните его "
+            "или укажите экспорт участников Moodle как --class-list)",
+      "uk": "немає --class-list: стовпець {c} порожній; Moodle впізнає студента за ним, а не за ім'ям "
+            "(заповніть його або вкажіть експорт учасників Moodle як --class-list)"},
+     "no --class-list: the column 'Email address' is empty; Moodle identifies a student by it, not by name "
+     "(fill it in, or give Moodle's participants export as --class-list)"),
+    (r"(?P<n>\d+) submission\(s\) not found \(or found twice\) in the class list, their (?P<c>'[^']*') left "
+     r"empty: (?P<list>.+)",
+     {"ru": "работ не найдено (или найдено дважды) в списке группы: {n}, их {c} оставлен пустым: {list}",
+      "uk": "робіт не знайдено (або знайдено двічі) у списку групи: {n}, їхній {c} залишено порожнім: {list}"},
+     "3 submission(s) not found (or found twice) in the class list, their 'Email address' left empty: "
+     "sub/a.xlsx, sub/b.xlsx"),
+    (r" \(newer: ", {"ru": " (новее: ", "uk": " (новіший: "}, "old.xlsx (newer: new.xlsx)"),
+    (r"one grade per student: (?P<n>\d+) older file\(s\) not graded: (?P<list>.+)",
+     {"ru": "одна оценка на студента: более старых файлов не оценено: {n}: {list}",
+      "uk": "одна оцінка на студента: старіших файлів не оцінено: {n}: {list}"},
+     "one grade per student: 1 older file(s) not graded: old.xlsx, older.xlsx"),
+    (r"(?P<n>\d+) book\(s\) not handed in by their own student: (?P<list>.+)",
+     {"ru": "книг, сданных не своим студентом: {n}: {list}", "uk": "книг, зданих не своїм студентом: {n}: {list}"},
+     "1 book(s) not handed in by their own student: a.xlsx: found in the folder of Петров Пётр"),
+    (r"(?P<n>\d+) possible cop\(ies\) held for review, their score left empty \(--copies keep: their score; "
+     r"--copies zero: 0\): (?P<list>.+)",
+     {"ru": "возможных копий отложено для проверки: {n}, их балл оставлен пустым (--copies keep: их балл; "
+            "--copies zero: 0): {list}",
+      "uk": "можливих копій відкладено для перевірки: {n}, їхній бал залишено порожнім (--copies keep: їхній "
+            "бал; --copies zero: 0): {list}"},
+     "2 possible cop(ies) held for review, their score left empty (--copies keep: their score; --copies zero: "
+     "0): a.xlsx, b.xlsx"),
+    (r"(?P<n>\d+) student\(s\) of the class list handed nothing in, their score left empty: (?P<list>.+)",
+     {"ru": "студентов списка группы, ничего не сдавших: {n}, их балл оставлен пустым: {list}",
+      "uk": "студентів списку групи, що нічого не здали: {n}, їхній бал залишено порожнім: {list}"},
+     "3 student(s) of the class list handed nothing in, their score left empty: Иванов Иван"),
+    (r"the worksheet has no line for participant\(s\) (?P<list>.+?): their grade is not in it",
+     {"ru": "в ведомости нет строки для участников {list}: их оценки в ней нет",
+      "uk": "у відомості немає рядка для учасників {list}: їхньої оцінки в ній немає"},
+     "the worksheet has no line for participant(s) 501, 502: their grade is not in it"),
+    # the class (sheetkin/course/class_grading.py)
+    (r"^(?P<f>.+?) contradicts (?P<n>\d+) of the (?P<m>\d+) sealed books \(their seals check, the roster's given "
+     r"data differ\): is it another class's roster, or re-written\? Each sealed book is graded against its "
+     r"sealed data$",
+     {"ru": "{f} противоречит {n} из {m} запечатанных книг (их печати верны, а исходные данные roster другие): "
+            "это roster другой группы или переписанный? Каждая запечатанная книга оценена по своим данным",
+      "uk": "{f} суперечить {n} із {m} запечатаних книг (їхні печатки правильні, а вихідні дані roster інші): "
+            "це roster іншої групи чи переписаний? Кожну запечатану книгу оцінено за її даними"},
+     "class/roster.csv contradicts 3 of the 4 sealed books (their seals check, the roster's given data differ): "
+     "is it another class's roster, or re-written? Each sealed book is graded against its sealed data"),
+    (r"^none of the (?P<n>\d+) issued books' seals matches the key: is the key \(or --roster's folder\) another "
+     r"class's\?$",
+     {"ru": "ни одна из {n} выданных книг не запечатана этим ключом: ключ (или папка --roster) от другой группы?",
+      "uk": "жодну з {n} виданих книг не запечатано цим ключем: ключ (або тека --roster) від іншої групи?"},
+     "none of the 4 issued books' seals matches the key: is the key (or --roster's folder) another class's?"),
+    (r"^none of the (?P<n>\d+) books' variants is in (?P<f>.+?): is it another class's roster\?$",
+     {"ru": "ни одного из вариантов {n} книг нет в {f}: это roster другой группы?",
+      "uk": "жодного з варіантів {n} книг немає в {f}: це roster іншої групи?"},
+     "none of the 4 books' variants is in class/roster.csv: is it another class's roster?"),
+    # variants' closing lines (sheetkin/cli/commands.py cmd_variants)
+    (r"^(?P<out>.+?): (?P<n>\d+) variants of (?P<scene>.+?) \(seed (?P<seed>\d+): --seed (?P=seed) makes the same "
+     r"again\)(?P<who>.*?); (?P<roster>[^;]+); the key (?P<key>.+) stays with you$",
+     {"ru": "{out}: вариантов схемы {scene}: {n} (seed {seed}: --seed {seed} даёт те же снова){who}; {roster}; "
+            "ключ {key} остаётся у вас",
+      "uk": "{out}: варіантів схеми {scene}: {n} (seed {seed}: --seed {seed} дає ті самі знову){who}; {roster}; "
+            "ключ {key} залишається у вас"},
+     "cls: 3 variants of fourbar.toml (seed 1: --seed 1 makes the same again); cls/roster.csv; the key "
+     "cls/.sheetkin-key stays with you"),
+    (r", assigned to the (?P<n>\d+) students of (?P<f>.+?) \((?P<a>[^()]+)\)",
+     {"ru": ", выданных {n} студентам из {f} ({a})", "uk": ", виданих {n} студентам із {f} ({a})"},
+     "cls: 3 variants of fourbar.toml (seed 1: --seed 1 makes the same again), assigned to the 4 students of "
+     "class.csv (cls/teacher/assignment.csv); cls/teacher/roster.csv; the key cls/teacher/.sheetkin-key stays "
+     "with you"),
+    (r"^upload to Moodle (?P<s>.+?) \(one book per student, named by the student\); (?P<t>.+?) is yours \(keys, "
+     r"roster, assignment\.csv, the key\): never upload it; grade with --roster (?P<r>.+)$",
+     {"ru": "загрузите в Moodle {s} (по книге на студента, названной по студенту); {t} - ваша (ключи, roster, "
+            "assignment.csv, ключ): никогда её не загружайте; оценивайте с --roster {r}",
+      "uk": "завантажте в Moodle {s} (по книзі на студента, названій за студентом); {t} - ваша (ключі, roster, "
+            "assignment.csv, ключ): ніколи її не завантажуйте; оцінюйте з --roster {r}"},
+     "upload to Moodle cls/students (one book per student, named by the student); cls/teacher is yours (keys, "
+     "roster, assignment.csv, the key): never upload it; grade with --roster cls/teacher/roster.csv"),
+)
+
+
+def say_line(text: str, lang: str | None) -> str:
+    """A warning or a closing line of `validate` or `variants` in `lang` (WARNINGS, then the
+    validator's phrases); None or en: as it is."""
+    return _said(text, lang, WARNINGS)
+
+
+def warning_line(text: str, lang: str | None) -> str:
+    """'sheetkin: warning: TEXT' in `lang` (say_line)."""
+    return f"sheetkin: {WARNING_WORD.get(lang or '', 'warning')}: {say_line(text, lang)}"
+
+
 def say_error(text: str, lang: str | None) -> str:
     """A usage error of `validate` or `variants` in `lang` (ru, uk: ERRORS, then the
     validator's phrases); None or en: as it is."""
+    return _said(text, lang, ERRORS)
+
+
+def _said(text: str, lang: str | None, table: tuple[tuple[str, dict[str, str], str], ...]) -> str:
     if lang not in ERROR_WORD:
         return text
     import re
 
     from sheetkin.course.report_messages import say
-    for pattern, said, _ in ERRORS:
+    for pattern, said, _ in table:
         template = said[lang]
 
         def fill(m: re.Match, t: str = template) -> str:

@@ -9,27 +9,29 @@ from pathlib import Path
 import pytest
 
 from sheetkin.cli.commands import main
-from sheetkin.cli.help_texts import ERROR_WORD, ERRORS, error_line, say_error
+from sheetkin.cli.help_texts import ERROR_WORD, ERRORS, WARNING_WORD, WARNINGS, error_line, say_error, say_line
 
 CYRILLIC = re.compile("[а-яіїєґА-ЯІЇЄҐ]")
 SCENE = str(Path(__file__).resolve().parents[2] / "workbooks" / "fourbar.toml")
 
 
-@pytest.mark.parametrize("k", range(len(ERRORS)))
+@pytest.mark.parametrize("k", range(len(ERRORS) + len(WARNINGS)))
 def test_each_error_in_three_languages(k):
-    """Every entry: its English example is the message it matches; ru and uk both say it,
-    differently, with Cyrillic words and every value the English named."""
-    pattern, said, example = ERRORS[k]
+    """Every entry (errors, then warnings and closing lines): its English example is the
+    message it matches; ru and uk both say it, differently, with Cyrillic words and every
+    value the English named."""
+    table, say = (ERRORS, say_error) if k < len(ERRORS) else (WARNINGS, say_line)
+    pattern, said, example = table[k if k < len(ERRORS) else k - len(ERRORS)]
     m = re.search(pattern, example)
     assert m, (pattern, example)
     assert set(said) == {"ru", "uk"} and all(said[lang].strip() for lang in said)
-    out = {lang: say_error(example, lang) for lang in ("ru", "uk")}
+    out = {lang: say(example, lang) for lang in ("ru", "uk")}
     assert out["ru"] != example and out["uk"] != example and out["ru"] != out["uk"]
     for lang, text in out.items():
         assert CYRILLIC.search(text), (lang, text)
         for value in m.groupdict().values():
             assert value in text, (lang, value, text)
-    assert say_error(example, "en") == example and say_error(example, None) == example
+    assert say(example, "en") == example and say(example, None) == example
 
 
 def test_the_error_line_names_its_word():
@@ -104,3 +106,38 @@ def test_other_commands_stay_english(tmp_path, capsys, monkeypatch):
     monkeypatch.setenv("LANG", "ru_RU.UTF-8")
     code, line = _error(capsys, ["compute", str(tmp_path / "nope.toml")])
     assert code == 2 and line == f"sheetkin: error: {tmp_path / 'nope.toml'}: no such file"
+
+
+def test_a_class_issued_and_graded_speaks_russian_throughout(tmp_path, capsys):
+    """variants --class-list and validate --grades with --lang ru: the closing lines and
+    every warning (copies held, students who handed nothing in, names not found) in Russian,
+    their word too; with --lang en the same lines are English."""
+    cl = tmp_path / "class.csv"
+    cl.write_bytes("Фамилия;Имя;Адрес электронной почты\nИванов;Иван;iv@x.ru\nПетрова;Анна;pe@x.ru\n"
+                   "Сидоров;Пётр;si@x.ru\n".encode("cp1251"))
+    out = tmp_path / "cls"
+    assert main(["variants", SCENE, "--class-list", str(cl), "-n", "2", "--out", str(out), "--seed", "1",
+                 "--lang", "ru"]) == 0
+    said = capsys.readouterr().err
+    assert "variants of" not in said and "upload to Moodle" not in said and "stays with you" not in said, said
+    assert "загрузите в Moodle" in said and str(out / "students") in said
+    subs = tmp_path / "sub"
+    subs.mkdir()
+    key = next((out / "teacher").glob("*-01-key.xlsx")).read_bytes()
+    (subs / "a.xlsx").write_bytes(key)
+    (subs / "b.xlsx").write_bytes(key)           # a copy: held for review
+    runs = {}
+    for lang in ("ru", "en"):
+        main(["validate", str(subs), "--roster", str(out / "teacher" / "roster.csv"), "--class-list", str(cl),
+              "--grades", str(tmp_path / f"g-{lang}.csv"), "--progress", "never", "--lang", lang])
+        runs[lang] = [line for line in capsys.readouterr().err.splitlines() if line.strip()]
+    english = [line for line in runs["en"] if line.startswith("sheetkin: warning: ")]
+    assert len(english) >= 3, runs["en"]          # not found, held, handed nothing in
+    russian = [line for line in runs["ru"] if line.startswith("sheetkin: ")]
+    assert len(russian) == len([line for line in runs["en"] if line.startswith("sheetkin: ")])
+    for line in russian:
+        assert line.startswith(f"sheetkin: {WARNING_WORD['ru']}: "), line
+        text = line.split(": ", 2)[2]
+        for english_word in ("submission", "student(s)", "held for review", "left empty", "not found"):
+            assert english_word not in text, line
+    assert any("оценено работ: 2" in line for line in runs["ru"]), runs["ru"]
