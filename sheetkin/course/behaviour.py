@@ -40,8 +40,6 @@ from sheetkin.kinematics.scene import Scene
 from sheetkin.sheet.workbook import FIRST_COL, prefilled_in_exercise, sheet_rows
 from sheetkin.xlsx.evaluator import Book
 from sheetkin.xlsx.functions import NAME as NAME_ERROR  # a function it lacks, a formula it cannot read
-from sheetkin.xlsx.parse import ParseError, functions_of, names_of, parse_formula, refs_of
-from sheetkin.xlsx.precedents import POSITIONAL
 from sheetkin.xlsx.replay import Replay
 
 from . import nudge
@@ -169,28 +167,6 @@ def _held_checks(g: Graded, raw: Book, names: dict, ref_book: Book, variants: li
     mine = Replay(raw, names, only={g.main: {g.names[n] for n in reacting}}).run(
         {g.main: {(g.names[n], value_col): x for n, x in inputs.items() if n in g.names}})
     return Held(reacting, standard_view(mine, g.layout)[0])
-
-
-_READS: dict[str, bool] = {}
-_READS_KEEP = 100_000
-
-
-def formula_reads_something(text: str, r: int, c: int) -> bool:
-    """Whether a formula reads some cell or name, or a positional function (ROW, COLUMN): the
-    validator's computes() for a formula cell. Kept per formula text: whether a formula reads
-    anything does not depend on its cell, and a class's books share their formulas (parsing
-    them again was 46% of a further book's CPU, issue 31)."""
-    known = _READS.get(text)
-    if known is None:
-        try:
-            tree = parse_formula("=" + text.lstrip("="), r, c, {})
-            known = bool(refs_of(tree) or names_of(tree) or functions_of(tree) & POSITIONAL)
-        except ParseError:
-            known = True                                # its evaluation reports what is wrong
-        if len(_READS) >= _READS_KEEP:
-            _READS.clear()
-        _READS[text] = known
-    return known
 
 
 def _close(got, exp, period: float | None) -> bool:

@@ -18,8 +18,10 @@ from sheetkin.sheet.workbook import (
 from sheetkin.xlsx.cells import Sheet
 from sheetkin.xlsx.evaluator import Book
 from sheetkin.xlsx.functions import NAME as NAME_ERROR
+from sheetkin.xlsx.parse import ParseError, functions_of, names_of, parse_formula, refs_of
 from sheetkin.xlsx.precedents import POSITIONAL, reaching
 
+from .caches import Kept
 from .copies import submission_marks  # the raw cells copy detection compares
 from .layout import VALUE_COL, Layout
 from .localjudge import TURN, angle_difference, judge, name_causes
@@ -231,8 +233,26 @@ def computes(sh: Sheet, r: int, c: int) -> bool:
     text = sh.formulas.get((r, c))
     if text is None:                                   # a spilled cell of an array formula
         return True
-    from .behaviour import formula_reads_something
     return formula_reads_something(text, r, c)                  # parsed once per formula text
+
+
+_READS = Kept(100_000)        # formula text -> whether it reads something
+
+
+def formula_reads_something(text: str, r: int, c: int) -> bool:
+    """Whether a formula reads some cell or name, or a positional function (ROW, COLUMN): the
+    validator's computes() for a formula cell. Kept per formula text: whether a formula reads
+    anything does not depend on its cell, and a class's books share their formulas (parsing
+    them again was 46% of a further book's CPU, issue 31)."""
+    known = _READS.get(text)
+    if known is None:
+        try:
+            tree = parse_formula("=" + text.lstrip("="), r, c, {})
+            known = bool(refs_of(tree) or names_of(tree) or functions_of(tree) & POSITIONAL)
+        except ParseError:
+            known = True                                # its evaluation reports what is wrong
+        _READS.keep(text, known)
+    return known
 
 
 def _cache_mismatches(book: Book, sheet: str, angle_rows: Set[int] = frozenset(), limit: int = 50,

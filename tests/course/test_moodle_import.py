@@ -10,7 +10,7 @@ import re
 
 import pytest
 
-from sheetkin.course.copies import possible_copies
+from sheetkin.course.copies import Copies, possible_copies
 from sheetkin.course.grades import (
     COLUMNS,
     fill_worksheet,
@@ -225,3 +225,20 @@ def test_csv_excel_is_utf8_with_a_bom_and_no_sep_line(tmp_path):
     assert default.startswith(b"\xef\xbb\xbf")
     assert next(csv.reader(io.StringIO(default[3:].decode("utf-8").split("\r\n")[0]))) == lines[0]
     assert re.search(r",\d+\.\d,", default.decode("utf-8-sig"))
+
+
+def test_a_graded_line_is_never_nameless(tmp_path):
+    """No name typed in the book: grades.csv's student is the class list's name of the
+    identifier, else the Moodle folder's name; blind marking's stays empty (it has none)."""
+    path = tmp_path / "class.csv"
+    path.write_text(CLASS, encoding="utf-8")
+    cl = read_class_list(str(path))
+    reps = [_rep("Иван Иванов_501_assignsubmission_file_/a.xlsx", ""),
+            _rep("Ольга Орлова_509_assignsubmission_file_/b.xlsx", ""),
+            _rep("Participant_510_assignsubmission_file_/c.xlsx", "")]
+    student = 2 + COLUMNS.index("student")
+    for class_list, names in ((cl, ["Иванов Иван", "Ольга Орлова", ""]),
+                              (None, ["Иван Иванов", "Ольга Орлова", ""])):
+        ids = identify(reps, class_list, mtimes=[1.0, 2.0, 3.0])
+        lines, _ = grade_lines(reps, Copies(), class_list, identities=ids)
+        assert [line[student] for line in lines[1:4]] == names
