@@ -84,7 +84,7 @@ def graded_rows(rep) -> list:
     return [r for r in rep.rows if not prefilled_in_exercise(r.name, r.kind)]
 
 
-def _typed_ok(rep, accept_typed: bool | None) -> bool:
+def typed_accepted(rep, accept_typed: bool | None) -> bool:
     return bool(rep.accepted_typed if accept_typed is None else accept_typed)
 
 
@@ -106,7 +106,7 @@ def counts(rep, accept_typed: bool | None = None) -> dict:
     # issue 31 (behaviour.py): rows sheetkin cannot evaluate are not judged, not graded
     out_of_score = [r for r in rows if r.not_judged]
     rows = [r for r in rows if not r.not_judged]
-    acc = _typed_ok(rep, accept_typed)
+    acc = typed_accepted(rep, accept_typed)
     by = [row_verdict(r, acc) for r in rows]
     out: dict = {k: by.count(k) for k in ("correct", "typed", "wrong", "missing")}
     out["total"] = len(rows)
