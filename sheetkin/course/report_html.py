@@ -500,7 +500,7 @@ def class_at_a_glance(reports: list[Report], lang: str = "en", identities: list 
     is not one); a line says how many, and how many of them are held for review as possible
     copies (copies, copies_policy: held_books). Rows right in every book are left out; the
     bars are plain HTML (no script needed)."""
-    from .grades import typed_accepted, row_verdict
+    from .grades import row_verdict, typed_accepted
     e, t = html.escape, words(lang)
     held = len(held_books(reports, copies, identities, copies_policy))
     reports = graded_books(reports, identities)
