@@ -85,6 +85,7 @@ def graded_rows(rep) -> list:
 
 
 def typed_accepted(rep, accept_typed: bool | None) -> bool:
+    """Whether typed values earn credit for this book: the teacher's choice, else the book's."""
     return bool(rep.accepted_typed if accept_typed is None else accept_typed)
 
 
