@@ -31,7 +31,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "tests"))
 
-from helpers.scratchbooks import student_book, write_openpyxl  # noqa: E402
+from helpers.scratchbooks import student_book, with_draft_sheet, write_openpyxl  # noqa: E402
 
 from sheetkin.course import scratch, validator  # noqa: E402
 from sheetkin.course.caches import clear_caches  # noqa: E402
@@ -93,14 +93,7 @@ def main() -> int:
 
 
 def _big_book(d: Path, scene) -> dict:
-    import openpyxl
-    path = write_openpyxl(student_book(scene, "row", "deg"), d / "big.xlsx")
-    wb = openpyxl.load_workbook(path)
-    ws = wb.create_sheet("Черновик")
-    for r in range(1, 2001):
-        for c in range(1, 51):
-            ws.cell(r, c, ((r * 7919 + c * 104729) % 1000003) / 1000.0)
-    wb.save(path)
+    path = with_draft_sheet(write_openpyxl(student_book(scene, "row", "deg"), d / "big.xlsx"))
     opts = scratch.ScratchOptions(scene=scene)
     t, rep = _best(1, lambda: validator.validate(path, options=opts))
     raw = read_book(path)

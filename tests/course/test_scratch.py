@@ -11,7 +11,14 @@ import zipfile
 from pathlib import Path
 
 import pytest
-from helpers.scratchbooks import StudentBook, blank_book, distinct_leaves, student_book, write_openpyxl
+from helpers.scratchbooks import (
+    StudentBook,
+    blank_book,
+    distinct_leaves,
+    student_book,
+    with_draft_sheet,
+    write_openpyxl,
+)
 from helpers.studentbooks import make_books, uno_available
 
 from sheetkin.cli import main
@@ -195,15 +202,8 @@ def test_the_search_is_bounded_on_a_large_book(tmp_path):
     found whole, and the look-ups stay a binary search each (no pairwise comparison)."""
     import time
 
-    import openpyxl
     s = scene("fourbar")
-    path = write_openpyxl(student_book(s, "row", "deg"), tmp_path / "big.xlsx")
-    wb = openpyxl.load_workbook(path)
-    ws = wb.create_sheet("Черновик")
-    for r in range(1, 2001):
-        for c in range(1, 51):
-            ws.cell(r, c, ((r * 7919 + c * 104729) % 1000003) / 1000.0)
-    wb.save(path)
+    path = with_draft_sheet(write_openpyxl(student_book(s, "row", "deg"), tmp_path / "big.xlsx"))
     from sheetkin.xlsx.cells import read_book
     raw = read_book(path)
     t = time.perf_counter()

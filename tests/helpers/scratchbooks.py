@@ -228,6 +228,18 @@ def write_openpyxl(book: StudentBook, path: Path) -> Path:
     return path
 
 
+def with_draft_sheet(path: Path, rows: int = 2000, cols: int = 50) -> Path:
+    """The book at `path` with a sheet "Черновик" of rows x cols numbers that are none of the
+    lecture's (a student's draft): what the from-scratch search must look through."""
+    wb = openpyxl.load_workbook(path)
+    ws = wb.create_sheet("Черновик")
+    for r in range(1, rows + 1):
+        for c in range(1, cols + 1):
+            ws.cell(r, c, ((r * 7919 + c * 104729) % 1000003) / 1000.0)
+    wb.save(path)
+    return path
+
+
 def distinct_leaves(scene: Scene) -> list[str]:
     """Leaf rows (leaf_rows) whose values no other required quantity has in any unit, and
     that vary: a mutation of one of them can only be named as that row."""
