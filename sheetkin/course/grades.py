@@ -245,14 +245,6 @@ def who(rep) -> str:
     return str(rep.student or "")
 
 
-def _folder_name(me) -> str:
-    """The Moodle folder's full name from an identity's submitter ("Иван Иванов (Moodle
-    participant 12)"); "" for blind marking's "Participant" and for files outside folders."""
-    if not me.participant or not me.submitter.endswith(")") or me.submitter.startswith("Participant "):
-        return ""
-    return me.submitter.rsplit(" (", 1)[0]
-
-
 def copy_text(reports, i: int, copies) -> str:
     """'b.xlsx (Petrov), c.xlsx and 3 more: byte-identical files; ...' for report i: at
     most MAX_LISTED others of its cluster (sheetkin/course/copies.py), a line stays short."""
@@ -317,7 +309,7 @@ def grade_lines(reports, copies: Copies | None, class_list: ClassList | None = N
         # the name typed in the book; none typed: the class list's name of the identifier,
         # else who handed it in (the Moodle folder's name), so that no graded line is nameless
         person = class_list.by_ident(me.ident) if class_list is not None and me.ident else None
-        student = who(rep) or (person.name if person else "") or _folder_name(me)
+        student = who(rep) or (person.name if person else "") or me.folder_name
         if class_list is not None and not me.ident:
             unmatched.append(f"{rep.path} ({me.unmatched or 'no name typed'})")
         c = counts(rep)

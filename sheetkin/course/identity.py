@@ -49,6 +49,7 @@ class Identity:
     superseded_by: int | None = None   # an older book of the same student: not graded
     participant: str = ""            # Moodle's participant number from the folder ("": not from Moodle)
     by_text: bool = False            # blind marking: the identifier came from a name typed in the book
+    folder_name: str = ""            # the Moodle folder's full name ("": blind marking, or no folder)
 
     @property
     def moodle_user(self) -> str:
@@ -174,6 +175,7 @@ def _identify_one(rep, cl: ClassList | None, assignment: Assignment | None) -> I
         typed_person = _one(cl.match(typed)) if typed else None
     if sub is not None:
         me.submitter = f"{sub.name} (Moodle participant {sub.participant})"
+        me.folder_name = sub.name
         me.who = folder.ident if folder else f"participant {sub.participant}"
         me.ident = folder.ident if folder else ""
         if cl is not None and folder is None:
