@@ -563,7 +563,8 @@ def cmd_validate(args) -> int:
             print(warning_line(warning, teacher), file=sys.stderr)
     if any(r.error for r in reports):
         return EXIT_INPUT
-    return 0 if all(r.ok for r in reports) else 1
+    from sheetkin.course.grades import all_correct
+    return 0 if all(all_correct(r) for r in reports) else 1
 
 
 def _issued_options(args):

@@ -36,10 +36,11 @@ CSV injection), so a student named "=cmd|..." stays text in Excel.
 from __future__ import annotations
 
 import csv
+import dataclasses
 import io
 import os
 import re
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 # the class list is read and matched in sheetkin/course/classlist.py (Russian name forms,
 # Moodle's folders); its names stay importable from here
@@ -238,6 +239,27 @@ def verdict(rep) -> str:
                                       for r in graded_rows(rep)):
         return "typed, not computed"           # with --accept-typed too: no formula at all
     return "all correct" if score(rep) >= 100.0 else "mistakes"
+
+
+def all_correct(rep) -> bool:
+    """"all correct": full marks (the one rule every report uses; exit 0 of `validate`)."""
+    return verdict(rep) == "all correct"
+
+
+def report_dict(rep) -> dict:
+    """A report as --json writes it: its fields (not the INTERNAL ones), what the grading
+    rule makes of them (ok, verdict, score, score_explained) and the summary counts."""
+    internal = [f.name for f in dataclasses.fields(rep) if f.metadata.get("to_dict", True) is False]
+    blank: dict[str, Any] = dict.fromkeys(internal)     # not copied by asdict (a Scene, a Layout)
+    d = dataclasses.asdict(dataclasses.replace(rep, **blank))
+    for name in internal:
+        del d[name]
+    d["ok"] = all_correct(rep)
+    d["verdict"] = verdict(rep)
+    d["score"] = None if rep.error else score(rep)
+    d["score_explained"] = explain(rep)
+    d["summary"] = {**counts(rep), "causes": [r.name for r in rep.causes]}
+    return d
 
 
 def who(rep) -> str:

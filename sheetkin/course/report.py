@@ -7,7 +7,7 @@ import re
 from typing import TYPE_CHECKING
 
 from .copies import MAX_LISTED
-from .grades import counts, explain, score, verdict
+from .grades import all_correct, counts, explain, report_dict, score, verdict
 from .issued import changed_line
 from .layout import VALUE_COL
 from .report_html import position_list, position_name
@@ -210,9 +210,9 @@ def summary_table(reports: list[Report], lang: str = "en") -> str:
 
 
 def _named_positions(rep: Report) -> dict:
-    """to_dict(), each row's wrong positions also named as the sheet names them: wrong_i,
+    """grades.report_dict, each row's wrong positions also named as the sheet names them: wrong_i,
     first_wrong_i and first_wrong_phi_1 (wrong_cells, first_wrong: 1-based column counts)."""
-    d = rep.to_dict()
+    d = report_dict(rep)
     names = rep.position_names or []
     for row in d.get("rows", []):
         cells = row.get("wrong_cells") or []
@@ -223,7 +223,7 @@ def _named_positions(rep: Report) -> dict:
 
 
 def json_report(reports: list[Report], copies: Copies | None = None, lang: str = "en") -> str:
-    """Every report (Report.to_dict: verdict, score, score_explained, summary counts), each
+    """Every report (grades.report_dict: verdict, score, score_explained, summary counts), each
     with its possible copies (sheetkin/course/copies.py): file, student and why. The notes
     and the reasons of copies are in `lang`; the keys, verdicts and counts, for programs,
     stay as they are."""
@@ -251,7 +251,7 @@ def json_report(reports: list[Report], copies: Copies | None = None, lang: str =
             d["notes"] = [say(n, lang) for n in d["notes"]]
         out.append(d)
     return json.dumps(clean({"reports": out,
-                             "all_correct": all(r.ok for r in reports)}), indent=1, ensure_ascii=False) + "\n"
+                             "all_correct": all(all_correct(r) for r in reports)}), indent=1, ensure_ascii=False) + "\n"
 
 
 def html_report(reports: list[Report], copies: Copies | None = None, lang: str = "en",

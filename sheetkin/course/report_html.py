@@ -407,8 +407,9 @@ def html_page(reports: list[Report], copies: Copies | None = None, lang: str = "
     t = words(lang)
     ids = identities if identities is not None and len(identities) == len(reports) else [None] * len(reports)
     graded = graded_books(reports, identities)     # an older file of a student is not counted
-    correct = sum(r.ok for r in graded)
     from .copies import Copies
+    from .grades import all_correct
+    correct = sum(all_correct(r) for r in graded)
     copies = copies if copies is not None else Copies()
     out = [f"<!doctype html><html lang='{lang}'><head><meta charset='utf-8'>"
            f"<link rel='icon' href='data:,'><title>{t['title']}</title>"

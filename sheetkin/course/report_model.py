@@ -1,16 +1,17 @@
 """The report of one graded book: its rows (RowReport) and every fact the reports, the
-grades and copy detection read about it (Report)."""
+grades and copy detection read about it (Report). The facts only: what they add up to
+(a verdict, a score, "all correct", the --json dict) is the grading rule's, in grades.py,
+which reads this model; the model imports nothing of it."""
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass, field
-from typing import Any, Literal
+from typing import Literal
 
 from sheetkin.kinematics.scene import Scene
 
 from .layout import Layout
 
-INTERNAL = {"to_dict": False}     # a Report field's metadata: not in to_dict (nor --json)
+INTERNAL = {"to_dict": False}     # a Report field's metadata: not in --json (grades.report_dict)
 
 # The named states of a graded row; the strings are what --json writes (and tests read).
 # A row of the sheet against the reference for the student's variant:
@@ -94,7 +95,7 @@ class Report:
     issued_to: str = ""              # the identifier sealed in it by `variants --class-list`
     notes: list[str] = field(default_factory=list)
     checks_not_judged: list[str] = field(default_factory=list)   # status not evaluable (behaviour.py)
-    # Facts of a usable book that the reports, grades and copy detection read but to_dict
+    # Facts of a usable book that the reports, grades and copy detection read but --json
     # leaves out (INTERNAL): their defaults are what a report that stopped early says.
     layout: Layout | None = field(default=None, metadata=INTERNAL)       # the student's cells (report texts)
     roster_differs: bool = field(default=False, metadata=INTERNAL)       # one warning for the class
@@ -135,23 +136,3 @@ class Report:
     def typed(self) -> list[RowReport]:
         """Rows holding typed values where formulas belong ("typed, not computed")."""
         return [r for r in self.rows if r.is_typed and r.status not in ("missing", "empty")]
-
-    @property
-    def ok(self) -> bool:
-        """"all correct": full marks (sheetkin/course/grades.py, the one rule every report uses)."""
-        from .grades import verdict
-        return verdict(self) == "all correct"
-
-    def to_dict(self) -> dict:
-        from .grades import counts, explain, score, verdict
-        internal = [f.name for f in dataclasses.fields(self) if f.metadata.get("to_dict", True) is False]
-        blank: dict[str, Any] = dict.fromkeys(internal)     # not copied by asdict (a Scene, a Layout)
-        d = dataclasses.asdict(dataclasses.replace(self, **blank))
-        for name in internal:
-            del d[name]
-        d["ok"] = self.ok
-        d["verdict"] = verdict(self)
-        d["score"] = None if self.error else score(self)
-        d["score_explained"] = explain(self)
-        d["summary"] = {**counts(self), "causes": [r.name for r in self.causes]}
-        return d

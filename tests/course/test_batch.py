@@ -17,6 +17,7 @@ from sheetkin.cli.commands import main
 from sheetkin.course import reference
 from sheetkin.course.batch import validate_many
 from sheetkin.course.caches import clear_caches
+from sheetkin.course.grades import report_dict
 from sheetkin.course.issued import Options
 from sheetkin.sheet.workbook import write_workbook
 
@@ -98,9 +99,9 @@ def batch(tmp_path_factory):
 def test_pool_gives_the_same_reports_in_order(batch):
     # the students' own variants (the given data they typed) are graded: --accept-changed-inputs
     own = Options(accept_changed=True)
-    one = [r.to_dict() for r in validate_many(batch, jobs=1, options=own)]
+    one = [report_dict(r) for r in validate_many(batch, jobs=1, options=own)]
     done = []
-    two = [r.to_dict() for r in validate_many(batch, jobs=2, progress=lambda i, p: done.append((i, p)), options=own)]
+    two = [report_dict(r) for r in validate_many(batch, jobs=2, progress=lambda i, p: done.append((i, p)), options=own)]
     assert one == two
     assert [r["path"] for r in two] == [str(p) for p in batch]
     assert done == list(enumerate(batch, 1))

@@ -17,6 +17,7 @@ from helpers.clirun import run
 from helpers.studentbooks import Recipe, key_values, make_books, rows_by_name, uno_available
 
 from sheetkin.course import grades
+from sheetkin.course.grades import all_correct
 from sheetkin.course.report import json_report, text_report
 from sheetkin.course.report_html import html_page
 from sheetkin.course.validator import validate
@@ -82,7 +83,7 @@ def reports(cls):
 def test_honest_book_all_correct_and_sealed(reports):
     rep = reports["honest"]
     assert rep.error is None and rep.seal == "ok" and rep.student == "Иванов Иван"
-    assert grades.score(rep) == 100.0 and grades.verdict(rep) == "all correct" and rep.ok
+    assert grades.score(rep) == 100.0 and grades.verdict(rep) == "all correct" and all_correct(rep)
     c = grades.counts(rep)
     assert c["correct"] == c["total"] > 50 and c["typed"] == c["wrong"] == c["missing"] == 0
 
@@ -124,7 +125,7 @@ def test_typed_books_earn_nothing(reports, name):
     c = grades.counts(rep)
     assert c["correct"] == 0 and c["typed"] > 0
     assert grades.score(rep) <= grades.NO_FORMULA_CAP
-    assert grades.verdict(rep) == "typed, not computed" and not rep.ok
+    assert grades.verdict(rep) == "typed, not computed" and not all_correct(rep)
     assert "typed, not computed" in text_report(rep)
 
 
@@ -133,20 +134,20 @@ def test_typed_rule_relaxed_by_the_option(reports, cls):
     from sheetkin.course.issued import Options
     relaxed = validate(paths["one_typed"], options=Options(accept_typed=True))
     strict = reports["one_typed"]
-    assert grades.counts(strict)["typed"] == 1 and grades.score(strict) < 100.0 and not strict.ok
+    assert grades.counts(strict)["typed"] == 1 and grades.score(strict) < 100.0 and not all_correct(strict)
     assert grades.counts(relaxed)["typed"] == 0 and grades.score(relaxed) == 100.0
     pasted = validate(paths["pasted"], options=Options(accept_typed=True))
     assert grades.counts(pasted)["correct"] > 0
-    assert grades.score(pasted) <= grades.NO_FORMULA_CAP and not pasted.ok     # still no formula
+    assert grades.score(pasted) <= grades.NO_FORMULA_CAP and not all_correct(pasted)     # still no formula
 
 
 def test_check_rows_are_part_of_the_work(reports):
     honest = grades.score(reports["honest"])
     rep = reports["no_checks"]
     assert rep.checks_deleted and grades.score(rep) <= honest - grades.CHECKS_SHARE + 1e-9
-    assert not rep.ok and "deleted" in grades.explain(rep)
+    assert not all_correct(rep) and "deleted" in grades.explain(rep)
     typed = reports["check_typed"]
-    assert typed.checks_typed == ["chk_OA"] and grades.score(typed) < honest and not typed.ok
+    assert typed.checks_typed == ["chk_OA"] and grades.score(typed) < honest and not all_correct(typed)
     assert any("typed over" in n for n in typed.notes)
 
 
@@ -179,6 +180,6 @@ def test_one_vocabulary(reports, cls, tmp_path, capsys):
         assert "possible_copy_of" in js[n]
         text = text_report(rep)
         assert f"{c['correct']} of {c['total']} rows correct" in text and v in text
-        assert (v == "all correct") == (s == 100.0) == rep.ok
+        assert (v == "all correct") == (s == 100.0) == all_correct(rep)
         assert f">{v}<" in page
     json_report([reports[n] for n in names])          # no copies given: still serialises

@@ -14,6 +14,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from sheetkin.cli.commands import main
+from sheetkin.course.grades import all_correct
 from sheetkin.course.issued import (
     KEY_FILE,
     Options,
@@ -75,7 +76,7 @@ def test_changed_given_data_fail_and_are_graded_against_the_issued_variant(issue
     rep = validate(book, options=opts(issued))
     assert [(c["name"], c["issued"], c["got"]) for c in rep.given_changed] == [("L1", l1, 0.05), ("Fi_t0", 20.0, 1.0)]
     assert rep.given_changed[0]["cell"].endswith(f"!D{row_numbers(openpyxl.load_workbook(book).worksheets[0])['L1']}")
-    assert not rep.ok and rep.seal == "ok" and rep.variant == "fourbar-01"
+    assert not all_correct(rep) and rep.seal == "ok" and rep.variant == "fourbar-01"
     assert (rep.student, rep.group) == ("Иванов Иван", "ГИ-21") and rep.author == "sheetkin example"
     # graded against the issued variant: the crank's rows now disagree with it
     by = {r.name: r for r in rep.rows}
@@ -89,10 +90,10 @@ def test_changed_given_data_fail_and_are_graded_against_the_issued_variant(issue
     assert code == 1 and "given data changed: L1" in out.splitlines()[1]
     # without a roster: the scene embedded at generation is the issued variant
     rep2 = validate(book)
-    assert [c["name"] for c in rep2.given_changed] == ["L1", "Fi_t0"] and not rep2.ok and rep2.seal == ""
+    assert [c["name"] for c in rep2.given_changed] == ["L1", "Fi_t0"] and not all_correct(rep2) and rep2.seal == ""
     # --accept-changed-inputs: graded against the student's own inputs, as before issue 13
     rep3 = validate(book, options=opts(issued, accept_changed=True))
-    assert rep3.given_changed and rep3.ok and all(r.status == "correct" for r in rep3.rows)
+    assert rep3.given_changed and all_correct(rep3) and all(r.status == "correct" for r in rep3.rows)
     code, out, _ = run(capsys, "validate", "--lang", "en", book, "--roster", issued / "roster.csv",
                        "--accept-changed-inputs")
     assert code == 0 and "(graded against the student's own inputs" in out
@@ -100,7 +101,7 @@ def test_changed_given_data_fail_and_are_graded_against_the_issued_variant(issue
 
 def test_unchanged_key_book_passes_with_its_seal(issued, capsys):
     rep = validate(issued / "fourbar-02-key.xlsx", options=opts(issued))
-    assert rep.ok and rep.given_changed == [] and rep.seal == "ok" and rep.variant == "fourbar-02"
+    assert all_correct(rep) and rep.given_changed == [] and rep.seal == "ok" and rep.variant == "fourbar-02"
     assert (rep.student, rep.group) == ("", "")
     code, out, err = run(capsys, "validate", "--lang", "en", issued / "fourbar-02-key.xlsx", "--roster",
                          issued / "roster.csv")
@@ -114,7 +115,7 @@ def test_the_seal_catches_an_edited_scene_sheet(issued, tmp_path, capsys):
                   scene_line=("length = ", "length = 0.05"))
     key = read_key(issued / KEY_FILE)
     rep = validate(book, options=Options(key=key))
-    assert rep.given_changed == [] and rep.seal.startswith("scene sheet edited") and not rep.ok
+    assert rep.given_changed == [] and rep.seal.startswith("scene sheet edited") and not all_correct(rep)
     assert "  !! scene sheet edited" in text_report(rep)
     code, out, err = run(capsys, "validate", "--lang", "en", book, "--key", issued / KEY_FILE)
     assert code == 1 and "scene sheet edited" in out
@@ -127,7 +128,7 @@ def test_the_seal_catches_an_edited_scene_sheet(issued, tmp_path, capsys):
     # a removed variant id: the roster row cannot be found, and that fails
     gone = edited(issued / "fourbar-01-key.xlsx", tmp_path / "noid.xlsx", drop_id=True)
     rep = validate(gone, options=opts(issued))
-    assert not rep.ok and "names no variant" in rep.seal
+    assert not all_correct(rep) and "names no variant" in rep.seal
 
 
 def test_a_plain_workbook_is_its_own_variant(tmp_path):
@@ -135,7 +136,7 @@ def test_a_plain_workbook_is_its_own_variant(tmp_path):
     issued data; unchanged, it passes (a changed one: tests/course/test_validator.py)."""
     book = edited(ROOT / "workbooks" / "fourbar.xlsx", tmp_path / "plain.xlsx", {"student": "Сидоров"})
     rep = validate(book)
-    assert rep.ok and rep.variant == "" and rep.seal == "" and rep.student == "Сидоров"
+    assert all_correct(rep) and rep.variant == "" and rep.seal == "" and rep.student == "Сидоров"
 
 
 def test_seal_is_keyed_and_covers_id_and_text():
@@ -245,11 +246,11 @@ def test_books_saved_by_libreoffice_validate_with_the_roster(issued, tmp_path, s
     saved = recalculate([src / "filled.xlsx", src / "changed.xlsx", src / "tampered.xlsx"], tmp_path / "lo")
     by = {p.name: validate(out, options=opts(issued)) for p, out in saved.items()}
     ok = by["filled.xlsx"]
-    assert ok.error is None and ok.ok and ok.seal == "ok", text_report(ok)
+    assert ok.error is None and all_correct(ok) and ok.seal == "ok", text_report(ok)
     assert (ok.student, ok.group, ok.variant) == ("Петров Пётр", "101", "fourbar-02")
     ch = by["changed.xlsx"]
-    assert [c["name"] for c in ch.given_changed] == ["L1"] and not ch.ok and ch.seal == "ok"
-    assert by["tampered.xlsx"].seal.startswith("scene sheet edited") and not by["tampered.xlsx"].ok
+    assert [c["name"] for c in ch.given_changed] == ["L1"] and not all_correct(ch) and ch.seal == "ok"
+    assert by["tampered.xlsx"].seal.startswith("scene sheet edited") and not all_correct(by["tampered.xlsx"])
 
 
 def test_summary_table_names_an_unusable_scene_whole():

@@ -22,6 +22,7 @@ from hypothesis import strategies as st
 from openpyxl.utils import get_column_letter
 
 import sheetkin
+from sheetkin.course.grades import all_correct
 from sheetkin.course.localjudge import judge, magnitude, name_causes, typed_digits, typed_text, typed_tolerance
 from sheetkin.course.reference import reference_book, row_ancestors
 from sheetkin.course.report import json_report, text_report
@@ -163,7 +164,7 @@ def test_the_causes_are_the_rows_at_fault(books, mistake):
             # right on its inputs (omega_2 typed from the key is right, but not on its inputs)
             assert r.local == "right" or (mistake, r.name) == ("copied_over_broken_chain", "omega_2")
     # a typed number earns nothing even when right (issue 21): such a book is not "all correct"
-    assert rep.ok == (not CAUSES[mistake] and not rep.typed)
+    assert all_correct(rep) == (not CAUSES[mistake] and not rep.typed)
 
 
 def test_rounded_typed_number_is_named_with_its_cell_and_digits(books, values, fourbar):
@@ -214,7 +215,7 @@ def test_typed_over_a_formula(books, values):
     rep = validate(books["full_digits_over_formula"])
     om = by_name(rep)["omega_2"]
     assert om.source == "typed" and om.local == "right" and not om.cause and not om.note
-    assert not rep.wrong and [r.name for r in rep.typed] == ["omega_2"] and not rep.ok     # typed, not computed
+    assert not rep.wrong and [r.name for r in rep.typed] == ["omega_2"] and not all_correct(rep)  # typed, not computed
     rep = validate(books["wrong_number_over_formula"])
     om = by_name(rep)["omega_3"]
     typed = round(1.1 * values["omega_3", OMEGA_COL], 3)

@@ -14,6 +14,7 @@ from openpyxl.utils import get_column_letter
 from openpyxl.workbook.defined_name import DefinedName
 
 from sheetkin.course import grades
+from sheetkin.course.grades import all_correct
 from sheetkin.course.issued import KEY_FILE, Options, read_key, read_roster
 from sheetkin.course.validator import validate
 from sheetkin.xlsx.evaluator import evaluate
@@ -78,7 +79,7 @@ def test_pasted_numbers_read_by_formulas_are_typed(issued, tmp_path):
 
     for name, how in (("scratch", scratch), ("far", far)):
         rep, s = _grade(_filled(ex, key, tmp_path / f"{name}.xlsx", how), options)
-        assert s <= grades.NO_FORMULA_CAP and not rep.ok, name
+        assert s <= grades.NO_FORMULA_CAP and not all_correct(rep), name
         assert grades.verdict(rep) == "typed, not computed"
         # every row of positions is typed; the derived values of column D hold their formulas
         positions = [r for r in grades.graded_rows(rep) if r.kind != "derived"]
@@ -110,7 +111,7 @@ def test_a_named_range_of_pasted_numbers_and_a_partial_paste(issued, tmp_path):
     rep, s = _grade(path, options)
     assert {r.name for r in rep.typed} == pasted
     assert all(r.reads_typed == list(range(1, 14)) for r in rep.typed)
-    assert 0 < s < 100 and not rep.ok
+    assert 0 < s < 100 and not all_correct(rep)
     rest = [r for r in grades.graded_rows(rep) if r.name not in pasted]
     assert rest and all(r.status == "correct" and not r.typed_cells for r in rest)
 
@@ -140,7 +141,7 @@ def test_honest_habits_keep_full_marks(issued, tmp_path):
     rep, s = _grade(_filled(ex, key, tmp_path / "honest.xlsx", honest), options)
     assert [r.name for r in rep.typed] == ["Delta_Fi_rad"], [(r.name, r.typed_cells) for r in rep.typed]
     total = len(grades.graded_rows(rep))
-    assert s == pytest.approx(round(90 * (total - 1) / total + 10, 1)) and not rep.ok
+    assert s == pytest.approx(round(90 * (total - 1) / total + 10, 1)) and not all_correct(rep)
     rows_ = {r.name: r for r in rep.rows}
     assert rows_["dFi"].status == "correct" and not rows_["dFi"].is_typed
 
@@ -150,7 +151,7 @@ def test_honest_habits_keep_full_marks(issued, tmp_path):
         else:
             honest(ws, sc, r, c, f, v) if r != rows["Delta_Fi_rad"] else ws.cell(r, c, f)
     rep, s = _grade(_filled(ex, key, tmp_path / "honest2.xlsx", dfi_on_i), options)
-    assert not rep.typed and s == 100.0 and rep.ok
+    assert not rep.typed and s == 100.0 and all_correct(rep)
 
 
 def test_derived_values_of_column_d_are_graded(issued, tmp_path):
@@ -176,7 +177,7 @@ def test_derived_values_of_column_d_are_graded(issued, tmp_path):
     assert by["Alfa_A"].is_typed and by["Alfa_A"].reads_typed
     assert by["Betta_A"].status == "wrong" and by["Betta_A"].got == pytest.approx(by["Betta_A"].expected + 1)
     c = grades.counts(rep)
-    assert c["typed"] == 2 and by["Betta_A"].kind == "derived" and not rep.ok
+    assert c["typed"] == 2 and by["Betta_A"].kind == "derived" and not all_correct(rep)
     assert grades.row_verdict(by["Betta_A"]) == "wrong"
 
     def blank(ws, sc, r, c, f, v):
@@ -201,7 +202,7 @@ def test_check_of_an_angle_taken_mod_a_full_turn_passes(issued, tmp_path):
     sheet = openpyxl.load_workbook(path).worksheets[0].title
     assert evaluate(path).value(sheet, chk, 4) == 0                     # the sheet's own status: passes
     rep, s = _grade(path, options)
-    assert "chk_Fi" not in rep.failing_checks and s == 100.0 and rep.ok
+    assert "chk_Fi" not in rep.failing_checks and s == 100.0 and all_correct(rep)
 
     wb = openpyxl.load_workbook(path)                                  # the check as issued before
     for c in range(5, 18):
@@ -210,7 +211,7 @@ def test_check_of_an_angle_taken_mod_a_full_turn_passes(issued, tmp_path):
     wb.save(tmp_path / "old.xlsx")
     assert evaluate(tmp_path / "old.xlsx").value(sheet, chk, 4) == 1
     rep, s = _grade(tmp_path / "old.xlsx", options)
-    assert "chk_Fi" not in rep.failing_checks and s == 100.0 and rep.ok
+    assert "chk_Fi" not in rep.failing_checks and s == 100.0 and all_correct(rep)
 
     def off(ws, sc, r, c, f, v):
         mod(ws, sc, r, c, f, v, shift="+0.001")

@@ -20,6 +20,7 @@ from openpyxl.utils import get_column_letter
 
 from sheetkin.course import grades
 from sheetkin.course.copies import Copies, pairs_of, possible_copies
+from sheetkin.course.grades import all_correct
 from sheetkin.course.identity import identify
 from sheetkin.course.report_model import Report, RowReport
 from sheetkin.course.validator import validate
@@ -110,12 +111,12 @@ def books(tmp_path_factory, soffice):
 def test_constant_formulas_are_typed_numbers(books):
     """The key's values pasted as "=0.1234" earn what typed numbers earn (at most 10, a
     fail); the honest book of formulas keeps full marks; a check status "=0" is typed over."""
-    assert grades.score(books["honest"]) == 100.0 and books["honest"].ok
+    assert grades.score(books["honest"]) == 100.0 and all_correct(books["honest"])
     rep = books["consts"]
-    assert len(rep.typed) >= 50 and grades.score(rep) <= 10 and not rep.ok
+    assert len(rep.typed) >= 50 and grades.score(rep) <= 10 and not all_correct(rep)
     assert grades.verdict(rep) == "typed, not computed"
     check = books["check_const"]
-    assert check.checks_typed == ["chk_OA"] and grades.score(check) < 100 and not check.ok
+    assert check.checks_typed == ["chk_OA"] and grades.score(check) < 100 and not all_correct(check)
 
 
 @uno
@@ -123,7 +124,7 @@ def test_formulas_reading_pasted_numbers_are_typed(books):
     """The key's values pasted on a scratch sheet, each computed cell "=$Лист1.C7": nothing
     is computed (no formula reaches the given data), so it earns what typed numbers earn."""
     rep = books["scratch_refs"]
-    assert grades.score(rep) <= 10 and not rep.ok
+    assert grades.score(rep) <= 10 and not all_correct(rep)
     assert grades.verdict(rep) == "typed, not computed"
     assert len(rep.typed) >= 50 and all(r.reads_typed for r in rep.typed)
 
@@ -134,7 +135,7 @@ def test_scratch_formulas_and_helper_cells_are_computed(books):
     data through formulas: the book keeps full marks (tracing penalizes pasted numbers only)."""
     rep = books["helpers"]
     assert not rep.typed, [(r.name, r.typed_cells) for r in rep.typed]
-    assert grades.score(rep) == 100.0 and rep.ok
+    assert grades.score(rep) == 100.0 and all_correct(rep)
 
 
 @uno

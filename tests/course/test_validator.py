@@ -17,6 +17,7 @@ from openpyxl.utils import get_column_letter
 
 import sheetkin
 from sheetkin.cli.commands import main
+from sheetkin.course.grades import all_correct
 from sheetkin.course.issued import Options
 from sheetkin.course.validator import validate
 from sheetkin.sheet.workbook import write_workbook
@@ -41,7 +42,7 @@ def summary(rep):
 @pytest.mark.parametrize("stem", BUNDLED)
 def test_bundled_workbooks_are_correct(stem):
     rep = validate(WORKBOOKS / f"{stem}.xlsx")
-    assert rep.error is None and rep.ok, [(r.name, r.status) for r in rep.rows if r.status != "correct"]
+    assert rep.error is None and all_correct(rep), [(r.name, r.status) for r in rep.rows if r.status != "correct"]
     assert len(rep.rows) > 30 and not rep.failing_checks and not rep.cache_mismatch
 
 
@@ -106,7 +107,7 @@ def test_a_row_missing(fourbar, tmp_path):
     rep = validate(edit(fourbar, tmp_path / "missing.xlsx", drop))
     wrong, causes, missing = summary(rep)
     assert missing == {"y_S2"} and not wrong and not causes
-    assert not rep.ok
+    assert not all_correct(rep)
 
 
 def test_half_filled_exercise(tmp_path, fourbar):
@@ -128,7 +129,7 @@ def test_half_filled_exercise(tmp_path, fourbar):
     status = {r.name: r.status for r in rep.rows}
     assert all(status[n] == "correct" for n in filled)
     assert status["ax_A"] == "empty" and status["omega_3"] == "empty"
-    assert not rep.wrong and not rep.ok
+    assert not rep.wrong and not all_correct(rep)
 
 
 def test_the_students_own_variant(fourbar, tmp_path):
@@ -142,12 +143,12 @@ def test_the_students_own_variant(fourbar, tmp_path):
         ws.cell(rows["branch_g1"], 4).value = 1
     book = edit(fourbar, tmp_path / "variant.xlsx", variant)
     rep = validate(book)
-    assert not rep.ok
+    assert not all_correct(rep)
     assert {(c["name"], c["issued"], c["got"]) for c in rep.given_changed} == {
         ("L1", 0.14, 0.12), ("Fi_t0", 20.0, -5.0), ("branch_g1", -1.0, 1)}
     assert {r.name for r in rep.wrong} >= {"x_A", "Fi_t"}          # graded against 0.14 and 20
     rep = validate(book, options=Options(accept_changed=True))
-    assert rep.ok and rep.accepted_changes, [(r.name, r.status, r.expected, r.got) for r in rep.wrong][:3]
+    assert all_correct(rep) and rep.accepted_changes, [(r.name, r.status, r.expected, r.got) for r in rep.wrong][:3]
 
 
 @pytest.fixture(scope="module")
@@ -173,9 +174,9 @@ def saved_by_libreoffice(soffice, tmp_path_factory, fourbar):
 def test_libreoffice_saved_and_cached_values(saved_by_libreoffice, tmp_path):
     out, stale = saved_by_libreoffice
     rep = validate(out)
-    assert rep.ok and not rep.cache_mismatch
+    assert all_correct(rep) and not rep.cache_mismatch
     rep = validate(stale)
-    assert rep.ok                                   # the formula is right ...
+    assert all_correct(rep)                                   # the formula is right ...
     assert len(rep.cache_mismatch) == 1 and "!F" in rep.cache_mismatch[0] and "99.5" in rep.cache_mismatch[0]
 
 
@@ -197,7 +198,7 @@ def test_only_values(saved_by_libreoffice, tmp_path):
     # ... but a computed row earns credit only when it computes (issue 21): no formula, at
     # most 10 of 100, and the book fails
     from sheetkin.course import grades
-    assert not rep.ok and grades.verdict(rep) == "typed, not computed"
+    assert not all_correct(rep) and grades.verdict(rep) == "typed, not computed"
     assert grades.score(rep) <= grades.NO_FORMULA_CAP and grades.counts(rep)["correct"] == 0
 
 

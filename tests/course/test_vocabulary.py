@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from sheetkin.course import grades
 from sheetkin.course.copies import Cluster, Copies
+from sheetkin.course.grades import all_correct
 from sheetkin.course.report import copies_lines, text_report
 from sheetkin.course.report_model import Report, RowReport
 
@@ -24,7 +25,7 @@ def report(correct=4, typed=0, wrong=0, typed_only=False, checks=10, deleted=0) 
 def test_all_correct_is_full_marks():
     for rep in (report(), report(typed=1), report(wrong=1), report(deleted=1), report(correct=0, typed=3)):
         s, v = grades.score(rep), grades.verdict(rep)
-        assert (v == "all correct") == (s == 100.0) == rep.ok
+        assert (v == "all correct") == (s == 100.0) == all_correct(rep)
         c = grades.counts(rep)
         assert c["correct"] + c["typed"] + c["wrong"] + c["missing"] == c["total"]
         assert grades.explain(rep).startswith(f"{s:.1f}: ")
