@@ -54,7 +54,7 @@ def _issued(folder: Path) -> dict[str, tuple[Path, Path]]:
 
 def make_inputs(d: Path) -> None:
     sys.path.insert(0, str(ROOT / "tests"))
-    from classbooks import both, fill, flip_sign, row_values, set_input, type_numbers
+    from helpers.classbooks import both, fill, flip_sign, row_values, set_input, type_numbers
     d.mkdir(parents=True)
     # the bundled class: three variants, their exercises and keys
     assert sheetkin("variants", str(FOURBAR), "-n", "3", "--seed", "2026", "--out", str(d / "issued")).returncode == 0
@@ -86,15 +86,16 @@ def make_inputs(d: Path) -> None:
     out = d / "assigned"
     assert sheetkin("variants", str(FOURBAR), "-n", "3", "--class-list", str(cl), "--out", str(out),
                     "--seed", "2026").returncode == 0
-    keys = {vid: ek[1] for vid, ek in _issued(out).items()}
-    given = {r["identifier"]: r for r in csv.DictReader(io.StringIO((out / "assignment.csv").read_text(
-        encoding="utf-8"))) if not r["student"].startswith("#")}
+    keys = {vid: ek[1] for vid, ek in _issued(out / "teacher").items()}
+    rows = csv.DictReader(io.StringIO((out / "teacher" / "assignment.csv").read_text(encoding="utf-8")))
+    given = {next(v for k, v in r.items() if k.startswith("identifier")): r for r in rows
+             if not r["student"].startswith("#")}
     filled = d / "filled"
     filled.mkdir()
     for k in range(len(STUDENTS)):
         r = given[f"s{k}@example.org"]
         change = flip_sign("omega_3") if k == 1 else None
-        fill(out / r["exercise"], keys[r["variant"]], filled / f"s{k}.xlsx", change=change)
+        fill(out / "students" / r["exercise"], keys[r["variant"]], filled / f"s{k}.xlsx", change=change)
     with zipfile.ZipFile(d / "submissions.zip", "w") as zf:
         for k, (last, first) in enumerate(STUDENTS):
             src = "s0.xlsx" if k == 3 else f"s{k}.xlsx"            # Kuznetsov hands in Ivanov's book
@@ -110,7 +111,8 @@ def runs(d: Path) -> dict[str, list[str]]:
     for lang in ("ru", "en"):
         out[f"class-{lang}"] = [*books, "--roster", roster, "--lang", lang]
         out[f"class-noroster-{lang}"] = [*books, "--lang", lang]
-        out[f"moodle-{lang}"] = [str(d / "submissions.zip"), "--roster", str(d / "assigned" / "roster.csv"),
+        out[f"moodle-{lang}"] = [str(d / "submissions.zip"), "--roster",
+                                 str(d / "assigned" / "teacher" / "roster.csv"),
                                  "--class-list", str(d / "class.csv"), "--lang", lang]
     out["class-default-lang"] = [*books, "--roster", roster]
     out["class-accept"] = [*books, "--roster", roster, "--accept-changed-inputs", "--accept-typed"]
