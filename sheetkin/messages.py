@@ -19,8 +19,11 @@ The catalogue is in domains, each said in its order:
   identities, copies, the behavioural check), then REPORT_PHRASES, fixed phrases said
   after them, longest first and only as whole phrases (also inside the messages' values);
 * grading: the grading vocabulary (verdicts, counts, the score explained), in order; a
-  count's noun agrees with its number (`{n:строка|строки|строк}`: one, few, many);
-* errors, warnings: the CLI's usage errors and warnings of `validate` and `variants`;
+  count's noun agrees with its number (`{n:строка|строки|строк}`: one, few, many). Its
+  words ("wrong", "typed, not computed") are data too, verdicts and columns, written where
+  they are decided (sheetkin.course.grades);
+* errors, warnings: the CLI's usage errors and warnings of `validate` and `variants`
+  (argparse's own errors among them: their English is argparse's);
 * drawing: the captions and notes of a Picture (sheetkin.views.drawing, animate).
 
 A text no entry matches stays English. Imports nothing from sheetkin.
@@ -134,6 +137,8 @@ ANOTHER_ROSTER = {"ru": "эта книга группы, выданной с д�
                   "uk": "ця книга групи, виданої з іншим списком варіантів, а не {roster} (варіант {v} у ньому "
                         "інший або його немає)"}
 REPORT: dict[str, Msg] = {
+    # the behavioural check's notes (sheetkin.course.behaviour), given data typed as text
+    # (validator), a book of another class (issued)
     'check_rows_not_judged': Msg(
         'check rows not judged: check by hand ({n}; sheetkin cannot evaluate their status): {names}',
         ru='строки проверки не оценены: проверьте вручную ({n}; sheetkin не может вычислить их статус): {names}',
@@ -190,6 +195,7 @@ REPORT: dict[str, Msg] = {
         ru=ANOTHER_ROSTER['ru'],
         uk=ANOTHER_ROSTER['uk'],
         fields={'v': r'\S+?'}),
+    # the given data and the seal (sheetkin.course.issued)
     'given_data_changed': Msg(
         'given data changed: {list}',
         ru='исходные данные изменены: {list}',
@@ -220,6 +226,7 @@ REPORT: dict[str, Msg] = {
         ru='в {roster} нет столбца для {names}: они проверены по встроенной сцене',
         uk='у {roster} немає стовпця для {names}: їх перевірено за вбудованою сценою',
         fields={'roster': r'\S+'}),
+    # the validator's notes (sheetkin.course.checks, layout, rows)
     'check_status_typed_over': Msg(
         'check status typed over its formula (column D; counted as failing, its share of the grade lost): {names}',
         ru='статус проверки введён поверх её формулы (столбец D; считается невыполненной, её доля оценки потеряна): '
@@ -252,6 +259,7 @@ REPORT: dict[str, Msg] = {
         '(formula gives {now}, saved value {saved})',
         ru='(формула даёт {now}, сохранено {saved})',
         uk='(формула дає {now}, збережено {saved})'),
+    # a typed number named as a cause (sheetkin.course.localjudge)
     'typed_digits': Msg(
         'typed {v}, {d} digits',
         ru='введено {v}, цифр: {d}',
@@ -272,6 +280,7 @@ REPORT: dict[str, Msg] = {
         ru='зависимые строки отличаются до {v}',
         uk='залежні рядки відрізняються до {v}',
         fields={'v': r'\S+'}),
+    # who handed a book in (sheetkin.course.identity)
     'found_folder_but_name': Msg(
         "found in the folder of {a}, but {b}'s name is typed in it",
         ru='найдена в папке {a}, но в ней введено имя {b}',
@@ -329,6 +338,7 @@ REPORT: dict[str, Msg] = {
         ru='оценена; другие файлы этого студента не оценены: {files}',
         uk='оцінено; інші файли цього студента не оцінено: {files}',
         fields={'files': '.+'}),
+    # why sheetkin cannot compute a cell (sheetkin.xlsx: evaluator, parse, limits)
     'unsupported_functions': Msg(
         'unsupported functions {f}',
         ru='неподдерживаемые функции {f}',
@@ -369,6 +379,7 @@ REPORT: dict[str, Msg] = {
         'circular reference among ',
         ru='циклическая ссылка, ячейки: ',
         uk='циклічне посилання, клітинки: '),
+    # possible copies (sheetkin.course.copies, report)
     'one_book_many_hands': Msg(
         'one issued book (variant {v}, issued to one student) handed in by {n} students',
         ru='одна выданная книга (вариант {v}, выдан одному студенту) сдана студентами: {n}',
@@ -420,6 +431,8 @@ REPORT: dict[str, Msg] = {
         uk='можливо, списано: файлів {n}: ',
         fields={'n': r'\d+'}),
     'and_more': Msg(' and {n} more', ru=' и ещё {n}', uk=' і ще {n}', fields={'n': r'\d+'}, end=r'(?=\W|$)'),
+    # why a file is unusable (sheetkin.xlsx: package, cells, convert; sheetkin.course: book,
+    # validator, batch)
     'password_protected': Msg(
         'password-protected ({what})',
         ru='защищена паролем ({what})',
