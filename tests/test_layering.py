@@ -5,8 +5,8 @@
 
 Every import of a sheetkin module in sheetkin/ is read from the source (ast), those inside
 functions too (a lazy import is still a dependency), and checked against ALLOWED below.
-The few modules at the top of sheetkin/ (errors, untrusted, files, lazy) import nothing of
-sheetkin but errors and untrusted, and every stage may use them.
+The few modules at the top of sheetkin/ (errors, untrusted, files, lazy, messages) import
+nothing of sheetkin but errors and untrusted, and every stage may use them.
 """
 from __future__ import annotations
 
@@ -18,7 +18,7 @@ import pytest
 PACKAGE = Path(__file__).resolve().parents[1] / "sheetkin"
 
 # The foundation: modules every stage may import (they import nothing above them).
-FOUNDATION = {"errors", "untrusted", "files", "lazy"}
+FOUNDATION = {"errors", "untrusted", "files", "lazy", "messages"}
 
 # stage -> the stages it may import (besides itself and FOUNDATION)
 ALLOWED: dict[str, set[str]] = {
@@ -26,6 +26,7 @@ ALLOWED: dict[str, set[str]] = {
     "untrusted": set(),                  # texts from students made harmless: stdlib only
     "files": {"errors", "untrusted"},
     "lazy": {"errors"},
+    "messages": set(),                   # the messages' catalogue in en, ru, uk and its one `say`
     "xlsx": set(),                       # the spreadsheet engine stands alone
     "groups": set(),                     # the Assur group kinds: the bottom of the pipeline
     "kinematics": {"groups"},            # scene, solver, table; the geometry drawings share

@@ -6,7 +6,7 @@ byte-identity harness for refactoring course/ and cmd_validate (issue 29).
 
 The books are made once into --inputs (default /tmp/sheetkin-validate-inputs) and reused:
 the same bytes and file times on every run, so a rerun after a change compares like with
-like. They are made the way tests/helpers/classbooks.py makes a class (openpyxl, no LibreOffice):
+like. They are made the way tests/classbooks.py makes a class (openpyxl, no LibreOffice):
 the bundled four-bar's variants (`variants -n 3 --seed 2026`) with their exercises and keys,
 honest books, a sign error, rounded numbers typed over formulas, changed given data, a
 byte-for-byte copy, a copy of typed numbers, an unusable file; and a class issued with
@@ -86,18 +86,16 @@ def make_inputs(d: Path) -> None:
     out = d / "assigned"
     assert sheetkin("variants", str(FOURBAR), "-n", "3", "--class-list", str(cl), "--out", str(out),
                     "--seed", "2026").returncode == 0
-    teacher, students = out / "teacher", out / "students"      # variants --class-list's two folders
-    keys = {vid: ek[1] for vid, ek in _issued(teacher).items()}
-    # the identifier's column is named after Moodle's ("identifier (Email address)")
-    assignment = csv.DictReader(io.StringIO((teacher / "assignment.csv").read_text(encoding="utf-8")))
-    given = {next(v for k, v in r.items() if k.startswith("identifier")): r
-             for r in assignment if not r["student"].startswith("#")}
+    keys = {vid: ek[1] for vid, ek in _issued(out / "teacher").items()}
+    rows = csv.DictReader(io.StringIO((out / "teacher" / "assignment.csv").read_text(encoding="utf-8")))
+    given = {next(v for k, v in r.items() if k.startswith("identifier")): r for r in rows
+             if not r["student"].startswith("#")}
     filled = d / "filled"
     filled.mkdir()
     for k in range(len(STUDENTS)):
         r = given[f"s{k}@example.org"]
         change = flip_sign("omega_3") if k == 1 else None
-        fill(students / r["exercise"], keys[r["variant"]], filled / f"s{k}.xlsx", change=change)
+        fill(out / "students" / r["exercise"], keys[r["variant"]], filled / f"s{k}.xlsx", change=change)
     with zipfile.ZipFile(d / "submissions.zip", "w") as zf:
         for k, (last, first) in enumerate(STUDENTS):
             src = "s0.xlsx" if k == 3 else f"s{k}.xlsx"            # Kuznetsov hands in Ivanov's book
@@ -113,7 +111,8 @@ def runs(d: Path) -> dict[str, list[str]]:
     for lang in ("ru", "en"):
         out[f"class-{lang}"] = [*books, "--roster", roster, "--lang", lang]
         out[f"class-noroster-{lang}"] = [*books, "--lang", lang]
-        out[f"moodle-{lang}"] = [str(d / "submissions.zip"), "--roster", str(d / "assigned" / "teacher" / "roster.csv"),
+        out[f"moodle-{lang}"] = [str(d / "submissions.zip"), "--roster",
+                                 str(d / "assigned" / "teacher" / "roster.csv"),
                                  "--class-list", str(d / "class.csv"), "--lang", lang]
     out["class-default-lang"] = [*books, "--roster", roster]
     out["class-accept"] = [*books, "--roster", roster, "--accept-changed-inputs", "--accept-typed"]

@@ -86,11 +86,12 @@ class _Parser(argparse.ArgumentParser):
     error_lang: str | None = None   # ru, uk: the mistake said in it (help_texts.error_line)
 
     def error(self, message):
-        if message == "argument --range: expected one argument":
+        from sheetkin.messages import message as text
+        if message == text("argument_expected_one", opt="--range"):
             # `--range -90:90:1`: argparse takes the negative START for an option
             message += "; a negative START needs '=': --range=-90:90:1"
         from .help_texts import error_line
-        self.exit(EXIT_INPUT, error_line(f"{message} (see '{self.prog} --help')", self.error_lang) + "\n")
+        self.exit(EXIT_INPUT, error_line(f"{message} " + text("see_help", prog=self.prog), self.error_lang) + "\n")
 
 
 def build_parser(lang: str | None = None) -> argparse.ArgumentParser:

@@ -67,19 +67,17 @@ def cmd_variants(args) -> int:
     for k in kept:
         print(f"sheetkin: {k}: the previous issue's {k.name.split('-2')[0].lstrip('.')} kept "
               "(validate still checks the books sealed with it)", file=sys.stderr)
-    who = (f", assigned to the {len(class_list.people)} students of {args.class_list} "
-           f"({roster.parent / 'assignment.csv'})") if class_list else ""
-    from .help_texts import say_line
+    from sheetkin.messages import message, say
+    who = message("assigned_students", n=len(class_list.people), f=args.class_list,
+                  a=roster.parent / "assignment.csv") if class_list else ""
     teacher = getattr(args, "error_lang", None)      # the teacher's language, as the errors'
-    print(say_line(f"{args.out}: {len(variants)} variants of {args.scene} (seed {seed}: --seed {seed} makes the "
-                   f"same again){who}; {roster}; the key {roster.parent / '.sheetkin-key'} stays with you", teacher),
+    print(say(message("variants_written", out=args.out, n=len(variants), scene=args.scene, seed=seed, who=who,
+                      roster=roster, key=roster.parent / ".sheetkin-key"), teacher, "warnings", "report"),
           file=sys.stderr)
     if class_list:
         from sheetkin.course.variants import STUDENTS_FOLDER
-        print("sheetkin: " + say_line(f"upload to Moodle {Path(args.out) / STUDENTS_FOLDER} (one book per student, "
-                                      f"named by the student); {roster.parent} is yours (keys, roster, "
-                                      f"assignment.csv, the key): never upload it; grade with --roster {roster}",
-                                      teacher), file=sys.stderr)
+        print("sheetkin: " + say(message("upload_moodle_one_book", s=Path(args.out) / STUDENTS_FOLDER,
+                                         t=roster.parent, r=roster), teacher, "warnings", "report"), file=sys.stderr)
     return 0
 
 
@@ -457,8 +455,9 @@ def _validation_files(paths: list[str], strict: bool = True) -> list[Path]:
 def _grades_first(args):
     """Before validating: --grades' folder writable, the class list read (its mistakes are
     one line now, not after the class is validated); returns the class list or None."""
+    from sheetkin.messages import message
     if args.class_list and not args.grades:
-        raise UsageError("--class-list fills grades.csv's identifier column: give --grades GRADES.csv too")
+        raise UsageError(message("class_list_without_grades"))
     if getattr(args, "worksheet", None) and not args.grades:
         raise UsageError("--worksheet is filled in and written as --grades: give --grades GRADES.csv too")
     if not args.grades:
@@ -470,7 +469,7 @@ def _grades_first(args):
         read_worksheet(args.worksheet)
     out_of = getattr(args, "out_of", None)
     if out_of is not None and not out_of > 0:
-        raise UsageError(f"--out-of {out_of:g}: expected the grade item's maximum, more than 0")
+        raise UsageError(message("out_of_expected", v=f"{out_of:g}"))
     if getattr(args, "scale", None):
         from sheetkin.course.grades import five_point_scale
         five_point_scale("ru", args.scale)          # a mistake in the thresholds: one line now
@@ -478,7 +477,9 @@ def _grades_first(args):
 
 
 def _write_grades(args, reports, copies, class_list, identities=None, lang: str = "en") -> None:
-    from .help_texts import say_line, warning_line
+    from sheetkin.messages import message, say
+
+    from .help_texts import warning_line
     teacher = getattr(args, "error_lang", None)      # the teacher's language, as the errors'
     from sheetkin.course.grades import (
         COLUMNS,
@@ -501,12 +502,13 @@ def _write_grades(args, reports, copies, class_list, identities=None, lang: str 
         sheet, more = fill_worksheet(read_worksheet(args.worksheet), lines)
         warnings += more
         write_grades(args.grades, worksheet_csv(sheet))
-        print(say_line(f"{args.grades}: Moodle's grading worksheet {args.worksheet} with {books} submission(s) "
-                       "graded (upload it: Upload grading worksheet)", teacher), file=sys.stderr)
+        print(say(message("worksheet_graded", f=args.grades, w=args.worksheet, n=books), teacher, "warnings",
+                  "report"), file=sys.stderr)
     else:
         from sheetkin.course.grades import grades_data
         write_grades(args.grades, grades_data(lines, getattr(args, "grades_format", "csv")))
-        print(say_line(f"{args.grades}: {books} submission(s) graded", teacher), file=sys.stderr)
+        print(say(message("submission_graded", f=args.grades, n=books), teacher, "warnings", "report"),
+              file=sys.stderr)
     for w in warnings:
         print(warning_line(f"{args.grades}: {w}", teacher), file=sys.stderr)
 

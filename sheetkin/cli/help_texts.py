@@ -14,6 +14,8 @@ from __future__ import annotations
 import argparse
 import os
 
+from sheetkin.messages import say
+
 from .platform import LANGS, user_lang
 
 HELP_FLAG = {"ru": "показать эту справку и выйти", "uk": "показати цю довідку й вийти"}
@@ -279,14 +281,13 @@ def translate(parser: argparse.ArgumentParser, lang: str | None, values: dict[st
 
 # --------------------------------------------------------------------------- errors
 # The usage errors of `validate` and `variants` in the teacher's language (issue 34): the
-# same language as their help (help_lang: --lang, else the locale). Each entry: the English
-# message as a regular expression (its named groups the values: file names, options), the
-# ru and uk templates, and an example of the English message as sheetkin prints it (the
-# tests hold that each example matches its pattern and is said in both languages). What no
-# entry matches goes through the validator's phrases (report_messages.say: "no such
-# file" ...) and otherwise stays English. The line keeps the form "sheetkin: error: ...",
-# its word "error" said too (ERROR_WORD).
+# same language as their help (help_lang: --lang, else the locale); their warnings and
+# closing lines likewise. The messages are sheetkin.messages' (domains errors and
+# warnings), said before the validator's (report: "no such file" ...); what none matches
+# stays English. The line keeps the form "sheetkin: error: ...", its word "error" said too
+# (ERROR_WORD).
 ERROR_WORD = {"ru": "ошибка", "uk": "помилка"}
+WARNING_WORD = {"ru": "предупреждение", "uk": "попередження"}
 ERROR_COMMANDS = ("validate", "variants")
 
 
@@ -296,236 +297,11 @@ def error_parsers(parser: argparse.ArgumentParser) -> list[argparse.ArgumentPars
     return [sub.choices[c] for c in ERROR_COMMANDS]
 
 
-ERRORS: tuple[tuple[str, dict[str, str], str], ...] = (
-    # argparse's own (sheetkin/cli/args.py _Parser.error)
-    (r"the following arguments are required: (?P<what>.+?)(?= \(see |$)",
-     {"ru": "не указаны обязательные аргументы: {what}", "uk": "не вказано обов'язкові аргументи: {what}"},
-     "the following arguments are required: FILE|FOLDER|ZIP (see 'sheetkin validate --help')"),
-    (r"argument (?P<opt>\S+): invalid choice: (?P<v>'[^']*') \(choose from (?P<list>[^)]*)\)",
-     {"ru": "аргумент {opt}: недопустимое значение {v} (допустимы: {list})",
-      "uk": "аргумент {opt}: неприпустиме значення {v} (припустимі: {list})"},
-     "argument --copies: invalid choice: 'x' (choose from 'hold', 'keep', 'zero') (see 'sheetkin validate --help')"),
-    (r"argument (?P<opt>\S+): expected a whole number, got (?P<v>'[^']*'|\"[^\"]*\")",
-     {"ru": "аргумент {opt}: ожидалось целое число, получено {v}",
-      "uk": "аргумент {opt}: очікувалося ціле число, отримано {v}"},
-     "argument --jobs: expected a whole number, got 'x' (see 'sheetkin validate --help')"),
-    (r"argument (?P<opt>\S+): expected a number >= (?P<n>\d+), got (?P<v>'[^']*'|\"[^\"]*\")",
-     {"ru": "аргумент {opt}: ожидалось число не меньше {n}, получено {v}",
-      "uk": "аргумент {opt}: очікувалося число не менше {n}, отримано {v}"},
-     "argument -n: expected a number >= 1, got '0' (see 'sheetkin variants --help')"),
-    (r"argument (?P<opt>\S+): expected one argument",
-     {"ru": "аргумент {opt}: ожидалось одно значение", "uk": "аргумент {opt}: очікувалося одне значення"},
-     "argument --roster: expected one argument (see 'sheetkin validate --help')"),
-    (r"unrecognized arguments: (?P<what>.+?)(?= \(see |$)",
-     {"ru": "неизвестные аргументы: {what}", "uk": "невідомі аргументи: {what}"},
-     "unrecognized arguments: --bogus (see 'sheetkin --help')"),
-    (r"\(see '(?P<prog>[^']+) --help'\)$", {"ru": "(см. '{prog} --help')", "uk": "(див. '{prog} --help')"},
-     "unrecognized arguments: --bogus (see 'sheetkin --help')"),
-    # the roster and the key (sheetkin/course/issued.py)
-    (r"^(?P<f>.+?): no such roster file; `variants --class-list` keeps it in (?P<moved>.+)$",
-     {"ru": "{f}: нет такого файла roster; `variants --class-list` хранит его в {moved}",
-      "uk": "{f}: немає такого файлу roster; `variants --class-list` зберігає його в {moved}"},
-     "class-21/roster.csv: no such roster file; `variants --class-list` keeps it in class-21/teacher/roster.csv"),
-    (r"^(?P<f>.+?): no such roster file$",
-     {"ru": "{f}: нет такого файла roster (его пишет `sheetkin variants`)",
-      "uk": "{f}: немає такого файлу roster (його пише `sheetkin variants`)"},
-     "class-21/roster.csv: no such roster file"),
-    (r"^(?P<f>.+?): no such key file \(`sheetkin variants` writes \.sheetkin-key in its --out folder\)$",
-     {"ru": "{f}: нет такого файла-ключа (`sheetkin variants` пишет .sheetkin-key в свою папку --out)",
-      "uk": "{f}: немає такого файлу-ключа (`sheetkin variants` пише .sheetkin-key у свою теку --out)"},
-     "nope.key: no such key file (`sheetkin variants` writes .sheetkin-key in its --out folder)"),
-    # the class list (sheetkin/course/classlist.py)
-    (r"^(?P<f>.+?): (?P<opt>--class-list|--worksheet): no such file$",
-     {"ru": "{f}: {opt}: нет такого файла", "uk": "{f}: {opt}: немає такого файлу"},
-     "participants.csv: --class-list: no such file"),
-    (r"^(?P<f>.+?):1: --class-list: expected columns 'First name' and 'Last name' \(or 'Full name'\) and one of "
-     r"(?P<ids>.+?); got (?P<got>.*)$",
-     {"ru": "{f}:1: --class-list: ожидались столбцы 'First name' и 'Last name' (или 'Full name') и один из "
-            "{ids} (или их русские названия из Moodle); получено {got}",
-      "uk": "{f}:1: --class-list: очікувалися стовпці 'First name' і 'Last name' (або 'Full name') та один із "
-            "{ids} (або їхні російські назви з Moodle); отримано {got}"},
-     "class.csv:1: --class-list: expected columns 'First name' and 'Last name' (or 'Full name') and one of "
-     "'Email address', 'ID number', 'Username'; got 'foo', 'bar'"),
-    (r"^(?P<f>.+?): (?P<opt>--class-list|--worksheet): not UTF-8 text but a binary file \(a workbook\?\); save it "
-     r"as CSV UTF-8$",
-     {"ru": "{f}: {opt}: не текст UTF-8, а двоичный файл (книга?); сохраните его как CSV UTF-8",
-      "uk": "{f}: {opt}: не текст UTF-8, а двійковий файл (книга?); збережіть його як CSV UTF-8"},
-     "class.xlsx: --class-list: not UTF-8 text but a binary file (a workbook?); save it as CSV UTF-8"),
-    (r"^(?P<f>[^:]+):(?P<line>\d+): (?P<opt>--class-list|--worksheet): not UTF-8 \(nor Windows-1251\) text; ",
-     {"ru": "{f}:{line}: {opt}: не текст UTF-8 (и не Windows-1251); ",
-      "uk": "{f}:{line}: {opt}: не текст UTF-8 (і не Windows-1251); "},
-     "class.csv:3: --class-list: not UTF-8 (nor Windows-1251) text; save it as CSV UTF-8"),
-    (r"^(?P<f>.+?): --class-list: empty; expected a header and one line per student$",
-     {"ru": "{f}: --class-list: файл пуст; ожидались заголовок и по строке на студента",
-      "uk": "{f}: --class-list: файл порожній; очікувалися заголовок і по рядку на студента"},
-     "class.csv: --class-list: empty; expected a header and one line per student"),
-    (r"^(?P<f>[^:]+):(?P<line>\d+): --class-list: a line without a name or an? (?P<id>.+)$",
-     {"ru": "{f}:{line}: --class-list: строка без имени или без {id}",
-      "uk": "{f}:{line}: --class-list: рядок без імені або без {id}"},
-     "class.csv:4: --class-list: a line without a name or a Email address"),
-    (r"^(?P<f>.+?): --class-list names no student$",
-     {"ru": "{f}: в --class-list нет ни одного студента", "uk": "{f}: у --class-list немає жодного студента"},
-     "class.csv: --class-list names no student"),
-    # validate's options (sheetkin/cli/commands.py)
-    (r"^--class-list fills grades\.csv's identifier column: give --grades GRADES\.csv too$",
-     {"ru": "--class-list заполняет столбец идентификатора grades.csv: укажите и --grades GRADES.csv",
-      "uk": "--class-list заповнює стовпець ідентифікатора grades.csv: вкажіть і --grades GRADES.csv"},
-     "--class-list fills grades.csv's identifier column: give --grades GRADES.csv too"),
-    (r"^--out-of (?P<v>\S+): expected the grade item's maximum, more than 0$",
-     {"ru": "--out-of {v}: ожидался максимум элемента оценивания, больше 0",
-      "uk": "--out-of {v}: очікувався максимум елемента оцінювання, більше 0"},
-     "--out-of 0: expected the grade item's maximum, more than 0"),
-    (r"^--scale: (?P<v>'.*?'|\".*?\"): expected NAME=LEAST SCORE \(0\.\.100\), e\.g\. (?P<e>.+)$",
-     {"ru": "--scale: {v}: ожидалось ИМЯ=НАИМЕНЬШИЙ БАЛЛ (0..100), например {e}",
-      "uk": "--scale: {v}: очікувалося НАЗВА=НАЙМЕНШИЙ БАЛ (0..100), наприклад {e}"},
-     "--scale: 'a=b': expected NAME=LEAST SCORE (0..100), e.g. 'отлично=85,хорошо=70'"),
-    # variants' (sheetkin/course/variants.py)
-    (r"^(?P<f>.+?): exists; refusing to overwrite it \(use --force: an issued roster and key are then kept "
-     r"beside the new ones, dated; or another --out\)$",
-     {"ru": "{f}: уже есть; не перезаписываю (--force: выданные roster и ключ тогда сохраняются рядом с "
-            "новыми, с датой; или другая папка --out)",
-      "uk": "{f}: уже є; не перезаписую (--force: видані roster і ключ тоді зберігаються поруч із новими, "
-            "з датою; або інша тека --out)"},
-     "class-21/teacher/roster.csv: exists; refusing to overwrite it (use --force: an issued roster and key are "
-     "then kept beside the new ones, dated; or another --out)"),
-    (r"^--out (?P<f>.+?): not a folder$", {"ru": "--out {f}: не папка", "uk": "--out {f}: не тека"},
-     "--out class.csv: not a folder"),
-    (r"^--vary (?P<v>\S+): no given value (?P<name>'[^']*') in this scene; valid: (?P<list>.+)$",
-     {"ru": "--vary {v}: в этой схеме нет исходного значения {name}; допустимы: {list}",
-      "uk": "--vary {v}: у цій схемі немає вихідного значення {name}; припустимі: {list}"},
-     "--vary Q=1..2: no given value 'Q' in this scene; valid: L1, L2, L3"),
-)
-
-
-# The warnings and the closing lines of `validate` and `variants` in the same language (issue
-# 34: a Russian teacher reads no English line): the same form as ERRORS.
-WARNING_WORD = {"ru": "предупреждение", "uk": "попередження"}
-WARNINGS: tuple[tuple[str, dict[str, str], str], ...] = (
-    # grades.csv (sheetkin/course/grades.py grade_lines, fill_worksheet)
-    (r"^(?P<f>.+?): (?P<n>\d+) submission\(s\) graded$",
-     {"ru": "{f}: оценено работ: {n}", "uk": "{f}: оцінено робіт: {n}"},
-     "grades.csv: 4 submission(s) graded"),
-    (r"^(?P<f>.+?): Moodle's grading worksheet (?P<w>.+?) with (?P<n>\d+) submission\(s\) graded \(upload it: "
-     r"Upload grading worksheet\)$",
-     {"ru": "{f}: ведомость оценок Moodle {w}, оценено работ: {n} (загрузите её: «Загрузить ведомость оценок»)",
-      "uk": "{f}: відомість оцінок Moodle {w}, оцінено робіт: {n} (завантажте її: «Завантажити відомість "
-            "оцінок»)"},
-     "grades.csv: Moodle's grading worksheet worksheet.csv with 4 submission(s) graded (upload it: Upload "
-     "grading worksheet)"),
-    (r"no --class-list: the column (?P<c>'[^']*') is empty; Moodle identifies a student by it, not by name \(fill "
-     r"it in, or give Moodle's participants export as --class-list\)",
-     {"ru": "нет --class-list: столбец {c} пуст; Moodle узнаёт студента по нему, а не по имени (заполните его "
-            "или укажите экспорт участников Moodle как --class-list)",
-      "uk": "немає --class-list: стовпець {c} порожній; Moodle впізнає студента за ним, а не за ім'ям "
-            "(заповніть його або вкажіть експорт учасників Moodle як --class-list)"},
-     "no --class-list: the column 'Email address' is empty; Moodle identifies a student by it, not by name "
-     "(fill it in, or give Moodle's participants export as --class-list)"),
-    (r"(?P<n>\d+) submission\(s\) not found \(or found twice\) in the class list, their (?P<c>'[^']*') left "
-     r"empty: (?P<list>.+)",
-     {"ru": "работ не найдено (или найдено дважды) в списке группы: {n}, их {c} оставлен пустым: {list}",
-      "uk": "робіт не знайдено (або знайдено двічі) у списку групи: {n}, їхній {c} залишено порожнім: {list}"},
-     "3 submission(s) not found (or found twice) in the class list, their 'Email address' left empty: "
-     "sub/a.xlsx, sub/b.xlsx"),
-    (r" \(newer: ", {"ru": " (новее: ", "uk": " (новіший: "}, "old.xlsx (newer: new.xlsx)"),
-    (r"one grade per student: (?P<n>\d+) older file\(s\) not graded: (?P<list>.+)",
-     {"ru": "одна оценка на студента: более старых файлов не оценено: {n}: {list}",
-      "uk": "одна оцінка на студента: старіших файлів не оцінено: {n}: {list}"},
-     "one grade per student: 1 older file(s) not graded: old.xlsx, older.xlsx"),
-    (r"(?P<n>\d+) book\(s\) not handed in by their own student: (?P<list>.+)",
-     {"ru": "книг, сданных не своим студентом: {n}: {list}", "uk": "книг, зданих не своїм студентом: {n}: {list}"},
-     "1 book(s) not handed in by their own student: a.xlsx: found in the folder of Петров Пётр"),
-    (r"(?P<n>\d+) possible cop\(ies\) held for review, their score left empty \(--copies keep: their score; "
-     r"--copies zero: 0\): (?P<list>.+)",
-     {"ru": "возможных копий отложено для проверки: {n}, их балл оставлен пустым (--copies keep: их балл; "
-            "--copies zero: 0): {list}",
-      "uk": "можливих копій відкладено для перевірки: {n}, їхній бал залишено порожнім (--copies keep: їхній "
-            "бал; --copies zero: 0): {list}"},
-     "2 possible cop(ies) held for review, their score left empty (--copies keep: their score; --copies zero: "
-     "0): a.xlsx, b.xlsx"),
-    (r"(?P<n>\d+) student\(s\) of the class list handed nothing in, their score left empty: (?P<list>.+)",
-     {"ru": "студентов списка группы, ничего не сдавших: {n}, их балл оставлен пустым: {list}",
-      "uk": "студентів списку групи, що нічого не здали: {n}, їхній бал залишено порожнім: {list}"},
-     "3 student(s) of the class list handed nothing in, their score left empty: Иванов Иван"),
-    (r"the worksheet has no line for participant\(s\) (?P<list>.+?): their grade is not in it",
-     {"ru": "в ведомости нет строки для участников {list}: их оценки в ней нет",
-      "uk": "у відомості немає рядка для учасників {list}: їхньої оцінки в ній немає"},
-     "the worksheet has no line for participant(s) 501, 502: their grade is not in it"),
-    # the class (sheetkin/course/class_grading.py)
-    (r"^(?P<f>.+?) contradicts (?P<n>\d+) of the (?P<m>\d+) sealed books \(their seals check, the roster's given "
-     r"data differ\): is it another class's roster, or re-written\? Each sealed book is graded against its "
-     r"sealed data$",
-     {"ru": "{f} противоречит {n} из {m} запечатанных книг (их печати верны, а исходные данные roster другие): "
-            "это roster другой группы или переписанный? Каждая запечатанная книга оценена по своим данным",
-      "uk": "{f} суперечить {n} із {m} запечатаних книг (їхні печатки правильні, а вихідні дані roster інші): "
-            "це roster іншої групи чи переписаний? Кожну запечатану книгу оцінено за її даними"},
-     "class/roster.csv contradicts 3 of the 4 sealed books (their seals check, the roster's given data differ): "
-     "is it another class's roster, or re-written? Each sealed book is graded against its sealed data"),
-    (r"^none of the (?P<n>\d+) issued books' seals matches the key: is the key \(or --roster's folder\) another "
-     r"class's\?$",
-     {"ru": "ни одна из {n} выданных книг не запечатана этим ключом: ключ (или папка --roster) от другой группы?",
-      "uk": "жодну з {n} виданих книг не запечатано цим ключем: ключ (або тека --roster) від іншої групи?"},
-     "none of the 4 issued books' seals matches the key: is the key (or --roster's folder) another class's?"),
-    (r"^none of the (?P<n>\d+) books' variants is in (?P<f>.+?): is it another class's roster\?$",
-     {"ru": "ни одного из вариантов {n} книг нет в {f}: это roster другой группы?",
-      "uk": "жодного з варіантів {n} книг немає в {f}: це roster іншої групи?"},
-     "none of the 4 books' variants is in class/roster.csv: is it another class's roster?"),
-    # variants' closing lines (sheetkin/cli/commands.py cmd_variants)
-    (r"^(?P<out>.+?): (?P<n>\d+) variants of (?P<scene>.+?) \(seed (?P<seed>\d+): --seed (?P=seed) makes the same "
-     r"again\)(?P<who>.*?); (?P<roster>[^;]+); the key (?P<key>.+) stays with you$",
-     {"ru": "{out}: вариантов схемы {scene}: {n} (seed {seed}: --seed {seed} даёт те же снова){who}; {roster}; "
-            "ключ {key} остаётся у вас",
-      "uk": "{out}: варіантів схеми {scene}: {n} (seed {seed}: --seed {seed} дає ті самі знову){who}; {roster}; "
-            "ключ {key} залишається у вас"},
-     "cls: 3 variants of fourbar.toml (seed 1: --seed 1 makes the same again); cls/roster.csv; the key "
-     "cls/.sheetkin-key stays with you"),
-    (r", assigned to the (?P<n>\d+) students of (?P<f>.+?) \((?P<a>[^()]+)\)",
-     {"ru": ", выданных {n} студентам из {f} ({a})", "uk": ", виданих {n} студентам із {f} ({a})"},
-     "cls: 3 variants of fourbar.toml (seed 1: --seed 1 makes the same again), assigned to the 4 students of "
-     "class.csv (cls/teacher/assignment.csv); cls/teacher/roster.csv; the key cls/teacher/.sheetkin-key stays "
-     "with you"),
-    (r"^upload to Moodle (?P<s>.+?) \(one book per student, named by the student\); (?P<t>.+?) is yours \(keys, "
-     r"roster, assignment\.csv, the key\): never upload it; grade with --roster (?P<r>.+)$",
-     {"ru": "загрузите в Moodle {s} (по книге на студента, названной по студенту); {t} - ваша (ключи, roster, "
-            "assignment.csv, ключ): никогда её не загружайте; оценивайте с --roster {r}",
-      "uk": "завантажте в Moodle {s} (по книзі на студента, названій за студентом); {t} - ваша (ключі, roster, "
-            "assignment.csv, ключ): ніколи її не завантажуйте; оцінюйте з --roster {r}"},
-     "upload to Moodle cls/students (one book per student, named by the student); cls/teacher is yours (keys, "
-     "roster, assignment.csv, the key): never upload it; grade with --roster cls/teacher/roster.csv"),
-)
-
-
-def say_line(text: str, lang: str | None) -> str:
-    """A warning or a closing line of `validate` or `variants` in `lang` (WARNINGS, then the
-    validator's phrases); None or en: as it is."""
-    return _said(text, lang, WARNINGS)
-
-
 def warning_line(text: str, lang: str | None) -> str:
-    """'sheetkin: warning: TEXT' in `lang` (say_line)."""
-    return f"sheetkin: {WARNING_WORD.get(lang or '', 'warning')}: {say_line(text, lang)}"
-
-
-def say_error(text: str, lang: str | None) -> str:
-    """A usage error of `validate` or `variants` in `lang` (ru, uk: ERRORS, then the
-    validator's phrases); None or en: as it is."""
-    return _said(text, lang, ERRORS)
-
-
-def _said(text: str, lang: str | None, table: tuple[tuple[str, dict[str, str], str], ...]) -> str:
-    if lang not in ERROR_WORD:
-        return text
-    import re
-
-    from sheetkin.course.report_messages import say
-    for pattern, said, _ in table:
-        template = said[lang]
-
-        def fill(m: re.Match, t: str = template) -> str:
-            return t.format(**m.groupdict())
-        text = re.sub(pattern, fill, text)
-    return say(text, lang)
+    """'sheetkin: warning: TEXT' in `lang` (a warning of `validate` or `variants`)."""
+    return f"sheetkin: {WARNING_WORD.get(lang or '', 'warning')}: {say(text, lang, 'warnings', 'report')}"
 
 
 def error_line(text: str, lang: str | None) -> str:
-    """'sheetkin: error: TEXT' in `lang` (say_error)."""
-    return f"sheetkin: {ERROR_WORD.get(lang or '', 'error')}: {say_error(text, lang)}"
+    """'sheetkin: error: TEXT' in `lang` (a usage error of `validate` or `variants`)."""
+    return f"sheetkin: {ERROR_WORD.get(lang or '', 'error')}: {say(text, lang, 'errors', 'report')}"

@@ -9,7 +9,8 @@ rows (`checks`) into a report (`report_model`: Report, RowReport). A class:
 (`identity`, `classlist`), finds copies (`copies`) and warns about the roster and key
 (`issued`: roster, key, seals). Around them: making variants (`variants`), Moodle grades and
 the verdict (`grades`), the text, JSON and HTML reports (`report`, `report_html`,
-`report_texts`, `report_messages`), the one precision (`tolerance`) and the caches
+`report_texts`; their messages in three languages: sheetkin.messages), the one precision
+(`tolerance`) and the caches
 (`caches.clear_caches`).
 """
 from __future__ import annotations

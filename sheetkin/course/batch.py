@@ -30,6 +30,7 @@ from pathlib import Path, PurePosixPath
 
 from sheetkin.files import child_ended, child_started, shown
 from sheetkin.kinematics.scene import SceneError
+from sheetkin.messages import message
 
 from .report_model import Report
 from .validator import validate as _validate_one
@@ -454,7 +455,7 @@ def _unmark_bad_utf8_names(f) -> None:
 def _entry_problem(info: zipfile.ZipInfo) -> str | None:
     """What is wrong with an entry, judged from its headers before a byte is unpacked."""
     if info.flag_bits & 0x1:
-        return "password-protected (an encrypted zip entry); unpack it with its password first"
+        return message("password_protected", what="an encrypted zip entry") + "; unpack it with its password first"
     if info.file_size > ZIP_MAX_FILE_BYTES:
         return f"unpacks to {info.file_size:,} bytes; a workbook is at most {ZIP_MAX_FILE_BYTES:,}; not graded"
     if info.file_size > 2 ** 20 and info.file_size > ZIP_MAX_RATIO * max(info.compress_size, 1):

@@ -37,6 +37,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, cast
 
 from sheetkin.kinematics.scene import Scene
+from sheetkin.messages import message
 from sheetkin.sheet.workbook import FIRST_COL, prefilled_in_exercise, sheet_rows
 from sheetkin.xlsx.evaluator import Book
 from sheetkin.xlsx.functions import NAME as NAME_ERROR  # a function it lacks, a formula it cannot read
@@ -255,13 +256,11 @@ def judge_rows(report: Report, g: Graded, beh: Behaviour | None) -> None:
             where = "" if rep.kind == "derived" else f", {position_list(report, rep.not_following, 'en')}"
             not_following.append(f"{rep.name} (row {r}{where}: {cell} ={formula})")
     if not_following:
-        report.notes.append(f"does not follow the given data ({len(not_following)}; right for the issued data, "
-                            f"wrong when they change; they earn nothing): " + "; ".join(not_following[:12])
-                            + (" ..." if len(not_following) > 12 else ""))
+        report.notes.append(message("not_following_given", n=len(not_following), list="; ".join(not_following[:12])
+                                    + (" ..." if len(not_following) > 12 else "")))
     if unjudged:
-        report.notes.append(f"not judged: check by hand ({len(unjudged)}; sheetkin cannot evaluate their "
-                            f"formulas, they are left out of the score): " + ", ".join(unjudged[:12])
-                            + (" ..." if len(unjudged) > 12 else ""))
+        report.notes.append(message("rows_not_judged", n=len(unjudged), names=", ".join(unjudged[:12])
+                                    + (" ..." if len(unjudged) > 12 else "")))
 
 
 def _name_empty_cells(report: Report, g: Graded, position_list) -> None:
@@ -314,8 +313,8 @@ def judge_checks(report: Report, g: Graded) -> None:
     report.failing_checks = [n for n in report.failing_checks if n not in unjudged]
     report.checks_not_judged = unjudged
     report.checks_apply = max(0, (report.checks_apply or 0) - len(unjudged))
-    report.notes.append(f"check rows not judged: check by hand ({len(unjudged)}; sheetkin cannot evaluate "
-                        f"their status): {', '.join(unjudged[:12])}" + (" ..." if len(unjudged) > 12 else ""))
+    report.notes.append(message("check_rows_not_judged", n=len(unjudged), names=", ".join(unjudged[:12]))
+                        + (" ..." if len(unjudged) > 12 else ""))
 
 
 def judge_held_checks(report: Report, g: Graded, beh: Behaviour | None) -> None:
@@ -341,9 +340,8 @@ def judge_held_checks(report: Report, g: Graded, beh: Behaviour | None) -> None:
             report.failing_checks.append(n)
             report.checks_passing = max(0, (report.checks_passing or 0) - 1)
     if not_checking:
-        report.notes.append(f"check rows that do not check ({len(not_checking)}; they still pass when the given "
-                            f"data change and the rows they check do not; counted as failing): "
-                            + "; ".join(not_checking[:12]) + (" ..." if len(not_checking) > 12 else ""))
+        report.notes.append(message("check_rows_not_checking", n=len(not_checking), list="; ".join(not_checking[:12])
+                                    + (" ..." if len(not_checking) > 12 else "")))
 
 
 def _reacts(issued: Book, held: Book, r: int, positions: int, tol: float) -> bool:

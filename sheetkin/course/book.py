@@ -7,6 +7,7 @@ import re
 
 from sheetkin.errors import InputError
 from sheetkin.kinematics.scene import Scene, SceneError, parse_scene
+from sheetkin.messages import message
 from sheetkin.sheet.charts import PATHS_SHEET, PLOTTED_SHEET
 from sheetkin.sheet.workbook import (
     SCENE_SHEET,
@@ -54,8 +55,7 @@ class UnusableInput(InputError):
 def embedded_scene(book, path: str, options: issued.Options | None) -> tuple[Scene, str]:
     """The scene of the book's hidden sheet, and its text."""
     if SCENE_SHEET not in book.sheets:
-        raise UnusableInput(f"{path}: no embedded scene (hidden sheet '{SCENE_SHEET}'); "
-                            "expected a workbook made by `sheetkin workbook`")
+        raise UnusableInput(f"{path}: " + message("no_embedded_scene", sheet=SCENE_SHEET))
     scene_text = embedded_scene_text(book.sheets[SCENE_SHEET])
     check_embedded_size(scene_text, path)
     try:
@@ -65,8 +65,8 @@ def embedded_scene(book, path: str, options: issued.Options | None) -> tuple[Sce
         # (the seal) rather than only the line that does not parse
         vid, found = issued.marks(book.sheets[SCENE_SHEET].consts)
         broken = issued.seal_status(options.key if options else None, vid, scene_text, found) if vid else ""
-        if broken.startswith("scene sheet edited"):
-            raise UnusableInput(f"{path}: {broken}; and it no longer reads: {e}") from e
+        if broken in (message("seal_missing"), message("seal_mismatch")):
+            raise UnusableInput(f"{path}: " + message("no_longer_reads", what=broken) + str(e)) from e
         raise
     check_embedded_scene(scene, path)
     return scene, scene_text

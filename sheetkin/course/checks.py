@@ -5,6 +5,7 @@ from __future__ import annotations
 import itertools
 import math
 
+from sheetkin.messages import message
 from sheetkin.sheet.checks import STATUS as CHECK_STATUS
 from sheetkin.sheet.checks import failing as check_fails
 from sheetkin.sheet.checks import not_applicable as check_na
@@ -77,12 +78,9 @@ def read_checks(report: Report, evaluated: Book, main: str, sh: Sheet, names: di
     report.checks_deleted = [n for n in issued_checks if n not in names]
     report.checks_typed = [n for n, v in statuses.items() if v == "#TYPED"]
     if report.checks_typed:
-        report.notes.append(f"check status typed over its formula (column D; counted as failing, its share of "
-                            "the grade lost): "
-                            f"{', '.join(report.checks_typed)}")
+        report.notes.append(message("check_status_typed_over", names=", ".join(report.checks_typed)))
     if report.checks_deleted:
-        report.notes.append(f"check rows deleted (counted as failing, their share of the grade lost): "
-                            f"{', '.join(report.checks_deleted)}")
+        report.notes.append(message("check_rows_deleted_counted", names=", ".join(report.checks_deleted)))
     # deleted or typed over, a check row also counts as failing: hiding a failing check
     # must never pay (it costs its share and the failing check's points)
     report.failing_checks = [n for n, s in statuses.items() if check_fails(s)] + report.checks_deleted

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from sheetkin.files import shown
+from sheetkin.messages import message
 
 from .batch import validate_many
 from .classlist import ClassList
@@ -102,9 +103,7 @@ def _roster_contradicts(reports: list[Report], options: Options) -> str:
     differ = [r for r in sealed if r.roster_differs]
     if options.roster is None or not differ or 2 * len(differ) < len(sealed):
         return ""
-    return (f"{options.roster.path} contradicts {len(differ)} of the {len(sealed)} sealed books (their seals "
-            "check, the roster's given data differ): is it another class's roster, or re-written? Each "
-            "sealed book is graded against its sealed data")
+    return message("roster_contradicts_seals", f=options.roster.path, n=len(differ), m=len(sealed))
 
 
 def _mismatched_key(reports: list[Report], options: Options) -> str:
@@ -115,8 +114,7 @@ def _mismatched_key(reports: list[Report], options: Options) -> str:
     if len(issued) < 2:
         return ""
     if options.key is not None and not any(r.seal == "ok" for r in issued):
-        return (f"none of the {len(issued)} issued books' seals matches the key: is the key (or "
-                "--roster's folder) another class's?")
+        return message("key_matches_no_seal", n=len(issued))
     if options.roster is not None and all("is not in" in r.seal for r in issued):
-        return f"none of the {len(issued)} books' variants is in {options.roster.path}: is it another class's roster?"
+        return message("roster_has_no_variant", n=len(issued), f=options.roster.path)
     return ""

@@ -26,6 +26,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from sheetkin.errors import InputError
+from sheetkin.messages import message
 from sheetkin.untrusted import plain_text
 
 MAX_CLASS_LIST_BYTES = 5_000_000       # a year's class is a few hundred KB
@@ -146,14 +147,12 @@ def decode_table(raw: bytes, path: str, what: str) -> str:
     except UnicodeDecodeError:
         pass
     if b"\0" in raw or raw.startswith(b"PK\x03\x04"):
-        raise ClassListError(f"{path}: {what}: not UTF-8 text but a binary file (a workbook?); save it as "
-                             "CSV UTF-8") from None
+        raise ClassListError(message("binary_not_csv", f=path, opt=what)) from None
     try:
         return raw.decode("cp1251")
     except UnicodeDecodeError as e:
         line = raw[:e.start].count(b"\n") + 1
-        raise ClassListError(f"{path}:{line}: {what}: not UTF-8 (nor Windows-1251) text; "
-                             "save it as CSV UTF-8") from None
+        raise ClassListError(message("not_utf8_csv", f=path, line=line, opt=what) + "save it as CSV UTF-8") from None
 
 
 def delimiter(header_line: str) -> str:
@@ -172,7 +171,7 @@ def read_bounded(path: str, limit: int, what: str) -> bytes:
     try:
         return read_bytes(path, limit, what.lstrip("-").replace("-", " "))
     except FileNotFoundError:
-        raise ClassListError(f"{path}: {what}: no such file") from None
+        raise ClassListError(message("no_such_csv", f=path, opt=what)) from None
     except RefusedFile as e:
         if e.errno == errno.EFBIG:
             raise ClassListError(f"{path}: {what}: more than {limit:,} bytes; a class list is a few KB") from None
@@ -199,7 +198,7 @@ def read_class_list(path: str) -> ClassList:
     except csv.Error as e:
         raise ClassListError(f"{path}: --class-list: not a CSV file this reads ({e})") from None
     if not rows:
-        raise ClassListError(f"{path}: --class-list: empty; expected a header and one line per student")
+        raise ClassListError(message("class_list_empty", f=path))
     head = [h.strip().casefold() for h in rows[0]]
 
     def column(aliases):
@@ -207,9 +206,8 @@ def read_class_list(path: str) -> ClassList:
     id_header, id_col = next(((h, column(a)) for h, a in _ID_ALIASES.items() if column(a) is not None), (None, None))
     first_col, last_col, full_col = (column(_NAME_HEADERS[k]) for k in ("first", "last", "full"))
     if id_col is None or (full_col is None and (first_col is None or last_col is None)):
-        raise ClassListError(f"{path}:1: --class-list: expected columns 'First name' and 'Last name' (or "
-                             f"'Full name') and one of {', '.join(repr(h) for h in ID_HEADERS)}; got "
-                             f"{', '.join(repr(h) for h in rows[0])}"[:600])
+        raise ClassListError(message("class_list_columns", f=path, ids=", ".join(repr(h) for h in ID_HEADERS),
+                                     got=", ".join(repr(h) for h in rows[0]))[:600])
     out = ClassList(id_header or ID_HEADERS[0], {}, set(), [], path)
     for line, row in enumerate(rows[1:], 2):
         if not any(c.strip(_BLANK) for c in row):
@@ -228,7 +226,7 @@ def read_class_list(path: str) -> ClassList:
             given = tuple(w.rstrip(".") for w in NAME_WORD.findall(fold_name(cell(first_col))))
         key = name_key(name)
         if not key or not ident:
-            raise ClassListError(f"{path}:{line}: --class-list: a line without a name or a {id_header}")
+            raise ClassListError(message("class_list_line_without", f=path, line=line, id=id_header))
         if key in out.ids and out.ids[key] != ident:
             out.ambiguous.add(key)
         out.ids[key] = ident

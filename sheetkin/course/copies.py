@@ -41,6 +41,8 @@ from collections import defaultdict
 from dataclasses import dataclass, field
 from functools import lru_cache
 
+from sheetkin.messages import message
+
 from .reference import reference_book
 
 COPY_RIGHT_DIGITS = 2      # a number right in both books with fewer digits (0, 1, 0.5) says nothing
@@ -286,20 +288,19 @@ def _identity_groups(reports, who, assigned) -> list[tuple[str, list[int]]]:
         g = [i for i in g if any(j != i and not _namesakes(reports[i], reports[j])
                                  and not _one_moodle_submitter([reports[i].path, reports[j].path]) for j in g)]
         if len(g) > 1:
-            out.append(("the same student name", g))
+            out.append((message("same_student_name"), g))
     for g in _by_key((r.variant, r.issued_to) if ok and r.variant else ""
                      for r, ok in zip(reports, usable, strict=True)):
         rep = reports[g[0]]
         v, to = rep.variant, rep.issued_to
         hands = {who[i] for i in g if who[i]}
         if len(hands) > 1 and (to or (assigned is not None and assigned.get(v, 0) <= 1)):
-            what = f"issued to {to}" if to else "issued to one student"
-            out.append((f"one issued book (variant {v}, {what}) handed in by {len(hands)} students", g))
+            out.append((message("one_book_many_hands_to", v=v, to=to, n=len(hands)) if to else
+                        message("one_book_many_hands", v=v, n=len(hands)), g))
         elif len(hands) > 1 and assigned is None:
-            out.append((f"the same variant {v} from {len(hands)} students (no assignment: "
-                        "`variants --class-list` gives each student their own)", g))
+            out.append((message("same_variant_unassigned", v=v, n=len(hands)), g))
         if any(reports[i].given_changed for i in g):
-            out.append((f"the same issued variant {v}, its given data changed in one", g))
+            out.append((message("same_variant_given_changed", v=v), g))
     return out
 
 
@@ -390,7 +391,7 @@ def _variant_sources(reports, wrong, variants: dict, linked: set[int],
             got = cache[vid]
             n = sum(1 for c, v in cells.items() if c in got and abs(got[c] - v) <= typed_tolerance(v))
             if n >= COPY_TYPED_CELLS:
-                why = f"{n} typed numbers equal to variant {vid}'s computed values ({label})"
+                why = message("typed_equal_variant", n=n, v=vid, what=label)
                 out.append((why, [i]))
                 if sources is not None:
                     sources.setdefault(i, []).append((*(key + ["", ""])[:2], why))
@@ -452,7 +453,7 @@ def possible_copies(reports, digests: list | None = None, who: list | None = Non
     if digests is None:
         digests = [None if r.error else file_digest(r.path) for r in reports]
     who = list(who) if who is not None else [_name_of(r) for r in reports]
-    groups: list[tuple[str, list[int]]] = [("byte-identical files", g) for g in _by_key(digests)]
+    groups: list[tuple[str, list[int]]] = [(message("byte_identical_files"), g) for g in _by_key(digests)]
     wrong = [_wrong_cells(r) if r.marks else set() for r in reports]
     pairs = _typed_pairs(reports, wrong)
     links = defaultdict(list)
@@ -461,11 +462,11 @@ def possible_copies(reports, digests: list | None = None, who: list | None = Non
             links[i].append((j, n))
     for i, found in sorted(links.items()):          # one group per book: linear in the class
         most = max(n for _, n in found)
-        groups.append((f"{most} identical typed numbers, wrong for one variant at least", [i, *(j for j, _ in found)]))
+        groups.append((message("identical_typed_wrong", n=most), [i, *(j for j, _ in found)]))
     linked = set()
     for (i, j), n in sorted(_computed_sources(reports, wrong).items()):
         if n >= COPY_TYPED_CELLS:
-            groups.append((f"{n} typed numbers equal to what {_label(reports, j)} computed", [i, j]))
+            groups.append((message("typed_equal_computed", n=n, who=_label(reports, j)), [i, j]))
             linked.add(i)
     sources: dict[int, list[tuple[str, str, str]]] = {}
     if variants:
@@ -481,7 +482,7 @@ def possible_copies(reports, digests: list | None = None, who: list | None = Non
                     formula_at[name, digest].append(i)
     for (name, _), idx in sorted(formula_at.items()):
         if len(idx) > 1:
-            groups.append((f"the same wrong formula in {name}", idx))
+            groups.append((message("same_wrong_formula", name=name), idx))
     copies = _clusters(groups)
     copies.sources = sources
     return copies

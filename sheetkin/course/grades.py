@@ -44,6 +44,8 @@ from typing import TYPE_CHECKING, Any
 
 # the class list is read and matched in sheetkin/course/classlist.py (Russian name forms,
 # Moodle's folders); its names stay importable from here
+from sheetkin.messages import message, say
+
 from .classlist import ClassList, name_key, read_class_list  # noqa: F401
 from .classlist import ClassListError as GradesError  # noqa: F401 (--grades, --class-list: one line)
 
@@ -188,7 +190,7 @@ def score_parts(rep, accept_changed: bool | None = None, accept_typed: bool | No
     parts = [f"{c['correct']} of {c['total']} rows computed right: {unit * c['earned']:.1f} of {share:g}"
              + (f" ({', '.join(lost_rows)})" if lost_rows else "")]
     if c["not_judged"] or c["checks_not_judged"]:
-        parts.append(f"not judged, check by hand: {c['not_judged']} rows, {c['checks_not_judged']} check rows")
+        parts.append(message("not_judged_check_by_hand", r=c["not_judged"], c=c["checks_not_judged"]))
     # issue 31: a check row not filled in keeps the share of the sheet's cells that are filled
     lost = c["checks_deleted"] + c["checks_typed"] + c["checks_unfilled"] * (1 - rep.filled_share)
     checks = CHECKS_SHARE * (issued - lost) / issued if issued else 0.0
@@ -203,7 +205,8 @@ def score_parts(rep, accept_changed: bool | None = None, accept_typed: bool | No
     if c["checks_failing"]:
         s -= CHECK_PENALTY * c["checks_failing"]
         n = c["checks_failing"]
-        parts.append(f"{n} check row{'' if n == 1 else 's'} failing: -{CHECK_PENALTY * n:g}")
+        parts.append(message("n_check_row_failing" if n == 1 else "n_check_rows_failing", n=n)
+                     + f": -{CHECK_PENALTY * n:g}")
     s = max(0.0, s)
     if c["formula_rows"] == 0 and s > NO_FORMULA_CAP:
         s = NO_FORMULA_CAP
@@ -275,7 +278,7 @@ def copy_text(reports, i: int, copies) -> str:
     if not others:      # a source that is no submission (a variant's key): the reason names it
         return copies.why(i) if copies.sources.get(i) else ""
     names = [f"{reports[j].path}{f' ({who(reports[j])})' if who(reports[j]) else ''}" for j in others[:MAX_LISTED]]
-    more = f" and {len(others) - MAX_LISTED} more" if len(others) > MAX_LISTED else ""
+    more = message("and_more", n=len(others) - MAX_LISTED) if len(others) > MAX_LISTED else ""
     return f"{', '.join(names)}{more}: {copies.why(i)}"
 
 
@@ -300,17 +303,17 @@ def grade_lines(reports, copies: Copies | None, class_list: ClassList | None = N
     "Participant N" from the folder a book came in (the offline grading worksheet's key,
     blind marking's only one). copies_policy (COPY_POLICIES): a possible copy's score is
     left empty and held for review (hold), kept (keep) or 0 (zero); the status says which."""
+
     from .copies import Copies
     from .identity import identify
-    from .report_messages import column_name, say
-    from .report_texts import say_grading
+    from .report_texts import column_name
     copies = copies if copies is not None else Copies()
     if identities is None:
         identities = identify(reports, class_list)
     id_header = class_list.id_header if class_list else ID_HEADERS[0]
 
     def said(text: str, grading: bool = False) -> str:       # the grading vocabulary, or a message
-        return safe_text(say_grading(text, lang) if grading else say(text, lang))
+        return safe_text(say(text, lang, "grading") if grading else say(text, lang))
     if copies_policy not in COPY_POLICIES:
         raise ValueError(f"copies_policy: one of {', '.join(COPY_POLICIES)}, not {copies_policy!r}")
     lines = [[id_header, PARTICIPANT_HEADER, *(column_name(c, lang) for c in COLUMNS)]]
@@ -326,7 +329,7 @@ def grade_lines(reports, copies: Copies | None, class_list: ClassList | None = N
             flagged.append(f"{rep.path}: {'; '.join(foreign)}{tail}")
         if me.superseded_by is not None:
             if not foreign:
-                older.append(f"{rep.path} (newer: {reports[me.superseded_by].path})")
+                older.append(f"{rep.path}{message('newer')}{reports[me.superseded_by].path})")
             continue
         # the name typed in the book; none typed: the class list's name of the identifier,
         # else who handed it in (the Moodle folder's name), so that no graded line is nameless
@@ -367,21 +370,17 @@ def grade_lines(reports, copies: Copies | None, class_list: ClassList | None = N
     def listed(items: list[str]) -> str:
         return ", ".join(items[:10]) + (" ..." if len(items) > 10 else "")
     if class_list is None:
-        warnings.append(f"no --class-list: the column '{id_header}' is empty; Moodle identifies a student "
-                        "by it, not by name (fill it in, or give Moodle's participants export as --class-list)")
+        warnings.append(message("no_class_list_column", c=f"'{id_header}'"))
     elif unmatched:
-        warnings.append(f"{len(unmatched)} submission(s) not found (or found twice) in the class list, their "
-                        f"'{id_header}' left empty: " + listed(unmatched))
+        warnings.append(message("unmatched_submissions", n=len(unmatched), c=f"'{id_header}'", list=listed(unmatched)))
     if older:
-        warnings.append(f"one grade per student: {len(older)} older file(s) not graded: " + listed(older))
+        warnings.append(message("one_grade_per_student", n=len(older), list=listed(older)))
     if flagged:
-        warnings.append(f"{len(flagged)} book(s) not handed in by their own student: " + listed(flagged))
+        warnings.append(message("books_not_own", n=len(flagged), list=listed(flagged)))
     if held:
-        warnings.append(f"{len(held)} possible cop(ies) held for review, their score left empty "
-                        "(--copies keep: their score; --copies zero: 0): " + listed(held))
+        warnings.append(message("copies_held", n=len(held), list=listed(held)))
     if absent:
-        warnings.append(f"{len(absent)} student(s) of the class list handed nothing in, their score left empty: "
-                        + listed([p.name for p in absent]))
+        warnings.append(message("students_absent", n=len(absent), list=listed([p.name for p in absent])))
     return lines, warnings
 
 
@@ -497,8 +496,7 @@ def fill_worksheet(rows: list[list[str]], lines: list[list[str]]) -> tuple[list[
             row[grade_col] = f"{grade:.2f}"
         out.append(row)
     missing = sorted(set(scores) - found - {n for n, s in scores.items() if _number(s) is None}, key=int)
-    warnings = [f"the worksheet has no line for participant(s) {', '.join(missing)}: their grade is not in it"] \
-        if missing else []
+    warnings = [message("worksheet_missing_participants", list=", ".join(missing))] if missing else []
     return out, warnings
 
 
@@ -524,8 +522,8 @@ def five_point_scale(lang: str = "ru", spec: str | None = None) -> list[tuple[fl
         name, eq, least = part.rpartition("=")
         value = _number(least) if eq else None
         if not name.strip() or value is None or not 0 <= value <= 100:
-            raise GradesError(f"--scale: {part.strip()!r}: expected NAME=LEAST SCORE (0..100), "
-                              "e.g. 'отлично=85,хорошо=70,удовлетворительно=50,неудовлетворительно=0'")
+            raise GradesError(message("scale_expected", v=repr(part.strip()),
+                                      e="'отлично=85,хорошо=70,удовлетворительно=50,неудовлетворительно=0'"))
         scale.append((value, name.strip()))
     scale.sort(reverse=True)
     if scale[-1][0] > 0:
@@ -542,7 +540,7 @@ def with_course_grade(lines: list[list[str]], out_of: float | None, scale: list[
                       lang: str = "en") -> list[list[str]]:
     """grades.csv's lines with, beside the score, the grade out of `out_of` points (the
     Moodle grade item's maximum) and the scale's mark; an empty score stays empty."""
-    from .report_messages import column_name
+    from .report_texts import column_name
     at = 2 + COLUMNS.index("score") + 1
     heads = ([f"{column_name('grade', lang)} (/{out_of:g})"] if out_of else []) + \
         ([column_name("mark", lang)] if scale else [])

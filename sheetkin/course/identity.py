@@ -21,6 +21,7 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from sheetkin.messages import message
 from sheetkin.untrusted import csv_cell, from_csv_cell
 
 from .classlist import (
@@ -129,10 +130,15 @@ def _one(people: list[Person]) -> Person | None:
     return people[0] if len({p.ident for p in people}) == 1 else None
 
 
-def _describe(text: str, people: list[Person]) -> str:
+def _describe(text: str, people: list[Person], folder: str | None = None) -> str:
+    """No one in the class list has the name, or who it can be; of a Moodle folder's name, the
+    folder named first."""
     if not people:
-        return f"no one in the class list is named {text!r}"
-    return f"{text!r} can be {', '.join(f'{p.name} ({p.ident})' for p in people[:5])}"
+        return (message("no_one_class_list", n=repr(text)) if folder is None else
+                message("folder_no_one_class", f=repr(folder), n=repr(text)))
+    who = ", ".join(f"{p.name} ({p.ident})" for p in people[:5])
+    return (message("can_be", n=repr(text), who=who) if folder is None else
+            message("folder_can_be", f=repr(folder), n=repr(text), who=who))
 
 
 def identify(reports, class_list: ClassList | None = None, assignment: Assignment | None = None,
@@ -174,14 +180,14 @@ def _identify_one(rep, cl: ClassList | None, assignment: Assignment | None) -> I
         folder = _one(cl.match(sub.name)) if sub else None
         typed_person = _one(cl.match(typed)) if typed else None
     if sub is not None:
-        me.submitter = f"{sub.name} (Moodle participant {sub.participant})"
+        me.submitter = f"{sub.name} " + message("moodle_participant", n=sub.participant)
         me.folder_name = sub.name
         me.who = folder.ident if folder else f"participant {sub.participant}"
         me.ident = folder.ident if folder else ""
         if cl is not None and folder is None:
-            me.unmatched = f"the folder {sub.where!r}: " + _describe(sub.name, cl.match(sub.name))
+            me.unmatched = _describe(sub.name, cl.match(sub.name), sub.where)
         if folder and typed and typed_person is not None and typed_person.ident != folder.ident:
-            me.flags.append(f"found in the folder of {folder.name}, but {typed_person.name}'s name is typed in it")
+            me.flags.append(message("found_folder_but_name", a=folder.name, b=typed_person.name))
         elif typed and typed_person is None and not same_name_loosely(typed, sub.name):
             # no class list (the README's path), or a typed name it does not hold: the
             # folder's name and the typed one share no word (issue 30)
@@ -200,10 +206,10 @@ def _identify_one(rep, cl: ClassList | None, assignment: Assignment | None) -> I
         me.submitter, me.who = sealed_name or sealed, sealed
         me.ident = sealed if cl is None or cl.by_ident(sealed) else ""
     if sealed and me.ident and sealed != me.ident:
-        me.flags.append(f"issued to {sealed_name or sealed} ({sealed}), handed in by {me.submitter}")
+        me.flags.append(message("issued_handed", a=f"{sealed_name or sealed} ({sealed})", b=me.submitter))
     elif (sealed and not me.ident and sub is not None and sealed_name and sub.name
           and name_key(sealed_name) != name_key(sub.name)):
-            me.flags.append(f"issued to {sealed_name} ({sealed}), handed in by {me.submitter}")
+            me.flags.append(message("issued_handed", a=f"{sealed_name} ({sealed})", b=me.submitter))
     return me
 
 
@@ -295,13 +301,12 @@ def _newest_only(reports, ids: list[Identity], mtimes: list[float]) -> None:
         for i in idx:
             if i != newest:
                 ids[i].superseded_by = newest
-                why = ("which is newer" if mtimes[i] <= mtimes[newest] else
-                       "their own book (this one is not)" if i in foreign else "which is usable (this one is not)")
+                why = ("not_graded_newer" if mtimes[i] <= mtimes[newest] else
+                       "not_graded_own_book" if i in foreign else "not_graded_usable")
                 whom = ids[newest].student_key or ident          # the identifier a teacher knows
-                ids[i].flags.append(f"not graded: {whom} handed in {reports[newest].path} too, {why}")
-        older = "older" if all(mtimes[i] <= mtimes[newest] for i in idx) else "other"
-        ids[newest].flags.append(f"graded; {older} files of this student not graded: "
-                                 + ", ".join(reports[i].path for i in idx if i != newest)[:300])
+                ids[i].flags.append(message(why, who=whom, file=reports[newest].path))
+        older = "graded_older_files" if all(mtimes[i] <= mtimes[newest] for i in idx) else "graded_other_files"
+        ids[newest].flags.append(message(older, files=", ".join(reports[i].path for i in idx if i != newest)[:300]))
 
 
 def _one_line_per_identifier(reports, ids: list[Identity]) -> None:

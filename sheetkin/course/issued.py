@@ -29,6 +29,7 @@ from typing import cast
 from sheetkin.errors import InputError
 from sheetkin.files import MAX_KEY_BYTES, read_bytes, read_text
 from sheetkin.kinematics.scene import Scene, one_line
+from sheetkin.messages import message
 from sheetkin.sheet.workbook import IDENTITY_ROWS, ISSUED_LABELS, VERSION_LABEL, VERSION_ROW, sheet_rows
 from sheetkin.untrusted import csv_cell, from_csv_cell
 
@@ -84,8 +85,8 @@ def _show(v) -> str:
 
 def changed_line(changed: list[dict]) -> str:
     """`given data changed: L1 0.14 -> 0.05, Fi_t0 20 -> 1` (the report's first line)."""
-    return "given data changed: " + ", ".join(f"{c['name']} {_show(c['issued'])} -> {_show(c['got'])}"
-                                              for c in changed)
+    return message("given_data_changed", list=", ".join(f"{c['name']} {_show(c['issued'])} -> {_show(c['got'])}"
+                                                        for c in changed))
 
 
 # --------------------------------------------------------------------------- the seal
@@ -116,12 +117,11 @@ def seal_status(key: bytes | None, variant: str, scene_text: str, found: str, st
     if key is None:
         return ""
     if not found:
-        return "scene sheet edited: its seal (scene!C2) is missing"
+        return message("seal_missing")
     for k in (key, *older):
         if hmac.compare_digest(seal(k, variant, scene_text, student), found.strip().lower()):
             return "ok"
-    return ("scene sheet edited: the seal does not match the embedded scene, variant id and student "
-            "under the teacher's key (or the key is another class's)")
+    return message("seal_mismatch")
 
 
 def new_key() -> str:
@@ -135,8 +135,7 @@ def read_key(path) -> bytes:
     try:
         text = read_text(path, MAX_KEY_BYTES, "key file", "utf-8").strip()
     except FileNotFoundError:
-        raise RosterError(one_line(f"{path}: no such key file (`sheetkin variants` writes "
-                                   f"{KEY_FILE} in its --out folder)")) from None
+        raise RosterError(one_line(message("no_such_key_file", f=path))) from None
     except (OSError, UnicodeDecodeError) as e:
         raise RosterError(one_line(f"{path}: cannot read the key file ({getattr(e, 'strerror', None) or e})")) from None
     try:
@@ -210,9 +209,8 @@ def read_roster(path) -> Roster:
     except FileNotFoundError:
         moved = Path(p).parent / "teacher" / ROSTER_FILE    # variants.TEACHER_FOLDER (issue 34)
         if moved.is_file():
-            raise RosterError(one_line(f"{p}: no such roster file; `variants --class-list` keeps it in "
-                                       f"{moved}")) from None
-        raise RosterError(one_line(f"{p}: no such roster file")) from None
+            raise RosterError(one_line(message("no_roster_file_moved", f=p, moved=moved))) from None
+        raise RosterError(one_line(message("no_roster_file", f=p))) from None
     except OSError as e:
         raise RosterError(one_line(f"{p}: cannot read the roster ({e.strerror or e})")) from None
     if len(raw) > MAX_ROSTER_BYTES:
@@ -353,16 +351,15 @@ def check_given(scene: Scene, scene_text: str, consts: dict, inputs: dict[str, o
         out.roster_differs = row is None or any(n in row and not _same(row[n], v) for n, v in embedded.items())
     elif roster is not None:
         if vid not in roster.rows:
-            out.seal = out.seal if out.seal.startswith("scene sheet edited") else \
-                f"variant {vid!r} is not in {roster.path}: checked against the embedded scene"
+            out.seal = out.seal if out.seal in (message("seal_missing"), message("seal_mismatch")) else \
+                message("variant_not_in_roster", v=repr(vid), roster=roster.path)
         else:
             out.issued = {n: roster.rows[vid][n] for n in roster.names if n in embedded}
             missing = [n for n in embedded if n not in roster.rows[vid]]
             if missing:
-                out.notes.append(f"{roster.path} has no column for {', '.join(missing)}: "
-                                 "those are checked against the embedded scene")
+                out.notes.append(message("has_no_column_for", roster=roster.path, names=", ".join(missing)))
                 out.issued.update({n: embedded[n] for n in missing})
-    if roster is not None and (out.seal.startswith("scene sheet edited: the seal does not match")
+    if roster is not None and (out.seal == message("seal_mismatch")
                                or not out.seal and set(embedded) - set(roster.names)):
         # without a key only another scheme is told: the data of this scheme stay the roster's
         other = _other_class(roster, vid, embedded)
@@ -382,15 +379,14 @@ def _other_class(roster: Roster, vid: str, embedded: dict[str, float]) -> str:
     roster's row; "" when it looks like this class's."""
     mine, theirs = set(embedded), set(roster.names)
     if mine - theirs:
-        return (f"this book is of another scheme, not of the class issued with {roster.path} (its given data "
-                f"{', '.join(sorted(mine - theirs)[:4])} are not the roster's)")
+        return message("book_of_another_scheme", roster=roster.path, names=", ".join(sorted(mine - theirs)[:4]))
     row = roster.rows.get(vid)
     # another class's variant differs in most of the drawn data (every length, offset ...); a
     # student who edits a value or two in the input block and the hidden sheet alike is
     # told "given data changed" as before
     if row is None or sum(n in row and not _same(row[n], v) for n, v in embedded.items()) >= OTHER_CLASS_VALUES:
-        return (f"this book is of a class issued with another roster, not {roster.path} (variant {vid}"
-                f"{' is not in it' if row is None else chr(39) + 's given data differ from its row'})")
+        return message("book_of_another_roster_not_in" if row is None else "book_of_another_roster_row",
+                       roster=roster.path, v=vid)
     return ""
 
 

@@ -31,6 +31,7 @@ from typing import cast
 import numpy as np
 from openpyxl.utils import column_index_from_string, get_column_letter
 
+from sheetkin.messages import message
 from sheetkin.sheet.workbook import FIRST_COL, HEADERS
 from sheetkin.xlsx.cells import Sheet
 from sheetkin.xlsx.evaluator import EMPTY, Book
@@ -61,7 +62,7 @@ class Layout:
             return ""
         n = len(self.outside)
         shown = ", ".join(self.outside[:SHOWN]) + (", ..." if n > SHOWN else "")
-        return f"{n} cell(s) outside the issued table ignored (notes, scratch cells, dragged formulas): {shown}"
+        return message("cell_outside_issued_table", n=n, cells=shown)
 
 
 def _text(v) -> str:
@@ -142,12 +143,11 @@ def _note_where(layout: Layout, order: list[str]) -> None:
     """The layout's notes: a graded sheet that is not the first tab, columns that moved."""
     sheet, cols = layout.sheet, layout.columns
     if sheet != order[0]:
-        layout.notes.append(f"graded sheet: '{sheet}' (found by its row names; tab {order.index(sheet) + 1} "
-                            f"of {len(order)})")
+        layout.notes.append(message("graded_sheet_found_row", sheet=sheet, k=order.index(sheet) + 1, n=len(order)))
     if layout.moved:
-        layout.notes.append("columns found by their headers: " + ", ".join(
+        layout.notes.append(message("columns_found_their_headers", list=", ".join(
             f"{what} {get_column_letter(cols[c])}" for c, what in ((1, "names"), (4, "values"),
-                                                                   (FIRST_COL, "first position")) if cols[c] != c))
+                                                                   (FIRST_COL, "first position")) if cols[c] != c)))
 
 
 def _headers(key: str) -> set[str]:

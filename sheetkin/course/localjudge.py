@@ -42,6 +42,7 @@ from typing import cast
 
 import numpy as np
 
+from sheetkin.messages import message
 from sheetkin.sheet.workbook import FIRST_COL
 from sheetkin.xlsx.coords import get_column_letter
 from sheetkin.xlsx.evaluator import BOOL, EMPTY, NUM, TEXT, Book, Run, evaluate_runs, parse_rows, store_value
@@ -413,16 +414,17 @@ def typed_note(local: Local, name: str, dependents: list[str]) -> str:
     flagged = [c for c, s, t in zip(j.cols, j.state, j.typed, strict=False) if s in (CELL_ROUNDED, CELL_WRONG) and t]
     c = int(flagged[0])
     got = local.value(name, c)
-    what = f"typed {typed_text(got)}, {typed_digits(got)} digits" if isinstance(got, float) else f"typed {got!r}"
+    what = (message("typed_digits", v=typed_text(got), d=typed_digits(got)) if isinstance(got, float)
+            else f"typed {got!r}")
     if j.state[list(j.cols).index(c)] == CELL_WRONG:
         lv = local.local_value(name, c)
-        what += f" (its inputs give {lv:.6g})" if isinstance(lv, float) else ""
-    more = f", and {len(flagged) - 1} more typed cells" if len(flagged) > 1 else ""
+        what += " " + message("inputs_give", v=f"{lv:.6g}") if isinstance(lv, float) else ""
+    more = message("and_more_typed_cells", n=len(flagged) - 1) if len(flagged) > 1 else ""
     at = None if c == VALUE_COL else flagged          # a derived value: every position
     if not dependents:
-        below = "no row depends on it"
+        below = message("no_row_depends_on")
     else:
-        below = f"downstream rows differ by up to {magnitude(max(local.row_error(d, at) for d in dependents))}"
+        below = message("downstream_rows_differ_up", v=magnitude(max(local.row_error(d, at) for d in dependents)))
     return f"{local.cell(name, c)} {name} {what}{more}: {below}"
 
 

@@ -6,14 +6,15 @@ import math
 import re
 from typing import TYPE_CHECKING
 
+from sheetkin.messages import message, say
+
 from .copies import MAX_LISTED
 from .grades import all_correct, counts, explain, report_dict, score, verdict
 from .issued import changed_line
 from .layout import VALUE_COL
 from .report_html import position_list, position_name
-from .report_messages import say
 from .report_model import Report
-from .report_texts import READS_TYPED, say_grading, words
+from .report_texts import READS_TYPED, words
 from .scratch import ScratchReport
 from .scratch_report import mapping_lines
 
@@ -38,7 +39,7 @@ def text_report(rep: Report, lang: str = "en") -> str:
     lines = [f"{head}" + (f" ({who})" if who else "") + f", {rep.positions} {t['positions']}"]
     lines += issued_lines(rep, lang)
     # the counts, the verdict and the score: one vocabulary with the HTML, JSON and grades.csv
-    lines += [say_grading(counts_line(rep), lang), say_grading(f"  {verdict(rep)}; score {explain(rep)}", lang)]
+    lines += [say(counts_line(rep), lang, "grading"), say(f"  {verdict(rep)}; score {explain(rep)}", lang, "grading")]
     lines += _typed_lines(rep, lang)
     lines += _cause_lines(rep, lang)
     lines += _dependent_lines(rep, lang)
@@ -54,14 +55,14 @@ def _typed_lines(rep: Report, lang: str) -> list[str]:
     lines = []
     typed = rep.typed
     if typed:
-        lines.append(say_grading(f"  typed, not computed ({len(typed)}): ", lang) + ", ".join(
+        lines.append(say(f"  typed, not computed ({len(typed)}): ", lang, "grading") + ", ".join(
             f"{r.name} ({t['row']} {r.row}, {_typed_where(rep, r, lang)})" for r in typed[:12])
             + (" ..." if len(typed) > 12 else "")
-            + say_grading("; accepted (--accept-typed)" if rep.accepted_typed
-                          else "; they earn nothing", lang))
+            + say("; accepted (--accept-typed)" if rep.accepted_typed
+                  else "; they earn nothing", lang, "grading"))
     pasted = [r.name for r in typed if r.reads_typed]
     if pasted:
-        lines.append(say_grading(f"  {READS_TYPED} ({len(pasted)}): ", lang) + ", ".join(pasted[:12])
+        lines.append(say(f"  {READS_TYPED} ({len(pasted)}): ", lang, "grading") + ", ".join(pasted[:12])
                      + (" ..." if len(pasted) > 12 else ""))
     return lines
 
@@ -203,7 +204,7 @@ def summary_table(reports: list[Report], lang: str = "en") -> str:
             # the student's own cells (D1, D2), never the scheme's author
             who = ", ".join(x for x in (r.student, r.group) if x)
             c = counts(r)
-            rows.append((r.path, who, say_grading(verdict(r), lang), f"{score(r):.1f}", str(c["correct"]),
+            rows.append((r.path, who, say(verdict(r), lang, "grading"), f"{score(r):.1f}", str(c["correct"]),
                          str(c["typed"]), str(c["wrong"]), str(c["missing"]), r.causes[0].name if r.causes else ""))
     widths = [max(len(x[i]) for x in rows) for i in range(len(rows[0]))]
     return "\n".join("  ".join(x[i].ljust(widths[i]) for i in range(len(x))).rstrip() for x in rows) + "\n"
@@ -272,5 +273,5 @@ def copies_lines(reports: list[Report], copies, lang: str = "en") -> str:
         files = ", ".join(reports[i].path for i in c.members)
         why = "; ".join(t if len(m) == len(c.members) else f"{t} ({', '.join(reports[i].path for i in m)})"
                         for t, m in c.reasons)
-        out.append(say(f"possible copy: {len(c.members)} files {files}: {why}", lang) + "\n")
+        out.append(say(message("possible_copy_files", n=len(c.members)) + f"{files}: {why}", lang) + "\n")
     return "".join(out)

@@ -19,9 +19,10 @@ import math
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from .report_messages import say
+from sheetkin.messages import message, say
+
 from .report_model import Report
-from .report_texts import READS_TYPED, say_grading, words
+from .report_texts import READS_TYPED, words
 from .scratch_report import mapping_table
 
 if TYPE_CHECKING:
@@ -179,7 +180,7 @@ def _copy_links(reports, k: int, copies, with_reason: bool, lang: str = "en", id
         out.append(f"<a href='#{_anchor(other, j)}' data-open='{_anchor(other, j)}'>{e(name)}</a>"
                    + (f" ({e(other.path)})" if with_reason else ""))
     if len(others) > MAX_LISTED:
-        out.append(e(say(f" and {len(others) - MAX_LISTED} more", lang).strip()))
+        out.append(e(say(message("and_more", n=len(others) - MAX_LISTED), lang).strip()))
     text = ", ".join(out)
     return text + (f": {e(say(copies.why(k), lang))}" if with_reason and text else "")
 
@@ -249,7 +250,7 @@ def _summary_row(rep: Report, k: int, copy: str = "", lang: str = "en", me=None,
             f"<td>{e(group)}</td><td>{e(str(variant))}</td>"
             f"<td class='num{' held' if held else ''}' data-sort='{'' if sc is None else f'{sc:.3f}'}'>"
             f"{'' if sc is None else f'{sc:.1f}'}{' (' + e(t['held']) + ')' if held else ''}</td>"
-            f"<td class='{cls}' data-sort='{VERDICTS.index(res)}'>{say_grading(res, lang)}</td>"
+            f"<td class='{cls}' data-sort='{VERDICTS.index(res)}'>{say(res, lang, 'grading')}</td>"
             f"<td class='num'>{'' if rep.error else c['correct']}</td>"
             f"<td class='num'>{'' if rep.error else c['typed']}</td>"
             f"<td class='num'>{'' if rep.error else c['wrong']}</td>"
@@ -267,7 +268,7 @@ def _details(rep: Report, k: int, copy: str = "", lang: str = "en", me=None) -> 
     e, t = html.escape, words(lang)
     from .grades import verdict
     out = [f"<details id='{_anchor(rep, k)}'><summary>{e(rep.student or _file(rep))}: "
-           f"{e(say_grading(verdict(rep), lang))}</summary>",
+           f"{e(say(verdict(rep), lang, 'grading'))}</summary>",
            f"<p class='note'>{e(rep.path)}{' - ' + e(rep.title) if rep.title else ''}</p>"]
     if rep.error:
         out.append(f"<p class='unusable'>{t['unusable_p']}: {e(say(rep.error, lang))}</p></details>")
@@ -309,18 +310,19 @@ def _score_lines(rep: Report, lang: str) -> list[str]:
     e = html.escape
     from .grades import counts, explain
     n = counts(rep)
-    said = say_grading(f"score {explain(rep)} (the rules:", lang)
+    said = say(f"score {explain(rep)} (the rules:", lang, "grading")
     out = [f"<p>{e(said)} <code>sheetkin docs grading</code>)</p>",
-           "<p>" + e(say_grading(f"{n['correct']} of {n['total']} rows correct (computed), {n['typed']} typed "
-                                 f"(not computed), {n['wrong']} wrong, {n['missing']} missing or empty.", lang))
+           "<p>" + e(say(f"{n['correct']} of {n['total']} rows correct (computed), {n['typed']} typed "
+                         f"(not computed), {n['wrong']} wrong, {n['missing']} missing or empty.", lang, "grading"))
            + "</p>"]
     typed = rep.typed
     if typed:
-        out.append("<p class='wrong'>" + e(say_grading("typed, not computed: ", lang))
+        out.append("<p class='wrong'>" + e(say("typed, not computed: ", lang, "grading"))
                    + e(", ".join(x.name for x in typed)) + "</p>")
         pasted = [x.name for x in typed if x.reads_typed]
         if pasted:
-            out.append("<p class='wrong'>" + e(say_grading(f"{READS_TYPED}: ", lang)) + e(", ".join(pasted)) + "</p>")
+            out.append("<p class='wrong'>" + e(say(f"{READS_TYPED}: ", lang, "grading")) + e(", ".join(pasted))
+                       + "</p>")
     return out
 
 
@@ -386,8 +388,8 @@ def _lists(rep: Report, lang: str, me) -> list[str]:
     e, t = html.escape, words(lang)
     out = []
     for title, items in ((t["failing_checks"], rep.failing_checks),
-                         ("Check rows deleted", rep.checks_deleted),
-                         ("Check statuses typed over their formulas", rep.checks_typed),
+                         (message("check_rows_deleted"), rep.checks_deleted),
+                         (message("check_statuses_typed_over"), rep.checks_typed),
                          ("Notes", [n for n in rep.notes
                                     if me is None or not n.startswith("identity: ")]),   # shown above
                          (t["disagree_h"], rep.cache_mismatch),

@@ -2,12 +2,17 @@
 language: ru, uk, en. `validate --lang` picks one; by default the books' own language
 (the title of their first sheet, sheetkin.course.validator.book_lang). The Python API
 (text_report, html_report ...) speaks English unless told, as it always did.
-Imports nothing from sheetkin.
+
+grades.csv's column headers are in COLUMN_NAMES, except the identifier column: it keeps
+the name Moodle's export gave it (`Email address`, `ID number`, `Username`), the name
+Moodle's import matches. The messages of the validator and the grading vocabulary are said
+through sheetkin.messages.
 """
 from __future__ import annotations
 
-import re
 from collections import Counter
+
+from sheetkin.messages import message
 
 WORDS: dict[str, dict[str, str]] = {
     "en": {
@@ -127,102 +132,6 @@ def class_lang(reports) -> str:
     return langs.most_common(1)[0][0] if langs else "ru"
 
 
-# The grading vocabulary (sheetkin.course.grades: verdicts, counts, the score explained) is
-# English at its source, so that grades.csv and --json keep one set of words; a report in
-# Russian or Ukrainian says it in the teacher's language through these phrases, longest first.
-_GRADING_PHRASES: dict[str, tuple[tuple[str, str], ...]] = {
-    "ru": ((" computed right", " вычислены верно"), (" intact and filled in", " на месте и заполнены"),
-           (" correct (computed)", " верно (вычислены)"),
-           ("not filled in (rows they check are empty)", "не заполнены (проверяемые строки пусты)"),
-           ("no formula in the computed rows: at most", "нет формул в вычисляемых строках: не более"),
-           ("check rows intact and filled in", "строк проверки на месте и заполнены"),
-           ("graded against the issued variant", "оценено по выданному варианту"),
-           ("no computed rows to grade", "нет вычисляемых строк для оценки"),
-           ("rows correct (computed)", "строк верно (вычислены)"), ("typed (not computed)", "введены числами"),
-           ("typed, not computed", "введены числами, не вычислены"), ("rows computed right", "строк вычислены верно"),
-           ("missing or empty", "отсутствуют или пусты"), ("that apply passing", "применимых выполнены"),
-           ("status typed over", "статус введён вручную"), ("given data changed", "исходные данные изменены"),
-           ("accepted (--accept-typed)", "приняты (--accept-typed)"), ("they earn nothing", "баллов не приносят"),
-           ("check rows", "строки проверки"), ("seal broken", "печать нарушена"), ("all correct", "всё верно"),
-           ("mistakes", "есть ошибки"), ("unusable", "не проверяется"), ("typed over", "введены вручную"),
-           ("failing", "не выполнены"), ("deleted", "удалены"), ("wrong", "неверно"), ("(the rules:", "(правила:"),
-           ("score", "оценка"), (" of ", " из "), ("(row ", "(строка ")),
-    "uk": ((" computed right", " обчислено правильно"), (" intact and filled in", " на місці й заповнені"),
-           (" correct (computed)", " правильно (обчислені)"),
-           ("not filled in (rows they check are empty)", "не заповнені (рядки, які вони перевіряють, порожні)"),
-           ("no formula in the computed rows: at most", "немає формул в обчислюваних рядках: не більше"),
-           ("check rows intact and filled in", "рядків перевірки на місці й заповнені"),
-           ("graded against the issued variant", "оцінено за виданим варіантом"),
-           ("no computed rows to grade", "немає обчислюваних рядків для оцінки"),
-           ("rows correct (computed)", "рядків правильно (обчислені)"), ("typed (not computed)", "введені числами"),
-           ("typed, not computed", "введені числами, не обчислені"),
-           ("rows computed right", "рядків обчислено правильно"), ("missing or empty", "відсутні або порожні"),
-           ("that apply passing", "застосовних виконано"), ("status typed over", "статус введено вручну"),
-           ("given data changed", "вихідні дані змінено"), ("accepted (--accept-typed)", "прийнято (--accept-typed)"),
-           ("they earn nothing", "балів не приносять"), ("check rows", "рядки перевірки"),
-           ("seal broken", "печатку порушено"), ("all correct", "усе правильно"), ("mistakes", "є помилки"),
-           ("unusable", "не перевіряється"), ("typed over", "введено вручну"), ("failing", "не виконано"),
-           ("deleted", "видалено"), ("wrong", "неправильно"), ("(the rules:", "(правила:"), ("score", "оцінка"),
-           (" of ", " з "), ("(row ", "(рядок ")),
-}
-
-
-def plural(n: int, one: str, few: str, many: str) -> str:
-    """The Russian or Ukrainian form of a noun after the number n: 1, 21 строка; 2-4, 22-24
-    строки; 0, 5-20, 25 строк."""
-    if n % 10 == 1 and n % 100 != 11:
-        return one
-    return few if 2 <= n % 10 <= 4 and not 12 <= n % 100 <= 14 else many
-
-
-def _of(n: str, lang: str) -> str:
-    """'из 63 строк' / 'з 63 рядків': the genitive after 'of N' (singular after 1, 21, ...)."""
-    k = int(n)
-    gen = (plural(k, "строки", "строк", "строк") if lang == "ru" else plural(k, "рядка", "рядків", "рядків"))
-    return f"{'из' if lang == 'ru' else 'з'} {n} {gen}"
-
-
-def _counted(m: re.Match, lang: str) -> str:
-    """'3 of 63 check rows', '3 of 63 rows' or '3 check rows failing' in `lang`, each noun in
-    the form its number asks for."""
-    for what in ("typed", "missing"):
-        if m[what]:
-            n = int(m[what])
-            return f"{n} {plural(n, *_AGREE[lang, what])}"
-    if m["failing"]:
-        n = int(m["failing"])
-        return f"{n} " + (plural(n, "строка проверки не выполнена", "строки проверки не выполнены",
-                                 "строк проверки не выполнено") if lang == "ru" else
-                          plural(n, "рядок перевірки не виконано", "рядки перевірки не виконано",
-                                 "рядків перевірки не виконано"))
-    checks = (" проверки" if lang == "ru" else " перевірки") if m["check"] else ""
-    return f"{m['a']} {_of(m['n'], lang)}{checks}"
-
-
-# counted phrases first (before the word-for-word table below)
-_COUNTED = re.compile(r"(?P<a>\d+) of (?P<n>\d+) (?P<check>check )?rows|(?P<failing>\d+) check rows? failing"
-                      r"|(?P<typed>\d+) typed(?:, not computed| \(not computed\))|(?P<missing>\d+) missing or empty")
-
-# one row, a few rows, many rows: the participle agrees with the number (1 строка введена числом)
-_AGREE = {
-    ("ru", "typed"): ("введена числом", "введены числами", "введены числами"),
-    ("uk", "typed"): ("введено числом", "введено числами", "введено числами"),
-    ("ru", "missing"): ("отсутствует или пуста", "отсутствуют или пусты", "отсутствуют или пусты"),
-    ("uk", "missing"): ("відсутній або порожній", "відсутні або порожні", "відсутні або порожні"),
-}
-
-
-def say_grading(text: str, lang: str) -> str:
-    """A phrase of the grading vocabulary (a verdict, the counts, the score explained) in
-    `lang`; English as it is."""
-    if lang in ("ru", "uk"):
-        text = _NOT_JUDGED.sub(lambda m: _NOT_JUDGED_SAID[lang].format(**m.groupdict()), text)
-        text = _COUNTED.sub(lambda m: _counted(m, lang), text)
-    for en, said in _GRADING_PHRASES.get(lang, ()):
-        text = text.replace(en, said)
-    return text
-
-
 # the HTML summary's grading columns (sheetkin.course.report_html), in each language
 WORDS["en"].update({"rows correct": "rows correct", "rows typed": "rows typed"})
 WORDS["ru"].update({"rows correct": "строк верно", "rows typed": "введено числами"})
@@ -230,12 +139,8 @@ WORDS["uk"].update({"rows correct": "рядків правильно", "rows typ
 
 
 # rows whose formulas read only typed numbers (a number pasted elsewhere, then "=Лист2!E5"):
-# typed, not computed (sheetkin.xlsx.precedents); said first, before its shorter phrases
-READS_TYPED = "formulas reading only typed numbers, none of the given data"
-_GRADING_PHRASES["ru"] = ((READS_TYPED, "формулы читают только введённые числа, а не исходные данные"),
-                          *_GRADING_PHRASES["ru"])
-_GRADING_PHRASES["uk"] = ((READS_TYPED, "формули читають лише введені числа, а не вихідні дані"),
-                          *_GRADING_PHRASES["uk"])
+# typed, not computed (sheetkin.xlsx.precedents)
+READS_TYPED = message("g_formulas_reading_only_typed")
 
 
 # who handed a book in (sheetkin.course.identity) and the groups of possible copies
@@ -248,9 +153,30 @@ WORDS["uk"].update({"identity": "хто здав", "identity_h": "Хто зда�
                     "copies_h": "Можливе списування (один рядок на групу книг)"})
 
 
-# issue 31: credit per position and the rows sheetkin cannot judge (sheetkin.course.grades)
-_NOT_JUDGED = re.compile(r"not judged, check by hand: (?P<r>\d+) rows, (?P<c>\d+) check rows")
-_NOT_JUDGED_SAID = {"ru": "не оценено, проверьте вручную: строк {r}, строк проверки {c}",
-                    "uk": "не оцінено, перевірте вручну: рядків {r}, рядків перевірки {c}"}
-_GRADING_PHRASES["ru"] = (("their right positions", "их верные положения"), *_GRADING_PHRASES["ru"])
-_GRADING_PHRASES["uk"] = (("their right positions", "їхні правильні положення"), *_GRADING_PHRASES["uk"])
+# grades.csv's columns (sheetkin.course.grades.COLUMNS) in each language
+COLUMN_NAMES: dict[str, dict[str, str]] = {
+    "ru": {"student": "студент", "group": "группа", "variant": "вариант", "file": "файл", "verdict": "итог",
+           "rows correct": "строк верно", "rows typed": "строк введено числами", "rows total": "строк всего",
+           "checks passing": "проверок выполнено", "checks total": "проверок всего",
+           "given data changed": "исходные данные изменены", "likely causes": "вероятные причины",
+           "possible copy of": "возможно, списано у", "score": "балл", "score explained": "как получен балл",
+           "identity": "кто сдал", "not judged": "не проверено (проверьте вручную)", "yes": "да", "no": "нет",
+           "status": "состояние", "graded": "оценено", "held for review: possible copy":
+           "отложено для проверки: возможно, списано", "not handed in": "не сдано",
+           "possible copy: 0 (--copies zero)": "возможно, списано: 0 (--copies zero)",
+           "grade": "оценка", "mark": "оценка по шкале"},
+    "uk": {"student": "студент", "group": "група", "variant": "варіант", "file": "файл", "verdict": "підсумок",
+           "rows correct": "рядків правильно", "rows typed": "рядків введено числами", "rows total": "рядків усього",
+           "checks passing": "перевірок виконано", "checks total": "перевірок усього",
+           "given data changed": "вихідні дані змінено", "likely causes": "ймовірні причини",
+           "possible copy of": "можливо, списано в", "score": "бал", "score explained": "як отримано бал",
+           "identity": "хто здав", "not judged": "не перевірено (перевірте вручну)", "yes": "так", "no": "ні",
+           "status": "стан", "graded": "оцінено", "held for review: possible copy":
+           "відкладено для перевірки: можливо, списано", "not handed in": "не здано",
+           "possible copy: 0 (--copies zero)": "можливо, списано: 0 (--copies zero)",
+           "grade": "оцінка", "mark": "оцінка за шкалою"},
+}
+
+def column_name(column: str, lang: str) -> str:
+    """A grades.csv header (or its yes / no) in `lang`."""
+    return COLUMN_NAMES.get(lang, {}).get(column, column)

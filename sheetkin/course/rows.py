@@ -11,6 +11,7 @@ from typing import cast
 import numpy as np
 
 from sheetkin.kinematics.scene import Scene
+from sheetkin.messages import message
 from sheetkin.sheet.workbook import (
     FIRST_COL,
     prefilled_in_exercise,
@@ -279,8 +280,8 @@ def _cache_mismatches(book: Book, sheet: str, angle_rows: Set[int] = frozenset()
             continue
         elif isinstance(cached, str) and isinstance(now, str) and now.startswith("#") and cached.startswith("#"):
             continue                                     # errors: LibreOffice and Excel name some differently
-        out.append(f"{sheet}!{get_column_letter((columns or {}).get(c, c))}{r} (formula gives {now!r}, "
-                   f"saved value {cached!r})")
+        out.append(f"{sheet}!{get_column_letter((columns or {}).get(c, c))}{r} "
+                   + message("formula_gives_saved_value", now=repr(now), saved=repr(cached)))
         if len(out) >= limit:
             break
     return out

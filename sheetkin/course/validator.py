@@ -27,6 +27,7 @@ from pathlib import Path
 from typing import cast
 
 from sheetkin.kinematics.scene import SceneError
+from sheetkin.messages import message
 from sheetkin.sheet.charts import PATHS_SHEET
 from sheetkin.sheet.workbook import (
     FIRST_COL,
@@ -67,8 +68,8 @@ def internal_error(path: str, e: BaseException) -> str:
     on, and the teacher learns that this is sheetkin's fault, not the student's."""
     from sheetkin import __version__
     what = " ".join(str(e).split())[:200]
-    return (f"{path}: internal error while validating ({type(e).__name__}{': ' + what if what else ''}); "
-            f"this is a bug in sheetkin {__version__}: please report it with this file")
+    return f"{path}: " + message("internal_error", what=f"{type(e).__name__}{': ' + what if what else ''}",
+                                 v=__version__)
 
 
 def _validate(path: str, limits: Limits, options: issued.Options | None = None) -> Report:
@@ -83,8 +84,8 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
     layout = find_layout(book.sheets, book.order, {r.name for r in ref_rows if r.kind != "section"}, "",
                          issued_positions, list(range(issued_positions)), {SCENE_SHEET, PATHS_SHEET})
     if layout is None:
-        raise UnusableInput(f"{path}: no sheet holds the rows of the issued table (names such as "
-                            f"{', '.join(r.name for r in ref_rows if r.kind == 'calc')[:60]}... in a column)")
+        raise UnusableInput(f"{path}: " + message(
+            "no_table_rows", names=", ".join(r.name for r in ref_rows if r.kind == "calc")[:60]))
     text_given = _given_as_text(book, layout, {r.name for r in ref_rows if r.kind == "input"})
     raw = evaluate_student(book, layout)
     # what sheetkin cannot compute (a function it lacks), computed by LibreOffice when installed
@@ -123,8 +124,8 @@ def _given_as_text(book, layout, input_names: set[str]) -> list[str]:
         x = issued.as_text_number(text)
         if x is not None and (r, value_col) not in sheet.formulas:
             sheet.consts[(r, value_col)] = x
-            notes.append(f"given {name} ({layout.sheet}!{layout.cell(r, VALUE_COL)}) is the text {text!r}, "
-                         f"not a number: read as {x:g}, as a spreadsheet reads it (type it as a number)")
+            notes.append(message("given_as_text", name=name, cell=f"{layout.sheet}!{layout.cell(r, VALUE_COL)}",
+                                 text=repr(text), x=f"{x:g}"))
     return notes
 
 

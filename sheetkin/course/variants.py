@@ -41,6 +41,7 @@ import numpy as np
 from sheetkin.kinematics.caps import load_toml
 from sheetkin.kinematics.scene import Scene, SceneError, one_line, parse_scene
 from sheetkin.kinematics.solver import solve
+from sheetkin.messages import message
 from sheetkin.sheet.workbook import build_workbook, sheet_rows
 
 from .identity import ASSIGNMENT_FILE, assignment_text
@@ -198,8 +199,8 @@ def ranges(params: list[Param], vary: Sequence[str] = ()) -> list[Range]:
             raise SceneError(one_line(f"--vary {spec}: expected NAME=LO..HI with numbers LO <= HI "
                                       "(e.g. L2=0.45..0.55)"))
         if m.group(1) not in by_name:
-            raise SceneError(one_line(f"--vary {spec}: no given value {m.group(1)!r} in this scene; valid: "
-                                      + ", ".join(n for p in params for n in p.names), 2000))
+            raise SceneError(one_line(message("vary_no_given_value", v=spec, name=repr(m.group(1)),
+                                              list=", ".join(n for p in params for n in p.names)), 2000))
         if by_name[m.group(1)].name in chosen:     # the last one silently won
             raise SceneError(one_line(f"--vary {spec}: {m.group(1)} is given a range twice"))
         chosen[by_name[m.group(1)].name] = (lo, hi)
@@ -370,11 +371,10 @@ def write_variants(variants: list[Variant], out: str | Path, *, force: bool = Fa
     if not force:
         for t in targets:
             if t.exists():
-                raise SceneError(one_line(f"{t}: exists; refusing to overwrite it (use --force: an issued "
-                                          "roster and key are then kept beside the new ones, dated; or another --out)"))
+                raise SceneError(one_line(message("exists_refusing", f=t)))
     for folder in (top, out, top / STUDENTS_FOLDER):
         if folder.exists() and not folder.is_dir():
-            raise SceneError(one_line(f"--out {folder}: not a folder"))
+            raise SceneError(one_line(message("out_not_folder", f=folder)))
     out.mkdir(parents=True, exist_ok=True)
     if people:
         (top / STUDENTS_FOLDER).mkdir(exist_ok=True)
@@ -483,7 +483,7 @@ def assign(variants: list[Variant], class_list) -> list[tuple[str, str, str, str
         files.add(exercise.casefold())
         out.append((person.name, person.ident, v.id, exercise))
     if not out:
-        raise SceneError(one_line(f"{class_list.path}: --class-list names no student"))
+        raise SceneError(one_line(message("class_list_no_student", f=class_list.path)))
     return out
 
 

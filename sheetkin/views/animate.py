@@ -10,7 +10,6 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
-import re
 import sys
 import tempfile
 from pathlib import Path
@@ -21,6 +20,8 @@ from sheetkin.errors import UsageError
 from sheetkin.files import Output, write_file
 from sheetkin.kinematics.geometry import revolution
 from sheetkin.kinematics.scene import Scene
+from sheetkin.messages import message
+from sheetkin.messages import say as said
 
 from .drawing import STYLES, Picture, picture
 
@@ -185,36 +186,12 @@ PAGE_WORDS: dict[str, dict[str, str]] = {
     "uk": {"play": "пуск", "pause": "пауза", "mechanism": "механізм", "position": "положення", "deg": "град",
            "variant": "варіант", "speed": "швидкість"},
 }
-# the Picture's captions and notes: (English pattern, {lang: template})
-_SAID: tuple[tuple[str, dict[str, str]], ...] = (
-    (r": cannot assemble", {"ru": ": не собирается", "uk": ": не збирається"}),
-    (r": near a toggle \(group (?P<g>[^)]*)\)", {"ru": ": близко к мёртвому положению (группа {g})",
-                                                 "uk": ": близько до мертвого положення (група {g})"}),
-    (r"group (?P<g>\S+) \((?P<k>[^)]*)\) cannot assemble for crank angles (?P<a>\S+)\.\.(?P<b>\S+) deg",
-     {"ru": "группа {g} ({k}) не собирается при углах кривошипа {a}..{b} град",
-      "uk": "група {g} ({k}) не збирається при кутах кривошипа {a}..{b} град"}),
-    (r"group (?P<g>\S+): \|det_g(?P<h>\S+)\| < (?P<t>\S+) at crank angles near (?P<a>.+?) deg",
-     {"ru": "группа {g}: |det_g{h}| < {t} при углах кривошипа около {a} град",
-      "uk": "група {g}: |det_g{h}| < {t} при кутах кривошипа близько {a} град"}),
-    (r"velocity vectors: 1 m/s = (?P<x>\S+) m of the drawing",
-     {"ru": "векторы скоростей: 1 м/с = {x} м рисунка", "uk": "вектори швидкостей: 1 м/с = {x} м рисунка"}),
-    (r"drawn (?P<w>\d+) px wide, not (?P<s>\d+): at equal scale the mechanism would be more than (?P<m>\d+) px tall",
-     {"ru": "нарисовано шириной {w} пикс., а не {s}: в равном масштабе механизм был бы выше {m} пикс.",
-      "uk": "намальовано завширшки {w} пікс., а не {s}: у рівному масштабі механізм був би вищим за {m} пікс."}),
-    (r" deg(?=\W|$)", {"ru": " град", "uk": " град"}),
-    (r" \(variant (?P<v>[^()]+)\)$", {"ru": " (вариант {v})", "uk": " (варіант {v})"}),
-)
-
-
 def say(text: str, lang: str) -> str:
-    """A caption, a note or the title of a Picture (English) in `lang` (ru, uk, en)."""
+    """A caption, a note or the title of a Picture (English) in `lang` (ru, uk, en): the
+    drawing's messages of sheetkin.messages."""
     if lang not in PAGE_WORDS:
         raise ValueError(f"lang must be one of {', '.join(PAGE_WORDS)}, got {lang!r}")
-    for pattern, said in _SAID:
-        if lang in said:
-            template = said[lang]
-            text = re.sub(pattern, lambda m: template.format(**m.groupdict()), text)    # noqa: B023 (used at once)
-    return text
+    return said(text, lang, "drawing")
 
 
 _PAGE = """<!doctype html>
@@ -333,8 +310,7 @@ def animate(scene: Scene, out, *, frames: int = 36, fps: float = 12, size: int =
                             toggle_threshold=toggle_threshold)
     fitted = fitted_size(pic, size)
     if fitted < size:
-        pic.notes.append(f"drawn {fitted} px wide, not {size}: at equal scale the mechanism would be "
-                         f"more than {MAX_SIZE} px tall")
+        pic.notes.append(message("drawn_narrower", w=fitted, s=size, m=MAX_SIZE))
         size = fitted
     if suffix == ".html":
         write_file(out, html_page(pic, fps, size, lang))

@@ -35,6 +35,7 @@ from sheetkin.kinematics.geometry import (
 )
 from sheetkin.kinematics.scene import Scene
 from sheetkin.kinematics.table import assembly_gaps, compute
+from sheetkin.messages import message
 
 # what a shape is, and what it stands for in the drawing (its role picks the style, STYLES)
 ShapeKind = Literal["line", "polygon", "dot", "text", "arrow"]
@@ -290,12 +291,12 @@ def picture(scene: Scene, frames=None, *, fine=None, vectors: bool = False, labe
         vmax = np.nanmax(np.concatenate(speeds)) if speeds else 0.0
         if np.isfinite(vmax) and vmax > 0:
             scale = 0.25 * max(box[2] - box[0], box[3] - box[1]) / vmax
-            notes.append(f"velocity vectors: 1 m/s = {scale:.3g} m of the drawing")
+            notes.append(message("velocity_scale", x=f"{scale:.3g}"))
     if "assembled" in fine and not fine["assembled"].all():
         notes += [str(g) for g in assembly_gaps(scene, fine["phi_1"].to_numpy())]
-    flagged = [f"group {i}: |det_g{i}| < {toggle_threshold:g} at crank angles near "
-               + ", ".join(f"{v:.0f}" for v in fine["phi_1"][fine[f"det_g{i}"].abs() < toggle_threshold].iloc[:6] % 360)
-               + " deg" for i in st.groups if (fine[f"det_g{i}"].abs() < toggle_threshold).any()]
+    flagged = [message("near_toggle_at", g=i, h=i, t=f"{toggle_threshold:g}", a=", ".join(
+        f"{v:.0f}" for v in fine["phi_1"][fine[f"det_g{i}"].abs() < toggle_threshold].iloc[:6] % 360))
+               for i in st.groups if (fine[f"det_g{i}"].abs() < toggle_threshold).any()]
     notes += flagged
     shapes, captions = [], []
     for i in range(len(table)):
@@ -311,10 +312,10 @@ def caption(scene: Scene, row) -> str:
     phi = float(row["phi_1"].iloc[0])
     text = f"phi_1 = {phi:.4g} deg"
     if "assembled" in row and not bool(row["assembled"].iloc[0]):
-        text += ": cannot assemble"
+        text += message("cannot_assemble")
     flag = str(row["near_toggle"].iloc[0]) if "near_toggle" in row else ""
     if flag:
-        text += f": near a toggle (group {flag})"
+        text += message("near_toggle", g=flag)
     return text
 
 

@@ -21,6 +21,8 @@ from itertools import compress, product
 from pathlib import Path
 from xml.etree import ElementTree
 
+from sheetkin.messages import message
+
 from .convert import check_opendocument as check_opendocument  # re-exported: cells was their home
 from .convert import convert_opendocument as convert_opendocument
 from .convert import converted, is_old_excel, is_opendocument
@@ -136,7 +138,7 @@ def _check_cells(pkg, name: str, sh: Sheet, limits: Limits, budget: int | None) 
     if held > (limits.max_cells if budget is None else budget):
         raise UnusableWorkbook(pkg.path, f"more than {limits.max_cells:,} cells hold a value or a formula "
                                f"(counted up to sheet '{name}')",
-                               f"expected at most {limits.max_cells:,} (sheetkin's limit for a workbook)")
+                               message("at_most_limit", size=f"{limits.max_cells:,}"))
 
 
 def _read_tree(pkg, root, name: str, part: str, state: str, shared: list[str], limits: Limits,
@@ -782,8 +784,8 @@ def read_book(path: str | Path, limits: Limits = Limits(), *, convert_timeout: f
     evaluator computes them."""
     locked = password_protected(path)
     if locked:
-        raise UnusableWorkbook(str(path), f"password-protected ({locked})",
-                               "a workbook saved without a password (File > Save As, untick the password)")
+        raise UnusableWorkbook(str(path), message("password_protected", what=locked),
+                               message("workbook_saved_without_password"))
     if is_opendocument(path) or is_old_excel(path):
         with converted(path, limits, convert_timeout) as out:        # rare: read whole
             return _read_converted(out, str(path), limits)

@@ -21,6 +21,8 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
+from sheetkin.messages import message
+
 from .package import Limits, UnusableWorkbook
 
 # ----------------------------------------------------------------- passwords, old Excel (.xls)
@@ -103,10 +105,10 @@ def password_protected(path) -> str:
     if head.startswith(_OLE):
         streams = _ole_streams(path)
         if "EncryptedPackage" in streams or "EncryptionInfo" in streams:
-            return "an encrypted Excel workbook"
+            return message("encrypted_excel_workbook")
         for name in ("Workbook", "Book"):
             if name in streams and streams[name][1] >= 4096 and _biff_filepass(path, streams[name][0]):
-                return "an encrypted .xls workbook"
+                return message("encrypted_xls_workbook")
         return ""
     if head.startswith(b"PK\x03\x04") and is_opendocument(path):
         import zipfile
@@ -116,7 +118,7 @@ def password_protected(path) -> str:
                 if info.file_size > 1 << 20:
                     return ""
                 if b"encryption-data" in zf.read(info):
-                    return "an encrypted OpenDocument spreadsheet"
+                    return message("encrypted_opendocument_spreadsheet")
         except (zipfile.BadZipFile, KeyError, OSError, RuntimeError, ValueError, EOFError):
             return ""
     return ""
@@ -176,8 +178,8 @@ def converted(path, limits: Limits = Limits(), timeout: float = 120) -> Iterator
         try:
             out = libreoffice.convert_to_xlsx(copy, tmp / "out", timeout)
         except (RuntimeError, OSError) as e:
-            reason = "timed out" if "timed out" in str(e) else "failed"
-            raise UnusableWorkbook(shown, f"LibreOffice's conversion to .xlsx {reason}", how) from None
+            reason = message("timed_out") if "timed out" in str(e) else message("failed")
+            raise UnusableWorkbook(shown, message("conversion_failed", how=reason), how) from None
         yield out
 
 

@@ -42,6 +42,8 @@ from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
+from sheetkin.messages import message
+
 from .caches import Cache
 from .cells import MAX_COL, MAX_ROW, Sheet, read_book
 from .context import Context, ReadsLater, lookup_name
@@ -330,7 +332,7 @@ def name_scopes(names: dict, sheets: dict[str, Sheet], bound, notes: dict | None
             except ParseError as e:
                 tree = ("const", XlError("#VALUE!"))
                 notes.setdefault(scope, {})[n.upper()] = Note(
-                    f"the name {shorten(n, 60)} is not a formula (={shorten(text, 60)}: {e})", "#VALUE!")
+                    message("name_not_formula", n=shorten(n, 60)) + f"={shorten(text, 60)}: {e})", "#VALUE!")
             out[n.upper()] = _bound_whole(tree, bound)
         return out
     scopes: dict[str | None, dict] = {None: parsed(names, None)}
@@ -587,8 +589,8 @@ def _topological(deps: list[set[int]]) -> tuple[list[int], list[int]]:
 def _circular(path, runs: list[Run], stuck: list[int], strict: bool, problems: list | None) -> None:
     """Single cells on a cycle: an EvaluationError with strict, else #VALUE! and a note."""
     cells = sorted({runs[i].where() for i in stuck})
-    what = (f"circular reference among {', '.join(cells[:12])}"
-            + (f" and {len(cells) - 12} more cells" if len(cells) > 12 else ""))
+    what = (message("circular_more", cells=", ".join(cells[:12]), n=len(cells) - 12) if len(cells) > 12
+            else message("circular") + ", ".join(cells[:12]))
     if strict or problems is None:
         raise EvaluationError(f"{path}: {what}")
     problems.append(f"{cells[0]}: {what}: #VALUE!")
@@ -615,11 +617,11 @@ def _parse_run(formula: str, row: int, col: int, names: dict, names_key) -> tupl
         called = frozenset(functions_of(tree))
         bad = sorted(f for f in called if f not in SUPPORTED)
         if bad:
-            error = Note(f"unsupported function{'s' if len(bad) > 1 else ''} {', '.join(bad)}")
+            error = Note(message("unsupported_functions" if len(bad) > 1 else "unsupported_function", f=", ".join(bad)))
         elif (wrong := arity_problem(tree)) is not None:
             error = Note(wrong, "#VALUE!")
     except ParseError as e:
-        error = Note(f"cannot read the formula ={shorten(formula, 80)}: {e}", e.code)
+        error = Note(message("cannot_read_formula", f="=" + shorten(formula, 80)) + str(e), e.code)
     hit = (tree, error, refs_of(tree) if tree is not None else [], called)
     _PARSED.put(key, hit)
     return hit

@@ -16,6 +16,8 @@ import dataclasses
 from operator import itemgetter
 from typing import cast
 
+from sheetkin.messages import message
+
 from .caches import Cache
 from .cells import Sheet
 from .context import PAD_CELLS
@@ -78,7 +80,7 @@ def check_names(name_refs: dict) -> dict[str, Note]:
             continue
         bad = sorted(f for f in functions_of(tree) if f not in SUPPORTED)
         wrong = None if bad else arity_problem(tree)
-        problem = f"unsupported function {', '.join(bad)}" if bad else wrong
+        problem = message("unsupported_function", f=", ".join(bad)) if bad else wrong
         if problem:
             code = "#NAME?" if bad else "#VALUE!"
             notes[n] = Note(f"the name {n}: " + problem, code)
@@ -254,7 +256,7 @@ def check_reads(path: str, runs: list[Run], dims: dict, name_refs: dict, limits:
         if total > limits.max_reads:
             raise UnusableWorkbook(path, f"its formulas read more than {limits.max_reads:,} cells in all "
                                    f"(at {run.where()}, among others)",
-                                   f"expected at most {limits.max_reads:,} (sheetkin's limit for a workbook)")
+                                   message("at_most_limit", size=f"{limits.max_reads:,}"))
 
 
 def check_formula_text(path: str, runs: list[Run], limits: Limits) -> None:
@@ -264,7 +266,7 @@ def check_formula_text(path: str, runs: list[Run], limits: Limits) -> None:
     if total > limits.max_formula_chars:
         raise UnusableWorkbook(path, f"its formulas hold {total:,} characters of text to read (each formula "
                                "once, a row of cells filled from a neighbour once)",
-                               f"expected at most {limits.max_formula_chars:,} (sheetkin's limit for a workbook)")
+                               message("at_most_limit", size=f"{limits.max_formula_chars:,}"))
 
 
 def run_pieces(run: Run, dims: dict, name_refs: dict, dims_key: tuple | None = None) -> list[Run]:

@@ -90,6 +90,8 @@ from xml.etree.ElementTree import Element, ParseError
 import defusedxml
 import defusedxml.ElementTree as _DET
 
+from sheetkin.messages import message
+
 from .errors import SpreadsheetError
 
 __all__ = ["Limits", "Package", "SheetPart", "UnusableWorkbook", "check_dimension",
@@ -265,8 +267,8 @@ class Package:
         if sig != b"PK\x03\x04":
             self._corrupt(name, "no local header where the directory points")
         if flags & 0x41:
-            self._fail("is encrypted (password-protected zip entries)",
-                       "expected an unencrypted .xlsx file", name)
+            self._fail(message("encrypted_password_protected_zip"),
+                       message("expected_unencrypted_xlsx_file"), name)
         start = off + _LOCAL_HEADER.size + nlen + xlen
         end = start + info.compress_size
         if end > len(data):
@@ -281,7 +283,7 @@ class Package:
             if count > declared:
                 self._corrupt(name, f"inflates to more than the {_size(declared)} its header says")
             if count > limit:
-                self._fail(f"more than {_size(limit)} uncompressed",
+                self._fail(message("uncompressed", size=_size(limit)),
                            f"expected at most {_size(limit)} per part", name)
             crc = zlib.crc32(out, crc)
 
@@ -415,8 +417,8 @@ def _sniff(head: bytes) -> str:
     """What a non-zip file looks like, for the message."""
     if head.startswith(_OLE_MAGIC):
         if "EncryptedPackage".encode("utf-16-le") in head:
-            return "a password-protected, encrypted workbook"
-        return "an old binary Excel .xls file, or another OLE compound file"
+            return message("password_protected_encrypted_workbook")
+        return message("old_binary_excel_xls")
     sample = head[:4096]
     if sample.lstrip(b"\xef\xbb\xbf \t\r\n")[:1] == b"<":
         return "XML or HTML, not a zip archive"
@@ -424,9 +426,9 @@ def _sniff(head: bytes) -> str:
         sample.decode("utf-8")
     except UnicodeDecodeError as e:
         if e.start < len(sample) - 3:
-            return "not a zip archive"
+            return message("not_zip_archive")
     if b"\x00" in sample:
-        return "not a zip archive"
+        return message("not_zip_archive")
     return "plain text, not a zip archive"
 
 
@@ -448,14 +450,14 @@ def open_package(path, limits: Limits = Limits()) -> Package:
             pkg._corrupt(info.filename, "two parts with this name")
         seen.add(low)
         if info.flag_bits & 0x41:
-            fail("is encrypted (password-protected zip entries)", "expected an unencrypted .xlsx file",
+            fail(message("encrypted_password_protected_zip"), message("expected_unencrypted_xlsx_file"),
                  info.filename)
         if info.compress_type not in (zipfile.ZIP_STORED, zipfile.ZIP_DEFLATED):
             fail(f"compressed with zip method {info.compress_type}",
                  "expected deflate or stored, as Excel and LibreOffice write", info.filename)
-    expected_xlsx = "expected an .xlsx workbook"
+    expected_xlsx = message("expected_xlsx_workbook")
     if pkg.find("xl/workbook.bin") is not None:
-        fail("not an .xlsx file (an Excel binary workbook, .xlsb)",
+        fail(message("not_xlsx_file", what=message("excel_binary_workbook_xlsb")),
              "expected .xlsx: save it as Excel Workbook (.xlsx)")
     if pkg.find("word/document.xml") is not None:
         fail("not a spreadsheet (a Word document)", expected_xlsx)
@@ -470,18 +472,18 @@ def open_package(path, limits: Limits = Limits()) -> Package:
     for name in pkg.names:
         low = name.lower()
         if "vbaproject" in posixpath.basename(low) or low.startswith("xl/macrosheets/"):
-            fail(f"contains macros ({shorten(name)})", macro_hint)
+            fail(message("contains_macros", what=shorten(name)), macro_hint)
     suffix = PurePath(shown).suffix.lower()
     if suffix in _MACRO_EXTENSIONS:
-        fail(f"contains macros or is macro-enabled ({suffix})", macro_hint)
+        fail(message("contains_macros_or_enabled", what=suffix), macro_hint)
     external_hint = ("sheetkin reads one workbook on its own: copy the values in and remove the "
                      "links (Excel: Data > Edit Links > Break Link)")
     for name in pkg.names:
         if name.lower().startswith("xl/externallinks/"):
-            fail(f"links to other files (external links: {shorten(name)})", external_hint)
+            fail(message("links_other_files", what=f"external links: {shorten(name)}"), external_hint)
     if len(infos) > limits.max_parts:
         fail(f"has {len(infos)} parts in its zip archive",
-             f"expected at most {limits.max_parts} (sheetkin's limit for a workbook)")
+             message("at_most_limit", size=limits.max_parts))
     total = 0
     for info in infos:
         if info.file_size > limits.max_part_bytes:
@@ -490,8 +492,8 @@ def open_package(path, limits: Limits = Limits()) -> Package:
         _check_ratio(pkg, info, info.file_size)
         total += info.file_size
     if total > limits.max_total_bytes:
-        fail(f"{_size(total)} uncompressed in all",
-             f"expected at most {_size(limits.max_total_bytes)} (sheetkin's limit for a workbook)")
+        fail(f"{_size(total)} uncompressed in all",        # no "more than": said as it is
+             message("at_most_limit", size=_size(limits.max_total_bytes)))
 
     _scan_parts(pkg, ct_name, infos, limits, fail)  # 4. one streaming pass: real sizes, CRCs, DTDs
 
@@ -517,30 +519,30 @@ def _read_file(path, limits: Limits, fail: Callable[..., NoReturn]) -> bytes:
     try:
         st = os.stat(path)
     except FileNotFoundError:
-        fail("no such file", "expected an .xlsx workbook")
+        fail("no such file", message("expected_xlsx_workbook"))
     except (OSError, ValueError) as e:
         fail(f"cannot be read ({shorten(getattr(e, 'strerror', None) or e)})",
              "expected a readable .xlsx file")
     if stat.S_ISDIR(st.st_mode):
-        fail("is a directory", "expected an .xlsx file")
+        fail("is a directory", message("expected_xlsx_file"))
     try:
         # Read-only; non-blocking in case a FIFO replaced the file since the stat.
         fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0))
         with open(fd, "rb") as f:
             st = os.fstat(f.fileno())
             if not stat.S_ISREG(st.st_mode):
-                fail("is not a regular file", "expected an .xlsx file")
+                fail("is not a regular file", message("expected_xlsx_file"))
             if st.st_size > limits.max_file_bytes:
-                fail(f"file is {_size(st.st_size)}", f"expected at most "
-                     f"{_size(limits.max_file_bytes)} (sheetkin's limit for a workbook)")
+                fail(message("file_size", size=_size(st.st_size)), message("at_most_limit",
+                                                                           size=_size(limits.max_file_bytes)))
             data = f.read(limits.max_file_bytes + 1)
     except OSError as e:
         fail(f"cannot be read ({shorten(e.strerror or e)})", "expected a readable .xlsx file")
     if len(data) > limits.max_file_bytes:
-        fail(f"file is more than {_size(limits.max_file_bytes)}",
-             f"expected at most {_size(limits.max_file_bytes)} (sheetkin's limit for a workbook)")
+        fail(message("file_more_than", size=_size(limits.max_file_bytes)),
+             message("at_most_limit", size=_size(limits.max_file_bytes)))
     if not data:
-        fail("empty file (0 bytes)", "expected an .xlsx workbook")
+        fail(message("empty_file_0_bytes"), message("expected_xlsx_workbook"))
     return data
 
 
@@ -550,27 +552,26 @@ def _open_zip(path, data: bytes, limits: Limits,
     if not data.startswith((b"PK\x03\x04", b"PK\x05\x06")):
         what = _sniff(data[:65536])
         if data.startswith(_OLE_MAGIC):
-            fail(f"not an .xlsx file ({what})", "expected .xlsx: save it as Excel Workbook (.xlsx) "
-                 "without a password")
-        fail(f"not an .xlsx file ({what})", "expected an Excel workbook saved as .xlsx")
+            fail(message("not_xlsx_file", what=what), message("expected_xlsx_save_it"))
+        fail(message("not_xlsx_file", what=what), message("expected_excel_workbook_saved"))
     try:
         archive = zipfile.ZipFile(io.BytesIO(data))
         infos = archive.infolist()
     except (zipfile.BadZipFile, zipfile.LargeZipFile, EOFError, OSError, ValueError,
             NotImplementedError, struct.error, UnicodeError) as e:
-        detail = "its end is missing" if str(e) == "File is not a zip file" else shorten(e, 120)
-        fail(f"corrupt or truncated zip archive ({detail})",
-             "expected a complete .xlsx file: save or copy it again")
+        detail = message("end_missing") if str(e) == "File is not a zip file" else shorten(e, 120)
+        fail(message("corrupt_zip", what=detail),
+             message("expected_complete_xlsx_file"))
     pkg = Package(path, data, archive, limits)
     mimetype = pkg.find("mimetype")
     if mimetype is not None and pkg.info(mimetype).file_size <= 200:
         kind = pkg.read(mimetype, limit=200).decode("ascii", "replace").strip()
         if kind.startswith("application/vnd.oasis.opendocument.spreadsheet"):
-            fail("not an .xlsx file (an OpenDocument spreadsheet, .ods)",
-                 "expected .xlsx: in LibreOffice, File > Save As > Excel 2007-365 (.xlsx)")
+            fail(message("not_xlsx_file", what=message("opendocument_spreadsheet_ods")),
+                 message("expected_xlsx_libreoffice_file"))
         if kind.startswith("application/vnd.oasis.opendocument"):
-            fail(f"not an .xlsx file (an OpenDocument file, {shorten(kind, 80)})",
-                 "expected an Excel workbook saved as .xlsx")
+            fail(message("not_xlsx_file", what=f"an OpenDocument file, {shorten(kind, 80)}"),
+                 message("expected_excel_workbook_saved"))
     return pkg, infos
 
 
@@ -610,7 +611,7 @@ def _scan_parts(pkg: Package, ct_name: str, infos: list[zipfile.ZipInfo], limits
                               "refused: Excel and LibreOffice never write one", name)
                 tail = window[-_DTD_OVERLAP:]
         if real_total > limits.max_total_bytes:
-            fail(f"more than {_size(limits.max_total_bytes)} uncompressed in all",
+            fail(message("uncompressed_all", size=_size(limits.max_total_bytes)),
                  f"expected at most {_size(limits.max_total_bytes)}")
         if keep is not None:                    # the whole part, checked (chunks raised otherwise)
             pkg._inflated[name] = b"".join(keep)
@@ -626,16 +627,16 @@ def _check_content(pkg: Package, macro_hint: str, external_hint: str, fail: Call
     for name in pkg.names:
         ct = (pkg.content_type(name) or "").lower()
         if "macroenabled" in ct or "vbaproject" in ct or "macrosheet" in ct:
-            fail(f"contains macros or is macro-enabled (content type of {shorten(name)})", macro_hint)
+            fail(message("contains_macros_or_enabled", what=f"content type of {shorten(name)}"), macro_hint)
     for rels in [n for n in pkg.names if n.lower().endswith(".rels")]:
         for _id, rtype, target, mode in pkg._parse_rels(rels, posixpath.dirname(posixpath.dirname(rels))):
             rel_kind = _rel_tail(rtype).lower()
             if "vbaproject" in rel_kind or "macrosheet" in rel_kind:
-                fail(f"contains macros ({shorten(_rel_tail(rtype))} relationship in {shorten(rels)})",
+                fail(message("contains_macros", what=f"{shorten(_rel_tail(rtype))} relationship in {shorten(rels)}"),
                      macro_hint)
             if "externallink" in rel_kind or (mode == "External" and rel_kind != "hyperlink"):
-                fail(f"links to other files ({shorten(_rel_tail(rtype))} relationship to "
-                     f"{shorten(target, 120)} in {shorten(rels)})", external_hint)
+                fail(message("links_other_files", what=f"{shorten(_rel_tail(rtype))} relationship to "
+                                                       f"{shorten(target, 120)} in {shorten(rels)}"), external_hint)
 
 
 def _declared_encoding(head: bytes) -> str | None:

@@ -15,6 +15,8 @@ import math
 import re
 from dataclasses import dataclass
 
+from sheetkin.messages import message
+
 from .cells import MAX_COL, MAX_ROW
 from .coords import Token, Tokenizer, column_index_from_string
 from .errors import SpreadsheetError
@@ -223,7 +225,7 @@ def parse_formula(formula: str, host_r: int, host_c: int, names: dict):
     parser = _Parser(tokens, host_r, host_c, names)
     tree = parser.expression(0)
     if parser.pos != len(tokens):
-        raise ParseError(f"unexpected {tokens[parser.pos].value!r}")
+        raise ParseError(message("unexpected", t=repr(tokens[parser.pos].value)))
     return tree
 
 
@@ -260,7 +262,7 @@ class _Parser:
     def primary(self):
         t = self.take() if self.peek() else None
         if t is None:
-            raise ParseError("the formula ends too early")
+            raise ParseError(message("formula_ends_too_early"))
         if t.type == Token.OP_PRE:
             # unary minus binds tighter than ^ in Excel: -2^2 = 4
             node = ("neg", self.primary()) if t.value == "-" else self.primary()
@@ -271,13 +273,13 @@ class _Parser:
             node = self.expression(0)
             close = self.take() if self.peek() else None
             if close is None or close.type != Token.PAREN:
-                raise ParseError("unbalanced parentheses")
+                raise ParseError(message("unbalanced_parentheses"))
             return self.postfix(node)
         if t.type == Token.FUNC and t.subtype == Token.OPEN:
             return self.postfix(self.function(function_name(t.value[:-1])))
         if t.type == Token.ARRAY and t.subtype == Token.OPEN:
             return self.postfix(self.array_constant())
-        raise ParseError(f"unexpected {t.value!r}")
+        raise ParseError(message("unexpected", t=repr(t.value)))
 
     def array_constant(self):
         """An array constant after its "{": ("array", rows of values); "," between the values
@@ -321,11 +323,11 @@ class _Parser:
                 args.append(self.expression(0))
             sep = self.take() if self.peek() else None
             if sep is None:
-                raise ParseError(f"{name}( is not closed")
+                raise ParseError(message("not_closed", f=name))
             if sep.type == Token.FUNC and sep.subtype == Token.CLOSE:
                 return ("fn", name, args)
             if not (sep.type == Token.SEP and sep.subtype == Token.ARG):
-                raise ParseError(f"unexpected {sep.value!r} in {name}(...)")
+                raise ParseError(message("unexpected_in", t=repr(sep.value), f=name))
 
     def postfix(self, node):
         while self.peek() and self.peek().type == Token.OP_POST:

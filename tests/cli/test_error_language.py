@@ -9,29 +9,127 @@ from pathlib import Path
 import pytest
 
 from sheetkin.cli.commands import main
-from sheetkin.cli.help_texts import ERROR_WORD, ERRORS, WARNING_WORD, WARNINGS, error_line, say_error, say_line
+from sheetkin.cli.help_texts import ERROR_WORD, WARNING_WORD, error_line
+from sheetkin.messages import DOMAINS, pattern, say
 
 CYRILLIC = re.compile("[а-яіїєґА-ЯІЇЄҐ]")
 SCENE = str(Path(__file__).resolve().parents[2] / "workbooks" / "fourbar.toml")
 
 
-@pytest.mark.parametrize("k", range(len(ERRORS) + len(WARNINGS)))
-def test_each_error_in_three_languages(k):
-    """Every entry (errors, then warnings and closing lines): its English example is the
-    message it matches; ru and uk both say it, differently, with Cyrillic words and every
-    value the English named."""
-    table, say = (ERRORS, say_error) if k < len(ERRORS) else (WARNINGS, say_line)
-    pattern, said, example = table[k if k < len(ERRORS) else k - len(ERRORS)]
-    m = re.search(pattern, example)
-    assert m, (pattern, example)
-    assert set(said) == {"ru", "uk"} and all(said[lang].strip() for lang in said)
-    out = {lang: say(example, lang) for lang in ("ru", "uk")}
+# English messages as sheetkin prints them (argparse's own among them), the errors' and
+# the warnings' entries of sheetkin.messages each met by one at least
+EXAMPLES = [
+    ('errors',
+     "the following arguments are required: FILE|FOLDER|ZIP (see 'sheetkin validate --help')"),
+    ('errors',
+     "argument --copies: invalid choice: 'x' (choose from 'hold', 'keep', 'zero') (see 'sheetkin validate --help')"),
+    ('errors',
+     "argument --jobs: expected a whole number, got 'x' (see 'sheetkin validate --help')"),
+    ('errors',
+     "argument -n: expected a number >= 1, got '0' (see 'sheetkin variants --help')"),
+    ('errors',
+     "argument --roster: expected one argument (see 'sheetkin validate --help')"),
+    ('errors',
+     "unrecognized arguments: --bogus (see 'sheetkin --help')"),
+    ('errors',
+     'class-21/roster.csv: no such roster file; `variants --class-list` keeps it in class-21/teacher/roster.csv'),
+    ('errors',
+     'class-21/roster.csv: no such roster file'),
+    ('errors',
+     'nope.key: no such key file (`sheetkin variants` writes .sheetkin-key in its --out folder)'),
+    ('errors',
+     'participants.csv: --class-list: no such file'),
+    ('errors',
+     "class.csv:1: --class-list: expected columns 'First name' and 'Last name' (or 'Full name') and one of 'Email "
+     "address', 'ID number', 'Username'; got 'foo', 'bar'"),
+    ('errors',
+     'class.xlsx: --class-list: not UTF-8 text but a binary file (a workbook?); save it as CSV UTF-8'),
+    ('errors',
+     'class.csv:3: --class-list: not UTF-8 (nor Windows-1251) text; save it as CSV UTF-8'),
+    ('errors',
+     'class.csv: --class-list: empty; expected a header and one line per student'),
+    ('errors',
+     'class.csv:4: --class-list: a line without a name or a Email address'),
+    ('errors',
+     'class.csv: --class-list names no student'),
+    ('errors',
+     "--class-list fills grades.csv's identifier column: give --grades GRADES.csv too"),
+    ('errors',
+     "--out-of 0: expected the grade item's maximum, more than 0"),
+    ('errors',
+     "--scale: 'a=b': expected NAME=LEAST SCORE (0..100), e.g. 'отлично=85,хорошо=70'"),
+    ('errors',
+     'class-21/teacher/roster.csv: exists; refusing to overwrite it (use --force: an issued roster and key are then '
+     'kept beside the new ones, dated; or another --out)'),
+    ('errors',
+     '--out class.csv: not a folder'),
+    ('errors',
+     "--vary Q=1..2: no given value 'Q' in this scene; valid: L1, L2, L3"),
+    ('warnings',
+     'grades.csv: 4 submission(s) graded'),
+    ('warnings',
+     "grades.csv: Moodle's grading worksheet worksheet.csv with 4 submission(s) graded (upload it: Upload grading "
+     'worksheet)'),
+    ('warnings',
+     "no --class-list: the column 'Email address' is empty; Moodle identifies a student by it, not by name (fill it "
+     "in, or give Moodle's participants export as --class-list)"),
+    ('warnings',
+     "3 submission(s) not found (or found twice) in the class list, their 'Email address' left empty: sub/a.xlsx, "
+     'sub/b.xlsx'),
+    ('warnings',
+     'old.xlsx (newer: new.xlsx)'),
+    ('warnings',
+     'one grade per student: 1 older file(s) not graded: old.xlsx, older.xlsx'),
+    ('warnings',
+     '1 book(s) not handed in by their own student: a.xlsx: found in the folder of Петров Пётр'),
+    ('warnings',
+     '2 possible cop(ies) held for review, their score left empty (--copies keep: their score; --copies zero: 0): '
+     'a.xlsx, b.xlsx'),
+    ('warnings',
+     '3 student(s) of the class list handed nothing in, their score left empty: Иванов Иван'),
+    ('warnings',
+     'the worksheet has no line for participant(s) 501, 502: their grade is not in it'),
+    ('warnings',
+     "class/roster.csv contradicts 3 of the 4 sealed books (their seals check, the roster's given data differ): is "
+     "it another class's roster, or re-written? Each sealed book is graded against its sealed data"),
+    ('warnings',
+     "none of the 4 issued books' seals matches the key: is the key (or --roster's folder) another class's?"),
+    ('warnings',
+     "none of the 4 books' variants is in class/roster.csv: is it another class's roster?"),
+    ('warnings',
+     'cls: 3 variants of fourbar.toml (seed 1: --seed 1 makes the same again); cls/roster.csv; the key '
+     'cls/.sheetkin-key stays with you'),
+    ('warnings',
+     'cls: 3 variants of fourbar.toml (seed 1: --seed 1 makes the same again), assigned to the 4 students of '
+     'class.csv (cls/teacher/assignment.csv); cls/teacher/roster.csv; the key cls/teacher/.sheetkin-key stays with '
+     'you'),
+    ('warnings',
+     'upload to Moodle cls/students (one book per student, named by the student); cls/teacher is yours (keys, '
+     'roster, assignment.csv, the key): never upload it; grade with --roster cls/teacher/roster.csv'),
+]
+
+
+@pytest.mark.parametrize(("domain", "example"), EXAMPLES)
+def test_each_error_in_three_languages(domain, example):
+    """Every example (errors, then warnings and closing lines) is a message of its domain;
+    ru and uk both say it, differently, with Cyrillic words and every value the English
+    named."""
+    found = [m for section, _ in DOMAINS[domain] for e in section.values() if (m := re.search(pattern(e), example))]
+    assert found, example
+    out = {lang: say(example, lang, domain, "report") for lang in ("ru", "uk")}
     assert out["ru"] != example and out["uk"] != example and out["ru"] != out["uk"]
     for lang, text in out.items():
         assert CYRILLIC.search(text), (lang, text)
-        for value in m.groupdict().values():
-            assert value in text, (lang, value, text)
-    assert say(example, "en") == example and say(example, None) == example
+        for m in found:             # a value holding another message ("{who}") is said too
+            for value in m.groupdict().values():
+                assert value in text or any(o.group(0) in value for o in found if o is not m), (lang, value, text)
+    assert say(example, "en", domain) == example and say(example, None, domain) == example
+
+
+def test_every_error_and_warning_has_an_example():
+    for domain in ("errors", "warnings"):
+        for key, entry in DOMAINS[domain][0][0].items():
+            assert any(re.search(pattern(entry), e) for d, e in EXAMPLES if d == domain), key
 
 
 def test_the_error_line_names_its_word():

@@ -6,8 +6,7 @@ import re
 
 import pytest
 
-from sheetkin.course.report_messages import say
-from sheetkin.course.report_texts import say_grading
+from sheetkin.messages import say
 
 NOTES = [
     "does not follow the given data (2; right for the issued data, wrong when they change; they earn nothing): "
@@ -43,5 +42,5 @@ def test_the_new_notes_are_said_in_the_teachers_language(note, lang):
 def test_the_score_explained_says_the_right_positions_and_not_judged(lang, want):
     text = ("63.5: 35 of 63 rows computed right: 59.5 of 90 (28 wrong, their right positions: 9.5); "
             "not judged, check by hand: 2 rows, 1 check rows")
-    said = say_grading(text, lang)
+    said = say(text, lang, "grading")
     assert want in said and "check by hand" not in said and "rows" not in said, said

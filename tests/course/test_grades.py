@@ -84,11 +84,11 @@ def test_the_score_explained_adds_up(kw):
                                        (21, "строка", "рядок"), (22, "строки", "рядки"), (25, "строк", "рядків"),
                                        (111, "строк", "рядків"), (101, "строка", "рядок")])
 def test_counted_check_rows_agree_with_their_number(n, ru, uk):
-    from sheetkin.course.report_texts import say_grading
+    from sheetkin.messages import say
     en = f"{n} check row{'' if n == 1 else 's'} failing: -{2 * n}"
-    assert say_grading(en, "ru").startswith(f"{n} {ru} проверки не выполн")
-    assert say_grading(en, "uk").startswith(f"{n} {uk} перевірки не виконано")
-    after_of = say_grading(f"3 of {n} rows computed right", "ru")
+    assert say(en, "ru", "grading").startswith(f"{n} {ru} проверки не выполн")
+    assert say(en, "uk", "grading").startswith(f"{n} {uk} перевірки не виконано")
+    after_of = say(f"3 of {n} rows computed right", "ru", "grading")
     assert after_of == f"3 из {n} {'строки' if ru == 'строка' else 'строк'} вычислены верно"
 
 
