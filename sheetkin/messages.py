@@ -285,6 +285,16 @@ REPORT: dict[str, Msg] = {
         "found in the folder of {a}, but {b}'s name is typed in it",
         ru='найдена в папке {a}, но в ней введено имя {b}',
         uk="знайдено в теці {a}, але в ній введено ім'я {b}"),
+    'found_folder_typed_other': Msg(
+        "found in the folder of {a}, but the name typed in it is {b}",
+        ru='найдена в папке {a}, но в ней введено имя {b}',
+        uk="знайдено в теці {a}, але в ній введено ім'я {b}",
+        fields={'b': "'[^']*'|\"[^\"]*\""}),
+    'claimed_twice': Msg(
+        '{ident} is claimed by {a} and by {b}: not graded under it',
+        ru='{ident} заявлен(а) {a} и {b}: под этим именем не оценено',
+        uk='{ident} заявлено {a} і {b}: під цим іменем не оцінено',
+        fields={'ident': '\\S+'}),
     'issued_handed': Msg(
         'issued to {a}, handed in by {b}',
         ru='выдана {a}, сдал(а) {b}',

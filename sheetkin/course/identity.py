@@ -191,7 +191,7 @@ def _identify_one(rep, cl: ClassList | None, assignment: Assignment | None) -> I
         elif typed and typed_person is None and not same_name_loosely(typed, sub.name):
             # no class list (the README's path), or a typed name it does not hold: the
             # folder's name and the typed one share no word (issue 30)
-            me.flags.append(f"found in the folder of {sub.name}, but the name typed in it is {typed!r}")
+            me.flags.append(message("found_folder_typed_other", a=sub.name, b=repr(typed)))
     elif typed:
         if typed_person is None and sealed and cl is not None:
             # a name two namesakes share ("Иванов И."): the book's seal says which of them
@@ -327,8 +327,7 @@ def _one_line_per_identifier(reports, ids: list[Identity]) -> None:
             if i == keep:
                 continue
             others = ", ".join(reports[j].path for j in idx if j != i)[:300]
-            ids[i].unmatched = (f"{ident} is claimed by {ids[i].submitter or 'this book'} and by {others}: "
-                                "not graded under it")
+            ids[i].unmatched = message("claimed_twice", ident=ident, a=ids[i].submitter or "this book", b=others)
             ids[i].flags.append(ids[i].unmatched)
             ids[i].ident = ""
 
