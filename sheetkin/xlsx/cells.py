@@ -18,6 +18,7 @@ import re
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from itertools import compress, product, repeat
+from operator import not_
 from pathlib import Path
 from xml.etree import ElementTree
 
@@ -466,7 +467,7 @@ def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits
         raise _NotSimple                            # a cell listed twice
     # the used range and the limits: cells that hold something (a formula, a value), not
     # styled emptiness (<c r="XFD9" s="3"/>: LibreOffice styles whole rows and columns)
-    held = [bool(f or a or v or i) for f, a, v, i in zip(ftexts, fattrs, vtexts, itexts, strict=False)]
+    held = list(map(any, zip(ftexts, fattrs, vtexts, itexts, strict=False)))
     if all(held):
         last_row, last_col = max(rows), max(cols)
     else:
@@ -484,7 +485,9 @@ def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits
     if any(itexts):
         with_value = sorted(set(with_value) | set(compress(range(len(keys)), itexts)))
     if not saved:                                   # constants only (and what dangling cells saved)
-        with_value = [i for i in with_value if keys[i] not in formulas]
+        with_value = list(with_value)
+        is_formula = map(formulas.__contains__, map(keys.__getitem__, with_value))
+        with_value = list(compress(with_value, map(not_, is_formula)))
     _store_values(sh, with_value, keys, types, vtexts, itexts, shared, formulas)
     sh.formulas.update(formulas)
     return sh
@@ -881,6 +884,8 @@ def _sheets_named(sh: Sheet, sheet_names: list[str]) -> list[str] | None:
     text = "\0".join(sh.formulas.values()).encode("utf-8").lower()
     if any(p.search(text) for p in _READS_UNNAMED):
         return None
+    if b"!" not in text:                            # no sheet named (each name below looks for its "!")
+        return []
     named, heads = [], None
     for name in sheet_names:
         low = name.encode("utf-8").lower()
