@@ -8,7 +8,7 @@ student's file is recalculated by it (one `--convert-to xlsx` run with a private
 recalculates every formula, sheetkin.xlsx.libreoffice) and those cells take LibreOffice's
 values: the rows and check rows that read them are judged on them as on sheetkin's own. So do
 the formulas that are #NAME? here while LibreOffice computes them (a formula sheetkin cannot
-read, A1:INDEX(...), and what reads it). The cells stay not computed here (Book.computed is
+read, A1:IF(...), and what reads it). The cells stay not computed here (Book.computed is
 False, or #NAME? in a nudged copy): the behavioural check does not judge them on the nudged
 data (recalculating a nudged copy per variant would cost a soffice run each, ~3 s; only the
 issued data are recalculated).
@@ -34,7 +34,8 @@ def fill_uncomputed(book: Book, source: str | Path, enabled: bool = True) -> int
     `source` (in place); returns how many took a value (0: nothing to do, LibreOffice absent
     or switched off, or it failed: then the cells stay #NAME?, not judged)."""
     # the cells not computed here, and the formulas that are #NAME? here (one sheetkin cannot
-    # read, such as a range ending in a function A1:INDEX(...), and every formula reading it)
+    # read, such as a range ending in a function other than INDEX, OFFSET or INDIRECT, A1:IF(...),
+    # and every formula reading it)
     cells = {s: set(marked) for s, marked in book.not_computed.items()}
     for s, sh in book.sheets.items():
         if s in book.tag:

@@ -18,7 +18,7 @@ import numpy as np
 
 from . import functions as fx
 from .cells import MAX_COL, MAX_ROW
-from .parse import ParseError, Ref, parse_formula
+from .parse import ParseError, Ref, parse_formula, tree_nodes
 from .runs import EvaluationError, Run, span, target_block
 from .table import FUNCTIONS, SCALAR_CONTEXT
 from .values import (
@@ -61,7 +61,9 @@ def _binary_op(op: str, a: Val, b: Val) -> Val:
     return compare(op, a, b)
 
 
-REFERENCE_FUNCTIONS = frozenset({"ANCHORARRAY", "OFFSET", "INDIRECT"})   # their value is a reference
+REFERENCE_FUNCTIONS = frozenset({"ANCHORARRAY", "OFFSET", "INDIRECT", ":"})   # their value is a reference
+# a reference these make where one value is wanted is intersected with the formula's cell
+_INTERSECTED = frozenset({"INDEX", "OFFSET", "INDIRECT", ":"})
 PAD_CELLS = 1 << 16      # a range up to this many cells keeps its shape past the used range
 
 
@@ -133,12 +135,20 @@ class Context:
         self.pending: dict[str, np.ndarray] = {}
 
     def formula(self, tree, run: Run) -> Val:
-        """A run's formula evaluated, with implicit intersection unless it is an array formula."""
+        """A run's formula evaluated, with implicit intersection unless it is an array formula.
+        In a cell that is not an array formula, an array made of constants alone (={1,2},
+        ={1,2;3,4}*2) shows its first element, as in Excel; any other array there stays as it
+        is (#VALUE! in the cell: a reference's values were intersected before)."""
         self.implicit = run.array is None
         try:
-            return self.eval(tree, run)
+            v = self.eval(tree, run)
         finally:
             self.implicit = False
+        if run.array is None and v.shape[1:] != (1, 1) and not any(
+                node[0] in ("ref", "name") or (node[0] == "fn" and node[1] in _INTERSECTED | REFERENCE_FUNCTIONS)
+                for node in tree_nodes(tree)):
+            return Val(v.num[:, :1, :1], v.tag[:, :1, :1], None if v.txt is None else v.txt[:, :1, :1])
+        return v
 
     def name(self, name: str, run: Run):
         """The tree a name stands for in a formula of run's sheet, or None."""
@@ -265,9 +275,16 @@ class Context:
         if self.implicit and name not in SCALAR_CONTEXT:
             self.implicit = False             # its arguments are ranges or arrays (Excel)
             try:
-                return self._call(name, args, run)
+                v = self._call(name, args, run)
             finally:
                 self.implicit = True
+            if v.shape[1:] != (1, 1) and name in _INTERSECTED:
+                # a reference made where one value is wanted (=INDEX(B1:B5,0) in D2: B2):
+                # intersected with the formula's cell, as a typed range is
+                ref = self.reference(("fn", name, args), run)
+                if ref is not None and v.shape[1:] == (ref.r2 - ref.r1 + 1, ref.c2 - ref.c1 + 1):
+                    return intersect(v, ref, run)
+            return v
         return self._call(name, args, run)
 
     def _call(self, name: str, args, run: Run) -> Val:
@@ -335,7 +352,22 @@ class Context:
             return self._indirect(args, run)
         if name == "INDEX":
             return self._index_reference(args, run)
+        if name == ":":
+            return self._span(args, run)
         return None
+
+    def _span(self, args, run: Run) -> Ref | None:
+        """start:end, either a reference-returning function (A1:INDEX(A1:A9,3)): the smallest
+        block that holds both, on their sheet (None, #REF!, for two sheets or no reference)."""
+        a, b = self.reference(args[0], run), self.reference(args[1], run)
+        if a is None or b is None or a.sheet != b.sheet:
+            return None
+        return Ref(a.sheet, min(a.r1, b.r1), min(a.c1, b.c1), max(a.r2, b.r2), max(a.c2, b.c2),
+                   True, True, True, True)
+
+    def range_value(self, args, run: Run) -> Val:
+        """The values of start:end (see _span), read after the cells it may read, as OFFSET's."""
+        return self.read_reference(self.reference(("fn", ":", args), run), run, "the range A1:INDEX(...)")
 
     def _number(self, node, run: Run, default: float | None = None) -> float | None:
         """An argument's value in the run's first cell as a number; None for an error or text."""

@@ -150,6 +150,9 @@ def function_name(text: str) -> str:
     return name
 
 
+# the functions whose value is a reference, which a range may start or end at (A1:INDEX(A1:A9,3));
+# ":" is the range operator between them, a node ("fn", ":", [start, end]) of the tree
+RANGE_ENDS = frozenset({"INDEX", "OFFSET", "INDIRECT", ":"})
 _PREC = {"=": 1, "<>": 1, "<": 1, ">": 1, "<=": 1, ">=": 1, "&": 2, "+": 3, "-": 3, "*": 4, "/": 4, "^": 5}
 
 
@@ -276,6 +279,12 @@ class _Parser:
                 raise ParseError(message("unbalanced_parentheses"))
             return self.postfix(node)
         if t.type == Token.FUNC and t.subtype == Token.OPEN:
+            start, colon, name = t.value[:-1].rpartition(":")
+            if colon and start and function_name(name) in RANGE_ENDS:
+                # A1:INDEX(...): the tokenizer keeps a range's start with the function it ends in
+                left = _operand_ref(start, self.host_r, self.host_c, self.names)
+                left = ("ref", left) if isinstance(left, Ref) else left
+                return self.postfix(("fn", ":", [left, self.function(function_name(name))]))
             return self.postfix(self.function(function_name(t.value[:-1])))
         if t.type == Token.ARRAY and t.subtype == Token.OPEN:
             return self.postfix(self.array_constant())
@@ -330,9 +339,23 @@ class _Parser:
                 raise ParseError(message("unexpected_in", t=repr(sep.value), f=name))
 
     def postfix(self, node):
-        while self.peek() and self.peek().type == Token.OP_POST:
-            self.take()
-            node = ("pct", node)
+        while (nxt := self.peek()) is not None:
+            if nxt.type == Token.OP_POST:
+                self.take()
+                node = ("pct", node)
+                continue
+            if not (node[0] == "fn" and node[1] in RANGE_ENDS and nxt.value.startswith(":") and len(nxt.value) > 1):
+                break
+            # INDEX(...):A5 and OFFSET(...):INDEX(...): a range that starts at a function's reference
+            if nxt.type == Token.OPERAND:
+                self.take()
+                right = _operand_ref(nxt.value[1:], self.host_r, self.host_c, self.names)
+                node = ("fn", ":", [node, ("ref", right) if isinstance(right, Ref) else right])
+            elif nxt.type == Token.FUNC and nxt.subtype == Token.OPEN and function_name(nxt.value[1:-1]) in RANGE_ENDS:
+                self.take()
+                node = ("fn", ":", [node, self.function(function_name(nxt.value[1:-1]))])
+            else:
+                break
         return node
 
     def expression(self, min_prec: int):

@@ -25,7 +25,8 @@ from .parse import MAX_ARGS, tree_nodes
 from .values import AGGREGATES, LAZY, SCALAR_FUNCS
 
 CATEGORIES = ("Math & Trig", "Statistical", "Logical", "Information", "Lookup & Reference", "Text")
-SYNTAX = "Excel 365 syntax"          # E1# and @, which files hold as functions: not counted as functions
+SYNTAX = "Excel 365 syntax"          # E1# and @, which files hold as functions, and the range operator
+                                     # of A1:INDEX(...) (parse.RANGE_ENDS): not counted as functions
 
 
 @dataclass(frozen=True)
@@ -96,7 +97,7 @@ def _lazy(name: str) -> Callable[..., Any]:
 
 
 MANY = (1, MAX_ARGS)
-DYNAMIC = frozenset({"OFFSET", "INDIRECT"})   # they make references while they run (Run.dynamic)
+DYNAMIC = frozenset({"OFFSET", "INDIRECT", ":"})   # they make references while they run (Run.dynamic)
 MATH, STAT, LOGIC, INFO, LOOKUP, TEXT = CATEGORIES
 
 # ---------------------------------------------------------------- the generated sheets' own (values.py)
@@ -126,6 +127,7 @@ _add(TEXT, {"REPT": SCALAR_FUNCS["REPT"]}, (2, 2))
 _add(TEXT, {"VALUE": _lazy("VALUE")}, (1, 1), ranges=True, lazy=True)
 _add(SYNTAX, {"ANCHORARRAY": _lazy("ANCHORARRAY")}, (1, 1), ranges=True, lazy=True)
 _add(SYNTAX, {"SINGLE": _lazy("SINGLE")}, (1, 1), ranges=True, lazy=True)
+_add(SYNTAX, {":": _lazy(":")}, (2, 2), ranges=True, lazy=True)     # A1:INDEX(...), see parse.RANGE_ENDS
 
 # ---------------------------------------------------------------- Math & Trig
 _add(MATH, {n: mathstat.get("TRIG", n) for n in ("ACOT", "ACOTH", "COT", "CSC", "SEC", "COTH", "CSCH", "SECH", "SINH",

@@ -382,8 +382,8 @@ def is_ref(ctx: Evaluates, args: Sequence[Any], run: Any) -> Val:
     if node[0] == "name":
         target = ctx.name(node[1], run)
         node = target if target is not None else node
-    yes = node[0] == "ref" or (node[0] == "fn" and node[1] in ("OFFSET", "INDIRECT", "INDEX"))
-    if node[0] == "fn" and node[1] in ("OFFSET", "INDIRECT"):
+    yes = node[0] == "ref" or (node[0] == "fn" and node[1] in ("OFFSET", "INDIRECT", "INDEX", ":"))
+    if node[0] == "fn" and node[1] in ("OFFSET", "INDIRECT", ":"):
         v = ctx.eval(node, run)
         return Val(np.where(v.tag[:, :1, :1] == REF, 0.0, 1.0), np.full((v.shape[0], 1, 1), BOOL, np.int8))
     return constant(bool(yes))

@@ -214,7 +214,8 @@ def stored(formula: str) -> str:
     return _CALL.sub(lambda m: ("_xlfn." if m[1] in NEWER else "") + m[0], formula)
 
 
-SYNTAX = {"ANCHORARRAY", "SINGLE"}        # Excel 365 syntax, tested in test_real_files.py
+SYNTAX = {"ANCHORARRAY", "SINGLE", ":"}   # Excel 365 syntax, tested in test_real_files.py; the range
+                                           # operator of A1:INDEX(...), in test_range_ends.py
 
 
 def write_book(path: Path) -> dict[str, str]:

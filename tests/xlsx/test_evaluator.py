@@ -842,6 +842,29 @@ def test_reading_every_kind_of_cell(tmp_path, monkeypatch):
     assert book.value("Calc", 2, 2) == 7.5 and book.value("Calc", 4, 1) is False
 
 
+FORMULA_TEXTS = [b'IF(E1,0,"&#1085;&#1077; &#1089;&#1086;")', b'IF(F1,0,"&#1085;&#1077; &#1089;&#1086;")',
+                 b'A1&amp;"&amp;#1085;"', b'"&#38;amp;"&amp;B2', b'IF(A1&gt;3,"&quot;&#34;","")', b'"',
+                 b'""&lt;&#x416;&#x41;', b"SUM(A1:B2)", b"", b'"&#1085;', b'&#1085;"x"&#1085;', b"&#128512;&apos;"]
+
+
+@pytest.mark.parametrize("bad", [b"&nbsp;", b'"&#0;"', b"A1 & B1", b'"]]>"', b"&#xD800;", b"&#12345678;", b"&#X41;"])
+def test_formula_texts_unescape_as_expat_does(bad):
+    """texts_of (the fast path's unescaping, memoized per piece between quotes) gives what
+    expat gives for each text, with the same pieces repeated and references that spell
+    "&", '"' and further references; a text expat refuses is _NotSimple (the tree path decides)."""
+    from xml.etree import ElementTree
+
+    from sheetkin.xlsx import cells as xlsxread
+    items = FORMULA_TEXTS * 3
+    want = [ElementTree.fromstring(b"<t>" + i + b"</t>").text or "" for i in items]
+    assert xlsxread.texts_of(items) == want
+    assert want[2] == 'A1&"&#1085;"' and want[3] == '"&amp;"&B2' and want[4] == 'IF(A1>3,"""","")'
+    with pytest.raises(ElementTree.ParseError):
+        ElementTree.fromstring(b"<t>" + bad + b"</t>")
+    with pytest.raises(xlsxread._NotSimple):
+        xlsxread.texts_of([*items, bad])
+
+
 @pytest.mark.parametrize("variant", ["pretty", "prefixed", "crlf", "t_after_other", "stray_ampersand"])
 def test_unusual_xml_falls_back_to_the_element_tree(tmp_path, monkeypatch, variant):
     """Indented XML stays on the fast path; prefixed names (x:c), a carriage return in text,
