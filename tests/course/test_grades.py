@@ -488,3 +488,37 @@ def test_an_empty_exercise_scores_zero(tmp_path):
     empty, key = validate(tmp_path / "ex.xlsx"), validate(tmp_path / "key.xlsx")
     assert score(empty) == 0.0 and score(key) == 100.0
     assert {r.name for r in empty.rows if r.status == "correct"} >= {"phi_1"}    # right, but given
+
+
+def _every_part_of_the_score() -> list[Report]:
+    """Reports that between them take every branch of grades.score_parts and every verdict."""
+    typed = RowReport("t0", 40, "correct", source="typed", typed_cells=[1])
+    partly = RowReport("p0", 41, "wrong", wrong_cells=[1], cause=True)
+    not_judged = RowReport("n0", 42, "correct", not_judged=True)
+    checks = dict(checks_issued=10, checks_deleted=["chk_a"], checks_typed=["chk_b"], checks_unfilled=2,
+                  checks_not_judged=["chk_c"], filled_share=0.5)
+    return [report(), report(correct=3, wrong=2, missing=1, failing=1), report(correct=2, failing=3, **checks),
+            report(correct=0), report(correct=0, rows=[typed]),
+            report(given_changed=[{"name": "L1", "cell": "D6", "issued": 0.14, "got": 0.05}]),
+            report(seal="scene sheet edited"), Report("x.xlsx", error="x.xlsx: not a workbook"),
+            *(dataclasses.replace(report(correct=2), rows=report(correct=2).rows + extra)
+              for extra in ([typed], [partly], [not_judged], [typed, partly, not_judged]))]
+
+
+@pytest.mark.parametrize("lang", ["ru", "uk"])
+def test_the_score_explained_and_the_verdict_leave_no_english_word(lang):
+    """Issue 29: the score's explanation and the verdict are built in English in grades.py and
+    said through the messages' catalogue (grading): a part reworded there without its entry
+    would stay English in a Russian teacher's grades.csv. Every branch is taken here."""
+    from sheetkin.course.grades import explain, verdict
+    from sheetkin.messages import say
+    seen_verdicts = set()
+    for rep in _every_part_of_the_score():
+        for text in (explain(rep), verdict(rep)):
+            said = say(text, lang, "grading")
+            # file names and the unusable file's own reason are the book's, not sheetkin's words
+            left = re.findall(r"[A-Za-z]{2,}", said.replace("not a workbook", "").replace("x.xlsx", ""))
+            assert not left, (text, said, left)
+        seen_verdicts.add(verdict(rep))
+    from sheetkin.course.grades import VERDICTS
+    assert seen_verdicts == set(VERDICTS)
