@@ -24,7 +24,9 @@ a formula reading none of the given data cannot follow them.
 No penalty without evidence: a row whose formulas sheetkin cannot evaluate (a function the
 evaluator lacks, a formula it cannot read: the cell is #NAME? here and a number in the saved
 file) is "not judged: check by hand". It is left out of the rows graded and named in the
-report; so is a check row whose status sheetkin cannot evaluate (it is not failing).
+report; so is a check row whose status sheetkin cannot evaluate (it is not failing). When
+LibreOffice computed such cells on the issued data (course/by_libreoffice.py), it computes
+them on the nudged copies too (by_libreoffice.fill_copies) and they are judged there.
 
 The validator calls, in order: prepare (after the variant's reference is known), judge_rows
 (after the rows are graded against the reference), judge_checks (after the check rows are
