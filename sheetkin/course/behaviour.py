@@ -24,7 +24,9 @@ a formula reading none of the given data cannot follow them.
 No penalty without evidence: a row whose formulas sheetkin cannot evaluate (a function the
 evaluator lacks, a formula it cannot read: the cell is #NAME? here and a number in the saved
 file) is "not judged: check by hand". It is left out of the rows graded and named in the
-report; so is a check row whose status sheetkin cannot evaluate (it is not failing).
+report; so is a check row whose status sheetkin cannot evaluate (it is not failing). When
+LibreOffice computed such cells on the issued data (course/by_libreoffice.py), it computes
+them on the nudged copies too (by_libreoffice.fill_copies) and they are judged there.
 
 The validator calls, in order: prepare (after the variant's reference is known), judge_rows
 (after the rows are graded against the reference), judge_checks (after the check rows are
@@ -33,18 +35,24 @@ read). Each leaves a report it cannot judge as it was.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+import re
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, cast
+
+import numpy as np
 
 from sheetkin.kinematics.scene import Scene
 from sheetkin.messages import message
 from sheetkin.sheet.workbook import FIRST_COL, prefilled_in_exercise, sheet_rows
+from sheetkin.xlsx.coords import column_index_from_string
 from sheetkin.xlsx.evaluator import Book
+from sheetkin.xlsx.functions import FIRST_ERROR
 from sheetkin.xlsx.functions import NAME as NAME_ERROR  # a function it lacks, a formula it cannot read
 from sheetkin.xlsx.replay import Replay
+from sheetkin.xlsx.values import NUM
 
-from . import nudge
-from .layout import standard_view
+from . import by_libreoffice, nudge
+from .layout import VALUE_COL, standard_view
 from .localjudge import CELL_RIGHT, TURN, angle_difference, judge
 from .tolerance import ATOL, RTOL
 
@@ -62,6 +70,8 @@ class Held:
     the student's sheet with those check rows so evaluated (issued layout; None: none react)."""
     reacting: set[str]
     sheet: Book | None
+    # reacting check rows whose issued status formula their residuals fail: not evaluated
+    settled: set[str] = field(default_factory=set)
 
 
 @dataclass
@@ -73,11 +83,16 @@ class Behaviour:
     # the check rows alone evaluated again on a variant's given data, every other cell held
     # at its issued value (_held_checks)
     held: Held | None = None
+    # the cells sheetkin cannot compute took LibreOffice's values in each of the sheets
+    # (by_libreoffice.fill_copies): they are judged on the nudged data as the others are
+    by_libreoffice: bool = False
 
 
-def prepare(g: Graded, raw: Book, names: dict, scene_text: str) -> Behaviour | None:
+def prepare(g: Graded, raw: Book, names: dict, scene_text: str, libreoffice: bool = True) -> Behaviour | None:
     """The book's nudged variants and its formulas evaluated on them; None when there is
-    nothing to nudge or an input cell holds a formula (then the precedents decide, as before)."""
+    nothing to nudge or an input cell holds a formula (then the precedents decide, as before).
+    The cells sheetkin cannot compute are LibreOffice's on the nudged data too, when it is
+    installed and `libreoffice` (course/by_libreoffice.py: one soffice run for the copies)."""
     from .reference import variant_scene
     scene, ref_book = g.student_scene, g.ref_book
     if scene is None or ref_book is None:
@@ -118,11 +133,12 @@ def prepare(g: Graded, raw: Book, names: dict, scene_text: str) -> Behaviour | N
     # data (their status formulas are most of a book's evaluation): not evaluated again
     checks = {r for n, r in g.names.items() if n.startswith(("chk", "fd_"))} | set(range(1, 5))
     replay = Replay(raw, names, skip={g.main: checks})
-    sheets = []
-    for v in variants:
-        changes = {(g.names[n], value_col): x for n, x in v.inputs.items() if n in g.names}
-        sheets.append(standard_view(replay.run({g.main: changes}), g.layout)[0])
-    return Behaviour(variants, sheets, _held_checks(g, raw, names, ref_book, [v for v in variants if not v.turned]))
+    changes = [{(g.names[n], value_col): x for n, x in v.inputs.items() if n in g.names} for v in variants]
+    books = [replay.run({g.main: ch}) for ch in changes]
+    by_lo = by_libreoffice.fill_copies(books, g.path, g.main, changes, libreoffice)
+    sheets = [standard_view(b, g.layout, g.sh)[0] for b in books]
+    return Behaviour(variants, sheets, _held_checks(g, raw, names, ref_book, [v for v in variants if not v.turned]),
+                     by_lo)
 
 
 def _held_inputs(v: nudge.Nudged, ref_book: Book, ref_names: dict) -> dict[str, float]:
@@ -165,9 +181,62 @@ def _held_checks(g: Graded, raw: Book, names: dict, ref_book: Book, variants: li
             reacting.add(n)
     if not reacting:
         return Held(reacting, None)
-    mine = Replay(raw, names, only={g.main: {g.names[n] for n in reacting}}).run(
+    # a status formula that is the issued one is not evaluated where the residuals it reads
+    # already fail it (the status formulas are most of the cost): settled
+    issued = _issued_statuses(g, raw, reacting)
+
+    def status(run) -> bool:
+        return (run.sheet, run.row) in issued and len(run.cols) == 1 and int(run.cols[0]) == VALUE_COL
+    mine = Replay(raw, names, only={g.main: {g.names[n] for n in reacting}}, keep=lambda run: not status(run)).run(
         {g.main: {(g.names[n], value_col): x for n, x in inputs.items() if n in g.names}})
-    return Held(reacting, standard_view(mine, g.layout)[0])
+    settled = {n for n in reacting if (g.main, g.names[n]) in issued
+               and _residuals_fail(mine, g.main, issued[(g.main, g.names[n])])}
+    rest = {g.names[n] for n in reacting if (g.main, g.names[n]) in issued and n not in settled}
+    if rest:                            # the residuals pass: the status formula decides
+        mine = Replay(mine, names, only={g.main: rest}, keep=status).run({})
+    return Held(reacting, standard_view(mine, g.layout, g.sh)[0], settled)
+
+
+_STATUS_RESIDUALS = re.compile(r"ISERROR\(SUM\(([A-Z]+)(\d+):([A-Z]+)(\d+)\)\)")
+_STATUS_TOL = re.compile(r"MAX\([A-Z]+\d+:[A-Z]+\d+\)<=\$D\$(\d+),")
+
+
+def _issued_statuses(g: Graded, raw: Book, reacting: set[str]) -> dict[tuple[str, int], tuple[int, int, int, int]]:
+    """The reacting check rows whose status formula is the issued one (the same text, in the
+    issued row and columns, alone in its run), by (sheet, row): the residual cells it reads
+    (row, first and last column) and the row of the tolerance it compares them with."""
+    if g.layout.moved or g.student_scene is None:
+        return {}
+    from .reference import issued_statuses
+    statuses = issued_statuses(g.student_scene)
+    alone = {run.row for run in raw.schedule if run.sheet == g.main and len(run.cols) == 1 and run.cols[0] == VALUE_COL}
+    out = {}
+    formulas = raw.sheets[g.main].formulas
+    for n in reacting:
+        r = g.names[n]
+        f = statuses.get(r)
+        if r != g.ref_names.get(n) or r not in alone or f is None or formulas.get((r, VALUE_COL)) != f:
+            continue
+        sums, tol = _STATUS_RESIDUALS.search(f), _STATUS_TOL.search(f)
+        if sums is None or tol is None or int(sums[2]) != r or int(sums[4]) != r:
+            continue
+        out[(g.main, r)] = (r, column_index_from_string(sums[1]), column_index_from_string(sums[3]), int(tol[1]))
+    return out
+
+
+def _residuals_fail(book: Book, sheet: str, where: tuple[int, int, int, int]) -> bool:
+    """Whether the issued status formula fails on these residuals: one of them is an error
+    (its SUM is), or a number beyond the tolerance (its MAX or MIN is); whatever else it
+    looks at, it then is 1, "н/д" or "не заполнено", never 0 (passing)."""
+    r, first, last, tol_row = where
+    tol = book.value(sheet, tol_row, VALUE_COL)
+    if not _finite(tol):
+        return False
+    tags, nums = book.tag[sheet][r, first:last + 1], book.num[sheet][r, first:last + 1]
+    if (tags >= FIRST_ERROR).any():
+        return True
+    numbers = nums[tags == NUM]
+    return bool((np.abs(numbers) > tol).any())
 
 
 def _close(got, exp, period: float | None) -> bool:
@@ -220,13 +289,15 @@ def judge_rows(report: Report, g: Graded, beh: Behaviour | None) -> None:
     for rep, cols in candidates:
         r = cast(int, rep.row)
         rr, period = g.ref_names[rep.name], periods.get(rep.name)
+        if _right_on_every_variant(cast(Behaviour, beh), g.main, r, rr, cols, period):
+            continue                             # most rows: no cell to judge one by one
         bad = set(rep.wrong_cells) | set(rep.typed_cells)
         states = [dict(zip((int(c) for c in lo.judgements[rep.name].cols), lo.judgements[rep.name].state, strict=True))
                   if rep.name in lo.judgements and lo.judgements[rep.name].local else {} for lo in locals_]
         for k, c in enumerate(cols):
             if k + 1 in bad or (rep.kind == "derived" and (rep.status != "correct" or rep.source != "formula")):
                 continue
-            if not g.evaluated.computed(g.main, r, c):
+            if not g.evaluated.computed(g.main, r, c) and not cast(Behaviour, beh).by_libreoffice:
                 continue          # computed by LibreOffice on the issued data only (course/by_libreoffice.py)
             issued = ref_book.value(ref_sheet, rr, c)
             moved = False
@@ -240,7 +311,7 @@ def judge_rows(report: Report, g: Graded, beh: Behaviour | None) -> None:
                     continue                     # the right value does not move: the precedents decide
                 moved = True
                 if sheet.tag[g.main][r, c] == NAME_ERROR:
-                    break                        # sheetkin cannot evaluate it (LibreOffice did, on the issued data)
+                    break                        # sheetkin cannot evaluate it, nor LibreOffice on these data
                 if not _close(sheet.value(g.main, r, c), exp, period) and state.get(c, CELL_RIGHT) != CELL_RIGHT:
                     rep.not_following.append(k + 1)
                     break
@@ -261,6 +332,23 @@ def judge_rows(report: Report, g: Graded, beh: Behaviour | None) -> None:
     if unjudged:
         report.notes.append(message("rows_not_judged", n=len(unjudged), names=", ".join(unjudged[:12])
                                     + (" ..." if len(unjudged) > 12 else "")))
+
+
+def _right_on_every_variant(beh: Behaviour, main: str, r: int, rr: int, cols: list[int], period: float | None) -> bool:
+    """Whether the student's row r equals the reference's row rr (numbers, within the
+    validator's precision) at every cell `cols` on every variant: then no cell of it can fail
+    to follow the given data (judge_rows judges the others cell by cell)."""
+    for n, sheet in zip(beh.nudged, beh.sheets, strict=True):
+        rs = n.reference.order[0]
+        et, st = n.reference.tag[rs], sheet.tag[main]
+        if rr >= et.shape[0] or r >= st.shape[0] or max(cols) >= min(et.shape[1], st.shape[1]):
+            return False
+        if not ((et[rr, cols] == NUM) & (st[r, cols] == NUM)).all():
+            return False
+        exp, got = n.reference.num[rs][rr, cols], sheet.num[main][r, cols]
+        if not (angle_difference(np.abs(got - exp), period) <= np.maximum(ATOL, RTOL * np.abs(exp))).all():
+            return False
+    return True
 
 
 def _name_empty_cells(report: Report, g: Graded, position_list) -> None:
@@ -334,7 +422,7 @@ def judge_held_checks(report: Report, g: Graded, beh: Behaviour | None) -> None:
         if (n in report.failing_checks or n in report.checks_not_judged
                 or not passing(g.evaluated.value(g.main, r, 4))):
             continue
-        if passing(held.value(g.main, r, 4)):
+        if n not in beh.held.settled and passing(held.value(g.main, r, 4)):
             formula = g.sh.formulas.get((r, 4), "")
             not_checking.append(f"{n} (row {r}: {g.layout.cell(r, 4)} ={formula})")
             report.failing_checks.append(n)

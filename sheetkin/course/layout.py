@@ -241,10 +241,12 @@ def without_unread(sheets: dict[str, Sheet], names: dict, layout: Layout, skip: 
     return out
 
 
-def standard_view(book: Book, layout: Layout) -> tuple[Book, Sheet]:
+def standard_view(book: Book, layout: Layout, view: Sheet | None = None) -> tuple[Book, Sheet]:
     """The graded sheet in the issued layout (layout.columns moved to 1..4, 5..): a Book
     holding it under its own name (the other sheets as they are) and its Sheet (consts,
-    formulas, cached values and array ranges of the table's cells only)."""
+    formulas, cached values and array ranges of the table's cells only). view: that Sheet
+    as made already for a book with the same sheets (a replay of it, sheetkin.xlsx.replay:
+    its values change, not its cells), taken as it is."""
     src = book.sheets[layout.sheet]
     width = max(layout.columns) + 1
     back = {s: t for t, s in layout.columns.items()}
@@ -257,14 +259,15 @@ def standard_view(book: Book, layout: Layout) -> tuple[Book, Sheet]:
 
     def moved(d: dict) -> dict:
         return {(r, back[c]): v for (r, c), v in d.items() if c in back}
-    arrays = {}
-    for (r0, c0), (r2, c2) in src.arrays.items():
-        for c in range(c0, c2 + 1):            # each column of an array range, in its new place
-            if c in back:
-                arrays[(r0, back[c])] = (r2, back[c])
-    view = Sheet(src.name, src.state, consts=moved(src.consts), formulas=moved(src.formulas),
-                 cached=moved(src.cached), max_row=src.max_row, max_col=width - 1, arrays=arrays,
-                 names=src.names)
+    if view is None:
+        arrays = {}
+        for (r0, c0), (r2, c2) in src.arrays.items():
+            for c in range(c0, c2 + 1):            # each column of an array range, in its new place
+                if c in back:
+                    arrays[(r0, back[c])] = (r2, back[c])
+        view = Sheet(src.name, src.state, consts=moved(src.consts), formulas=moved(src.formulas),
+                     cached=moved(src.cached), max_row=src.max_row, max_col=width - 1, arrays=arrays,
+                     names=src.names)
     sheets = {**book.sheets, layout.sheet: view}
     # the cells not computed here (a function the evaluator lacks), in their new places too
     not_computed = {**book.not_computed}

@@ -89,7 +89,7 @@ def row_ancestors(scene: Scene) -> dict[str, set[str]]:
 # names, kinds and formulas, and the positions), and each variant's reference is that
 # sheet with the variant's inputs, evaluated (the evaluator keeps the parsed formulas).
 # No workbook is rebuilt per variant; references are kept per variant (its inputs).
-_TEMPLATE_SHEETS = Kept(64)               # structure -> the generated Sheet, {input name: row}
+_TEMPLATE_SHEETS = Kept(64)               # structure -> the generated Sheet, {input name: row}, {row: status}
 _REFERENCES = Kept(64)                    # (structure, inputs) -> Book
 
 
@@ -104,14 +104,12 @@ def reference_book(scene: Scene) -> Book:
     structure and inputs); also what copy detection compares another variant's typed numbers
     with."""
     rows = sheet_rows(scene).rows
-    structure = (scene.crank.positions, tuple((r.name, r.kind, r.formula, r.guard) for r in rows))
+    structure = _structure(scene, rows)
     inputs = tuple((r.name, r.value) for r in rows if r.kind == "input")
     key = (structure, inputs)
     book = _REFERENCES.get(key)
     if book is None:
-        if structure not in _TEMPLATE_SHEETS:
-            _TEMPLATE_SHEETS.keep(structure, template_sheet(scene))
-        sheet, input_rows = _TEMPLATE_SHEETS[structure]
+        sheet, input_rows, _ = _template(scene, structure)
         consts = dict(sheet.consts)
         for name, value in inputs:          # as the generated workbook writes them (ints as floats)
             if value is None:
@@ -126,9 +124,27 @@ def reference_book(scene: Scene) -> Book:
     return book
 
 
-def template_sheet(scene: Scene) -> tuple[Sheet, dict[str, int]]:
-    """The first sheet of the scene's generated workbook as the evaluator reads it, and the
-    row of every input."""
+def _structure(scene: Scene, rows) -> tuple:
+    return scene.crank.positions, tuple((r.name, r.kind, r.formula, r.guard) for r in rows)
+
+
+def _template(scene: Scene, structure: tuple) -> tuple[Sheet, dict[str, int], dict[int, str]]:
+    if structure not in _TEMPLATE_SHEETS:
+        _TEMPLATE_SHEETS.keep(structure, template_sheet(scene))
+    return _TEMPLATE_SHEETS[structure]
+
+
+def issued_statuses(scene: Scene) -> dict[int, str]:
+    """The status formula (column D, without "=") of each of the sheet's own check rows, by
+    row, as the scene's generated workbook issues it (kept with the template sheet, which
+    drops them): the behavioural check evaluates a student's status formula again only
+    where it is not the issued one (behaviour._held_checks)."""
+    return _template(scene, _structure(scene, sheet_rows(scene).rows))[2]
+
+
+def template_sheet(scene: Scene) -> tuple[Sheet, dict[str, int], dict[int, str]]:
+    """The first sheet of the scene's generated workbook as the evaluator reads it, the row
+    of every input, and the status formulas of the check rows it leaves out (by row)."""
     book = build_reference(scene, evaluate=False)
     sheet = book[0]
     input_rows = {sheet.consts.get((r, 1)): r for r in range(5, sheet.max_row + 1)}
@@ -138,9 +154,10 @@ def template_sheet(scene: Scene) -> tuple[Sheet, dict[str, int]]:
     # (their cells per position stay: which check rows apply, not "н/д", is the reference's)
     checks = check_row_names(scene)              # once: sheet_rows costs ~3 ms a call
     unchecked = {r for n, r in input_rows.items() if n in checks}
+    statuses = {r: f for (r, c), f in sheet.formulas.items() if r in unchecked and c == VALUE_COL}
     sheet.formulas = {(r, c): f for (r, c), f in sheet.formulas.items()
                       if r >= 5 and (r not in unchecked or c >= FIRST_COL)}
-    return sheet, input_rows
+    return sheet, input_rows, statuses
 
 
 def check_row_names(scene: Scene) -> set[str]:

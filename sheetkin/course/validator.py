@@ -101,7 +101,8 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
     report = _new_report(g, book, scene_text, options)
     report.notes[:0] = text_given
     # issue 31: the student's formulas evaluated again on nudged given data (behaviour.py)
-    beh = behaviour.prepare(g, raw, book.names, scene_text) if _judged_by_behaviour(report) else None
+    beh = (behaviour.prepare(g, raw, book.names, scene_text, options.libreoffice if options else True)
+           if _judged_by_behaviour(report) else None)
     grade_rows(report, g)
     behaviour.judge_rows(report, g, beh)
     read_checks(report, evaluated, layout.sheet, sh, names, ref_rows, cast(Book, g.ref_book), g.ref_names)

@@ -10,10 +10,13 @@ Only typed cells (no formula) may be changed: a formula cell is computed again b
 """
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from .evaluator import Book, name_scopes, run_all, store_value
 from .package import Limits
+from .runs import Run
 from .uncomputed import Uncomputed
 
 
@@ -22,21 +25,23 @@ class Replay:
     with other values in some typed cells."""
 
     def __init__(self, book: Book, names: dict, limits: Limits = Limits(),
-                 skip: dict[str, set[int]] | None = None, only: dict[str, set[int]] | None = None):
+                 skip: dict[str, set[int]] | None = None, only: dict[str, set[int]] | None = None,
+                 keep: Callable[[Run], bool] | None = None):
         """skip: rows (by sheet) whose formulas are not evaluated again (their values stay the
         first evaluation's): rows nothing the caller reads depends on. only: the rows (by
         sheet) whose formulas alone are evaluated again, every other formula's value kept
-        (the validator's check rows judged with the rows they check held)."""
+        (the validator's check rows judged with the rows they check held). keep: of those
+        runs, the ones evaluated again (the others keep their values too)."""
         self.book = book
         skip = skip or {}
         self.schedule = [run for run in book.schedule if run.row not in skip.get(run.sheet, ())
-                         and (only is None or run.row in only.get(run.sheet, ()))]
+                         and (only is None or run.row in only.get(run.sheet, ()))
+                         and (keep is None or keep(run))]
         sheets = book.sheets
         bound = (max([sh.max_row for sh in sheets.values()] + [1]), max([sh.max_col for sh in sheets.values()] + [1]))
         self.scopes = name_scopes(names, sheets, bound, {})
         self.name_refs = {**self.scopes[None], **{n: t for sc in self.scopes.values() for n, t in sc.items()}}
         self.dims = {n: list(a.shape) for n, a in book.num.items()}     # as evaluate_sheets made them
-        self.formula_cells = {(run.sheet, run.row, int(c)) for run in book.schedule for c in run.cols}
 
     def run(self, changes: dict[str, dict[tuple[int, int], object]]) -> Book:
         """The book evaluated again with the typed cells `changes` (sheet -> {(r, c): value})."""
@@ -44,7 +49,7 @@ class Replay:
         b = self.book
         for sheet, where in changes.items():
             for (r, c) in where:
-                if (sheet, r, c) in self.formula_cells:
+                if b.sheets[sheet].computed(r, c):
                     raise ValueError(f"{sheet}!R{r}C{c} holds a formula: only typed cells are replayed")
         num = {n: a.copy() for n, a in b.num.items()}
         tag = {n: a.copy() for n, a in b.tag.items()}

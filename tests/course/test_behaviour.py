@@ -489,6 +489,34 @@ def test_a_check_row_that_does_not_check_fails(classes, tmp_path, status, residu
     assert c["checks_passing"] == c["checks_apply"] - 1
 
 
+def test_an_issued_status_is_settled_by_its_residuals(classes, tmp_path, monkeypatch):
+    """An issued status formula is not evaluated on the held data where the residuals it reads
+    already fail it (behaviour._held_checks; the status formulas were most of the check's
+    cost, docs/benchmarks.md): every reacting check row of the honest book is settled so, the
+    one whose residuals are made 0 (its status the issued one) is not and is evaluated; the
+    reports are those of evaluating every status formula."""
+    from sheetkin.course import behaviour
+    ex, key, options = classes["fourbar"]
+    honest = make_book(ex, key, tmp_path / "honest.xlsx", {})
+    cheat = _cheat_check(honest, "chk_OA", None, "=0*{L1}")
+    held = []
+    real = behaviour._held_checks
+
+    def spy(*args, **kwargs):
+        held.append(real(*args, **kwargs))
+        return held[-1]
+    monkeypatch.setattr(behaviour, "_held_checks", spy)
+    fast = [grade(p, options) for p in (honest, cheat)]
+    assert len(held[0].reacting) > 10 and held[0].settled == held[0].reacting
+    assert "chk_OA" in held[1].reacting and held[1].settled == held[1].reacting - {"chk_OA"}
+    monkeypatch.setattr(behaviour, "_issued_statuses", lambda *args: {})    # every status evaluated
+    slow = [grade(p, options) for p in (honest, cheat)]
+    assert not held[2].settled and not held[3].settled
+    for (a, sa), (b, sb) in zip(fast, slow, strict=True):
+        assert (sa, a.failing_checks, a.notes, a.checks_passing) == (sb, b.failing_checks, b.notes, b.checks_passing)
+    assert fast[1][0].failing_checks == ["chk_OA"]
+
+
 def test_a_check_row_of_no_given_data_is_judged_as_before(classes, tmp_path):
     """What the rule cannot tell (docs/grading.md): chk_mag_A (|v_A| against vx_A, vy_A) reads
     none of the given data, so its reference does not react and a constant status there still

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 from helpers.clirun import run
-from helpers.studentbooks import Recipe, make_books, uno_available
+from helpers.studentbooks import Recipe, key_values, make_books, uno_available
 
 from sheetkin.course import grades
 from sheetkin.course.issued import KEY_FILE, Options, read_key, read_roster
@@ -105,6 +105,14 @@ def _recipes(ex: Path, key: Path) -> dict[str, tuple[Recipe, str, str]]:
         return Recipe(ex, key).honest().formula(
             "cos_2", f"=IF({{c}}{r['asm_g1']};BITAND(3;1)*{trig}(RADIANS({{c}}{r['phi_2']}));\"не собирается\")")
 
+    def bitand_cheat() -> Recipe:
+        # cos_2 typed as the key's numbers, each disguised as work by a function sheetkin lacks
+        # (BITAND(3;1) = 1): right on the issued data, the same numbers on any other
+        recipe = Recipe(ex, key).honest()
+        for k, v in enumerate(key_values(key, ["cos_2"])["cos_2"]):
+            recipe.formula("cos_2", f"=IF({{c}}{r['asm_g1']};BITAND(3;1)*{v!r};\"не собирается\")", col=5 + k)
+        return recipe
+
     def index_range(wrong: bool) -> Recipe:
         # a range ending in a function (phi_2's cell to INDEX of it: the cell itself), which
         # sheetkin computes since issue 32 (it was a formula its parser did not read)
@@ -122,6 +130,7 @@ def _recipes(ex: Path, key: Path) -> dict[str, tuple[Recipe, str, str]]:
                                     ("acot", acot, "_xlfn.ACOT(", "phi_2")):
         out[name] = (make(False), stored, row)
         out[name + "_wrong"] = (make(True), stored, row)
+    out["bitand_cheat"] = (bitand_cheat(), "_xlfn.BITAND(", "cos_2")
     return out
 
 
@@ -202,13 +211,36 @@ def test_what_sheetkin_cannot_compute_is_computed_by_libreoffice(books, name):
     assert grades.score(rep) < 100
 
 
+def test_libreoffice_computes_the_nudged_copies_too(books):
+    """Issue 31 item 2, the nudged copies: cos_2 through BITAND (a function sheetkin lacks) is
+    computed by LibreOffice on the nudged given data as on the issued ones. The honest book
+    follows them (100, no note); its cheated twin, the key's numbers typed times BITAND(3;1),
+    is right on the issued data and "does not follow the given data" at every position of
+    cos_2, which earns nothing."""
+    made, options, _ = books
+    rep = validate(made["bitand"][0], options=options)
+    cos_2 = next(r for r in rep.rows if r.name == "cos_2")
+    assert cos_2.status == "correct" and not cos_2.not_following and not cos_2.not_judged
+    assert not any("does not follow" in n for n in rep.notes), rep.notes
+    assert grades.score(rep) == 100, grades.explain(rep)
+    path, stored, row = made["bitand_cheat"]
+    assert stored in _sheet_xml(path)
+    rep = validate(path, options=options)
+    cos_2 = next(r for r in rep.rows if r.name == row)
+    assert cos_2.status == "correct" and not cos_2.not_judged          # right on the issued data
+    assert cos_2.not_following, grades.explain(rep)
+    assert set(cos_2.typed_cells) >= set(cos_2.not_following)
+    assert any("does not follow the given data" in n and "cos_2" in n and "BITAND" in n for n in rep.notes), rep.notes
+    assert grades.score(rep) < 100, grades.explain(rep)
+
+
 def test_without_libreoffice_what_reads_it_is_not_judged(books):
     """--no-libreoffice: the rows reading the unknown function are "not judged: check by
     hand", out of the denominator; none is wrong, so the right and the wrong book alike score
     on the rest (the teacher checks cos_2 and what reads it by hand)."""
     made, options, _ = books
     off = replace(options, libreoffice=False)
-    for name in ("bitand", "bitand_wrong"):
+    for name in ("bitand", "bitand_wrong", "bitand_cheat"):
         rep = validate(made[name][0], options=off)
         unjudged = [r.name for r in rep.rows if r.not_judged]
         assert unjudged and unjudged[0] == "cos_2", unjudged
