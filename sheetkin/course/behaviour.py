@@ -43,7 +43,7 @@ import numpy as np
 
 from sheetkin.kinematics.scene import Scene
 from sheetkin.messages import message
-from sheetkin.sheet.workbook import FIRST_COL, prefilled_in_exercise, sheet_rows
+from sheetkin.sheet.workbook import FIRST_COL, prefilled_in_exercise
 from sheetkin.xlsx.coords import column_index_from_string
 from sheetkin.xlsx.evaluator import Book
 from sheetkin.xlsx.functions import FIRST_ERROR
@@ -52,6 +52,7 @@ from sheetkin.xlsx.replay import Replay
 from sheetkin.xlsx.values import NUM
 
 from . import by_libreoffice, nudge
+from .caches import scene_rows
 from .layout import VALUE_COL, standard_view
 from .localjudge import CELL_RIGHT, TURN, angle_difference, judge
 from .tolerance import ATOL, RTOL
@@ -108,7 +109,7 @@ def prepare(g: Graded, raw: Book, names: dict, scene_text: str, libreoffice: boo
                                                        if isinstance(n, str) and n.startswith(("chk", "fd_"))}})
 
     def reference(s: Scene) -> Book:
-        inputs = {r.name: r.value for r in sheet_rows(s).rows if r.kind == "input" and r.value is not None}
+        inputs = {r.name: r.value for r in scene_rows(s) if r.kind == "input" and r.value is not None}
         return ref_replay.run({ref_sheet: {
             (g.ref_names[n], 4): float(v) if isinstance(v, int) and not isinstance(v, bool) else v
             for n, v in inputs.items() if n in g.ref_names}})

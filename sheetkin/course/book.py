@@ -13,12 +13,12 @@ from sheetkin.sheet.workbook import (
     SCENE_SHEET,
     SHEET_TITLES,
     embedded_scene_text,
-    sheet_rows,
 )
 from sheetkin.xlsx.evaluator import Book, evaluate_sheets
 from sheetkin.xlsx.functions import NAME as NAME_ERROR
 
 from . import issued
+from .caches import scene_rows
 from .layout import VALUE_COL, without_unread
 
 # Caps on the scene embedded in a book, for validation (docs/reliability.md): the course's
@@ -40,7 +40,7 @@ def check_embedded_size(scene_text: str, path: str) -> None:
 
 
 def check_embedded_scene(scene: Scene, path: str) -> None:
-    rows = len(sheet_rows(scene).rows)
+    rows = len(scene_rows(scene))
     cells = rows * scene.crank.positions
     if cells > MAX_REFERENCE_CELLS:
         raise UnusableInput(f"{path}: the embedded scene needs a reference of {rows:,} rows x "

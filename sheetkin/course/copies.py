@@ -421,14 +421,16 @@ def roster_variants(roster, assignment=None) -> dict:
 def computed_values(scene_file) -> dict:
     """{(row name, position): value} of the computed rows of a scene's reference sheet."""
     from sheetkin.kinematics.scene import load_scene
-    from sheetkin.sheet.workbook import FIRST_COL, sheet_rows
+    from sheetkin.sheet.workbook import FIRST_COL
+
+    from .caches import scene_rows
 
     scene = load_scene(scene_file)      # issue 30: read under the scene cap (8 MB), never whole
     book = reference_book(scene)
     sheet = book.order[0]
     rows = {book.sheets[sheet].consts.get((r, 1)): r for r in range(5, book.sheets[sheet].max_row + 1)}
     out = {}
-    for row in sheet_rows(scene).rows:
+    for row in scene_rows(scene):
         if row.kind in ("calc", "accepted", "guard") and row.name in rows:
             for k in range(scene.crank.positions):
                 v = book.value(sheet, rows[row.name], FIRST_COL + k)

@@ -30,9 +30,10 @@ from sheetkin.errors import InputError
 from sheetkin.files import MAX_KEY_BYTES, read_bytes, read_text
 from sheetkin.kinematics.scene import Scene, one_line
 from sheetkin.messages import message
-from sheetkin.sheet.workbook import IDENTITY_ROWS, ISSUED_LABELS, VERSION_LABEL, VERSION_ROW, sheet_rows
+from sheetkin.sheet.workbook import IDENTITY_ROWS, ISSUED_LABELS, VERSION_LABEL, VERSION_ROW
 from sheetkin.untrusted import csv_cell, from_csv_cell
 
+from .caches import scene_rows
 from .tolerance import RTOL
 
 KEY_FILE = ".sheetkin-key"          # written by `variants` in its --out folder
@@ -55,7 +56,7 @@ def given_values(scene: Scene) -> dict[str, float]:
     """The scene's input block as the workbook writes it (name -> value), without the
     student's identity rows: the given data of the variant, in the sheet's order."""
     # every input row but the identity rows is written with the scene's number
-    return {r.name: cast(float, r.value) for r in sheet_rows(scene).rows
+    return {r.name: cast(float, r.value) for r in scene_rows(scene)
             if r.kind == "input" and r.name not in _IDENTITY}
 
 

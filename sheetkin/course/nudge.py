@@ -29,8 +29,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from sheetkin.kinematics.scene import Scene
-from sheetkin.sheet.workbook import FIRST_COL, sheet_rows
+from sheetkin.sheet.workbook import FIRST_COL
 from sheetkin.xlsx.evaluator import NUM, Book
+
+from .caches import scene_rows
 
 NUDGES = 2               # nudged variants per book
 TURNED = True           # and the turned variant (Fi0, Delta_Fi moved), for the cells the others do not move
@@ -57,23 +59,12 @@ class Nudged:
     turned: bool = False     # the turned variant: judges only the cells the others do not move
 
 
-_LAST_ROWS: list = [None, ()]       # the last scene asked about and its rows
-
-
-def _rows(scene: Scene) -> tuple:
-    """sheet_rows(scene).rows, kept for the last scene (the same object): a book's variants ask
-    about its issued scene several times (~1.6 ms a call)."""
-    if _LAST_ROWS[0] is not scene:
-        _LAST_ROWS[:] = [scene, tuple(sheet_rows(scene).rows)]
-    return _LAST_ROWS[1]
-
-
 def nudged_inputs(scene: Scene, seed: bytes, which: int, scale: float) -> dict[str, float]:
     """The given data of nudged variant `which`: each nudged value times 1 + scale * u, u in
     +-[0.5, 1] drawn from the seed (the same book always gets the same variants)."""
     rng = np.random.default_rng(int.from_bytes(hashlib.sha256(seed + b"\0%d" % which).digest()[:8], "big"))
     out = {}
-    for r in _rows(scene):
+    for r in scene_rows(scene):
         if r.kind != "input" or r.name in _FIXED or r.unit not in NUDGED_UNITS:
             continue
         v = r.value
@@ -92,7 +83,7 @@ def same_configuration(scene: Scene, issued: Book, nudged: Book, quadrants: bool
     where = {issued.sheets[sheet_i].consts.get((r, 1)): r for r in range(5, issued.sheets[sheet_i].max_row + 1)}
     positions = scene.crank.positions
     ni, ti, nn, tn = issued.num[sheet_i], issued.tag[sheet_i], nudged.num[sheet_n], nudged.tag[sheet_n]
-    for row in _rows(scene):
+    for row in scene_rows(scene):
         if row.kind not in ("calc", "accepted", "guard", "derived") or row.name not in where:
             continue
         r = where[row.name]
@@ -152,7 +143,7 @@ def turned_inputs(scene: Scene, seed: bytes, scale: float) -> dict[str, float]:
     Delta_Fi scaled by 1 + scale * TURN_STEP * u' (u, u' in +-[0.5, 1] from the seed)."""
     rng = np.random.default_rng(int.from_bytes(hashlib.sha256(seed + b"\0turned").digest()[:8], "big"))
     out = {}
-    for r in _rows(scene):
+    for r in scene_rows(scene):
         if r.kind != "input" or r.name not in ("Fi0", "Delta_Fi"):
             continue
         v = r.value

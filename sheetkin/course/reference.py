@@ -14,14 +14,13 @@ from sheetkin.kinematics.scene import Point, Scene
 from sheetkin.sheet.workbook import (
     FIRST_COL,
     build_workbook,
-    sheet_rows,
 )
 from sheetkin.xlsx.cells import Sheet
 from sheetkin.xlsx.evaluator import Book, evaluate_sheets
 from sheetkin.xlsx.functions import XlError
 
 from .book import UnusableInput
-from .caches import Kept
+from .caches import Kept, scene_rows
 from .layout import VALUE_COL
 
 
@@ -71,7 +70,7 @@ def variant_scene(scene: Scene, inputs: dict[str, object], positions: int, where
 # --------------------------------------------------------------------------- dependencies
 def row_ancestors(scene: Scene) -> dict[str, set[str]]:
     """For every row of the lecture's workbook, all rows it depends on (transitively)."""
-    rows = sheet_rows(scene).rows
+    rows = scene_rows(scene)
     ref = re.compile(r"\{(?:scale:)?([^{}@:]+)(?:@(?:prev|next))?\}")
     direct = {r.name: set(ref.findall(r.formula)) | ({r.guard} if r.guard else set()) for r in rows}
     out: dict[str, set[str]] = {}
@@ -103,7 +102,7 @@ def reference_book(scene: Scene) -> Book:
     """The variant's reference: its generated workbook's first sheet, evaluated (cached per
     structure and inputs); also what copy detection compares another variant's typed numbers
     with."""
-    rows = sheet_rows(scene).rows
+    rows = scene_rows(scene)
     structure = _structure(scene, rows)
     inputs = tuple((r.name, r.value) for r in rows if r.kind == "input")
     key = (structure, inputs)
@@ -139,7 +138,7 @@ def issued_statuses(scene: Scene) -> dict[int, str]:
     row, as the scene's generated workbook issues it (kept with the template sheet, which
     drops them): the behavioural check evaluates a student's status formula again only
     where it is not the issued one (behaviour._held_checks)."""
-    return _template(scene, _structure(scene, sheet_rows(scene).rows))[2]
+    return _template(scene, _structure(scene, scene_rows(scene)))[2]
 
 
 def template_sheet(scene: Scene) -> tuple[Sheet, dict[str, int], dict[int, str]]:
@@ -163,7 +162,7 @@ def template_sheet(scene: Scene) -> tuple[Sheet, dict[str, int], dict[int, str]]
 def check_row_names(scene: Scene) -> set[str]:
     """The names of the sheet's own check rows (kinds check and fdcheck): graded from the
     student's sheet, not against the reference."""
-    return {r.name for r in sheet_rows(scene).rows if r.kind in ("check", "fdcheck")}
+    return {r.name for r in scene_rows(scene) if r.kind in ("check", "fdcheck")}
 
 
 def build_reference(scene: Scene, evaluate: bool = True):

@@ -4,7 +4,7 @@ and the cells whose formula and saved value disagree."""
 from __future__ import annotations
 
 import math
-from collections.abc import Set
+from collections.abc import Sequence, Set
 from dataclasses import dataclass, field
 from typing import cast
 
@@ -54,7 +54,7 @@ class Graded:
     issued layout), its rows by name, and (set by _new_report) the variant's reference."""
     path: str
     scene: Scene
-    ref_rows: list
+    ref_rows: Sequence
     layout: Layout
     evaluated: Book
     sh: Sheet

@@ -43,7 +43,7 @@ import numpy as np
 
 from sheetkin.kinematics.scene import Scene, SceneError, load_scene
 from sheetkin.sheet.charts import PATHS_SHEET, PLOTTED_SHEET
-from sheetkin.sheet.workbook import FIRST_COL, SCENE_SHEET, prefilled_in_exercise, sheet_rows
+from sheetkin.sheet.workbook import FIRST_COL, SCENE_SHEET, prefilled_in_exercise
 from sheetkin.xlsx.cells import RawBook
 from sheetkin.xlsx.coords import get_column_letter
 from sheetkin.xlsx.evaluator import Book, evaluate_sheets
@@ -52,6 +52,7 @@ from sheetkin.xlsx.values import NUM, TEXT
 
 from . import issued
 from .book import UnusableInput
+from .caches import scene_rows
 from .reference import reference_book, variant_scene
 from .report_model import Report, RowReport
 
@@ -136,7 +137,7 @@ def quantities(scene: Scene, ref: Book) -> list[Quantity]:
     rows = {ref.sheets[sheet].consts.get((r, 1)): r for r in range(5, ref.sheets[sheet].max_row + 1)}
     n = scene.crank.positions
     out = []
-    for r in sheet_rows(scene).rows:
+    for r in scene_rows(scene):
         if r.kind not in ("calc", "accepted") or prefilled_in_exercise(r.name, r.kind) or r.name not in rows:
             continue
         if r.unit not in _KINEMATIC_UNITS:
@@ -436,7 +437,7 @@ def _given(raw: RawBook, book: Book, scene: Scene, loc: Located) -> tuple[dict, 
     """The cells holding the variant's given data: typed numbers (or Russian texts "0,144")
     equal to a given value in m or mm (rad/s for the crank speed), outside the matched lines;
     among several, the one whose label names it, else the first in reading order."""
-    units = {r.name: r.unit for r in sheet_rows(scene).rows if r.kind == "input"}
+    units = {r.name: r.unit for r in scene_rows(scene) if r.kind == "input"}
     inside = {(m.line.sheet, rc) for ms in loc.found.values() for m in ms for rc in m.line.cells()}
     if loc.positions:
         inside |= {(loc.positions.line.sheet, rc) for rc in loc.positions.line.cells()}
@@ -502,7 +503,7 @@ def _reevaluate_nudged(raw: RawBook, scene: Scene, loc: Located) -> tuple[Book, 
     the reference of the nudged variant; None when nothing could be nudged or the nudged
     mechanism does not assemble as the variant does at every position."""
     given = issued.given_values(scene)
-    units = {r.name: r.unit for r in sheet_rows(scene).rows if r.kind == "input"}
+    units = {r.name: r.unit for r in scene_rows(scene) if r.kind == "input"}
     # one factor per given value (names of equal value share their cells, so their factor)
     values: dict[float, list[str]] = {}
     for name in loc.given:

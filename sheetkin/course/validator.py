@@ -32,7 +32,6 @@ from sheetkin.sheet.charts import PATHS_SHEET
 from sheetkin.sheet.workbook import (
     FIRST_COL,
     SCENE_SHEET,
-    sheet_rows,
 )
 from sheetkin.xlsx.cells import read_book
 from sheetkin.xlsx.evaluator import Book, EvaluationError
@@ -40,6 +39,7 @@ from sheetkin.xlsx.package import Limits, UnusableWorkbook
 
 from . import behaviour, by_libreoffice, issued, scratch
 from .book import TITLE_AT, UnusableInput, book_lang, embedded_scene, evaluate_student, identity_text
+from .caches import scene_rows
 from .checks import read_checks
 from .layout import VALUE_COL, find_layout, standard_view
 from .reference import input_values, reference_book, variant_scene
@@ -79,7 +79,7 @@ def _validate(path: str, limits: Limits, options: issued.Options | None = None) 
     scene, scene_text = embedded_scene(book, path, options)
     # the graded sheet and its columns, found by their content (sheetkin/course/layout.py);
     # graded through a view in the issued layout (names A, value D, positions from E)
-    ref_rows = sheet_rows(scene).rows
+    ref_rows = scene_rows(scene)
     issued_positions = scene.crank.positions
     layout = find_layout(book.sheets, book.order, {r.name for r in ref_rows if r.kind != "section"}, "",
                          issued_positions, list(range(issued_positions)), {SCENE_SHEET, PATHS_SHEET})

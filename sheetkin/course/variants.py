@@ -42,8 +42,9 @@ from sheetkin.kinematics.caps import load_toml
 from sheetkin.kinematics.scene import Scene, SceneError, one_line, parse_scene
 from sheetkin.kinematics.solver import solve
 from sheetkin.messages import message
-from sheetkin.sheet.workbook import build_workbook, sheet_rows
+from sheetkin.sheet.workbook import build_workbook
 
+from .caches import scene_rows
 from .identity import ASSIGNMENT_FILE, assignment_text
 from .issued import KEY_FILE, ROSTER_FILE, given_values, new_key, roster_text, seal
 
@@ -157,7 +158,7 @@ def parameters(text: str, source: str = "<scene>") -> list[Param]:
     data = load_toml(text, source)
     scene = parse_scene(text, source)
     base = given_values(scene)
-    units = {r.name: r.unit for r in sheet_rows(scene).rows if r.kind == "input"}
+    units = {r.name: r.unit for r in scene_rows(scene) if r.kind == "input"}
     found = []
     for path, v in _leaves(data):
         if path[0] == "synthesis":
