@@ -257,8 +257,9 @@ def report_dict(rep) -> dict:
     d = dataclasses.asdict(dataclasses.replace(rep, **blank))
     for name in internal:
         del d[name]
-    d["ok"] = all_correct(rep)
-    d["verdict"] = verdict(rep)
+    v = verdict(rep)                                    # made once: all_correct(rep) is v's test
+    d["ok"] = v == "all correct"
+    d["verdict"] = v
     d["score"] = None if rep.error else score(rep)
     d["score_explained"] = explain(rep)
     d["summary"] = {**counts(rep), "causes": [r.name for r in rep.causes]}
