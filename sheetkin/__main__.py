@@ -1,5 +1,3 @@
-import sys
+from sheetkin.cli import run
 
-from sheetkin.cli.commands import main
-
-sys.exit(main())
+run()

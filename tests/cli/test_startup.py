@@ -124,3 +124,65 @@ def test_evaluate_command_loads_no_kinematics(fmt):
     mods = sheetkin_modules(setup)
     assert not {m for m in mods if m.startswith(("sheetkin.kinematics.", "sheetkin.views", "sheetkin.groups"))
                 and m != "sheetkin.kinematics.caps"}, mods
+
+
+
+def _program(code: str, **env: str) -> subprocess.CompletedProcess:
+    """`code` run in a fresh process, then sheetkin.cli.run() with the probe below as main:
+    as `python -m sheetkin` ends, with the program's setup and exit."""
+    probe = ("import os, sys\n" + code + "\nimport sheetkin.cli as cli\n"
+             "def probe():\n"
+             "    import numpy\n"
+             "    print(len(os.listdir('/proc/self/task')), flush=True)\n"
+             "    return int(os.environ.get('PROBE_CODE', '0'))\n"
+             "cli.main = probe\n"
+             "cli.run()\n")
+    return subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, cwd=ROOT, timeout=120,
+                          env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin", **env})
+
+
+def _threads(code: str = "", **env: str) -> int:
+    proc = _program(code, **env)
+    assert proc.returncode == 0, proc.stderr
+    return int(proc.stdout.split()[0])
+
+
+@pytest.mark.skipif(not Path("/proc/self/task").is_dir(), reason="counts threads through /proc")
+def test_the_program_runs_numpy_on_one_blas_thread_unless_the_user_chose():
+    # OpenBLAS's spinning workers cost `sheetkin evaluate` 0.10-0.14 s of CPU on 2 cores
+    # (issue 32, item 5): the program sets one thread before numpy loads
+    many = _threads(OPENBLAS_NUM_THREADS="4")
+    if many == 1:
+        pytest.skip("this numpy starts no BLAS threads")
+    assert _threads() == 1
+    # a notebook's import of sheetkin changes nothing: only the program sets it
+    out = subprocess.run([sys.executable, "-c", "import os, sheetkin.cli, sheetkin.cli.commands; "
+                          "print(os.environ.get('OPENBLAS_NUM_THREADS'))"], capture_output=True, text=True,
+                         cwd=ROOT, timeout=120, env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
+    assert out.stdout.strip() == "None", out.stderr
+
+
+def test_the_program_ends_quickly_but_keeps_what_the_teardown_does():
+    # the exit without the interpreter's teardown (issue 32, item 5) still runs the atexit
+    # functions, finalizes an object left in a reference cycle, flushes both streams and keeps the code
+    code = ("import atexit, gc\n"
+            "atexit.register(lambda: print('atexit ran', flush=False))\n"
+            "class Cycle:\n"
+            "    def __del__(self):\n"
+            "        with open(os.environ['OUT'], 'w') as f: f.write('finalized')\n"
+            "c = Cycle(); c.me = c; del c\n"
+            "gc.disable()\n"
+            "sys.stderr.write('to stderr')\n")
+    import tempfile
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / "cycle.txt"
+        proc = _program(code, OUT=str(out), PROBE_CODE="3")
+        assert proc.returncode == 3, proc.stderr
+        assert proc.stdout.splitlines()[-1] == "atexit ran"
+        assert proc.stderr == "to stderr"
+        assert out.read_text() == "finalized"
+    # another thread alive: the ordinary exit, which waits for it
+    code = ("import threading, time\n"
+            "threading.Thread(target=lambda: (time.sleep(0.3), print('thread done', flush=True))).start()\n")
+    proc = _program(code)
+    assert proc.returncode == 0 and proc.stdout.splitlines()[-1] == "thread done", proc
