@@ -34,18 +34,17 @@ def _quick_exit(code: int) -> NoReturn:
     """End the process with `code` without the interpreter's teardown, as mypy does
     (`mypy.util.hard_exit`): freeing every module and object the command loaded took
     0.06-0.07 s of CPU after `sheetkin evaluate` (issue 32, item 5), for memory the system
-    takes back anyway. What the teardown would still do is done first: the atexit
-    functions (temporary folders' finalizers, logging), a collection (the finalizers of
-    objects left in reference cycles) and the standard streams' flush. With
-    another thread alive, or a stream that cannot be flushed, the ordinary exit."""
+    takes back anyway. What the teardown would still do for us is done first: the atexit
+    functions (temporary folders' finalizers, logging) and the standard streams' flush;
+    every output file is closed by the command itself (files.Output.commit). No collection:
+    it took 0.036 s there, and Python promises no finalizer of an object left at exit
+    either. With another thread alive, or a stream that cannot be flushed, the ordinary exit."""
     import atexit
-    import gc
     import threading
     if threading.active_count() > 1:
         sys.exit(code)                      # the interpreter joins them
     try:
         atexit._run_exitfuncs()
-        gc.collect()
         sys.stdout.flush()
         sys.stderr.flush()
     except BaseException:                   # noqa: BLE001 - the ordinary exit says what it says
