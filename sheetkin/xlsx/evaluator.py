@@ -699,7 +699,14 @@ def rows_csv(book: Book, sheet: str | None = None, first_col: int = 5) -> str:
     w = csv.writer(out, lineterminator="\n")
     w.writerow(["name", *range(1, width + 1)])
     for name, row in zip(names, data, strict=True):
-        w.writerow([name, *("" if v is None else v for v in row)])
+        if set(map(type, row)) == {float}:
+            # numbers only (most rows): the writer's field for each is its repr, joined
+            # here in one pass (0.05 -> 0.03 s for the 360-column shaper, issue 32)
+            w.writerow([name])
+            out.seek(out.tell() - 1)                # the name's field without its "\n"
+            out.write("," + ",".join(map(repr, row)) + "\n")
+        else:
+            w.writerow([name, *("" if v is None else v for v in row)])
     return out.getvalue()
 
 

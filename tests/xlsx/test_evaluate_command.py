@@ -40,3 +40,36 @@ def test_evaluate_command_formats(tmp_path, capsys):
     assert data["rows"]["asm_g1"] == [True] * 13 and len(data["rows"]["x_B"]) == 13
     assert main(["evaluate", book, "--sheet", "nope"]) == 2
     assert "no sheet 'nope'" in capsys.readouterr().err
+
+
+def test_csv_is_the_csv_writers_row_for_row(tmp_path):
+    """rows_csv joins number-only rows itself (issue 32, item 5): the same bytes as the
+    csv module's writer, names that need quoting and mixed rows included."""
+    import csv
+    import io
+
+    import openpyxl
+
+    from sheetkin.xlsx.evaluator import evaluate, rows_csv, rows_table
+    wb = openpyxl.Workbook()
+    ws = wb.active
+    names = ["plain", "a,b", 'say "hi"', "two\nlines", "mixed", "tiny"]
+    for r, name in enumerate(names, start=5):
+        ws.cell(r, 1, name)
+        for c in range(5, 9):
+            ws.cell(r, c, f"=SIN({c}*{r})/7" if name != "tiny" else 1e-300 * c)
+    ws.cell(9, 6, "text")
+    ws.cell(9, 7, "=1>0")
+    ws.cell(9, 8, None)
+    path = tmp_path / "names.xlsx"
+    wb.save(path)
+    book = evaluate(path)
+    names_got, data, width = rows_table(book)
+    assert names_got == names
+    ref = io.StringIO()
+    w = csv.writer(ref, lineterminator="\n")
+    w.writerow(["name", *range(1, width + 1)])
+    for name, row in zip(names_got, data, strict=True):
+        w.writerow([name, *("" if v is None else v for v in row)])
+    assert rows_csv(book) == ref.getvalue()
+    assert '\n"a,b",' in ref.getvalue() and '\n"two\nlines",' in ref.getvalue()
