@@ -606,7 +606,9 @@ def _scan_parts(pkg: Package, ct_name: str, infos: list[zipfile.ZipInfo], limits
                               "expected UTF-8 or UTF-16, as the .xlsx standard requires", name)
             if scan:
                 window = tail + chunk
-                if any(m in window for m in _DTD_MARKERS):
+                # every marker holds a "!" (in UTF-8 and in UTF-16): one fast search first
+                # (most sheets hold none: 17 ms less for the 360-column shaper, issue 32)
+                if b"!" in window and any(m in window for m in _DTD_MARKERS):
                     pkg._fail("XML with a DTD or entity declarations (possible entity bomb)",
                               "refused: Excel and LibreOffice never write one", name)
                 tail = window[-_DTD_OVERLAP:]

@@ -437,6 +437,21 @@ def test_billion_laughs_in_utf16(good, tmp_path):
     refused(p, SHEET, "entity bomb")
 
 
+def test_billion_laughs_in_utf16_big_endian_after_a_megabyte(good, tmp_path):
+    # the scan looks for a "!" first (issue 32): in UTF-16BE too, and past the first
+    # inflated chunk (1 MB), where the window is the chunk and the last one's tail
+    import random
+
+    from sheetkin.xlsx.package import _DTD_MARKERS
+    assert all(b"!" in m for m in _DTD_MARKERS)
+    head, rest = BILLION_LAUGHS.split(b"<!DOCTYPE", 1)
+    padding = random.Random(32).randbytes(1 << 19).hex()    # incompressible: no zip-bomb ratio
+    text = (head.decode() + "<!--" + padding + "-->" + "<!DOCTYPE" + rest.decode())
+    text = text.replace('<?xml version="1.0"?>', '<?xml version="1.0" encoding="UTF-16"?>')
+    p = rewrite(good, tmp_path / "bomb16be.xlsx", replace={SHEET: b"\xfe\xff" + text.encode("utf-16-be")})
+    refused(p, SHEET, "entity bomb")
+
+
 @pytest.mark.parametrize("encoding", ["UTF-32", "windows-1251"])
 def test_xml_in_other_encodings(good, tmp_path, encoding):
     # The standard allows UTF-8 and UTF-16 only. Stdlib ElementTree would read windows-1251
