@@ -133,7 +133,8 @@ def _program(code: str, **env: str) -> subprocess.CompletedProcess:
     probe = ("import os, sys\n" + code + "\nimport sheetkin.cli as cli\n"
              "def probe():\n"
              "    import numpy\n"
-             "    print(len(os.listdir('/proc/self/task')), flush=True)\n"
+             "    import gc\n"
+    "    print(len(os.listdir('/proc/self/task')), gc.get_threshold()[0], flush=True)\n"
              "    return int(os.environ.get('PROBE_CODE', '0'))\n"
              "cli.main = probe\n"
              "cli.run()\n")
@@ -155,6 +156,12 @@ def test_the_program_runs_numpy_on_one_blas_thread_unless_the_user_chose():
     if many == 1:
         pytest.skip("this numpy starts no BLAS threads")
     assert _threads() == 1
+
+
+def test_the_program_collects_cycles_less_often():
+    # 59 collections scanned the shaper's book while it was read and evaluated (issue 32)
+    proc = _program("")
+    assert proc.returncode == 0 and int(proc.stdout.split()[1]) == 100_000, proc
     # a notebook's import of sheetkin changes nothing: only the program sets it
     out = subprocess.run([sys.executable, "-c", "import os, sheetkin.cli, sheetkin.cli.commands; "
                           "print(os.environ.get('OPENBLAS_NUM_THREADS'))"], capture_output=True, text=True,
