@@ -10,6 +10,11 @@ process tree, and wall time). CPU time is what a loaded machine distorts least.
 compiles .pyc files on install): PYTHONDONTWRITEBYTECODE is dropped and the bytecode goes to
 a temporary PYTHONPYCACHEPREFIX, written by one untimed run of each tree. Without it the
 environment decides (where PYTHONDONTWRITEBYTECODE=1, every process compiles every module).
+
+--installed: each tree is built into a wheel and installed (not editable) into a fresh venv
+of its own, with its dependencies, and the process timed is that venv's `sheetkin` console
+script, as a user runs it: no editable-install finder and none of this machine's .pth
+hooks at start-up (they cost 30-60 ms of every `python` here). About a minute per tree.
 """
 from __future__ import annotations
 
@@ -39,6 +44,28 @@ def cpu_of(cmd, env, cwd):
     return (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime), wall, out.stdout
 
 
+def install(root: str, venv: Path) -> Path:
+    """The tree's wheel installed into a new venv (dependencies from pip's usual sources):
+    the path of its `sheetkin` console script."""
+    dist = venv.with_name(venv.name + "-dist")
+    subprocess.run([sys.executable, "-m", "pip", "wheel", "-q", "--no-deps", "-w", str(dist), root],
+                   check=True, capture_output=True)
+    subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True, capture_output=True)
+    subprocess.run([str(venv / "bin" / "python"), "-m", "pip", "install", "-q", *map(str, dist.glob("*.whl"))],
+                   check=True, capture_output=True)
+    return venv / "bin" / "sheetkin"
+
+
+def libreoffice(book: Path, work: Path, name: str) -> tuple[float, float]:
+    """(CPU of the soffice process tree, wall) for recalculating and saving one file."""
+    out = work / name
+    out.mkdir()
+    cpu, wall, _ = cpu_of(["soffice", f"-env:UserInstallation=file://{work}/lo-profile", "--headless",
+                           "--norestore", "--convert-to", "xlsx:Calc MS Excel 2007 XML", "--outdir",
+                           str(out), str(book)], os.environ, work)
+    return cpu, wall
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--rounds", type=int, default=6)
@@ -46,6 +73,8 @@ def main() -> None:
     ap.add_argument("--after", default=str(ROOT), help="the source tree after (default: this one)")
     ap.add_argument("--tiny", action="store_true", help="the four-bar at 13 positions, one round, no LibreOffice")
     ap.add_argument("--bytecode", action="store_true", help="run from compiled bytecode, as installed (see above)")
+    ap.add_argument("--installed", action="store_true",
+                    help="time each tree's wheel installed into a venv, its console script (see above)")
     args = ap.parse_args()
     work = Path(tempfile.mkdtemp(prefix="sheetkin-ab-"))
     base_env = dict(os.environ)
@@ -63,37 +92,48 @@ def main() -> None:
         tree_env = {name: {**base_env, "PYTHONPATH": root,
                            **({"PYTHONPYCACHEPREFIX": str(work / f"pyc-{name}")} if args.bytecode else {})}
                     for name, root in trees.items()}
+        command = {name: [sys.executable, "-m", "sheetkin"] for name in trees}
+        if args.installed:
+            for name, root in trees.items():
+                command[name] = [str(install(root, work / f"venv-{name}"))]
+                tree_env[name] = {k: v for k, v in base_env.items() if k != "PYTHONPATH"}
+                cpu_of([*command[name], "--version"], tree_env[name], work)
         if args.bytecode:                   # one untimed run of each tree writes its bytecode
             for name in trees:
-                cpu_of([sys.executable, "-m", "sheetkin", "evaluate", str(book), "--format", "csv",
+                cpu_of([*command[name], "evaluate", str(book), "--format", "csv",
                         "-o", os.devnull], tree_env[name], work)
-        for _ in range(1 if args.tiny else args.rounds):
+        lo_wanted = not args.tiny and shutil.which("soffice") is not None
+        lo: list[tuple[float, float]] = []
+        if lo_wanted:                       # an untimed run makes LibreOffice's profile
+            libreoffice(book, work, "lo-first")
+        for i in range(1 if args.tiny else args.rounds):
             for name in trees:
                 env = tree_env[name]
-                cpu, wall, _ = cpu_of([sys.executable, "-m", "sheetkin", "evaluate", str(book), "--format", "csv",
+                cpu, wall, _ = cpu_of([*command[name], "evaluate", str(book), "--format", "csv",
                                        "-o", os.devnull], env, work)
                 res[name]["process cpu"].append(cpu)
                 res[name]["process wall"].append(wall)
-                _, _, out = cpu_of([sys.executable, "-c", CODE_EVAL, str(book)], env, work)
+                python = str(Path(command[name][0]).with_name("python")) if args.installed else sys.executable
+                _, _, out = cpu_of([python, "-c", CODE_EVAL, str(book)], env, work)
                 res[name]["evaluate cpu"].append(float(out))
+            if lo_wanted:       # LibreOffice in every round too: the machine's speed drifts
+                lo.append(libreoffice(book, work, f"lo{i}"))
         for name, r in res.items():
             print(name, "; ".join(f"{k}: best {min(v):.3f} s, median {statistics.median(v):.3f} s"
                                   for k, v in r.items()))
-        if args.tiny or not shutil.which("soffice"):
+        if not lo:
             return
-        lo = []
-        for i in range(2):     # LibreOffice: CPU of the soffice process tree for one file, same run
-            out = work / f"lo{i}"
-            out.mkdir()
-            cpu, wall, _ = cpu_of(["soffice", f"-env:UserInstallation=file://{work}/lo-profile", "--headless",
-                                   "--norestore", "--convert-to", "xlsx:Calc MS Excel 2007 XML", "--outdir",
-                                   str(out), str(book)], os.environ, work)
-            lo.append((cpu, wall))
-            print("LibreOffice soffice --convert-to (1 file):", f"cpu {cpu:.2f} s, wall {wall:.2f} s")
-        for name, r in res.items():     # the ratios: LibreOffice's best against each tree's best
+        print("LibreOffice soffice --convert-to (1 file), cpu: "
+              f"best {min(c for c, _ in lo):.2f} s, median {statistics.median(c for c, _ in lo):.2f} s; "
+              f"wall: best {min(w for _, w in lo):.2f} s")
+        for name, r in res.items():
+            # best against best, and the median of the rounds' own ratios (each round's
+            # LibreOffice against the same round's process: robust to the drift)
+            rounds = [c / p for (c, _), p in zip(lo, r["process cpu"], strict=True)]
             print(f"ratio LibreOffice / {name} `sheetkin evaluate` process: "
-                  f"cpu {min(c for c, _ in lo) / min(r['process cpu']):.1f}x, "
-                  f"wall {min(w for _, w in lo) / min(r['process wall']):.1f}x")
+                  f"cpu {min(c for c, _ in lo) / min(r['process cpu']):.1f}x best/best, "
+                  f"{statistics.median(rounds):.1f}x median of the rounds ({min(rounds):.1f}-{max(rounds):.1f}x); "
+                  f"wall {min(w for _, w in lo) / min(r['process wall']):.1f}x best/best")
     finally:
         shutil.rmtree(work, ignore_errors=True)
 

@@ -40,6 +40,7 @@ class _Tokenizer(Tokenizer):
     formulas of the 360-column shaper (issue 32, item 5); the tokens are openpyxl's,
     compared in tests/xlsx/test_tokenizer.py."""
     ERROR_CODES = tuple(ERRORS)
+    offset: int                     # set by openpyxl's __init__: the characters read so far
 
     def _parse(self):
         if self.offset or not self.formula:
