@@ -12,7 +12,8 @@ for the workbook and writes the results into the stores; this module never impor
 """
 from __future__ import annotations
 
-from typing import cast
+import math
+from typing import Any, cast
 
 import numpy as np
 
@@ -35,6 +36,7 @@ from .values import (
     constant,
     error_value,
     first_error_of,
+    to_bool,
     to_number,
     with_error,
 )
@@ -354,7 +356,29 @@ class Context:
             return self._index_reference(args, run)
         if name == ":":
             return self._span(args, run)
+        if name in ("IF", "CHOOSE"):
+            chosen, _ = self._choice(name, args, run)
+            return None if chosen is None else self.reference(chosen, run)
         return None
+
+    def _choice(self, name: str, args, run: Run) -> tuple[Any, str | None]:
+        """The argument that IF(test, a, [b]) or CHOOSE(k, a, b, ...) picks in the run's first
+        cell, where a range ends at it (A1:IF(B1>0,A5,A9), A1:CHOOSE(2,A3,A5): Excel uses the
+        picked reference); else (None, the error Excel gives: #VALUE! for no such argument, a
+        text test or index, the test's or index's own error)."""
+        v = self.eval(args[0], run)
+        first = Val(v.num[:1, :1, :1], v.tag[:1, :1, :1], None if v.txt is None else v.txt[:1, :1, :1])
+        if name == "IF":
+            test, err = to_bool(first)
+            k = 1 if bool(test.reshape(-1)[0]) else 2
+        else:
+            n, err = to_number(first)
+            k = int(n.reshape(-1)[0]) if not err.any() and math.isfinite(n.reshape(-1)[0]) else 0
+        if err.any():
+            return None, str(fx.ERROR_TEXT[int(err.reshape(-1)[0])])
+        if not 1 <= k < len(args) or args[k][0] == "missing":
+            return None, "#VALUE!"
+        return args[k], None
 
     def _span(self, args, run: Run) -> Ref | None:
         """start:end, either a reference-returning function (A1:INDEX(A1:A9,3)): the smallest
@@ -366,7 +390,13 @@ class Context:
                    True, True, True, True)
 
     def range_value(self, args, run: Run) -> Val:
-        """The values of start:end (see _span), read after the cells it may read, as OFFSET's."""
+        """The values of start:end (see _span), read after the cells it may read, as OFFSET's;
+        an end at IF or CHOOSE that picks no argument is that error (#VALUE!), as in Excel."""
+        for end in args:
+            if end[0] == "fn" and end[1] in ("IF", "CHOOSE"):
+                _, code = self._choice(end[1], end[2], run)
+                if code is not None:
+                    return error_value(code, len(run.cols))
         return self.read_reference(self.reference(("fn", ":", args), run), run, "the range A1:INDEX(...)")
 
     def _number(self, node, run: Run, default: float | None = None) -> float | None:
