@@ -19,7 +19,7 @@ import numpy as np
 
 from . import functions as fx
 from .cells import MAX_COL, MAX_ROW
-from .parse import ParseError, Ref, parse_formula, tree_nodes
+from .parse import CHOOSERS, ParseError, Ref, parse_formula, tree_nodes
 from .runs import EvaluationError, Run, span, target_block
 from .table import FUNCTIONS, SCALAR_CONTEXT
 from .values import (
@@ -356,7 +356,7 @@ class Context:
             return self._index_reference(args, run)
         if name == ":":
             return self._span(args, run)
-        if name in ("IF", "CHOOSE"):
+        if name in CHOOSERS:
             chosen, _ = self._choice(name, args, run)
             return None if chosen is None else self.reference(chosen, run)
         return None
@@ -366,8 +366,7 @@ class Context:
         cell, where a range ends at it (A1:IF(B1>0,A5,A9), A1:CHOOSE(2,A3,A5): Excel uses the
         picked reference); else (None, the error Excel gives: #VALUE! for no such argument, a
         text test or index, the test's or index's own error)."""
-        v = self.eval(args[0], run)
-        first = Val(v.num[:1, :1, :1], v.tag[:1, :1, :1], None if v.txt is None else v.txt[:1, :1, :1])
+        first = self._first_value(args[0], run)
         if name == "IF":
             test, err = to_bool(first)
             k = 1 if bool(test.reshape(-1)[0]) else 2
@@ -392,19 +391,25 @@ class Context:
     def range_value(self, args, run: Run) -> Val:
         """The values of start:end (see _span), read after the cells it may read, as OFFSET's;
         an end at IF or CHOOSE that picks no argument is that error (#VALUE!), as in Excel."""
-        for end in args:
-            if end[0] == "fn" and end[1] in ("IF", "CHOOSE"):
-                _, code = self._choice(end[1], end[2], run)
+        ends = []
+        for end in args:            # an IF or CHOOSE end replaced by what it picks, its test run once
+            if end[0] == "fn" and end[1] in CHOOSERS:
+                end, code = self._choice(end[1], end[2], run)
                 if code is not None:
                     return error_value(code, len(run.cols))
-        return self.read_reference(self.reference(("fn", ":", args), run), run, "the range A1:INDEX(...)")
+            ends.append(end)
+        return self.read_reference(self.reference(("fn", ":", ends), run), run, "the range A1:INDEX(...)")
+
+    def _first_value(self, node, run: Run) -> Val:
+        """A tree's value in the run's first cell (where a reference is made, as OFFSET's)."""
+        v = self.eval(node, run)
+        return Val(v.num[:1, :1, :1], v.tag[:1, :1, :1], None if v.txt is None else v.txt[:1, :1, :1])
 
     def _number(self, node, run: Run, default: float | None = None) -> float | None:
         """An argument's value in the run's first cell as a number; None for an error or text."""
         if node is None or node[0] == "missing":
             return default
-        v = self.eval(node, run)
-        n, err = to_number(Val(v.num[:1, :1, :1], v.tag[:1, :1, :1], None if v.txt is None else v.txt[:1, :1, :1]))
+        n, err = to_number(self._first_value(node, run))
         return None if err.any() else float(n.reshape(-1)[0])
 
     def _offset(self, args, run: Run) -> Ref | None:

@@ -225,7 +225,8 @@ def function_name(text: str) -> str:
 # the functions whose value is a reference, which a range may start or end at (A1:INDEX(A1:A9,3),
 # A1:IF(B1>0,A5,A9) and A1:CHOOSE(2,A3,A5), whose chosen argument is one, as in Excel);
 # ":" is the range operator between them, a node ("fn", ":", [start, end]) of the tree
-RANGE_ENDS = frozenset({"INDEX", "OFFSET", "INDIRECT", "IF", "CHOOSE", ":"})
+CHOOSERS = frozenset({"IF", "CHOOSE"})        # they pick an argument: its reference (Context._choice)
+RANGE_ENDS = frozenset({"INDEX", "OFFSET", "INDIRECT", ":"}) | CHOOSERS
 _PREC = {"=": 1, "<>": 1, "<": 1, ">": 1, "<=": 1, ">=": 1, "&": 2, "+": 3, "-": 3, "*": 4, "/": 4, "^": 5}
 
 
