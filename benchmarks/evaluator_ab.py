@@ -11,6 +11,12 @@ compiles .pyc files on install): PYTHONDONTWRITEBYTECODE is dropped and the byte
 a temporary PYTHONPYCACHEPREFIX, written by one untimed run of each tree. Without it the
 environment decides (where PYTHONDONTWRITEBYTECODE=1, every process compiles every module).
 
+--callgrind: each tree's process also runs once under valgrind's callgrind, which counts the
+instructions it executes: the same count in every run, whatever the machine's load or speed
+(time on this VM drifts 1.4x within minutes), so a before/after difference of 1% is seen. It
+counts instructions, not time: cache misses and the kernel's work (page faults) are not in it.
+About a minute a tree. It implies --bytecode (a tree compiling its modules would count that).
+
 --installed: each tree is built into a wheel and installed (not editable) into a fresh venv
 of its own, with its dependencies, and the process timed is that venv's `sheetkin` console
 script, as a user runs it: no editable-install finder and none of this machine's .pth
@@ -20,6 +26,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
 import resource
 import shutil
 import statistics
@@ -66,6 +73,21 @@ def libreoffice(book: Path, work: Path, name: str) -> tuple[float, float]:
     return cpu, wall
 
 
+def instructions(command: list[str], env: dict, work: Path, installed: bool, book: Path) -> int:
+    """Instructions the `sheetkin evaluate` process executes, counted by callgrind."""
+    if shutil.which("valgrind") is None:
+        sys.exit("evaluator_ab.py: --callgrind needs valgrind (apt-get install valgrind)")
+    # the interpreter itself, not a launcher script (callgrind follows no child process)
+    python = str(Path(command[0]).with_name("python")) if installed else os.path.realpath(sys.executable)
+    out = subprocess.run(["valgrind", "--tool=callgrind", f"--callgrind-out-file={work}/callgrind.out",
+                          python, "-m", "sheetkin", "evaluate", str(book), "--format", "csv", "-o", os.devnull],
+                         env=env, cwd=work, capture_output=True, text=True, check=True)
+    found = re.search(r"Collected : (\d+)", out.stderr)
+    if found is None:
+        sys.exit(f"evaluator_ab.py: no instruction count in valgrind's output:\n{out.stderr[-500:]}")
+    return int(found.group(1))
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--rounds", type=int, default=6)
@@ -73,9 +95,12 @@ def main() -> None:
     ap.add_argument("--after", default=str(ROOT), help="the source tree after (default: this one)")
     ap.add_argument("--tiny", action="store_true", help="the four-bar at 13 positions, one round, no LibreOffice")
     ap.add_argument("--bytecode", action="store_true", help="run from compiled bytecode, as installed (see above)")
+    ap.add_argument("--callgrind", action="store_true",
+                    help="also count each tree's instructions under valgrind (deterministic, see above)")
     ap.add_argument("--installed", action="store_true",
                     help="time each tree's wheel installed into a venv, its console script (see above)")
     args = ap.parse_args()
+    args.bytecode = args.bytecode or (args.callgrind and not args.installed)
     work = Path(tempfile.mkdtemp(prefix="sheetkin-ab-"))
     base_env = dict(os.environ)
     if args.bytecode:
@@ -118,6 +143,12 @@ def main() -> None:
                 res[name]["evaluate cpu"].append(float(out))
             if lo_wanted:       # LibreOffice in every round too: the machine's speed drifts
                 lo.append(libreoffice(book, work, f"lo{i}"))
+        if args.callgrind:
+            counted = {name: instructions(command[name], tree_env[name], work, args.installed, book)
+                       for name in trees}
+            print("instructions (callgrind), `sheetkin evaluate` process: " +
+                  ", ".join(f"{name} {n:,}" for name, n in counted.items()) +
+                  f"; after/before {counted['after'] / counted['before']:.3f}")
         for name, r in res.items():
             print(name, "; ".join(f"{k}: best {min(v):.3f} s, median {statistics.median(v):.3f} s"
                                   for k, v in r.items()))

@@ -400,7 +400,9 @@ def texts_of(items: list[bytes]) -> list[str]:
         raise _NotSimple                            # not allowed in character data: the tree path says so
     pieces = joined.split(b'"')
     distinct = list(set(pieces))
-    table = {p: _unescape(p) for p in compress(distinct, map(bytes.__contains__, distinct, repeat(b"&")))}
+    # the "&" looked for as the int 38: bytes.__contains__ then skips taking a buffer of
+    # the needle (32,522 distinct pieces in the shaper: 2.4x faster, issue 32)
+    table = {p: _unescape(p) for p in compress(distinct, map(bytes.__contains__, distinct, repeat(ord("&"))))}
     texts = b'"'.join(map(table.get, pieces, pieces)).decode("utf-8").split("\0")
     if len(texts) != len(items):
         raise _NotSimple                            # a reference to NUL (which _unescape refuses anyway)
@@ -875,6 +877,9 @@ def _not_needed(pkg, infos: list, needed_for: str | int, shared: list[str], limi
 _READS_UNNAMED = [re.compile(p) for p in (
     rb"indirect", rb"sheets?\s*\(", rb"cell\s*\(", rb"info\s*\(", rb"\[",
     rb":\$?(?:[a-z]{1,3}|[0-9]+)(?![\w(.!$])|:'|:[^\W\d][\w.]*!")]
+# each pattern's leading literal, looked for with `in` first (a C search, 2-3x faster than
+# the regex's scan over the shaper's 3 MB, where the first five never occur)
+_UNNAMED_HEADS = [b"indirect", b"sheet", b"cell", b"info", b"[", b":"]
 
 
 def _sheets_named(sh: Sheet, sheet_names: list[str]) -> list[str] | None:
@@ -884,7 +889,7 @@ def _sheets_named(sh: Sheet, sheet_names: list[str]) -> list[str] | None:
     if not sh.formulas:
         return []
     text = "\0".join(sh.formulas.values()).encode("utf-8").lower()
-    if any(p.search(text) for p in _READS_UNNAMED):
+    if any(head in text and p.search(text) for head, p in zip(_UNNAMED_HEADS, _READS_UNNAMED, strict=True)):
         return None
     if b"!" not in text:                            # no sheet named (each name below looks for its "!")
         return []

@@ -52,10 +52,11 @@ def lookup_name(scopes: dict, sheet: str, name: str):
 
 
 def _binary_op(op: str, a: Val, b: Val) -> Val:
-    try:
-        np.broadcast_shapes(a.shape, b.shape)
-    except ValueError:                      # ranges of different sizes (=A1:B2+A1:C3): #VALUE!
-        return error_value("#VALUE!", max(a.shape[0], b.shape[0]))
+    if a.shape != b.shape:                  # (equal shapes, most operations, broadcast as they are)
+        try:
+            np.broadcast_shapes(a.shape, b.shape)
+        except ValueError:                  # ranges of different sizes (=A1:B2+A1:C3): #VALUE!
+            return error_value("#VALUE!", max(a.shape[0], b.shape[0]))
     if op in ("+", "-", "*", "/", "^"):
         return arith(op, a, b)
     if op == "&":
