@@ -65,7 +65,9 @@ def test_sheet_names_in_another_case_or_quoted(tmp_path):
 
 
 @pytest.mark.parametrize("formula", ['=INDIRECT("Other!A1")', "=SUM(A:A)", "=SUM(2:3)", "=SHEETS()",
-                                     '=CELL("address",A2)', "=SUM(Data:Other!A1)"])
+                                     '=CELL("address",A2)', "=SUM(Data:Other!A1)", '=INFO ("directory")',
+                                     "=SUM(Table1[x])", "=SUM(Data:'Other'!A1)", "=Sheet (A1)",
+                                     "=indirect(A2)"])
 def test_every_sheet_when_the_text_cannot_tell(tmp_path, formula):
     p = book(tmp_path, {"Main": {"A1": formula, "A2": 1}, "Data": {"A1": 1}, "Other": {"A1": 4, "A9": 5}})
     assert parsed(p, 0) == {"Main", "Data", "Other"}
