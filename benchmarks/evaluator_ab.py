@@ -89,7 +89,7 @@ def instructions(command: list[str], env: dict, work: Path, installed: bool, boo
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--rounds", type=int, default=6)
     ap.add_argument("--before", default=str(ROOT), help="the source tree before (default: this one)")
     ap.add_argument("--after", default=str(ROOT), help="the source tree after (default: this one)")
