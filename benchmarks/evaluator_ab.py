@@ -73,12 +73,11 @@ def libreoffice(book: Path, work: Path, name: str) -> tuple[float, float]:
     return cpu, wall
 
 
-def instructions(command: list[str], env: dict, work: Path, installed: bool, book: Path) -> int:
-    """Instructions the `sheetkin evaluate` process executes, counted by callgrind."""
+def instructions(python: str, env: dict, work: Path, book: Path) -> int:
+    """Instructions the `sheetkin evaluate` process executes, counted by callgrind; python:
+    the tree's interpreter itself, not a launcher script (callgrind follows no child process)."""
     if shutil.which("valgrind") is None:
         sys.exit("evaluator_ab.py: --callgrind needs valgrind (apt-get install valgrind)")
-    # the interpreter itself, not a launcher script (callgrind follows no child process)
-    python = str(Path(command[0]).with_name("python")) if installed else os.path.realpath(sys.executable)
     out = subprocess.run(["valgrind", "--tool=callgrind", f"--callgrind-out-file={work}/callgrind.out",
                           python, "-m", "sheetkin", "evaluate", str(book), "--format", "csv", "-o", os.devnull],
                          env=env, cwd=work, capture_output=True, text=True, check=True)
@@ -118,9 +117,11 @@ def main() -> None:
                            **({"PYTHONPYCACHEPREFIX": str(work / f"pyc-{name}")} if args.bytecode else {})}
                     for name, root in trees.items()}
         command = {name: [sys.executable, "-m", "sheetkin"] for name in trees}
+        python = {name: sys.executable for name in trees}       # each tree's interpreter
         if args.installed:
             for name, root in trees.items():
                 command[name] = [str(install(root, work / f"venv-{name}"))]
+                python[name] = str(Path(command[name][0]).with_name("python"))
                 tree_env[name] = {k: v for k, v in base_env.items() if k != "PYTHONPATH"}
                 cpu_of([*command[name], "--version"], tree_env[name], work)
         if args.bytecode:                   # one untimed run of each tree writes its bytecode
@@ -138,14 +139,12 @@ def main() -> None:
                                        "-o", os.devnull], env, work)
                 res[name]["process cpu"].append(cpu)
                 res[name]["process wall"].append(wall)
-                python = str(Path(command[name][0]).with_name("python")) if args.installed else sys.executable
-                _, _, out = cpu_of([python, "-c", CODE_EVAL, str(book)], env, work)
+                _, _, out = cpu_of([python[name], "-c", CODE_EVAL, str(book)], env, work)
                 res[name]["evaluate cpu"].append(float(out))
             if lo_wanted:       # LibreOffice in every round too: the machine's speed drifts
                 lo.append(libreoffice(book, work, f"lo{i}"))
         if args.callgrind:
-            counted = {name: instructions(command[name], tree_env[name], work, args.installed, book)
-                       for name in trees}
+            counted = {name: instructions(python[name], tree_env[name], work, book) for name in trees}
             print("instructions (callgrind), `sheetkin evaluate` process: " +
                   ", ".join(f"{name} {n:,}" for name, n in counted.items()) +
                   f"; after/before {counted['after'] / counted['before']:.3f}")
