@@ -78,6 +78,9 @@ class Sheet:
     arrays: dict = field(default_factory=dict)
     names: dict = field(default_factory=dict)     # names scoped to this sheet (localSheetId)
     dangling: dict = field(default_factory=dict)  # (r, c) -> why a shared formula's cell has no text
+    # the UTF-8 text of the formulas the file holds (the fast path's, as it decoded them),
+    # kept for the sheet-name scan (_sheets_named) when asked; None: not kept
+    formula_bytes: list | None = None
 
     def computed(self, r: int, c: int) -> bool:
         """Whether the cell's value comes from a formula: its own, or an array formula's
@@ -89,14 +92,15 @@ class Sheet:
 
 
 def _read_sheet(pkg, name: str, part: str, state: str, shared: list[str], limits: Limits,
-                budget: int | None = None, saved: bool = True) -> Sheet:
+                budget: int | None = None, saved: bool = True, keep_text: bool = False) -> Sheet:
     """budget: cells that may still hold something (Limits.max_cells less the sheets before).
     saved: whether the values saved for formula cells are wanted (sh.cached); the fast path
-    leaves them unread without (the evaluator computes them)."""
+    leaves them unread without (the evaluator computes them). keep_text: the fast path keeps
+    the formulas' UTF-8 text in sh.formula_bytes."""
     if not part.lower().endswith(".xml"):           # only .xml parts were pre-scanned
         return _read_tree(pkg, pkg.xml(part), name, part, state, shared, limits, budget)
     data = pkg.read(part)
-    sh = _read_fast(pkg, data, name, state, shared, limits, budget, saved)
+    sh = _read_fast(pkg, data, name, state, shared, limits, budget, saved, keep_text)
     if sh is not None:
         return sh
     return _read_tree(pkg, _streamed(pkg, data, part), name, part, state, shared, limits, budget)
@@ -384,32 +388,49 @@ def _entity(m: re.Match) -> bytes:
 
 
 def texts_of(items: list[bytes]) -> list[str]:
-    """Character data (bytes without markup): unescaped and decoded, all in one pass. With
-    references in it, the text is cut at every '"' (no reference holds one) and each
-    distinct piece that holds a "&" is unescaped once (_unescape; an undefined entity or a
-    character XML forbids is _NotSimple): a formula sheet repeats the same few string
-    literals (openpyxl writes Cyrillic as &#1085;..., 381,532 references in the 360-column
-    shaper) and the same comparisons (&gt;), so this is about 3x faster than expat's pass
-    over the whole text, which unescaped every reference each time (issue 32)."""
+    """Character data (bytes without markup): unescaped and decoded (see _decoded)."""
+    return _decoded(items)[0]
+
+
+def _decoded(items: list[bytes]) -> tuple[list[str], bytes]:
+    """(texts, their UTF-8 bytes joined by NUL): character data (bytes without markup),
+    unescaped and decoded, all in one pass. With references in it, the text is cut at every
+    '"' (no reference holds one): the pieces at odd places (a formula's string literals) are
+    few distinct texts, each unescaped once; the others (the formulas' code, where references
+    are few: &gt;, &lt;) are unescaped in one regex pass over them all (_unescape: an
+    undefined entity or a character XML forbids is _NotSimple). openpyxl writes Cyrillic as
+    &#1085;... (381,532 references in the 360-column shaper, all in 12 distinct literals), so
+    this is several times faster than expat's pass over the whole text, which unescaped every
+    reference each time (issue 32)."""
     if not items:
-        return []
+        return [], b""
     joined = b"\0".join(items)                     # NUL occurs neither raw nor as a reference
-    if b"&" not in joined:
-        return joined.decode("utf-8").split("\0")
     if b"]]>" in joined:
         raise _NotSimple                            # not allowed in character data: the tree path says so
+    if b"&" not in joined:
+        return joined.decode("utf-8").split("\0"), joined
     pieces = joined.split(b'"')
-    distinct = list(set(pieces))
-    # the "&" looked for as the int 38: bytes.__contains__ then skips taking a buffer of
-    # the needle (32,522 distinct pieces in the shaper: 2.4x faster, issue 32)
-    table = {p: _unescape(p) for p in compress(distinct, map(bytes.__contains__, distinct, repeat(ord("&"))))}
-    texts = b'"'.join(map(table.get, pieces, pieces)).decode("utf-8").split("\0")
+    literals, code = pieces[1::2], pieces[::2]
+    joined_code = b'"'.join(code)
+    code_text = _unescape(joined_code).split(b'"') if b"&" in joined_code else code
+    if len(code_text) == len(code):                 # (not so when a reference in the code spells '"')
+        table = {p: _unescape(p) for p in set(literals) if b"&" in p}
+        pieces[::2] = code_text
+        pieces[1::2] = map(table.get, literals, literals)
+    else:
+        distinct = list(set(pieces))
+        table = {p: _unescape(p) for p in compress(distinct, map(bytes.__contains__, distinct, repeat(ord("&"))))}
+        pieces = list(map(table.get, pieces, pieces))
+    joined = b'"'.join(pieces)
+    texts = joined.decode("utf-8").split("\0")
     if len(texts) != len(items):
         raise _NotSimple                            # a reference to NUL (which _unescape refuses anyway)
-    return texts
+    return texts, joined
 
 
 def _text(b: bytes) -> str:
+    if b"]]>" in b:
+        raise _NotSimple                            # (as texts_of)
     return (_unescape(b) if b"&" in b else b).decode("utf-8")
 
 
@@ -417,7 +438,7 @@ _PIECE = 4 << 20        # bytes of <sheetData> split at a time (the split's list
 
 
 def _read_fast(pkg, data: bytes, name: str, state: str, shared: list[str], limits: Limits,
-               budget: int | None = None, saved: bool = True) -> Sheet | None:
+               budget: int | None = None, saved: bool = True, keep_text: bool = False) -> Sheet | None:
     """The cells of a sheet part in the simple shape (see _CELLS), else None. Read in
     pieces of about _PIECE bytes ending at a </row>, so that the regex's lists stay small
     whatever the part's size."""
@@ -430,7 +451,7 @@ def _read_fast(pkg, data: bytes, name: str, state: str, shared: list[str], limit
     gc.disable()                # tens of thousands of small tuples, none of them cyclic
     try:
         masters: dict[str | None, _Shared]
-        sh, masters, pos = Sheet(name, state), {}, start + 11
+        sh, masters, pos = Sheet(name, state, formula_bytes=[] if keep_text else None), {}, start + 11
         while pos < end:                            # pieces of <sheetData>, never a copy of all of it
             cut = end
             if cut - pos > _PIECE:
@@ -481,7 +502,10 @@ def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits
     if sh.max_row > limits.max_rows or sh.max_col > limits.max_cols:
         _refuse_far_cell(pkg, name, limits, rows, cols, letters, rownums, held)
     # formulas: the text of every <f> that has one, decoded in one pass
-    formulas = dict(zip(compress(keys, ftexts), texts_of(list(filter(None, ftexts))), strict=False))
+    texts, utf8 = _decoded(list(filter(None, ftexts)))
+    formulas = dict(zip(compress(keys, ftexts), texts, strict=False))
+    if sh.formula_bytes is not None:
+        sh.formula_bytes.append(utf8)
     if any(fattrs):
         formulas = _shared_and_arrays(sh, keys, fattrs, ftexts, formulas, {} if masters is None else masters)
     # values: constants, and the values saved for formula cells
@@ -855,9 +879,10 @@ def _not_needed(pkg, infos: list, needed_for: str | int, shared: list[str], limi
     while todo:
         info = by_name[todo.pop()]
         sh = read[info.name] = _read_sheet(pkg, info.name, info.part, info.state, shared, limits,
-                                           limits.max_cells - held, saved)
+                                           limits.max_cells - held, saved, keep_text=True)
         held += len(sh.consts) + len(sh.formulas) + len(sh.dangling)
         named = _sheets_named(sh, list(by_name))
+        sh.formula_bytes = None                     # (read for the scan only)
         if named is None:                           # every sheet read in order, as without needed_for
             for n in list(read):
                 if n != infos[0].name or len(read) > 1:
@@ -887,7 +912,13 @@ def _sheets_named(sh: Sheet, sheet_names: list[str]) -> list[str] | None:
     None when the text does not tell (_READS_UNNAMED). A sheet without formulas reads none."""
     if not sh.formulas:
         return []
-    text = "\0".join(sh.formulas.values()).encode("utf-8").lower()
+    if sh.formula_bytes is not None:
+        # the reader's own UTF-8 text of the formulas in the file (5 MB in the shaper: not
+        # joined and encoded again, issue 32). A shared formula's other cells are its first
+        # cell's text shifted: the same functions, sheets and kinds of reference
+        text = b"\0".join(sh.formula_bytes).lower()
+    else:
+        text = "\0".join(sh.formulas.values()).encode("utf-8").lower()
     if any(head in text and p.search(text) for head, p in _READS_UNNAMED):
         return None
     if b"!" not in text:                            # no sheet named (each name below looks for its "!")

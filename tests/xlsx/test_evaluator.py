@@ -865,6 +865,40 @@ def test_formula_texts_unescape_as_expat_does(bad):
         xlsxread.texts_of([*items, bad])
 
 
+_TEXT_BITS = [b'"', b"&amp;", b"&lt;", b"&gt;", b"&quot;", b"&apos;", b"&#1085;", b"&#x416;", b"&#34;", b"&#38;",
+              b"&#60;", b"amp;", b"#1085;", b"A1", b"IF(", b",", b" ", "\u0416".encode(), b"&nbsp;", b"&", b"]]>",
+              b"&#0;", b"&#xD800;"]
+
+
+def test_formula_texts_unescape_as_expat_does_fuzzed():
+    """texts_of against expat on texts assembled from references, quotes and text, alone
+    and next to each other (a reference that spells '"' or "&" in the code or in a string,
+    an &amp; before "#1085;", a stray "&"): expat's texts, or _NotSimple where expat
+    refuses one (the fast path's code and literal passes, and its fallback, issue 32)."""
+    from xml.etree import ElementTree
+
+    from hypothesis import given, settings
+    from hypothesis import strategies as st
+
+    from sheetkin.xlsx import cells as xlsxread
+
+    item = st.lists(st.sampled_from(_TEXT_BITS), max_size=8).map(b"".join)
+
+    @settings(max_examples=400, derandomize=True, database=None, deadline=None)
+    @given(st.lists(item, min_size=1, max_size=6), st.integers(1, 3))
+    def check(items, repeat):
+        items = items * repeat
+        try:
+            want = [ElementTree.fromstring(b"<t>" + i + b"</t>").text or "" for i in items]
+        except ElementTree.ParseError:
+            with pytest.raises(xlsxread._NotSimple):
+                xlsxread.texts_of(items)
+            return
+        assert xlsxread.texts_of(items) == want
+
+    check()
+
+
 @pytest.mark.parametrize("variant", ["pretty", "prefixed", "crlf", "t_after_other", "stray_ampersand"])
 def test_unusual_xml_falls_back_to_the_element_tree(tmp_path, monkeypatch, variant):
     """Indented XML stays on the fast path; prefixed names (x:c), a carriage return in text,

@@ -97,3 +97,50 @@ def test_the_command_prints_the_same_sheet(tmp_path, capsys):
     assert capsys.readouterr().out == "name,1\ny,2.0\n"
     assert main(["evaluate", str(p), "--sheet", "nope"]) == 2
     assert "no sheet 'nope'; sheets: Main, Data, Other" in capsys.readouterr().err
+
+
+def _with_first_sheet(path: Path, sheet_data: bytes) -> Path:
+    """The book at `path` with its first sheet's <sheetData> replaced (Excel's shapes:
+    shared formulas, references in the text)."""
+    import re
+    import zipfile
+    out = path.with_name("crafted.xlsx")
+    with zipfile.ZipFile(path) as zin, zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as zout:
+        for info in zin.infolist():
+            data = zin.read(info.filename)
+            if info.filename == "xl/worksheets/sheet1.xml":
+                data = re.sub(rb"<sheetData>.*</sheetData>|<sheetData/>", lambda m: sheet_data, data, flags=re.S)
+            zout.writestr(info.filename, data)
+    return out
+
+
+def test_the_scan_reads_the_text_the_file_holds(tmp_path, monkeypatch):
+    """The sheet-name scan reads the fast path's own UTF-8 text of the formulas (issue 32),
+    which holds a shared formula's first cell only, and references as the file spells them
+    (a Cyrillic sheet name as &#...;, &gt;, &amp;): the same sheets as the scan of every
+    formula's decoded text, and the same values as reading every sheet."""
+    from sheetkin.xlsx import cells
+    p = book(tmp_path, {"Main": {"A1": 1}, "Data": {"A1": 2, "B1": 3, "C1": 4}, "Лист": {"A1": 5}, "Other": {"A1": 6}})
+    name = "".join(f"&#{ord(ch)};" for ch in "Лист").encode()
+    p = _with_first_sheet(p, b'<sheetData><row r="1"><c r="A1"><v>1</v></c>'
+                             b'<c r="B1"><f t="shared" ref="B1:D1" si="0">Data!A1*2</f><v>4</v></c>'
+                             b'<c r="C1"><f t="shared" si="0"/><v>6</v></c><c r="D1"><f t="shared" si="0"/><v>8</v></c>'
+                             b'<c r="E1" t="str"><f>IF(' + name + b'!A1&gt;4,"&#1076;&amp;"&amp;B1,"")</f><v></v></c>'
+                             b"</row></sheetData>")
+    scans = []
+    real = cells._sheets_named
+
+    def spy(sh, sheet_names):
+        held = sh.formula_bytes
+        got = real(sh, sheet_names)
+        sh.formula_bytes = None
+        scans.append((held is not None, got, real(sh, sheet_names)))
+        sh.formula_bytes = held
+        return got
+    monkeypatch.setattr(cells, "_sheets_named", spy)
+    assert parsed(p, 0) == {"Main", "Data", "Лист"}
+    assert scans[0] == (True, ["Data", "Лист"], ["Data", "Лист"])          # Main's formulas
+    assert scans[1:] == [(True, [], [])] * 2                                # Data's and Лист's: none
+    lean, full = evaluate(p, needed_for=0, saved=False), evaluate(p)
+    assert [lean.value("Main", 1, c) for c in range(1, 6)] == [1.0, 4.0, 6.0, 8.0, "д&4"]
+    assert (lean.num["Main"] == full.num["Main"]).all() and (lean.tag["Main"] == full.tag["Main"]).all()
