@@ -53,11 +53,15 @@ def test_csv_is_the_csv_writers_row_for_row(tmp_path):
     from sheetkin.xlsx.evaluator import evaluate, rows_csv, rows_table
     wb = openpyxl.Workbook()
     ws = wb.active
-    names = ["plain", "a,b", 'say "hi"', "two\nlines", "mixed", "tiny"]
+    names = ["plain", "a,b", 'say "hi"', "two\nlines", "mixed", "tiny", "zeros", "zeros too"]
+    # each distinct number's repr is made once (issue 32): 0.0 and -0.0 are one key there,
+    # so rows of both signs, each first in one row, and numbers repeated across rows
+    signed = {"zeros": [-0.0, 0.0, 2.5, -0.0], "zeros too": [0.0, -0.0, 0.0, 1e-300 * 5]}
     for r, name in enumerate(names, start=5):
         ws.cell(r, 1, name)
         for c in range(5, 9):
-            ws.cell(r, c, f"=SIN({c}*{r})/7" if name != "tiny" else 1e-300 * c)
+            ws.cell(r, c, signed[name][c - 5] if name in signed else
+                    f"=SIN({c}*{r})/7" if name != "tiny" else 1e-300 * c)
     ws.cell(9, 6, "text")
     ws.cell(9, 7, "=1>0")
     ws.cell(9, 8, None)
@@ -73,3 +77,4 @@ def test_csv_is_the_csv_writers_row_for_row(tmp_path):
         w.writerow([name, *("" if v is None else v for v in row)])
     assert rows_csv(book) == ref.getvalue()
     assert '\n"a,b",' in ref.getvalue() and '\n"two\nlines",' in ref.getvalue()
+    assert "\nzeros,-0.0,0.0,2.5,-0.0\n" in ref.getvalue() and "\nzeros too,0.0,-0.0,0.0,5e-300\n" in ref.getvalue()
