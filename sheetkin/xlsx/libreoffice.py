@@ -148,6 +148,15 @@ def _wait_group(pgid: int, timeout: float) -> None:
         time.sleep(0.02)
 
 
+def recalculating_profile(folder: Path) -> None:
+    """Make `folder` (new or empty) a LibreOffice user profile that recalculates every
+    formula when it loads a file (_REGISTRY). Without it LibreOffice keeps the values the
+    file saved (its default for Excel's files), so a conversion would time loading and
+    saving, not recalculation (benchmarks/evaluator_ab.py uses it too)."""
+    (folder / "user").mkdir(parents=True, exist_ok=True)
+    (folder / "user" / "registrymodifications.xcu").write_text(_REGISTRY, "utf-8")
+
+
 def soffice_path() -> str | None:
     """The LibreOffice executable ($SOFFICE, else `soffice`/`libreoffice` on PATH), or None."""
     env = os.environ.get("SOFFICE")
@@ -181,8 +190,7 @@ def _convert(paths, outdir: Path, target: str, ext: str, timeout: float) -> dict
     # the owner's pid in the name: if this process is killed outright (SIGKILL, the
     # out-of-memory killer), its parent finds what it left by it (stop_orphans)
     with scratch_folder(PROFILE_PREFIX) as profile:
-        (profile / "user").mkdir()
-        (profile / "user" / "registrymodifications.xcu").write_text(_REGISTRY, "utf-8")
+        recalculating_profile(profile)
         (profile / "tmp").mkdir()       # LibreOffice's own temporary files (lu*.tmp) go with the profile
         cmd = [
             soffice,
