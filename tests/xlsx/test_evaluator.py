@@ -899,7 +899,8 @@ def test_formula_texts_unescape_as_expat_does_fuzzed():
     check()
 
 
-@pytest.mark.parametrize("variant", ["pretty", "prefixed", "crlf", "t_after_other", "stray_ampersand"])
+@pytest.mark.parametrize("variant", ["pretty", "prefixed", "crlf", "t_after_other", "stray_ampersand",
+                                     "control_character", "escape_character"])
 def test_unusual_xml_falls_back_to_the_element_tree(tmp_path, monkeypatch, variant):
     """Indented XML stays on the fast path; prefixed names (x:c), a carriage return in text,
     t after another attribute go to ElementTree with the same cells; XML that is not
@@ -910,8 +911,19 @@ def test_unusual_xml_falls_back_to_the_element_tree(tmp_path, monkeypatch, varia
         "crlf": _sheet_xml().replace(b"two spaces", b"two\r\nlines"),
         "t_after_other": _sheet_xml().replace(b'<c r="C1" t="b">', b'<c r="C1" cm="1" t="b">'),
         "stray_ampersand": _sheet_xml().replace(b"&amp; &quot;", b"&nbsp; &quot;"),
+        # XML 1.0 allows no other control character: not read as text by either path
+        "control_character": _sheet_xml().replace(b"two spaces", b"two\x01spaces"),
+        "escape_character": _sheet_xml().replace(b"two spaces", b"two\x1bspaces"),
     }[variant]
     path = _crafted(tmp_path, f"{variant}.xlsx", sheet)
+    if variant in ("control_character", "escape_character"):
+        from sheetkin.xlsx import cells as xlsxread
+        from sheetkin.xlsx.package import UnusableWorkbook
+        with pytest.raises(UnusableWorkbook, match="not well-formed XML"):
+            xlsxread.read_book(path)                # the fast path declines, the tree refuses
+        with pytest.raises(UnusableWorkbook, match="not well-formed XML"):
+            xlsxread.read_book(path, needed_for=0, saved=False)
+        return
     if variant == "stray_ampersand":
         from sheetkin.xlsx.package import UnusableWorkbook
         with pytest.raises(UnusableWorkbook, match="not well-formed XML"):
