@@ -1,6 +1,7 @@
 """sheetkin's formula tokenizer (parse._Tokenizer: openpyxl's, with runs of operand
-characters consumed at once, issue 32 item 5) gives openpyxl's tokens, or openpyxl's
-error, for every formula: the bundled workbooks' formulas, hand-picked corners and
+characters consumed at once, and a formula of words, strings, spaces, operators,
+parentheses and commas read one regex match a piece, issue 32 item 5) gives openpyxl's
+tokens, or openpyxl's error, for every formula: the bundled workbooks' formulas, hand-picked corners and
 hypothesis's fragments of every character class the tokenizer dispatches on."""
 from __future__ import annotations
 
@@ -48,6 +49,8 @@ CORNERS = [
     '="open', "='open", "=[open", "=#BAD", "=(1", "=1)", "=)", "={1,2)", "=SUM((A1,B1))", "=A1,B1",
     "=IF(A1<>\"\",A1>=2,A1<=3)", "=x!A1:y!B2", "=Лист1!A1*2", '=IF(E5>0,"да","нет")', "=A1'b'",
     "=A1\"b\"", "=A#N/A", "=A1!#REF!", "plain text", "", "=", "=a[b]c", "=1e5e+5", "=E+1", "=9E-",
+    # words float() reads as numbers, and the logical words in both cases
+    "=inf+1", "=NaN*2", "=-Infinity", "=infinity(1)", "=TRUE+FALSE", "=true", "=$A$1", "=_x1", "=1_000",
 ]
 
 
