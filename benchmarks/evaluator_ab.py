@@ -1,7 +1,9 @@
 """Before and after, same run: `sheetkin evaluate` of the 360-column shaper as a process
 (CPU and wall time) and `evaluate()` in-process (CPU), for two source trees interleaved
 round by round, and LibreOffice's `soffice --convert-to` of the same book (CPU of its
-process tree, and wall time). CPU time is what a loaded machine distorts least.
+process tree, and wall time). CPU time is what a loaded machine distorts least. The trees
+run in alternating order (before-after, then after-before), and the median of the rounds'
+after/before pairs is printed with the bests and medians.
 LibreOffice runs with a profile that recalculates every formula on load, as the tests'
 harness does (`recalculating_profile`): by default it keeps the values the book saved, and
 the generated books save them, so before 2026-11-29 13:30 UTC its runs here loaded and saved
@@ -143,7 +145,9 @@ def main() -> None:
             recalculating_profile(work / "lo-profile")
             libreoffice(book, work, "lo-first")
         for i in range(1 if args.tiny else args.rounds):
-            for name in trees:
+            # the trees' order alternates (ABBA): whichever runs second in a round may find
+            # the machine warmer or busier, and a fixed order put that on one tree
+            for name in (list(trees) if i % 2 == 0 else list(reversed(trees))):
                 env = tree_env[name]
                 cpu, wall, _ = cpu_of([*command[name], "evaluate", str(book), "--format", "csv",
                                        "-o", os.devnull], env, work)
@@ -161,6 +165,9 @@ def main() -> None:
         for name, r in res.items():
             print(name, "; ".join(f"{k}: best {min(v):.3f} s, median {statistics.median(v):.3f} s"
                                   for k, v in r.items()))
+        paired = [a / b for a, b in zip(res["after"]["process cpu"], res["before"]["process cpu"], strict=True)]
+        print(f"after/before process cpu, the median of the rounds' pairs: {statistics.median(paired):.3f} "
+              f"({min(paired):.3f}-{max(paired):.3f})")
         if not lo:
             return
         print("LibreOffice soffice --convert-to (1 file), cpu: "
