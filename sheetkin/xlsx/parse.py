@@ -44,7 +44,8 @@ def _operand_token(value: str) -> Token:
     reference or a name: a "$" or a letter first, no word float() reads): the ValueError it
     raised and caught for each was 4 % of parsing the shaper's formulas (issue 32)."""
     first = value[0]
-    if (first == "$" or first.isalpha()) and value not in ("TRUE", "FALSE") and value.lower() not in _FLOAT_WORDS:
+    if (first == "$" or first.isalpha()) and value not in ("TRUE", "FALSE") \
+            and value.lower().strip() not in _FLOAT_WORDS:         # (float() strips: "inf<tab>" is a number)
         return Token(value, Token.OPERAND, Token.RANGE)
     return Token.make_operand(value)
 

@@ -51,6 +51,7 @@ CORNERS = [
     "=A1\"b\"", "=A#N/A", "=A1!#REF!", "plain text", "", "=", "=a[b]c", "=1e5e+5", "=E+1", "=9E-",
     # words float() reads as numbers, and the logical words in both cases
     "=inf+1", "=NaN*2", "=-Infinity", "=infinity(1)", "=TRUE+FALSE", "=true", "=$A$1", "=_x1", "=1_000",
+    "=inf\t+1", "=nan\u00a0", "=\u0661\u0662+1",
 ]
 
 
