@@ -79,7 +79,8 @@ class Sheet:
     names: dict = field(default_factory=dict)     # names scoped to this sheet (localSheetId)
     dangling: dict = field(default_factory=dict)  # (r, c) -> why a shared formula's cell has no text
     # the UTF-8 text of the formulas the file holds (the fast path's, as it decoded them),
-    # kept for the sheet-name scan (_sheets_named) when asked; None: not kept
+    # kept for the sheet-name scan (_sheets_named) when asked; None: not kept, or some
+    # formulas are not in it (a shared formula's cells, made by shifting its text)
     formula_bytes: list | None = None
 
     def computed(self, r: int, c: int) -> bool:
@@ -511,6 +512,11 @@ def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits
         sh.formula_bytes.append(utf8)
     if any(fattrs):
         formulas = _shared_and_arrays(sh, keys, fattrs, ftexts, formulas, {} if masters is None else masters)
+        if len(formulas) != len(texts):
+            # a shared formula's other cells are its text shifted, and shifting may touch
+            # more than references (Q1!a1 shifted down reads Q2!a1): the scan reads every
+            # formula's text, not the file's
+            sh.formula_bytes = None
     # values: constants, and the values saved for formula cells
     with_value: Iterable[int] = compress(range(len(keys)), vtexts)
     if any(itexts):
@@ -916,9 +922,9 @@ def _sheets_named(sh: Sheet, sheet_names: list[str]) -> list[str] | None:
     if not sh.formulas:
         return []
     if sh.formula_bytes is not None:
-        # the reader's own UTF-8 text of the formulas in the file (5 MB in the shaper: not
-        # joined and encoded again, issue 32). A shared formula's other cells are its first
-        # cell's text shifted: the same functions, sheets and kinds of reference
+        # the reader's own UTF-8 text of the formulas, when they are all in the file as
+        # they are (no shared formula's cells made by shifting: _cells_of): 5 MB in the
+        # shaper, not joined and encoded again (issue 32)
         text = b"\0".join(sh.formula_bytes).lower()
     else:
         text = "\0".join(sh.formulas.values()).encode("utf-8").lower()

@@ -114,19 +114,10 @@ def _with_first_sheet(path: Path, sheet_data: bytes) -> Path:
     return out
 
 
-def test_the_scan_reads_the_text_the_file_holds(tmp_path, monkeypatch):
-    """The sheet-name scan reads the fast path's own UTF-8 text of the formulas (issue 32),
-    which holds a shared formula's first cell only, and references as the file spells them
-    (a Cyrillic sheet name as &#...;, &gt;, &amp;): the same sheets as the scan of every
-    formula's decoded text, and the same values as reading every sheet."""
+def _scans(monkeypatch) -> list:
+    """(whether the scan read the reader's bytes, the sheets it named, the sheets the old
+    scan of the decoded texts names) of each sheet-name scan from now on."""
     from sheetkin.xlsx import cells
-    p = book(tmp_path, {"Main": {"A1": 1}, "Data": {"A1": 2, "B1": 3, "C1": 4}, "Лист": {"A1": 5}, "Other": {"A1": 6}})
-    name = "".join(f"&#{ord(ch)};" for ch in "Лист").encode()
-    p = _with_first_sheet(p, b'<sheetData><row r="1"><c r="A1"><v>1</v></c>'
-                             b'<c r="B1"><f t="shared" ref="B1:D1" si="0">Data!A1*2</f><v>4</v></c>'
-                             b'<c r="C1"><f t="shared" si="0"/><v>6</v></c><c r="D1"><f t="shared" si="0"/><v>8</v></c>'
-                             b'<c r="E1" t="str"><f>IF(' + name + b'!A1&gt;4,"&#1076;&amp;"&amp;B1,"")</f><v></v></c>'
-                             b"</row></sheetData>")
     scans = []
     real = cells._sheets_named
 
@@ -138,9 +129,40 @@ def test_the_scan_reads_the_text_the_file_holds(tmp_path, monkeypatch):
         sh.formula_bytes = held
         return got
     monkeypatch.setattr(cells, "_sheets_named", spy)
+    return scans
+
+
+def test_the_scan_reads_the_text_the_file_holds(tmp_path, monkeypatch):
+    """The sheet-name scan reads the fast path's own UTF-8 text of the formulas (issue 32),
+    with references as the file spells them (a Cyrillic sheet name as &#...;, &gt;, &amp;):
+    the same sheets as the scan of every formula's decoded text, the same values as reading
+    every sheet."""
+    p = book(tmp_path, {"Main": {"A1": 1}, "Data": {"A1": 2}, "Лист": {"A1": 5}, "Other": {"A1": 6}})
+    name = "".join(f"&#{ord(ch)};" for ch in "Лист").encode()
+    p = _with_first_sheet(p, b'<sheetData><row r="1"><c r="A1"><v>1</v></c><c r="B1"><f>Data!A1*2</f><v>4</v></c>'
+                             b'<c r="C1" t="str"><f>IF(' + name + b'!A1&gt;4,"&#1076;&amp;"&amp;B1,"")</f><v></v></c>'
+                             b"</row></sheetData>")
+    scans = _scans(monkeypatch)
     assert parsed(p, 0) == {"Main", "Data", "Лист"}
     assert scans[0] == (True, ["Data", "Лист"], ["Data", "Лист"])          # Main's formulas
     assert scans[1:] == [(True, [], [])] * 2                                # Data's and Лист's: none
     lean, full = evaluate(p, needed_for=0, saved=False), evaluate(p)
-    assert [lean.value("Main", 1, c) for c in range(1, 6)] == [1.0, 4.0, 6.0, 8.0, "д&4"]
+    assert [lean.value("Main", 1, c) for c in range(1, 4)] == [1.0, 4.0, "д&4"]
     assert (lean.num["Main"] == full.num["Main"]).all() and (lean.tag["Main"] == full.tag["Main"]).all()
+
+
+def test_a_shared_formula_scans_every_cells_text(tmp_path, monkeypatch):
+    """A shared formula's other cells are its text shifted, and shifting may touch more than
+    its references: Q1!a1 (a reference in lower case, as only a hand-edited file has it)
+    shifted down reads Q2!a1. Its sheet is scanned through every cell's text, so Q2 is
+    read, as when every sheet is (found by a fresh-eyes review of issue 32's change)."""
+    p = book(tmp_path, {"Main": {"A5": "r5"}, "Q1": {"A1": 10}, "Q2": {"A1": 20}, "Other": {"A1": 6}})
+    p = _with_first_sheet(p, b'<sheetData><row r="5"><c r="A5" t="inlineStr"><is><t>r5</t></is></c>'
+                             b'<c r="E5"><f t="shared" ref="E5:E6" si="0">Q1!a1</f><v>10</v></c></row>'
+                             b'<row r="6"><c r="A6" t="inlineStr"><is><t>r6</t></is></c>'
+                             b'<c r="E6"><f t="shared" si="0"/><v>20</v></c></row></sheetData>')
+    scans = _scans(monkeypatch)
+    assert parsed(p, 0) == {"Main", "Q1", "Q2"}
+    assert scans[0] == (False, ["Q1", "Q2"], ["Q1", "Q2"])
+    lean, full = evaluate(p, needed_for=0, saved=False), evaluate(p)
+    assert lean.value("Main", 6, 5) == full.value("Main", 6, 5) == 20.0
