@@ -513,9 +513,9 @@ def _cells_of(pkg, parts: list, name: str, state: str, shared: list[str], limits
     if any(fattrs):
         formulas = _shared_and_arrays(sh, keys, fattrs, ftexts, formulas, {} if masters is None else masters)
         if len(formulas) != len(texts):
-            # a shared formula's other cells are its text shifted, and shifting may touch
-            # more than references (Q1!a1 shifted down reads Q2!a1): the scan reads every
-            # formula's text, not the file's
+            # a shared formula's other cells are its text shifted, which the file does not
+            # hold: the sheet-name scan reads the texts that are evaluated (a shifter that
+            # once moved Q1 of Q1!a1 as a cell named a sheet the file's text did not)
             sh.formula_bytes = None
     # values: constants, and the values saved for formula cells
     with_value: Iterable[int] = compress(range(len(keys)), vtexts)
@@ -622,15 +622,18 @@ def _value(t: bytes | None, v: bytes | None, inline: bytes | None, shared: list[
 
 
 # ----------------------------------------------------------------- formulas shifted along a row
+# References in either case (Excel's formulas read q1 as Q1; only a hand-edited file holds
+# one): with capitals alone, Q1!a1 was shifted as the cell Q1 (to Q2!a1, another sheet).
 _SHEET_PREFIX = r"(?:'(?:[^']|'')+'|[^\W\d][\w.]*)!"
 _TEMPLATE_REF = re.compile(
     r'(?P<str>"(?:[^"]|"")*")'
-    r"|(?<![\w.$!'])(?P<wsheet>" + _SHEET_PREFIX + r")?(?P<wca>\$?)(?P<wc1>[A-Z]{1,3}):(?P<wcb>\$?)(?P<wc2>[A-Z]{1,3})"
+    r"|(?<![\w.$!'])(?P<wsheet>" + _SHEET_PREFIX + r")?(?P<wca>\$?)(?P<wc1>[A-Za-z]{1,3}):"
+    r"(?P<wcb>\$?)(?P<wc2>[A-Za-z]{1,3})"
     r"(?![\w(!])"                                               # a whole-column reference A:C
     r"|(?<![\w.$!'])(?P<rsheet>" + _SHEET_PREFIX + r")?(?P<wra>\$?)(?P<wr1>\d+):(?P<wrb>\$?)(?P<wr2>\d+)"
     r"(?![\w(.!])"                                              # a whole-row reference 2:5
-    r"|(?<![\w.$!'])(?P<sheet>" + _SHEET_PREFIX + r")?(?P<cabs>\$?)(?P<col>[A-Z]{1,3})"
-    r"(?P<rabs>\$?)(?P<row>\d+)(?![\w(])")
+    r"|(?<![\w.$!'])(?P<sheet>" + _SHEET_PREFIX + r")?(?P<cabs>\$?)(?P<col>[A-Za-z]{1,3})"
+    r"(?P<rabs>\$?)(?P<row>\d+)(?![\w(!])")                        # (Q1! names a sheet, not a cell)
 
 
 def _column_spans(m) -> list[tuple[int, int, str]]:
@@ -728,7 +731,7 @@ def _shift_formula(formula: str, dr: int, dc: int) -> str:
     def col(abs_, letters):
         if abs_:
             return abs_ + letters
-        c = _columns()[1][letters] + dc
+        c = _columns()[1][letters.upper()] + dc        # (references in any case: q1 is Q1)
         return _columns()[0][c] if 1 <= c <= MAX_COL else None
 
     def row(abs_, digits):
@@ -740,7 +743,8 @@ def _shift_formula(formula: str, dr: int, dc: int) -> str:
     def sub(m):
         if m.group("str") is not None:
             return m.group(0)
-        if any(g is not None and g not in _columns()[1] for g in (m.group("col"), m.group("wc1"), m.group("wc2"))):
+        if any(g is not None and g.upper() not in _columns()[1]
+               for g in (m.group("col"), m.group("wc1"), m.group("wc2"))):
             return m.group(0)                 # past XFD (ZZZ9): a name, not a reference
         if any(g is not None and g.startswith("0") for g in (m.group("row"), m.group("wr1"), m.group("wr2"))):
             return m.group(0)                 # row 0 or a leading zero (A0, A01): no reference Excel writes
@@ -758,7 +762,7 @@ def _shift_formula(formula: str, dr: int, dc: int) -> str:
     return _BROKEN_RANGE.sub("#REF!", out) if "#REF!" in out else out
 
 
-_BROKEN_RANGE = re.compile(r"#REF!:(?:#REF!|\$?[A-Z]{0,3}\$?\d*)|(?:\$?[A-Z]{1,3}\$?\d*|\$?\d+):#REF!")
+_BROKEN_RANGE = re.compile(r"#REF!:(?:#REF!|\$?[A-Za-z]{0,3}\$?\d*)|(?:\$?[A-Za-z]{1,3}\$?\d*|\$?\d+):#REF!")
 
 
 def _shared_strings(pkg) -> list[str]:

@@ -151,18 +151,37 @@ def test_the_scan_reads_the_text_the_file_holds(tmp_path, monkeypatch):
     assert (lean.num["Main"] == full.num["Main"]).all() and (lean.tag["Main"] == full.tag["Main"]).all()
 
 
+def _lower_case_shared(tmp_path: Path) -> Path:
+    """Main!E5:E6 one shared formula, Q1!a1 (lower case, as only a hand-edited file has it)."""
+    p = book(tmp_path, {"Main": {"A5": "r5"}, "Q1": {"A1": 10, "A2": 15}, "Q2": {"A1": 20}, "Other": {"A1": 6}})
+    return _with_first_sheet(p, b'<sheetData><row r="5"><c r="A5" t="inlineStr"><is><t>r5</t></is></c>'
+                                b'<c r="E5"><f t="shared" ref="E5:E6" si="0">Q1!a1</f><v>10</v></c></row>'
+                                b'<row r="6"><c r="A6" t="inlineStr"><is><t>r6</t></is></c>'
+                                b'<c r="E6"><f t="shared" si="0"/><v>20</v></c></row></sheetData>')
+
+
+def test_a_shared_formula_in_lower_case_as_libreoffice_computes(soffice, tmp_path):
+    """LibreOffice's recalculation of that book: E6 is Q1!A2 (15), as sheetkin reads it."""
+    from helpers.libreoffice import recalculate
+
+    from sheetkin.xlsx.libreoffice import read_values
+    p = _lower_case_shared(tmp_path)
+    out = recalculate([p], tmp_path / "lo")
+    lo = read_values(next(iter(out.values())), "Main")
+    assert (lo["E5"], lo["E6"]) == (10, 15)
+    assert [evaluate(p, needed_for=0, saved=False).value("Main", r, 5) for r in (5, 6)] == [10.0, 15.0]
+
+
 def test_a_shared_formula_scans_every_cells_text(tmp_path, monkeypatch):
-    """A shared formula's other cells are its text shifted, and shifting may touch more than
-    its references: Q1!a1 (a reference in lower case, as only a hand-edited file has it)
-    shifted down reads Q2!a1. Its sheet is scanned through every cell's text, so Q2 is
-    read, as when every sheet is (found by a fresh-eyes review of issue 32's change)."""
-    p = book(tmp_path, {"Main": {"A5": "r5"}, "Q1": {"A1": 10}, "Q2": {"A1": 20}, "Other": {"A1": 6}})
-    p = _with_first_sheet(p, b'<sheetData><row r="5"><c r="A5" t="inlineStr"><is><t>r5</t></is></c>'
-                             b'<c r="E5"><f t="shared" ref="E5:E6" si="0">Q1!a1</f><v>10</v></c></row>'
-                             b'<row r="6"><c r="A6" t="inlineStr"><is><t>r6</t></is></c>'
-                             b'<c r="E6"><f t="shared" si="0"/><v>20</v></c></row></sheetData>')
+    """A shared formula's other cells are its text shifted: a sheet that has one is scanned
+    through every cell's text, not the file's (Q1!a1, a lower-case reference only a
+    hand-edited file has, was once shifted down to Q2!a1, a sheet its first cell does not
+    name: found by a fresh-eyes review of issue 32's change). Down a row it is Q1!A2, as in
+    Excel; the sheets read and the values are those of reading every sheet."""
+    p = _lower_case_shared(tmp_path)
     scans = _scans(monkeypatch)
-    assert parsed(p, 0) == {"Main", "Q1", "Q2"}
-    assert scans[0] == (False, ["Q1", "Q2"], ["Q1", "Q2"])
+    assert parsed(p, 0) == {"Main", "Q1"}
+    assert scans[0] == (False, ["Q1"], ["Q1"])
     lean, full = evaluate(p, needed_for=0, saved=False), evaluate(p)
-    assert lean.value("Main", 6, 5) == full.value("Main", 6, 5) == 20.0
+    assert lean.sheets["Main"].formulas[(6, 5)] == "Q1!A2"
+    assert lean.value("Main", 6, 5) == full.value("Main", 6, 5) == 15.0

@@ -344,6 +344,7 @@ def test_a_class_of_ods_files_is_converted_in_one_run(lo, tmp_path, monkeypatch,
 @settings(max_examples=300, deadline=None)
 @example("ZZZ9+A1", 0, -1)                  # past XFD: a name, left alone
 @example("A1:B2+$C$3+D:E+2:3", -1, -1)
+@example("Q1!a1+b2+c:d", 1, 1)              # references in lower case come back in capitals
 @given(st.lists(st.one_of(
            st.builds(lambda ca, c, ra, r: f"{ca}{get_column_letter(c)}{ra}{r}", st.sampled_from(["", "$"]),
                      st.integers(1, 16384), st.sampled_from(["", "$"]), st.integers(1, 1048576)),
@@ -353,11 +354,30 @@ def test_a_class_of_ods_files_is_converted_in_one_run(lo, tmp_path, monkeypatch,
            st.text(max_size=3)), max_size=8).map("".join),
        st.integers(-20, 20), st.integers(-20, 20))
 def test_shifting_a_shared_formula_there_and_back_is_the_identity(text, dr, dc):
-    """_shift_formula never raises; moved by (dr, dc) and back it is the text it was,
-    unless a reference left the sheet on the way (then it says #REF!)."""
+    """_shift_formula never raises; moved by (dr, dc) and back it is the text it was (its
+    references in capitals), unless a reference left the sheet on the way (then it says
+    #REF!)."""
     from sheetkin.xlsx.cells import _shift_formula
     there = _shift_formula(text, dr, dc)
     assert isinstance(there, str)
     back = _shift_formula(there, -dr, -dc)
     if "#REF!" not in there:
-        assert back == text
+        assert back.upper() == text.upper()
+
+
+@pytest.mark.parametrize("text", ["Q1!a1", "'Data A1'!b2+c3", "SUM(a1:b2)*$c$3", "a:c+2:3"])
+def test_references_in_lower_case_shift_as_openpyxl_translates(text):
+    """A shared formula's text with references in lower case (a hand-edited file; Excel's
+    formulas read q1 as Q1) shifts as openpyxl's Translator moves it: Q1!a1 down a row is
+    Q1!A2, where the shifter once moved the unquoted sheet name Q1 as if it were the cell
+    (found by a fresh-eyes review of issue 32's change)."""
+    from openpyxl.formula.translate import Translator
+
+    from sheetkin.xlsx.cells import _shift_formula
+    for dr, dc in ((1, 0), (0, 1), (2, 3)):
+        want = Translator("=" + text, origin="E5").translate_formula(f"{get_column_letter(5 + dc)}{5 + dr}")
+        assert "=" + _shift_formula(text, dr, dc) == want
+    # where openpyxl's Translator itself errs (it drops Q1! before a name, leaves a1 in a
+    # 3-D-looking range): a sheet's name stays, its references move
+    assert _shift_formula("Q1!abc+A1", 1, 0) == "Q1!abc+A2"
+    assert _shift_formula("Data!a1:Data!b2", 1, 0) == "Data!A2:Data!B3"
