@@ -391,11 +391,6 @@ def _entity(m: re.Match) -> bytes:
     return char
 
 
-def texts_of(items: list[bytes]) -> list[str]:
-    """Character data (bytes without markup): unescaped and decoded (see _decoded)."""
-    return _decoded(items)[0]
-
-
 def _decoded(items: list[bytes]) -> tuple[list[str], bytes]:
     """(texts, their UTF-8 bytes joined by NUL): character data (bytes without markup),
     unescaped and decoded, all in one pass. With references in it, the text is cut at every
@@ -434,7 +429,7 @@ def _decoded(items: list[bytes]) -> tuple[list[str], bytes]:
 
 def _text(b: bytes) -> str:
     if b"]]>" in b:
-        raise _NotSimple                            # (as texts_of)
+        raise _NotSimple                            # (as _decoded)
     return (_unescape(b) if b"&" in b else b).decode("utf-8")
 
 

@@ -849,7 +849,7 @@ FORMULA_TEXTS = [b'IF(E1,0,"&#1085;&#1077; &#1089;&#1086;")', b'IF(F1,0,"&#1085;
 
 @pytest.mark.parametrize("bad", [b"&nbsp;", b'"&#0;"', b"A1 & B1", b'"]]>"', b"&#xD800;", b"&#12345678;", b"&#X41;"])
 def test_formula_texts_unescape_as_expat_does(bad):
-    """texts_of (the fast path's unescaping, memoized per piece between quotes) gives what
+    """_decoded (the fast path's unescaping, memoized per piece between quotes) gives what
     expat gives for each text, with the same pieces repeated and references that spell
     "&", '"' and further references; a text expat refuses is _NotSimple (the tree path decides)."""
     from xml.etree import ElementTree
@@ -857,12 +857,12 @@ def test_formula_texts_unescape_as_expat_does(bad):
     from sheetkin.xlsx import cells as xlsxread
     items = FORMULA_TEXTS * 3
     want = [ElementTree.fromstring(b"<t>" + i + b"</t>").text or "" for i in items]
-    assert xlsxread.texts_of(items) == want
+    assert xlsxread._decoded(items) == (want, "\0".join(want).encode("utf-8"))
     assert want[2] == 'A1&"&#1085;"' and want[3] == '"&amp;"&B2' and want[4] == 'IF(A1>3,"""","")'
     with pytest.raises(ElementTree.ParseError):
         ElementTree.fromstring(b"<t>" + bad + b"</t>")
     with pytest.raises(xlsxread._NotSimple):
-        xlsxread.texts_of([*items, bad])
+        xlsxread._decoded([*items, bad])
 
 
 _TEXT_BITS = [b'"', b"&amp;", b"&lt;", b"&gt;", b"&quot;", b"&apos;", b"&#1085;", b"&#x416;", b"&#34;", b"&#38;",
@@ -871,7 +871,7 @@ _TEXT_BITS = [b'"', b"&amp;", b"&lt;", b"&gt;", b"&quot;", b"&apos;", b"&#1085;"
 
 
 def test_formula_texts_unescape_as_expat_does_fuzzed():
-    """texts_of against expat on texts assembled from references, quotes and text, alone
+    """_decoded against expat on texts assembled from references, quotes and text, alone
     and next to each other (a reference that spells '"' or "&" in the code or in a string,
     an &amp; before "#1085;", a stray "&"): expat's texts, or _NotSimple where expat
     refuses one (the fast path's code and literal passes, and its fallback, issue 32)."""
@@ -892,9 +892,10 @@ def test_formula_texts_unescape_as_expat_does_fuzzed():
             want = [ElementTree.fromstring(b"<t>" + i + b"</t>").text or "" for i in items]
         except ElementTree.ParseError:
             with pytest.raises(xlsxread._NotSimple):
-                xlsxread.texts_of(items)
+                xlsxread._decoded(items)
             return
-        assert xlsxread.texts_of(items) == want
+        # the texts, and the UTF-8 bytes the sheet-name scan reads
+        assert xlsxread._decoded(items) == (want, "\0".join(want).encode("utf-8"))
 
     check()
 
