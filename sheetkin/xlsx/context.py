@@ -36,6 +36,7 @@ from .values import (
     constant,
     error_value,
     first_error_of,
+    pure_result,
     to_bool,
     to_number,
     with_error,
@@ -52,7 +53,8 @@ def lookup_name(scopes: dict, sheet: str, name: str):
 
 
 def _binary_op(op: str, a: Val, b: Val) -> Val:
-    if a.shape != b.shape:                  # (equal shapes, most operations, broadcast as they are)
+    if a.shape != b.shape and a.shape != (1, 1, 1) and b.shape != (1, 1, 1):
+        # (equal shapes, or one value against many: most operations, broadcast as they are)
         try:
             np.broadcast_shapes(a.shape, b.shape)
         except ValueError:                  # ranges of different sizes (=A1:B2+A1:C3): #VALUE!
@@ -253,7 +255,10 @@ class Context:
             finally:
                 self.open_names.discard(node[1])
         if kind == "neg":
-            return arith("-", constant(0.0), self.eval(node[1], run))
+            x = self.eval(node[1], run)
+            if x.pure != -1:                # numbers or booleans: 0 - x, finite, as arith makes it
+                return pure_result(0.0 - x.num)
+            return arith("-", constant(0.0), x)
         if kind == "pct":
             return arith("/", self.eval(node[1], run), constant(100.0))
         if kind == "bin":

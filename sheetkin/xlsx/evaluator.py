@@ -682,10 +682,14 @@ def rows_table(book: Book, sheet: str | None = None, first_col: int = 5) -> tupl
         if not isinstance(label, str) or not label or r <= 4 or r not in filled:
             continue
         names.append(label)
-        if r < num.shape[0] and not tag[r, first_col:stop].any():       # numbers only
-            values = num[r, first_col:stop].tolist()
+        if r < num.shape[0]:
+            values = num[r, first_col:stop].tolist()    # numbers as Book.value gives them
+            tags = tag[r, first_col:stop]
+            if tags.any():                  # the other cells (text, empty, errors...) one by one
+                for j in np.flatnonzero(tags).tolist():
+                    values[j] = book.value(sheet, r, first_col + j)
         else:
-            values = [book.value(sheet, r, c) for c in range(first_col, stop)]
+            values = [None] * max(stop - first_col, 0)
         data.append(values + [None] * (last + 1 - max(stop, first_col)))
     return names, data, last - first_col + 1
 

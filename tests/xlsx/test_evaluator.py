@@ -1049,3 +1049,66 @@ def test_numbers_against_text_fast_path_is_the_general_one(op):
             fast, slow = compare(op, a, b), compare(op, ga, gb)
             assert fast.shape == slow.shape
             assert np.array_equal(fast.num, slow.num) and np.array_equal(fast.tag, slow.tag), (op, text)
+
+
+def test_aggregates_fast_paths_are_the_general_ones():
+    """SUM, MIN, MAX, SUMPRODUCT, AND, OR and unary minus over values of numbers only (or
+    booleans only) take fast paths that skip the tags (issue 32): the same numbers, tags and
+    errors as the general path gives the same cells unmarked, for random shapes (one value
+    per cell of a run or one block for all), signs, zeros, overflow to #NUM! and booleans."""
+    import numpy as np
+    from hypothesis import given, settings
+    from hypothesis import strategies as st
+
+    from sheetkin.xlsx.context import Context
+    from sheetkin.xlsx.parse import Ref
+    from sheetkin.xlsx.runs import Run
+    from sheetkin.xlsx.values import AGGREGATES, BOOL, NUM, Val, arith, constant
+
+    def unmarked(v: Val) -> Val:                # the same cells, through the general path
+        return Val(v.num.copy(), v.tag.copy(), None, -1)
+
+    def same(fast: Val, slow: Val) -> bool:
+        return (fast.shape == slow.shape and np.array_equal(fast.tag, slow.tag)
+                and np.array_equal(np.signbit(fast.num), np.signbit(slow.num))
+                and np.array_equal(fast.num, slow.num, equal_nan=True))
+
+    numbers = st.sampled_from([0.0, -0.0, 1.0, -2.5, 3e-300, 1e308, -1e308, 7.0, 0.1])
+
+    @st.composite
+    def arguments(draw):
+        k, r, c = draw(st.sampled_from([1, 3])), draw(st.integers(1, 3)), draw(st.integers(1, 4))
+        out = []
+        for _ in range(draw(st.integers(1, 3))):
+            kk = draw(st.sampled_from([1, k]))
+            kind = draw(st.sampled_from([NUM, NUM, BOOL]))
+            xs = draw(st.lists(numbers if kind == NUM else st.sampled_from([0.0, 1.0]),
+                               min_size=kk * r * c, max_size=kk * r * c))
+            out.append(Val(np.array(xs).reshape(kk, r, c), None, None, kind))
+        return out, draw(st.lists(st.booleans(), min_size=len(out), max_size=len(out)))
+
+    @settings(max_examples=300, derandomize=True, database=None, deadline=None)
+    @given(arguments(), st.sampled_from(["SUM", "MIN", "MAX", "SUMPRODUCT", "AND", "OR"]))
+    def check(args_ranges, name):
+        args, ranges = args_ranges
+        with np.errstate(all="ignore"):
+            fast = AGGREGATES[name](args, ranges)
+            slow = AGGREGATES[name]([unmarked(v) for v in args], ranges)
+        assert same(fast, slow), (name, [a.num.tolist() for a in args], ranges)
+
+    check()
+    # unary minus (and --) of a stored range of numbers, of booleans: as 0 - x through arith
+    for xs, kind in (([0.0, -0.0, 2.5, -1e308, 1e308], NUM), ([0.0, 1.0, 1.0, 0.0, 1.0], BOOL)):
+        num, tag = np.zeros((2, 6)), np.zeros((2, 6), np.int8)
+        num[1, 1:] = xs
+        tag[1, 1:] = kind
+        ctx = Context({"S": num}, {"S": tag}, {"S": np.empty((2, 6), dtype=object)}, {None: {}})
+        ctx.implicit = False                    # the range as it is, not intersected
+        run = Run("S", 1, np.array([1]), "x")
+        ref = ("ref", Ref("S", 1, 1, 1, 5, True, True, True, True))
+        read = ctx.eval(ref, run)
+        assert read.pure == kind
+        once = arith("-", constant(0.0), unmarked(read))
+        for tree, slow in ((("neg", ref), once), (("neg", ("neg", ref)), arith("-", constant(0.0), unmarked(once)))):
+            fast = ctx.eval(tree, run)
+            assert fast.pure == NUM and same(fast, slow), (tree, fast.num, slow.num)
