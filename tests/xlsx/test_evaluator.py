@@ -1112,3 +1112,43 @@ def test_aggregates_fast_paths_are_the_general_ones():
         for tree, slow in ((("neg", ref), once), (("neg", ("neg", ref)), arith("-", constant(0.0), unmarked(once)))):
             fast = ctx.eval(tree, run)
             assert fast.pure == NUM and same(fast, slow), (tree, fast.num, slow.num)
+
+
+def test_cell_regex_possessive_parts_match_as_backtracking_ones():
+    """The fast reader's cell regex has every optional part possessive (?+, issue 32): on
+    cells in any shape (attributes in any order and case, whitespace, empty and self-closed
+    elements, rows alone, junk), it splits a piece exactly as the same regex with ordinary,
+    backtracking optional parts does."""
+    import re
+
+    from hypothesis import given, settings
+    from hypothesis import strategies as st
+
+    from sheetkin.xlsx import cells
+    backtracking = re.compile(cells._CELLS.pattern.replace(b")?+", b")?"))
+    assert backtracking.pattern != cells._CELLS.pattern
+
+    ws = st.sampled_from([b"", b" ", b"\n", b"\t ", b"  "])
+    attr = st.sampled_from([b' s="3"', b' t="s"', b' t="str"', b' t="inlineStr"', b' cm="1"', b' t="e"',
+                            b' s="x"', b' xmlns="u"', b' T="n"', b' s="1"'])
+    inner = st.sampled_from([b"", b"<f>A1+1</f>", b"<f/>", b'<f t="shared" si="0"/>', b'<f t="array" ref="A1:B2">1</f>',
+                             b"<v>1.5</v>", b"<v/>", b"<f>B1</f><v>2</v>", b'<is><t xml:space="preserve"> a</t></is>',
+                             b"<is><t>x</t></is>", b"<v>1</v><f>A1</f>", b"<f >A1&amp;B1</f><v >0</v>", b"<x/>"])
+
+    @st.composite
+    def cell(draw):
+        if draw(st.integers(0, 9)) == 0:
+            return draw(st.sampled_from([b"<row>", b"</row>", b'<row r="2" spans="1:3">', b"<row/>", b"junk", b"<c/>"]))
+        ref = draw(st.sampled_from([b"A1", b"XFD9", b"b2", b"AB12", b"A", b"1"]))
+        attrs = b"".join(draw(st.lists(attr, max_size=3)))
+        body = draw(inner)
+        return (draw(ws) + b'<c r="' + ref + b'"' + attrs + draw(ws)
+                + (b"/>" if not body and draw(st.booleans()) else b">" + body + b"</c>") + draw(ws))
+
+    @settings(max_examples=600, derandomize=True, database=None, deadline=None)
+    @given(st.lists(cell(), max_size=8))
+    def check(pieces):
+        data = b"".join(pieces)
+        assert cells._CELLS.split(data) == backtracking.split(data), data
+
+    check()
