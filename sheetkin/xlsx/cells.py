@@ -22,6 +22,8 @@ from operator import not_
 from pathlib import Path
 from xml.etree import ElementTree
 
+import numpy as np
+
 from sheetkin.messages import message
 
 from .convert import check_opendocument as check_opendocument  # re-exported: cells was their home
@@ -353,6 +355,16 @@ _CONTROLS = bytes(range(0, 9)) + b"\x0b\x0c\x0d" + bytes(range(14, 32))
 # each byte to 0 if it is one of _CONTROLS, else 1: a piece holds one if its translation holds
 # a 0 (a table lookup per byte and one memchr: 25 % fewer instructions than deleting them)
 _CONTROL_MAP = bytes(0 if b in _CONTROLS else 1 for b in range(256))
+
+
+def _has_control(piece: bytes) -> bool:
+    """Whether a piece of a sheet holds one of _CONTROLS. Its smallest byte first (numpy's
+    minimum, 0.2 ms for 7.5 MB where the table took 6-13 ms, issue 32): every one of them
+    lies below the space, and most sheets hold no byte below it at all (no line breaks,
+    no tabs); only a piece that does is looked at through the table."""
+    return bool(piece) and int(np.frombuffer(piece, np.uint8).min()) < 32 and 0 in piece.translate(_CONTROL_MAP)
+
+
 _GROUPS = _CELLS.groups                                # letters, row, t, <f> attributes, <f>, <v>, ">" + <t>
 _HEAD = re.compile(rb"(?:\xef\xbb\xbf)?(?:<\?xml[^<>?]*+\?>)?[ \t\r\n]*+<worksheet[ \t\r\n>]")
 _SHARED = re.compile(rb'(?:^|[ \t\n])t="shared"')
@@ -460,7 +472,7 @@ def _read_fast(pkg, data: bytes, name: str, state: str, shared: list[str], limit
                 cut = data.find(b"</row>", pos + _PIECE, end)
                 cut = end if cut < 0 else cut + 6
             piece = data[pos:cut]
-            if 0 in piece.translate(_CONTROL_MAP):
+            if _has_control(piece):
                 return None
             parts = _CELLS.split(piece)
             if any(parts[::_GROUPS + 1]):

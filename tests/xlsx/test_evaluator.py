@@ -1152,3 +1152,30 @@ def test_cell_regex_possessive_parts_match_as_backtracking_ones():
         assert cells._CELLS.split(data) == backtracking.split(data), data
 
     check()
+
+
+def test_control_characters_found_by_the_smallest_byte_first():
+    """_has_control (the fast reader's check for characters XML forbids) looks at a piece's
+    smallest byte first and at its bytes one by one only when one lies below the space: it
+    answers as the byte-by-byte check does, for every byte below 32 (tab and line feed are
+    allowed, a carriage return is not), anywhere in a piece, and for none."""
+    from hypothesis import given, settings
+    from hypothesis import strategies as st
+
+    from sheetkin.xlsx import cells
+
+    def reference(piece: bytes) -> bool:
+        return any(b in cells._CONTROLS for b in piece)
+
+    for b in range(33):
+        for piece in (bytes([b]), b"<c>" + bytes([b]) + b"</c>", bytes([b]) * 3 + b"x"):
+            assert cells._has_control(piece) == reference(piece) == (b < 32 and b not in (9, 10)), (b, piece)
+    assert not cells._has_control(b"")
+
+    @settings(max_examples=300, derandomize=True, database=None, deadline=None)
+    @given(st.binary(max_size=64), st.sampled_from([b"", b"\t", b"\n", b"\r", b"\x00", b"\x1f", b" "]))
+    def check(data, extra):
+        piece = data + extra + data
+        assert cells._has_control(piece) == reference(piece)
+
+    check()

@@ -568,3 +568,31 @@ def test_check_dimension(tmp_path):
 def test_limits_must_be_positive():
     with pytest.raises(ValueError):
         Limits(max_parts=0)
+
+
+def test_dtd_markers_found_across_every_seam():
+    """The gate's scan (_has_dtd) finds a DTD or entity marker in the part's bytes without
+    joining the last chunk's tail to the next chunk (issue 32): a marker in UTF-8, UTF-16 LE
+    or BE, whole in a chunk or cut at any of its bytes between two chunks, is found; text
+    with "!" and "<" but no marker is not; as looking in tail + chunk would answer."""
+    import random
+
+    from sheetkin.xlsx.package import _DTD_MARKERS, _DTD_OVERLAP, _has_dtd
+
+    def reference(tail: bytes, chunk: bytes) -> bool:
+        return any(m in tail + chunk for m in _DTD_MARKERS)
+
+    rng = random.Random(7)
+    filler = bytes(rng.choice(b"ab<!-x\x00 ") for _ in range(200))
+    for m in _DTD_MARKERS:
+        for cut in range(len(m) + 1):
+            previous = filler[:50] + m[:cut]
+            tail, chunk = previous[-_DTD_OVERLAP:], m[cut:] + filler[:40]
+            assert _has_dtd(tail, chunk) == reference(tail, chunk), (m, cut)
+            if cut < len(m) - _DTD_OVERLAP or cut == 0:
+                assert _has_dtd(tail, chunk), (m, cut)
+        assert _has_dtd(b"", filler + m + filler) and _has_dtd(filler[-_DTD_OVERLAP:], filler + m)
+    for _ in range(2000):
+        tail = bytes(rng.choice(b"<!DOCTYPENTI\x00 a") for _ in range(_DTD_OVERLAP))
+        chunk = bytes(rng.choice(b"<!DOCTYPENTI\x00 a") for _ in range(rng.randrange(1, 40)))
+        assert _has_dtd(tail, chunk) == reference(tail, chunk), (tail, chunk)
