@@ -516,7 +516,10 @@ def _agg_minmax(fn, empty):
 
     def f(args, ranges):
         if _all_numbers(args) and not _one_block_for_all(args):
-            return _pure_scalars(getattr(values_of(args, ranges)[0], fn)(axis=1))
+            # the general path's reduction exactly (contiguous, from `empty`): numpy's
+            # vectorized min and max tell 0.0 from -0.0 by where they lie (ATAN2 shows it)
+            n = np.ascontiguousarray(values_of(args, ranges)[0])
+            return _pure_scalars(getattr(n, fn)(axis=1, initial=empty))
         if _one_block_for_all(args):
             parts, err = _by_argument(args, ranges, reduce)
             r = getattr(np, "minimum" if fn == "min" else "maximum").reduce([p[0] for p in parts])
