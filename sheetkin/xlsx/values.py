@@ -490,7 +490,8 @@ def _all_numbers(args) -> bool:
 
 def _agg_sum(args, ranges):
     if _all_numbers(args) and not _one_block_for_all(args):
-        return _pure_scalars(values_of(args, ranges)[0].sum(axis=1))
+        # contiguous, as the general path's array: numpy's pairwise sums follow the layout
+        return _pure_scalars(np.ascontiguousarray(values_of(args, ranges)[0]).sum(axis=1))
     if _one_block_for_all(args):
         parts, err = _by_argument(args, ranges, lambda n, use: (np.where(use, n, 0.0).sum(axis=1),))
         return scalar_result(sum(p[0] for p in parts), err)
@@ -564,7 +565,7 @@ def _agg_sumproduct(args, ranges):
         prod = args[0].num
         for v in args[1:]:
             prod = prod * v.num
-        return _pure_scalars(prod.reshape(prod.shape[0], -1).sum(axis=1))
+        return _pure_scalars(np.ascontiguousarray(prod).reshape(prod.shape[0], -1).sum(axis=1))
     prod, err = None, None
     for v in args:
         n = np.where(v.tag == NUM, v.num, np.where(v.tag == BOOL, 0.0, 0.0))

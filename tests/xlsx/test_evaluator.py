@@ -1110,6 +1110,15 @@ def test_aggregates_fast_paths_are_the_general_ones():
                     fast = AGGREGATES[name](args, [True] * len(args))
                     slow = AGGREGATES[name]([unmarked(v) for v in args], [True] * len(args))
                     assert same(fast, slow), (name, size, k, xs.tolist())
+    # numbers in another memory layout (a transposed or strided view): numpy's pairwise sums
+    # follow the layout, so the fast paths sum a contiguous copy, as the general path does
+    for k, size in ((3, 2000), (1, 301), (3, 64)):
+        xs = rng.normal(size=(k, 2, size)) * 10.0 ** rng.integers(-8, 8, size=(k, 2, size))
+        for view in (np.asfortranarray(xs), xs[:, :, ::2], np.asfortranarray(xs)[:, :1, :]):
+            for name in ("SUM", "SUMPRODUCT", "MIN", "MAX"):
+                fast = AGGREGATES[name]([Val(view, None, None, NUM)], [True])
+                slow = AGGREGATES[name]([unmarked(Val(view, None, None, NUM))], [True])
+                assert same(fast, slow), (name, k, size, view.strides)
     # unary minus (and --) of a stored range of numbers, of booleans: as 0 - x through arith
     for xs, kind in (([0.0, -0.0, 2.5, -1e308, 1e308], NUM), ([0.0, 1.0, 1.0, 0.0, 1.0], BOOL)):
         num, tag = np.zeros((2, 6)), np.zeros((2, 6), np.int8)
