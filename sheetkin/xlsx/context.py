@@ -37,6 +37,7 @@ from .values import (
     error_value,
     first_error_of,
     pure_result,
+    result_shape,
     to_bool,
     to_number,
     with_error,
@@ -53,12 +54,10 @@ def lookup_name(scopes: dict, sheet: str, name: str):
 
 
 def _binary_op(op: str, a: Val, b: Val) -> Val:
-    if a.shape != b.shape and a.shape != (1, 1, 1) and b.shape != (1, 1, 1):
-        # (equal shapes, or one value against many: most operations, broadcast as they are)
-        try:
-            np.broadcast_shapes(a.shape, b.shape)
-        except ValueError:                  # ranges of different sizes (=A1:B2+A1:C3): #VALUE!
-            return error_value("#VALUE!", max(a.shape[0], b.shape[0]))
+    try:
+        result_shape(a, b)
+    except ValueError:                      # ranges of different sizes (=A1:B2+A1:C3): #VALUE!
+        return error_value("#VALUE!", max(a.shape[0], b.shape[0]))
     if op in ("+", "-", "*", "/", "^"):
         return arith(op, a, b)
     if op == "&":

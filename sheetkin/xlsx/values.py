@@ -214,9 +214,10 @@ def arith(op: str, a: Val, b: Val) -> Val:
     return numeric_result(r, err)
 
 
-def _shape_of(a: Val, b: Val) -> tuple:
-    """The shape of an operation's result: numpy's broadcast_shapes, without its cost where
-    one side is a single value (a constant against a range, most comparisons)."""
+def result_shape(a: Val, b: Val) -> tuple:
+    """The shape of an operation's result: numpy's broadcast_shapes (ValueError for shapes
+    that do not broadcast), without its cost where the shapes are equal or one side is a
+    single value (a constant against a range: most operations, issue 32)."""
     if a.shape == b.shape or b.shape == (1, 1, 1):
         return a.shape
     if a.shape == (1, 1, 1):
@@ -246,7 +247,7 @@ def compare(op: str, a: Val, b: Val) -> Val:
         # formula, 85% of a book's evaluation): never equal, numbers rank below text,
         # no error on either side: the general path's answer without its arrays (issue 24)
         sign = -1.0 if a.pure == NUM else 1.0
-        return pure_result(np.full(_shape_of(a, b), float(_COMPARE[op](sign, 0))), BOOL)
+        return pure_result(np.full(result_shape(a, b), float(_COMPARE[op](sign, 0))), BOOL)
     shape = np.broadcast_shapes(a.shape, b.shape)
     at, bt = np.broadcast_to(a.tag, shape), np.broadcast_to(b.tag, shape)
     # an empty cell takes the other side's type (0, "" or FALSE)
